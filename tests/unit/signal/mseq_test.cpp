@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: MIT
+#include "firmware/signal/mseq.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+
+namespace excite::signal {
+namespace {
+
+class MSequenceOfLength : public ::testing::TestWithParam<int> {};
+
+// Runs the generator through one whole period: the register must come back to its
+// start only after exactly 2^n_r − 1 steps, with 2^(n_r−1) ones and 2^(n_r−1) − 1 zeros.
+TEST_P(MSequenceOfLength, HasMaximalPeriodAndBalancedLevels) {
+  const int n_r = GetParam();
+  MSequence seq(n_r);
+  const std::uint32_t period = seq.period();
+  ASSERT_EQ(period, (std::uint32_t{1} << n_r) - 1U);
+
+  // The first n_r bits identify the state; the sequence returns to it only after a period.
+  std::uint64_t window = 0;
+  const std::uint64_t window_mask = (std::uint64_t{1} << n_r) - 1U;
+  std::uint64_t ones = 0;
+  std::uint64_t first_window = 0;
+  std::uint64_t repeats_at = 0;
+  for (std::uint64_t k = 0; k < std::uint64_t{period} + static_cast<std::uint64_t>(n_r); ++k) {
+    const bool bit = seq.next();
+    if (k < period) ones += bit ? 1U : 0U;
+    window = ((window << 1U) | (bit ? 1U : 0U)) & window_mask;
+    if (k + 1 == static_cast<std::uint64_t>(n_r)) first_window = window;
+    if (k + 1 > static_cast<std::uint64_t>(n_r) && repeats_at == 0 && window == first_window) {
+      repeats_at = k + 1 - static_cast<std::uint64_t>(n_r);
+    }
+  }
+  EXPECT_EQ(repeats_at, period) << "n_r = " << n_r;
+  EXPECT_EQ(ones, std::uint64_t{1} << (n_r - 1));
+  EXPECT_EQ(period - ones, (std::uint64_t{1} << (n_r - 1)) - 1U);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllRegisterLengths, MSequenceOfLength,
+                         ::testing::Range(kMinRegisterLength, kMaxRegisterLength + 1));
+
+TEST(MSequence, RejectsRegisterLengthsOutsideTwoToThirtyOne) {
+  EXPECT_EQ(mseq_taps(1), 0U);
+  EXPECT_EQ(mseq_taps(32), 0U);
+  EXPECT_EQ(mseq_period(1), 0U);
+  MSequence invalid(40);
+  EXPECT_EQ(invalid.period(), 0U);
+  EXPECT_FALSE(invalid.next());
+}
+
+TEST(MSequence, StartsWithRegisterLengthOnes) {
+  MSequence seq(6);
+  for (int k = 0; k < 6; ++k) EXPECT_TRUE(seq.next()) << k;
+}
+
+}  // namespace
+}  // namespace excite::signal
