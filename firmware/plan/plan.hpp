@@ -67,7 +67,7 @@ struct Plan {
 };
 
 /// Ok when the recipe is valid (signal::validate) and the metadata keeps its contract:
-/// format_version == kFormatVersion, sample_time_s finite and > 0, texts NUL-terminated,
+/// 1 ≤ format_version ≤ kFormatVersion, sample_time_s finite and > 0, texts NUL-terminated,
 /// every used channel's min and max finite with min ≤ max. The first broken rule
 /// otherwise, naming the field ("meta.channels[1].min = 3, expected ≤ max = 2").
 Status validate(const Plan& plan);

@@ -9,6 +9,7 @@
 // kMessageCapacity − 1 bytes. Functions returning Status never throw.
 
 #include <array>
+#include <cstdarg>
 #include <cstddef>
 #include <cstdint>
 
@@ -38,6 +39,9 @@ class [[nodiscard]] Status {
   /// An error with a printf-style message. `code` must not be StatusCode::ok.
   static Status error(StatusCode code, const char* format, ...)
       __attribute__((format(printf, 2, 3)));
+  /// As error(), with the arguments as a va_list (for wrappers of error()).
+  static Status error_v(StatusCode code, const char* format, va_list args)
+      __attribute__((format(printf, 2, 0)));
 
   bool is_ok() const { return code_ == StatusCode::ok; }
   explicit operator bool() const { return is_ok(); }
