@@ -79,7 +79,7 @@ std::size_t scratch_size(const Recipe& recipe) {
 }
 
 Status generate(const Recipe& recipe, TableView table, std::span<double> scratch) {
-  if (Status s = validate(recipe, table.size()); !s) return s;
+  if (Status s = validate(recipe); !s) return s;
   if (table.samples != recipe.samples) {
     return Status::error(StatusCode::invalid_field,
                          "table.samples = %u, expected the recipe's samples = %u", table.samples,

@@ -22,10 +22,9 @@ namespace excite::signal {
 std::size_t scratch_size(const Recipe& recipe);
 
 /// Fills `table` with the whole table of `recipe`.
-/// Errors (nothing useful is written then): the recipe fails validate(recipe,
-/// table.size()); table.channels or table.samples differ from the recipe's
-/// (invalid_field); table.data is null; scratch is shorter than scratch_size(recipe)
-/// (capacity_exceeded).
+/// Errors (nothing useful is written then): the recipe fails validate(recipe); table.channels or
+/// table.samples differ from the recipe's (invalid_field); table.data is null; scratch is shorter
+/// than scratch_size(recipe) (capacity_exceeded).
 Status generate(const Recipe& recipe, TableView table, std::span<double> scratch);
 
 /// Fills `block` with samples [first_sample, first_sample + block.samples) of the table,
