@@ -18,7 +18,8 @@ std::vector<int> GainAnalysis::weak_directions(double xi_threshold) const {
 }
 
 GainAnalysis analyse_gain(const Eigen::MatrixXd& gain) {
-  if (gain.size() == 0) throw std::invalid_argument("gain matrix: empty, expected outputs × inputs");
+  if (gain.size() == 0)
+    throw std::invalid_argument("gain matrix: empty, expected outputs × inputs");
   for (Eigen::Index r = 0; r < gain.rows(); ++r) {
     for (Eigen::Index c = 0; c < gain.cols(); ++c) {
       if (!std::isfinite(gain(r, c))) {
@@ -57,7 +58,8 @@ GainAnalysis analyse_gain(const Eigen::MatrixXd& gain) {
 
   a.xi = sigma_max * a.singular_values.cwiseInverse();
   a.condition_number = sigma_max / sigma_min;
-  const Eigen::MatrixXd pseudo_inverse = svd.solve(Eigen::MatrixXd::Identity(gain.rows(), gain.rows()));
+  const Eigen::MatrixXd pseudo_inverse =
+      svd.solve(Eigen::MatrixXd::Identity(gain.rows(), gain.rows()));
   a.rga = gain.cwiseProduct(pseudo_inverse.transpose());
   return a;
 }
@@ -73,7 +75,8 @@ std::vector<OutputExcursion> static_output_excursions(const Eigen::MatrixXd& gai
   const Eigen::MatrixXd outputs = table * gain.transpose();
   std::vector<OutputExcursion> excursions(static_cast<std::size_t>(gain.rows()));
   for (Eigen::Index r = 0; r < gain.rows(); ++r) {
-    excursions[static_cast<std::size_t>(r)] = {outputs.col(r).minCoeff(), outputs.col(r).maxCoeff()};
+    excursions[static_cast<std::size_t>(r)] = {outputs.col(r).minCoeff(),
+                                               outputs.col(r).maxCoeff()};
   }
   return excursions;
 }

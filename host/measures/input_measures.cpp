@@ -10,7 +10,9 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-double ratio_or_nan(double num, double den) { return den > 0.0 ? num / den : kNaN; }
+double ratio_or_nan(double num, double den) {
+  return den > 0.0 ? num / den : kNaN;
+}
 
 }  // namespace
 
@@ -44,7 +46,8 @@ InputMeasures measure_inputs(const Eigen::Ref<const Eigen::MatrixXd>& table) {
   InputMeasures result;
   const Eigen::Index channels = table.cols();
   result.channels.reserve(static_cast<std::size_t>(channels));
-  for (Eigen::Index c = 0; c < channels; ++c) result.channels.push_back(measure_channel(table.col(c)));
+  for (Eigen::Index c = 0; c < channels; ++c)
+    result.channels.push_back(measure_channel(table.col(c)));
 
   ChannelMeasures& avg = result.average;
   for (const ChannelMeasures& m : result.channels) {

@@ -13,13 +13,13 @@ namespace excite::host {
 struct ChannelMeasures {
   double phi = 0.0;         // Φ (4.3.1): (1 − n_switches/(N−1))·100 %
   double phi_smooth = 0.0;  // Φ_i (4.3.3): 1 − Σ(Δx)² / ((N−1)·max(Δx)²); 1 for a constant
-  double peak_factor = 0.0; // (4.3.4): (x_max − x_min) / (2√2·x_RMS)
-  double rms = 0.0;         // (4.3.5)
-  double crest_factor = 0.0;// (4.3.6): max|x| / x_RMS
-  double pips = 0.0;        // (4.3.7): 200 %·sqrt(x_RMS² − x_mean²) / (x_max − x_min)
+  double peak_factor = 0.0;   // (4.3.4): (x_max − x_min) / (2√2·x_RMS)
+  double rms = 0.0;           // (4.3.5)
+  double crest_factor = 0.0;  // (4.3.6): max|x| / x_RMS
+  double pips = 0.0;          // (4.3.7): 200 %·sqrt(x_RMS² − x_mean²) / (x_max − x_min)
   double min = 0.0;
   double max = 0.0;
-  double max_step = 0.0;    // max |x(k) − x(k−1)|
+  double max_step = 0.0;  // max |x(k) − x(k−1)|
 };
 
 /// Per channel and averaged over channels (the average of each field).

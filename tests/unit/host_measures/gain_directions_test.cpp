@@ -17,8 +17,8 @@ TEST(AnalyseGain, ReproducesThePublishedSingularValuesAndRgaOfTheColumn) {
   const GainAnalysis a = analyse_gain(column2x2_gain());
   EXPECT_NEAR(a.singular_values(0), 197.21, 0.005);  // 5.3.2
   EXPECT_NEAR(a.singular_values(1), 1.3914, 0.00005);
-  EXPECT_NEAR(a.condition_number, 141.73, 0.01);      // Table 5.2
-  EXPECT_NEAR(a.rga(0, 0), 35.068, 0.001);            // Table 5.2
+  EXPECT_NEAR(a.condition_number, 141.73, 0.01);       // Table 5.2
+  EXPECT_NEAR(a.rga(0, 0), 35.068, 0.001);             // Table 5.2
   EXPECT_NEAR(a.rga(0, 0) + a.rga(0, 1), 1.0, 1e-12);  // rows of the RGA sum to one
   EXPECT_NEAR(a.xi(1), a.condition_number, 1e-9);
 }

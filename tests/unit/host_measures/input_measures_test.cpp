@@ -19,8 +19,8 @@ Eigen::VectorXd vec(std::initializer_list<double> values) {
 // mean 0.2, RMS 1, range 2 — every value below worked by hand.
 TEST(MeasureChannel, BinarySequenceMatchesHandComputedValues) {
   const ChannelMeasures m = measure_channel(vec({1, 1, -1, -1, 1}));
-  EXPECT_DOUBLE_EQ(m.phi, 50.0);                         // (1 − 2/4)·100
-  EXPECT_DOUBLE_EQ(m.phi_smooth, 0.5);                   // 1 − 8/(4·4)
+  EXPECT_DOUBLE_EQ(m.phi, 50.0);        // (1 − 2/4)·100
+  EXPECT_DOUBLE_EQ(m.phi_smooth, 0.5);  // 1 − 8/(4·4)
   EXPECT_DOUBLE_EQ(m.rms, 1.0);
   EXPECT_DOUBLE_EQ(m.crest_factor, 1.0);
   EXPECT_NEAR(m.peak_factor, 1.0 / std::sqrt(2.0), 1e-15);  // 2/(2√2·1)

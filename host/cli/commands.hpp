@@ -1,0 +1,15 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The subcommands of `excite`. Each registers its options on the app and runs when chosen;
+// errors are thrown and turned into one message and a non-zero exit by main().
+
+#include <CLI/CLI.hpp>
+
+namespace excite::host::cli {
+
+void add_gains_command(CLI::App& app);
+void add_design_command(CLI::App& app);
+void add_inspect_command(CLI::App& app);
+void add_case_study_command(CLI::App& app);
+
+}  // namespace excite::host::cli

@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: MIT
+// excite inspect PLAN [--json] [--plant NAME]: the plan's metadata, the plant-friendliness
+// of its table (SPEC §5) and, given a plant, the predicted static output excursions.
+
+#include <iostream>
+
+#include "host/cli/commands.hpp"
+#include "host/cli/input_table.hpp"
+#include "host/cli/json_util.hpp"
+#include "host/cli/text_table.hpp"
+#include "host/design/case_studies.hpp"
+#include "host/design/plan_file.hpp"
+#include "host/design/table.hpp"
+#include "host/measures/gain_directions.hpp"
+
+namespace excite::host::cli {
+namespace {
+
+struct InspectOptions {
+  std::string plan_path;
+  std::string plant;
+  bool json = false;
+};
+
+void run(const InspectOptions& opt) {
+  const auto p = read_plan_file(opt.plan_path);
+  const Table table = make_table(p->recipe);
+  const InputMeasures measures = measure_inputs(table);
+  std::vector<std::string> names;
+  for (std::uint32_t c = 0; c < p->recipe.channels; ++c)
+    names.emplace_back(plan::text_of(p->meta.channels[c].name));
+
+  std::vector<OutputExcursion> excursions;
+  if (!opt.plant.empty()) excursions = static_output_excursions(plant_gain(opt.plant), table);
+
+  if (opt.json) {
+    nlohmann::json j = input_measures_json(measures, names);
+    j["design"] = std::string(plan::text_of(p->meta.design_name));
+    j["provenance"] = std::string(plan::text_of(p->meta.provenance));
+    j["samples"] = p->recipe.samples;
+    j["sample_time_s"] = p->meta.sample_time_s;
+    if (!excursions.empty()) {
+      nlohmann::json ex = nlohmann::json::array();
+      for (const OutputExcursion& e : excursions) ex.push_back({{"min", e.min}, {"max", e.max}});
+      j["static_output_excursions"] = ex;
+    }
+    std::cout << j.dump(2) << '\n';
+    return;
+  }
+  std::cout << "plan " << opt.plan_path << ": " << plan::text_of(p->meta.design_name) << " ("
+            << plan::text_of(p->meta.provenance) << ")\n"
+            << p->recipe.channels << " channels x " << p->recipe.samples << " samples of "
+            << num(p->meta.sample_time_s / 60.0) << " min, " << p->recipe.source_count
+            << " sources\n\n";
+  print_input_measures(std::cout, measures, names);
+  if (!excursions.empty()) {
+    std::cout << "\npredicted static output excursions G(0)*u(k) on " << opt.plant << ":\n";
+    TextTable out({"output", "min", "max"});
+    for (std::size_t i = 0; i < excursions.size(); ++i) {
+      out.add_row({"y" + std::to_string(i + 1), num(excursions[i].min), num(excursions[i].max)});
+    }
+    out.print(std::cout);
+  }
+}
+
+}  // namespace
+
+void add_inspect_command(CLI::App& app) {
+  auto opt = std::make_shared<InspectOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "inspect", "Plant-friendliness of a plan's table (thesis Table 6.2 style)");
+  cmd->add_option("plan", opt->plan_path, "plan file")->required();
+  cmd->add_option("--plant", opt->plant,
+                  "library plant: also predict the static output excursions");
+  cmd->add_flag("--json", opt->json, "machine-readable output");
+  cmd->callback([opt] { run(*opt); });
+}
+
+}  // namespace excite::host::cli

@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: MIT
+// excite: the engineer's tool. Exit codes: 0 success, 1 an error (message on stderr),
+// 2 a usage error (CLI11's message on stderr).
+
+#include <cstdio>
+#include <exception>
+
+#include "host/cli/commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"excite: input design and identification for ill-conditioned multivariable plants"};
+  app.require_subcommand(1);
+  excite::host::cli::add_gains_command(app);
+  excite::host::cli::add_design_command(app);
+  excite::host::cli::add_inspect_command(app);
+  excite::host::cli::add_case_study_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "excite: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

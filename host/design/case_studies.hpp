@@ -1,0 +1,25 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The prior knowledge of each library plant's case study (SPEC §4, §7), so that presets
+// work without a spec file: `excite design --plant alatiqi4x4 --preset prbsUnc`.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "host/design/prior_knowledge.hpp"
+
+namespace excite::host {
+
+/// Names of the plants that have a case study (the library plants).
+std::vector<std::string> case_study_plants();
+
+/// G(0) of a plant of the simulator library (std::invalid_argument listing the known
+/// plants otherwise).
+Eigen::MatrixXd plant_gain(std::string_view plant);
+
+/// Prior knowledge of `plant`, its gain G(0) from the plant library.
+/// std::invalid_argument listing the known plants otherwise.
+PriorKnowledge case_study(std::string_view plant);
+
+}  // namespace excite::host

@@ -1,0 +1,20 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Plan files on disk, host side: the bytes are the firmware's (firmware/plan/README.md).
+
+#include <filesystem>
+#include <memory>
+
+#include "firmware/plan/plan.hpp"
+
+namespace excite::host {
+
+/// Encodes and writes `plan` to `path` (through a temporary file renamed into place, so a
+/// failed write never leaves a half file). Throws std::runtime_error naming the path.
+void write_plan_file(const plan::Plan& plan, const std::filesystem::path& path);
+
+/// Reads and decodes `path`. Throws std::invalid_argument "<path>: <why>" for a missing,
+/// truncated, corrupted or newer-version file: never a garbage plan.
+std::unique_ptr<plan::Plan> read_plan_file(const std::filesystem::path& path);
+
+}  // namespace excite::host

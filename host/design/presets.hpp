@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The designs of the case study (SPEC §4, thesis Table 6.1) as named presets, built from
+// prior knowledge into a plan the gateway can stream.
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "firmware/plan/plan.hpp"
+#include "host/design/prbs_a1.hpp"
+#include "host/design/prior_knowledge.hpp"
+#include "host/design/table.hpp"
+
+namespace excite::host {
+
+struct PresetInfo {
+  int number;                // experiment number of Table 6.1
+  std::string_view acronym;  // e.g. "prbsSimDir"
+  std::string_view summary;
+  bool uses_directions;  // needs the gain matrix G(0)
+};
+
+/// Every preset this build designs, in the order of Table 6.1.
+const std::vector<PresetInfo>& presets();
+
+/// The preset named `acronym`; std::invalid_argument listing the known ones otherwise.
+const PresetInfo& find_preset(std::string_view acronym);
+
+/// A designed experiment: the plan (the recipe plus its metadata), its table as the
+/// gateway will generate it, and why each number is what it is.
+struct Design {
+  std::unique_ptr<plan::Plan> plan;
+  Table table;
+  PrbsDesign prbs;
+  std::vector<std::string> notes;  // A1's inequalities, then sequencing and scaling
+};
+
+/// Designs `preset` from validated prior knowledge (directional presets need its gain).
+/// `created_unix_s` stamps the plan's metadata.
+Design design_preset(const PriorKnowledge& prior, const PresetInfo& preset,
+                     std::uint64_t created_unix_s);
+
+}  // namespace excite::host

@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: MIT
+#include "host/design/spec.hpp"
+
+#include <gtest/gtest.h>
+
+namespace excite::host {
+namespace {
+
+const char* kValidSpec = R"(
+design = "prbsSimDir"
+
+[prior]
+inputs = 2
+sample_time_min = 1.0
+tau_low_min = 15.0
+tau_high_min = 194.0
+alpha = 2.0
+beta = 3.0
+gain = [[87.8, -86.4], [108.2, -109.6]]
+
+[[input]]
+name = "reflux L"
+amplitude = 1.0
+min = -2.0
+max = 2.0
+
+[[input]]
+name = "boil-up V"
+amplitude = 0.5
+min = -1.0
+max = 1.5
+)";
+
+std::string with(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_design_spec(text, "spec.toml");
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(DesignSpec, ReadsPriorKnowledgeInputsAndGain) {
+  const DesignSpec spec = parse_design_spec(kValidSpec, "spec.toml");
+  EXPECT_EQ(spec.design, "prbsSimDir");
+  EXPECT_EQ(spec.prior.input_count(), 2);
+  EXPECT_DOUBLE_EQ(spec.prior.tau_high_min, 194.0);
+  EXPECT_EQ(spec.prior.inputs[1].name, "boil-up V");
+  EXPECT_DOUBLE_EQ(spec.prior.inputs[1].max, 1.5);
+  EXPECT_DOUBLE_EQ(spec.prior.gain(1, 1), -109.6);
+}
+
+TEST(DesignSpec, UnknownKeyIsNamedWithItsPosition) {
+  const std::string e = error_of(with(kValidSpec, "beta = 3.0", "beta = 3.0\ngama = 1"));
+  EXPECT_NE(e.find("spec.toml:11:"), std::string::npos) << e;
+  EXPECT_NE(e.find("unknown key 'prior.gama'"), std::string::npos) << e;
+}
+
+TEST(DesignSpec, MissingFieldIsNamed) {
+  const std::string e = error_of(with(kValidSpec, "tau_low_min = 15.0\n", ""));
+  EXPECT_NE(e.find("missing 'prior.tau_low_min'"), std::string::npos) << e;
+}
+
+TEST(DesignSpec, NonPositiveTimeConstantIsRefused) {
+  const std::string e = error_of(with(kValidSpec, "tau_high_min = 194.0", "tau_high_min = 0"));
+  EXPECT_NE(e.find("tau_high_min = 0, expected a positive number"), std::string::npos) << e;
+}
+
+TEST(DesignSpec, WrongTypeIsNamed) {
+  const std::string e = error_of(with(kValidSpec, "alpha = 2.0", "alpha = \"two\""));
+  EXPECT_NE(e.find("'prior.alpha' is a string, expected a number"), std::string::npos) << e;
+}
+
+TEST(DesignSpec, GainOfTheWrongSizeIsRefused) {
+  const std::string e = error_of(with(kValidSpec, "[108.2, -109.6]", "[108.2]"));
+  EXPECT_NE(e.find("row 1 has 1 entries, expected 2"), std::string::npos) << e;
+}
+
+TEST(DesignSpec, SingularGainIsRefused) {
+  const std::string e = error_of(with(kValidSpec, "[108.2, -109.6]", "[175.6, -172.8]"));
+  EXPECT_NE(e.find("singular"), std::string::npos) << e;
+}
+
+TEST(DesignSpec, AmplitudeBeyondLimitsIsRefused) {
+  const std::string e = error_of(with(kValidSpec, "amplitude = 0.5", "amplitude = 1.2"));
+  EXPECT_NE(e.find("inputs[1].amplitude = 1.2"), std::string::npos) << e;
+}
+
+TEST(DesignSpec, InputCountMustMatchTheInputTables) {
+  const std::string e = error_of(with(kValidSpec, "inputs = 2", "inputs = 3"));
+  EXPECT_NE(e.find("prior.inputs = 3"), std::string::npos) << e;
+}
+
+TEST(DesignSpec, TomlSyntaxErrorGivesItsPosition) {
+  const std::string e = error_of("design = \n");
+  EXPECT_NE(e.find("spec.toml:1:"), std::string::npos) << e;
+}
+
+}  // namespace
+}  // namespace excite::host
