@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: MIT
+// The `excite` executable run as a process, as an engineer or a script would: its output
+// formats, exit codes and refusals are a contract (host/README.md).
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+struct Result {
+  int exit_code = -1;
+  std::string out;  // stdout and stderr together
+};
+
+Result excite(const std::string& args) {
+  const std::string command = std::string(EXCITE_CLI) + " " + args + " 2>&1";
+  Result r;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return r;
+  std::array<char, 4096> buffer{};
+  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) r.out += buffer.data();
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+class ExciteCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("excite_cli_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string path(const char* name) const { return (dir_ / name).string(); }
+  std::filesystem::path dir_;
+};
+
+TEST_F(ExciteCli, GainsJsonHasTheContractKeysAndTheSpecSingularValues) {
+  const Result r = excite("gains --plant alatiqi4x4 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* key : {"gain", "singular_values", "condition_number", "xi", "rga",
+                          "input_directions", "output_directions"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_NEAR(j["singular_values"][0].get<double>(), 20.470, 0.0005);
+  EXPECT_NEAR(j["singular_values"][3].get<double>(), 0.1635, 0.00005);
+  EXPECT_EQ(j["input_directions"].size(), 4U);
+}
+
+TEST_F(ExciteCli, DesignThenInspectGivesTheInputTable) {
+  const Result d = excite("design --plant alatiqi4x4 --preset prbsUnc -o " + path("unc.plan"));
+  ASSERT_EQ(d.exit_code, 0) << d.out;
+  EXPECT_NE(d.out.find("(4.2.3)"), std::string::npos) << d.out;
+  const Result r = excite("inspect " + path("unc.plan") + " --json --plant alatiqi4x4");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["channels"].size(), 4U);
+  for (const auto& c : j["channels"]) {
+    EXPECT_DOUBLE_EQ(c["cf"].get<double>(), 1.0);  // ±1 PRBS
+    // ±1 m-sequence of period 255: mean 1/255, RMS 1, range 2 → PIPS = 100·√(1 − 1/255²)
+    EXPECT_NEAR(c["pips"].get<double>(), 100.0 * std::sqrt(1.0 - 1.0 / (255.0 * 255.0)), 1e-10);
+  }
+  EXPECT_TRUE(j["average"].contains("cf"));
+  EXPECT_TRUE(j["average"].contains("pips"));
+  EXPECT_EQ(j["static_output_excursions"].size(), 4U);
+}
+
+TEST_F(ExciteCli, DesignFromSpecWritesAPlan) {
+  std::ofstream(path("spec.toml")) << R"(design = "stepDir"
+plant = "woodberry2x2"
+[prior]
+inputs = 2
+sample_time_min = 1.0
+tau_low_min = 10.9
+tau_high_min = 21.0
+alpha = 2.0
+beta = 3.0
+[[input]]
+name = "reflux"
+amplitude = 1.0
+min = -2.0
+max = 2.0
+[[input]]
+name = "steam"
+amplitude = 1.0
+min = -2.0
+max = 2.0
+)";
+  const Result d = excite("design " + path("spec.toml") + " -o " + path("wb.plan"));
+  ASSERT_EQ(d.exit_code, 0) << d.out;
+  EXPECT_TRUE(std::filesystem::exists(path("wb.plan")));
+}
+
+TEST_F(ExciteCli, BadSpecIsRefusedWithFieldAndWritesNothing) {
+  std::ofstream(path("bad.toml"))
+      << "design = \"prbsUnc\"\n[prior]\ninputs = 1\nsample_time_min = 1.0\n"
+         "tau_low_min = -3\ntau_high_min = 50\nalpha = 2\nbeta = 3\n"
+         "[[input]]\nname = \"u\"\namplitude = 1\nmin = -1\nmax = 1\n";
+  const Result d = excite("design " + path("bad.toml") + " -o " + path("bad.plan"));
+  EXPECT_EQ(d.exit_code, 1);
+  EXPECT_NE(d.out.find("tau_low_min = -3"), std::string::npos) << d.out;
+  EXPECT_FALSE(std::filesystem::exists(path("bad.plan")));
+  EXPECT_FALSE(std::filesystem::exists(path("bad.plan.partial")));
+}
+
+TEST_F(ExciteCli, CorruptedPlanIsRefused) {
+  ASSERT_EQ(excite("design --plant alatiqi4x4 --preset stepSeq -q -o " + path("s.plan")).exit_code,
+            0);
+  {
+    std::fstream f(path("s.plan"), std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(40);
+    f.put('\x5a');
+  }
+  const Result r = excite("inspect " + path("s.plan"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find(path("s.plan")), std::string::npos) << r.out;
+}
+
+TEST_F(ExciteCli, UnknownPlantListsTheKnownOnes) {
+  const Result r = excite("gains --plant nosuch");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("alatiqi4x4"), std::string::npos) << r.out;
+}
+
+TEST_F(ExciteCli, MissingRequiredOptionIsAUsageError) {
+  EXPECT_EQ(excite("design --plant alatiqi4x4 --preset stepSeq").exit_code, 2);
+}
+
+TEST_F(ExciteCli, EveryCommandHasHelp) {
+  for (const char* cmd : {"gains", "design", "inspect", "case-study"}) {
+    const Result r = excite(std::string(cmd) + " --help");
+    EXPECT_EQ(r.exit_code, 0) << cmd;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << cmd << ": " << r.out;
+  }
+}
+
+TEST_F(ExciteCli, CaseStudyPrintsAllEightDesigns) {
+  const Result r = excite("case-study --plant alatiqi4x4 -o " + path("plans"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  for (const char* name : {"stepSeq", "stepDir", "prbsSeq", "prbsUnc", "prbsSeqDir", "prbsSimDir",
+                           "prbsDirCorrSeq", "prbsDirCorrSim"}) {
+    EXPECT_NE(r.out.find(name), std::string::npos) << name;
+    EXPECT_TRUE(std::filesystem::exists(dir_ / "plans" / (std::string(name) + ".plan"))) << name;
+  }
+}
+
+}  // namespace
