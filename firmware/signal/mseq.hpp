@@ -22,7 +22,7 @@ constexpr std::uint32_t mseq_period(int n_r) {
 
 /// Feedback taps of register length n_r as a bit mask: bit t−1 set for tap t, i.e. the
 /// primitive polynomial x^n_r + Σ x^t + 1 over GF(2). 0 when n_r is invalid.
-/// The table is documented in firmware/README.md.
+/// The table for every n_r is documented in firmware/signal/README.md.
 std::uint32_t mseq_taps(int n_r);
 
 /// Fibonacci LFSR producing one period of 2^n_r − 1 bits, then repeating.
