@@ -38,6 +38,12 @@ void put_u32(Bytes& b, std::size_t at, std::uint32_t v) {
     b[at + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(v >> (8 * i));
 }
 
+std::uint32_t u32_at(const Bytes& b, std::size_t at) {
+  std::uint32_t v = 0;
+  for (std::size_t i = 0; i < 4; ++i) v |= std::uint32_t{b[at + i]} << (8 * i);
+  return v;
+}
+
 // Rewrites the trailing CRC-32 so that only the deliberate change is wrong with the file.
 void reseal(Bytes& b) {
   put_u32(b, b.size() - 4, crc32(std::span<const std::uint8_t>(b).first(b.size() - 4)));
@@ -96,12 +102,9 @@ TEST(PlanCodec, WritesTheHeaderAndChecksumOfTheDocumentedLayout) {
   const Bytes file = encoded(*example_plan());
   const Bytes header(file.begin(), file.begin() + 12);
   EXPECT_EQ(header, (Bytes{0x89, 'E', 'X', 'P', 'L', 'A', 'N', '\n', 1, 0, 0, 0}));
-  const std::uint32_t payload =
-      file[12] | file[13] << 8U | file[14] << 16U | static_cast<std::uint32_t>(file[15]) << 24U;
+  const std::uint32_t payload = u32_at(file, 12);
   EXPECT_EQ(payload, file.size() - 20);
-  const std::uint32_t stored = file[file.size() - 4] | file[file.size() - 3] << 8U |
-                               file[file.size() - 2] << 16U |
-                               static_cast<std::uint32_t>(file[file.size() - 1]) << 24U;
+  const std::uint32_t stored = u32_at(file, file.size() - 4);
   EXPECT_EQ(stored, crc32(std::span<const std::uint8_t>(file).first(file.size() - 4)));
   // created_unix_s, little-endian, first in the payload.
   EXPECT_EQ(file[16], 1'795'000'000U & 0xFFU);
