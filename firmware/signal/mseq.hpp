@@ -42,6 +42,11 @@ class MSequence {
     return out;
   }
 
+  /// Skips `steps` bits at once, as if next() had been called `steps` times, in
+  /// O(n_r² log steps) operations (the register's GF(2) transition matrix raised to the
+  /// power steps mod period by repeated squaring).
+  void advance(std::uint64_t steps);
+
   std::uint32_t period() const { return mask_; }
   int register_length() const { return n_r_; }
 

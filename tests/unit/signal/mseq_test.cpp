@@ -55,5 +55,37 @@ TEST(MSequence, StartsWithRegisterLengthOnes) {
   for (int k = 0; k < 6; ++k) EXPECT_TRUE(seq.next()) << k;
 }
 
+TEST(MSequence, AdvanceSkipsExactlyAsManyBitsAsNextWould) {
+  for (const int n_r : {2, 3, 6, 8, 13, 20}) {
+    for (const std::uint64_t steps : {0ULL, 1ULL, 2ULL, 5ULL, 63ULL, 100ULL, 1000ULL}) {
+      MSequence stepped(n_r);
+      for (std::uint64_t k = 0; k < steps; ++k) stepped.next();
+      MSequence jumped(n_r);
+      jumped.advance(steps);
+      for (int k = 0; k < 64; ++k) {
+        ASSERT_EQ(jumped.next(), stepped.next()) << "n_r " << n_r << " steps " << steps;
+      }
+    }
+  }
+}
+
+// The period starts with n_r ones (the all-ones start state): jumping to 3 bits before
+// the end of the 2^31 − 1 bit period and stepping 3 bits lands on 31 ones again.
+TEST(MSequence, AdvanceNearlyAWholePeriodOfTheLongestRegisterWrapsToItsStart) {
+  MSequence seq(31);
+  seq.advance(mseq_period(31) - 3U);
+  for (int k = 0; k < 3; ++k) seq.next();
+  for (int k = 0; k < 31; ++k) ASSERT_TRUE(seq.next()) << k;
+}
+
+TEST(MSequence, AdvanceComposes) {
+  MSequence once(29);
+  once.advance(123'456'789ULL + 987'654'321ULL);
+  MSequence twice(29);
+  twice.advance(123'456'789ULL);
+  twice.advance(987'654'321ULL);
+  for (int k = 0; k < 200; ++k) ASSERT_EQ(once.next(), twice.next()) << k;
+}
+
 }  // namespace
 }  // namespace excite::signal
