@@ -53,10 +53,9 @@ class MultisineOfPeriod : public ::testing::TestWithParam<std::uint32_t> {};
 
 TEST_P(MultisineOfPeriod, MatchesTheDirectCosineSumWithin1e12OfTheAmplitudeSum) {
   const std::uint32_t period = GetParam();
-  const std::vector<Line> lines =
-      random_lines(period, 61, 1e3, period)  // 61: four-line passes and a rest;
-      const std::vector<double>
-          x = synthesize(lines, period);
+  // 61 lines: fifteen four-line passes and one line on its own.
+  const std::vector<Line> lines = random_lines(period, 61, 1e3, period);
+  const std::vector<double> x = synthesize(lines, period);
   const double tolerance = 1e-12 * scale_of(lines);
   for (std::uint32_t t = 0; t < period; ++t) {
     ASSERT_NEAR(x[t], static_cast<double>(direct_sum(lines, period, t)), tolerance) << "t " << t;
