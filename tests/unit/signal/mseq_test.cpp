@@ -9,10 +9,11 @@ namespace excite::signal {
 namespace {
 
 class MSequenceOfLength : public ::testing::TestWithParam<int> {};
+class MSequenceWalkedOverAPeriod : public ::testing::TestWithParam<int> {};
 
 // Runs the generator through one whole period: the register must come back to its
 // start only after exactly 2^n_r − 1 steps, with 2^(n_r−1) ones and 2^(n_r−1) − 1 zeros.
-TEST_P(MSequenceOfLength, HasMaximalPeriodAndBalancedLevels) {
+TEST_P(MSequenceWalkedOverAPeriod, HasMaximalPeriodAndBalancedLevels) {
   const int n_r = GetParam();
   MSequence seq(n_r);
   const std::uint32_t period = seq.period();
@@ -38,8 +39,42 @@ TEST_P(MSequenceOfLength, HasMaximalPeriodAndBalancedLevels) {
   EXPECT_EQ(period - ones, (std::uint64_t{1} << (n_r - 1)) - 1U);
 }
 
+// The order of the register's transition matrix A is exactly N_s = 2^n_r − 1 when
+// A^N_s = I and A^(N_s/p) ≠ I for every prime p dividing N_s — a proof of maximal period
+// in O(n_r² log N_s) per power (MSequence::advance), for every n_r up to 31. The state is
+// all ones (the start) exactly when the next n_r bits are all ones.
+bool at_start_state(MSequence seq) {
+  for (int k = 0; k < seq.register_length(); ++k) {
+    if (!seq.next()) return false;
+  }
+  return true;
+}
+
+TEST_P(MSequenceOfLength, HasTransitionMatrixOfOrderExactlyTheMaximalPeriod) {
+  const int n_r = GetParam();
+  const std::uint64_t period = (std::uint64_t{1} << n_r) - 1U;
+  MSequence full(n_r);
+  full.advance(period - 1U);  // A^(N_s − 1), then one more step: A^N_s
+  full.next();
+  EXPECT_TRUE(at_start_state(full)) << "A^N_s is not the identity, n_r = " << n_r;
+  std::uint64_t rest = period;
+  for (std::uint64_t p = 2; p * p <= rest || rest > 1; ++p) {
+    if (p * p > rest) p = rest;  // what is left is prime
+    if (rest % p != 0) continue;
+    while (rest % p == 0) rest /= p;
+    MSequence partial(n_r);
+    partial.advance(period / p);
+    EXPECT_FALSE(at_start_state(partial)) << "A^(N_s/" << p << ") = I, n_r = " << n_r;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(AllRegisterLengths, MSequenceOfLength,
                          ::testing::Range(kMinRegisterLength, kMaxRegisterLength + 1));
+
+// The walk over a whole period (and the count of ones) up to 2^24 − 1 bits; longer
+// registers take seconds to a minute each, and the order proof above covers them.
+INSTANTIATE_TEST_SUITE_P(RegisterLengthsUpTo24, MSequenceWalkedOverAPeriod,
+                         ::testing::Range(kMinRegisterLength, 25));
 
 TEST(MSequence, RejectsRegisterLengthsOutsideTwoToThirtyOne) {
   EXPECT_EQ(mseq_taps(1), 0U);
