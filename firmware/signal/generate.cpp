@@ -40,23 +40,22 @@ void accumulate(TableView block, std::uint32_t first, Span rows,
   }
 }
 
-// Scratch for multisines: [cos table | sin table | one period], P doubles each. The unit
-// circle tables are rebuilt only when the period changes from one source to the next.
+// Scratch for multisines: [unit circle, 2P | one period, P]. The unit circle is rebuilt
+// only when the period changes from one source to the next.
 class MultisineScratch {
  public:
   explicit MultisineScratch(std::span<double> scratch) : scratch_(scratch) {}
 
   std::span<const double> period_of(const Recipe& recipe, const MultisineSource& ms) {
     const std::size_t p = ms.period;
-    const auto cos_table = scratch_.subspan(0, p);
-    const auto sin_table = scratch_.subspan(p, p);
+    const auto unit_circle = scratch_.subspan(0, 2 * p);
     const auto period = scratch_.subspan(2 * p, p);
     if (tabulated_period_ != p) {
-      fill_unit_circle(cos_table, sin_table);
+      fill_unit_circle(unit_circle);
       tabulated_period_ = p;
     }
     synthesize_period(std::span<const Line>(recipe.lines).subspan(ms.first_line, ms.line_count),
-                      cos_table, sin_table, period);
+                      unit_circle, period);
     return period;
   }
 

@@ -51,6 +51,30 @@ constexpr std::array<std::uint32_t, kMaxRegisterLength + 1> kTaps = {
     taps({31, 28}),
 };
 
+// A linear map of GF(2)^n_r: bit j of the image of x is parity(rows[j] & x).
+using BitMatrix = std::array<std::uint32_t, kMaxRegisterLength>;
+
+std::uint32_t apply(const BitMatrix& m, int n, std::uint32_t x) {
+  std::uint32_t y = 0;
+  for (int j = 0; j < n; ++j) {
+    y |= static_cast<std::uint32_t>(__builtin_parity(m[static_cast<std::size_t>(j)] & x)) << j;
+  }
+  return y;
+}
+
+// The map x ↦ a(b(x)).
+BitMatrix compose(const BitMatrix& a, const BitMatrix& b, int n) {
+  BitMatrix c{};
+  for (int j = 0; j < n; ++j) {
+    std::uint32_t row = 0;
+    for (int k = 0; k < n; ++k) {
+      if (((a[static_cast<std::size_t>(j)] >> k) & 1U) != 0U) row ^= b[static_cast<std::size_t>(k)];
+    }
+    c[static_cast<std::size_t>(j)] = row;
+  }
+  return c;
+}
+
 }  // namespace
 
 std::uint32_t mseq_taps(int n_r) {
@@ -62,5 +86,24 @@ MSequence::MSequence(int n_r)
       taps_(mseq_taps(n_r)),
       mask_(mseq_period(n_r)),
       state_(mask_) {}
+
+void MSequence::advance(std::uint64_t steps) {
+  if (mask_ == 0) return;
+  steps %= mask_;
+  // One step of next(): new bit 0 = parity(state & taps), new bit j = old bit j − 1.
+  BitMatrix power{};
+  BitMatrix result{};
+  power[0] = taps_;
+  for (int j = 0; j < n_r_; ++j) {
+    if (j > 0) power[static_cast<std::size_t>(j)] = std::uint32_t{1} << (j - 1);
+    result[static_cast<std::size_t>(j)] = std::uint32_t{1} << j;
+  }
+  while (steps != 0) {
+    if ((steps & 1U) != 0U) result = compose(power, result, n_r_);
+    power = compose(power, power, n_r_);
+    steps >>= 1U;
+  }
+  state_ = apply(result, n_r_, state_);
+}
 
 }  // namespace excite::signal

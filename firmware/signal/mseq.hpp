@@ -22,7 +22,7 @@ constexpr std::uint32_t mseq_period(int n_r) {
 
 /// Feedback taps of register length n_r as a bit mask: bit t−1 set for tap t, i.e. the
 /// primitive polynomial x^n_r + Σ x^t + 1 over GF(2). 0 when n_r is invalid.
-/// The table is documented in firmware/README.md.
+/// The table for every n_r is documented in firmware/signal/README.md.
 std::uint32_t mseq_taps(int n_r);
 
 /// Fibonacci LFSR producing one period of 2^n_r − 1 bits, then repeating.
@@ -41,6 +41,11 @@ class MSequence {
     state_ = ((state_ << 1U) | feedback) & mask_;
     return out;
   }
+
+  /// Skips `steps` bits at once, as if next() had been called `steps` times, in
+  /// O(n_r² log steps) operations (the register's GF(2) transition matrix raised to the
+  /// power steps mod period by repeated squaring).
+  void advance(std::uint64_t steps);
 
   std::uint32_t period() const { return mask_; }
   int register_length() const { return n_r_; }

@@ -5,9 +5,10 @@
 //   s(t) = Σ_l A_l · cos(2π · i_l · t / P + φ_l)
 //        = Σ_l (A_l cos φ_l) · C[(i_l · t) mod P] − (A_l sin φ_l) · S[(i_l · t) mod P]
 //
-// with C[m] = cos(2π m / P), S[m] = sin(2π m / P) tabulated once per period in scratch
-// (exact integer phase reduction, trig.hpp), so a period costs P table entries plus
-// L · P multiply-adds and no libm call.
+// with C[m] = cos(2π m / P), S[m] = sin(2π m / P) tabulated once per period in scratch,
+// interleaved (C[0], S[0], C[1], S[1], …: one cache line per lookup), with exact integer
+// phase reduction (trig.hpp), so a period costs P table entries plus L · P multiply-adds
+// and no libm call.
 
 #include <cstdint>
 #include <span>
@@ -17,15 +18,15 @@
 
 namespace excite::signal {
 
-/// Tabulates C[m] = cos(2π m / P) into cos_table and S[m] = sin(2π m / P) into sin_table,
-/// m < P = cos_table.size() = sin_table.size().
-void fill_unit_circle(std::span<double> cos_table, std::span<double> sin_table);
+/// Tabulates unit_circle[2m] = cos(2π m / P), unit_circle[2m + 1] = sin(2π m / P) for
+/// m < P = unit_circle.size() / 2.
+void fill_unit_circle(std::span<double> unit_circle);
 
 /// One period s(0 … P−1) of the multisine of `lines` into `period_out` (P =
-/// period_out.size()), given the tables of fill_unit_circle() for the same P.
+/// period_out.size()), given the table of fill_unit_circle() for the same P (2P values).
 /// Precondition: every line index < P (validate() enforces < P/2). Lines are summed in
 /// order, so the result is deterministic.
-void synthesize_period(std::span<const Line> lines, std::span<const double> cos_table,
-                       std::span<const double> sin_table, std::span<double> period_out);
+void synthesize_period(std::span<const Line> lines, std::span<const double> unit_circle,
+                       std::span<double> period_out);
 
 }  // namespace excite::signal

@@ -13,7 +13,7 @@ PrbsGenerator::PrbsGenerator(const PrbsSource& source, std::uint64_t t0)
     return;
   }
   const std::uint64_t skip = (std::uint64_t{source.shift} + t0 / hold_) % period;
-  for (std::uint64_t b = 0; b < skip; ++b) seq_.next();
+  seq_.advance(skip);
   level_ = seq_.next() ? amplitude_ : -amplitude_;
   held_ = static_cast<std::uint32_t>(t0 % hold_);
 }

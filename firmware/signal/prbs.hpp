@@ -17,7 +17,8 @@
 namespace excite::signal {
 
 /// Produces s(t0), s(t0 + 1), … of a PRBS source. Precondition: the source is valid
-/// (validate()); construction costs O(((shift + t0 / hold) mod N_s)) register steps.
+/// (validate()); construction jumps the register ahead in
+/// O(n_r² log N_s) operations, whatever shift and t0.
 class PrbsGenerator {
  public:
   explicit PrbsGenerator(const PrbsSource& source, std::uint64_t t0 = 0);

@@ -13,6 +13,8 @@
 // Values are deviations from the operating point, in the channel's engineering unit.
 //
 // Fixed capacity, no heap: a Recipe is a plain value the gateway keeps in static storage.
+// The rules a recipe must keep are checked by validate() (validate.hpp) and listed in
+// firmware/signal/README.md; generate() (generate.hpp) turns it into the table.
 
 #include <array>
 #include <cstdint>

@@ -13,7 +13,7 @@ struct CosSin {
   double sin = 0.0;
 };
 
-/// cos and sin of the angle 2π · m / period (exact integer reduction; period ≥ 1).
+/// cos and sin of the angle 2π · m / period (exact integer reduction; 1 ≤ period < 2^61).
 CosSin cos_sin_turn(std::uint64_t m, std::uint64_t period);
 
 /// cos and sin of x radians, |x| ≤ kMaxTrigArgument (reduction by a three-part π/2).

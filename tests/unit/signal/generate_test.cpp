@@ -121,6 +121,22 @@ TEST(Generate, RefusesABlockReachingPastTheTable) {
             "block samples [4000, 4100), expected inside [0, samples = 4080)");
 }
 
+TEST(Generate, RefusesAnInvalidRecipeWithValidatesMessage) {
+  auto recipe = mixed_case_study_recipe();
+  recipe->sources[1].prbs.register_length = 40;
+  std::vector<double> data(4 * 4080);
+  std::vector<double> scratch(scratch_size(*recipe));
+  const Status status = generate(*recipe, {data.data(), 4, 4080}, scratch);
+  EXPECT_EQ(std::string(status.message()), "sources[1].prbs.register_length = 40, expected 2…31");
+}
+
+TEST(Generate, RefusesATableWithoutStorage) {
+  const auto recipe = mixed_case_study_recipe();
+  std::vector<double> scratch(scratch_size(*recipe));
+  const Status status = generate(*recipe, {nullptr, 4, 4080}, scratch);
+  EXPECT_EQ(std::string(status.message()), "table.data = null, expected storage for 16320 values");
+}
+
 TEST(Generate, NeedsNoScratchWithoutMultisines) {
   auto recipe = empty_recipe(1, 10);
   add_prbs(*recipe, 3, 1.0, 1, 0);
