@@ -17,6 +17,7 @@
 // firmware/signal/README.md; generate() (generate.hpp) turns it into the table.
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
 namespace excite::signal {
@@ -25,6 +26,11 @@ inline constexpr std::uint32_t kMaxChannels = 8;
 inline constexpr std::uint32_t kMaxSources = 16;
 inline constexpr std::uint32_t kMaxSegments = 64;  // per step source
 inline constexpr std::uint32_t kMaxLines = 4096;   // multisine lines, all sources together
+
+/// Values (channels × samples) of the table the gateway precomputes into fixed storage at
+/// start-up: 2 MiB of doubles, e.g. 4 channels × 65 536 samples. The host refuses designs
+/// whose table is larger, so every plan it writes fits every gateway.
+inline constexpr std::size_t kTableCapacity = std::size_t{1} << 18;
 
 enum class SourceKind : std::uint8_t { none = 0, steps = 1, prbs = 2, multisine = 3 };
 

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "firmware/plan/limits.hpp"
+#include "firmware/signal/validate.hpp"
 #include "host/measures/gain_directions.hpp"
 
 namespace excite::host {
@@ -167,7 +168,8 @@ std::unique_ptr<plan::Plan> make_plan(const PriorKnowledge& prior, const PresetI
     m.channels[j].min = in.min;
     m.channels[j].max = in.max;
   }
-  const signal::Status status = plan::validate(*p);
+  signal::Status status = plan::validate(*p);
+  if (status) status = signal::validate(r, signal::kTableCapacity);
   if (!status) throw std::invalid_argument(std::string("plan: ") + status.message());
   return p;
 }

@@ -114,6 +114,17 @@ TEST(Presets, PrbsDirCorrSimAddsASignalAlongTheWeakestDirection) {
   }
 }
 
+TEST(Presets, TableLargerThanTheGatewayCapacityIsRefused) {
+  PriorKnowledge prior = case_study("alatiqi4x4");
+  prior.sample_time_min = 0.0625;  // 16× the samples: 4 × 65 280 values > 2^18
+  try {
+    design_preset(prior, find_preset("prbsUnc"), 0);
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("capacity"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Presets, UnknownAcronymListsTheKnownOnes) {
   try {
     find_preset("prbsFoo");
