@@ -12,7 +12,7 @@ namespace {
 
 // One register block to place: a value or the heartbeat.
 struct Item {
-  std::string field;  // "setpoints[3]" or "heartbeat_address"
+  std::string field;  // the address field: "setpoints[3].address" or "heartbeat_address"
   std::uint32_t address = 0;
   std::uint32_t size = 0;
   int function_code = 16;
@@ -86,7 +86,7 @@ Validation compile_entry(const RegisterEntry& entry, const std::string& field, b
     codec.raw_min = raw_min;
     codec.raw_max = raw_max;
   }
-  item = Item{field, entry.address, size, entry.function_code, &codec, false};
+  item = Item{field + ".address", entry.address, size, entry.function_code, &codec, false};
   return Validation::valid();
 }
 
@@ -103,7 +103,7 @@ Validation plan_requests(std::vector<Item>& items, std::uint32_t chunk, std::vec
     if (i > 0) {
       const Item& previous = items[i - 1];
       if (previous.function_code == item.function_code && previous.address + previous.size > item.address) {
-        return Validation::invalid(item.field + ".address", std::to_string(item.address),
+        return Validation::invalid(item.field, std::to_string(item.address),
                                    "no overlap with " + previous.field + " (registers " +
                                        std::to_string(previous.address) + ".." +
                                        std::to_string(previous.address + previous.size - 1) + ")");
