@@ -20,13 +20,17 @@ namespace {
 const char* socket_failure_reason(int error) noexcept {
   switch (error) {
     case EAFNOSUPPORT:
-      return "socket(PF_CAN, SOCK_RAW, CAN_RAW) failed: EAFNOSUPPORT (Address family not supported by "
+      return "socket(PF_CAN, SOCK_RAW, CAN_RAW) failed: EAFNOSUPPORT (Address family not supported "
+             "by "
              "protocol): this kernel has no SocketCAN (AF_CAN)";
     case EPROTONOSUPPORT:
-      return "socket(PF_CAN, SOCK_RAW, CAN_RAW) failed: EPROTONOSUPPORT: the can-raw module is not loaded";
+      return "socket(PF_CAN, SOCK_RAW, CAN_RAW) failed: EPROTONOSUPPORT: the can-raw module is not "
+             "loaded";
     case EACCES:
-    case EPERM: return "socket(PF_CAN, SOCK_RAW, CAN_RAW) failed: permission denied";
-    default: return "socket(PF_CAN, SOCK_RAW, CAN_RAW) failed";
+    case EPERM:
+      return "socket(PF_CAN, SOCK_RAW, CAN_RAW) failed: permission denied";
+    default:
+      return "socket(PF_CAN, SOCK_RAW, CAN_RAW) failed";
   }
 }
 
@@ -41,7 +45,9 @@ SocketCanSupport probe_socketcan() noexcept {
   return {Status::ok, ""};
 }
 
-CanFieldBus::~CanFieldBus() { release(); }
+CanFieldBus::~CanFieldBus() {
+  release();
+}
 
 void CanFieldBus::release() noexcept {
   if (fd_ >= 0) {
@@ -55,11 +61,13 @@ Validation CanFieldBus::configure(const CanConfig& config) {
   plan_ = CanPlan{};
   std::snprintf(detail_, sizeof detail_, "not configured");
   if (config.interface.empty() || config.interface.size() >= IFNAMSIZ) {
-    return Validation::invalid("can.interface", "\"" + config.interface + "\"",
-                               "an interface name of 1.." + std::to_string(IFNAMSIZ - 1) + " characters");
+    return Validation::invalid(
+        "can.interface", "\"" + config.interface + "\"",
+        "an interface name of 1.." + std::to_string(IFNAMSIZ - 1) + " characters");
   }
   if (config.value_timeout_ms < 1 || config.value_timeout_ms > 60000) {
-    return Validation::invalid("can.value_timeout_ms", std::to_string(config.value_timeout_ms), "1..60000 ms");
+    return Validation::invalid("can.value_timeout_ms", std::to_string(config.value_timeout_ms),
+                               "1..60000 ms");
   }
   if (config.enobufs_limit < 1) {
     return Validation::invalid("can.enobufs_limit", "0", "at least 1 write() call");
@@ -90,7 +98,7 @@ Validation CanFieldBus::configure(const CanConfig& config) {
   std::vector<can_filter> filters;
   for (const RxFrame& rx : plan.rx) {
     const canid_t mask = (rx.id & CAN_EFF_FLAG) != 0 ? (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_EFF_MASK)
-                                                      : (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_SFF_MASK);
+                                                     : (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_SFF_MASK);
     filters.push_back(can_filter{rx.id, mask});
   }
   // No filters means receive nothing but error frames (an empty filter list).
@@ -127,8 +135,9 @@ Status CanFieldBus::write(std::span<const double> setpoints, std::uint16_t heart
     return Status::unavailable;  // detail_ says why (not configured, or no AF_CAN)
   }
   if (pack_setpoints(plan_, setpoints, heartbeat, tx_, clamped_) != Status::ok) {
-    std::snprintf(detail_, sizeof detail_, "write: %zu setpoints (%zu configured), all finite expected",
-                  setpoints.size(), plan_.setpoints.size());
+    std::snprintf(detail_, sizeof detail_,
+                  "write: %zu setpoints (%zu configured), all finite expected", setpoints.size(),
+                  plan_.setpoints.size());
     return Status::bad_argument;
   }
   int error = 0;
@@ -144,8 +153,8 @@ Status CanFieldBus::write(std::span<const double> setpoints, std::uint16_t heart
   } else if (link_.bus_off()) {
     std::snprintf(detail_, sizeof detail_, "%s: controller is bus-off", interface_.c_str());
   } else {
-    std::snprintf(detail_, sizeof detail_, "%s: send: %s (%u consecutive)", interface_.c_str(), std::strerror(error),
-                  link_.enobufs_streak());
+    std::snprintf(detail_, sizeof detail_, "%s: send: %s (%u consecutive)", interface_.c_str(),
+                  std::strerror(error), link_.enobufs_streak());
   }
   return status;
 }
@@ -155,8 +164,8 @@ Status CanFieldBus::read(std::span<double> values) noexcept {
     return Status::unavailable;
   }
   if (values.size() != plan_.values.size()) {
-    std::snprintf(detail_, sizeof detail_, "read: room for %zu values given, %zu configured", values.size(),
-                  plan_.values.size());
+    std::snprintf(detail_, sizeof detail_, "read: room for %zu values given, %zu configured",
+                  values.size(), plan_.values.size());
     return Status::bad_argument;
   }
   can_frame frame{};
@@ -174,7 +183,8 @@ Status CanFieldBus::read(std::span<double> values) noexcept {
     }
   }
   if (errno != EAGAIN && errno != EWOULDBLOCK) {
-    std::snprintf(detail_, sizeof detail_, "%s: recv: %s", interface_.c_str(), std::strerror(errno));
+    std::snprintf(detail_, sizeof detail_, "%s: recv: %s", interface_.c_str(),
+                  std::strerror(errno));
     return Status::link_lost;
   }
   if (link_.bus_off()) {
@@ -185,7 +195,8 @@ Status CanFieldBus::read(std::span<double> values) noexcept {
   for (std::size_t f = 0; f < plan_.rx.size(); ++f) {
     if (received_at_[f].count() < 0 || now - received_at_[f] > value_timeout_) {
       std::snprintf(detail_, sizeof detail_, "%s: value frame 0x%X %s", interface_.c_str(),
-                    plan_.rx[f].id & CAN_EFF_MASK, received_at_[f].count() < 0 ? "never received" : "stale");
+                    plan_.rx[f].id & CAN_EFF_MASK,
+                    received_at_[f].count() < 0 ? "never received" : "stale");
       return Status::timeout;
     }
   }

@@ -18,7 +18,7 @@
 namespace excite::hal::can {
 
 struct CanConfig {
-  std::string interface = "can0";      // SocketCAN interface, e.g. can0, vcan0
+  std::string interface = "can0";  // SocketCAN interface, e.g. can0, vcan0
   CanFrameMap map;
   std::int32_t value_timeout_ms = 100;  // a value frame older than this is stale, 1..60000
   std::uint32_t enobufs_limit = 10;     // consecutive write() calls with ENOBUFS = link loss
@@ -27,7 +27,7 @@ struct CanConfig {
 // Whether this kernel can open a SocketCAN raw socket. reason: "" when ok, else a
 // static string naming the call and errno (e.g. EAFNOSUPPORT: no AF_CAN).
 struct SocketCanSupport {
-  Status status;       // ok or unavailable
+  Status status;  // ok or unavailable
   const char* reason;
 };
 SocketCanSupport probe_socketcan() noexcept;
@@ -49,7 +49,9 @@ class CanFieldBus final : public FieldBus {
 
   Status write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept override;
   Status read(std::span<double> values) noexcept override;
-  [[nodiscard]] std::size_t setpoint_count() const noexcept override { return plan_.setpoints.size(); }
+  [[nodiscard]] std::size_t setpoint_count() const noexcept override {
+    return plan_.setpoints.size();
+  }
   [[nodiscard]] std::size_t value_count() const noexcept override { return plan_.values.size(); }
   [[nodiscard]] const char* detail() const noexcept override { return detail_; }
 
@@ -65,8 +67,8 @@ class CanFieldBus final : public FieldBus {
   CanPlan plan_;
   LinkState link_;
   std::vector<can_frame> tx_;
-  std::vector<double> latest_;             // newest decoded values
-  std::vector<Nanoseconds> received_at_;   // per rx frame; negative: never
+  std::vector<double> latest_;            // newest decoded values
+  std::vector<Nanoseconds> received_at_;  // per rx frame; negative: never
   Nanoseconds value_timeout_{0};
   std::string interface_;
   std::uint64_t clamped_ = 0;

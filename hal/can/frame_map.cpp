@@ -51,17 +51,19 @@ canid_t frame_id(const CanSignal& signal) {
 // The frames of one direction: identifiers in first-seen order, with a byte-use mask each.
 struct FrameSlots {
   std::vector<canid_t> ids;
-  std::vector<std::uint8_t> used;   // bit b: byte b taken
-  std::vector<std::string> owner;   // who took each byte, for messages: per frame, 8 names
+  std::vector<std::uint8_t> used;  // bit b: byte b taken
+  std::vector<std::string> owner;  // who took each byte, for messages: per frame, 8 names
   std::vector<std::uint8_t> dlc;
 };
 
-Validation place(const CanSignal& signal, const std::string& field, FrameSlots& slots, SignalCodec& codec) {
+Validation place(const CanSignal& signal, const std::string& field, FrameSlots& slots,
+                 SignalCodec& codec) {
   const std::uint32_t id_limit = signal.extended ? CAN_EFF_MASK : CAN_SFF_MASK;
   if (signal.id > id_limit) {
     return Validation::invalid(field + ".id", hex(signal.id),
-                               signal.extended ? "0x0..0x1FFFFFFF (29-bit extended identifier)"
-                                               : "0x0..0x7FF (11-bit identifier; set extended for 29-bit)");
+                               signal.extended
+                                   ? "0x0..0x1FFFFFFF (29-bit extended identifier)"
+                                   : "0x0..0x7FF (11-bit identifier; set extended for 29-bit)");
   }
   const TypeInfo* type = nullptr;
   for (const TypeInfo& candidate : types) {
@@ -74,15 +76,17 @@ Validation place(const CanSignal& signal, const std::string& field, FrameSlots& 
                                "int8, uint8, int16, uint16, int32, uint32 or float32");
   }
   if (signal.byte_order != "little" && signal.byte_order != "big") {
-    return Validation::invalid(field + ".byte_order", "\"" + signal.byte_order + "\"", "\"little\" or \"big\"");
+    return Validation::invalid(field + ".byte_order", "\"" + signal.byte_order + "\"",
+                               "\"little\" or \"big\"");
   }
   if (signal.byte_offset > 7 || signal.byte_offset + type->size > 8) {
     return Validation::invalid(field + ".byte_offset", std::to_string(signal.byte_offset),
-                               "byte_offset + " + std::to_string(type->size) + " byte(s) of " + signal.type +
-                                   " <= 8 (classic CAN payload)");
+                               "byte_offset + " + std::to_string(type->size) + " byte(s) of " +
+                                   signal.type + " <= 8 (classic CAN payload)");
   }
   if (!std::isfinite(signal.scale) || signal.scale == 0.0) {
-    return Validation::invalid(field + ".scale", std::to_string(signal.scale), "a finite, non-zero scale");
+    return Validation::invalid(field + ".scale", std::to_string(signal.scale),
+                               "a finite, non-zero scale");
   }
   if (!std::isfinite(signal.offset)) {
     return Validation::invalid(field + ".offset", std::to_string(signal.offset), "a finite offset");
@@ -112,17 +116,22 @@ Validation place(const CanSignal& signal, const std::string& field, FrameSlots& 
   for (std::uint32_t b = signal.byte_offset; b < signal.byte_offset + type->size; ++b) {
     slots.owner[frame * 8 + b] = field;
   }
-  slots.dlc[frame] = std::max(slots.dlc[frame], static_cast<std::uint8_t>(signal.byte_offset + type->size));
-  codec = SignalCodec{frame,         static_cast<std::uint8_t>(signal.byte_offset),
-                      type->size,    type->type,
-                      signal.byte_order == "big", signal.scale,
+  slots.dlc[frame] =
+      std::max(slots.dlc[frame], static_cast<std::uint8_t>(signal.byte_offset + type->size));
+  codec = SignalCodec{frame,
+                      static_cast<std::uint8_t>(signal.byte_offset),
+                      type->size,
+                      type->type,
+                      signal.byte_order == "big",
+                      signal.scale,
                       signal.offset};
   return Validation::valid();
 }
 
 void store(std::uint8_t* data, const SignalCodec& codec, std::uint32_t bits) noexcept {
   for (std::uint8_t i = 0; i < codec.size; ++i) {
-    const std::uint8_t shift = static_cast<std::uint8_t>(8U * (codec.big_endian ? codec.size - 1U - i : i));
+    const std::uint8_t shift =
+        static_cast<std::uint8_t>(8U * (codec.big_endian ? codec.size - 1U - i : i));
     data[codec.offset + i] = static_cast<std::uint8_t>(bits >> shift);
   }
 }
@@ -130,7 +139,8 @@ void store(std::uint8_t* data, const SignalCodec& codec, std::uint32_t bits) noe
 std::uint32_t load(const std::uint8_t* data, const SignalCodec& codec) noexcept {
   std::uint32_t bits = 0;
   for (std::uint8_t i = 0; i < codec.size; ++i) {
-    const std::uint8_t shift = static_cast<std::uint8_t>(8U * (codec.big_endian ? codec.size - 1U - i : i));
+    const std::uint8_t shift =
+        static_cast<std::uint8_t>(8U * (codec.big_endian ? codec.size - 1U - i : i));
     bits |= static_cast<std::uint32_t>(data[codec.offset + i]) << shift;
   }
   return bits;
@@ -151,13 +161,20 @@ std::uint32_t to_bits(const SignalCodec& codec, double raw, bool& clamped) noexc
 
 double from_bits(const SignalCodec& codec, std::uint32_t bits) noexcept {
   switch (codec.type) {
-    case SignalType::int8: return static_cast<std::int8_t>(bits);
-    case SignalType::uint8: return static_cast<double>(bits);
-    case SignalType::int16: return static_cast<std::int16_t>(bits);
-    case SignalType::uint16: return static_cast<double>(bits);
-    case SignalType::int32: return static_cast<std::int32_t>(bits);
-    case SignalType::uint32: return static_cast<double>(bits);
-    case SignalType::float32: return static_cast<double>(std::bit_cast<float>(bits));
+    case SignalType::int8:
+      return static_cast<std::int8_t>(bits);
+    case SignalType::uint8:
+      return static_cast<double>(bits);
+    case SignalType::int16:
+      return static_cast<std::int16_t>(bits);
+    case SignalType::uint16:
+      return static_cast<double>(bits);
+    case SignalType::int32:
+      return static_cast<std::int32_t>(bits);
+    case SignalType::uint32:
+      return static_cast<double>(bits);
+    case SignalType::float32:
+      return static_cast<double>(std::bit_cast<float>(bits));
   }
   return 0.0;
 }
@@ -172,13 +189,16 @@ Validation compile_frame_map(const CanFrameMap& map, CanPlan& plan) {
   compiled.setpoints.resize(map.setpoints.size());
   compiled.values.resize(map.values.size());
   for (std::size_t i = 0; i < map.setpoints.size(); ++i) {
-    if (auto v = place(map.setpoints[i], "setpoints[" + std::to_string(i) + "]", tx, compiled.setpoints[i]); !v.ok()) {
+    if (auto v = place(map.setpoints[i], "setpoints[" + std::to_string(i) + "]", tx,
+                       compiled.setpoints[i]);
+        !v.ok()) {
       return v;
     }
   }
   if (map.heartbeat) {
     if (map.heartbeat->type != "uint8" && map.heartbeat->type != "uint16") {
-      return Validation::invalid("heartbeat.type", "\"" + map.heartbeat->type + "\"", "uint8 or uint16 (a counter)");
+      return Validation::invalid("heartbeat.type", "\"" + map.heartbeat->type + "\"",
+                                 "uint8 or uint16 (a counter)");
     }
     SignalCodec codec;
     if (auto v = place(*map.heartbeat, "heartbeat", tx, codec); !v.ok()) {
@@ -189,8 +209,9 @@ Validation compile_frame_map(const CanFrameMap& map, CanPlan& plan) {
   for (std::size_t i = 0; i < map.values.size(); ++i) {
     const std::string field = "values[" + std::to_string(i) + "]";
     if (std::find(tx.ids.begin(), tx.ids.end(), frame_id(map.values[i])) != tx.ids.end()) {
-      return Validation::invalid(field + ".id", hex(map.values[i].id),
-                                 "an identifier not also used for setpoints (a frame is sent or received)");
+      return Validation::invalid(
+          field + ".id", hex(map.values[i].id),
+          "an identifier not also used for setpoints (a frame is sent or received)");
     }
     if (auto v = place(map.values[i], field, rx, compiled.values[i]); !v.ok()) {
       return v;
@@ -209,8 +230,9 @@ Validation compile_frame_map(const CanFrameMap& map, CanPlan& plan) {
   return Validation::valid();
 }
 
-Status pack_setpoints(const CanPlan& plan, std::span<const double> setpoints, std::uint16_t heartbeat,
-                      std::span<can_frame> frames, std::uint64_t& clamped) noexcept {
+Status pack_setpoints(const CanPlan& plan, std::span<const double> setpoints,
+                      std::uint16_t heartbeat, std::span<can_frame> frames,
+                      std::uint64_t& clamped) noexcept {
   if (setpoints.size() != plan.setpoints.size() || frames.size() != plan.tx.size()) {
     return Status::bad_argument;
   }
@@ -225,7 +247,8 @@ Status pack_setpoints(const CanPlan& plan, std::span<const double> setpoints, st
   for (std::size_t i = 0; i < setpoints.size(); ++i) {
     const SignalCodec& codec = plan.setpoints[i];
     bool was_clamped = false;
-    const std::uint32_t bits = to_bits(codec, (setpoints[i] - codec.offset_eng) / codec.scale, was_clamped);
+    const std::uint32_t bits =
+        to_bits(codec, (setpoints[i] - codec.offset_eng) / codec.scale, was_clamped);
     clamped += was_clamped ? 1U : 0U;
     store(frames[codec.frame].data, codec, bits);
   }
@@ -250,7 +273,8 @@ std::optional<std::size_t> find_rx(const CanPlan& plan, const can_frame& frame) 
 
 bool unpack_values(const CanPlan& plan, std::size_t rx_index, const can_frame& frame,
                    std::span<double> values) noexcept {
-  if (rx_index >= plan.rx.size() || frame.can_dlc < plan.rx[rx_index].dlc || values.size() != plan.values.size()) {
+  if (rx_index >= plan.rx.size() || frame.can_dlc < plan.rx[rx_index].dlc ||
+      values.size() != plan.values.size()) {
     return false;
   }
   for (std::size_t i = 0; i < plan.values.size(); ++i) {

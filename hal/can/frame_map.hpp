@@ -31,9 +31,9 @@ struct CanSignal {
 };
 
 struct CanFrameMap {
-  std::vector<CanSignal> setpoints;   // sent every write(), grouped into frames by identifier
-  std::vector<CanSignal> values;      // taken from received frames by identifier
-  std::optional<CanSignal> heartbeat; // uint8 or uint16 counter in a setpoint frame (scale unused)
+  std::vector<CanSignal> setpoints;    // sent every write(), grouped into frames by identifier
+  std::vector<CanSignal> values;       // taken from received frames by identifier
+  std::optional<CanSignal> heartbeat;  // uint8 or uint16 counter in a setpoint frame (scale unused)
 };
 
 // ---- compiled form, sized at configuration ----
@@ -51,16 +51,16 @@ struct SignalCodec {
 };
 
 struct RxFrame {
-  canid_t id = 0;         // with CAN_EFF_FLAG for extended identifiers
-  std::uint8_t dlc = 0;   // bytes the mapped signals need
+  canid_t id = 0;        // with CAN_EFF_FLAG for extended identifiers
+  std::uint8_t dlc = 0;  // bytes the mapped signals need
 };
 
 struct CanPlan {
-  std::vector<can_frame> tx;          // one template per setpoint identifier (id, dlc set)
-  std::vector<SignalCodec> setpoints; // same order as CanFrameMap::setpoints
+  std::vector<can_frame> tx;           // one template per setpoint identifier (id, dlc set)
+  std::vector<SignalCodec> setpoints;  // same order as CanFrameMap::setpoints
   std::optional<SignalCodec> heartbeat;
-  std::vector<RxFrame> rx;            // one per value identifier
-  std::vector<SignalCodec> values;    // same order as CanFrameMap::values
+  std::vector<RxFrame> rx;          // one per value identifier
+  std::vector<SignalCodec> values;  // same order as CanFrameMap::values
 };
 
 // Checks identifiers, byte layout (fits in 8 bytes, no two signals share a byte), types,
@@ -71,8 +71,9 @@ Validation compile_frame_map(const CanFrameMap& map, CanPlan& plan);
 // Fills `frames` (size plan.tx.size()) with the setpoints (engineering units) and the
 // heartbeat. Returns bad_argument (frames unspecified) for a wrong size or a non-finite
 // setpoint; adds the number of clamped setpoints to `clamped`.
-Status pack_setpoints(const CanPlan& plan, std::span<const double> setpoints, std::uint16_t heartbeat,
-                      std::span<can_frame> frames, std::uint64_t& clamped) noexcept;
+Status pack_setpoints(const CanPlan& plan, std::span<const double> setpoints,
+                      std::uint16_t heartbeat, std::span<can_frame> frames,
+                      std::uint64_t& clamped) noexcept;
 
 // Index into plan.rx of a received frame's identifier, if it is mapped.
 std::optional<std::size_t> find_rx(const CanPlan& plan, const can_frame& frame) noexcept;

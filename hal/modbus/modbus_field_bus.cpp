@@ -13,16 +13,21 @@ namespace excite::hal::modbus {
 
 namespace {
 
-bool is_exception_reply(int error) noexcept { return error >= EMBXILFUN && error <= EMBXGTAR; }
-bool is_malformed_reply(int error) noexcept { return error > EMBXGTAR && error <= EMBBADSLAVE; }
+bool is_exception_reply(int error) noexcept {
+  return error >= EMBXILFUN && error <= EMBXGTAR;
+}
+bool is_malformed_reply(int error) noexcept {
+  return error > EMBXGTAR && error <= EMBBADSLAVE;
+}
 
 Validation validate_device(const ModbusDevice& device) {
   if (device.transport != "tcp" && device.transport != "rtu") {
-    return Validation::invalid("device.transport", "\"" + device.transport + "\"", "\"tcp\" or \"rtu\"");
+    return Validation::invalid("device.transport", "\"" + device.transport + "\"",
+                               "\"tcp\" or \"rtu\"");
   }
   if (device.response_timeout_ms < 1 || device.response_timeout_ms > 60000) {
-    return Validation::invalid("device.response_timeout_ms", std::to_string(device.response_timeout_ms),
-                               "1..60000 ms");
+    return Validation::invalid("device.response_timeout_ms",
+                               std::to_string(device.response_timeout_ms), "1..60000 ms");
   }
   if (device.transport == "tcp") {
     if (device.host.empty()) {
@@ -32,18 +37,22 @@ Validation validate_device(const ModbusDevice& device) {
       return Validation::invalid("device.port", std::to_string(device.port), "1..65535");
     }
     if (device.unit_id < 0 || device.unit_id > 255) {
-      return Validation::invalid("device.unit_id", std::to_string(device.unit_id), "0..255 for Modbus TCP");
+      return Validation::invalid("device.unit_id", std::to_string(device.unit_id),
+                                 "0..255 for Modbus TCP");
     }
     return Validation::valid();
   }
   if (device.serial_port.empty()) {
-    return Validation::invalid("device.serial_port", "\"\"", "a serial device path, e.g. /dev/ttyUSB0");
+    return Validation::invalid("device.serial_port", "\"\"",
+                               "a serial device path, e.g. /dev/ttyUSB0");
   }
   if (device.baud <= 0) {
-    return Validation::invalid("device.baud", std::to_string(device.baud), "a positive baud rate, e.g. 19200");
+    return Validation::invalid("device.baud", std::to_string(device.baud),
+                               "a positive baud rate, e.g. 19200");
   }
   if (device.parity != "N" && device.parity != "E" && device.parity != "O") {
-    return Validation::invalid("device.parity", "\"" + device.parity + "\"", "\"N\", \"E\" or \"O\"");
+    return Validation::invalid("device.parity", "\"" + device.parity + "\"",
+                               "\"N\", \"E\" or \"O\"");
   }
   if (device.data_bits < 5 || device.data_bits > 8) {
     return Validation::invalid("device.data_bits", std::to_string(device.data_bits), "5..8");
@@ -68,7 +77,9 @@ Validation validate(const ModbusConfig& config) {
   return compile_register_map(config.map, plan);
 }
 
-ModbusFieldBus::~ModbusFieldBus() { release(); }
+ModbusFieldBus::~ModbusFieldBus() {
+  release();
+}
 
 void ModbusFieldBus::release() noexcept {
   if (ctx_ != nullptr) {
@@ -103,13 +114,14 @@ Validation ModbusFieldBus::configure(const ModbusConfig& config) {
     where = "device.host";
     peer_ = "tcp " + device.host + ":" + service + " unit " + std::to_string(device.unit_id);
   } else {
-    ctx_ = modbus_new_rtu(device.serial_port.c_str(), device.baud, device.parity[0], device.data_bits,
-                          device.stop_bits);
+    ctx_ = modbus_new_rtu(device.serial_port.c_str(), device.baud, device.parity[0],
+                          device.data_bits, device.stop_bits);
     where = "device.serial_port";
     peer_ = "rtu " + device.serial_port + " slave " + std::to_string(device.unit_id);
   }
   if (ctx_ == nullptr) {
-    return Validation::invalid(where, peer_, std::string("a usable device (libmodbus: ") + modbus_strerror(errno) + ")");
+    return Validation::invalid(
+        where, peer_, std::string("a usable device (libmodbus: ") + modbus_strerror(errno) + ")");
   }
   const auto timeout_ms = static_cast<std::uint32_t>(device.response_timeout_ms);
   modbus_set_slave(ctx_, device.unit_id);
@@ -118,7 +130,8 @@ Validation ModbusFieldBus::configure(const ModbusConfig& config) {
   if (modbus_connect(ctx_) == -1) {
     const std::string reason = modbus_strerror(errno);
     release();
-    return Validation::invalid(where, peer_, "a reachable Modbus peer (connect failed: " + reason + ")");
+    return Validation::invalid(where, peer_,
+                               "a reachable Modbus peer (connect failed: " + reason + ")");
   }
   connected_ = true;
   plan_ = std::move(plan);
@@ -140,7 +153,8 @@ Status ModbusFieldBus::ensure_connected() noexcept {
   if (modbus_connect(ctx_) == -1) {
     const int error = errno;
     modbus_close(ctx_);
-    std::snprintf(detail_, sizeof detail_, "%s: reconnect failed: %s", peer_.c_str(), modbus_strerror(error));
+    std::snprintf(detail_, sizeof detail_, "%s: reconnect failed: %s", peer_.c_str(),
+                  modbus_strerror(error));
     return Status::link_lost;
   }
   connected_ = true;
@@ -163,11 +177,12 @@ Status ModbusFieldBus::fail(const char* operation, const Request* request, int e
     connected_ = false;
   }
   if (request != nullptr) {
-    std::snprintf(detail_, sizeof detail_, "%s: %s FC%02d address %u count %u: %s", peer_.c_str(), operation,
-                  request->function_code, static_cast<unsigned>(request->address),
+    std::snprintf(detail_, sizeof detail_, "%s: %s FC%02d address %u count %u: %s", peer_.c_str(),
+                  operation, request->function_code, static_cast<unsigned>(request->address),
                   static_cast<unsigned>(request->count), modbus_strerror(error));
   } else {
-    std::snprintf(detail_, sizeof detail_, "%s: %s: %s", peer_.c_str(), operation, modbus_strerror(error));
+    std::snprintf(detail_, sizeof detail_, "%s: %s: %s", peer_.c_str(), operation,
+                  modbus_strerror(error));
   }
   return status;
 }
@@ -178,8 +193,8 @@ Status ModbusFieldBus::write(std::span<const double> setpoints, std::uint16_t he
     return Status::unavailable;
   }
   if (setpoints.size() != plan_.setpoints.size()) {
-    std::snprintf(detail_, sizeof detail_, "write: %zu setpoints given, %zu configured", setpoints.size(),
-                  plan_.setpoints.size());
+    std::snprintf(detail_, sizeof detail_, "write: %zu setpoints given, %zu configured",
+                  setpoints.size(), plan_.setpoints.size());
     return Status::bad_argument;
   }
   // Encode everything before sending anything: a bad setpoint sends nothing.
@@ -187,8 +202,10 @@ Status ModbusFieldBus::write(std::span<const double> setpoints, std::uint16_t he
   for (std::size_t i = 0; i < setpoints.size(); ++i) {
     const Codec& codec = plan_.setpoints[i];
     const double value = setpoints[i];
-    if (!std::isfinite(value) || (codec.type == RegisterType::float32 && std::fabs(value) > FLT_MAX)) {
-      std::snprintf(detail_, sizeof detail_, "write: setpoints[%zu] = %g: expected a finite value%s", i, value,
+    if (!std::isfinite(value) ||
+        (codec.type == RegisterType::float32 && std::fabs(value) > FLT_MAX)) {
+      std::snprintf(detail_, sizeof detail_,
+                    "write: setpoints[%zu] = %g: expected a finite value%s", i, value,
                     codec.type == RegisterType::float32 ? " within float32 range" : "");
       return Status::bad_argument;
     }
@@ -210,7 +227,8 @@ Status ModbusFieldBus::write(std::span<const double> setpoints, std::uint16_t he
   }
   for (const Request& request : plan_.writes) {
     ++requests_;
-    if (modbus_write_registers(ctx_, request.address, request.count, &write_image_[request.offset]) == -1) {
+    if (modbus_write_registers(ctx_, request.address, request.count,
+                               &write_image_[request.offset]) == -1) {
       return fail("write", &request, errno);
     }
   }
@@ -224,8 +242,8 @@ Status ModbusFieldBus::read(std::span<double> values) noexcept {
     return Status::unavailable;
   }
   if (values.size() != plan_.values.size()) {
-    std::snprintf(detail_, sizeof detail_, "read: room for %zu values given, %zu configured", values.size(),
-                  plan_.values.size());
+    std::snprintf(detail_, sizeof detail_, "read: room for %zu values given, %zu configured",
+                  values.size(), plan_.values.size());
     return Status::bad_argument;
   }
   if (const Status link = ensure_connected(); link != Status::ok) {
@@ -234,9 +252,10 @@ Status ModbusFieldBus::read(std::span<double> values) noexcept {
   for (const Request& request : plan_.reads) {
     ++requests_;
     std::uint16_t* destination = &read_image_[request.offset];
-    const int rc = request.function_code == 4
-                       ? modbus_read_input_registers(ctx_, request.address, request.count, destination)
-                       : modbus_read_registers(ctx_, request.address, request.count, destination);
+    const int rc =
+        request.function_code == 4
+            ? modbus_read_input_registers(ctx_, request.address, request.count, destination)
+            : modbus_read_registers(ctx_, request.address, request.count, destination);
     if (rc == -1) {
       return fail("read", &request, errno);
     }

@@ -28,8 +28,8 @@ struct ModbusDevice {
   std::int32_t data_bits = 8;
   std::int32_t stop_bits = 1;
   // both
-  std::int32_t unit_id = 1;                 // TCP unit identifier 0..255; RTU slave 1..247
-  std::int32_t response_timeout_ms = 100;   // per request, 1..60000 ms
+  std::int32_t unit_id = 1;                // TCP unit identifier 0..255; RTU slave 1..247
+  std::int32_t response_timeout_ms = 100;  // per request, 1..60000 ms
 };
 
 struct ModbusConfig {
@@ -61,7 +61,9 @@ class ModbusFieldBus final : public FieldBus {
 
   Status write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept override;
   Status read(std::span<double> values) noexcept override;
-  [[nodiscard]] std::size_t setpoint_count() const noexcept override { return plan_.setpoints.size(); }
+  [[nodiscard]] std::size_t setpoint_count() const noexcept override {
+    return plan_.setpoints.size();
+  }
   [[nodiscard]] std::size_t value_count() const noexcept override { return plan_.values.size(); }
   [[nodiscard]] const char* detail() const noexcept override { return detail_; }
 

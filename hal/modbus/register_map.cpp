@@ -48,7 +48,8 @@ Validation compile_entry(const RegisterEntry& entry, const std::string& field, b
   }
   const auto type = parse_type(entry.type);
   if (!type) {
-    return Validation::invalid(field + ".type", "\"" + entry.type + "\"", "float32, int16 or uint16");
+    return Validation::invalid(field + ".type", "\"" + entry.type + "\"",
+                               "float32, int16 or uint16");
   }
   codec.type = *type;
   const std::uint32_t size = register_count(*type);
@@ -64,10 +65,11 @@ Validation compile_entry(const RegisterEntry& entry, const std::string& field, b
     }
     codec.order = *order;
   } else {
-    if (!std::isfinite(entry.eng_min) || !std::isfinite(entry.eng_max) || !(entry.eng_min < entry.eng_max)) {
-      return Validation::invalid(field + ".eng_max", number(entry.eng_max),
-                                 "a finite engineering range with eng_min (" + number(entry.eng_min) +
-                                     ") < eng_max");
+    if (!std::isfinite(entry.eng_min) || !std::isfinite(entry.eng_max) ||
+        !(entry.eng_min < entry.eng_max)) {
+      return Validation::invalid(
+          field + ".eng_max", number(entry.eng_max),
+          "a finite engineering range with eng_min (" + number(entry.eng_min) + ") < eng_max");
     }
     const std::int32_t type_min = *type == RegisterType::int16 ? -32768 : 0;
     const std::int32_t type_max = *type == RegisterType::int16 ? 32767 : 65535;
@@ -75,11 +77,13 @@ Validation compile_entry(const RegisterEntry& entry, const std::string& field, b
     const std::int32_t raw_max = entry.raw_max.value_or(type_max);
     const std::string span = std::to_string(type_min) + ".." + std::to_string(type_max);
     if (raw_min < type_min || raw_min > type_max) {
-      return Validation::invalid(field + ".raw_min", std::to_string(raw_min), "within " + span + " for " + entry.type);
+      return Validation::invalid(field + ".raw_min", std::to_string(raw_min),
+                                 "within " + span + " for " + entry.type);
     }
     if (raw_max < type_min || raw_max > type_max || raw_max <= raw_min) {
-      return Validation::invalid(field + ".raw_max", std::to_string(raw_max),
-                                 "within " + span + " and > raw_min (" + std::to_string(raw_min) + ")");
+      return Validation::invalid(
+          field + ".raw_max", std::to_string(raw_max),
+          "within " + span + " and > raw_min (" + std::to_string(raw_min) + ")");
     }
     codec.eng_min = entry.eng_min;
     codec.eng_max = entry.eng_max;
@@ -92,17 +96,20 @@ Validation compile_entry(const RegisterEntry& entry, const std::string& field, b
 
 // Sorts the items of one register table, rejects overlaps, and splits contiguous runs
 // into requests of at most `chunk` registers without splitting a value.
-Validation plan_requests(std::vector<Item>& items, std::uint32_t chunk, std::vector<Request>& requests,
-                         std::size_t& image_size, std::optional<std::size_t>& heartbeat_offset) {
+Validation plan_requests(std::vector<Item>& items, std::uint32_t chunk,
+                         std::vector<Request>& requests, std::size_t& image_size,
+                         std::optional<std::size_t>& heartbeat_offset) {
   std::stable_sort(items.begin(), items.end(), [](const Item& a, const Item& b) {
-    return a.function_code != b.function_code ? a.function_code < b.function_code : a.address < b.address;
+    return a.function_code != b.function_code ? a.function_code < b.function_code
+                                              : a.address < b.address;
   });
   std::size_t offset = 0;
   for (std::size_t i = 0; i < items.size(); ++i) {
     const Item& item = items[i];
     if (i > 0) {
       const Item& previous = items[i - 1];
-      if (previous.function_code == item.function_code && previous.address + previous.size > item.address) {
+      if (previous.function_code == item.function_code &&
+          previous.address + previous.size > item.address) {
         return Validation::invalid(item.field, std::to_string(item.address),
                                    "no overlap with " + previous.field + " (registers " +
                                        std::to_string(previous.address) + ".." +
@@ -131,7 +138,9 @@ Validation plan_requests(std::vector<Item>& items, std::uint32_t chunk, std::vec
 
 }  // namespace
 
-std::uint32_t register_count(RegisterType type) noexcept { return type == RegisterType::float32 ? 2U : 1U; }
+std::uint32_t register_count(RegisterType type) noexcept {
+  return type == RegisterType::float32 ? 2U : 1U;
+}
 
 Validation compile_register_map(const RegisterMap& map, RegisterPlan& plan) {
   plan = RegisterPlan{};
@@ -150,7 +159,8 @@ Validation compile_register_map(const RegisterMap& map, RegisterPlan& plan) {
   std::vector<Item> writes(map.setpoints.size());
   for (std::size_t i = 0; i < map.setpoints.size(); ++i) {
     const std::string field = "setpoints[" + std::to_string(i) + "]";
-    if (auto v = compile_entry(map.setpoints[i], field, true, compiled.setpoints[i], writes[i]); !v.ok()) {
+    if (auto v = compile_entry(map.setpoints[i], field, true, compiled.setpoints[i], writes[i]);
+        !v.ok()) {
       return v;
     }
   }
@@ -164,7 +174,8 @@ Validation compile_register_map(const RegisterMap& map, RegisterPlan& plan) {
   std::vector<Item> reads(map.values.size());
   for (std::size_t i = 0; i < map.values.size(); ++i) {
     const std::string field = "values[" + std::to_string(i) + "]";
-    if (auto v = compile_entry(map.values[i], field, false, compiled.values[i], reads[i]); !v.ok()) {
+    if (auto v = compile_entry(map.values[i], field, false, compiled.values[i], reads[i]);
+        !v.ok()) {
       return v;
     }
   }
@@ -174,7 +185,8 @@ Validation compile_register_map(const RegisterMap& map, RegisterPlan& plan) {
     return v;
   }
   std::optional<std::size_t> no_heartbeat;
-  if (auto v = plan_requests(reads, map.read_chunk, compiled.reads, compiled.read_image_size, no_heartbeat);
+  if (auto v = plan_requests(reads, map.read_chunk, compiled.reads, compiled.read_image_size,
+                             no_heartbeat);
       !v.ok()) {
     return v;
   }
@@ -187,7 +199,8 @@ std::uint16_t to_raw(const Codec& codec, double engineering, bool& clamped) noex
   const double eng = std::clamp(engineering, codec.eng_min, codec.eng_max);
   const double raw = codec.raw_min + (eng - codec.eng_min) * (codec.raw_max - codec.raw_min) /
                                          (codec.eng_max - codec.eng_min);
-  const auto rounded = static_cast<std::int32_t>(std::lround(std::clamp(raw, codec.raw_min, codec.raw_max)));
+  const auto rounded =
+      static_cast<std::int32_t>(std::lround(std::clamp(raw, codec.raw_min, codec.raw_max)));
   // int16 travels as its two's-complement bit pattern.
   return static_cast<std::uint16_t>(rounded & 0xFFFF);
 }
@@ -196,7 +209,8 @@ double from_raw(const Codec& codec, std::uint16_t raw) noexcept {
   const double value = codec.type == RegisterType::int16
                            ? static_cast<double>(static_cast<std::int16_t>(raw))
                            : static_cast<double>(raw);
-  return codec.eng_min + (value - codec.raw_min) * (codec.eng_max - codec.eng_min) / (codec.raw_max - codec.raw_min);
+  return codec.eng_min + (value - codec.raw_min) * (codec.eng_max - codec.eng_min) /
+                             (codec.raw_max - codec.raw_min);
 }
 
 }  // namespace excite::hal::modbus

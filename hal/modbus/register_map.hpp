@@ -13,9 +13,9 @@
 namespace excite::hal::modbus {
 
 // Protocol limits (Modbus application protocol v1.1b3 §6.12, §6.3/6.4).
-inline constexpr std::uint32_t address_space = 65536;        // registers 0..65535
-inline constexpr std::uint32_t max_write_registers = 123;    // FC16 per request
-inline constexpr std::uint32_t max_read_registers = 125;     // FC03/FC04 per request
+inline constexpr std::uint32_t address_space = 65536;      // registers 0..65535
+inline constexpr std::uint32_t max_write_registers = 123;  // FC16 per request
+inline constexpr std::uint32_t max_read_registers = 125;   // FC03/FC04 per request
 
 // One value in the register map, as written in the gateway configuration.
 //   type "float32": engineering units as IEEE 754 in two registers, word_order applies.
@@ -68,12 +68,12 @@ struct Request {
 };
 
 struct RegisterPlan {
-  std::vector<Codec> setpoints;   // same order as RegisterMap::setpoints
+  std::vector<Codec> setpoints;  // same order as RegisterMap::setpoints
   std::optional<std::size_t> heartbeat_offset;
-  std::vector<Request> writes;    // FC16, contiguous runs split at write_chunk
+  std::vector<Request> writes;  // FC16, contiguous runs split at write_chunk
   std::size_t write_image_size = 0;
-  std::vector<Codec> values;      // same order as RegisterMap::values
-  std::vector<Request> reads;     // FC03/FC04, contiguous runs split at read_chunk
+  std::vector<Codec> values;   // same order as RegisterMap::values
+  std::vector<Request> reads;  // FC03/FC04, contiguous runs split at read_chunk
   std::size_t read_image_size = 0;
 };
 

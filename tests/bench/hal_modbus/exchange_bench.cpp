@@ -29,7 +29,8 @@ void field_bus_exchange(benchmark::State& state) {
   config.device.port = server->port();
   for (std::uint32_t i = 0; i < 4; ++i) {
     config.map.setpoints.push_back(RegisterEntry{"sp", 2 * i, 16, "float32", "ABCD", 0, 0, {}, {}});
-    config.map.values.push_back(RegisterEntry{"pv", 100 + 2 * i, 4, "float32", "ABCD", 0, 0, {}, {}});
+    config.map.values.push_back(
+        RegisterEntry{"pv", 100 + 2 * i, 4, "float32", "ABCD", 0, 0, {}, {}});
   }
   config.map.heartbeat_address = 8;
   ModbusFieldBus bus;
@@ -134,12 +135,13 @@ int main(int argc, char** argv) {
   const double ours_wall = median(ours->second.wall_us);
   const double bare_cpu = median(bare->second.cpu_us);
   const double ours_cpu = median(ours->second.cpu_us);
-  std::printf("one tick (4 float setpoints + heartbeat, 4 float values), Modbus TCP on loopback,\n"
-              "median of %zu interleaved repetitions (target overhead <= 10 %%):\n"
-              "  wall time   bare libmodbus %7.2f us  field bus %7.2f us  overhead %+6.1f %%\n"
-              "  client CPU  bare libmodbus %7.2f us  field bus %7.2f us  overhead %+6.1f %%\n",
-              ours->second.wall_us.size(), bare_wall, ours_wall, 100.0 * (ours_wall / bare_wall - 1.0), bare_cpu,
-              ours_cpu, 100.0 * (ours_cpu / bare_cpu - 1.0));
+  std::printf(
+      "one tick (4 float setpoints + heartbeat, 4 float values), Modbus TCP on loopback,\n"
+      "median of %zu interleaved repetitions (target overhead <= 10 %%):\n"
+      "  wall time   bare libmodbus %7.2f us  field bus %7.2f us  overhead %+6.1f %%\n"
+      "  client CPU  bare libmodbus %7.2f us  field bus %7.2f us  overhead %+6.1f %%\n",
+      ours->second.wall_us.size(), bare_wall, ours_wall, 100.0 * (ours_wall / bare_wall - 1.0),
+      bare_cpu, ours_cpu, 100.0 * (ours_cpu / bare_cpu - 1.0));
   benchmark::Shutdown();
   return 0;
 }

@@ -64,7 +64,8 @@ class Peer {
 
   bool receive(can_frame& frame) {
     pollfd p{fd_, POLLIN, 0};
-    return poll(&p, 1, 1000) == 1 && ::read(fd_, &frame, sizeof frame) == static_cast<ssize_t>(sizeof frame);
+    return poll(&p, 1, 1000) == 1 &&
+           ::read(fd_, &frame, sizeof frame) == static_cast<ssize_t>(sizeof frame);
   }
   void send_value(float value) {
     can_frame frame{};

@@ -127,12 +127,17 @@ void FaultServer::serve() {
       }
     }
     switch (fault) {
-      case Fault::drop: modbus_close(ctx_); continue;
+      case Fault::drop:
+        modbus_close(ctx_);
+        continue;
       case Fault::exception:
         modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE);
         continue;
-      case Fault::stall: std::this_thread::sleep_for(stall); break;
-      case Fault::none: break;
+      case Fault::stall:
+        std::this_thread::sleep_for(stall);
+        break;
+      case Fault::none:
+        break;
     }
     std::lock_guard lock(mutex_);
     modbus_reply(ctx_, query, length, mapping_);

@@ -38,7 +38,8 @@ class FaultServer {
 
   [[nodiscard]] std::uint16_t port() const noexcept { return port_; }
 
-  void inject(Fault fault, int requests = 1, std::chrono::milliseconds stall = std::chrono::milliseconds(200));
+  void inject(Fault fault, int requests = 1,
+              std::chrono::milliseconds stall = std::chrono::milliseconds(200));
 
   void set_input(int address, std::uint16_t value);
   void set_holding(int address, std::uint16_t value);

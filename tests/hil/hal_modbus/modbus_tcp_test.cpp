@@ -10,8 +10,8 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <memory>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <thread>
 
@@ -104,8 +104,10 @@ TEST(ModbusTcp, AMapOf300RegistersTakesThreeRequestsEachWayOnTheServer) {
   ModbusConfig config;
   config.device.port = server.port();
   for (std::uint32_t i = 0; i < 300; ++i) {
-    config.map.setpoints.push_back(RegisterEntry{"s", 1000 + i, 16, "uint16", "ABCD", 0.0, 65535.0, {}, {}});
-    config.map.values.push_back(RegisterEntry{"v", 1000 + i, 3, "uint16", "ABCD", 0.0, 65535.0, {}, {}});
+    config.map.setpoints.push_back(
+        RegisterEntry{"s", 1000 + i, 16, "uint16", "ABCD", 0.0, 65535.0, {}, {}});
+    config.map.values.push_back(
+        RegisterEntry{"v", 1000 + i, 3, "uint16", "ABCD", 0.0, 65535.0, {}, {}});
   }
   ModbusFieldBus bus;
   ASSERT_TRUE(bus.configure(config).ok());
@@ -151,7 +153,8 @@ TEST(ModbusTcp, ADroppedConnectionGivesLinkLostThenTheClientReconnects) {
   std::array<double, 3> values{};
   server.inject(FaultServer::Fault::drop);
   EXPECT_EQ(bus.exchange(setpoints, 1, values), Status::link_lost);
-  EXPECT_NE(std::string(bus.detail()).find("write FC16 address 100 count 6"), std::string::npos) << bus.detail();
+  EXPECT_NE(std::string(bus.detail()).find("write FC16 address 100 count 6"), std::string::npos)
+      << bus.detail();
   EXPECT_EQ(bus.exchange(setpoints, 2, values), Status::ok) << bus.detail();
   EXPECT_EQ(bus.reconnects(), 1U);
 }

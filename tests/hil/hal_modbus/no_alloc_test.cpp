@@ -26,11 +26,21 @@ void* operator new(std::size_t size) {
   }
   throw std::bad_alloc();
 }
-void* operator new[](std::size_t size) { return operator new(size); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void* operator new[](std::size_t size) {
+  return operator new(size);
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  std::free(p);
+}
 
 using namespace excite::hal;
 using namespace excite::hal::modbus;
@@ -50,7 +60,8 @@ TEST(ModbusNoAllocation, ThousandExchangesAllocateNothing) {
   config.device.port = server.port();
   for (std::uint32_t i = 0; i < 4; ++i) {
     config.map.setpoints.push_back(RegisterEntry{"sp", 2 * i, 16, "float32", "CDAB", 0, 0, {}, {}});
-    config.map.values.push_back(RegisterEntry{"pv", 100 + 2 * i, 4, "float32", "DCBA", 0, 0, {}, {}});
+    config.map.values.push_back(
+        RegisterEntry{"pv", 100 + 2 * i, 4, "float32", "DCBA", 0, 0, {}, {}});
   }
   config.map.values.push_back(RegisterEntry{"level", 200, 3, "uint16", "ABCD", 0.0, 100.0, {}, {}});
   config.map.heartbeat_address = 8;

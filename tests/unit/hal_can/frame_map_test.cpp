@@ -13,8 +13,8 @@ using namespace excite::hal::can;
 
 namespace {
 
-CanSignal signal(std::uint32_t id, std::uint32_t byte, const char* type, const char* order = "little",
-                 double scale = 1.0, double offset = 0.0) {
+CanSignal signal(std::uint32_t id, std::uint32_t byte, const char* type,
+                 const char* order = "little", double scale = 1.0, double offset = 0.0) {
   return CanSignal{"s", id, false, byte, type, order, scale, offset};
 }
 
@@ -23,7 +23,8 @@ CanSignal signal(std::uint32_t id, std::uint32_t byte, const char* type, const c
 // two values in 0x300.
 CanFrameMap tick_map() {
   CanFrameMap map;
-  map.setpoints = {signal(0x200, 0, "int16", "little", 0.1), signal(0x200, 2, "uint16", "big", 0.1, -100.0),
+  map.setpoints = {signal(0x200, 0, "int16", "little", 0.1),
+                   signal(0x200, 2, "uint16", "big", 0.1, -100.0),
                    CanSignal{"flow", 0x18FF0001, true, 0, "float32", "little", 1.0, 0.0}};
   map.heartbeat = signal(0x200, 7, "uint8");
   map.values = {signal(0x300, 0, "int16", "little", 0.01), signal(0x300, 4, "uint32", "big")};
@@ -157,7 +158,8 @@ TEST(CanFrameMap, RejectsOverlappingBytesNamingTheOtherSignal) {
   map.setpoints = {signal(0x200, 0, "int32"), signal(0x200, 3, "int16")};
   CanPlan plan;
   const auto v = compile_frame_map(map, plan);
-  EXPECT_EQ(v.message(), "setpoints[1].byte_offset = 3: expected no overlap with setpoints[0] in frame 0x200");
+  EXPECT_EQ(v.message(),
+            "setpoints[1].byte_offset = 3: expected no overlap with setpoints[0] in frame 0x200");
   EXPECT_TRUE(plan.tx.empty());
 }
 
@@ -166,7 +168,8 @@ TEST(CanFrameMap, RejectsASignalPastTheEightBytePayload) {
   map.values = {signal(0x300, 6, "float32")};
   CanPlan plan;
   EXPECT_EQ(compile_frame_map(map, plan).message(),
-            "values[0].byte_offset = 6: expected byte_offset + 4 byte(s) of float32 <= 8 (classic CAN payload)");
+            "values[0].byte_offset = 6: expected byte_offset + 4 byte(s) of float32 <= 8 (classic "
+            "CAN payload)");
 }
 
 TEST(CanFrameMap, RejectsIdentifiersBeyondTheirFormat) {

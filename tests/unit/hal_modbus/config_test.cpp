@@ -20,7 +20,9 @@ ModbusConfig rtu_config() {
 }
 }  // namespace
 
-TEST(ModbusConfig, AValidRtuConfigurationPasses) { EXPECT_TRUE(validate(rtu_config()).ok()); }
+TEST(ModbusConfig, AValidRtuConfigurationPasses) {
+  EXPECT_TRUE(validate(rtu_config()).ok());
+}
 
 TEST(ModbusConfig, RejectsAnUnknownTransport) {
   ModbusConfig config = rtu_config();

@@ -194,7 +194,8 @@ TEST(RegisterMap, RejectsAnUnknownType) {
   map.values = {float_at(0, 3)};
   map.values[0].type = "float64";
   RegisterPlan plan;
-  EXPECT_EQ(compile_register_map(map, plan).message(), "values[0].type = \"float64\": expected float32, int16 or uint16");
+  EXPECT_EQ(compile_register_map(map, plan).message(),
+            "values[0].type = \"float64\": expected float32, int16 or uint16");
 }
 
 TEST(RegisterMap, RejectsAnEmptyEngineeringRangeAndRawRangesOutsideTheType) {
@@ -228,7 +229,8 @@ Codec scaled(RegisterType type, double eng_min, double eng_max, double raw_min, 
 }  // namespace
 
 TEST(Scaling, Uint16MapsTheEngineeringRangeOntoTheRawRange) {
-  const Codec codec = scaled(RegisterType::uint16, 0.0, 100.0, 0.0, 27648.0);  // Siemens analog span
+  const Codec codec =
+      scaled(RegisterType::uint16, 0.0, 100.0, 0.0, 27648.0);  // Siemens analog span
   bool clamped = true;
   EXPECT_EQ(to_raw(codec, 0.0, clamped), 0);
   EXPECT_FALSE(clamped);

@@ -45,13 +45,18 @@ TEST(WordOrder, EncodesTheOracleInAllFourOrders) {
 
 TEST(WordOrder, DecodesTheOracleInAllFourOrders) {
   for (const Oracle& oracle : oracles) {
-    EXPECT_EQ(decode_float32(oracle.registers.data(), oracle.order), oracle_value) << to_string(oracle.order);
+    EXPECT_EQ(decode_float32(oracle.registers.data(), oracle.order), oracle_value)
+        << to_string(oracle.order);
   }
 }
 
 TEST(WordOrder, RoundTripsAwkwardValuesBitExactly) {
-  const std::array<float, 7> samples{-0.0F, 1.0F / 3.0F, -273.15F, std::numeric_limits<float>::denorm_min(),
-                                     std::numeric_limits<float>::max(), std::numeric_limits<float>::infinity(),
+  const std::array<float, 7> samples{-0.0F,
+                                     1.0F / 3.0F,
+                                     -273.15F,
+                                     std::numeric_limits<float>::denorm_min(),
+                                     std::numeric_limits<float>::max(),
+                                     std::numeric_limits<float>::infinity(),
                                      -1.5e-20F};
   for (WordOrder order : {WordOrder::abcd, WordOrder::cdab, WordOrder::badc, WordOrder::dcba}) {
     for (float sample : samples) {

@@ -24,12 +24,18 @@ enum class Status : std::uint8_t { ok, timeout, link_lost, peer_error, unavailab
 
 constexpr const char* to_string(Status status) noexcept {
   switch (status) {
-    case Status::ok: return "ok";
-    case Status::timeout: return "timeout";
-    case Status::link_lost: return "link_lost";
-    case Status::peer_error: return "peer_error";
-    case Status::unavailable: return "unavailable";
-    case Status::bad_argument: return "bad_argument";
+    case Status::ok:
+      return "ok";
+    case Status::timeout:
+      return "timeout";
+    case Status::link_lost:
+      return "link_lost";
+    case Status::peer_error:
+      return "peer_error";
+    case Status::unavailable:
+      return "unavailable";
+    case Status::bad_argument:
+      return "bad_argument";
   }
   return "unknown";
 }
