@@ -12,6 +12,10 @@
 #include "hal/modbus/modbus_field_bus.hpp"
 #include "tests/hil/hal_modbus/fault_server.hpp"
 
+// The replacement operator delete hands the block back to free(); after inlining, GCC
+// sees free() on a pointer from operator new and warns, though the pair is consistent.
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+
 namespace {
 thread_local bool counting = false;
 thread_local std::size_t allocations = 0;
@@ -28,6 +32,23 @@ void* operator new(std::size_t size) {
 }
 void* operator new[](std::size_t size) {
   return operator new(size);
+}
+// The nothrow forms too (std::stable_sort's temporary buffer uses them): every form that
+// can pair with another must come from the same family.
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  if (counting) {
+    ++allocations;
+  }
+  return std::malloc(size == 0 ? 1 : size);
+}
+void* operator new[](std::size_t size, const std::nothrow_t& tag) noexcept {
+  return operator new(size, tag);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
 }
 void operator delete(void* p) noexcept {
   std::free(p);
