@@ -56,7 +56,7 @@ void CanFieldBus::release() noexcept {
   }
 }
 
-Validation CanFieldBus::configure(const CanConfig& config) {
+Validation CanFieldBus::prepare(const CanConfig& config, CanPlan& plan) {
   release();
   plan_ = CanPlan{};
   std::snprintf(detail_, sizeof detail_, "not configured");
@@ -72,11 +72,39 @@ Validation CanFieldBus::configure(const CanConfig& config) {
   if (config.enobufs_limit < 1) {
     return Validation::invalid("can.enobufs_limit", "0", "at least 1 write() call");
   }
+  return compile_frame_map(config.map, plan);
+}
+
+void CanFieldBus::adopt(const CanConfig& config, CanPlan&& plan, int fd) {
+  fd_ = fd;
+  plan_ = std::move(plan);
+  link_ = LinkState(config.enobufs_limit);
+  tx_ = plan_.tx;
+  latest_.assign(plan_.values.size(), 0.0);
+  received_at_.assign(plan_.rx.size(), Nanoseconds{-1});
+  value_timeout_ = std::chrono::milliseconds(config.value_timeout_ms);
+  interface_ = config.interface;
+  clamped_ = short_frames_ = 0;
+  detail_[0] = '\0';
+}
+
+Validation CanFieldBus::configure_on_socket(const CanConfig& config, int fd) {
   CanPlan plan;
-  if (auto v = compile_frame_map(config.map, plan); !v.ok()) {
+  if (auto v = prepare(config, plan); !v.ok()) {
     return v;
   }
+  if (fd < 0) {
+    return Validation::invalid("can.socket", std::to_string(fd), "an open socket descriptor");
+  }
+  adopt(config, std::move(plan), fd);
+  return Validation::valid();
+}
 
+Validation CanFieldBus::configure(const CanConfig& config) {
+  CanPlan plan;
+  if (auto v = prepare(config, plan); !v.ok()) {
+    return v;
+  }
   const int fd = socket(PF_CAN, SOCK_RAW, CAN_RAW);
   if (fd < 0) {
     const char* reason = socket_failure_reason(errno);
@@ -116,17 +144,7 @@ Validation CanFieldBus::configure(const CanConfig& config) {
   if (bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
     return fail("bind");
   }
-
-  fd_ = fd;
-  plan_ = std::move(plan);
-  link_ = LinkState(config.enobufs_limit);
-  tx_ = plan_.tx;
-  latest_.assign(plan_.values.size(), 0.0);
-  received_at_.assign(plan_.rx.size(), Nanoseconds{-1});
-  value_timeout_ = std::chrono::milliseconds(config.value_timeout_ms);
-  interface_ = config.interface;
-  clamped_ = short_frames_ = 0;
-  detail_[0] = '\0';
+  adopt(config, std::move(plan), fd);
   return Validation::valid();
 }
 

@@ -47,6 +47,13 @@ class CanFieldBus final : public FieldBus {
 
   Validation configure(const CanConfig& config);
 
+  // The seam below the socket (STYLE.md practice 8): validates and compiles like
+  // configure(), then uses `fd` — any open socket that carries one struct can_frame per
+  // datagram, e.g. a raw socket set up elsewhere, or one end of a
+  // socketpair(AF_UNIX, SOCK_SEQPACKET) playing the bus in tests. config.interface only
+  // names it in messages. On success the bus owns fd (closes it); on failure the caller does.
+  Validation configure_on_socket(const CanConfig& config, int fd);
+
   Status write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept override;
   Status read(std::span<double> values) noexcept override;
   [[nodiscard]] std::size_t setpoint_count() const noexcept override {
@@ -61,6 +68,8 @@ class CanFieldBus final : public FieldBus {
 
  private:
   void release() noexcept;
+  Validation prepare(const CanConfig& config, CanPlan& plan);
+  void adopt(const CanConfig& config, CanPlan&& plan, int fd);
 
   const Clock& clock_;
   int fd_ = -1;
