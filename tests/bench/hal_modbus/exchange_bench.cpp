@@ -27,6 +27,7 @@ void field_bus_exchange(benchmark::State& state) {
   using namespace excite::hal::modbus;
   ModbusConfig config;
   config.device.port = server->port();
+  config.device.response_timeout_ms = 2000;
   for (std::uint32_t i = 0; i < 4; ++i) {
     config.map.setpoints.push_back(RegisterEntry{"sp", 2 * i, 16, "float32", "ABCD", 0, 0, {}, {}});
     config.map.values.push_back(
@@ -53,7 +54,7 @@ void field_bus_exchange(benchmark::State& state) {
 
 void bare_libmodbus_exchange(benchmark::State& state) {
   modbus_t* ctx = modbus_new_tcp("127.0.0.1", server->port());
-  modbus_set_response_timeout(ctx, 0, 100000);
+  modbus_set_response_timeout(ctx, 2, 0);
   if (modbus_connect(ctx) == -1) {
     state.SkipWithError(modbus_strerror(errno));
     modbus_free(ctx);

@@ -111,7 +111,7 @@ ModbusConfig rtu_config(const std::string& path) {
   config.device.baud = 115200;
   config.device.parity = "E";
   config.device.unit_id = slave_address;
-  config.device.response_timeout_ms = 100;
+  config.device.response_timeout_ms = 300;  // generous: the machine is shared
   config.map.setpoints = {RegisterEntry{"F1", 10, 16, "float32", "DCBA", 0, 0, {}, {}}};
   config.map.heartbeat_address = 12;
   config.map.values = {RegisterEntry{"T1", 20, 4, "float32", "BADC", 0, 0, {}, {}}};
@@ -143,11 +143,11 @@ TEST(ModbusRtu, ASilentDeviceTimesOutAndTheNextExchangeSucceeds) {
   ASSERT_TRUE(bus.configure(rtu_config(server.path())).ok());
   const std::array<double, 1> setpoints{1.0};
   std::array<double, 1> values{};
-  server.stall_next(std::chrono::milliseconds(150));
+  server.stall_next(std::chrono::milliseconds(600));
   EXPECT_EQ(bus.exchange(setpoints, 1, values), Status::timeout);
   EXPECT_NE(std::string(bus.detail()).find("rtu " + server.path() + " slave 17"), std::string::npos)
       << bus.detail();
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
   EXPECT_EQ(bus.exchange(setpoints, 2, values), Status::ok) << bus.detail();
   EXPECT_EQ(bus.reconnects(), 1U);  // the serial port was reopened
   EXPECT_EQ(server.holding(12), 2);
