@@ -75,6 +75,20 @@ TEST(ModbusNoAllocation, TheCounterSeesAnAllocation) {  // the probe works
   EXPECT_EQ(allocations, 1U);
 }
 
+TEST(ModbusNoAllocation, TheCounterSeesAllocationsInsideTheLibrary) {  // configure allocates
+  excite::test::FaultServer server;
+  ModbusConfig config;
+  config.device.port = server.port();
+  config.map.values.push_back(RegisterEntry{"pv", 0, 4, "float32", "ABCD", 0, 0, {}, {}});
+  ModbusFieldBus bus;
+  counting = true;
+  allocations = 0;
+  const bool configured = bus.configure(config).ok();
+  counting = false;
+  EXPECT_TRUE(configured);
+  EXPECT_GT(allocations, 0U);
+}
+
 TEST(ModbusNoAllocation, ThousandExchangesAllocateNothing) {
   excite::test::FaultServer server;
   ModbusConfig config;
