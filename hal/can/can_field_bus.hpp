@@ -1,0 +1,88 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <linux/can.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "excite/hal/clock.hpp"
+#include "excite/hal/field_bus.hpp"
+#include "excite/hal/validation.hpp"
+#include "hal/can/frame_map.hpp"
+#include "hal/can/link_state.hpp"
+
+namespace excite::hal::can {
+
+struct CanConfig {
+  std::string interface = "can0";  // SocketCAN interface, e.g. can0, vcan0
+  CanFrameMap map;
+  std::int32_t value_timeout_ms = 100;  // a value frame older than this is stale, 1..60000
+  std::uint32_t enobufs_limit = 10;     // consecutive write() calls with ENOBUFS = link loss
+};
+
+// Whether this kernel can open a SocketCAN raw socket. reason: "" when ok, else a
+// static string naming the call and errno (e.g. EAFNOSUPPORT: no AF_CAN).
+struct SocketCanSupport {
+  Status status;  // ok or unavailable
+  const char* reason;
+};
+SocketCanSupport probe_socketcan() noexcept;
+
+// The field bus over a SocketCAN raw socket. configure() compiles the frame map and
+// opens the socket: receive filters for the value identifiers, all error frames enabled.
+// write(): one frame per setpoint identifier, non-blocking. read(): drains what the
+// kernel queued, keeps the newest frame per identifier, and reports timeout (values
+// untouched) while a value frame is missing or older than value_timeout_ms. Bus-off and
+// persistent ENOBUFS are link_lost (see LinkState). On a kernel without AF_CAN,
+// configure() fails naming the reason and every call returns unavailable.
+// Time for staleness comes from the Clock given (the simulator may own it).
+class CanFieldBus final : public FieldBus {
+ public:
+  explicit CanFieldBus(const Clock& clock) noexcept : clock_(clock) {}
+  ~CanFieldBus() override;
+
+  Validation configure(const CanConfig& config);
+
+  // The seam below the socket (STYLE.md practice 8): validates and compiles like
+  // configure(), then uses `fd` — any open socket that carries one struct can_frame per
+  // datagram, e.g. a raw socket set up elsewhere, or one end of a
+  // socketpair(AF_UNIX, SOCK_SEQPACKET) playing the bus in tests. config.interface only
+  // names it in messages. On success the bus owns fd (closes it); on failure the caller does.
+  Validation configure_on_socket(const CanConfig& config, int fd);
+
+  Status write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept override;
+  Status read(std::span<double> values) noexcept override;
+  [[nodiscard]] std::size_t setpoint_count() const noexcept override {
+    return plan_.setpoints.size();
+  }
+  [[nodiscard]] std::size_t value_count() const noexcept override { return plan_.values.size(); }
+  [[nodiscard]] const char* detail() const noexcept override { return detail_; }
+
+  [[nodiscard]] const LinkState& link() const noexcept { return link_; }
+  [[nodiscard]] std::uint64_t clamped_setpoints() const noexcept { return clamped_; }
+  [[nodiscard]] std::uint64_t short_frames() const noexcept { return short_frames_; }
+
+ private:
+  void release() noexcept;
+  Validation prepare(const CanConfig& config, CanPlan& plan);
+  void adopt(const CanConfig& config, CanPlan&& plan, int fd);
+
+  const Clock& clock_;
+  int fd_ = -1;
+  CanPlan plan_;
+  LinkState link_;
+  std::vector<can_frame> tx_;
+  std::vector<double> latest_;            // newest decoded values
+  std::vector<Nanoseconds> received_at_;  // per rx frame; negative: never
+  Nanoseconds value_timeout_{0};
+  std::string interface_;
+  std::uint64_t clamped_ = 0;
+  std::uint64_t short_frames_ = 0;
+  char detail_[256] = "not configured";
+};
+
+}  // namespace excite::hal::can

@@ -1,0 +1,274 @@
+// SPDX-License-Identifier: MIT
+#include "hal/modbus/modbus_field_bus.hpp"
+
+#include <modbus.h>
+
+#include <cerrno>
+#include <cfloat>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+namespace excite::hal::modbus {
+
+namespace {
+
+bool is_exception_reply(int error) noexcept {
+  return error >= EMBXILFUN && error <= EMBXGTAR;
+}
+bool is_malformed_reply(int error) noexcept {
+  return error > EMBXGTAR && error <= EMBBADSLAVE;
+}
+
+Validation validate_device(const ModbusDevice& device) {
+  if (device.transport != "tcp" && device.transport != "rtu") {
+    return Validation::invalid("device.transport", "\"" + device.transport + "\"",
+                               "\"tcp\" or \"rtu\"");
+  }
+  if (device.response_timeout_ms < 1 || device.response_timeout_ms > 60000) {
+    return Validation::invalid("device.response_timeout_ms",
+                               std::to_string(device.response_timeout_ms), "1..60000 ms");
+  }
+  if (device.transport == "tcp") {
+    if (device.host.empty()) {
+      return Validation::invalid("device.host", "\"\"", "a host name or address");
+    }
+    if (device.port < 1 || device.port > 65535) {
+      return Validation::invalid("device.port", std::to_string(device.port), "1..65535");
+    }
+    if (device.unit_id < 0 || device.unit_id > 255) {
+      return Validation::invalid("device.unit_id", std::to_string(device.unit_id),
+                                 "0..255 for Modbus TCP");
+    }
+    return Validation::valid();
+  }
+  if (device.serial_port.empty()) {
+    return Validation::invalid("device.serial_port", "\"\"",
+                               "a serial device path, e.g. /dev/ttyUSB0");
+  }
+  if (device.baud <= 0) {
+    return Validation::invalid("device.baud", std::to_string(device.baud),
+                               "a positive baud rate, e.g. 19200");
+  }
+  if (device.parity != "N" && device.parity != "E" && device.parity != "O") {
+    return Validation::invalid("device.parity", "\"" + device.parity + "\"",
+                               "\"N\", \"E\" or \"O\"");
+  }
+  if (device.data_bits < 5 || device.data_bits > 8) {
+    return Validation::invalid("device.data_bits", std::to_string(device.data_bits), "5..8");
+  }
+  if (device.stop_bits != 1 && device.stop_bits != 2) {
+    return Validation::invalid("device.stop_bits", std::to_string(device.stop_bits), "1 or 2");
+  }
+  if (device.unit_id < 1 || device.unit_id > 247) {
+    return Validation::invalid("device.unit_id", std::to_string(device.unit_id),
+                               "1..247 for Modbus RTU (0 is broadcast, which never answers)");
+  }
+  return Validation::valid();
+}
+
+}  // namespace
+
+Validation validate(const ModbusConfig& config) {
+  if (auto v = validate_device(config.device); !v.ok()) {
+    return v;
+  }
+  RegisterPlan plan;
+  return compile_register_map(config.map, plan);
+}
+
+ModbusFieldBus::~ModbusFieldBus() {
+  release();
+}
+
+void ModbusFieldBus::release() noexcept {
+  if (ctx_ != nullptr) {
+    modbus_close(ctx_);
+    modbus_free(ctx_);
+    ctx_ = nullptr;
+  }
+  connected_ = false;
+}
+
+void ModbusFieldBus::set_detail(const char* text) noexcept {
+  std::snprintf(detail_, sizeof detail_, "%s", text);
+}
+
+Validation ModbusFieldBus::configure(const ModbusConfig& config) {
+  release();
+  plan_ = RegisterPlan{};
+  set_detail("not configured");
+  const ModbusDevice& device = config.device;
+  if (auto v = validate_device(device); !v.ok()) {
+    return v;
+  }
+  RegisterPlan plan;
+  if (auto v = compile_register_map(config.map, plan); !v.ok()) {
+    return v;
+  }
+
+  std::string where;
+  if (device.transport == "tcp") {
+    const std::string service = std::to_string(device.port);
+    ctx_ = modbus_new_tcp_pi(device.host.c_str(), service.c_str());
+    where = "device.host";
+    peer_ = "tcp " + device.host + ":" + service + " unit " + std::to_string(device.unit_id);
+  } else {
+    ctx_ = modbus_new_rtu(device.serial_port.c_str(), device.baud, device.parity[0],
+                          device.data_bits, device.stop_bits);
+    where = "device.serial_port";
+    peer_ = "rtu " + device.serial_port + " slave " + std::to_string(device.unit_id);
+  }
+  if (ctx_ == nullptr) {
+    return Validation::invalid(
+        where, peer_, std::string("a usable device (libmodbus: ") + modbus_strerror(errno) + ")");
+  }
+  const auto timeout_ms = static_cast<std::uint32_t>(device.response_timeout_ms);
+  modbus_set_slave(ctx_, device.unit_id);
+  modbus_set_response_timeout(ctx_, timeout_ms / 1000U, (timeout_ms % 1000U) * 1000U);
+  modbus_set_error_recovery(ctx_, MODBUS_ERROR_RECOVERY_NONE);
+  if (modbus_connect(ctx_) == -1) {
+    const std::string reason = modbus_strerror(errno);
+    release();
+    return Validation::invalid(where, peer_,
+                               "a reachable Modbus peer (connect failed: " + reason + ")");
+  }
+  connected_ = true;
+  plan_ = std::move(plan);
+  write_image_.assign(plan_.write_image_size, 0);
+  read_image_.assign(plan_.read_image_size, 0);
+  requests_ = reconnects_ = clamped_ = 0;
+  set_detail("");
+  return Validation::valid();
+}
+
+Status ModbusFieldBus::ensure_connected() noexcept {
+  if (ctx_ == nullptr) {
+    set_detail("not configured");
+    return Status::unavailable;
+  }
+  if (connected_) {
+    return Status::ok;
+  }
+  if (modbus_connect(ctx_) == -1) {
+    const int error = errno;
+    modbus_close(ctx_);
+    std::snprintf(detail_, sizeof detail_, "%s: reconnect failed: %s", peer_.c_str(),
+                  modbus_strerror(error));
+    return Status::link_lost;
+  }
+  connected_ = true;
+  ++reconnects_;
+  return Status::ok;
+}
+
+Status ModbusFieldBus::fail(const char* operation, const Request* request, int error) noexcept {
+  Status status = Status::link_lost;
+  if (is_exception_reply(error)) {
+    status = Status::peer_error;
+  } else if (is_malformed_reply(error)) {
+    modbus_flush(ctx_);
+    status = Status::peer_error;
+  } else {
+    // ETIMEDOUT, EPIPE, ECONNRESET, EBADF and any other system error: start afresh on
+    // the next call, so a late reply is never taken for the answer to a new request.
+    status = error == ETIMEDOUT ? Status::timeout : Status::link_lost;
+    modbus_close(ctx_);
+    connected_ = false;
+  }
+  if (request != nullptr) {
+    std::snprintf(detail_, sizeof detail_, "%s: %s FC%02d address %u count %u: %s", peer_.c_str(),
+                  operation, request->function_code, static_cast<unsigned>(request->address),
+                  static_cast<unsigned>(request->count), modbus_strerror(error));
+  } else {
+    std::snprintf(detail_, sizeof detail_, "%s: %s: %s", peer_.c_str(), operation,
+                  modbus_strerror(error));
+  }
+  return status;
+}
+
+Status ModbusFieldBus::write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept {
+  if (ctx_ == nullptr) {
+    set_detail("not configured");
+    return Status::unavailable;
+  }
+  if (setpoints.size() != plan_.setpoints.size()) {
+    std::snprintf(detail_, sizeof detail_, "write: %zu setpoints given, %zu configured",
+                  setpoints.size(), plan_.setpoints.size());
+    return Status::bad_argument;
+  }
+  // Encode everything before sending anything: a bad setpoint sends nothing.
+  std::uint64_t clamped = 0;
+  for (std::size_t i = 0; i < setpoints.size(); ++i) {
+    const Codec& codec = plan_.setpoints[i];
+    const double value = setpoints[i];
+    if (!std::isfinite(value) ||
+        (codec.type == RegisterType::float32 && std::fabs(value) > FLT_MAX)) {
+      std::snprintf(detail_, sizeof detail_,
+                    "write: setpoints[%zu] = %g: expected a finite value%s", i, value,
+                    codec.type == RegisterType::float32 ? " within float32 range" : "");
+      return Status::bad_argument;
+    }
+    if (codec.type == RegisterType::float32) {
+      encode_float32(static_cast<float>(value), codec.order, &write_image_[codec.offset]);
+    } else {
+      bool was_clamped = false;
+      write_image_[codec.offset] = to_raw(codec, value, was_clamped);
+      clamped += was_clamped ? 1U : 0U;
+    }
+  }
+  if (plan_.heartbeat_offset) {
+    write_image_[*plan_.heartbeat_offset] = heartbeat;
+  }
+  clamped_ += clamped;
+
+  if (const Status link = ensure_connected(); link != Status::ok) {
+    return link;
+  }
+  for (const Request& request : plan_.writes) {
+    ++requests_;
+    if (modbus_write_registers(ctx_, request.address, request.count,
+                               &write_image_[request.offset]) == -1) {
+      return fail("write", &request, errno);
+    }
+  }
+  detail_[0] = '\0';
+  return Status::ok;
+}
+
+Status ModbusFieldBus::read(std::span<double> values) noexcept {
+  if (ctx_ == nullptr) {
+    set_detail("not configured");
+    return Status::unavailable;
+  }
+  if (values.size() != plan_.values.size()) {
+    std::snprintf(detail_, sizeof detail_, "read: room for %zu values given, %zu configured",
+                  values.size(), plan_.values.size());
+    return Status::bad_argument;
+  }
+  if (const Status link = ensure_connected(); link != Status::ok) {
+    return link;
+  }
+  for (const Request& request : plan_.reads) {
+    ++requests_;
+    std::uint16_t* destination = &read_image_[request.offset];
+    const int rc =
+        request.function_code == 4
+            ? modbus_read_input_registers(ctx_, request.address, request.count, destination)
+            : modbus_read_registers(ctx_, request.address, request.count, destination);
+    if (rc == -1) {
+      return fail("read", &request, errno);
+    }
+  }
+  // All requests answered: only now are the caller's values touched.
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const Codec& codec = plan_.values[i];
+    values[i] = codec.type == RegisterType::float32
+                    ? static_cast<double>(decode_float32(&read_image_[codec.offset], codec.order))
+                    : from_raw(codec, read_image_[codec.offset]);
+  }
+  detail_[0] = '\0';
+  return Status::ok;
+}
+
+}  // namespace excite::hal::modbus
