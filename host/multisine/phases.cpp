@@ -72,6 +72,23 @@ std::vector<double> random_phases(std::uint32_t line_count, std::uint64_t seed) 
   return phases;
 }
 
+std::vector<Line> make_lines(std::span<const std::uint32_t> indices,
+                             std::span<const double> amplitudes, std::span<const double> phases) {
+  auto check = [&](std::size_t count, const char* field) {
+    if (count != indices.size()) {
+      throw std::invalid_argument(
+          std::string("make_lines: ") + field + ": " + std::to_string(count) + " values for " +
+          std::to_string(indices.size()) + " line indices (count mismatch)");
+    }
+  };
+  check(amplitudes.size(), "amplitudes");
+  check(phases.size(), "phases");
+  std::vector<Line> lines(indices.size());
+  for (std::size_t k = 0; k < indices.size(); ++k)
+    lines[k] = {indices[k], amplitudes[k], phases[k]};
+  return lines;
+}
+
 void apply_schroeder(std::span<Line> lines) {
   std::vector<double> amplitudes(lines.size());
   for (std::size_t k = 0; k < lines.size(); ++k) amplitudes[k] = lines[k].amplitude;

@@ -35,6 +35,12 @@ std::vector<double> linear_phases(std::span<const std::uint32_t> indices, std::u
 /// generator's output to [0, 2π) is done here, not by a std distribution).
 std::vector<double> random_phases(std::uint32_t line_count, std::uint64_t seed);
 
+/// Lines from parallel arrays (as a plan or preset file holds them). Throws
+/// std::invalid_argument naming `amplitudes` or `phases` when its count differs from the
+/// number of indices.
+std::vector<Line> make_lines(std::span<const std::uint32_t> indices,
+                             std::span<const double> amplitudes, std::span<const double> phases);
+
 /// Schroeder phases (4.4.5) applied to `lines` in place, in the order given.
 void apply_schroeder(std::span<Line> lines);
 
