@@ -371,12 +371,9 @@ void check_options(const GuillaumeOptions& options) {
   }
 }
 
-}  // namespace
-
-MultisineSet guillaume(const MultisineSet& start, const GuillaumeOptions& options,
-                       GuillaumeReport* report) {
-  validate_set(start);
-  check_options(options);
+// All channels together (coupled through shared sources, or a single channel).
+MultisineSet optimise_jointly(const MultisineSet& start, const GuillaumeOptions& options,
+                              GuillaumeReport* report) {
   // Low p shapes the signal as a whole and is run on a coarse grid; the high p that set the
   // peak run on the fine grid, which also judges every iterate (the best is kept).
   CrestObjective objective(start, options, options.oversampling);
@@ -406,6 +403,39 @@ MultisineSet guillaume(const MultisineSet& start, const GuillaumeOptions& option
     objective.channel_measures(best, report->cf_final, report->snow_fraction);
   }
   return objective.to_set(best);
+}
+
+}  // namespace
+
+MultisineSet guillaume(const MultisineSet& start, const GuillaumeOptions& options,
+                       GuillaumeReport* report) {
+  validate_set(start);
+  check_options(options);
+  if (!start.shared.empty() || start.channels.size() == 1) {
+    return optimise_jointly(start, options, report);
+  }
+  // Without shared sources the channels do not interact: the worst channel's crest factor
+  // is least when every channel's is, so each is optimised on its own.
+  MultisineSet result = start;
+  if (report != nullptr) *report = GuillaumeReport{};
+  for (std::size_t c = 0; c < start.channels.size(); ++c) {
+    MultisineSet one;
+    one.period = start.period;
+    one.channels = {start.channels[c]};
+    one.snow = {start.snow.empty() ? std::vector<std::uint32_t>{} : start.snow[c]};
+    GuillaumeReport part;
+    MultisineSet optimised = optimise_jointly(one, options, &part);
+    result.channels[c] = std::move(optimised.channels.front());
+    if (!result.snow.empty()) result.snow[c] = std::move(optimised.snow.front());
+    if (report != nullptr) {
+      report->grid = std::max(report->grid, part.grid);
+      report->evaluations += part.evaluations;
+      report->cf_start.push_back(part.cf_start.front());
+      report->cf_final.push_back(part.cf_final.front());
+      report->snow_fraction.push_back(part.snow_fraction.front());
+    }
+  }
+  return result;
 }
 
 std::vector<Line> guillaume(std::span<const Line> start, std::uint32_t period,
