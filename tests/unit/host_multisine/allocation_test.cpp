@@ -121,6 +121,29 @@ TEST(ModifiedZipperedSet, RejectsAGainOfTheWrongSizeNamingIt) {
   }
 }
 
+TEST(StandardSet, PutsEveryChannelOnTheSameLines) {
+  const auto set = standard_set(3, 100, 2, 10, 0.5);
+  ASSERT_EQ(set.channels.size(), 3U);
+  for (const auto& lines : set.channels) {
+    ASSERT_EQ(lines.size(), 10U);
+    for (std::uint32_t k = 0; k < 10; ++k) {
+      EXPECT_EQ(lines[k].index, 2 + k);
+      EXPECT_EQ(lines[k].amplitude, 0.5);
+    }
+  }
+}
+
+TEST(WeakInputDirections, AreUnitVectorsWithTheirLargestEntryPositive) {
+  const auto directions = weak_input_directions(case_study_gain(), 0.0);
+  ASSERT_EQ(directions.size(), 1U);
+  EXPECT_NEAR(directions[0].norm(), 1.0, 1e-12);
+  Eigen::Index largest = 0;
+  directions[0].cwiseAbs().maxCoeff(&largest);
+  EXPECT_GT(directions[0](largest), 0.0);
+  // v_n is the input the plant barely amplifies: ‖G v_n‖ = σ_n = 0.1635.
+  EXPECT_NEAR((case_study_gain() * directions[0]).norm(), 0.1635, 5e-4);
+}
+
 TEST(ZipperedSet, RejectsABandBeyondNyquist) {
   try {
     zippered_set(100, {4, 0, 13, 0, 1.0});  // top line 52 ≥ 50

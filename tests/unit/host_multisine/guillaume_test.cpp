@@ -10,6 +10,7 @@
 #include <unsupported/Eigen/FFT>
 
 #include "host/multisine/allocation.hpp"
+#include "host/multisine/design.hpp"
 #include "host/multisine/phases.hpp"
 #include "host/multisine/synthesis.hpp"
 
@@ -138,6 +139,26 @@ TEST(Guillaume, SnowStaysWithinItsPowerBoundAndBandLinesKeepTheirAmplitude) {
     EXPECT_LT(snow, 0.05 * band) << "channel " << c;
   }
   EXPECT_LE(worst_cf(result), worst_cf(start));
+}
+
+TEST(Guillaume, CaseStudyZipperedDesignLowersEveryChannelBelowSchroeder) {
+  // A3 for the 4×4 case study (T = 1 min, τ_H = 50, τ_L = 12, α = 2, β = 3, δ = 0).
+  DesignRequest request;
+  request.tau_low = 12.0;
+  request.tau_high = 50.0;
+  request.alpha = 2.0;
+  request.beta = 3.0;
+  request.channels = 4;
+  request.sample_time = 1.0;
+  const auto design = design_zippered(request);
+  const auto start = zippered_set(design.period, {4, design.delta, design.lines, 0, 1.0});
+  const auto result = guillaume(start, {});
+  for (std::size_t c = 0; c < 4; ++c) {
+    const double before = cf_continuous(channel_spectrum(start, c), start.period);
+    const double after = cf_continuous(channel_spectrum(result, c), result.period);
+    EXPECT_LT(after, before - 0.2) << "channel " << c + 1;
+    EXPECT_LT(after, 1.55) << "channel " << c + 1;
+  }
 }
 
 TEST(Guillaume, RejectsANonIncreasingNormSequence) {
