@@ -14,7 +14,9 @@
 namespace excite::host::multisine {
 
 /// Standard (non-zippered) multichannel multisine: every channel on the same lines
-/// first … first + count − 1 with amplitude `amplitude`.
+/// first … first + count − 1 with amplitude `amplitude` and the same Schroeder phases, so
+/// the channels are identical signals. Meant for sequential designs (SPEC §4, 9–12: one
+/// channel at a time); simultaneous designs use zippered_set, whose channels are orthogonal.
 MultisineSet standard_set(std::uint32_t channels, std::uint32_t period, std::uint32_t first_index,
                           std::uint32_t line_count, double amplitude);
 
