@@ -21,6 +21,7 @@ LmResult minimise_bounded(const LmProblem& problem, Eigen::VectorXd x0, const Lm
   Eigen::VectorXd r;
   problem.residual(out.x, r);
   out.cost = r.squaredNorm();
+  const Eigen::Index dof = r.size() - P;
 
   Eigen::MatrixXd J;
   Eigen::VectorXd r_new;
@@ -81,8 +82,9 @@ LmResult minimise_bounded(const LmProblem& problem, Eigen::VectorXd x0, const Lm
       const double cost_new = ok ? r_new.squaredNorm() : out.cost;
       if (ok && cost_new < out.cost) {
         const double rho = predicted > 0.0 ? (out.cost - cost_new) / predicted : 0.0;
+        const double sigma2 = cost_new / static_cast<double>(std::max<Eigen::Index>(dof, 1));
         small_reductions =
-            (out.cost - cost_new) <= options.cost_tolerance * out.cost ? small_reductions + 1 : 0;
+            (out.cost - cost_new) <= options.cost_tolerance * sigma2 ? small_reductions + 1 : 0;
         out.x = x_new;
         std::swap(r, r_new);
         out.cost = cost_new;

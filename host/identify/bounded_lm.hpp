@@ -24,7 +24,10 @@ struct LmProblem {
 struct LmOptions {
   int max_iterations = 200;
   double step_tolerance = 1e-10;  // stop when every |δ_m| ≤ tol · (|x_m| + scale_m)
-  double cost_tolerance = 1e-14;  // … or the cost fell by less than this fraction twice
+  // … or twice in a row the cost fell by less than cost_tolerance · σ̂², σ̂² = cost/(M − P)
+  // (M residuals, P parameters): a statistically meaningless change, i.e. the parameters
+  // are within about √cost_tolerance standard errors of the optimum.
+  double cost_tolerance = 1e-4;
 };
 
 struct LmResult {

@@ -2,9 +2,11 @@
 #include "host/identify/miso_fit.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <span>
 
 #include "host/identify/bounded_lm.hpp"
 
@@ -20,51 +22,106 @@ TwoPoleDelay unit_element(const Eigen::VectorXd& x, Eigen::Index e) {
   return TwoPoleDelay{1.0, x(o + kDelay), x(o + kTp1), x(o + kTp2)};
 }
 
-// The row's simulation: unit-gain responses per element, scaled and summed.
+std::span<double> span_of(Eigen::VectorXd& v) {
+  return {v.data(), static_cast<std::size_t>(v.size())};
+}
+
+// Taps of a window: b̃_m for m = m0 … m0 + kWindow − 1, and a1, a2, of element g.
+constexpr std::size_t kWindow = 6;
+struct TapWindow {
+  double a1 = 0.0;
+  double a2 = 0.0;
+  std::array<double, kWindow> b{};
+};
+
+TapWindow tap_window(const TwoPoleDelay& g, double T, std::size_t m0) {
+  TapWindow w;
+  const auto [a1, a2] = denominator(g, T);
+  w.a1 = a1;
+  w.a2 = a2;
+  // h(j) = S(jT) − S((j−1)T) for j = m0 − 2 … m0 + kWindow − 1.
+  std::array<double, kWindow + 3> S{};
+  for (std::size_t i = 0; i < S.size(); ++i) {
+    S[i] = step_response(g, (static_cast<double>(m0) + static_cast<double>(i) - 3.0) * T);
+  }
+  const auto h = [&](std::size_t i) { return S[i + 1] - S[i]; };  // h(m0 − 2 + i)
+  for (std::size_t m = 0; m < kWindow; ++m) {
+    w.b[m] = h(m + 2) + w.a1 * h(m + 1) + w.a2 * h(m);
+  }
+  return w;
+}
+
+// The row's simulation: unit-gain responses per element, scaled and summed; and its
+// Jacobian by sensitivity filters (see jacobian()).
 class RowModel {
  public:
   RowModel(const Eigen::MatrixXd& U, const std::vector<int>& inputs, double T_min)
-      : U_(U), inputs_(inputs), T_(T_min), N_(static_cast<std::size_t>(U.rows())) {}
+      : U_(U), inputs_(inputs), T_(T_min), w_(U.rows()), v_(U.rows()) {}
 
-  void unit_response(Eigen::Index e, const TwoPoleDelay& g, double* out) const {
-    simulate(discretise(g, T_), U_.col(inputs_[static_cast<std::size_t>(e)]).data(), 1, out, 1, N_);
+  std::span<const double> input(Eigen::Index e) const {
+    const auto col = U_.col(inputs_[static_cast<std::size_t>(e)]);
+    return {col.data(), static_cast<std::size_t>(col.size())};
   }
 
   Eigen::VectorXd output(const Eigen::VectorXd& x) const {
     Eigen::VectorXd y_hat = Eigen::VectorXd::Zero(U_.rows());
     Eigen::VectorXd z(U_.rows());
     for (Eigen::Index e = 0; e < elements(); ++e) {
-      unit_response(e, unit_element(x, e), z.data());
+      simulate(discretise(unit_element(x, e), T_), input(e), span_of(z));
       y_hat += x(kPerElement * e + kGain) * z;
     }
     return y_hat;
   }
 
-  // ∂ŷ/∂x: gain columns exactly (the unit response), the others by central differences
-  // (one-sided on a bound), each element simulated alone.
+  // ∂ŷ/∂x. With G = B(q)/D(q) (taps b̃_m, D = 1 + a1 q⁻¹ + a2 q⁻²), w = u/D and v = z/D
+  // for the unit response z = B w:
+  //   ∂z/∂θ = Σ_m (∂b̃_m/∂θ) w(k − m) − (∂a1/∂θ) v(k − 1) − (∂a2/∂θ) v(k − 2),
+  // exact filters; only the scalar coefficient derivatives are taken by central differences
+  // (one-sided on a bound), over a tap window wide enough for d to change by one.
   void jacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& lower,
-                const Eigen::VectorXd& upper, Eigen::MatrixXd& J) const {
-    J.resize(U_.rows(), x.size());
-    Eigen::VectorXd plus(U_.rows());
-    Eigen::VectorXd minus(U_.rows());
+                const Eigen::VectorXd& upper, Eigen::MatrixXd& J) {
+    const Eigen::Index N = U_.rows();
+    J.resize(N, x.size());
     for (Eigen::Index e = 0; e < elements(); ++e) {
       const Eigen::Index o = kPerElement * e;
       const TwoPoleDelay g = unit_element(x, e);
-      unit_response(e, g, J.col(o + kGain).data());
+      const DiscreteTwoPole c = discretise(g, T_);
+      const std::span<const double> u = input(e);
+      std::copy(u.begin(), u.end(), w_.data());
+      all_pole_filter(c.a1, c.a2, span_of(w_));
+      auto z = J.col(o + kGain);
+      z.setZero();
+      for (std::size_t j = 0; j < 4; ++j) {
+        const auto lag = static_cast<Eigen::Index>(c.delay_samples + j);
+        if (lag < N) z.tail(N - lag) += c.b[j] * w_.head(N - lag);
+      }
+      v_ = z;
+      all_pole_filter(c.a1, c.a2, span_of(v_));
+      const std::size_t m0 = c.delay_samples > 0 ? c.delay_samples - 1 : 0;
+      const double K = x(o + kGain);
       for (const int m : {kDelay, kTp1, kTp2}) {
-        const double v = x(o + m);
-        const double h = 1e-6 * std::max(std::abs(v), T_);
-        const double hi = std::min(v + h, upper(o + m));
-        const double lo = std::max(v - h, lower(o + m));
+        const double val = x(o + m);
+        const double h = 1e-6 * std::max(std::abs(val), T_);
+        const double hi = std::min(val + h, upper(o + m));
+        const double lo = std::max(val - h, lower(o + m));
         TwoPoleDelay gp = g;
         TwoPoleDelay gm = g;
-        double* fields_p[] = {nullptr, &gp.delay_min, &gp.tp1_min, &gp.tp2_min};
-        double* fields_m[] = {nullptr, &gm.delay_min, &gm.tp1_min, &gm.tp2_min};
-        *fields_p[m] = hi;
-        *fields_m[m] = lo;
-        unit_response(e, gp, plus.data());
-        unit_response(e, gm, minus.data());
-        J.col(o + m) = (x(o + kGain) / (hi - lo)) * (plus - minus);
+        field(gp, m) = hi;
+        field(gm, m) = lo;
+        const TapWindow tp = tap_window(gp, T_, m0);
+        const TapWindow tm = tap_window(gm, T_, m0);
+        const double scale = K / (hi - lo);
+        auto col = J.col(o + m);
+        col.setZero();
+        for (std::size_t t = 0; t < kWindow; ++t) {
+          const auto lag = static_cast<Eigen::Index>(m0 + t);
+          const double db = scale * (tp.b[t] - tm.b[t]);
+          if (db != 0.0 && lag < N) col.tail(N - lag) += db * w_.head(N - lag);
+        }
+        const double da1 = scale * (tp.a1 - tm.a1);
+        const double da2 = scale * (tp.a2 - tm.a2);
+        if (da1 != 0.0) col.tail(N - 1) -= da1 * v_.head(N - 1);
+        if (da2 != 0.0 && N > 2) col.tail(N - 2) -= da2 * v_.head(N - 2);
       }
     }
   }
@@ -72,10 +129,15 @@ class RowModel {
   Eigen::Index elements() const { return static_cast<Eigen::Index>(inputs_.size()); }
 
  private:
+  static double& field(TwoPoleDelay& g, int m) {
+    return m == kDelay ? g.delay_min : (m == kTp1 ? g.tp1_min : g.tp2_min);
+  }
+
   const Eigen::MatrixXd& U_;
   const std::vector<int>& inputs_;
   double T_;
-  std::size_t N_;
+  Eigen::VectorXd w_;  // scratch: u / D
+  Eigen::VectorXd v_;  // scratch: z / D
 };
 
 // 1σ standard errors σ̂ √diag((JᵀJ)⁻¹) over the parameters not on a bound; inf for
@@ -124,7 +186,7 @@ Eigen::VectorXd standard_errors(const Eigen::MatrixXd& J, double sse,
 MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                     const std::vector<int>& inputs, std::vector<TwoPoleDelay> initial, double T_min,
                     const MisoBounds& bounds, int max_iterations) {
-  const RowModel row(U, inputs, T_min);
+  RowModel row(U, inputs, T_min);
   const Eigen::Index m = row.elements();
   const Eigen::Index P = kPerElement * m;
 

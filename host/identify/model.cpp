@@ -42,12 +42,13 @@ Eigen::MatrixXd simulate(const IdentifiedModel& model, const Eigen::MatrixXd& U)
   }
   const auto N = static_cast<std::size_t>(U.rows());
   Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(U.rows(), model.outputs);
+  Eigen::VectorXd z(U.rows());
   for (int j = 0; j < model.outputs; ++j) {
     for (int i = 0; i < model.inputs; ++i) {
       const ElementEstimate& e = model.element(j, i);
       if (e.estimated()) {
-        simulate(discretise(e.value, model.sample_time_min), U.col(i).data(), 1, Y.col(j).data(), 1,
-                 N, true);
+        simulate(discretise(e.value, model.sample_time_min), {U.col(i).data(), N}, {z.data(), N});
+        Y.col(j) += z;
       } else if (U.col(i).cwiseAbs().maxCoeff() > 0.0) {
         Y.col(j).setConstant(std::numeric_limits<double>::quiet_NaN());
       }

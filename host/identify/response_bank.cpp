@@ -26,8 +26,9 @@ ResponseBank::ResponseBank(const Eigen::MatrixXd& U, const std::vector<int>& inp
   for (const int i : inputs) {
     Eigen::MatrixXf R(N, G);
     for (Eigen::Index g = 0; g < G; ++g) {
-      simulate(discrete[static_cast<std::size_t>(g)], U.col(i).data(), 1, buffer.data(), 1,
-               static_cast<std::size_t>(N));
+      simulate(discrete[static_cast<std::size_t>(g)],
+               {U.col(i).data(), static_cast<std::size_t>(N)},
+               {buffer.data(), static_cast<std::size_t>(N)});
       R.col(g) = buffer.cast<float>();
     }
     norms2_.push_back(R.colwise().squaredNorm().transpose());

@@ -49,46 +49,59 @@ double step_response(const TwoPoleDelay& g, double t_min) {
   return g.gain * (1.0 - unit_decay(g.tp1_min, g.tp2_min, t));
 }
 
+double numerator_tap(const TwoPoleDelay& g, double sample_time_min, double a1, double a2,
+                     std::size_t m) {
+  const double T = sample_time_min;
+  // Pulse response h(m) = S(mT) − S((m−1)T) of the delayed element (S includes T_d).
+  const auto h = [&](double j) {
+    return step_response(g, j * T) - step_response(g, (j - 1.0) * T);
+  };
+  const auto mm = static_cast<double>(m);
+  return h(mm) + a1 * h(mm - 1.0) + a2 * h(mm - 2.0);
+}
+
+std::array<double, 2> denominator(const TwoPoleDelay& g, double sample_time_min) {
+  const double T = sample_time_min;
+  const double f1 = g.tp1_min < kTinyTimeConstant ? 0.0 : std::exp(-T / g.tp1_min);
+  const double f2 = g.tp2_min < kTinyTimeConstant ? 0.0 : std::exp(-T / g.tp2_min);
+  return {-(f1 + f2), f1 * f2};
+}
+
 DiscreteTwoPole discretise(const TwoPoleDelay& g, double sample_time_min) {
   const double T = sample_time_min;
   DiscreteTwoPole c;
-  const double f1 = g.tp1_min < kTinyTimeConstant ? 0.0 : std::exp(-T / g.tp1_min);
-  const double f2 = g.tp2_min < kTinyTimeConstant ? 0.0 : std::exp(-T / g.tp2_min);
-  c.a1 = -(f1 + f2);
-  c.a2 = f1 * f2;
-  const double d_real = std::floor(g.delay_min / T);
-  c.delay_samples = static_cast<std::size_t>(std::max(0.0, d_real));
-  const auto d = static_cast<double>(c.delay_samples);
-  // Pulse response h(m) = S(mT) − S((m−1)T) of the delayed element (S includes T_d).
-  const auto h = [&](double m) {
-    return step_response(g, m * T) - step_response(g, (m - 1.0) * T);
-  };
+  const auto [a1, a2] = denominator(g, T);
+  c.a1 = a1;
+  c.a2 = a2;
+  c.delay_samples = static_cast<std::size_t>(std::max(0.0, std::floor(g.delay_min / T)));
   for (std::size_t j = 0; j < 4; ++j) {
-    const double m = d + static_cast<double>(j);
-    c.b[j] = h(m) + c.a1 * h(m - 1.0) + c.a2 * h(m - 2.0);
+    c.b[j] = numerator_tap(g, T, c.a1, c.a2, c.delay_samples + j);
   }
   return c;
 }
 
-void simulate(const DiscreteTwoPole& g, const double* u, std::ptrdiff_t u_stride, double* y,
-              std::ptrdiff_t y_stride, std::size_t n, bool accumulate) {
-  const std::size_t d = g.delay_samples;
+void all_pole_filter(double a1, double a2, std::span<double> x) {
   double y1 = 0.0;  // y(k−1)
   double y2 = 0.0;  // y(k−2)
-  const auto at = [&](std::size_t k) { return u[static_cast<std::ptrdiff_t>(k) * u_stride]; };
-  for (std::size_t k = 0; k < n; ++k) {
-    double x = 0.0;
-    // Σ_j b_j u(k − d − j) over the taps that exist (u = 0 before k = 0).
-    if (k >= d) {
-      const std::size_t top = std::min<std::size_t>(3, k - d);
-      for (std::size_t j = 0; j <= top; ++j) x += g.b[j] * at(k - d - j);
-    }
-    const double yk = x - g.a1 * y1 - g.a2 * y2;
+  for (double& v : x) {
+    const double yk = (v - a2 * y2) - a1 * y1;
     y2 = y1;
     y1 = yk;
-    double& out = y[static_cast<std::ptrdiff_t>(k) * y_stride];
-    out = accumulate ? out + yk : yk;
+    v = yk;
   }
+}
+
+void simulate(const DiscreteTwoPole& g, std::span<const double> u, std::span<double> y) {
+  const std::size_t n = std::min(u.size(), y.size());
+  std::fill(y.begin(), y.end(), 0.0);
+  // FIR part Σ_j b_j u(k − d − j) (u = 0 before k = 0), then the poles in place.
+  for (std::size_t j = 0; j < 4; ++j) {
+    const std::size_t lag = g.delay_samples + j;
+    const double b = g.b[j];
+    if (b == 0.0) continue;
+    for (std::size_t k = lag; k < n; ++k) y[k] += b * u[k - lag];
+  }
+  all_pole_filter(g.a1, g.a2, y.first(n));
 }
 
 }  // namespace excite::host

@@ -54,10 +54,19 @@ struct DiscreteTwoPole {
 /// on user input): T > 0, T_d ≥ 0, T_p1, T_p2 ≥ 0, all finite.
 DiscreteTwoPole discretise(const TwoPoleDelay& g, double sample_time_min);
 
-/// y(k) = (G u)(k), k = 0 … N−1, from rest (u(k) = y(k) = 0 for k < 0). `u` and `y` have
-/// the same length and are read/written with the given strides (in elements), so columns
-/// of column-major matrices can be used directly. If `accumulate`, adds to y.
-void simulate(const DiscreteTwoPole& g, const double* u, std::ptrdiff_t u_stride, double* y,
-              std::ptrdiff_t y_stride, std::size_t n, bool accumulate = false);
+/// Denominator {a1, a2} = {−(φ1 + φ2), φ1 φ2}, φ_i = e^{−T/T_pi} (0 when T_pi = 0).
+std::array<double, 2> denominator(const TwoPoleDelay& g, double sample_time_min);
+
+/// Numerator tap b̃_m = h(m) + a1 h(m−1) + a2 h(m−2) for any m ≥ 0, with a1, a2 of g: the
+/// coefficient of u(k − m). Zero outside m = d … d+3; used to differentiate the taps
+/// across a change of d.
+double numerator_tap(const TwoPoleDelay& g, double sample_time_min, double a1, double a2,
+                     std::size_t m);
+
+/// y = (G u), k = 0 … N−1, from rest (u(k) = y(k) = 0 for k < 0). u.size() == y.size().
+void simulate(const DiscreteTwoPole& g, std::span<const double> u, std::span<double> y);
+
+/// In place x ← x / (1 + a1 q⁻¹ + a2 q⁻²), from rest: x(k) −= a1 x(k−1) + a2 x(k−2).
+void all_pole_filter(double a1, double a2, std::span<double> x);
 
 }  // namespace excite::host

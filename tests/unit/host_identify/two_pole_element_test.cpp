@@ -24,7 +24,8 @@ Eigen::VectorXd random_levels(Eigen::Index n, unsigned seed) {
 
 Eigen::VectorXd discrete_response(const TwoPoleDelay& g, double T, const Eigen::VectorXd& u) {
   Eigen::VectorXd y(u.size());
-  simulate(discretise(g, T), u.data(), 1, y.data(), 1, static_cast<std::size_t>(u.size()));
+  const auto n = static_cast<std::size_t>(u.size());
+  simulate(discretise(g, T), {u.data(), n}, {y.data(), n});
   return y;
 }
 
