@@ -56,7 +56,7 @@ class Parser {
     if (!starts_item()) fail("expected a number, 's', '(' or a delay e^-τs");
     parse_product(t.gain, t.zeros, delay);
     skip_space();
-    if (!at_end() && peek() == '/') {
+    while (!at_end() && peek() == '/') {
       take();
       skip_space();
       if (!starts_item()) fail("expected a denominator after '/': a number or '(' … ')'");
@@ -64,6 +64,7 @@ class Parser {
       parse_product(divisor, t.poles, delay);
       if (divisor == 0.0) fail("division by zero");
       t.gain /= divisor;
+      skip_space();
     }
     t.delay_min = delay.value_or(0.0);
     return t;
@@ -333,7 +334,7 @@ std::string check_term(const Term& term, const ElementRules& rules) {
     for (const Factor& f : term.poles) {
       for (const std::complex<double>& p : roots(f.poly)) {
         if (p.real() >= 0.0) {
-          std::string msg = "pole at s = " + format_number(p.real());
+          std::string msg = "pole at s = " + format_number(p.real() + 0.0);  // no "-0"
           if (p.imag() != 0.0)
             msg += (p.imag() > 0 ? " + " : " - ") + format_number(std::abs(p.imag())) + "j";
           msg += " 1/min from factor (" + describe(f.poly) + ")";

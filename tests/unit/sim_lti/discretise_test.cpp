@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 #include <functional>
 #include <stdexcept>
 #include <vector>
@@ -113,6 +114,25 @@ TEST(Discretise, UnderdampedQuadratic) {
                        (std::cos(wd * t) + zeta / std::sqrt(1 - zeta * zeta) * std::sin(wd * t));
       },
       0.0);
+}
+
+// The case study's third-order element with a zero and a fractional delay, against the
+// residue form S(t) = G(0) + Σ N(p)/(p·D'(p)) e^{pt} over its distinct poles p.
+TEST(Discretise, ThirdOrderWithZeroAndFractionalDelayMatchesResidues) {
+  using C = std::complex<double>;
+  // N = 140 s + 14, D = (45s+1)(17.4s²+3s+1) = 783 s³ + 152.4 s² + 48 s + 1.
+  const double disc = std::sqrt(4 * 17.4 - 9.0);
+  const C poles[] = {C(-1.0 / 45, 0), C(-3.0, disc) / 34.8, C(-3.0, -disc) / 34.8};
+  expect_step_matches(
+      "14(10s+1) e^-0.02s / ((45s+1)(17.4s^2+3s+1))", 1.0, 400,
+      [&](double t) {
+        C s = 14.0;
+        for (const C& p : poles) {
+          s += (140.0 * p + 14.0) / (p * (2349.0 * p * p + 304.8 * p + 48.0)) * std::exp(p * t);
+        }
+        return s.real();
+      },
+      0.02, 1e-12 * 14.0);  // 1e-12 relative to the gain
 }
 
 TEST(Discretise, PureDelayOfFractionalLengthRoundsUpUnderZeroOrderHold) {
