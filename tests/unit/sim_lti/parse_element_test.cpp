@@ -165,3 +165,43 @@ TEST(ParseElementErrors, DivisionByZero) {
 
 }  // namespace
 }  // namespace excite::sim
+
+namespace excite::sim {
+namespace {
+
+// Every single-character deletion, duplication and replacement of valid elements either
+// parses or fails with ElementSyntaxError pointing inside (or just past) the text — never
+// another exception, a crash or an out-of-range position (run under ASan in CI).
+TEST(ParseElementErrors, MutatedTextFailsCleanly) {
+  const std::string alphabet = "0123456789.+-*/^()es{} x";
+  int parsed = 0;
+  int refused = 0;
+  for (const std::string base :
+       {"14(10s+1) e^-0.02s / ((45s+1)(17.4s^2+3s+1))", "87.8/(194s+1) + 1.4/(15s+1)",
+        "-0.56 e^{-1s}", "4.09 exp(-1.3s)/(33s+1)^2"}) {
+    std::vector<std::string> variants;
+    for (std::size_t i = 0; i < base.size(); ++i) {
+      variants.push_back(base.substr(0, i) + base.substr(i + 1));
+      variants.push_back(base.substr(0, i + 1) + base.substr(i));
+      for (char c : alphabet) {
+        std::string v = base;
+        v[i] = c;
+        variants.push_back(v);
+      }
+    }
+    for (const std::string& v : variants) {
+      try {
+        (void)parse_element(v);
+        ++parsed;
+      } catch (const ElementSyntaxError& e) {
+        EXPECT_LE(e.position(), v.size()) << v;
+        ++refused;
+      }
+    }
+  }
+  EXPECT_GT(parsed, 0);
+  EXPECT_GT(refused, 0);
+}
+
+}  // namespace
+}  // namespace excite::sim
