@@ -61,7 +61,9 @@ class Parser {
       skip_space();
       if (!starts_item()) fail("expected a denominator after '/': a number or '(' … ')'");
       double divisor = 1.0;
+      in_denominator_ = true;
       parse_product(divisor, t.poles, delay);
+      in_denominator_ = false;
       if (divisor == 0.0) fail("division by zero");
       t.gain /= divisor;
       skip_space();
@@ -98,6 +100,11 @@ class Parser {
       const std::size_t start = pos_;
       const double d = parse_delay();
       if (delay) fail_at(start, "a term may have only one delay");
+      // "K/(τs+1) e^-θs" multiplies by the delay; inside the denominator's parentheses the
+      // delay would divide (a prediction).
+      if (paren_depth_ > 0 && in_denominator_) {
+        fail_at(start, "a delay inside the denominator's parentheses; write it in the numerator");
+      }
       delay = d;
       return;
     }
@@ -113,7 +120,9 @@ class Parser {
         // A parenthesised product such as ((33s+1)(8.3s+1)).
         double inner_gain = 1.0;
         std::vector<Factor> inner;
+        ++paren_depth_;
         parse_product(inner_gain, inner, delay);
+        --paren_depth_;
         expect(')');
         const int power = parse_power();
         gain *= std::pow(inner_gain, power);
@@ -288,6 +297,8 @@ class Parser {
   std::string_view context_;
   const ElementRules& rules_;
   std::size_t pos_ = 0;
+  bool in_denominator_ = false;  // parsing the items after a '/'
+  int paren_depth_ = 0;          // nesting of parenthesised products
 };
 
 std::string describe(const Polynomial& p) {

@@ -142,6 +142,10 @@ TEST(ParseElementErrors, IntegratorNeedsTheFlag) {
   EXPECT_TRUE(std::isinf(parse_element("1/s", "x", allow).static_gain()));
 }
 
+TEST(ParseElementErrors, DelayInsideTheDenominatorParentheses) {
+  expect_error("2/((s+1) e^-3s)", 10, {"denominator"});
+}
+
 TEST(ParseElementErrors, ImproperTerm) {
   expect_error("(10s+1)", 1, {"improper"});
 }
