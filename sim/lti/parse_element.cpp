@@ -120,11 +120,16 @@ class Parser {
         // A parenthesised product such as ((33s+1)(8.3s+1)).
         double inner_gain = 1.0;
         std::vector<Factor> inner;
+        const bool had_delay = delay.has_value();
         ++paren_depth_;
         parse_product(inner_gain, inner, delay);
         --paren_depth_;
         expect(')');
+        const std::size_t power_at = pos_;
         const int power = parse_power();
+        if (power > 1 && !had_delay && delay) {
+          fail_at(power_at, "a power of a group holding a delay; write the delay once, outside");
+        }
         gain *= std::pow(inner_gain, power);
         for (Factor& f : inner) {
           f.power *= power;

@@ -146,6 +146,10 @@ TEST(ParseElementErrors, DelayInsideTheDenominatorParentheses) {
   expect_error("2/((s+1) e^-3s)", 10, {"denominator"});
 }
 
+TEST(ParseElementErrors, PowerOfAGroupWithADelay) {
+  expect_error("((3s+1) e^-2s)^2 / ((s+1)(2s+1))", 15, {"power of a group holding a delay"});
+}
+
 TEST(ParseElementErrors, ImproperTerm) {
   expect_error("(10s+1)", 1, {"improper"});
 }
