@@ -86,11 +86,22 @@ Eigen::MatrixXd DiscretePlant::simulate(const Eigen::MatrixXd& u) const {
   }
   const auto n = static_cast<std::size_t>(u.rows());
   Eigen::MatrixXd y = Eigen::MatrixXd::Zero(u.rows(), outputs_);
-  for (const Section& s : sections_) {
-    const auto delay = static_cast<std::size_t>(s.term.delay_samples);
-    if (delay >= n) continue;
-    // Zero state and zero input before time 0: the first `delay` outputs are zero.
-    tdf2_accumulate(s.term, u.col(s.in).data(), y.col(s.out).data() + delay, n - delay);
+  // Sample-major: at each sample all terms advance one step. Their recurrences are
+  // independent, so the processor overlaps them (term-major would wait on one chain).
+  std::vector<double> state(sections_.size() * kMaxCoefficients, 0.0);
+  const double* u_data = u.data();
+  double* y_data = y.data();
+  const auto rows = static_cast<std::size_t>(u.rows());
+  for (std::size_t k = 0; k < n; ++k) {
+    double* st = state.data();
+    for (const Section& s : sections_) {
+      const auto delay = static_cast<std::size_t>(s.term.delay_samples);
+      if (k >= delay) {
+        const double x = u_data[static_cast<std::size_t>(s.in) * rows + k - delay];
+        y_data[static_cast<std::size_t>(s.out) * rows + k] += tdf2_step(s.term, st, x);
+      }
+      st += kMaxCoefficients;
+    }
   }
   return y;
 }
