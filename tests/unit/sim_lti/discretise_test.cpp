@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <functional>
@@ -168,6 +169,28 @@ TEST(Discretise, BiproperTermPassesTheInputThroughAtOnce) {
   for (std::size_t k = 0; k < y.size(); ++k) {
     EXPECT_NEAR(y[k], 2 * (1 - 0.4 * std::exp(-static_cast<double>(k) / 5)), 1e-12);
   }
+}
+
+TEST(Discretise, BiproperTermWithFractionalDelay) {
+  expect_step_matches(
+      "2(3s+1) e^-0.4s / (5s+1)", 1.0, 30,
+      [](double t) { return 2 * (1 - 0.4 * std::exp(-t / 5)); }, 0.4);
+}
+
+TEST(Discretise, IntegratorIsARampWhenUnstableIsAllowed) {
+  ElementRules allow;
+  allow.allow_unstable = true;
+  const Term t = parse_element("0.5 e^-1.25s / s", "x", allow).terms().front();
+  const DiscreteTerm d = discretise_zoh(t, 0.5);
+  const std::vector<double> y = step_response(d, 40);
+  for (std::size_t k = 0; k < y.size(); ++k) {
+    EXPECT_NEAR(y[k], 0.5 * std::max(0.0, static_cast<double>(k) * 0.5 - 1.25), 1e-12) << k;
+  }
+}
+
+TEST(Discretise, RefusesTermsAboveTheMaximumOrder) {
+  const Term t = parse_element("1/(s+1)^7").terms().front();
+  EXPECT_THROW((void)discretise_zoh(t, 1.0), std::invalid_argument);
 }
 
 TEST(Discretise, RejectsBadSampleTimes) {
