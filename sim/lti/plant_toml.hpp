@@ -1,0 +1,27 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Plant files: a transfer-function matrix in TOML with the element grammar of
+// parse_element.hpp (format in sim/lti/README.md). Unknown keys are errors.
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "sim/lti/transfer_matrix.hpp"
+
+namespace excite::sim {
+
+struct PlantDefinition {
+  std::string name;         // "" when the file has none
+  std::string description;  // free text, "" when absent
+  TransferMatrix g;
+};
+
+/// Parses a plant from TOML text; `source` names it in error messages (a path or a plant
+/// name). Throws std::invalid_argument naming the key, the value and what was expected.
+PlantDefinition plant_from_toml(std::string_view toml_text, std::string_view source = "plant");
+
+/// Reads and parses a plant file. Throws std::invalid_argument (also when unreadable).
+PlantDefinition load_plant_file(const std::filesystem::path& path);
+
+}  // namespace excite::sim
