@@ -56,14 +56,17 @@ class Parser {
     if (!starts_item()) fail("expected a number, 's', '(' or a delay e^-τs");
     parse_product(t.gain, t.zeros, delay);
     skip_space();
-    if (!at_end() && peek() == '/') {
+    while (!at_end() && peek() == '/') {
       take();
       skip_space();
       if (!starts_item()) fail("expected a denominator after '/': a number or '(' … ')'");
       double divisor = 1.0;
+      in_denominator_ = true;
       parse_product(divisor, t.poles, delay);
+      in_denominator_ = false;
       if (divisor == 0.0) fail("division by zero");
       t.gain /= divisor;
+      skip_space();
     }
     t.delay_min = delay.value_or(0.0);
     return t;
@@ -97,6 +100,11 @@ class Parser {
       const std::size_t start = pos_;
       const double d = parse_delay();
       if (delay) fail_at(start, "a term may have only one delay");
+      // "K/(τs+1) e^-θs" multiplies by the delay; inside the denominator's parentheses the
+      // delay would divide (a prediction).
+      if (paren_depth_ > 0 && in_denominator_) {
+        fail_at(start, "a delay inside the denominator's parentheses; write it in the numerator");
+      }
       delay = d;
       return;
     }
@@ -112,9 +120,16 @@ class Parser {
         // A parenthesised product such as ((33s+1)(8.3s+1)).
         double inner_gain = 1.0;
         std::vector<Factor> inner;
+        const bool had_delay = delay.has_value();
+        ++paren_depth_;
         parse_product(inner_gain, inner, delay);
+        --paren_depth_;
         expect(')');
+        const std::size_t power_at = pos_;
         const int power = parse_power();
+        if (power > 1 && !had_delay && delay) {
+          fail_at(power_at, "a power of a group holding a delay; write the delay once, outside");
+        }
         gain *= std::pow(inner_gain, power);
         for (Factor& f : inner) {
           f.power *= power;
@@ -287,6 +302,8 @@ class Parser {
   std::string_view context_;
   const ElementRules& rules_;
   std::size_t pos_ = 0;
+  bool in_denominator_ = false;  // parsing the items after a '/'
+  int paren_depth_ = 0;          // nesting of parenthesised products
 };
 
 std::string describe(const Polynomial& p) {
@@ -333,7 +350,7 @@ std::string check_term(const Term& term, const ElementRules& rules) {
     for (const Factor& f : term.poles) {
       for (const std::complex<double>& p : roots(f.poly)) {
         if (p.real() >= 0.0) {
-          std::string msg = "pole at s = " + format_number(p.real());
+          std::string msg = "pole at s = " + format_number(p.real() + 0.0);  // no "-0"
           if (p.imag() != 0.0)
             msg += (p.imag() > 0 ? " + " : " - ") + format_number(std::abs(p.imag())) + "j";
           msg += " 1/min from factor (" + describe(f.poly) + ")";

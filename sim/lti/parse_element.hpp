@@ -4,7 +4,7 @@
 // in TOML plant files and in the library (one grammar, documented in sim/lti/README.md).
 //
 //   element  := [sign] term { sign term }            sign := '+' | '-'
-//   term     := item { ['*'] item } [ '/' item { ['*'] item } ]
+//   term     := item { ['*'] item } { '/' item { ['*'] item } }
 //   item     := number | 's' | '(' group ')' ['^' integer] | delay
 //   group    := polynomial | item { ['*'] item }     (a product when it starts with '(')
 //   polynomial := [sign] monomial { sign monomial }  monomial := number ['*'] ['s' ['^' integer]] |

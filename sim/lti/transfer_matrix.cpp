@@ -105,9 +105,9 @@ Eigen::MatrixXd TransferMatrix::static_gain() const {
 }
 
 Eigen::MatrixXcd TransferMatrix::frequency_response(double omega_rad_per_min) const {
-  if (!std::isfinite(omega_rad_per_min) || omega_rad_per_min < 0.0) {
+  if (!std::isfinite(omega_rad_per_min)) {
     throw std::invalid_argument("frequency " + std::to_string(omega_rad_per_min) +
-                                " rad/min: expected a finite value ≥ 0");
+                                " rad/min: expected a finite value");
   }
   Eigen::MatrixXcd g(outputs_, inputs_);
   for (int i = 0; i < outputs_; ++i) {

@@ -36,7 +36,7 @@ class TransferMatrix {
 
   /// G(0), p × n.
   Eigen::MatrixXd static_gain() const;
-  /// G(jω), ω in rad/min, p × n.
+  /// G(jω), ω in rad/min (any finite ω; G(−jω) is the conjugate of G(jω)), p × n.
   Eigen::MatrixXcd frequency_response(double omega_rad_per_min) const;
 
   /// "row 2 (y2), column 3 (u3)" for messages (0-based arguments, 1-based text).

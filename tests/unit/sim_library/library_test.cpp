@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "sim/library/library.hpp"
 
+#include "sim/lti/discrete_plant.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -45,6 +48,40 @@ INSTANTIATE_TEST_SUITE_P(
                       SingularValueCase{"column3x3", 3, {113.6, 74.81, 3.781}},
                       SingularValueCase{"twoweak4x4", 4, {20.39, 16.71, 0.1880, 0.1577}}),
     [](const auto& test_info) { return test_info.param.name; });
+
+// Full dynamics: a unit step on each input in turn stays exactly zero through each
+// element's dead time, moves on the first sample after it, and settles at G(0).
+TEST_P(LibraryPlant, StepResponsesRespectDelaysAndSettleAtStaticGain) {
+  const TransferMatrix g = library_plant(GetParam().name);
+  const double t_sample = 1.0;  // min, the case study's sample time
+  const DiscretePlant plant(g, t_sample);
+  const Eigen::Index n_samples = 8000;  // > 10 × the slowest time constant (twoweak4x4: 400 min)
+  const Eigen::MatrixXd g0 = g.static_gain();
+  for (int j = 0; j < g.inputs(); ++j) {
+    Eigen::MatrixXd u = Eigen::MatrixXd::Zero(n_samples, g.inputs());
+    u.col(j).setOnes();
+    const Eigen::MatrixXd y = plant.simulate(u);
+    for (int i = 0; i < g.outputs(); ++i) {
+      const Element& e = g.element(i, j);
+      ASSERT_FALSE(e.is_zero());
+      double delay = 1e300;
+      bool biproper = false;
+      for (const Term& t : e.terms()) {
+        delay = std::min(delay, t.delay_min);
+        biproper = biproper || t.numerator_degree() == t.denominator_degree();
+      }
+      // Last silent sample: kT < θ for a biproper element, kT ≤ θ for a strictly proper one.
+      const auto silent = static_cast<Eigen::Index>(
+          biproper ? std::ceil(delay / t_sample - 1e-9) - 1 : std::floor(delay / t_sample + 1e-9));
+      for (Eigen::Index k = 0; k <= silent; ++k) {
+        ASSERT_EQ(y(k, i), 0.0) << GetParam().name << " G" << i + 1 << j + 1 << " k = " << k;
+      }
+      EXPECT_NE(y(silent + 1, i), 0.0) << GetParam().name << " G" << i + 1 << j + 1;
+      EXPECT_NEAR(y(n_samples - 1, i), g0(i, j), 1e-6 * std::abs(g0(i, j)))
+          << GetParam().name << " G" << i + 1 << j + 1;
+    }
+  }
+}
 
 TEST(LibraryPlantNames, ListsTheSixPlantsOfSpec7) {
   EXPECT_EQ(library_plant_names(),

@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The run log (CSV), version 1: the one format written by the gateway's log thread and by
+// `excite simulate`, and read by every downstream tool (identify, validate, balance).
+// The format is defined in firmware/runlog/README.md; this header holds its constants.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string_view>
+
+namespace excite::runlog {
+
+inline constexpr std::string_view kMagicLine = "# excite run log v1";
+
+/// Per-sample condition bits of the `flags` column (decimal unsigned integer).
+enum Flag : std::uint32_t {
+  kSuspended = 1U << 0,    // experiment suspended: the engine holds inputs at the baseline
+  kCommLost = 1U << 1,     // field-bus reply missing; dy repeats the last good value
+  kClamped = 1U << 2,      // at least one input was clamped to its absolute limit
+  kRateLimited = 1U << 3,  // at least one input move was limited by its rate limit
+  kStale = 1U << 4,        // a process value was older than one sample time
+};
+inline constexpr std::uint32_t kKnownFlags =
+    kSuspended | kCommLost | kClamped | kRateLimited | kStale;
+
+/// A channel: name (letters, digits, `_`, `.`, `-`; unique over inputs and outputs) and its
+/// engineering unit (no white space, `-` for dimensionless), e.g. {"L", "kmol/min"}.
+struct Channel {
+  std::string_view name;
+  std::string_view unit;
+};
+
+/// True when `name` is a valid channel name or unit token (non-empty, no white space, no
+/// comma, no `=`). Names are further restricted by valid_channel_name().
+bool valid_unit(std::string_view unit);
+bool valid_channel_name(std::string_view name);
+
+/// Longest text std::to_chars produces for a double in shortest round-trip form
+/// ("-2.2250738585072014e-308" is 24 characters).
+inline constexpr std::size_t kMaxNumberChars = 24;
+
+/// Buffer size that always holds one formatted data row of n inputs and p outputs,
+/// newline included: t_min, k, 2n + p numbers, flags, separators.
+constexpr std::size_t max_row_chars(std::size_t n_inputs, std::size_t n_outputs) {
+  return (3 + 2 * n_inputs + n_outputs) * (kMaxNumberChars + 1) + 1;
+}
+
+}  // namespace excite::runlog

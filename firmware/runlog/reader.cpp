@@ -1,0 +1,431 @@
+// SPDX-License-Identifier: MIT
+#include "firmware/runlog/reader.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <utility>
+
+#include "firmware/runlog/format.hpp"
+
+namespace excite::runlog {
+namespace {
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) {
+    s.remove_suffix(1);
+  }
+  return s;
+}
+
+std::vector<std::string_view> split(std::string_view s, char sep) {
+  std::vector<std::string_view> parts;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t end = s.find(sep, start);
+    parts.push_back(trim(s.substr(start, end == std::string_view::npos ? end : end - start)));
+    if (end == std::string_view::npos) break;
+    start = end + 1;
+  }
+  return parts;
+}
+
+std::vector<std::string_view> words(std::string_view s) {
+  std::vector<std::string_view> out;
+  std::size_t i = 0;
+  while (i < s.size()) {
+    while (i < s.size() && (s[i] == ' ' || s[i] == '\t')) ++i;
+    std::size_t j = i;
+    while (j < s.size() && s[j] != ' ' && s[j] != '\t') ++j;
+    if (j > i) out.push_back(s.substr(i, j - i));
+    i = j;
+  }
+  return out;
+}
+
+std::string quoted(std::string_view s) {
+  return "'" + std::string(s) + "'";
+}
+
+// Column roles of the data table.
+enum class Role : std::uint8_t { t_min, k, du, u, dy, flags };
+struct ColumnRole {
+  Role role;
+  std::size_t channel;  // for du, u, dy
+};
+
+class Parser {
+ public:
+  Parser(std::string_view text, std::string_view file, const ReadOptions& options)
+      : text_(text), options_(options) {
+    error_.file = std::string(file);
+  }
+
+  ReadResult run() {
+    ReadResult result;
+    if (parse_header() && parse_columns() && parse_rows() && check_length()) {
+      result.log = std::move(log_);
+    } else {
+      result.error = std::move(error_);
+    }
+    return result;
+  }
+
+ private:
+  // Next line (without its newline); false at end of text.
+  bool next_line(std::string_view& line) {
+    if (pos_ >= text_.size()) return false;
+    std::size_t end = text_.find('\n', pos_);
+    if (end == std::string_view::npos) end = text_.size();
+    line = text_.substr(pos_, end - pos_);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    pos_ = end + 1;
+    ++line_no_;
+    return true;
+  }
+
+  bool fail(std::size_t column, std::string message) {
+    error_.line = line_no_;
+    error_.column = column;
+    error_.message = std::move(message);
+    return false;
+  }
+
+  bool parse_header() {
+    std::string_view line;
+    if (!next_line(line)) return fail(0, "empty file; expected the line '# excite run log v1'");
+    if (trim(line) != kMagicLine) {
+      if (line.rfind("# excite run log v", 0) == 0) {
+        return fail(0, "unsupported version " + quoted(trim(line)) + "; this reader reads v1");
+      }
+      return fail(0, "first line is " + quoted(trim(line)) +
+                         "; expected '# excite run log v1' (not an excite run log?)");
+    }
+    bool seen[6] = {};
+    static constexpr std::string_view kKeys[6] = {"plant",  "plan",    "sample_time_min",
+                                                  "inputs", "outputs", "units"};
+    std::string_view units_value;
+    std::size_t units_line = 0;
+    for (;;) {
+      const std::size_t before = pos_;
+      if (!next_line(line)) return fail(0, "end of file before the column header row");
+      if (line.empty() || line.front() != '#') {
+        pos_ = before;  // the column header row: re-read by parse_columns
+        --line_no_;
+        break;
+      }
+      const std::string_view body = trim(line.substr(1));
+      const std::size_t colon = body.find(':');
+      if (colon == std::string_view::npos) continue;  // free comment
+      const std::string_view key = trim(body.substr(0, colon));
+      const std::string_view value = trim(body.substr(colon + 1));
+      std::size_t which = 6;
+      for (std::size_t i = 0; i < 6; ++i) {
+        if (key == kKeys[i]) which = i;
+      }
+      if (which == 6) continue;  // unknown keys are for people; ignored
+      if (seen[which]) return fail(0, "header key '" + std::string(key) + "' given twice");
+      seen[which] = true;
+      switch (which) {
+        case 0:
+          log_.plant = std::string(value);
+          break;
+        case 1:
+          log_.plan = std::string(value);
+          break;
+        case 2: {
+          double t = 0.0;
+          const auto r = std::from_chars(value.data(), value.data() + value.size(), t);
+          if (r.ec != std::errc{} || r.ptr != value.data() + value.size() || !std::isfinite(t) ||
+              t <= 0.0) {
+            return fail(0, "sample_time_min is " + quoted(value) +
+                               "; expected a finite number > 0 (minutes)");
+          }
+          log_.sample_time_min = t;
+          break;
+        }
+        case 3:
+        case 4: {
+          auto& names = which == 3 ? log_.input_names : log_.output_names;
+          for (const auto w : words(value)) {
+            if (!valid_channel_name(w)) {
+              return fail(0, "channel name " + quoted(w) +
+                                 " is invalid; expected letters, digits, '_', '.', '-'");
+            }
+            names.emplace_back(w);
+          }
+          if (names.empty()) {
+            return fail(0, std::string(which == 3 ? "inputs" : "outputs") +
+                               " lists no channel; expected at least one name");
+          }
+          break;
+        }
+        case 5:
+          units_value = value;
+          units_line = line_no_;
+          break;
+        default:
+          break;
+      }
+    }
+    for (std::size_t i = 0; i < 6; ++i) {
+      if (!seen[i]) {
+        return fail(0, "header has no '# " + std::string(kKeys[i]) +
+                           ":' line; expected plant, plan, sample_time_min, inputs, outputs, "
+                           "units");
+      }
+    }
+    // Names unique over inputs and outputs.
+    std::vector<std::string> all = log_.input_names;
+    all.insert(all.end(), log_.output_names.begin(), log_.output_names.end());
+    for (std::size_t a = 0; a < all.size(); ++a) {
+      for (std::size_t b = a + 1; b < all.size(); ++b) {
+        if (all[a] == all[b]) {
+          return fail(0, "channel name " + quoted(all[a]) + " is used twice; names must be unique");
+        }
+      }
+    }
+    return parse_units(units_value, units_line, all);
+  }
+
+  bool parse_units(std::string_view value, std::size_t at_line,
+                   const std::vector<std::string>& all) {
+    std::vector<std::string> units(all.size());
+    for (const auto w : words(value)) {
+      const std::size_t eq = w.find('=');
+      const std::string_view name = w.substr(0, eq);
+      const std::string_view unit = eq == std::string_view::npos ? "" : w.substr(eq + 1);
+      std::size_t idx = all.size();
+      for (std::size_t i = 0; i < all.size(); ++i) {
+        if (all[i] == name) idx = i;
+      }
+      if (eq == std::string_view::npos || !valid_unit(unit)) {
+        line_no_ = at_line;
+        return fail(0, "units entry " + quoted(w) + " is not of the form name=unit");
+      }
+      if (idx == all.size()) {
+        line_no_ = at_line;
+        return fail(0, "units entry " + quoted(w) + " names no declared channel");
+      }
+      units[idx] = std::string(unit);
+    }
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      if (units[i].empty()) {
+        line_no_ = at_line;
+        return fail(0, "units line gives no unit for channel " + quoted(all[i]) + "; expected " +
+                           all[i] + "=<unit> ('-' if dimensionless)");
+      }
+    }
+    const std::size_t n = log_.input_names.size();
+    log_.input_units.assign(units.begin(), units.begin() + static_cast<std::ptrdiff_t>(n));
+    log_.output_units.assign(units.begin() + static_cast<std::ptrdiff_t>(n), units.end());
+    return true;
+  }
+
+  bool parse_columns() {
+    std::string_view line;
+    if (!next_line(line)) return fail(0, "end of file; expected the column header row");
+    const auto names = split(line, ',');
+    const std::size_t n = log_.input_names.size();
+    const std::size_t p = log_.output_names.size();
+    // Expected names and their roles; the row may list them in any order.
+    std::vector<std::pair<std::string, ColumnRole>> expected;
+    expected.push_back({"t_min", {Role::t_min, 0}});
+    expected.push_back({"k", {Role::k, 0}});
+    for (std::size_t i = 0; i < n; ++i) {
+      expected.push_back({"du_" + log_.input_names[i], {Role::du, i}});
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      expected.push_back({"u_" + log_.input_names[i], {Role::u, i}});
+    }
+    for (std::size_t j = 0; j < p; ++j) {
+      expected.push_back({"dy_" + log_.output_names[j], {Role::dy, j}});
+    }
+    expected.push_back({"flags", {Role::flags, 0}});
+
+    std::vector<bool> found(expected.size(), false);
+    for (std::size_t c = 0; c < names.size(); ++c) {
+      std::size_t idx = expected.size();
+      for (std::size_t e = 0; e < expected.size(); ++e) {
+        if (expected[e].first == names[c]) idx = e;
+      }
+      if (idx == expected.size()) {
+        return fail(c + 1, "unexpected column " + quoted(names[c]) +
+                               " (not derived from the header's inputs/outputs)");
+      }
+      if (found[idx]) return fail(c + 1, "column " + quoted(names[c]) + " appears twice");
+      found[idx] = true;
+      roles_.push_back(expected[idx].second);
+      column_names_.emplace_back(names[c]);
+    }
+    for (std::size_t e = 0; e < expected.size(); ++e) {
+      if (!found[e]) return fail(0, "missing column " + quoted(expected[e].first));
+    }
+    log_.du.assign(n, {});
+    log_.u.assign(n, {});
+    log_.dy.assign(p, {});
+    return true;
+  }
+
+  std::string column_label(std::size_t c) const {
+    return "column " + std::to_string(c + 1) + " (" + column_names_[c] + ")";
+  }
+
+  bool field_error(std::size_t c, std::string_view text, std::string_view expected) {
+    error_.line = line_no_;
+    error_.column = c + 1;
+    error_.message = column_names_[c] + ": " + quoted(text) + " " + std::string(expected);
+    return false;
+  }
+
+  bool parse_rows() {
+    std::string_view line;
+    while (next_line(line)) {
+      if (trim(line).empty()) continue;  // a trailing blank line is tolerated
+      if (line.front() == '#') return fail(0, "comment line inside the data; expected a data row");
+      const auto fields = split(line, ',');
+      if (fields.size() != roles_.size()) {
+        return fail(0, std::to_string(fields.size()) + " fields; expected " +
+                           std::to_string(roles_.size()) + " as in the column header row");
+      }
+      for (std::size_t c = 0; c < fields.size(); ++c) {
+        if (!parse_field(c, fields[c])) return false;
+      }
+      if (!check_time()) return false;
+    }
+    return true;
+  }
+
+  bool parse_field(std::size_t c, std::string_view f) {
+    const ColumnRole role = roles_[c];
+    const char* first = f.data();
+    const char* last = f.data() + f.size();
+    if (role.role == Role::k || role.role == Role::flags) {
+      std::uint64_t v = 0;
+      const auto r = std::from_chars(first, last, v);
+      if (f.empty() || r.ec != std::errc{} || r.ptr != last) {
+        return field_error(c, f, "is not a non-negative integer");
+      }
+      if (role.role == Role::k) {
+        log_.k.push_back(v);
+      } else {
+        if ((v & ~std::uint64_t{kKnownFlags}) != 0U) {
+          return field_error(c, f,
+                             "has bits outside the documented flags (suspended=1, comm_lost=2, "
+                             "clamped=4, rate_limited=8, stale=16)");
+        }
+        log_.flags.push_back(static_cast<std::uint32_t>(v));
+      }
+      return true;
+    }
+    double v = 0.0;
+    const auto r = std::from_chars(first, last, v);
+    if (f.empty() || r.ec == std::errc::invalid_argument || r.ptr != last) {
+      return field_error(c, f, "is not a number");
+    }
+    if (r.ec == std::errc::result_out_of_range || !std::isfinite(v)) {
+      return field_error(c, f, "is not finite; NaN and inf are not allowed in a run log");
+    }
+    switch (role.role) {
+      case Role::t_min:
+        log_.t_min.push_back(v);
+        break;
+      case Role::du:
+        log_.du[role.channel].push_back(v);
+        break;
+      case Role::u:
+        log_.u[role.channel].push_back(v);
+        break;
+      case Role::dy:
+        log_.dy[role.channel].push_back(v);
+        break;
+      default:
+        break;
+    }
+    return true;
+  }
+
+  std::size_t column_of(Role role) const {
+    for (std::size_t c = 0; c < roles_.size(); ++c) {
+      if (roles_[c].role == role) return c + 1;
+    }
+    return 0;
+  }
+
+  bool check_time() {
+    const std::size_t r = log_.t_min.size() - 1;
+    if (r == 0) return true;
+    const double T = log_.sample_time_min;
+    const double dt = log_.t_min[r] - log_.t_min[r - 1];
+    if (std::abs(dt - T) > options_.time_tolerance * T) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf,
+                    "t_min: step %.17g min from the previous row; expected the sample time "
+                    "%.17g min (tolerance %.3g of it)",
+                    dt, T, options_.time_tolerance);
+      return fail(column_of(Role::t_min), buf);
+    }
+    if (log_.k[r] != log_.k[r - 1] + 1) {
+      return fail(column_of(Role::k), "k: " + std::to_string(log_.k[r]) + " follows " +
+                                          std::to_string(log_.k[r - 1]) + "; expected " +
+                                          std::to_string(log_.k[r - 1] + 1));
+    }
+    return true;
+  }
+
+  bool check_length() {
+    if (log_.rows() < options_.min_rows) {
+      return fail(0, std::to_string(log_.rows()) + " data rows; expected at least " +
+                         std::to_string(options_.min_rows));
+    }
+    return true;
+  }
+
+  std::string_view text_;
+  ReadOptions options_;
+  std::size_t pos_ = 0;
+  std::size_t line_no_ = 0;
+  RunLog log_;
+  ReadError error_;
+  std::vector<ColumnRole> roles_;
+  std::vector<std::string> column_names_;
+};
+
+}  // namespace
+
+std::string ReadError::to_string() const {
+  std::string s = file;
+  if (line > 0) s += ":" + std::to_string(line);
+  s += ": ";
+  if (column > 0) s += "column " + std::to_string(column) + ": ";
+  return s + message;
+}
+
+ReadResult parse_run_log(std::string_view text, std::string_view file_name,
+                         const ReadOptions& options) {
+  return Parser(text, file_name, options).run();
+}
+
+ReadResult read_run_log(const std::string& path, const ReadOptions& options) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) {
+    ReadResult r;
+    r.error = ReadError{path, 0, 0, "cannot open the file for reading"};
+    return r;
+  }
+  std::string text;
+  char buf[65536];
+  std::size_t got = 0;
+  while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) text.append(buf, got);
+  const bool failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (failed) {
+    ReadResult r;
+    r.error = ReadError{path, 0, 0, "read error"};
+    return r;
+  }
+  return parse_run_log(text, path, options);
+}
+
+}  // namespace excite::runlog

@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Run-log reader (format: firmware/runlog/README.md). No exceptions: the result carries
+// either the columns or one error naming file, line, column and what was expected.
+// Runs on the host and the gateway's non-real-time side; it allocates.
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace excite::runlog {
+
+/// A run log in columns. du[i], u[i] are input i's columns, dy[j] output j's, each with
+/// rows() values; t_min, k, flags likewise.
+struct RunLog {
+  std::string plant;
+  std::string plan;
+  double sample_time_min = 0.0;
+  std::vector<std::string> input_names, input_units;
+  std::vector<std::string> output_names, output_units;
+
+  std::vector<double> t_min;
+  std::vector<std::uint64_t> k;
+  std::vector<std::vector<double>> du, u, dy;
+  std::vector<std::uint32_t> flags;
+
+  std::size_t rows() const { return t_min.size(); }
+};
+
+/// Where and why a log was rejected. line and column are 1-based (0: not applicable);
+/// column counts comma-separated fields.
+struct ReadError {
+  std::string file;
+  std::size_t line = 0;
+  std::size_t column = 0;
+  std::string message;
+
+  /// "file:line: column c (name): message", the form every tool prints.
+  std::string to_string() const;
+};
+
+struct ReadOptions {
+  std::size_t min_rows = 2;  // fewer data rows is an error
+  // Time stamps must be uniform: |t_min[r] − t_min[r−1] − T| ≤ time_tolerance · T
+  // (T = sample_time_min of the header), and k[r] = k[r−1] + 1.
+  double time_tolerance = 1e-6;
+};
+
+struct ReadResult {
+  RunLog log;                      // valid only when ok()
+  std::optional<ReadError> error;  // set when the log was rejected
+  bool ok() const { return !error.has_value(); }
+};
+
+/// Parses a whole log held in memory; `file_name` only labels errors.
+ReadResult parse_run_log(std::string_view text, std::string_view file_name,
+                         const ReadOptions& options = {});
+
+/// Reads and parses the file at `path`.
+ReadResult read_run_log(const std::string& path, const ReadOptions& options = {});
+
+}  // namespace excite::runlog

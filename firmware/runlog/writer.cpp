@@ -1,0 +1,225 @@
+// SPDX-License-Identifier: MIT
+#include "firmware/runlog/writer.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstring>
+
+namespace excite::runlog {
+namespace {
+
+// Appends text to a fixed buffer; remembers overflow instead of failing at each call.
+class Sink {
+ public:
+  explicit Sink(std::span<char> out) : out_(out) {}
+
+  void text(std::string_view s) {
+    if (overflow_ || s.size() > out_.size() - used_) {
+      overflow_ = true;
+      return;
+    }
+    std::memcpy(out_.data() + used_, s.data(), s.size());
+    used_ += s.size();
+  }
+  void ch(char c) { text(std::string_view(&c, 1)); }
+
+  // Shortest round-trip form (std::to_chars without precision).
+  void number(double x) {
+    if (overflow_) return;
+    const auto r = std::to_chars(out_.data() + used_, out_.data() + out_.size(), x);
+    if (r.ec != std::errc{}) {
+      overflow_ = true;
+      return;
+    }
+    used_ = static_cast<std::size_t>(r.ptr - out_.data());
+  }
+  void integer(std::uint64_t x) {
+    if (overflow_) return;
+    const auto r = std::to_chars(out_.data() + used_, out_.data() + out_.size(), x);
+    if (r.ec != std::errc{}) {
+      overflow_ = true;
+      return;
+    }
+    used_ = static_cast<std::size_t>(r.ptr - out_.data());
+  }
+
+  WriteResult result() const {
+    if (overflow_) return {WriteStatus::buffer_too_small, 0};
+    return {WriteStatus::ok, used_};
+  }
+
+ private:
+  std::span<char> out_;
+  std::size_t used_ = 0;
+  bool overflow_ = false;
+};
+
+bool one_line(std::string_view s) {
+  return s.find('\n') == std::string_view::npos && s.find('\r') == std::string_view::npos;
+}
+
+bool channels_valid(const Header& h) {
+  const std::span<const Channel> groups[2] = {h.inputs, h.outputs};
+  for (const auto& group : groups) {
+    for (const Channel& c : group) {
+      if (!valid_channel_name(c.name) || !valid_unit(c.unit)) return false;
+    }
+  }
+  // Names are unique over inputs and outputs together (the units line is keyed by name).
+  for (std::size_t a = 0; a < h.inputs.size() + h.outputs.size(); ++a) {
+    const auto& ca = a < h.inputs.size() ? h.inputs[a] : h.outputs[a - h.inputs.size()];
+    for (std::size_t b = a + 1; b < h.inputs.size() + h.outputs.size(); ++b) {
+      const auto& cb = b < h.inputs.size() ? h.inputs[b] : h.outputs[b - h.inputs.size()];
+      if (ca.name == cb.name) return false;
+    }
+  }
+  return !h.inputs.empty() && !h.outputs.empty();
+}
+
+bool all_finite(std::span<const double> xs) {
+  for (const double x : xs) {
+    if (!std::isfinite(x)) return false;
+  }
+  return true;
+}
+
+void column_names(Sink& s, std::string_view prefix, std::span<const Channel> channels) {
+  for (const Channel& c : channels) {
+    s.ch(',');
+    s.text(prefix);
+    s.text(c.name);
+  }
+}
+
+}  // namespace
+
+bool valid_channel_name(std::string_view name) {
+  if (name.empty()) return false;
+  for (const char c : name) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                    c == '_' || c == '.' || c == '-';
+    if (!ok) return false;
+  }
+  return true;
+}
+
+bool valid_unit(std::string_view unit) {
+  if (unit.empty()) return false;
+  for (const char c : unit) {
+    if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == ',' || c == '=') return false;
+  }
+  return true;
+}
+
+std::string_view describe(WriteStatus status) {
+  switch (status) {
+    case WriteStatus::ok:
+      return "ok";
+    case WriteStatus::buffer_too_small:
+      return "buffer too small for the formatted text";
+    case WriteStatus::bad_text:
+      return "plant or plan text contains a line break";
+    case WriteStatus::bad_channel:
+      return "channel name or unit invalid or repeated (names: letters, digits, _ . -)";
+    case WriteStatus::bad_sample_time:
+      return "sample_time_min must be finite and > 0";
+    case WriteStatus::width_mismatch:
+      return "row width differs from the header's channels";
+    case WriteStatus::non_finite:
+      return "row contains NaN or inf";
+    case WriteStatus::unknown_flags:
+      return "flags has bits outside the documented set";
+    case WriteStatus::io_error:
+      return "write to the log file failed";
+  }
+  return "unknown status";
+}
+
+WriteResult format_header(const Header& header, std::span<char> out) {
+  if (!one_line(header.plant) || !one_line(header.plan)) return {WriteStatus::bad_text, 0};
+  if (!std::isfinite(header.sample_time_min) || header.sample_time_min <= 0.0) {
+    return {WriteStatus::bad_sample_time, 0};
+  }
+  if (!channels_valid(header)) return {WriteStatus::bad_channel, 0};
+
+  Sink s(out);
+  s.text(kMagicLine);
+  s.text("\n# plant: ");
+  s.text(header.plant);
+  s.text("\n# plan: ");
+  s.text(header.plan);
+  s.text("\n# sample_time_min: ");
+  s.number(header.sample_time_min);
+  s.text("\n# inputs:");
+  for (const Channel& c : header.inputs) {
+    s.ch(' ');
+    s.text(c.name);
+  }
+  s.text("\n# outputs:");
+  for (const Channel& c : header.outputs) {
+    s.ch(' ');
+    s.text(c.name);
+  }
+  s.text("\n# units:");
+  const std::span<const Channel> groups[2] = {header.inputs, header.outputs};
+  for (const auto& group : groups) {
+    for (const Channel& c : group) {
+      s.ch(' ');
+      s.text(c.name);
+      s.ch('=');
+      s.text(c.unit);
+    }
+  }
+  s.text("\nt_min,k");
+  column_names(s, "du_", header.inputs);
+  column_names(s, "u_", header.inputs);
+  column_names(s, "dy_", header.outputs);
+  s.text(",flags\n");
+  return s.result();
+}
+
+WriteResult format_row(const Header& header, const Row& row, std::span<char> out) {
+  if (row.du.size() != header.inputs.size() || row.u.size() != header.inputs.size() ||
+      row.dy.size() != header.outputs.size()) {
+    return {WriteStatus::width_mismatch, 0};
+  }
+  if (!std::isfinite(row.t_min) || !all_finite(row.du) || !all_finite(row.u) ||
+      !all_finite(row.dy)) {
+    return {WriteStatus::non_finite, 0};
+  }
+  if ((row.flags & ~kKnownFlags) != 0U) return {WriteStatus::unknown_flags, 0};
+
+  Sink s(out);
+  s.number(row.t_min);
+  s.ch(',');
+  s.integer(row.k);
+  const std::span<const double> groups[3] = {row.du, row.u, row.dy};
+  for (const auto& group : groups) {
+    for (const double x : group) {
+      s.ch(',');
+      s.number(x);
+    }
+  }
+  s.ch(',');
+  s.integer(row.flags);
+  s.ch('\n');
+  return s.result();
+}
+
+WriteStatus FileWriter::emit(WriteResult result) {
+  if (result.status != WriteStatus::ok) return result.status;
+  if (std::fwrite(buffer_.data(), 1, result.length, file_) != result.length) {
+    return WriteStatus::io_error;
+  }
+  return WriteStatus::ok;
+}
+
+WriteStatus FileWriter::write_header() {
+  return emit(format_header(header_, buffer_));
+}
+
+WriteStatus FileWriter::write_row(const Row& row) {
+  return emit(format_row(header_, row, buffer_));
+}
+
+}  // namespace excite::runlog

@@ -1,0 +1,85 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Run-log writer (format: firmware/runlog/README.md). No exceptions and no allocation:
+// every function formats into a caller-provided buffer and reports by status, so the
+// gateway's non-real-time log thread and `excite simulate` share exactly this code.
+// Numbers are written with std::to_chars in shortest round-trip form: reading a row back
+// gives the identical doubles.
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <span>
+#include <string_view>
+
+#include "firmware/runlog/format.hpp"
+
+namespace excite::runlog {
+
+/// What the comment header says about the run.
+struct Header {
+  std::string_view plant;        // free text, one line (no CR/LF)
+  std::string_view plan;         // free text, one line (no CR/LF), e.g. the plan file path
+  double sample_time_min = 0.0;  // T, minutes, finite and > 0
+  std::span<const Channel> inputs;
+  std::span<const Channel> outputs;
+};
+
+/// One sample. du, u have one value per input, dy one per output; all finite.
+/// A producer without a fresh measurement repeats the last value and sets kCommLost/kStale.
+struct Row {
+  double t_min = 0.0;          // time since the start of the run, minutes
+  std::uint64_t k = 0;         // sample index
+  std::span<const double> du;  // input deviations from the baseline
+  std::span<const double> u;   // absolute inputs (baseline + du), engineering units
+  std::span<const double> dy;  // output deviations from the baseline
+  std::uint32_t flags = 0;     // bits of Flag only
+};
+
+enum class WriteStatus : std::uint8_t {
+  ok,
+  buffer_too_small,  // nothing usable was written; retry with a larger buffer
+  bad_text,          // plant or plan contains CR or LF
+  bad_channel,       // a channel name or unit is invalid, or a name is repeated
+  bad_sample_time,   // sample_time_min not finite or ≤ 0
+  width_mismatch,    // du/u/dy lengths differ from the header's channel counts
+  non_finite,        // a number in the row is NaN or ±inf
+  unknown_flags,     // flags has bits outside kKnownFlags
+  io_error,          // fwrite to the FILE* failed
+};
+
+/// Short English description of a status, for log messages.
+std::string_view describe(WriteStatus status);
+
+struct WriteResult {
+  WriteStatus status = WriteStatus::ok;
+  std::size_t length = 0;  // characters written to the buffer (no terminating NUL), if ok
+};
+
+/// Formats the comment header and the column header row into `out`.
+WriteResult format_header(const Header& header, std::span<char> out);
+
+/// Formats one data row (with its newline) into `out`. `out.size() >=
+/// max_row_chars(inputs, outputs)` always suffices. The header is used for channel counts.
+WriteResult format_row(const Header& header, const Row& row, std::span<char> out);
+
+/// Writes a run log to an open FILE* through a caller-provided buffer (no allocation).
+/// The caller owns the FILE* (opens, flushes, closes it) and the buffer, which must
+/// outlive the writer.
+class FileWriter {
+ public:
+  FileWriter(std::FILE* file, const Header& header, std::span<char> buffer)
+      : file_(file), header_(header), buffer_(buffer) {}
+
+  WriteStatus write_header();
+  WriteStatus write_row(const Row& row);
+
+ private:
+  WriteStatus emit(WriteResult result);
+
+  std::FILE* file_;
+  Header header_;
+  std::span<char> buffer_;
+};
+
+}  // namespace excite::runlog

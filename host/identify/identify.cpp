@@ -1,0 +1,209 @@
+// SPDX-License-Identifier: MIT
+#include "host/identify/identify.hpp"
+
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include "host/identify/input_screen.hpp"
+#include "host/identify/miso_fit.hpp"
+#include "host/identify/response_bank.hpp"
+#include "host/identify/validate.hpp"
+
+namespace excite::host {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string number(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+void check_finite(const Eigen::MatrixXd& M, const char* name) {
+  for (Eigen::Index c = 0; c < M.cols(); ++c) {
+    for (Eigen::Index r = 0; r < M.rows(); ++r) {
+      if (!std::isfinite(M(r, c))) {
+        throw std::invalid_argument(std::string("identify: ") + name + " sample " +
+                                    std::to_string(r) + " (row), channel " + std::to_string(c + 1) +
+                                    " is " + number(M(r, c)) + "; data must be finite");
+      }
+    }
+  }
+}
+
+void check_arguments(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double T_min,
+                     const IdentifyOptions& o) {
+  if (!std::isfinite(T_min) || T_min <= 0.0) {
+    throw std::invalid_argument("identify: sample time T_min = " + number(T_min) +
+                                "; expected a finite number > 0 (minutes)");
+  }
+  if (!std::isfinite(o.max_delay_min) || o.max_delay_min < 0.0) {
+    throw std::invalid_argument("identify: max_delay_min = " + number(o.max_delay_min) +
+                                "; expected a finite number ≥ 0 (minutes)");
+  }
+  if (!std::isfinite(o.max_time_constant_min) || o.max_time_constant_min < 0.0) {
+    throw std::invalid_argument(
+        "identify: max_time_constant_min = " + number(o.max_time_constant_min) +
+        "; expected a finite number ≥ 0 (0: the experiment length)");
+  }
+  if (o.max_iterations < 1) {
+    throw std::invalid_argument("identify: max_iterations = " + std::to_string(o.max_iterations) +
+                                "; expected ≥ 1");
+  }
+  if (o.threads < 1) {
+    throw std::invalid_argument("identify: threads = " + std::to_string(o.threads) +
+                                "; expected ≥ 1");
+  }
+  if (U.cols() == 0 || Y.cols() == 0) {
+    throw std::invalid_argument("identify: U has " + std::to_string(U.cols()) + " inputs and Y " +
+                                std::to_string(Y.cols()) +
+                                " outputs; expected at least one of each");
+  }
+  if (U.rows() != Y.rows()) {
+    throw std::invalid_argument("identify: U has " + std::to_string(U.rows()) +
+                                " samples (rows) but Y has " + std::to_string(Y.rows()) +
+                                "; expected one row per sample in both");
+  }
+  const Eigen::Index need = minimum_samples(static_cast<int>(U.cols()), T_min, o);
+  if (U.rows() < need) {
+    throw std::invalid_argument(
+        "identify: " + std::to_string(U.rows()) + " samples are too few for " +
+        std::to_string(U.cols()) + " inputs with delays up to " + number(o.max_delay_min) +
+        " min at T = " + number(T_min) + " min; expected at least " + std::to_string(need) +
+        " (⌈max_delay/T⌉ + 10 per parameter, 4 parameters per input)");
+  }
+  check_finite(U, "U");
+  check_finite(Y, "Y");
+}
+
+void mark_row(IdentifiedModel& model, int out, ElementStatus status, const std::string& why) {
+  for (int i = 0; i < model.inputs; ++i) {
+    ElementEstimate& e = model.element(out, i);
+    e.value = TwoPoleDelay{kNaN, kNaN, kNaN, kNaN};
+    e.std_error = e.value;
+    e.status = status;
+    e.reason = why;
+  }
+}
+
+}  // namespace
+
+Eigen::Index minimum_samples(int inputs, double T_min, const IdentifyOptions& options) {
+  const double delay_samples = std::ceil(options.max_delay_min / T_min);
+  return static_cast<Eigen::Index>(delay_samples) + 10 * 4 * static_cast<Eigen::Index>(inputs);
+}
+
+IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double T_min,
+                              const IdentifyOptions& options) {
+  check_arguments(U, Y, T_min, options);
+  const auto n = static_cast<int>(U.cols());
+  const auto p = static_cast<int>(Y.cols());
+  const double tp_max = options.max_time_constant_min > 0.0 ? options.max_time_constant_min
+                                                            : static_cast<double>(U.rows()) * T_min;
+
+  IdentificationResult result;
+  IdentifiedModel& model = result.model;
+  model.inputs = n;
+  model.outputs = p;
+  model.sample_time_min = T_min;
+  model.elements.assign(static_cast<std::size_t>(n * p), ElementEstimate{});
+  result.fits.assign(static_cast<std::size_t>(p), OutputFit{});
+
+  const InputScreen screen = screen_inputs(U);
+  const ResponseBank bank(U, screen.usable, T_min, GridSpec{options.max_delay_min, tp_max});
+
+  // One output's fit; writes only its own row of the model and its own OutputFit.
+  const auto fit_output = [&](int j) {
+    const Eigen::VectorXd y = Y.col(j);
+    OutputFit& fit = result.fits[static_cast<std::size_t>(j)];
+    const double spread = (y.array() - y.mean()).matrix().norm();
+    if (spread == 0.0) {
+      mark_row(model, j, ElementStatus::output_not_moved,
+               "output " + std::to_string(j + 1) + " is constant throughout the data");
+      fit.fit_percent = kNaN;
+      fit.residual_rms = 0.0;
+      fit.converged = true;
+      return;
+    }
+    for (int i = 0; i < n; ++i) {
+      if (screen.status[static_cast<std::size_t>(i)] != ElementStatus::identified) {
+        ElementEstimate& e = model.element(j, i);
+        e.value = TwoPoleDelay{kNaN, kNaN, kNaN, kNaN};
+        e.std_error = e.value;
+        e.status = screen.status[static_cast<std::size_t>(i)];
+        e.reason = screen.reason[static_cast<std::size_t>(i)];
+      }
+    }
+    Eigen::VectorXd y_hat = Eigen::VectorXd::Zero(y.size());
+    if (!screen.usable.empty()) {
+      const ResponseBank::Choice choice = bank.choose(y);
+      std::vector<TwoPoleDelay> initial;
+      for (std::size_t e = 0; e < screen.usable.size(); ++e) {
+        TwoPoleDelay g = bank.grid()[static_cast<std::size_t>(choice.grid_index[e])];
+        g.gain = choice.gain(static_cast<Eigen::Index>(e));
+        initial.push_back(g);
+      }
+      const MisoResult miso =
+          fit_miso(U, y, screen.usable, std::move(initial), T_min,
+                   MisoBounds{options.max_delay_min, tp_max}, options.max_iterations);
+      for (std::size_t e = 0; e < screen.usable.size(); ++e) {
+        model.element(j, screen.usable[e]) = miso.elements[e];
+      }
+      y_hat = miso.y_hat;
+      fit.iterations = miso.iterations;
+      fit.converged = miso.converged;
+    } else {
+      fit.converged = true;
+    }
+    fit.fit_percent = fit_percent(y, y_hat);
+    fit.residual_rms = (y_hat - y).norm() / std::sqrt(static_cast<double>(y.size()));
+  };
+
+  const int workers = std::min(options.threads, p);
+  if (workers <= 1) {
+    for (int j = 0; j < p; ++j) fit_output(j);
+  } else {
+    std::atomic<int> next{0};
+    std::vector<std::exception_ptr> errors(static_cast<std::size_t>(workers));
+    std::vector<std::thread> pool;
+    for (int w = 0; w < workers; ++w) {
+      pool.emplace_back([&, w] {
+        try {
+          for (int j = next++; j < p; j = next++) fit_output(j);
+        } catch (...) {
+          errors[static_cast<std::size_t>(w)] = std::current_exception();
+        }
+      });
+    }
+    for (auto& t : pool) t.join();
+    for (const auto& e : errors) {
+      if (e) std::rethrow_exception(e);
+    }
+  }
+
+  // Directional quality of the identified G(0) when every gain is estimated.
+  std::string missing;
+  for (int j = 0; j < p && missing.empty(); ++j) {
+    for (int i = 0; i < n && missing.empty(); ++i) {
+      const ElementEstimate& e = model.element(j, i);
+      if (!e.estimated()) {
+        missing = "element (output " + std::to_string(j + 1) + ", input " + std::to_string(i + 1) +
+                  ") is " + to_string(e.status) + ": " + e.reason;
+      }
+    }
+  }
+  if (missing.empty()) {
+    result.gain = analyse_gain(model.static_gain());
+  } else {
+    result.gain_unavailable_reason = "G(0) is incomplete: " + missing;
+  }
+  return result;
+}
+
+}  // namespace excite::host

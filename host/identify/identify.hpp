@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Identification of a transfer-function matrix of (6.1.1) elements (SPEC §6): every output
+// is fitted as a multi-input single-output model, all n elements of the row together, by
+// output error with the exact ZOH simulation of two_pole_element.hpp.
+//
+// Per output:
+//   1. Which inputs can be identified: an input that is zero throughout, or a linear
+//      combination of other inputs, gets no parameters (status and reason instead).
+//   2. Initialisation (finding the basin): for every input, a grid of unit-gain responses
+//      (delay × time constant × shape); coordinate sweeps pick, per element, the grid
+//      response that most lowers the output error with all gains re-estimated jointly by
+//      linear least squares.
+//   3. Bounded Levenberg–Marquardt on the output error of all 4 parameters of every element
+//      (gain, delay, two time constants), 0 ≤ T_d ≤ max_delay_min, 0 ≤ T_p ≤
+//      max_time_constant_min; Jacobian by central differences per element.
+//   4. Standard errors from σ̂² (JᵀJ)⁻¹ over the parameters not on a bound, σ̂² = SSE/(N − P).
+// The result also carries the fit % per output (5.5.1) and the analysis of the identified
+// G(0) (singular values, ξ_i, κ, RGA).
+
+#include <Eigen/Dense>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "host/identify/gain_analysis.hpp"
+#include "host/identify/model.hpp"
+
+namespace excite::host {
+
+struct IdentifyOptions {
+  double max_delay_min = 20.0;         // upper bound of T_d (thesis: 20 min)
+  double max_time_constant_min = 0.0;  // upper bound of T_p; 0 = the experiment length N·T
+  int max_iterations = 200;            // Levenberg–Marquardt iterations per output
+  int threads = 1;                     // outputs are fitted in parallel on this many threads
+};
+
+/// Per-output diagnostics of the fit.
+struct OutputFit {
+  double fit_percent = 0.0;   // (5.5.1) on the estimation data; NaN when the output is constant
+  double residual_rms = 0.0;  // ‖ŷ − y‖ / √N, output units
+  int iterations = 0;         // Levenberg–Marquardt iterations used
+  bool converged = false;     // stopped on a convergence test, not the iteration limit
+};
+
+struct IdentificationResult {
+  IdentifiedModel model;
+  std::vector<OutputFit> fits;          // one per output
+  std::optional<GainAnalysis> gain;     // of the identified G(0), when every K is estimated
+  std::string gain_unavailable_reason;  // why `gain` is empty
+};
+
+/// Identifies the model from U (N × n inputs) and Y (N × p outputs) sampled every T_min
+/// minutes. Throws std::invalid_argument for: size mismatch, empty data, NaN/inf entries,
+/// T_min not finite and > 0, bad options, or fewer samples than
+/// ⌈max_delay_min / T⌉ + 10·(4n) (the delay range plus ten samples per parameter).
+IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double T_min,
+                              const IdentifyOptions& options = {});
+
+/// Smallest N that identify() accepts for n inputs.
+Eigen::Index minimum_samples(int inputs, double T_min, const IdentifyOptions& options = {});
+
+}  // namespace excite::host

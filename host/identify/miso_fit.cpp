@@ -1,0 +1,259 @@
+// SPDX-License-Identifier: MIT
+#include "host/identify/miso_fit.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <span>
+
+#include "host/identify/bounded_lm.hpp"
+
+namespace excite::host {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kPerElement = 4;  // K, T_d, T_p1, T_p2 (Parameter order)
+
+TwoPoleDelay unit_element(const Eigen::VectorXd& x, Eigen::Index e) {
+  const Eigen::Index o = kPerElement * e;
+  return TwoPoleDelay{1.0, x(o + kDelay), x(o + kTp1), x(o + kTp2)};
+}
+
+std::span<double> span_of(Eigen::VectorXd& v) {
+  return {v.data(), static_cast<std::size_t>(v.size())};
+}
+
+// Taps of a window: b̃_m for m = m0 … m0 + kWindow − 1, and a1, a2, of element g.
+constexpr std::size_t kWindow = 6;
+struct TapWindow {
+  double a1 = 0.0;
+  double a2 = 0.0;
+  std::array<double, kWindow> b{};
+};
+
+TapWindow tap_window(const TwoPoleDelay& g, double T, std::size_t m0) {
+  TapWindow w;
+  const auto [a1, a2] = denominator(g, T);
+  w.a1 = a1;
+  w.a2 = a2;
+  // h(j) = S(jT) − S((j−1)T) for j = m0 − 2 … m0 + kWindow − 1.
+  std::array<double, kWindow + 3> S{};
+  for (std::size_t i = 0; i < S.size(); ++i) {
+    S[i] = step_response(g, (static_cast<double>(m0) + static_cast<double>(i) - 3.0) * T);
+  }
+  const auto h = [&](std::size_t i) { return S[i + 1] - S[i]; };  // h(m0 − 2 + i)
+  for (std::size_t m = 0; m < kWindow; ++m) {
+    w.b[m] = h(m + 2) + w.a1 * h(m + 1) + w.a2 * h(m);
+  }
+  return w;
+}
+
+// The row's simulation: unit-gain responses per element, scaled and summed; and its
+// Jacobian by sensitivity filters (see jacobian()).
+class RowModel {
+ public:
+  RowModel(const Eigen::MatrixXd& U, const std::vector<int>& inputs, double T_min)
+      : U_(U), inputs_(inputs), T_(T_min), w_(U.rows()), v_(U.rows()) {}
+
+  std::span<const double> input(Eigen::Index e) const {
+    const auto col = U_.col(inputs_[static_cast<std::size_t>(e)]);
+    return {col.data(), static_cast<std::size_t>(col.size())};
+  }
+
+  Eigen::VectorXd output(const Eigen::VectorXd& x) const {
+    Eigen::VectorXd y_hat = Eigen::VectorXd::Zero(U_.rows());
+    Eigen::VectorXd z(U_.rows());
+    for (Eigen::Index e = 0; e < elements(); ++e) {
+      simulate(discretise(unit_element(x, e), T_), input(e), span_of(z));
+      y_hat += x(kPerElement * e + kGain) * z;
+    }
+    return y_hat;
+  }
+
+  // ∂ŷ/∂x. With G = B(q)/D(q) (taps b̃_m, D = 1 + a1 q⁻¹ + a2 q⁻²), w = u/D and v = z/D
+  // for the unit response z = B w:
+  //   ∂z/∂θ = Σ_m (∂b̃_m/∂θ) w(k − m) − (∂a1/∂θ) v(k − 1) − (∂a2/∂θ) v(k − 2),
+  // exact filters; only the scalar coefficient derivatives are taken by central differences
+  // (one-sided on a bound), over a tap window wide enough for d to change by one.
+  void jacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& lower,
+                const Eigen::VectorXd& upper, Eigen::MatrixXd& J) {
+    const Eigen::Index N = U_.rows();
+    J.resize(N, x.size());
+    for (Eigen::Index e = 0; e < elements(); ++e) {
+      const Eigen::Index o = kPerElement * e;
+      const TwoPoleDelay g = unit_element(x, e);
+      const DiscreteTwoPole c = discretise(g, T_);
+      const std::span<const double> u = input(e);
+      std::copy(u.begin(), u.end(), w_.data());
+      all_pole_filter(c.a1, c.a2, span_of(w_));
+      auto z = J.col(o + kGain);
+      z.setZero();
+      for (std::size_t j = 0; j < 4; ++j) {
+        const auto lag = static_cast<Eigen::Index>(c.delay_samples + j);
+        if (lag < N) z.tail(N - lag) += c.b[j] * w_.head(N - lag);
+      }
+      v_ = z;
+      all_pole_filter(c.a1, c.a2, span_of(v_));
+      const std::size_t m0 = c.delay_samples > 0 ? c.delay_samples - 1 : 0;
+      const double K = x(o + kGain);
+      for (const int m : {kDelay, kTp1, kTp2}) {
+        const double val = x(o + m);
+        const double h = 1e-6 * std::max(std::abs(val), T_);
+        const double hi = std::min(val + h, upper(o + m));
+        const double lo = std::max(val - h, lower(o + m));
+        TwoPoleDelay gp = g;
+        TwoPoleDelay gm = g;
+        field(gp, m) = hi;
+        field(gm, m) = lo;
+        const TapWindow tp = tap_window(gp, T_, m0);
+        const TapWindow tm = tap_window(gm, T_, m0);
+        const double scale = K / (hi - lo);
+        auto col = J.col(o + m);
+        col.setZero();
+        for (std::size_t t = 0; t < kWindow; ++t) {
+          const auto lag = static_cast<Eigen::Index>(m0 + t);
+          const double db = scale * (tp.b[t] - tm.b[t]);
+          if (db != 0.0 && lag < N) col.tail(N - lag) += db * w_.head(N - lag);
+        }
+        const double da1 = scale * (tp.a1 - tm.a1);
+        const double da2 = scale * (tp.a2 - tm.a2);
+        if (da1 != 0.0) col.tail(N - 1) -= da1 * v_.head(N - 1);
+        if (da2 != 0.0 && N > 2) col.tail(N - 2) -= da2 * v_.head(N - 2);
+      }
+    }
+  }
+
+  Eigen::Index elements() const { return static_cast<Eigen::Index>(inputs_.size()); }
+
+ private:
+  static double& field(TwoPoleDelay& g, int m) {
+    return m == kDelay ? g.delay_min : (m == kTp1 ? g.tp1_min : g.tp2_min);
+  }
+
+  const Eigen::MatrixXd& U_;
+  const std::vector<int>& inputs_;
+  double T_;
+  Eigen::VectorXd w_;  // scratch: u / D
+  Eigen::VectorXd v_;  // scratch: z / D
+};
+
+// 1σ standard errors σ̂ √diag((JᵀJ)⁻¹) over the parameters not on a bound; inf for
+// parameters in a direction the data do not determine (a numerically zero eigenvalue).
+Eigen::VectorXd standard_errors(const Eigen::MatrixXd& J, double sse,
+                                const std::vector<bool>& on_bound) {
+  const Eigen::Index P = J.cols();
+  Eigen::VectorXd se = Eigen::VectorXd::Constant(P, kNaN);
+  std::vector<Eigen::Index> free;
+  for (Eigen::Index m = 0; m < P; ++m) {
+    if (!on_bound[static_cast<std::size_t>(m)]) free.push_back(m);
+  }
+  const auto F = static_cast<Eigen::Index>(free.size());
+  const Eigen::Index dof = J.rows() - F;
+  if (F == 0 || dof <= 0) return se;
+  Eigen::MatrixXd Jf(J.rows(), F);
+  for (Eigen::Index a = 0; a < F; ++a) Jf.col(a) = J.col(free[static_cast<std::size_t>(a)]);
+  // Scale columns to unit norm so the eigen test is about directions, not units.
+  Eigen::VectorXd norms = Jf.colwise().norm().transpose();
+  for (Eigen::Index a = 0; a < F; ++a) {
+    if (norms(a) == 0.0) norms(a) = 1.0;
+  }
+  const Eigen::MatrixXd Js = Jf * norms.cwiseInverse().asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Js.transpose() * Js);
+  const Eigen::VectorXd& lam = eig.eigenvalues();
+  const Eigen::MatrixXd& V = eig.eigenvectors();
+  const double sigma2 = sse / static_cast<double>(dof);
+  const double floor = 1e-13 * std::max(lam.maxCoeff(), 0.0);
+  for (Eigen::Index a = 0; a < F; ++a) {
+    double var = 0.0;
+    for (Eigen::Index k = 0; k < F; ++k) {
+      const double w = V(a, k) * V(a, k);
+      if (lam(k) <= floor) {
+        if (w > 1e-12) var = kInf;
+      } else {
+        var += w / lam(k);
+      }
+    }
+    se(free[static_cast<std::size_t>(a)]) = std::sqrt(sigma2 * var) / norms(a);
+  }
+  return se;
+}
+
+}  // namespace
+
+MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
+                    const std::vector<int>& inputs, std::vector<TwoPoleDelay> initial, double T_min,
+                    const MisoBounds& bounds, int max_iterations) {
+  RowModel row(U, inputs, T_min);
+  const Eigen::Index m = row.elements();
+  const Eigen::Index P = kPerElement * m;
+
+  LmProblem problem;
+  problem.lower.resize(P);
+  problem.upper.resize(P);
+  problem.scale.resize(P);
+  Eigen::VectorXd x0(P);
+  for (Eigen::Index e = 0; e < m; ++e) {
+    const Eigen::Index o = kPerElement * e;
+    const TwoPoleDelay& g = initial[static_cast<std::size_t>(e)];
+    x0.segment<kPerElement>(o) << g.gain, g.delay_min, g.tp1_min, g.tp2_min;
+    problem.lower.segment<kPerElement>(o) << -kInf, 0.0, 0.0, 0.0;
+    problem.upper.segment<kPerElement>(o) << kInf, bounds.max_delay_min,
+        bounds.max_time_constant_min, bounds.max_time_constant_min;
+    problem.scale.segment<kPerElement>(o) << std::max(std::abs(g.gain), 1e-12), T_min, T_min, T_min;
+  }
+  problem.residual = [&](const Eigen::VectorXd& x, Eigen::VectorXd& r) {
+    r = y - row.output(x);
+    return true;
+  };
+  problem.jacobian = [&](const Eigen::VectorXd& x, Eigen::MatrixXd& J) {
+    row.jacobian(x, problem.lower, problem.upper, J);
+  };
+  LmOptions lm_options;
+  lm_options.max_iterations = max_iterations;
+  const LmResult lm = minimise_bounded(problem, x0, lm_options);
+
+  MisoResult out;
+  out.iterations = lm.iterations;
+  out.converged = lm.converged;
+  out.y_hat = row.output(lm.x);
+  Eigen::MatrixXd J;
+  row.jacobian(lm.x, problem.lower, problem.upper, J);
+  std::vector<bool> on_bound(static_cast<std::size_t>(P));
+  for (Eigen::Index k = 0; k < P; ++k) {
+    on_bound[static_cast<std::size_t>(k)] =
+        lm.x(k) <= problem.lower(k) || lm.x(k) >= problem.upper(k);
+  }
+  const Eigen::VectorXd se = standard_errors(J, lm.cost, on_bound);
+
+  for (Eigen::Index e = 0; e < m; ++e) {
+    const Eigen::Index o = kPerElement * e;
+    ElementEstimate est;
+    est.value = TwoPoleDelay{lm.x(o), lm.x(o + 1), lm.x(o + 2), lm.x(o + 3)};
+    est.std_error = TwoPoleDelay{se(o), se(o + 1), se(o + 2), se(o + 3)};
+    for (int k = 0; k < kPerElement; ++k)
+      est.at_bound[static_cast<std::size_t>(k)] = on_bound[static_cast<std::size_t>(o + k)];
+    // Report T_p1 ≥ T_p2 (the model is symmetric in them).
+    if (est.value.tp2_min > est.value.tp1_min) {
+      std::swap(est.value.tp1_min, est.value.tp2_min);
+      std::swap(est.std_error.tp1_min, est.std_error.tp2_min);
+      std::swap(est.at_bound[kTp1], est.at_bound[kTp2]);
+    }
+    const double k_se = est.std_error.gain;
+    if (std::isfinite(k_se) ? std::abs(est.value.gain) < 2.0 * k_se : std::isinf(k_se)) {
+      est.status = ElementStatus::weak_gain;
+      char buf[220];
+      std::snprintf(buf, sizeof buf,
+                    "|K| = %.3g is below two standard errors (%.3g): the data barely show this "
+                    "element, its delay and time constants are not determined",
+                    std::abs(est.value.gain), k_se);
+      est.reason = buf;
+    }
+    out.elements.push_back(est);
+  }
+  return out;
+}
+
+}  // namespace excite::host

@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// One output's multi-input single-output fit (SPEC §6): bounded Levenberg–Marquardt on the
+// output error of all elements of the row, from the initial elements of the response bank,
+// then standard errors and element status.
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "host/identify/model.hpp"
+
+namespace excite::host {
+
+struct MisoBounds {
+  double max_delay_min = 20.0;
+  double max_time_constant_min = 1000.0;
+};
+
+struct MisoResult {
+  std::vector<ElementEstimate> elements;  // one per entry of `inputs`
+  Eigen::VectorXd y_hat;                  // simulated output with the estimates
+  int iterations = 0;
+  bool converged = false;
+};
+
+/// Fits y ≈ Σ_e G_e u_{inputs[e]} from `initial` (one element per input of `inputs`).
+MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
+                    const std::vector<int>& inputs, std::vector<TwoPoleDelay> initial, double T_min,
+                    const MisoBounds& bounds, int max_iterations);
+
+}  // namespace excite::host

@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: MIT
+#include "host/identify/model.hpp"
+
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace excite::host {
+
+const char* to_string(ElementStatus status) {
+  switch (status) {
+    case ElementStatus::identified:
+      return "identified";
+    case ElementStatus::weak_gain:
+      return "weak_gain";
+    case ElementStatus::input_not_moved:
+      return "input_not_moved";
+    case ElementStatus::input_collinear:
+      return "input_collinear";
+    case ElementStatus::output_not_moved:
+      return "output_not_moved";
+  }
+  return "unknown";
+}
+
+Eigen::MatrixXd IdentifiedModel::static_gain() const {
+  Eigen::MatrixXd G(outputs, inputs);
+  for (int j = 0; j < outputs; ++j) {
+    for (int i = 0; i < inputs; ++i) {
+      const ElementEstimate& e = element(j, i);
+      G(j, i) = e.estimated() ? e.value.gain : std::numeric_limits<double>::quiet_NaN();
+    }
+  }
+  return G;
+}
+
+Eigen::MatrixXd simulate(const IdentifiedModel& model, const Eigen::MatrixXd& U) {
+  if (U.cols() != model.inputs) {
+    throw std::invalid_argument("simulate: U has " + std::to_string(U.cols()) +
+                                " columns (inputs) but the model has " +
+                                std::to_string(model.inputs));
+  }
+  const auto N = static_cast<std::size_t>(U.rows());
+  Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(U.rows(), model.outputs);
+  Eigen::VectorXd z(U.rows());
+  for (int j = 0; j < model.outputs; ++j) {
+    for (int i = 0; i < model.inputs; ++i) {
+      const ElementEstimate& e = model.element(j, i);
+      if (e.estimated()) {
+        simulate(discretise(e.value, model.sample_time_min), {U.col(i).data(), N}, {z.data(), N});
+        Y.col(j) += z;
+      } else if (U.col(i).cwiseAbs().maxCoeff() > 0.0) {
+        Y.col(j).setConstant(std::numeric_limits<double>::quiet_NaN());
+      }
+    }
+  }
+  return Y;
+}
+
+}  // namespace excite::host

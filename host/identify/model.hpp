@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// An identified transfer-function matrix of (6.1.1) elements, one MISO row per output
+// (SPEC §6), with what the data said about each element.
+//
+// Data convention everywhere in host/identify: U is N × n (row k = sample k, column i =
+// input i), Y is N × p; deviation variables; the plant at rest before k = 0.
+
+#include <Eigen/Dense>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "host/identify/two_pole_element.hpp"
+
+namespace excite::host {
+
+enum class ElementStatus {
+  identified,        // parameters estimated; standard errors available unless at a bound
+  weak_gain,         // estimated, but |K| < 2·SE(K): the data cannot pin the dynamics down
+  input_not_moved,   // input i is zero throughout the data: no parameters (NaN)
+  input_collinear,   // input i is a linear combination of other inputs: not separable (NaN)
+  output_not_moved,  // output j is constant: nothing to fit (NaN)
+};
+
+/// Short name: "identified", "weak_gain", "input_not_moved", …
+const char* to_string(ElementStatus status);
+
+/// Parameter order used for `at_bound` and in covariance matrices.
+enum Parameter : int { kGain = 0, kDelay = 1, kTp1 = 2, kTp2 = 3 };
+
+struct ElementEstimate {
+  TwoPoleDelay value;              // NaN fields when not estimated (see status)
+  TwoPoleDelay std_error;          // 1σ; NaN when not available (not estimated, or at a bound)
+  std::array<bool, 4> at_bound{};  // parameter ended on its bound (indexed by Parameter)
+  ElementStatus status = ElementStatus::identified;
+  std::string reason;  // why the status is not `identified`; "" otherwise
+
+  /// True when value can be simulated (identified or weak_gain).
+  bool estimated() const {
+    return status == ElementStatus::identified || status == ElementStatus::weak_gain;
+  }
+};
+
+/// p × n matrix of estimates; T in minutes.
+struct IdentifiedModel {
+  int inputs = 0;
+  int outputs = 0;
+  double sample_time_min = 0.0;
+  std::vector<ElementEstimate> elements;  // row-major: elements[out * inputs + in]
+
+  const ElementEstimate& element(int out, int in) const {
+    return elements[static_cast<std::size_t>(out * inputs + in)];
+  }
+  ElementEstimate& element(int out, int in) {
+    return elements[static_cast<std::size_t>(out * inputs + in)];
+  }
+  /// K of every element (NaN where not estimated), p × n.
+  Eigen::MatrixXd static_gain() const;
+};
+
+/// Ŷ (N × p) of the model driven by U (N × n, same sample time). An element that was not
+/// estimated contributes NaN to its output when its input moves, 0 otherwise.
+/// Throws std::invalid_argument when U has the wrong number of columns.
+Eigen::MatrixXd simulate(const IdentifiedModel& model, const Eigen::MatrixXd& U);
+
+}  // namespace excite::host

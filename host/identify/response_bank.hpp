@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Initialisation of the output-error fit (finding the basin): a bank of unit-gain element
+// responses on a grid of (delay, time constant, shape) per input, shared by all outputs,
+// and a coordinate search that picks one grid response per element.
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "host/identify/two_pole_element.hpp"
+
+namespace excite::host {
+
+struct GridSpec {
+  double max_delay_min = 20.0;
+  double max_time_constant_min = 1000.0;
+};
+
+class ResponseBank {
+ public:
+  /// Simulates every grid element (gain 1) for each input in `inputs` (columns of U).
+  /// Grid: delays 0 … max_delay in max(T, max_delay/10) steps; T_p1 geometric by 2 from
+  /// T/2 to min(max_time_constant, N·T/8); T_p2 = T_p1/4.
+  ResponseBank(const Eigen::MatrixXd& U, const std::vector<int>& inputs, double T_min,
+               const GridSpec& grid);
+
+  /// Grid elements (gain 1), same for every input.
+  const std::vector<TwoPoleDelay>& grid() const { return grid_; }
+
+  /// For output y: per input of the bank, the index of the chosen grid element and the
+  /// jointly least-squares gains. Sweeps over the inputs until no choice changes (≤ 6).
+  struct Choice {
+    std::vector<int> grid_index;  // per bank input
+    Eigen::VectorXd gain;         // per bank input
+  };
+  Choice choose(const Eigen::VectorXd& y) const;
+
+ private:
+  std::vector<TwoPoleDelay> grid_;
+  std::vector<Eigen::MatrixXf> responses_;  // per input: N × grid, single precision
+  std::vector<Eigen::VectorXf> norms2_;     // per input: ‖response‖² per grid element
+};
+
+}  // namespace excite::host

@@ -1,0 +1,153 @@
+// SPDX-License-Identifier: MIT
+#include "firmware/runlog/reader.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace excite::runlog {
+namespace {
+
+const std::string kHeader =
+    "# excite run log v1\n"
+    "# plant: column A\n"
+    "# plan: plans/prbs.toml\n"
+    "# sample_time_min: 0.5\n"
+    "# inputs: L V\n"
+    "# outputs: xD\n"
+    "# units: L=kmol/min V=kmol/min xD=mol/mol\n";
+const std::string kColumns = "t_min,k,du_L,du_V,u_L,u_V,dy_xD,flags\n";
+
+std::string rows(int count) {
+  std::string s;
+  for (int k = 0; k < count; ++k) {
+    s += std::to_string(0.5 * k) + "," + std::to_string(k) + ",0.1,-0.1,2.8,3.1," +
+         std::to_string(0.01 * k) + ",0\n";
+  }
+  return s;
+}
+
+ReadError error_of(const std::string& text, ReadOptions options = {}) {
+  const ReadResult r = parse_run_log(text, "run.csv", options);
+  EXPECT_FALSE(r.ok());
+  return r.error.value_or(ReadError{});
+}
+
+TEST(RunLogReader, ReadsHeaderAndColumns) {
+  const ReadResult r = parse_run_log(kHeader + kColumns + rows(4), "run.csv");
+  ASSERT_TRUE(r.ok()) << r.error->to_string();
+  EXPECT_EQ(r.log.plant, "column A");
+  EXPECT_EQ(r.log.plan, "plans/prbs.toml");
+  EXPECT_EQ(r.log.sample_time_min, 0.5);
+  ASSERT_EQ(r.log.input_names.size(), 2U);
+  EXPECT_EQ(r.log.output_units[0], "mol/mol");
+  ASSERT_EQ(r.log.rows(), 4U);
+  EXPECT_EQ(r.log.t_min[3], 1.5);
+  EXPECT_EQ(r.log.k[3], 3U);
+  EXPECT_EQ(r.log.du[1][2], -0.1);
+  EXPECT_EQ(r.log.u[0][0], 2.8);
+  EXPECT_EQ(r.log.dy[0][3], 0.03);
+}
+
+TEST(RunLogReader, AcceptsColumnsInAnyOrderAndCrLf) {
+  std::string text = kHeader + "flags,dy_xD,u_V,u_L,du_V,du_L,k,t_min\r\n";
+  text += "0,1.5,3,2,-1,-2,7,3.5\r\n0,1.25,3,2,-1,-2,8,4\r\n";
+  const ReadResult r = parse_run_log(text, "run.csv");
+  ASSERT_TRUE(r.ok()) << r.error->to_string();
+  EXPECT_EQ(r.log.du[0][0], -2.0);
+  EXPECT_EQ(r.log.dy[0][1], 1.25);
+  EXPECT_EQ(r.log.k[1], 8U);
+}
+
+TEST(RunLogReader, MissingColumnIsNamed) {
+  const ReadError e = error_of(kHeader + "t_min,k,du_L,du_V,u_L,u_V,flags\n" + rows(0));
+  EXPECT_EQ(e.line, 8U);
+  EXPECT_NE(e.message.find("missing column 'dy_xD'"), std::string::npos) << e.message;
+}
+
+TEST(RunLogReader, UnexpectedColumnIsNamedWithItsPosition) {
+  const ReadError e = error_of(kHeader + "t_min,k,du_L,du_V,u_L,u_W,dy_xD,flags\n");
+  EXPECT_EQ(e.line, 8U);
+  EXPECT_EQ(e.column, 6U);
+  EXPECT_NE(e.message.find("'u_W'"), std::string::npos) << e.message;
+}
+
+TEST(RunLogReader, NonNumericFieldNamesLineAndColumn) {
+  const std::string text = kHeader + kColumns + rows(2) + "1,2,0.1,abc,2.8,3.1,0,0\n";
+  const ReadError e = error_of(text);
+  EXPECT_EQ(e.line, 11U);
+  EXPECT_EQ(e.column, 4U);
+  EXPECT_EQ(e.to_string(), "run.csv:11: column 4: du_V: 'abc' is not a number");
+}
+
+TEST(RunLogReader, NanAndInfAreRejected) {
+  for (const std::string bad : {"nan", "inf", "-inf", "1e999"}) {
+    const std::string text = kHeader + kColumns + rows(1) + "0.5,1,0.1,0.2,2.8,3.1," + bad + ",0\n";
+    const ReadError e = error_of(text);
+    EXPECT_EQ(e.line, 10U) << bad;
+    EXPECT_EQ(e.column, 7U) << bad;
+    EXPECT_NE(e.message.find("not finite"), std::string::npos) << e.message;
+  }
+}
+
+TEST(RunLogReader, NonUniformTimeIsRejectedWithTolerance) {
+  // A step of 0.5 + 1e-9 min is within 1e-6·T; 0.5 + 1e-5 is not.
+  std::string ok = kHeader + kColumns + "0,0,0,0,0,0,0,0\n0.500000001,1,0,0,0,0,0,0\n";
+  EXPECT_TRUE(parse_run_log(ok, "run.csv").ok());
+  std::string bad = kHeader + kColumns + "0,0,0,0,0,0,0,0\n0.50001,1,0,0,0,0,0,0\n";
+  const ReadError e = error_of(bad);
+  EXPECT_EQ(e.line, 10U);
+  EXPECT_EQ(e.column, 1U);
+  EXPECT_NE(e.message.find("expected the sample time 0.5"), std::string::npos) << e.message;
+}
+
+TEST(RunLogReader, SkippedSampleIndexIsRejected) {
+  const std::string text = kHeader + kColumns + "0,0,0,0,0,0,0,0\n0.5,2,0,0,0,0,0,0\n";
+  const ReadError e = error_of(text);
+  EXPECT_EQ(e.column, 2U);
+  EXPECT_NE(e.message.find("expected 1"), std::string::npos) << e.message;
+}
+
+TEST(RunLogReader, TooFewRows) {
+  ReadOptions options;
+  options.min_rows = 10;
+  const ReadError e = error_of(kHeader + kColumns + rows(3), options);
+  EXPECT_NE(e.message.find("3 data rows; expected at least 10"), std::string::npos);
+}
+
+TEST(RunLogReader, WrongFieldCount) {
+  const ReadError e = error_of(kHeader + kColumns + "0,0,0,0,0,0,0\n");
+  EXPECT_EQ(e.line, 9U);
+  EXPECT_NE(e.message.find("7 fields; expected 8"), std::string::npos) << e.message;
+}
+
+TEST(RunLogReader, UnknownFlagBitsAreRejected) {
+  const ReadError e = error_of(kHeader + kColumns + "0,0,0,0,0,0,0,64\n0.5,1,0,0,0,0,0,0\n");
+  EXPECT_EQ(e.column, 8U);
+  EXPECT_NE(e.message.find("outside the documented flags"), std::string::npos);
+}
+
+TEST(RunLogReader, HeaderProblemsAreExplained) {
+  EXPECT_NE(error_of("a,b\n").message.find("expected '# excite run log v1'"), std::string::npos);
+  EXPECT_NE(error_of("# excite run log v2\n").message.find("unsupported version"),
+            std::string::npos);
+  std::string no_units = kHeader.substr(0, kHeader.find("# units")) + kColumns;
+  EXPECT_NE(error_of(no_units).message.find("no '# units:' line"), std::string::npos);
+  std::string missing_unit = kHeader;
+  missing_unit.replace(missing_unit.find(" xD=mol/mol"), 11, "");
+  const ReadError e = error_of(missing_unit + kColumns);
+  EXPECT_EQ(e.line, 7U);
+  EXPECT_NE(e.message.find("no unit for channel 'xD'"), std::string::npos) << e.message;
+  std::string bad_t = kHeader;
+  bad_t.replace(bad_t.find("0.5"), 3, "-1");
+  EXPECT_NE(error_of(bad_t + kColumns).message.find("sample_time_min is '-1'"), std::string::npos);
+}
+
+TEST(RunLogReader, MissingFileIsAnError) {
+  const ReadResult r = read_run_log("/nonexistent/run.csv");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error->to_string().find("cannot open"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace excite::runlog

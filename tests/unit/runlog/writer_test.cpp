@@ -1,0 +1,144 @@
+// SPDX-License-Identifier: MIT
+#include "firmware/runlog/writer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+#include "firmware/runlog/reader.hpp"
+
+namespace excite::runlog {
+namespace {
+
+constexpr std::array<Channel, 2> kInputs = {{{"L", "kmol/min"}, {"V", "kmol/min"}}};
+constexpr std::array<Channel, 1> kOutputs = {{{"xD", "mol/mol"}}};
+
+Header two_by_one() {
+  return Header{"column A", "plans/prbs.toml", 1.0, kInputs, kOutputs};
+}
+
+std::string text_of(WriteResult r, const std::array<char, 1024>& buf) {
+  return std::string(buf.data(), r.length);
+}
+
+TEST(RunLogWriter, HeaderListsMagicKeysUnitsAndColumns) {
+  std::array<char, 1024> buf{};
+  const WriteResult r = format_header(two_by_one(), buf);
+  ASSERT_EQ(r.status, WriteStatus::ok);
+  EXPECT_EQ(text_of(r, buf),
+            "# excite run log v1\n"
+            "# plant: column A\n"
+            "# plan: plans/prbs.toml\n"
+            "# sample_time_min: 1\n"
+            "# inputs: L V\n"
+            "# outputs: xD\n"
+            "# units: L=kmol/min V=kmol/min xD=mol/mol\n"
+            "t_min,k,du_L,du_V,u_L,u_V,dy_xD,flags\n");
+}
+
+TEST(RunLogWriter, RowUsesShortestRoundTripNumbers) {
+  std::array<char, 1024> buf{};
+  const std::array<double, 2> du = {0.1, -0.25};
+  const std::array<double, 2> u = {2.806, 3.206};
+  const std::array<double, 1> dy = {1.0 / 3.0};
+  const WriteResult r = format_row(two_by_one(), Row{12.0, 12, du, u, dy, kClamped | kStale}, buf);
+  ASSERT_EQ(r.status, WriteStatus::ok);
+  EXPECT_EQ(text_of(r, buf), "12,12,0.1,-0.25,2.806,3.206,0.3333333333333333,20\n");
+}
+
+TEST(RunLogWriter, ReportsBufferTooSmallInsteadOfTruncating) {
+  std::array<char, 1024> big{};
+  const std::array<double, 2> du = {0.1, -0.25};
+  const std::array<double, 1> dy = {1.0 / 3.0};
+  const Row row{0.0, 0, du, du, dy, 0};
+  const WriteResult full = format_row(two_by_one(), row, big);
+  ASSERT_EQ(full.status, WriteStatus::ok);
+  std::array<char, 64> small{};
+  const WriteResult r = format_row(two_by_one(), row, std::span(small).first(full.length - 1));
+  EXPECT_EQ(r.status, WriteStatus::buffer_too_small);
+  EXPECT_EQ(r.length, 0U);
+}
+
+TEST(RunLogWriter, MaxRowCharsHoldsTheWidestNumbers) {
+  const std::array<double, 2> du = {-2.2250738585072014e-308, -1.7976931348623157e308};
+  const std::array<double, 1> dy = {-4.9406564584124654e-324};
+  std::array<char, max_row_chars(2, 1)> buf{};
+  const WriteResult r =
+      format_row(two_by_one(),
+                 Row{-1.2345678901234567e-300, std::numeric_limits<std::uint64_t>::max(), du, du,
+                     dy, kKnownFlags},
+                 buf);
+  EXPECT_EQ(r.status, WriteStatus::ok);
+}
+
+TEST(RunLogWriter, RejectsNonFiniteWidthAndFlags) {
+  std::array<char, 1024> buf{};
+  const std::array<double, 2> du = {0.0, std::numeric_limits<double>::quiet_NaN()};
+  const std::array<double, 2> ok2 = {0.0, 0.0};
+  const std::array<double, 1> dy = {0.0};
+  EXPECT_EQ(format_row(two_by_one(), Row{0, 0, du, ok2, dy, 0}, buf).status,
+            WriteStatus::non_finite);
+  EXPECT_EQ(format_row(two_by_one(), Row{0, 0, dy, ok2, dy, 0}, buf).status,
+            WriteStatus::width_mismatch);
+  EXPECT_EQ(format_row(two_by_one(), Row{0, 0, ok2, ok2, dy, 1U << 7}, buf).status,
+            WriteStatus::unknown_flags);
+}
+
+TEST(RunLogWriter, RejectsBadHeaders) {
+  std::array<char, 1024> buf{};
+  Header h = two_by_one();
+  h.plant = "two\nlines";
+  EXPECT_EQ(format_header(h, buf).status, WriteStatus::bad_text);
+  h = two_by_one();
+  h.sample_time_min = 0.0;
+  EXPECT_EQ(format_header(h, buf).status, WriteStatus::bad_sample_time);
+  const std::array<Channel, 2> dup = {{{"L", "-"}, {"L", "-"}}};
+  h = two_by_one();
+  h.inputs = dup;
+  EXPECT_EQ(format_header(h, buf).status, WriteStatus::bad_channel);
+  const std::array<Channel, 1> comma = {{{"x,D", "-"}}};
+  h = two_by_one();
+  h.outputs = comma;
+  EXPECT_EQ(format_header(h, buf).status, WriteStatus::bad_channel);
+}
+
+// Writes a log through a real file and reads it back: every double comes back bit-exact.
+TEST(RunLogWriter, FileRoundTripIsExact) {
+  char path[] = "/tmp/excite_runlog_XXXXXX";
+  const int fd = mkstemp(path);
+  ASSERT_GE(fd, 0);
+  std::FILE* f = fdopen(fd, "wb");
+  ASSERT_NE(f, nullptr);
+  std::array<char, 1024> buf{};
+  FileWriter w(f, two_by_one(), buf);
+  ASSERT_EQ(w.write_header(), WriteStatus::ok);
+  std::vector<double> written;
+  for (std::uint64_t k = 0; k < 50; ++k) {
+    const double x = std::sin(0.37 * static_cast<double>(k)) / 3.0;
+    const std::array<double, 2> du = {x, x * 1e-9};
+    const std::array<double, 2> u = {2.706 + x, 3.206 + x * 1e-9};
+    const std::array<double, 1> dy = {std::exp(x) * 1e5};
+    ASSERT_EQ(w.write_row(Row{static_cast<double>(k), k, du, u, dy, 0}), WriteStatus::ok);
+    written.push_back(x);
+  }
+  std::fclose(f);
+  const ReadResult r = read_run_log(path);
+  std::remove(path);
+  ASSERT_TRUE(r.ok()) << r.error->to_string();
+  ASSERT_EQ(r.log.rows(), 50U);
+  for (std::size_t k = 0; k < 50; ++k) {
+    EXPECT_EQ(r.log.du[0][k], written[k]);
+    EXPECT_EQ(r.log.du[1][k], written[k] * 1e-9);
+    EXPECT_EQ(r.log.u[0][k], 2.706 + written[k]);
+    EXPECT_EQ(r.log.dy[0][k], std::exp(written[k]) * 1e5);
+  }
+  EXPECT_EQ(r.log.input_units[1], "kmol/min");
+  EXPECT_EQ(r.log.output_names[0], "xD");
+}
+
+}  // namespace
+}  // namespace excite::runlog
