@@ -19,7 +19,10 @@ struct PresetInfo {
   int number;                // experiment number of Table 6.1
   std::string_view acronym;  // e.g. "prbsSimDir"
   std::string_view summary;
-  bool uses_directions;  // needs the gain matrix G(0)
+  std::string_view reference;  // directional designs: the input design whose static output
+                               // size they match (host/README.md); empty for input designs
+
+  bool uses_directions() const { return !reference.empty(); }  // needs G(0)
 };
 
 /// Every preset this build designs, in the order of Table 6.1.

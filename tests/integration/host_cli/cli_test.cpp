@@ -146,11 +146,13 @@ TEST_F(ExciteCli, EveryCommandHasHelp) {
   }
 }
 
-TEST_F(ExciteCli, CaseStudyPrintsAllEightDesigns) {
+TEST_F(ExciteCli, CaseStudyPrintsAllSeventeenDesigns) {
   const Result r = excite("case-study --plant alatiqi4x4 -o " + path("plans"));
   ASSERT_EQ(r.exit_code, 0) << r.out;
-  for (const char* name : {"stepSeq", "stepDir", "prbsSeq", "prbsUnc", "prbsSeqDir", "prbsSimDir",
-                           "prbsDirCorrSeq", "prbsDirCorrSim"}) {
+  for (const char* name :
+       {"stepSeq", "stepDir", "prbsSeq", "prbsUnc", "prbsSeqDir", "prbsSimDir", "prbsDirCorrSeq",
+        "prbsDirCorrSim", "msSrdSeq", "msSrdSeqDir", "msGlmSeq", "msGlmSeqDir", "msSrdSim",
+        "msSrdSimDir", "msGlmSim", "msGlmSimDir", "msGlmZipm"}) {
     EXPECT_NE(r.out.find(name), std::string::npos) << name;
     EXPECT_TRUE(std::filesystem::exists(dir_ / "plans" / (std::string(name) + ".plan"))) << name;
   }

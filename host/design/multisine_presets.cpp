@@ -1,0 +1,183 @@
+// SPDX-License-Identifier: MIT
+// Presets 9–17 of Table 6.1: multisines (SPEC §1, §2, §4; host/README.md).
+//   sequential (9–12): A2's standard multisine, one channel at a time, whole periods;
+//   simultaneous (13–16): A3's zippered spectrum, every channel on its own lines;
+//   msGlmZipm (17): A3's modified zippered spectrum, shared lines along v_n.
+// Schroeder (Srd) or Guillaume (Glm) phases; Dir: the channels are gain directions.
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "host/design/composition.hpp"
+#include "host/multisine/allocation.hpp"
+#include "host/multisine/design.hpp"
+#include "host/multisine/guillaume.hpp"
+#include "host/multisine/synthesis.hpp"
+
+namespace excite::host {
+namespace {
+
+using multisine::Line;
+
+multisine::DesignRequest request(const DesignContext& ctx, std::uint32_t shared_slots) {
+  multisine::DesignRequest r;
+  r.tau_low = ctx.prior.tau_low_min;
+  r.tau_high = ctx.prior.tau_high_min;
+  r.alpha = ctx.prior.alpha;
+  r.beta = ctx.prior.beta;
+  r.channels = static_cast<std::uint32_t>(ctx.prior.input_count());
+  r.shared_slots = shared_slots;
+  r.sample_time = ctx.prior.sample_time_min;
+  r.max_period = static_cast<std::uint32_t>(signal::kTableCapacity / r.channels);
+  return r;
+}
+
+// Scales the lines so that the sampled signal peaks at exactly 1: a unit-peak source, like
+// the ±1 PRBS, so the amplitude matrix gives every design the same input peak.
+void normalise_peak(std::vector<Line>& lines, std::uint32_t period) {
+  const std::vector<double> x = multisine::synthesize(lines, period);
+  double peak = 0.0;
+  for (const double v : x) peak = std::max(peak, std::abs(v));
+  for (Line& line : lines) line.amplitude /= peak;
+}
+
+signal::Source multisine_source(std::uint32_t start, std::uint32_t length, std::uint32_t period,
+                                std::uint32_t first_line, std::uint32_t line_count) {
+  signal::Source s;
+  s.kind = signal::SourceKind::multisine;
+  s.start = start;
+  s.length = length;
+  s.multisine = {period, first_line, line_count};
+  return s;
+}
+
+std::uint32_t append_lines(Composition& comp, const std::vector<Line>& lines) {
+  const auto first = static_cast<std::uint32_t>(comp.lines.size());
+  comp.lines.insert(comp.lines.end(), lines.begin(), lines.end());
+  return first;
+}
+
+std::string crest_factors(const multisine::MultisineSet& set) {
+  std::string text;
+  for (std::size_t c = 0; c < set.channels.size(); ++c) {
+    const double cf = multisine::cf_continuous(multisine::channel_spectrum(set, c), set.period);
+    text += format("%s%.3f", c == 0 ? "" : ", ", cf);
+  }
+  return text;
+}
+
+void sequential(bool guillaume, const DesignContext& ctx, Composition& comp) {
+  const int n = ctx.prior.input_count();
+  const multisine::MultisineDesign md = multisine::design_standard(request(ctx, 0));
+  comp.notes.insert(comp.notes.end(), md.explanation.begin(), md.explanation.end());
+  multisine::MultisineSet set = multisine::standard_set(1, md.period, 1, md.lines, 1.0);
+  if (guillaume) set = multisine::guillaume(set, {});
+  comp.notes.push_back(format("%s phases: continuous crest factor %s",
+                              guillaume ? "Guillaume" : "Schroeder", crest_factors(set).c_str()));
+  std::vector<Line> lines = set.channels[0];
+  normalise_peak(lines, md.period);
+
+  const std::uint32_t slot = comp.samples / static_cast<std::uint32_t>(n);
+  const std::uint32_t periods = slot / md.period;
+  if (periods == 0) {
+    throw std::invalid_argument(
+        format("multisine: the A2 period N_s = %u samples (4.4.27) is longer than a channel's "
+               "slot of %u samples (N = %u / %d channels); sequential designs need N_s <= N/n",
+               md.period, slot, comp.samples, n));
+  }
+  const std::uint32_t first = append_lines(comp, lines);
+  for (int i = 0; i < n; ++i) {
+    comp.sources.push_back(multisine_source(static_cast<std::uint32_t>(i) * slot,
+                                            periods * md.period, md.period, first,
+                                            static_cast<std::uint32_t>(lines.size())));
+  }
+  comp.notes.push_back(
+      format("sequence: channel i plays %u period(s) of %u samples from sample i*%u, then 0",
+             periods, md.period, slot));
+}
+
+// Whole periods filling the experiment; an experiment shorter than one period grows to it.
+std::uint32_t whole_periods(Composition& comp, std::uint32_t period) {
+  if (period > comp.samples) {
+    comp.notes.push_back(
+        format("the period (%u samples) is longer than the PRBS-based length %u: the experiment "
+               "lasts one period",
+               period, comp.samples));
+    comp.samples = period;
+  }
+  return comp.samples / period * period;
+}
+
+void simultaneous(bool guillaume, const DesignContext& ctx, Composition& comp) {
+  const auto n = static_cast<std::uint32_t>(ctx.prior.input_count());
+  const multisine::MultisineDesign md = multisine::design_zippered(request(ctx, 0));
+  comp.notes.insert(comp.notes.end(), md.explanation.begin(), md.explanation.end());
+  multisine::MultisineSet set = multisine::zippered_set(md.period, {n, 0, md.lines, 0, 1.0});
+  if (guillaume) set = multisine::guillaume(set, {});
+  comp.notes.push_back(format("zippered (4.4.18), %s phases: continuous crest factors %s",
+                              guillaume ? "Guillaume" : "Schroeder", crest_factors(set).c_str()));
+  const std::uint32_t window = whole_periods(comp, md.period);
+  for (std::uint32_t c = 0; c < n; ++c) {
+    std::vector<Line> lines = set.channels[c];
+    normalise_peak(lines, md.period);
+    const std::uint32_t first = append_lines(comp, lines);
+    comp.sources.push_back(
+        multisine_source(0, window, md.period, first, static_cast<std::uint32_t>(lines.size())));
+  }
+}
+
+void modified_zippered(const DesignContext& ctx, Composition& comp) {
+  const GainAnalysis& g = require_gains(ctx, "msGlmZipm");
+  const auto n = static_cast<std::uint32_t>(ctx.prior.input_count());
+  const multisine::MultisineDesign md = multisine::design_zippered(request(ctx, 1));
+  comp.notes.insert(comp.notes.end(), md.explanation.begin(), md.explanation.end());
+  multisine::ModifiedZipperedOptions options;
+  options.shared_amplitude = 1.0;
+  multisine::MultisineSet set = multisine::modified_zippered_set(
+      md.period, {n, 0, md.lines, 0, kCorrelatedLowShare}, g.gain, options);
+  set = multisine::guillaume(set, {});
+  comp.notes.push_back(
+      format("modified zippered (4.4.21): own lines %.3g x the shared lines along v_n; Guillaume "
+             "phases: continuous crest factors %s",
+             kCorrelatedLowShare, crest_factors(set).c_str()));
+  const std::uint32_t window = whole_periods(comp, md.period);
+  comp.mix = Eigen::MatrixXd::Zero(n, n + static_cast<Eigen::Index>(set.shared.size()));
+  for (std::uint32_t c = 0; c < n; ++c) {
+    const std::uint32_t first = append_lines(comp, set.channels[c]);
+    comp.sources.push_back(multisine_source(0, window, md.period, first,
+                                            static_cast<std::uint32_t>(set.channels[c].size())));
+    comp.mix(c, c) = 1.0;
+  }
+  for (const multisine::SharedSource& shared : set.shared) {
+    const std::uint32_t first = append_lines(comp, shared.lines);
+    const auto column = static_cast<Eigen::Index>(comp.sources.size());
+    comp.sources.push_back(multisine_source(0, window, md.period, first,
+                                            static_cast<std::uint32_t>(shared.lines.size())));
+    for (std::uint32_t c = 0; c < n; ++c) comp.mix(c, column) = shared.direction[c];
+  }
+}
+
+}  // namespace
+
+Composition compose_multisine(std::string_view name, const DesignContext& ctx) {
+  Composition comp;
+  comp.samples = ctx.prbs.experiment_samples;
+  const bool glm = name.find("Glm") != std::string_view::npos;
+  const bool directions = name.ends_with("Dir");
+  if (name == "msGlmZipm") {
+    modified_zippered(ctx, comp);
+    return comp;
+  }
+  if (name.starts_with("msSrdSeq") || name.starts_with("msGlmSeq")) {
+    sequential(glm, ctx, comp);
+  } else if (name.starts_with("msSrdSim") || name.starts_with("msGlmSim")) {
+    simultaneous(glm, ctx, comp);
+  } else {
+    throw std::invalid_argument("preset = \"" + std::string(name) + "\": not a multisine design");
+  }
+  if (!directions) comp.mix = amplitude_matrix(ctx.prior);
+  return comp;
+}
+
+}  // namespace excite::host
