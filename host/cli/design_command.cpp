@@ -28,6 +28,7 @@ struct DesignOptions {
 void run(const DesignOptions& opt) {
   PriorKnowledge prior;
   std::string preset_name;
+  Design design;
   if (!opt.spec.empty()) {
     if (!opt.plant.empty() || !opt.preset.empty()) {
       throw std::invalid_argument("give either SPEC.toml or --plant with --preset, not both");
@@ -35,6 +36,7 @@ void run(const DesignOptions& opt) {
     DesignSpec spec = load_design_spec(opt.spec);
     prior = std::move(spec.prior);
     preset_name = spec.design;
+    if (spec.multisine) design = design_plain_multisine(prior, *spec.multisine, creation_time());
   } else {
     if (opt.plant.empty() || opt.preset.empty()) {
       throw std::invalid_argument("give SPEC.toml, or --plant NAME with --preset ACRONYM");
@@ -42,7 +44,7 @@ void run(const DesignOptions& opt) {
     prior = case_study(opt.plant);
     preset_name = opt.preset;
   }
-  const Design design = design_preset(prior, find_preset(preset_name), creation_time());
+  if (!design.plan) design = design_preset(prior, find_preset(preset_name), creation_time());
   write_plan_file(*design.plan, opt.output);
   if (!opt.quiet) {
     for (const std::string& note : design.notes) std::cout << note << '\n';

@@ -9,6 +9,7 @@
 #include "host/cli/json_util.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/case_studies.hpp"
+#include "host/design/continuous_crest.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/design/table.hpp"
 #include "host/measures/gain_directions.hpp"
@@ -26,6 +27,7 @@ void run(const InspectOptions& opt) {
   const auto p = read_plan_file(opt.plan_path);
   const Table table = make_table(p->recipe);
   const InputMeasures measures = measure_inputs(table);
+  const std::vector<double> cf_continuous = continuous_crest_factors(p->recipe, table);
   std::vector<std::string> names;
   for (std::uint32_t c = 0; c < p->recipe.channels; ++c)
     names.emplace_back(plan::text_of(p->meta.channels[c].name));
@@ -34,7 +36,7 @@ void run(const InspectOptions& opt) {
   if (!opt.plant.empty()) excursions = static_output_excursions(plant_gain(opt.plant), table);
 
   if (opt.json) {
-    nlohmann::json j = input_measures_json(measures, names);
+    nlohmann::json j = input_measures_json(measures, names, cf_continuous);
     j["design"] = std::string(plan::text_of(p->meta.design_name));
     j["provenance"] = std::string(plan::text_of(p->meta.provenance));
     j["samples"] = p->recipe.samples;
@@ -52,7 +54,7 @@ void run(const InspectOptions& opt) {
             << p->recipe.channels << " channels x " << p->recipe.samples << " samples of "
             << num(p->meta.sample_time_s / 60.0) << " min, " << p->recipe.source_count
             << " sources\n\n";
-  print_input_measures(std::cout, measures, names);
+  print_input_measures(std::cout, measures, names, cf_continuous);
   if (!excursions.empty()) {
     std::cout << "\npredicted static output excursions G(0)*u(k) on " << opt.plant << ":\n";
     TextTable out({"output", "min", "max"});

@@ -38,6 +38,11 @@ Composition compose_binary(std::string_view acronym, const DesignContext& contex
 /// Multisines: presets 9–17 (multisine_presets.cpp).
 Composition compose_multisine(std::string_view acronym, const DesignContext& context);
 
+struct PlainMultisine;
+
+/// A plain multisine on every input (multisine_presets.cpp).
+Composition compose_plain_multisine(const PriorKnowledge& prior, const PlainMultisine& spec);
+
 /// diag(a_j): the per-input amplitudes.
 Eigen::MatrixXd amplitude_matrix(const PriorKnowledge& prior);
 

@@ -10,9 +10,11 @@
 #include <stdexcept>
 
 #include "host/design/composition.hpp"
+#include "host/design/presets.hpp"
 #include "host/multisine/allocation.hpp"
 #include "host/multisine/design.hpp"
 #include "host/multisine/guillaume.hpp"
+#include "host/multisine/phases.hpp"
 #include "host/multisine/synthesis.hpp"
 
 namespace excite::host {
@@ -159,6 +161,52 @@ void modified_zippered(const DesignContext& ctx, Composition& comp) {
 }
 
 }  // namespace
+
+Composition compose_plain_multisine(const PriorKnowledge& prior, const PlainMultisine& spec) {
+  if (spec.last_line < spec.first_line || spec.first_line == 0) {
+    throw std::invalid_argument(
+        format("multisine.first_line = %u, last_line = %u: expected 1 <= first_line <= last_line",
+               spec.first_line, spec.last_line));
+  }
+  if (spec.periods == 0)
+    throw std::invalid_argument("multisine.periods = 0, expected at least one whole period");
+  std::vector<std::uint32_t> indices;
+  for (std::uint32_t i = spec.first_line; i <= spec.last_line; ++i) indices.push_back(i);
+  const std::vector<double> amplitudes(indices.size(), 1.0);
+  std::vector<double> phases;
+  if (spec.phases == "schroeder" || spec.phases == "guillaume") {
+    phases = multisine::schroeder_phases(amplitudes);
+  } else if (spec.phases == "linear") {
+    phases = multisine::linear_phases(indices, spec.period, 0.0);
+  } else if (spec.phases == "random") {
+    phases = multisine::random_phases(static_cast<std::uint32_t>(indices.size()), spec.seed);
+  } else {
+    throw std::invalid_argument("multisine.phases = \"" + spec.phases +
+                                "\", expected one of: schroeder, linear, random, guillaume");
+  }
+  std::vector<Line> lines = multisine::make_lines(indices, amplitudes, phases);
+  multisine::validate_lines(lines, spec.period, "multisine");
+  if (spec.phases == "guillaume") lines = multisine::guillaume(lines, spec.period, {});
+  Composition comp;
+  comp.notes.push_back(format(
+      "%zu lines %u..%u on a %u-sample period, %s phases: sampled crest factor %.3f, "
+      "continuous %.3f",
+      lines.size(), spec.first_line, spec.last_line, spec.period, spec.phases.c_str(),
+      multisine::cf_sampled(lines, spec.period), multisine::cf_continuous(lines, spec.period)));
+  normalise_peak(lines, spec.period);
+  const std::uint64_t samples = std::uint64_t{spec.period} * spec.periods;
+  if (samples > signal::kTableCapacity) {
+    throw std::invalid_argument(
+        format("multisine: %u periods of %u samples exceed the table capacity of %zu values",
+               spec.periods, spec.period, signal::kTableCapacity));
+  }
+  comp.samples = static_cast<std::uint32_t>(samples);
+  const std::uint32_t first = append_lines(comp, lines);
+  comp.sources.push_back(multisine_source(0, comp.samples, spec.period, first,
+                                          static_cast<std::uint32_t>(lines.size())));
+  comp.mix = amplitude_matrix(prior) * Eigen::MatrixXd::Ones(prior.input_count(), 1);
+  return comp;
+}
 
 Composition compose_multisine(std::string_view name, const DesignContext& ctx) {
   Composition comp;

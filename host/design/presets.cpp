@@ -114,6 +114,18 @@ const PresetInfo& find_preset(std::string_view acronym) {
                               "\", expected one of: " + known);
 }
 
+Design design_plain_multisine(const PriorKnowledge& prior, const PlainMultisine& spec,
+                              std::uint64_t created_unix_s) {
+  validate_inputs(prior);
+  Design design;
+  const Composition comp = compose_plain_multisine(prior, spec);
+  design.notes = comp.notes;
+  static constexpr PresetInfo kPlain{0, "multisine", "a multisine given by its lines", ""};
+  design.plan = make_plan(prior, kPlain, comp, created_unix_s);
+  design.table = make_table(design.plan->recipe);
+  return design;
+}
+
 Design design_preset(const PriorKnowledge& prior, const PresetInfo& preset,
                      std::uint64_t created_unix_s) {
   Design design;

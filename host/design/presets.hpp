@@ -40,6 +40,23 @@ struct Design {
   std::vector<std::string> notes;  // A1's inequalities, then sequencing and scaling
 };
 
+/// A single multisine given by its lines, for trying phase methods on a plain spectrum
+/// (design = "multisine" in a spec): equal-amplitude lines first_line … last_line of a
+/// `period`-sample period, `periods` whole periods, the same signal on every input scaled
+/// to peak at the input's amplitude.
+struct PlainMultisine {
+  std::uint32_t period = 0;          // samples
+  std::uint32_t first_line = 1;      // DFT-grid index ≥ 1
+  std::uint32_t last_line = 1;       // < period / 2
+  std::string phases = "guillaume";  // schroeder (4.4.8), linear (4.4.3), random, guillaume
+  std::uint64_t seed = 1;            // random phases
+  std::uint32_t periods = 1;
+};
+
+/// Designs a plain multisine (validate_inputs only: no time constants needed).
+Design design_plain_multisine(const PriorKnowledge& prior, const PlainMultisine& spec,
+                              std::uint64_t created_unix_s);
+
 /// Designs `preset` from validated prior knowledge (directional presets need its gain).
 /// `created_unix_s` stamps the plan's metadata.
 Design design_preset(const PriorKnowledge& prior, const PresetInfo& preset,

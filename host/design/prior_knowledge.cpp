@@ -23,7 +23,7 @@ void require_positive(const std::string& field, double value) {
 }  // namespace
 
 void validate(const PriorKnowledge& prior) {
-  require_positive("sample_time_min", prior.sample_time_min);
+  validate_inputs(prior);
   require_positive("tau_low_min", prior.tau_low_min);
   require_positive("tau_high_min", prior.tau_high_min);
   if (prior.tau_low_min > prior.tau_high_min) {
@@ -35,6 +35,10 @@ void validate(const PriorKnowledge& prior) {
   if (!(std::isfinite(prior.step_length_min) && prior.step_length_min >= 0.0)) {
     fail("step_length_min", prior.step_length_min, "0 (derived) or a positive number");
   }
+}
+
+void validate_inputs(const PriorKnowledge& prior) {
+  require_positive("sample_time_min", prior.sample_time_min);
   const auto n = prior.inputs.size();
   if (n < 1 || n > signal::kMaxChannels) {
     fail("inputs (count)", static_cast<double>(n),

@@ -33,8 +33,12 @@ struct PriorKnowledge {
 };
 
 /// Throws std::invalid_argument naming the first field that breaks its contract:
-/// positive time constants with τ_L ≤ τ_H, α > 0, β > 0, T > 0, 1…8 inputs, amplitude in
-/// (0, min(|min|, max)], min < 0 < max, a finite gain of size outputs × inputs when given.
+/// T > 0, 1…8 inputs, amplitude in (0, min(|min|, max)], min < 0 < max, a finite gain of
+/// size outputs × inputs when given.
+void validate_inputs(const PriorKnowledge& prior);
+
+/// validate_inputs, and the dynamics the design procedures need: positive time constants
+/// with τ_L ≤ τ_H, α > 0, β > 0, step length ≥ 0.
 void validate(const PriorKnowledge& prior);
 
 }  // namespace excite::host

@@ -3,6 +3,7 @@
 
 #include <toml++/toml.h>
 
+#include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -109,9 +110,10 @@ DesignSpec parse_design_spec(std::string_view toml_text, std::string_view source
     throw std::invalid_argument(msg.str());
   }
 
-  reader.only_keys(root, "", {"design", "plant", "prior", "input"});
+  reader.only_keys(root, "", {"design", "plant", "prior", "input", "multisine"});
   DesignSpec spec;
   spec.design = reader.text(root, "", "design", true);
+  const bool plain = spec.design == "multisine";  // needs no dynamics, only its lines
   const std::string plant = reader.text(root, "", "plant", false);
 
   const toml::table* prior = root.get_as<toml::table>("prior");
@@ -124,10 +126,10 @@ DesignSpec parse_design_spec(std::string_view toml_text, std::string_view source
   p.plant = plant.empty() ? std::string(source_name) : plant;
   const double inputs = reader.number(*prior, "prior.", "inputs", true, 0.0);
   p.sample_time_min = reader.number(*prior, "prior.", "sample_time_min", true, 0.0);
-  p.tau_low_min = reader.number(*prior, "prior.", "tau_low_min", true, 0.0);
-  p.tau_high_min = reader.number(*prior, "prior.", "tau_high_min", true, 0.0);
-  p.alpha = reader.number(*prior, "prior.", "alpha", true, 0.0);
-  p.beta = reader.number(*prior, "prior.", "beta", true, 0.0);
+  p.tau_low_min = reader.number(*prior, "prior.", "tau_low_min", !plain, 0.0);
+  p.tau_high_min = reader.number(*prior, "prior.", "tau_high_min", !plain, 0.0);
+  p.alpha = reader.number(*prior, "prior.", "alpha", !plain, 2.0);
+  p.beta = reader.number(*prior, "prior.", "beta", !plain, 3.0);
   p.step_length_min = reader.number(*prior, "prior.", "step_length_min", false, 0.0);
 
   const toml::array* input_tables = root.get_as<toml::array>("input");
@@ -160,8 +162,41 @@ DesignSpec parse_design_spec(std::string_view toml_text, std::string_view source
     }
   }
 
+  const toml::table* ms = root.get_as<toml::table>("multisine");
+  if (plain != (ms != nullptr)) {
+    reader.fail(
+        ms, plain
+                ? "design = \"multisine\" needs a [multisine] table (period, first_line, last_line)"
+                : "a [multisine] table belongs to design = \"multisine\" only");
+  }
+  if (plain) {
+    reader.only_keys(*ms, "multisine.",
+                     {"period", "first_line", "last_line", "phases", "seed", "periods"});
+    PlainMultisine m;
+    const auto whole = [&](const char* key, bool required, double fallback) {
+      const double v = reader.number(*ms, "multisine.", key, required, fallback);
+      if (!(v >= 0.0 && v <= 4294967295.0 && v == std::floor(v))) {
+        reader.fail(ms->get(key), "multisine." + std::string(key) + " = " + std::to_string(v) +
+                                      ", expected a whole number >= 0");
+      }
+      return static_cast<std::uint32_t>(v);
+    };
+    m.period = whole("period", true, 0);
+    m.first_line = whole("first_line", true, 1);
+    m.last_line = whole("last_line", true, 1);
+    m.periods = whole("periods", false, 1);
+    m.seed = whole("seed", false, 1);
+    const std::string phases = reader.text(*ms, "multisine.", "phases", false);
+    if (!phases.empty()) m.phases = phases;
+    spec.multisine = m;
+  }
+
   try {
-    validate(p);
+    if (plain) {
+      validate_inputs(p);
+    } else {
+      validate(p);
+    }
     if (p.gain.size() != 0) analyse_gain(p.gain);  // refuses a singular gain by name
   } catch (const std::invalid_argument& e) {
     reader.fail(nullptr, e.what());

@@ -7,13 +7,17 @@
 #include <string>
 #include <string_view>
 
+#include <optional>
+
+#include "host/design/presets.hpp"
 #include "host/design/prior_knowledge.hpp"
 
 namespace excite::host {
 
 struct DesignSpec {
-  std::string design;  // preset acronym
+  std::string design;  // preset acronym, or "multisine" for a plain multisine
   PriorKnowledge prior;
+  std::optional<PlainMultisine> multisine;  // set when design == "multisine"
 };
 
 /// Parses a spec. Throws std::invalid_argument whose message starts with `source_name`

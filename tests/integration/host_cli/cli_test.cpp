@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <tuple>
 
 namespace {
 
@@ -101,6 +102,33 @@ max = 2.0
   const Result d = excite("design " + path("spec.toml") + " -o " + path("wb.plan"));
   ASSERT_EQ(d.exit_code, 0) << d.out;
   EXPECT_TRUE(std::filesystem::exists(path("wb.plan")));
+}
+
+// Issue 3 §4: a flat spectrum of lines 1…31 on a 256-sample period; Schroeder's closed form
+// gives a continuous crest factor of about 1.78, Guillaume's optimisation at most 1.40.
+TEST_F(ExciteCli, PlainMultisineSpecReportsTheContinuousCrestFactor) {
+  for (const auto& [phases, low, high] :
+       {std::tuple{"schroeder", 1.76, 1.80}, std::tuple{"guillaume", 1.30, 1.40}}) {
+    std::ofstream(path("ms.toml"))
+        << "design = \"multisine\"\n[prior]\ninputs = 1\nsample_time_min = 1.0\n"
+           "[[input]]\nname = \"u\"\namplitude = 1.0\nmin = -1.0\nmax = 1.0\n"
+           "[multisine]\nperiod = 256\nfirst_line = 1\nlast_line = 31\nphases = \""
+        << phases << "\"\n";
+    ASSERT_EQ(excite("design -q " + path("ms.toml") + " -o " + path("ms.plan")).exit_code, 0)
+        << phases;
+    const Result r = excite("inspect --json " + path("ms.plan"));
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const double cf = nlohmann::json::parse(r.out)["channels"][0]["cf_continuous"].get<double>();
+    EXPECT_GT(cf, low) << phases;
+    EXPECT_LT(cf, high) << phases;
+  }
+}
+
+TEST_F(ExciteCli, InspectGivesNoContinuousCrestFactorForPrbs) {
+  ASSERT_EQ(excite("design -q --plant alatiqi4x4 --preset prbsSeq -o " + path("p.plan")).exit_code,
+            0);
+  const auto j = nlohmann::json::parse(excite("inspect --json " + path("p.plan")).out);
+  EXPECT_TRUE(j["channels"][0]["cf_continuous"].is_null());
 }
 
 TEST_F(ExciteCli, BadSpecIsRefusedWithFieldAndWritesNothing) {

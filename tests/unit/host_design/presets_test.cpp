@@ -5,6 +5,7 @@
 
 #include "host/design/case_studies.hpp"
 #include "host/measures/gain_directions.hpp"
+#include "host/measures/input_measures.hpp"
 
 namespace excite::host {
 namespace {
@@ -113,6 +114,37 @@ TEST(Presets, PrbsDirCorrSimAddsASignalAlongTheWeakestDirection) {
       }
     }
   }
+}
+
+TEST(Presets, SequentialMultisinesPlayWholePeriodsOneChannelAtATime) {
+  const Design d = design("msSrdSeq");
+  const signal::Recipe& r = d.plan->recipe;
+  ASSERT_EQ(r.source_count, 4U);
+  for (std::uint32_t i = 0; i < 4; ++i) {
+    const signal::Source& s = r.sources[i];
+    EXPECT_EQ(s.kind, signal::SourceKind::multisine);
+    EXPECT_EQ(s.start, i * 1020U);                      // slot of N/n samples
+    EXPECT_EQ(s.length % s.multisine.period, 0U) << i;  // whole periods
+    EXPECT_EQ(s.multisine.period, 943U);                // A2: N_s >= 2*pi*beta*tau_H/T (4.4.27)
+  }
+}
+
+TEST(Presets, GuillaumePhasesLowerTheCrestFactorOfTheSameSpectrum) {
+  const double schroeder = measure_inputs(design("msSrdSim").table).average.crest_factor;
+  const double guillaume = measure_inputs(design("msGlmSim").table).average.crest_factor;
+  EXPECT_LT(guillaume, schroeder - 0.2) << schroeder << " -> " << guillaume;
+}
+
+// 4.4.21: the shared (correlated) lines move the inputs along v_n only.
+TEST(Presets, ModifiedZipperedSharesLinesAlongTheWeakestDirection) {
+  const PriorKnowledge prior = case_study("alatiqi4x4");
+  const GainAnalysis a = analyse_gain(prior.gain);
+  const Design d = design("msGlmZipm");
+  const signal::Recipe& r = d.plan->recipe;
+  ASSERT_EQ(r.source_count, 5U);  // 4 own zippered sources + 1 shared
+  Eigen::VectorXd shared(4);
+  for (std::size_t c = 0; c < 4; ++c) shared(static_cast<Eigen::Index>(c)) = r.mix[c][4];
+  EXPECT_NEAR(std::abs(shared.normalized().dot(a.input_directions.col(3))), 1.0, 1e-12);
 }
 
 TEST(Presets, TableLargerThanTheGatewayCapacityIsRefused) {
