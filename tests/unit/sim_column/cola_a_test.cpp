@@ -101,7 +101,9 @@ TEST_F(ColaATest, StaticGainIsTheIllConditionedLvMatrix) {
   const Eigen::Vector2d sv = svd.singularValues();
   EXPECT_NEAR(sv[0], 1.972, 0.01);
   EXPECT_NEAR(sv[1], 0.0139, 0.001);
-  EXPECT_NEAR(sv[0] / sv[1], 141.7, 3.0);
+  // κ = 145.5 here; the rounded published gains give 141.7 (SPEC §7): within 3 %.
+  EXPECT_NEAR(sv[0] / sv[1], 145.47, 0.05);
+  EXPECT_NEAR(sv[0] / sv[1], 141.7, 0.03 * 141.7);
   // Strong direction: L and V moving in opposite directions; weak: together.
   EXPECT_LT(svd.matrixV()(0, 0) * svd.matrixV()(1, 0), 0.0);
   EXPECT_GT(svd.matrixV()(0, 1) * svd.matrixV()(1, 1), 0.0);
