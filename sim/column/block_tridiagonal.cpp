@@ -39,4 +39,45 @@ void BlockTridiagonalSolver::solve(Eigen::VectorXd& rhs) const {
   }
 }
 
+void HoldupFirstSolver::factorise_blocks(double shift) {
+  const Eigen::Index n = blocks_.stages();
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const auto b = static_cast<std::size_t>(k);
+    const Eigen::Matrix2d& d = blocks_.diag[b];
+    m_inv_[k] = 1.0 / (shift - d(1, 1));
+    xm_diag_[k] = d(0, 1);
+    const bool has_up = k + 1 < n;
+    m_up_[k] = has_up ? blocks_.upper[b](1, 1) : 0.0;
+    xm_up_[k] = has_up ? blocks_.upper[b](0, 1) : 0.0;
+    x_up_[k] = has_up ? blocks_.upper[b](0, 0) : 0.0;
+    // Thomas algorithm on (shift − J_xx): sub-diagonal −J_x,j−1, super-diagonal −J_x,j+1.
+    double pivot = shift - d(0, 0);
+    if (k > 0) {
+      x_elim_[k] = -blocks_.lower[b](0, 0) * x_inv_[k - 1];
+      pivot += x_elim_[k] * x_up_[k - 1];
+    }
+    x_inv_[k] = 1.0 / pivot;
+  }
+}
+
+void HoldupFirstSolver::solve(Eigen::VectorXd& rhs) const {
+  const Eigen::Index n = blocks_.stages();
+  double* r = rhs.data();
+  // Holdups: upper bidiagonal, back substitution from the top stage down.
+  r[2 * n - 1] *= m_inv_[n - 1];
+  for (Eigen::Index k = n - 1; k-- > 0;) {
+    r[2 * k + 1] = (r[2 * k + 1] + m_up_[k] * r[2 * k + 3]) * m_inv_[k];
+  }
+  // Compositions: move the now known holdup terms to the right, then the tridiagonal sweep.
+  r[0] += xm_diag_[0] * r[1] + xm_up_[0] * r[3];
+  for (Eigen::Index k = 1; k < n; ++k) {
+    const double up = k + 1 < n ? xm_up_[k] * r[2 * k + 3] : 0.0;
+    r[2 * k] += xm_diag_[k] * r[2 * k + 1] + up - x_elim_[k] * r[2 * k - 2];
+  }
+  r[2 * n - 2] *= x_inv_[n - 1];
+  for (Eigen::Index k = n - 1; k-- > 0;) {
+    r[2 * k] = (r[2 * k] + x_up_[k] * r[2 * k + 2]) * x_inv_[k];
+  }
+}
+
 }  // namespace excite::sim::column

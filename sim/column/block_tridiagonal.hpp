@@ -50,4 +50,39 @@ class BlockTridiagonalSolver {
   std::vector<Eigen::Matrix2d> elim_;       // (−lower_j)·pivot_inv_{j−1}
 };
 
+/// The same system when the holdups do not depend on the compositions (constant molar
+/// flows, as in column A): with state (x_j, M_j) per stage, every block has a zero (1, 0)
+/// entry and the lower blocks only a (0, 0) entry. Then shift·I − J is block triangular in
+/// (M, x): the holdup part is upper bidiagonal and the composition part tridiagonal, and
+/// the solve is two scalar sweeps instead of a 2×2 block recursion (about half the work
+/// of BlockTridiagonalSolver on the Rosenbrock stages). Precondition (not checked per
+/// call; the unit tests check colaA's Jacobian has this structure): the zero pattern above.
+class HoldupFirstSolver {
+ public:
+  explicit HoldupFirstSolver(Eigen::Index stages)
+      : blocks_(stages), m_inv_(stages), m_up_(stages), x_up_(stages), x_inv_(stages),
+        x_elim_(stages), xm_diag_(stages), xm_up_(stages) {}
+
+  template <class System>
+  void factorise(const System& sys, const Eigen::VectorXd& s, double shift) {
+    sys.jacobian_blocks(s, blocks_);
+    factorise_blocks(shift);
+  }
+
+  /// Solves (shift·I − J) g = rhs in place.
+  void solve(Eigen::VectorXd& rhs) const;
+
+ private:
+  void factorise_blocks(double shift);
+
+  JacobianBlocks blocks_;
+  Eigen::VectorXd m_inv_;    // 1 / (shift − ∂Ṁ_j/∂M_j)
+  Eigen::VectorXd m_up_;     // ∂Ṁ_j/∂M_{j+1}
+  Eigen::VectorXd x_up_;     // ∂ẋ_j/∂x_{j+1}
+  Eigen::VectorXd x_inv_;    // 1 / pivot of the composition sweep
+  Eigen::VectorXd x_elim_;   // ∂ẋ_j/∂x_{j−1} · x_inv_{j−1}
+  Eigen::VectorXd xm_diag_;  // ∂ẋ_j/∂M_j
+  Eigen::VectorXd xm_up_;    // ∂ẋ_j/∂M_{j+1}
+};
+
 }  // namespace excite::sim::column

@@ -137,8 +137,8 @@ struct ColaA::Workspace {
   Workspace(const ColaAParameters& p, Eigen::Index stages)
       : system(p, stages), solver(stages), stepper(2 * stages) {}
   System system;
-  BlockTridiagonalSolver solver;
-  Rosenbrock4<System, BlockTridiagonalSolver> stepper;
+  HoldupFirstSolver solver;  // constant molar flows: holdups do not depend on x
+  Rosenbrock4<System, HoldupFirstSolver> stepper;
 };
 
 ColaA::ColaA(ColaAParameters p) : p_(p), stages_(p.stages) {

@@ -87,6 +87,18 @@ TEST_F(ColaATest, AnalyticJacobianAgreesWithFiniteDifferences) {
   }
 }
 
+// The integrator's HoldupFirstSolver relies on this zero pattern (constant molar flows).
+TEST_F(ColaATest, HoldupsDoNotDependOnCompositions) {
+  const Eigen::MatrixXd j =
+      plant().model().jacobian(plant().nominal_state(), plant().nominal_operating());
+  for (Eigen::Index r = 1; r < j.rows(); r += 2) {
+    for (Eigen::Index c = 0; c < j.cols(); c += 2) EXPECT_EQ(j(r, c), 0.0);
+  }
+  for (Eigen::Index r = 2; r < j.rows(); r += 2) {
+    EXPECT_EQ(j(r, r - 1), 0.0) << "lower block must be (0,0)-only";
+  }
+}
+
 // G(0) from (L, V) to (x_D, x_B): the classic strongly ill-conditioned LV gain matrix
 // (published, rounded: [0.878 −0.864; 1.082 −1.096], condition number ≈ 142).
 TEST_F(ColaATest, StaticGainIsTheIllConditionedLvMatrix) {

@@ -43,6 +43,25 @@ TEST(BlockTridiagonalSolver, SolvesLikeADenseLu) {
   EXPECT_LT((m * g - rhs).lpNorm<Eigen::Infinity>(), 1e-12);
 }
 
+// A chain where holdups do not depend on compositions (the zero pattern of colaA).
+TEST(HoldupFirstSolver, SolvesLikeADenseLuWhenHoldupsIgnoreCompositions) {
+  LinearChain sys(9);
+  for (std::size_t j = 0; j < 9; ++j) {
+    sys.blocks.diag[j](1, 0) = 0.0;
+    sys.blocks.upper[j](1, 0) = 0.0;
+    sys.blocks.upper[j](0, 1) = 0.7;
+    sys.blocks.lower[j] << 1.0, 0.0, 0.0, 0.0;
+  }
+  sys.a = sys.blocks.dense();
+  HoldupFirstSolver solver(9);
+  solver.factorise(sys, Eigen::VectorXd::Zero(18), 7.0);
+  const Eigen::VectorXd rhs = Eigen::VectorXd::LinSpaced(18, -1.0, 2.0);
+  Eigen::VectorXd g = rhs;
+  solver.solve(g);
+  const Eigen::MatrixXd m = 7.0 * Eigen::MatrixXd::Identity(18, 18) - sys.a;
+  EXPECT_LT((m * g - rhs).lpNorm<Eigen::Infinity>(), 1e-12);
+}
+
 template <class Solver>
 double error_after(double tol, Solver solver, IntegrationStats* stats) {
   const LinearChain sys(6);
