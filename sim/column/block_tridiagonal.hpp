@@ -30,7 +30,8 @@ struct JacobianBlocks {
 class BlockTridiagonalSolver {
  public:
   explicit BlockTridiagonalSolver(Eigen::Index stages)
-      : blocks_(stages), pivot_inv_(static_cast<std::size_t>(stages)),
+      : blocks_(stages),
+        pivot_inv_(static_cast<std::size_t>(stages)),
         elim_(static_cast<std::size_t>(stages)) {}
 
   template <class System>
@@ -60,8 +61,14 @@ class BlockTridiagonalSolver {
 class HoldupFirstSolver {
  public:
   explicit HoldupFirstSolver(Eigen::Index stages)
-      : blocks_(stages), m_inv_(stages), m_up_(stages), x_up_(stages), x_inv_(stages),
-        x_elim_(stages), xm_diag_(stages), xm_up_(stages) {}
+      : blocks_(stages),
+        m_inv_(stages),
+        m_up_(stages),
+        x_up_(stages),
+        x_inv_(stages),
+        x_elim_(stages),
+        xm_diag_(stages),
+        xm_up_(stages) {}
 
   template <class System>
   void factorise(const System& sys, const Eigen::VectorXd& s, double shift) {

@@ -15,56 +15,84 @@ namespace excite::sim::column {
 class ColaA::System {
  public:
   System(const ColaAParameters& p, Eigen::Index stages)
-      : p_(p), n_(stages), feed_(p.feed_stage - 1), y_(stages), k_(stages) {}
+      : p_(p),
+        n_(stages),
+        feed_(p.feed_stage - 1),
+        y_(stages),
+        k_(stages),
+        v_in_(stages),
+        v_out_(stages),
+        feed_in_(stages),
+        out_c_(stages),
+        out_s_(stages),
+        in_c_(stages),
+        in_s_(stages) {}
 
-  void set_operating(const Operating& op) { op_ = op; }
+  /// Tabulates the flows at op: every liquid flow is affine in one holdup, so the
+  /// derivative below is one branch-light sweep.
+  void set_operating(const Operating& op) {
+    op_ = op;
+    const double q = p_.feed_liquid_fraction;
+    const Operating& nom = p_.nominal;
+    for (Eigen::Index j = 0; j < n_; ++j) {
+      v_out_[j] = j == n_ - 1  ? 0.0
+                  : j >= feed_ ? op.boilup_kmol_min + (1.0 - q) * op.feed_kmol_min
+                               : op.boilup_kmol_min;
+      v_in_[j] = j == 0 ? 0.0 : v_out_[j - 1];
+      feed_in_[j] = j == feed_ ? op.feed_kmol_min : 0.0;
+    }
+    const double m0 = p_.holdup_kmol;
+    const double k = p_.level_gain_per_min;
+    for (Eigen::Index j = 0; j < n_; ++j) {
+      if (j == 0) {  // B = B₀ + K(M − M₀)
+        out_s_[j] = k;
+        out_c_[j] = p_.bottoms_bias_kmol_min - k * m0;
+      } else if (j == n_ - 1) {  // L + D, D = D₀ + K(M − M₀)
+        out_s_[j] = k;
+        out_c_[j] = op.reflux_kmol_min + p_.distillate_bias_kmol_min - k * m0;
+      } else {  // L_j = L₀_j + (M_j − M₀)/τ_L + λ(V_{j−1} − V₀_j)
+        const bool stripping = j <= feed_;
+        const double l0 = nom.reflux_kmol_min + (stripping ? q * nom.feed_kmol_min : 0.0);
+        const double v0 = nom.boilup_kmol_min + (stripping ? 0.0 : (1.0 - q) * nom.feed_kmol_min);
+        out_s_[j] = 1.0 / p_.liquid_time_constant_min;
+        out_c_[j] = l0 - m0 * out_s_[j] + p_.vapour_liquid_coupling * (v_in_[j] - v0);
+      }
+    }
+    for (Eigen::Index j = 0; j < n_; ++j) {
+      if (j == n_ - 1) {  // the condenser receives no liquid
+        in_c_[j] = in_s_[j] = 0.0;
+      } else if (j + 1 == n_ - 1) {  // the top tray receives the reflux
+        in_c_[j] = op.reflux_kmol_min;
+        in_s_[j] = 0.0;
+      } else {
+        in_c_[j] = out_c_[j + 1];
+        in_s_[j] = out_s_[j + 1];
+      }
+    }
+  }
   Eigen::Index size() const { return 2 * n_; }
 
-  double vapour_out(Eigen::Index j) const {
-    if (j == n_ - 1) return 0.0;  // total condenser
-    return j >= feed_ ? op_.boilup_kmol_min + (1.0 - p_.feed_liquid_fraction) * op_.feed_kmol_min
-                      : op_.boilup_kmol_min;
-  }
-  double vapour_in(Eigen::Index j) const { return j == 0 ? 0.0 : vapour_out(j - 1); }
-
-  /// Liquid leaving stage j at holdup m, and its derivative with respect to m.
-  double liquid_out(Eigen::Index j, double m) const {
-    const double dm = m - p_.holdup_kmol;
-    if (j == 0) return p_.bottoms_bias_kmol_min + p_.level_gain_per_min * dm;
-    if (j == n_ - 1) {
-      return op_.reflux_kmol_min + p_.distillate_bias_kmol_min + p_.level_gain_per_min * dm;
-    }
-    return tray_liquid(j, m);
-  }
-  double liquid_out_slope(Eigen::Index j) const {
-    return (j == 0 || j == n_ - 1) ? p_.level_gain_per_min : 1.0 / p_.liquid_time_constant_min;
-  }
-  double liquid_in(Eigen::Index j, const Eigen::VectorXd& s) const {
-    if (j == n_ - 1) return 0.0;
-    if (j + 1 == n_ - 1) return op_.reflux_kmol_min;
-    return tray_liquid(j + 1, s[2 * (j + 1) + 1]);
-  }
-  double liquid_in_slope(Eigen::Index j) const {
-    return (j + 1 < n_ - 1) ? 1.0 / p_.liquid_time_constant_min : 0.0;
-  }
-  double feed_to(Eigen::Index j) const { return j == feed_ ? op_.feed_kmol_min : 0.0; }
+  /// Liquid leaving stage j at holdup m: B, the tray overflow, or L + D at the top.
+  double liquid_out(Eigen::Index j, double m) const { return out_c_[j] + out_s_[j] * m; }
 
   void derivative(const Eigen::VectorXd& s, Eigen::VectorXd& ds) const {
     equilibrium(s);
+    const double* st = s.data();
+    double* d = ds.data();
     for (Eigen::Index j = 0; j < n_; ++j) {
-      const double x = s[2 * j];
-      const double m = s[2 * j + 1];
-      const double l_in = liquid_in(j, s);
-      const double v_in = vapour_in(j);
-      const double v_out = vapour_out(j);
-      const double f = feed_to(j);
-      const double x_above = j + 1 < n_ ? s[2 * (j + 1)] : x;
+      const double x = st[2 * j];
+      const double m = st[2 * j + 1];
+      const bool top = j == n_ - 1;
+      const double x_above = top ? x : st[2 * j + 2];
+      const double m_above = top ? 0.0 : st[2 * j + 3];
       const double y_below = j > 0 ? y_[j - 1] : x;
+      const double l_in = in_c_[j] + in_s_[j] * m_above;
+      const double f = feed_in_[j];
       // A.1.3 divided by M_j with A.1.1 substituted: the outflow L_j drops out.
-      const double num = l_in * (x_above - x) + v_in * (y_below - x) - v_out * (y_[j] - x) +
+      const double num = l_in * (x_above - x) + v_in_[j] * (y_below - x) - v_out_[j] * (y_[j] - x) +
                          f * (op_.feed_light - x);
-      ds[2 * j] = num / m;
-      ds[2 * j + 1] = l_in - liquid_out(j, m) + v_in - v_out + f;  // A.1.1
+      d[2 * j] = num / m;
+      d[2 * j + 1] = l_in - liquid_out(j, m) + v_in_[j] - v_out_[j] + f;  // A.1.1
     }
   }
 
@@ -74,26 +102,27 @@ class ColaA::System {
       const auto b = static_cast<std::size_t>(j);
       const double x = s[2 * j];
       const double m = s[2 * j + 1];
-      const double l_in = liquid_in(j, s);
-      const double v_in = vapour_in(j);
-      const double v_out = vapour_out(j);
-      const double f = feed_to(j);
-      const double x_above = j + 1 < n_ ? s[2 * (j + 1)] : x;
+      const bool top = j == n_ - 1;
+      const double x_above = top ? x : s[2 * j + 2];
+      const double m_above = top ? 0.0 : s[2 * j + 3];
       const double y_below = j > 0 ? y_[j - 1] : x;
+      const double l_in = in_c_[j] + in_s_[j] * m_above;
+      const double v_in = v_in_[j];
+      const double v_out = v_out_[j];
+      const double f = feed_in_[j];
       const double num = l_in * (x_above - x) + v_in * (y_below - x) - v_out * (y_[j] - x) +
                          f * (op_.feed_light - x);
-      Eigen::Matrix2d& d = jb.diag[b];
-      d(0, 0) = (-l_in - v_in - v_out * (k_[j] - 1.0) - f) / m;
-      d(0, 1) = -num / (m * m);
-      d(1, 0) = 0.0;
-      d(1, 1) = -liquid_out_slope(j);
-      if (j + 1 < n_) {
+      Eigen::Matrix2d& dg = jb.diag[b];
+      dg(0, 0) = (-l_in - v_in - v_out * (k_[j] - 1.0) - f) / m;
+      dg(0, 1) = -num / (m * m);
+      dg(1, 0) = 0.0;
+      dg(1, 1) = -out_s_[j];
+      if (!top) {
         Eigen::Matrix2d& u = jb.upper[b];
-        const double slope = liquid_in_slope(j);
         u(0, 0) = l_in / m;
-        u(0, 1) = slope * (x_above - x) / m;
+        u(0, 1) = in_s_[j] * (x_above - x) / m;
         u(1, 0) = 0.0;
-        u(1, 1) = slope;
+        u(1, 1) = in_s_[j];
       }
       if (j > 0) {
         Eigen::Matrix2d& l = jb.lower[b];
@@ -104,17 +133,6 @@ class ColaA::System {
   }
 
  private:
-  double tray_liquid(Eigen::Index j, double m) const {
-    const bool stripping = j <= feed_;
-    const Operating& nom = p_.nominal;
-    const double q = p_.feed_liquid_fraction;
-    const double l0 = stripping ? nom.reflux_kmol_min + q * nom.feed_kmol_min : nom.reflux_kmol_min;
-    const double v0 = stripping ? nom.boilup_kmol_min
-                                : nom.boilup_kmol_min + (1.0 - q) * nom.feed_kmol_min;
-    return l0 + (m - p_.holdup_kmol) / p_.liquid_time_constant_min +
-           p_.vapour_liquid_coupling * (vapour_in(j) - v0);
-  }
-
   // y_j = α x_j / (1 + (α − 1) x_j) (A.1.4 with E = 1) and K_j = dy_j/dx_j.
   void equilibrium(const Eigen::VectorXd& s) const {
     const double a = p_.relative_volatility;
@@ -131,6 +149,9 @@ class ColaA::System {
   Eigen::Index feed_;
   Operating op_{};
   mutable Eigen::VectorXd y_, k_;
+  // Flows at op_, per stage j (kmol/min): vapour in/out, feed, and the liquid flows as
+  // affine functions of a holdup: out = out_c + out_s·M_j, in = in_c + in_s·M_{j+1}.
+  Eigen::VectorXd v_in_, v_out_, feed_in_, out_c_, out_s_, in_c_, in_s_;
 };
 
 struct ColaA::Workspace {
@@ -148,8 +169,8 @@ ColaA::ColaA(ColaAParameters p) : p_(p), stages_(p.stages) {
         << "; expected at least 3 stages and the feed on a tray (2…stages−1)";
     throw std::invalid_argument(msg.str());
   }
-  if (!(p_.holdup_kmol > 0.0 && p_.liquid_time_constant_min > 0.0 &&
-        p_.relative_volatility > 0.0 && p_.level_gain_per_min > 0.0)) {
+  if (!(p_.holdup_kmol > 0.0 && p_.liquid_time_constant_min > 0.0 && p_.relative_volatility > 0.0 &&
+        p_.level_gain_per_min > 0.0)) {
     throw std::invalid_argument(
         "colaA: holdup, τ_L, relative volatility and level gain must be positive");
   }
@@ -196,8 +217,8 @@ Products ColaA::products(const Eigen::VectorXd& s, const Operating& op) const {
   System sys(p_, stages_);
   sys.set_operating(op);
   const Eigen::Index top = stages_ - 1;
-  return Products{sys.liquid_out(top, s[2 * top + 1]) - op.reflux_kmol_min,
-                  sys.liquid_out(0, s[1]), s[2 * top], s[0]};
+  return Products{sys.liquid_out(top, s[2 * top + 1]) - op.reflux_kmol_min, sys.liquid_out(0, s[1]),
+                  s[2 * top], s[0]};
 }
 
 void ColaA::check_state(const Eigen::VectorXd& s) const {
@@ -207,8 +228,7 @@ void ColaA::check_state(const Eigen::VectorXd& s) const {
     if (!std::isfinite(x) || !std::isfinite(m) || m <= 0.0 || x < -1e-6 || x > 1.0 + 1e-6) {
       std::ostringstream msg;
       msg << "colaA: stage " << j + 1 << " left the physical range (holdup M = " << m
-          << " kmol, x = " << x
-          << "); the inputs drain or flood it — expected M > 0 and 0 ≤ x ≤ 1";
+          << " kmol, x = " << x << "); the inputs drain or flood it — expected M > 0 and 0 ≤ x ≤ 1";
       throw std::invalid_argument(msg.str());
     }
   }
@@ -222,8 +242,10 @@ void ColaA::check_state(const Eigen::VectorXd& s) const {
     if (out < 0.0) {
       std::ostringstream msg;
       msg << "colaA: stage " << j + 1 << " would need a negative outflow ("
-          << (j == 0 ? "B" : j == stages_ - 1 ? "D" : "L") << " = " << out
-          << " kmol/min at holdup " << s[2 * j + 1]
+          << (j == 0             ? "B"
+              : j == stages_ - 1 ? "D"
+                                 : "L")
+          << " = " << out << " kmol/min at holdup " << s[2 * j + 1]
           << " kmol); the inputs drain it — expected flows ≥ 0";
       throw std::invalid_argument(msg.str());
     }

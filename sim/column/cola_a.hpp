@@ -18,11 +18,11 @@
 namespace excite::sim::column {
 
 struct ColaAParameters {
-  int stages = 41;                 ///< N, counting reboiler (1) and total condenser (N)
-  int feed_stage = 21;             ///< from the bottom
+  int stages = 41;      ///< N, counting reboiler (1) and total condenser (N)
+  int feed_stage = 21;  ///< from the bottom
   double relative_volatility = 1.5;
-  double feed_liquid_fraction = 1.0;  ///< q_F: 1 = saturated liquid feed
-  double holdup_kmol = 0.5;           ///< M₀, every stage's nominal holdup
+  double feed_liquid_fraction = 1.0;        ///< q_F: 1 = saturated liquid feed
+  double holdup_kmol = 0.5;                 ///< M₀, every stage's nominal holdup
   double liquid_time_constant_min = 0.063;  ///< τ_L
   double vapour_liquid_coupling = 0.0;      ///< λ
   double level_gain_per_min = 10.0;         ///< K of both level loops, kmol/min per kmol

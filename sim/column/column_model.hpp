@@ -48,7 +48,8 @@ class ColumnModel {
   virtual void check_state(const Eigen::VectorXd& s) const = 0;
 
   /// Advances s by duration_min with op held constant. `steps` carries the integrator's
-  /// step-size memory between the calls of one trajectory. Throws std::invalid_argument if a stage empties.
+  /// step-size memory between the calls of one trajectory. Throws std::invalid_argument if a stage
+  /// empties.
   virtual void integrate(Eigen::VectorXd& s, const Operating& op, double duration_min,
                          StepMemory& steps, const Tolerance& tol,
                          IntegrationStats* stats) const = 0;

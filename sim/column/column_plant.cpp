@@ -44,8 +44,12 @@ ColumnPlant::ColumnPlant(std::unique_ptr<ColumnModel> model) : model_(std::move(
   reset();
 }
 
-ColumnPlant ColumnPlant::cola_a() { return ColumnPlant(std::make_unique<ColaA>()); }
-ColumnPlant ColumnPlant::pilot15() { return ColumnPlant(std::make_unique<Pilot15>()); }
+ColumnPlant ColumnPlant::cola_a() {
+  return ColumnPlant(std::make_unique<ColaA>());
+}
+ColumnPlant ColumnPlant::pilot15() {
+  return ColumnPlant(std::make_unique<Pilot15>());
+}
 
 ColumnPlant ColumnPlant::by_name(const std::string& name) {
   if (name == "colaA") return cola_a();

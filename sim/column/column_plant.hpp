@@ -85,6 +85,7 @@ class ColumnPlant {
   /// Sets the state (e.g. a steady state from steady_state()); checked by the model.
   void set_state(const Eigen::VectorXd& s);
 
+  /// Integrator tolerances (default 1e-7 absolute and relative; see README.md).
   void set_tolerance(const Tolerance& tol) { tol_ = tol; }
   const IntegrationStats& stats() const { return stats_; }
 
@@ -98,9 +99,9 @@ class ColumnPlant {
   Linearisation nominal_linearisation_;
   Eigen::VectorXd state_;
   Operating disturbance_;  // F and z_F used by the next interval
-  StepMemory steps_{};  // integrator's step-size memory, carried between intervals
+  StepMemory steps_{};     // integrator's step-size memory, carried between intervals
   double sample_time_min_ = 1.0;
-  Tolerance tol_{1e-10, 1e-10};
+  Tolerance tol_{1e-7, 1e-7};  // colaA: compositions within ≈ 5e-9 of a 1e-12 run (bench)
   IntegrationStats stats_{};
 };
 

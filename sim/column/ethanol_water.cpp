@@ -30,8 +30,12 @@ double antoine_log_slope(const Antoine& k, double t_c) {
 
 }  // namespace
 
-double EthanolWater::ethanol_pressure_kpa(double t_c) { return antoine_kpa(kEthanol, t_c); }
-double EthanolWater::water_pressure_kpa(double t_c) { return antoine_kpa(kWater, t_c); }
+double EthanolWater::ethanol_pressure_kpa(double t_c) {
+  return antoine_kpa(kEthanol, t_c);
+}
+double EthanolWater::water_pressure_kpa(double t_c) {
+  return antoine_kpa(kWater, t_c);
+}
 
 BubblePoint EthanolWater::bubble_point(double x) const {
   const double x1 = std::clamp(x, 0.0, 1.0);

@@ -9,10 +9,11 @@
 namespace excite::sim::column {
 
 struct Operating {
-  double reflux_kmol_min = 0.0;   ///< L, reflux to the top tray.
-  double boilup_kmol_min = 0.0;   ///< V, boil-up (vapour from the reboiler, or its steam equivalent).
-  double feed_kmol_min = 0.0;     ///< F, feed rate.
-  double feed_light = 0.0;        ///< z_F, light-component mole fraction of the feed.
+  double reflux_kmol_min = 0.0;  ///< L, reflux to the top tray.
+  double boilup_kmol_min =
+      0.0;                     ///< V, boil-up (vapour from the reboiler, or its steam equivalent).
+  double feed_kmol_min = 0.0;  ///< F, feed rate.
+  double feed_light = 0.0;     ///< z_F, light-component mole fraction of the feed.
 };
 
 /// Throws std::invalid_argument naming the field, its value and what was expected when a

@@ -51,9 +51,8 @@ class Pilot15::System {
     const double x_out = reboiler_liquid(s[xr()]);
     const double e = p_.murphree_efficiency;
     // Vapour compositions bottom-up: A.1.19 for the reboiler, A.1.4 for the trays.
-    y_[static_cast<std::size_t>(n_ + 1)] =
-        p_.reboiler_efficiency * m_.vle_.bubble_point(x_out).y +
-        (1.0 - p_.reboiler_efficiency) * s[xr()];
+    y_[static_cast<std::size_t>(n_ + 1)] = p_.reboiler_efficiency * m_.vle_.bubble_point(x_out).y +
+                                           (1.0 - p_.reboiler_efficiency) * s[xr()];
     for (int i = n_; i >= 1; --i) {
       const auto k = static_cast<std::size_t>(i);
       y_[k] = e * m_.vle_.bubble_point(s[x(i)]).y + (1.0 - e) * y_[k + 1];
@@ -150,8 +149,8 @@ Pilot15::~Pilot15() = default;
 
 double Pilot15::weir_flow(double m, double x) const {
   const double xc = std::clamp(x, 0.0, 1.0);
-  const double molar_volume = xc * p_.ethanol_molar_volume_m3_kmol +
-                              (1.0 - xc) * p_.water_molar_volume_m3_kmol;
+  const double molar_volume =
+      xc * p_.ethanol_molar_volume_m3_kmol + (1.0 - xc) * p_.water_molar_volume_m3_kmol;
   const double crest_m = m * molar_volume / p_.tray_area_m2 - p_.weir_height_m;
   if (crest_m <= 0.0) return 0.0;
   const double q_m3_s = p_.francis_coefficient * p_.weir_length_m * std::pow(crest_m, 1.5);
@@ -168,8 +167,7 @@ std::vector<std::string> Pilot15::state_names() const {
   return names;
 }
 
-void Pilot15::derivative(const Eigen::VectorXd& s, const Operating& op,
-                         Eigen::VectorXd& ds) const {
+void Pilot15::derivative(const Eigen::VectorXd& s, const Operating& op, Eigen::VectorXd& ds) const {
   System sys(*this);
   sys.set_operating(op);
   ds.resize(state_size());
@@ -188,11 +186,10 @@ Eigen::VectorXd Pilot15::initial_guess(const Operating& op) const {
   for (int i = 0; i <= p_.trays; ++i) {
     const double frac = static_cast<double>(i) / static_cast<double>(p_.trays);
     const double xi = 0.8 * (1.0 - frac) + 0.01 * frac;
-    const double v = xi * p_.ethanol_molar_volume_m3_kmol +
-                     (1.0 - xi) * p_.water_molar_volume_m3_kmol;
+    const double v =
+        xi * p_.ethanol_molar_volume_m3_kmol + (1.0 - xi) * p_.water_molar_volume_m3_kmol;
     s[2 * i] = xi;
-    s[2 * i + 1] = i == 0 ? p_.drum_holdup_kmol
-                          : p_.tray_area_m2 * (p_.weir_height_m + crest) / v;
+    s[2 * i + 1] = i == 0 ? p_.drum_holdup_kmol : p_.tray_area_m2 * (p_.weir_height_m + crest) / v;
   }
   const Eigen::Index r = 2 * (p_.trays + 1);
   s[r] = 0.01;
@@ -229,7 +226,8 @@ void Pilot15::check_state(const Eigen::VectorXd& s) const {
                                 "; the inputs drain or flood the column beyond its range");
   };
   for (Eigen::Index k = 0; k < s.size(); ++k) {
-    if (!std::isfinite(s[k])) fail("state component " + state_names()[static_cast<std::size_t>(k)] + " is not finite");
+    if (!std::isfinite(s[k]))
+      fail("state component " + state_names()[static_cast<std::size_t>(k)] + " is not finite");
   }
   for (int i = 0; i <= p_.trays; ++i) {
     const double m = s[2 * i + 1];

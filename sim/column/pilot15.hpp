@@ -26,21 +26,21 @@ namespace excite::sim::column {
 
 struct Pilot15Parameters {
   int trays = 15;
-  int feed_tray = 10;                  ///< from the top
-  double murphree_efficiency = 0.65;   ///< E_i of every tray
-  double reboiler_efficiency = 0.9;    ///< E_r (A.1.19)
-  double tray_area_m2 = 0.0177;        ///< active area, 0.15 m diameter
+  int feed_tray = 10;                 ///< from the top
+  double murphree_efficiency = 0.65;  ///< E_i of every tray
+  double reboiler_efficiency = 0.9;   ///< E_r (A.1.19)
+  double tray_area_m2 = 0.0177;       ///< active area, 0.15 m diameter
   double weir_height_m = 0.025;
   double weir_length_m = 0.10;
-  double francis_coefficient = 1.84;   ///< Q = c·l_w·h_ow^1.5, m³/s with metres
+  double francis_coefficient = 1.84;             ///< Q = c·l_w·h_ow^1.5, m³/s with metres
   double ethanol_molar_volume_m3_kmol = 0.0585;  ///< 46.07 kg/kmol / 787 kg/m³
   double water_molar_volume_m3_kmol = 0.0181;    ///< 18.02 kg/kmol / 997 kg/m³
-  double reboiler_holdup_kmol = 0.05;  ///< M_r
-  double liquid_return_fraction = 0.5;       ///< R = L_{N+1}/L_r
-  double compartment_return_fraction = 0.9;  ///< r
-  double heat_time_constant_min = 2.0;       ///< τ_r
-  double drum_holdup_kmol = 0.05;            ///< set point of the drum level loop
-  double sump_holdup_kmol = 0.10;            ///< set point of the sump level loop
+  double reboiler_holdup_kmol = 0.05;            ///< M_r
+  double liquid_return_fraction = 0.5;           ///< R = L_{N+1}/L_r
+  double compartment_return_fraction = 0.9;      ///< r
+  double heat_time_constant_min = 2.0;           ///< τ_r
+  double drum_holdup_kmol = 0.05;                ///< set point of the drum level loop
+  double sump_holdup_kmol = 0.10;                ///< set point of the sump level loop
   double drum_level_gain_per_min = 1.0;
   double sump_level_gain_per_min = 1.0;
   double pressure_kpa = 101.325;

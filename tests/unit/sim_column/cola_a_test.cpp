@@ -28,9 +28,9 @@ ColumnPlant* ColaATest::plant_ = nullptr;
 
 TEST_F(ColaATest, NominalSteadyStateMatchesThePublishedCompositions) {
   const Eigen::VectorXd& s = plant().nominal_state();
-  EXPECT_NEAR(s[x_index(41)], 0.99, 1e-6);      // x_D
-  EXPECT_NEAR(s[x_index(1)], 0.01, 1e-6);       // x_B
-  EXPECT_NEAR(s[x_index(21)], 0.49872, 5e-6);   // feed stage
+  EXPECT_NEAR(s[x_index(41)], 0.99, 1e-6);     // x_D
+  EXPECT_NEAR(s[x_index(1)], 0.01, 1e-6);      // x_B
+  EXPECT_NEAR(s[x_index(21)], 0.49872, 5e-6);  // feed stage
   for (int stage = 1; stage <= 41; ++stage) {
     EXPECT_NEAR(s[x_index(stage) + 1], 0.5, 1e-9) << "holdup of stage " << stage;
   }

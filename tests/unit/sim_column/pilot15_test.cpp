@@ -122,8 +122,7 @@ TEST_F(Pilot15Test, BoilUpFollowsSteamWithTheHeatInputTimeConstant) {
   p.simulate(u, 1.0);
   const Eigen::Index vb = 2 * (model_->parameters().trays + 1) + 1;
   const double tau = model_->parameters().heat_time_constant_min;
-  EXPECT_NEAR(p.state()[vb] - plant_->nominal_state()[vb], dv * (1.0 - std::exp(-1.0 / tau)),
-              1e-9);
+  EXPECT_NEAR(p.state()[vb] - plant_->nominal_state()[vb], dv * (1.0 - std::exp(-1.0 / tau)), 1e-9);
 }
 
 }  // namespace
