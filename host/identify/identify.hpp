@@ -2,7 +2,7 @@
 #pragma once
 // Identification of a transfer-function matrix of (6.1.1) elements (SPEC §6): every output
 // is fitted as a multi-input single-output model, all n elements of the row together, by
-// output error with the exact ZOH simulation of two_pole_element.hpp.
+// output error with the exact ZOH simulation of element.hpp (sim/lti).
 //
 // Per output:
 //   1. Which inputs can be identified: an input that is zero throughout, or a linear

@@ -26,31 +26,6 @@ std::span<double> span_of(Eigen::VectorXd& v) {
   return {v.data(), static_cast<std::size_t>(v.size())};
 }
 
-// Taps of a window: b̃_m for m = m0 … m0 + kWindow − 1, and a1, a2, of element g.
-constexpr std::size_t kWindow = 6;
-struct TapWindow {
-  double a1 = 0.0;
-  double a2 = 0.0;
-  std::array<double, kWindow> b{};
-};
-
-TapWindow tap_window(const TwoPoleDelay& g, double T, std::size_t m0) {
-  TapWindow w;
-  const auto [a1, a2] = denominator(g, T);
-  w.a1 = a1;
-  w.a2 = a2;
-  // h(j) = S(jT) − S((j−1)T) for j = m0 − 2 … m0 + kWindow − 1.
-  std::array<double, kWindow + 3> S{};
-  for (std::size_t i = 0; i < S.size(); ++i) {
-    S[i] = step_response(g, (static_cast<double>(m0) + static_cast<double>(i) - 3.0) * T);
-  }
-  const auto h = [&](std::size_t i) { return S[i + 1] - S[i]; };  // h(m0 − 2 + i)
-  for (std::size_t m = 0; m < kWindow; ++m) {
-    w.b[m] = h(m + 2) + w.a1 * h(m + 1) + w.a2 * h(m);
-  }
-  return w;
-}
-
 // The row's simulation: unit-gain responses per element, scaled and summed; and its
 // Jacobian by sensitivity filters (see jacobian()).
 class RowModel {
@@ -73,9 +48,9 @@ class RowModel {
     return y_hat;
   }
 
-  // ∂ŷ/∂x. With G = B(q)/D(q) (taps b̃_m, D = 1 + a1 q⁻¹ + a2 q⁻²), w = u/D and v = z/D
+  // ∂ŷ/∂x. With G = B(q)/D(q) (taps b_m by lag, D = 1 + a1 q⁻¹ + a2 q⁻²), w = u/D and v = z/D
   // for the unit response z = B w:
-  //   ∂z/∂θ = Σ_m (∂b̃_m/∂θ) w(k − m) − (∂a1/∂θ) v(k − 1) − (∂a2/∂θ) v(k − 2),
+  //   ∂z/∂θ = Σ_m (∂b_m/∂θ) w(k − m) − (∂a1/∂θ) v(k − 1) − (∂a2/∂θ) v(k − 2),
   // exact filters; only the scalar coefficient derivatives are taken by central differences
   // (one-sided on a bound), over a tap window wide enough for d to change by one.
   void jacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& lower,
@@ -85,19 +60,22 @@ class RowModel {
     for (Eigen::Index e = 0; e < elements(); ++e) {
       const Eigen::Index o = kPerElement * e;
       const TwoPoleDelay g = unit_element(x, e);
-      const DiscreteTwoPole c = discretise(g, T_);
+      // Taps by lag from the element's own whole-sample delay minus one, so a perturbed
+      // delay that crosses a sample boundary still fits the window.
+      const sim::DiscreteTerm c = discretise(g, T_);
+      const auto m0 = static_cast<std::size_t>(std::max(c.delay_samples - 1, 0));
+      const LagTaps base = lag_taps(g, T_, m0);
       const std::span<const double> u = input(e);
       std::copy(u.begin(), u.end(), w_.data());
-      all_pole_filter(c.a1, c.a2, span_of(w_));
+      all_pole_filter(base.a1, base.a2, span_of(w_));
       auto z = J.col(o + kGain);
       z.setZero();
-      for (std::size_t j = 0; j < 4; ++j) {
-        const auto lag = static_cast<Eigen::Index>(c.delay_samples + j);
-        if (lag < N) z.tail(N - lag) += c.b[j] * w_.head(N - lag);
+      for (std::size_t t = 0; t < kLagWindow; ++t) {
+        const auto lag = static_cast<Eigen::Index>(m0 + t);
+        if (base.b[t] != 0.0 && lag < N) z.tail(N - lag) += base.b[t] * w_.head(N - lag);
       }
       v_ = z;
-      all_pole_filter(c.a1, c.a2, span_of(v_));
-      const std::size_t m0 = c.delay_samples > 0 ? c.delay_samples - 1 : 0;
+      all_pole_filter(base.a1, base.a2, span_of(v_));
       const double K = x(o + kGain);
       for (const int m : {kDelay, kTp1, kTp2}) {
         const double val = x(o + m);
@@ -108,12 +86,12 @@ class RowModel {
         TwoPoleDelay gm = g;
         field(gp, m) = hi;
         field(gm, m) = lo;
-        const TapWindow tp = tap_window(gp, T_, m0);
-        const TapWindow tm = tap_window(gm, T_, m0);
+        const LagTaps tp = lag_taps(gp, T_, m0);
+        const LagTaps tm = lag_taps(gm, T_, m0);
         const double scale = K / (hi - lo);
         auto col = J.col(o + m);
         col.setZero();
-        for (std::size_t t = 0; t < kWindow; ++t) {
+        for (std::size_t t = 0; t < kLagWindow; ++t) {
           const auto lag = static_cast<Eigen::Index>(m0 + t);
           const double db = scale * (tp.b[t] - tm.b[t]);
           if (db != 0.0 && lag < N) col.tail(N - lag) += db * w_.head(N - lag);
@@ -130,7 +108,7 @@ class RowModel {
 
  private:
   static double& field(TwoPoleDelay& g, int m) {
-    return m == kDelay ? g.delay_min : (m == kTp1 ? g.tp1_min : g.tp2_min);
+    return m == kDelay ? g.delay_min : (m == kTp1 ? g.tau1_min : g.tau2_min);
   }
 
   const Eigen::MatrixXd& U_;
@@ -198,7 +176,7 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
   for (Eigen::Index e = 0; e < m; ++e) {
     const Eigen::Index o = kPerElement * e;
     const TwoPoleDelay& g = initial[static_cast<std::size_t>(e)];
-    x0.segment<kPerElement>(o) << g.gain, g.delay_min, g.tp1_min, g.tp2_min;
+    x0.segment<kPerElement>(o) << g.gain, g.delay_min, g.tau1_min, g.tau2_min;
     problem.lower.segment<kPerElement>(o) << -kInf, 0.0, 0.0, 0.0;
     problem.upper.segment<kPerElement>(o) << kInf, bounds.max_delay_min,
         bounds.max_time_constant_min, bounds.max_time_constant_min;
@@ -236,9 +214,9 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
     for (int k = 0; k < kPerElement; ++k)
       est.at_bound[static_cast<std::size_t>(k)] = on_bound[static_cast<std::size_t>(o + k)];
     // Report T_p1 ≥ T_p2 (the model is symmetric in them).
-    if (est.value.tp2_min > est.value.tp1_min) {
-      std::swap(est.value.tp1_min, est.value.tp2_min);
-      std::swap(est.std_error.tp1_min, est.std_error.tp2_min);
+    if (est.value.tau2_min > est.value.tau1_min) {
+      std::swap(est.value.tau1_min, est.value.tau2_min);
+      std::swap(est.std_error.tau1_min, est.std_error.tau2_min);
       std::swap(est.at_bound[kTp1], est.at_bound[kTp2]);
     }
     const double k_se = est.std_error.gain;

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "host/identify/two_pole_element.hpp"
+#include "host/identify/element.hpp"
 
 namespace excite::host {
 

@@ -18,7 +18,7 @@ ResponseBank::ResponseBank(const Eigen::MatrixXd& U, const std::vector<int>& inp
     }
   }
   const auto G = static_cast<Eigen::Index>(grid_.size());
-  std::vector<DiscreteTwoPole> discrete;
+  std::vector<sim::DiscreteTerm> discrete;
   discrete.reserve(grid_.size());
   for (const auto& g : grid_) discrete.push_back(discretise(g, T_min));
 

@@ -7,7 +7,7 @@
 #include <Eigen/Dense>
 #include <vector>
 
-#include "host/identify/two_pole_element.hpp"
+#include "host/identify/element.hpp"
 
 namespace excite::host {
 

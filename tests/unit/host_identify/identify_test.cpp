@@ -26,8 +26,8 @@ void expect_recovers(const IdentificationResult& r, const std::vector<TwoPoleDel
       EXPECT_EQ(e.status, ElementStatus::identified) << e.reason;
       EXPECT_NEAR(e.value.gain, t.gain, rel * std::abs(t.gain));
       EXPECT_NEAR(e.value.delay_min, t.delay_min, rel * std::max(t.delay_min, 1.0));
-      EXPECT_NEAR(e.value.tp1_min, std::max(t.tp1_min, t.tp2_min), rel * t.tp1_min);
-      EXPECT_NEAR(e.value.tp2_min, std::min(t.tp1_min, t.tp2_min), rel * t.tp2_min);
+      EXPECT_NEAR(e.value.tau1_min, std::max(t.tau1_min, t.tau2_min), rel * t.tau1_min);
+      EXPECT_NEAR(e.value.tau2_min, std::min(t.tau1_min, t.tau2_min), rel * t.tau2_min);
     }
   }
 }

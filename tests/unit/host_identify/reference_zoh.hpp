@@ -3,22 +3,22 @@
 // Test oracle: the (6.1.1) element simulated under a ZOH input with a fractional delay by
 // integrating its state-space cascade exactly with the matrix exponential over the two
 // sub-intervals of every sample (before and after the delayed input switches). Independent
-// of the closed-form discretisation in host/identify/two_pole_element.cpp.
+// of the Van Loan / Markov-parameter discretisation in sim/lti/discretise.cpp.
 
 #include <Eigen/Dense>
 #include <cmath>
 #include <unsupported/Eigen/MatrixFunctions>
 #include <vector>
 
-#include "host/identify/two_pole_element.hpp"
+#include "host/identify/element.hpp"
 
 namespace excite::host::testing {
 
 inline Eigen::VectorXd reference_response(const TwoPoleDelay& g, double T,
                                           const Eigen::VectorXd& u) {
   std::vector<double> taus;
-  if (g.tp1_min > 0.0) taus.push_back(g.tp1_min);
-  if (g.tp2_min > 0.0) taus.push_back(g.tp2_min);
+  if (g.tau1_min > 0.0) taus.push_back(g.tau1_min);
+  if (g.tau2_min > 0.0) taus.push_back(g.tau2_min);
   const auto s = static_cast<Eigen::Index>(taus.size());
   const auto d = static_cast<Eigen::Index>(std::floor(g.delay_min / T));
   const double theta = g.delay_min - static_cast<double>(d) * T;

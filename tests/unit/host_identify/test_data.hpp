@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "firmware/signal/mseq.hpp"
-#include "host/identify/two_pole_element.hpp"
+#include "host/identify/element.hpp"
 #include "tests/unit/host_identify/reference_zoh.hpp"
 
 namespace excite::host::testing {

@@ -4,12 +4,34 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
+#include <new>
 #include <string>
+#include <vector>
 
 #include "firmware/runlog/reader.hpp"
+
+// Every operator new of this test program is counted, to prove that formatting allocates
+// nothing (STYLE.md practice 5).
+namespace {
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
 
 namespace excite::runlog {
 namespace {
@@ -138,6 +160,28 @@ TEST(RunLogWriter, FileRoundTripIsExact) {
   }
   EXPECT_EQ(r.log.input_units[1], "kmol/min");
   EXPECT_EQ(r.log.output_names[0], "xD");
+}
+
+TEST(RunLogWriter, FormattingAndWritingDoNotAllocate) {
+  std::array<char, 1024> buf{};
+  const std::array<double, 2> du = {0.1, -0.25};
+  const std::array<double, 1> dy = {1.0 / 3.0};
+  std::FILE* sink = std::fopen("/dev/null", "wb");
+  ASSERT_NE(sink, nullptr);
+  FileWriter w(sink, two_by_one(), buf);
+  const long before = g_allocations.load();
+  EXPECT_EQ(format_header(two_by_one(), buf).status, WriteStatus::ok);
+  for (std::uint64_t k = 0; k < 100; ++k) {
+    EXPECT_EQ(format_row(two_by_one(), Row{static_cast<double>(k), k, du, du, dy, 0}, buf).status,
+              WriteStatus::ok);
+    EXPECT_EQ(w.write_row(Row{static_cast<double>(k), k, du, du, dy, 0}), WriteStatus::ok);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  std::fclose(sink);
+  // The counter does count: a vector allocates.
+  const long probe = g_allocations.load();
+  const std::vector<double> v(1000, 1.0);
+  EXPECT_GT(g_allocations.load() - probe, 0) << v[999];
 }
 
 }  // namespace

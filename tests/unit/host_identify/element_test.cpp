@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "host/identify/two_pole_element.hpp"
+#include "host/identify/element.hpp"
 
 #include <gtest/gtest.h>
 
@@ -41,7 +41,8 @@ struct Case {
 
 class ZohDiscretisation : public ::testing::TestWithParam<Case> {};
 
-// THEN the closed-form discretisation matches the matrix-exponential integration.
+// The discretisation identification uses (sim/lti via host::discretise) matches the
+// sub-interval matrix-exponential integration of the oracle.
 TEST_P(ZohDiscretisation, MatchesExactStateSpaceIntegration) {
   const Case c = GetParam();
   const Eigen::VectorXd u = random_levels(400, 3);
@@ -81,24 +82,26 @@ TEST(ZohDiscretisation, VanishingTimeConstantTendsToTheFirstOrderElement) {
   }
 }
 
-TEST(ZohDiscretisation, StaticGainIsK) {
-  const DiscreteTwoPole c = discretise(TwoPoleDelay{-11.2, 2.6, 43.0, 6.5}, 1.0);
-  const double dc = (c.b[0] + c.b[1] + c.b[2] + c.b[3]) / (1.0 + c.a1 + c.a2);
-  EXPECT_NEAR(dc, -11.2, 1e-10);
-  EXPECT_EQ(c.delay_samples, 2U);
+TEST(ZohDiscretisation, StaticGainIsKAndDelayIsWholeSamples) {
+  const sim::DiscreteTerm c = discretise(TwoPoleDelay{-11.2, 2.6, 43.0, 6.5}, 1.0);
+  EXPECT_NEAR(c.static_gain(), -11.2, 1e-10);
+  // 2.6 min = 2 whole samples + a fraction, and a strictly proper element adds one more.
+  EXPECT_EQ(c.delay_samples, 3);
 }
 
-TEST(StepResponse, ClosedFormValues) {
-  // S(t) = K (1 − (a e^{−t/a} − b e^{−t/b}) / (a − b)) after the delay.
-  const TwoPoleDelay g{2.0, 1.0, 10.0, 4.0};
-  const double t = 7.0;
-  const double expected =
-      2.0 * (1.0 - (10.0 * std::exp(-6.0 / 10.0) - 4.0 * std::exp(-6.0 / 4.0)) / 6.0);
-  EXPECT_NEAR(step_response(g, t), expected, 1e-14);
-  EXPECT_EQ(step_response(g, 0.5), 0.0);
-  // Double pole: K (1 − (1 + t/a) e^{−t/a}).
-  const TwoPoleDelay d{2.0, 0.0, 5.0, 5.0};
-  EXPECT_NEAR(step_response(d, 3.0), 2.0 * (1.0 - 1.6 * std::exp(-0.6)), 1e-14);
+// The taps by lag reproduce the simulation: y = B(q)/D(q) u from lag_taps and the
+// all-pole filter equals simulate().
+TEST(LagTaps, ReproduceTheSimulation) {
+  const TwoPoleDelay g{1.7, 4.35, 25.0, 7.0};
+  const Eigen::VectorXd u = random_levels(300, 9);
+  const LagTaps t = lag_taps(g, 1.0, 3);
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(u.size());
+  for (std::size_t m = 0; m < kLagWindow; ++m) {
+    const auto lag = static_cast<Eigen::Index>(3 + m);
+    y.tail(u.size() - lag) += t.b[m] * u.head(u.size() - lag);
+  }
+  all_pole_filter(t.a1, t.a2, {y.data(), static_cast<std::size_t>(y.size())});
+  EXPECT_LT(relative_error(y, discrete_response(g, 1.0, u)), 1e-12);
 }
 
 }  // namespace

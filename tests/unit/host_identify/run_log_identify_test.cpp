@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: MIT
+// The whole downstream hop: a run written through the run-log writer into a real file, read
+// back by the reader, identified. The log is the only thing the two sides share.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+
+#include "firmware/runlog/writer.hpp"
+#include "host/identify/identify.hpp"
+#include "host/identify/run_data.hpp"
+#include "tests/unit/host_identify/test_data.hpp"
+
+namespace excite::host {
+namespace {
+
+TEST(RunLogToIdentify, ALoggedNoiseFreeRunGivesBackThePlant) {
+  const std::vector<TwoPoleDelay> truth = {
+      {2.0, 1.3, 20.0, 5.0}, {-1.5, 4.7, 12.0, 3.0}, {0.8, 7.25, 30.0, 2.0}, {1.2, 0.4, 8.0, 6.0}};
+  const double T = 0.5;
+  const Eigen::MatrixXd U = testing::prbs_inputs(2, 6, 16, 31, 2016, 1.0);
+  const Eigen::MatrixXd Y = testing::plant_outputs(truth, 2, 2, T, U);
+
+  char path[] = "/tmp/excite_identify_log_XXXXXX";
+  const int fd = mkstemp(path);
+  ASSERT_GE(fd, 0);
+  std::FILE* f = fdopen(fd, "wb");
+  const std::array<runlog::Channel, 2> inputs = {{{"L", "kmol/min"}, {"V", "kmol/min"}}};
+  const std::array<runlog::Channel, 2> outputs = {{{"xD", "mol/mol"}, {"xB", "mol/mol"}}};
+  const runlog::Header header{"2x2 test plant", "prbs", T, inputs, outputs};
+  std::array<char, runlog::max_row_chars(2, 2)> row_buffer{};
+  std::array<char, 1024> header_buffer{};
+  ASSERT_EQ(runlog::FileWriter(f, header, header_buffer).write_header(), runlog::WriteStatus::ok);
+  runlog::FileWriter writer(f, header, row_buffer);
+  const std::array<double, 2> baseline = {2.706, 3.206};
+  for (Eigen::Index k = 0; k < U.rows(); ++k) {
+    const std::array<double, 2> du = {U(k, 0), U(k, 1)};
+    const std::array<double, 2> u = {baseline[0] + du[0], baseline[1] + du[1]};
+    const std::array<double, 2> dy = {Y(k, 0), Y(k, 1)};
+    ASSERT_EQ(
+        writer.write_row({static_cast<double>(k) * T, static_cast<std::uint64_t>(k), du, u, dy, 0}),
+        runlog::WriteStatus::ok);
+  }
+  std::fclose(f);
+
+  const runlog::ReadResult read = runlog::read_run_log(path);
+  std::remove(path);
+  ASSERT_TRUE(read.ok()) << read.error->to_string();
+  const RunData data = run_data(read.log);
+  EXPECT_EQ(data.U, U);  // bit-exact through the text file
+  EXPECT_EQ(data.Y, Y);
+  const IdentificationResult r = identify(data.U, data.Y, data.sample_time_min);
+  for (int j = 0; j < 2; ++j) {
+    for (int i = 0; i < 2; ++i) {
+      const TwoPoleDelay t = truth[static_cast<std::size_t>(2 * j + i)];
+      const TwoPoleDelay e = r.model.element(j, i).value;
+      EXPECT_NEAR(e.gain, t.gain, 1e-3 * std::abs(t.gain));
+      EXPECT_NEAR(e.delay_min, t.delay_min, 1e-3 * t.delay_min);
+      EXPECT_NEAR(e.tau1_min, t.tau1_min, 1e-3 * t.tau1_min);
+      EXPECT_NEAR(e.tau2_min, t.tau2_min, 1e-3 * t.tau2_min);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace excite::host
