@@ -34,7 +34,10 @@ LmResult minimise_bounded(const LmProblem& problem, Eigen::VectorXd x0, const Lm
       return out;
     }
     problem.jacobian(out.x, J);
-    const Eigen::MatrixXd H = J.transpose() * J;
+    // JᵀJ by a symmetric rank update (half the work of the general product).
+    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(P, P);
+    H.selfadjointView<Eigen::Lower>().rankUpdate(J.transpose());
+    H.triangularView<Eigen::StrictlyUpper>() = H.transpose();
     const Eigen::VectorXd g = J.transpose() * r;  // −½ ∇cost: the descent direction
 
     // Free parameters: not on a bound with the gradient pointing outwards.

@@ -76,15 +76,18 @@ Linearisation ColumnPlant::linearise(const Eigen::VectorXd& state, const Operati
     model_->derivative(state, lo, down);
     lin.b.col(i) = (up - down) / (2.0 * h);
   }
-  // Outputs are state components: locate them by perturbing the state.
+  // C = ∂(x_D, x_B)/∂s by central differences (x_D, x_B are state components or, for
+  // pilot15's sump, m_B/M_B).
   lin.c = Eigen::MatrixXd::Zero(2, n);
-  const Products base = model_->products(state, op);
   for (Eigen::Index k = 0; k < n; ++k) {
-    Eigen::VectorXd s = state;
-    s[k] += 1e-7;
-    const Products p = model_->products(s, op);
-    lin.c(0, k) = (p.x_top - base.x_top) / 1e-7;
-    lin.c(1, k) = (p.x_bottom - base.x_bottom) / 1e-7;
+    const double h = 1e-7 * std::max(1.0, std::abs(state[k]));
+    Eigen::VectorXd sp = state, sm = state;
+    sp[k] += h;
+    sm[k] -= h;
+    const Products pp = model_->products(sp, op);
+    const Products pm = model_->products(sm, op);
+    lin.c(0, k) = (pp.x_top - pm.x_top) / (2.0 * h);
+    lin.c(1, k) = (pp.x_bottom - pm.x_bottom) / (2.0 * h);
   }
   return lin;
 }
