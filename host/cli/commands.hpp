@@ -11,5 +11,9 @@ void add_gains_command(CLI::App& app);
 void add_design_command(CLI::App& app);
 void add_inspect_command(CLI::App& app);
 void add_case_study_command(CLI::App& app);
+void add_simulate_command(CLI::App& app);
+void add_identify_command(CLI::App& app);
+void add_validate_commands(CLI::App& app);  // validate, crossval
+void add_balance_command(CLI::App& app);
 
 }  // namespace excite::host::cli

@@ -14,6 +14,10 @@ int main(int argc, char** argv) {
   excite::host::cli::add_design_command(app);
   excite::host::cli::add_inspect_command(app);
   excite::host::cli::add_case_study_command(app);
+  excite::host::cli::add_simulate_command(app);
+  excite::host::cli::add_identify_command(app);
+  excite::host::cli::add_validate_commands(app);
+  excite::host::cli::add_balance_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

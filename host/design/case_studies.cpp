@@ -3,7 +3,7 @@
 
 #include <stdexcept>
 
-#include "sim/library/library.hpp"
+#include "sim/plants/plant.hpp"
 
 namespace excite::host {
 namespace {
@@ -14,6 +14,7 @@ struct CaseStudy {
   double tau_low_min;
   double tau_high_min;
   double step_length_min;  // 0: a third of each channel's slot
+  double amplitude;        // every input, engineering unit
   std::vector<std::string_view> input_names;
 };
 
@@ -24,12 +25,16 @@ struct CaseStudy {
 // T is chosen so that T_sw spans at least four samples (4.2.8).
 const std::vector<CaseStudy>& studies() {
   static const std::vector<CaseStudy> all = {
-      {"alatiqi4x4", 1.0, 12.0, 50.0, 330.0, {"u1", "u2", "u3", "u4"}},
-      {"column2x2", 1.0, 15.0, 194.0, 0.0, {"L", "V"}},
-      {"heatex2x2", 0.5, 2.439, 100.0, 0.0, {"u1", "u2"}},
-      {"woodberry2x2", 1.0, 10.9, 21.0, 0.0, {"reflux", "steam"}},
-      {"column3x3", 1.0, 10.0, 337.0, 0.0, {"u1", "u2", "u3"}},
-      {"twoweak4x4", 1.0, 6.9, 250.0, 0.0, {"u1", "u2", "u3", "u4"}},
+      {"alatiqi4x4", 1.0, 12.0, 50.0, 330.0, 1.0, {"u1", "u2", "u3", "u4"}},
+      {"column2x2", 1.0, 15.0, 194.0, 0.0, 1.0, {"L", "V"}},
+      {"heatex2x2", 0.5, 2.439, 100.0, 0.0, 1.0, {"u1", "u2"}},
+      {"woodberry2x2", 1.0, 10.9, 21.0, 0.0, 1.0, {"reflux", "steam"}},
+      {"column3x3", 1.0, 10.0, 337.0, 0.0, 1.0, {"u1", "u2", "u3"}},
+      {"twoweak4x4", 1.0, 6.9, 250.0, 0.0, 1.0, {"u1", "u2", "u3", "u4"}},
+      // The nonlinear columns: 2×2 column (5.3.1) is the reduced model of column A, whose
+      // slowest mode is 194 min; moves of 0.01 kmol/min (0.4 % of L) keep it near-linear.
+      {"colaA", 1.0, 15.0, 194.0, 0.0, 0.01, {"L", "V"}},
+      {"pilot15", 0.5, 5.0, 60.0, 0.0, 0.0004, {"L", "V"}},
   };
   return all;
 }
@@ -43,7 +48,7 @@ std::vector<std::string> case_study_plants() {
 }
 
 Eigen::MatrixXd plant_gain(std::string_view plant) {
-  return sim::library_plant(plant).static_gain();
+  return sim::make_plant(plant)->static_gain();
 }
 
 PriorKnowledge case_study(std::string_view plant) {

@@ -14,8 +14,8 @@ namespace excite::host {
 /// Names of the plants that have a case study (the library plants).
 std::vector<std::string> case_study_plants();
 
-/// G(0) of a plant of the simulator library (std::invalid_argument listing the known
-/// plants otherwise).
+/// G(0) of a simulated plant (sim::make_plant: a library plant, colaA, pilot15 or a plant
+/// file; std::invalid_argument listing the known plants otherwise).
 Eigen::MatrixXd plant_gain(std::string_view plant);
 
 /// Prior knowledge of `plant`, its gain G(0) from the plant library.

@@ -138,6 +138,7 @@ Design design_preset(const PriorKnowledge& prior, const PresetInfo& preset,
                  static_cast<long>(prior.gain.rows()), static_cast<long>(prior.gain.cols())));
     }
     gains = std::make_unique<GainAnalysis>(analyse_gain(prior.gain));
+    if (preset.uses_directions()) require_full_rank(*gains);
   }
   const DesignContext context{prior, design.prbs, gains.get()};
   Composition comp = preset.acronym.starts_with("ms") ? compose_multisine(preset.acronym, context)

@@ -197,7 +197,8 @@ DesignSpec parse_design_spec(std::string_view toml_text, std::string_view source
     } else {
       validate(p);
     }
-    if (p.gain.size() != 0) analyse_gain(p.gain);  // refuses a singular gain by name
+    if (p.gain.size() != 0)
+      require_full_rank(analyse_gain(p.gain));  // refuses a singular gain by name
   } catch (const std::invalid_argument& e) {
     reader.fail(nullptr, e.what());
   }

@@ -23,8 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "host/identify/gain_analysis.hpp"
 #include "host/identify/model.hpp"
+#include "host/measures/gain_directions.hpp"
 
 namespace excite::host {
 

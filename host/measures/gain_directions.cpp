@@ -4,10 +4,21 @@
 #include <Eigen/SVD>
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
 namespace excite::host {
+namespace {
+
+// Smallest singular value within rounding of zero, relative to the largest.
+bool rank_deficient(const GainAnalysis& a) {
+  const double sigma_max = a.singular_values(0);
+  const double tolerance = sigma_max * 1e-12 * static_cast<double>(a.gain.rows() + a.gain.cols());
+  return sigma_max == 0.0 || a.singular_values(a.singular_values.size() - 1) <= tolerance;
+}
+
+}  // namespace
 
 std::vector<int> GainAnalysis::weak_directions(double xi_threshold) const {
   std::vector<int> weak;
@@ -36,17 +47,6 @@ GainAnalysis analyse_gain(const Eigen::MatrixXd& gain) {
   a.singular_values = svd.singularValues();
   a.output_directions = svd.matrixU();
   a.input_directions = svd.matrixV();
-
-  const double sigma_max = a.singular_values(0);
-  const double sigma_min = a.singular_values(a.singular_values.size() - 1);
-  const double tolerance = sigma_max * 1e-12 * static_cast<double>(gain.rows() + gain.cols());
-  if (sigma_min <= tolerance) {
-    std::ostringstream msg;
-    msg << "gain matrix: singular (smallest singular value " << sigma_min
-        << "), expected full rank so that every gain direction can be reached";
-    throw std::invalid_argument(msg.str());
-  }
-
   for (Eigen::Index i = 0; i < a.singular_values.size(); ++i) {
     Eigen::Index largest = 0;
     a.output_directions.col(i).cwiseAbs().maxCoeff(&largest);
@@ -56,12 +56,30 @@ GainAnalysis analyse_gain(const Eigen::MatrixXd& gain) {
     }
   }
 
-  a.xi = sigma_max * a.singular_values.cwiseInverse();
-  a.condition_number = sigma_max / sigma_min;
-  const Eigen::MatrixXd pseudo_inverse =
-      svd.solve(Eigen::MatrixXd::Identity(gain.rows(), gain.rows()));
-  a.rga = gain.cwiseProduct(pseudo_inverse.transpose());
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const double sigma_max = a.singular_values(0);
+  a.xi = a.singular_values.unaryExpr([&](double s) { return s > 0.0 ? sigma_max / s : kInf; });
+  a.condition_number = a.xi(a.xi.size() - 1);
+  if (rank_deficient(a)) {
+    a.rga = Eigen::MatrixXd::Constant(gain.rows(), gain.cols(),
+                                      std::numeric_limits<double>::quiet_NaN());
+  } else {
+    const Eigen::MatrixXd pseudo_inverse = a.input_directions *
+                                           a.singular_values.cwiseInverse().asDiagonal() *
+                                           a.output_directions.transpose();
+    a.rga = gain.cwiseProduct(pseudo_inverse.transpose());
+  }
   return a;
+}
+
+void require_full_rank(const GainAnalysis& a) {
+  if (rank_deficient(a)) {
+    std::ostringstream msg;
+    msg << "gain matrix: singular (smallest singular value "
+        << a.singular_values(a.singular_values.size() - 1)
+        << "), expected full rank so that every gain direction can be reached";
+    throw std::invalid_argument(msg.str());
+  }
 }
 
 std::vector<OutputExcursion> static_output_excursions(const Eigen::MatrixXd& gain,

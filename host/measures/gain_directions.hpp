@@ -13,21 +13,26 @@ namespace excite::host {
 /// component positive (v_i follows), so the directions are reproducible.
 struct GainAnalysis {
   Eigen::MatrixXd gain;               // G(0): outputs × inputs
-  Eigen::VectorXd singular_values;    // σ_1 ≥ σ_2 ≥ … ≥ σ_r > 0
+  Eigen::VectorXd singular_values;    // σ_1 ≥ σ_2 ≥ … ≥ σ_r ≥ 0
   Eigen::MatrixXd input_directions;   // V: inputs × r, column i is v_i
   Eigen::MatrixXd output_directions;  // W: outputs × r, column i is w_i
-  Eigen::VectorXd xi;                 // ξ_i = σ_1 / σ_i
-  double condition_number = 0.0;      // κ = σ_1 / σ_r
-  Eigen::MatrixXd rga;                // Λ = G ∘ (G⁺)ᵀ
+  Eigen::VectorXd xi;                 // ξ_i = σ_1 / σ_i (inf when σ_i = 0)
+  double condition_number = 0.0;      // κ = σ_1 / σ_r (inf when singular)
+  Eigen::MatrixXd rga;                // Λ = G ∘ (G⁺)ᵀ; NaN when rank deficient
 
   /// Indices i (0-based) of the directions with ξ_i ≥ threshold: the weak directions that
   /// need excitation of their own (SPEC §3: not only the weakest one).
   std::vector<int> weak_directions(double xi_threshold = 10.0) const;
 };
 
-/// Throws std::invalid_argument when G is empty, has a non-finite entry, or is singular
-/// (a zero singular value: some direction cannot be reached), naming the offending value.
+/// Throws std::invalid_argument when G is empty or has a non-finite entry, naming it.
+/// A rank-deficient G is analysed (an identified one may be): its ξ_i and κ are then
+/// infinite and its RGA NaN.
 GainAnalysis analyse_gain(const Eigen::MatrixXd& gain);
+
+/// Throws std::invalid_argument when `a` is rank deficient (smallest singular value within
+/// rounding of zero: some direction cannot be reached), for designs that need V·Σ⁻¹.
+void require_full_rank(const GainAnalysis& a);
 
 /// Per-output extremes of the static response G(0)·u(k) over a table (N × inputs): a design
 /// checked against output limits before a plant test.

@@ -8,7 +8,7 @@
 
 #include "host/identify/balance.hpp"
 #include "host/identify/bounded_lm.hpp"
-#include "host/identify/gain_analysis.hpp"
+#include "host/measures/gain_directions.hpp"
 
 namespace excite::host {
 namespace {

@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: MIT
+// excite balance RUN.csv (--plant NAME | --gain FILE) [--json]: how evenly the outputs of
+// an experiment spread over the output gain directions (5.5.2) and Υ (6.2.1).
+
+#include <fstream>
+#include <iostream>
+
+#include "host/cli/commands.hpp"
+#include "host/cli/json_util.hpp"
+#include "host/cli/run_input.hpp"
+#include "host/cli/text_table.hpp"
+#include "host/design/case_studies.hpp"
+#include "host/identify/balance.hpp"
+#include "host/measures/gain_directions.hpp"
+
+namespace excite::host::cli {
+namespace {
+
+struct BalanceOptions {
+  std::string run_path;
+  std::string plant;
+  std::string gain_path;
+  bool json = false;
+};
+
+// A gain matrix from JSON with a "gain" array of rows: what `excite gains --json` and
+// `excite identify -o` write.
+Eigen::MatrixXd read_gain_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument(path + ": cannot be read");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw std::invalid_argument(path + ": not JSON (" + e.what() + ")");
+  }
+  if (!j.contains("gain") || !j["gain"].is_array() || j["gain"].empty()) {
+    throw std::invalid_argument(path +
+                                ": gain: missing, expected an array of rows (excite gains --json)");
+  }
+  const auto& rows = j["gain"];
+  Eigen::MatrixXd g(static_cast<Eigen::Index>(rows.size()),
+                    static_cast<Eigen::Index>(rows[0].size()));
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    if (!rows[r].is_array() || rows[r].size() != static_cast<std::size_t>(g.cols())) {
+      throw std::invalid_argument(path + ": gain[" + std::to_string(r) + "]: expected " +
+                                  std::to_string(g.cols()) + " numbers");
+    }
+    for (std::size_t c = 0; c < rows[r].size(); ++c) {
+      if (!rows[r][c].is_number()) {
+        throw std::invalid_argument(path + ": gain[" + std::to_string(r) + "][" +
+                                    std::to_string(c) + "]: expected a number");
+      }
+      g(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = rows[r][c].get<double>();
+    }
+  }
+  return g;
+}
+
+void run(const BalanceOptions& opt) {
+  if (opt.plant.empty() == opt.gain_path.empty())
+    throw std::invalid_argument("give exactly one of --plant and --gain");
+  const Run data = read_run(opt.run_path);
+  const Eigen::MatrixXd gain =
+      opt.plant.empty() ? read_gain_file(opt.gain_path) : plant_gain(opt.plant);
+  if (gain.rows() != data.data.Y.cols()) {
+    throw std::invalid_argument((opt.plant.empty() ? opt.gain_path : "plant " + opt.plant) +
+                                ": gain has " + std::to_string(gain.rows()) + " outputs, " +
+                                opt.run_path + " has " + std::to_string(data.data.Y.cols()) +
+                                "; expected equal");
+  }
+  const GainAnalysis a = analyse_gain(gain);
+  const DirectionalBalance b = directional_balance(data.data.Y, a.output_directions);
+  const double upsilon = output_correlation_determinant(data.data.Y);
+  if (opt.json) {
+    std::cout << nlohmann::json{{"projection_std", to_json(b.std_dev)},
+                                {"ratio", to_json(b.ratio)},
+                                {"upsilon", to_json(upsilon)}}
+                     .dump(2)
+              << '\n';
+    return;
+  }
+  TextTable t({"direction", "sigma_i", "std of w_i'y"});
+  for (Eigen::Index i = 0; i < b.std_dev.size(); ++i) {
+    t.add_row({std::to_string(i + 1), num(a.singular_values(i), 5), num(b.std_dev(i), 5)});
+  }
+  t.print(std::cout);
+  std::cout << "ratio min/max = " << num(b.ratio)
+            << " (1: balanced), Upsilon = det(corr(Y)) = " << num(upsilon) << '\n';
+}
+
+}  // namespace
+
+void add_balance_command(CLI::App& app) {
+  auto opt = std::make_shared<BalanceOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "balance", "Output balance over the gain directions (5.5.2) and Upsilon (6.2.1)");
+  cmd->add_option("run", opt->run_path, "run log (CSV)")->required();
+  cmd->add_option("--plant", opt->plant, "take the directions from this plant's G(0)");
+  cmd->add_option("--gain", opt->gain_path,
+                  "take them from a JSON file with \"gain\" (excite gains --json)");
+  cmd->add_flag("--json", opt->json, "machine-readable output");
+  cmd->callback([opt] { run(*opt); });
+}
+
+}  // namespace excite::host::cli

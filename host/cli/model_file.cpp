@@ -1,0 +1,125 @@
+// SPDX-License-Identifier: MIT
+#include "host/cli/model_file.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+
+#include "host/cli/json_util.hpp"
+
+namespace excite::host::cli {
+namespace {
+
+constexpr const char* kFormat = "excite model v1";
+
+nlohmann::json parameters(const TwoPoleDelay& p) {
+  return {{"K", to_json(p.gain)},
+          {"Tp1", to_json(p.tau1_min)},
+          {"Tp2", to_json(p.tau2_min)},
+          {"Td", to_json(p.delay_min)}};
+}
+
+double number(const nlohmann::json& j, const char* key, const std::string& where) {
+  if (!j.contains(key))
+    throw std::invalid_argument(where + "." + key + ": missing, expected a number");
+  const nlohmann::json& v = j.at(key);
+  if (v.is_null()) return std::numeric_limits<double>::quiet_NaN();
+  if (!v.is_number())
+    throw std::invalid_argument(where + "." + key + ": " + v.dump() + ", expected a number");
+  return v.get<double>();
+}
+
+}  // namespace
+
+nlohmann::json model_json(const IdentificationResult& result,
+                          const std::vector<std::string>& input_names,
+                          const std::vector<std::string>& output_names) {
+  const IdentifiedModel& m = result.model;
+  nlohmann::json outputs = nlohmann::json::array();
+  for (int o = 0; o < m.outputs; ++o) {
+    nlohmann::json elements = nlohmann::json::array();
+    for (int i = 0; i < m.inputs; ++i) {
+      const ElementEstimate& e = m.element(o, i);
+      nlohmann::json j = parameters(e.value);
+      j["input"] = input_names.at(static_cast<std::size_t>(i));
+      j["se"] = parameters(e.std_error);
+      j["status"] = to_string(e.status);
+      j["reason"] = e.reason;
+      elements.push_back(j);
+    }
+    outputs.push_back({{"name", output_names.at(static_cast<std::size_t>(o))},
+                       {"fit", to_json(result.fits.at(static_cast<std::size_t>(o)).fit_percent)},
+                       {"elements", elements}});
+  }
+  nlohmann::json j = {{"format", kFormat},
+                      {"sample_time_min", m.sample_time_min},
+                      {"inputs", input_names},
+                      {"outputs", outputs},
+                      {"gain", rows_to_json(m.static_gain())}};
+  if (result.gain) {
+    j["singular_values"] = to_json(result.gain->singular_values);
+    j["condition_number"] = to_json(result.gain->condition_number);
+    j["xi"] = to_json(result.gain->xi);
+    j["rga"] = rows_to_json(result.gain->rga);
+  } else {
+    j["singular_values"] = nullptr;
+    j["condition_number"] = nullptr;
+    j["gain_unavailable_reason"] = result.gain_unavailable_reason;
+  }
+  return j;
+}
+
+IdentifiedModel read_model_file(const std::filesystem::path& path) {
+  const std::string where = path.string();
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument(where + ": cannot be read");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw std::invalid_argument(where + ": not JSON (" + e.what() + ")");
+  }
+  if (!j.is_object() || j.value("format", "") != kFormat) {
+    throw std::invalid_argument(where + ": format: expected \"" + kFormat +
+                                "\" (a file from excite identify -o)");
+  }
+  IdentifiedModel m;
+  m.sample_time_min = number(j, "sample_time_min", where);
+  if (!(m.sample_time_min > 0.0))
+    throw std::invalid_argument(where + ": sample_time_min: expected > 0");
+  if (!j.contains("inputs") || !j["inputs"].is_array() || !j.contains("outputs") ||
+      !j["outputs"].is_array()) {
+    throw std::invalid_argument(where + ": inputs, outputs: expected arrays");
+  }
+  m.inputs = static_cast<int>(j["inputs"].size());
+  m.outputs = static_cast<int>(j["outputs"].size());
+  m.elements.resize(static_cast<std::size_t>(m.inputs * m.outputs));
+  for (int o = 0; o < m.outputs; ++o) {
+    const nlohmann::json& out = j["outputs"][static_cast<std::size_t>(o)];
+    const std::string at = where + ": outputs[" + std::to_string(o) + "]";
+    if (!out.contains("elements") || !out["elements"].is_array() ||
+        out["elements"].size() != static_cast<std::size_t>(m.inputs)) {
+      throw std::invalid_argument(at + ".elements: expected " + std::to_string(m.inputs) +
+                                  " elements");
+    }
+    for (int i = 0; i < m.inputs; ++i) {
+      const nlohmann::json& e = out["elements"][static_cast<std::size_t>(i)];
+      const std::string el = at + ".elements[" + std::to_string(i) + "]";
+      ElementEstimate& est = m.element(o, i);
+      est.value = {number(e, "K", el), number(e, "Td", el), number(e, "Tp1", el),
+                   number(e, "Tp2", el)};
+      const bool finite = std::isfinite(est.value.gain) && std::isfinite(est.value.delay_min) &&
+                          std::isfinite(est.value.tau1_min) && std::isfinite(est.value.tau2_min);
+      if (finite &&
+          (est.value.delay_min < 0.0 || est.value.tau1_min < 0.0 || est.value.tau2_min < 0.0)) {
+        throw std::invalid_argument(el + ": Td, Tp1, Tp2: expected >= 0");
+      }
+      est.status = finite ? ElementStatus::identified : ElementStatus::input_not_moved;
+      if (!finite) est.reason = e.value("reason", "not estimated");
+    }
+  }
+  return m;
+}
+
+}  // namespace excite::host::cli

@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: MIT
+#include "host/simulate/simulate.hpp"
+
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+
+#include "firmware/runlog/writer.hpp"
+#include "host/design/table.hpp"
+#include "sim/lti/noise.hpp"
+
+namespace excite::host {
+namespace {
+
+SimulatedRun describe(sim::Plant& plant, double sample_time_min) {
+  SimulatedRun run;
+  run.plant = plant.name();
+  run.sample_time_min = sample_time_min;
+  run.input_names = plant.input_names();
+  run.input_units = plant.input_units();
+  run.output_names = plant.output_names();
+  run.output_units = plant.output_units();
+  run.input_baseline = plant.input_baseline();
+  return run;
+}
+
+void respond(sim::Plant& plant, SimulatedRun& run, const SimulationOptions& options) {
+  run.dy = plant.simulate(run.du, run.sample_time_min);
+  if (options.noise_variance > 0.0) {
+    sim::MeasurementNoise noise(plant.outputs(), options.noise_variance, options.seed);
+    noise.add(run.dy);
+  } else if (options.noise_variance < 0.0) {
+    throw std::invalid_argument("noise variance = " + std::to_string(options.noise_variance) +
+                                ", expected >= 0");
+  }
+}
+
+}  // namespace
+
+SimulatedRun simulate_plan(const plan::Plan& plan, std::string plan_label, sim::Plant& plant,
+                           const SimulationOptions& options) {
+  if (static_cast<int>(plan.recipe.channels) != plant.inputs()) {
+    throw std::invalid_argument("plan has " + std::to_string(plan.recipe.channels) +
+                                " channels, plant " + plant.name() + " has " +
+                                std::to_string(plant.inputs()) + " inputs; expected equal");
+  }
+  if (options.periods == 0) throw std::invalid_argument("periods = 0, expected at least 1");
+  SimulatedRun run = describe(plant, plan.meta.sample_time_s / 60.0);
+  run.plan = std::move(plan_label);
+  const Table table = make_table(plan.recipe);
+  run.du.resize(table.rows() * options.periods, table.cols());
+  for (std::uint32_t p = 0; p < options.periods; ++p)
+    run.du.middleRows(p * table.rows(), table.rows()) = table;
+  respond(plant, run, options);
+  return run;
+}
+
+SimulatedRun simulate_step(sim::Plant& plant, const std::string& input, double amplitude,
+                           std::uint32_t samples, double sample_time_min,
+                           const SimulationOptions& options) {
+  const std::vector<std::string> names = plant.input_names();
+  const auto at = std::find(names.begin(), names.end(), input);
+  if (at == names.end()) {
+    std::string known;
+    for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
+    throw std::invalid_argument("step input = \"" + input + "\", expected one of: " + known);
+  }
+  if (samples < 2)
+    throw std::invalid_argument("samples = " + std::to_string(samples) + ", expected at least 2");
+  SimulatedRun run = describe(plant, sample_time_min);
+  run.plan = "step " + input + "=" + std::to_string(amplitude);
+  run.du = Eigen::MatrixXd::Zero(samples, plant.inputs());
+  run.du.col(at - names.begin()).setConstant(amplitude);
+  respond(plant, run, options);
+  return run;
+}
+
+void write_run_log(const SimulatedRun& run, const std::filesystem::path& path) {
+  std::vector<runlog::Channel> inputs, outputs;
+  for (std::size_t j = 0; j < run.input_names.size(); ++j)
+    inputs.push_back({run.input_names[j], run.input_units[j]});
+  for (std::size_t i = 0; i < run.output_names.size(); ++i) {
+    outputs.push_back({run.output_names[i], run.output_units[i]});
+  }
+  const runlog::Header header{run.plant, run.plan, run.sample_time_min, inputs, outputs};
+
+  std::filesystem::path partial = path;
+  partial += ".partial";
+  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(partial.c_str(), "w"),
+                                                             &std::fclose);
+  if (!file) throw std::runtime_error(partial.string() + ": cannot be written");
+  std::vector<char> buffer(
+      std::max<std::size_t>(runlog::max_row_chars(inputs.size(), outputs.size()), 1 << 16));
+  runlog::FileWriter writer(file.get(), header, buffer);
+  const auto fail = [&](runlog::WriteStatus status) {
+    std::filesystem::remove(partial);
+    throw std::runtime_error(path.string() + ": " + std::string(runlog::describe(status)));
+  };
+  if (const auto s = writer.write_header(); s != runlog::WriteStatus::ok) fail(s);
+
+  const auto n = static_cast<Eigen::Index>(inputs.size());
+  const auto p = static_cast<Eigen::Index>(outputs.size());
+  std::vector<double> du(static_cast<std::size_t>(n)), u(static_cast<std::size_t>(n)),
+      dy(static_cast<std::size_t>(p));
+  for (Eigen::Index k = 0; k < run.du.rows(); ++k) {
+    for (Eigen::Index j = 0; j < n; ++j) {
+      du[static_cast<std::size_t>(j)] = run.du(k, j);
+      u[static_cast<std::size_t>(j)] = run.input_baseline(j) + run.du(k, j);
+    }
+    for (Eigen::Index i = 0; i < p; ++i) dy[static_cast<std::size_t>(i)] = run.dy(k, i);
+    const runlog::Row row{
+        static_cast<double>(k) * run.sample_time_min, static_cast<std::uint64_t>(k), du, u, dy, 0};
+    if (const auto s = writer.write_row(row); s != runlog::WriteStatus::ok) fail(s);
+  }
+  if (std::fflush(file.get()) != 0) fail(runlog::WriteStatus::io_error);
+  std::error_code ec;
+  std::filesystem::rename(partial, path, ec);
+  if (ec) {
+    std::filesystem::remove(partial);
+    throw std::runtime_error(path.string() + ": cannot be written (" + ec.message() + ")");
+  }
+}
+
+}  // namespace excite::host

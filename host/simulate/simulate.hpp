@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// `excite simulate`: a planned experiment run open loop on a simulated plant, written as
+// a run log (firmware/runlog/README.md) exactly like the gateway writes one.
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "firmware/plan/plan.hpp"
+#include "sim/plants/plant.hpp"
+
+namespace excite::host {
+
+struct SimulationOptions {
+  double noise_variance = 0.0;  // per output, Gaussian (case study: 0.03)
+  std::uint64_t seed = 1;       // of the noise
+  std::uint32_t periods = 1;    // the table played this many times back to back
+};
+
+/// What a run log holds, in memory.
+struct SimulatedRun {
+  std::string plant;
+  std::string plan;
+  double sample_time_min = 0.0;
+  std::vector<std::string> input_names, input_units, output_names, output_units;
+  Eigen::VectorXd input_baseline;  // absolute inputs at the operating point
+  Eigen::MatrixXd du;              // N × inputs, deviations
+  Eigen::MatrixXd dy;              // N × outputs, deviations (with noise)
+};
+
+/// Runs `plan` on `plant`. Throws std::invalid_argument when the plan's channel count
+/// differs from the plant's inputs, or periods is 0.
+SimulatedRun simulate_plan(const plan::Plan& plan, std::string plan_label, sim::Plant& plant,
+                           const SimulationOptions& options);
+
+/// Step responses: input `input` (by name) moved by `amplitude` at t = 0 for `samples`
+/// samples of `sample_time_min`, the other inputs at rest.
+SimulatedRun simulate_step(sim::Plant& plant, const std::string& input, double amplitude,
+                           std::uint32_t samples, double sample_time_min,
+                           const SimulationOptions& options);
+
+/// Writes the run log (through PATH.partial renamed into place: a failed write leaves no
+/// file). Throws std::runtime_error naming the path and the writer's reason.
+void write_run_log(const SimulatedRun& run, const std::filesystem::path& path);
+
+}  // namespace excite::host

@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Every plant the tools can simulate, behind one interface: the linear library plants and
+// TOML plant files (sim/lti, sim/library) and the nonlinear columns (sim/column). Inputs
+// and outputs are deviations from the operating point; time in minutes.
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace excite::sim {
+
+class Plant {
+ public:
+  virtual ~Plant() = default;
+
+  virtual std::string name() const = 0;
+  virtual std::vector<std::string> input_names() const = 0;
+  virtual std::vector<std::string> output_names() const = 0;
+  /// Engineering units, one token each ("-" when dimensionless or unknown).
+  virtual std::vector<std::string> input_units() const = 0;
+  virtual std::vector<std::string> output_units() const = 0;
+  /// Absolute inputs at the operating point (0 for the linear models).
+  virtual Eigen::VectorXd input_baseline() const = 0;
+  /// Steady-state gain G(0), outputs × inputs (the columns: linearised at the nominal point).
+  virtual Eigen::MatrixXd static_gain() const = 0;
+  /// Open-loop response from rest at the operating point to input deviations `du`
+  /// (N × inputs, held over each sample), sampled at the start of each interval: N × outputs.
+  /// Throws std::invalid_argument on a wrong column count or non-finite inputs.
+  virtual Eigen::MatrixXd simulate(const Eigen::MatrixXd& du, double sample_time_min) = 0;
+
+  int inputs() const { return static_cast<int>(input_names().size()); }
+  int outputs() const { return static_cast<int>(output_names().size()); }
+};
+
+/// Names `make_plant` knows: the linear library plants, then colaA and pilot15.
+std::vector<std::string> plant_names();
+
+/// A plant by name, or from a TOML plant file when `name_or_path` ends in ".toml"
+/// (sim/lti/README.md). std::invalid_argument listing the known names otherwise.
+std::unique_ptr<Plant> make_plant(std::string_view name_or_path);
+
+}  // namespace excite::sim
