@@ -15,5 +15,6 @@ void add_simulate_command(CLI::App& app);
 void add_identify_command(CLI::App& app);
 void add_validate_commands(CLI::App& app);  // validate, crossval
 void add_balance_command(CLI::App& app);
+void add_campaign_command(CLI::App& app);
 
 }  // namespace excite::host::cli

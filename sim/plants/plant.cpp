@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "sim/plants/plant.hpp"
 
+#include <Eigen/LU>
+
+#include <complex>
 #include <stdexcept>
 
 #include "sim/column/column_plant.hpp"
@@ -26,6 +29,9 @@ class LinearPlant final : public Plant {
   }
   Eigen::VectorXd input_baseline() const override { return Eigen::VectorXd::Zero(g_.inputs()); }
   Eigen::MatrixXd static_gain() const override { return g_.static_gain(); }
+  Eigen::MatrixXcd frequency_response(double omega) const override {
+    return g_.frequency_response(omega);
+  }
   Eigen::MatrixXd simulate(const Eigen::MatrixXd& du, double sample_time_min) override {
     return DiscretePlant(g_, sample_time_min).simulate(du);
   }
@@ -49,6 +55,16 @@ class Column final : public Plant {
     return Eigen::Vector2d(op.reflux_kmol_min, op.boilup_kmol_min);
   }
   Eigen::MatrixXd static_gain() const override { return column_.static_gain(); }
+  Eigen::MatrixXcd frequency_response(double omega) const override {
+    const auto& lin = column_.linearise();
+    const Eigen::Index n = lin.a.rows();
+    const Eigen::MatrixXcd resolvent =
+        (std::complex<double>(0.0, omega) * Eigen::MatrixXcd::Identity(n, n) -
+         lin.a.cast<std::complex<double>>())
+            .partialPivLu()
+            .solve(lin.b.cast<std::complex<double>>());
+    return lin.c.cast<std::complex<double>>() * resolvent;
+  }
   Eigen::MatrixXd simulate(const Eigen::MatrixXd& du, double sample_time_min) override {
     column_.reset();
     return column_.simulate(du, sample_time_min);

@@ -32,6 +32,10 @@ class Plant {
   /// Throws std::invalid_argument on a wrong column count or non-finite inputs.
   virtual Eigen::MatrixXd simulate(const Eigen::MatrixXd& du, double sample_time_min) = 0;
 
+  /// G(jω), outputs × inputs, ω in rad/min (the columns: their linearisation at the
+  /// nominal point, C (jωI − A)⁻¹ B).
+  virtual Eigen::MatrixXcd frequency_response(double omega_rad_per_min) const = 0;
+
   int inputs() const { return static_cast<int>(input_names().size()); }
   int outputs() const { return static_cast<int>(output_names().size()); }
 };

@@ -1,0 +1,339 @@
+// SPDX-License-Identifier: MIT
+#include "host/campaign/report.hpp"
+
+#include <Eigen/SVD>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace excite::host {
+namespace {
+
+nlohmann::json number(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
+nlohmann::json vector(const Eigen::VectorXd& v) {
+  nlohmann::json out = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < v.size(); ++i) out.push_back(number(v(i)));
+  return out;
+}
+
+std::string fixed(double v, int digits = 3) {
+  if (!std::isfinite(v)) return "–";
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
+  return buffer;
+}
+
+std::string general(double v) {
+  if (!std::isfinite(v)) return "–";
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.4g", v);
+  return buffer;
+}
+
+bool directional(const std::string& name) {
+  return name.ends_with("Dir") || name.find("Corr") != std::string::npos || name == "msGlmZipm";
+}
+
+// The identified model's G(jω) from its (6.1.1) elements.
+Eigen::MatrixXcd model_response(const IdentifiedModel& m, double omega) {
+  Eigen::MatrixXcd g(m.outputs, m.inputs);
+  const std::complex<double> s(0.0, omega);
+  for (int o = 0; o < m.outputs; ++o) {
+    for (int i = 0; i < m.inputs; ++i) {
+      const TwoPoleDelay& p = m.element(o, i).value;
+      g(o, i) =
+          p.gain * std::exp(-s * p.delay_min) / ((1.0 + s * p.tau1_min) * (1.0 + s * p.tau2_min));
+    }
+  }
+  return g;
+}
+
+void run_gnuplot(const std::filesystem::path& script) {
+  const std::string command = "gnuplot " + script.string() + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) throw std::runtime_error("gnuplot: cannot be started");
+  std::string output;
+  char buffer[512];
+  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
+  if (pclose(pipe) != 0)
+    throw std::runtime_error("gnuplot " + script.string() + " failed: " + output);
+}
+
+// Inputs and outputs of one experiment over time, two panels.
+void plot_experiment(const Experiment& e, const CampaignResult& r,
+                     const std::filesystem::path& figures) {
+  const auto data = figures / (e.name + ".dat");
+  {
+    std::ofstream out(data);
+    for (Eigen::Index k = 0; k < e.U.rows(); ++k) {
+      out << static_cast<double>(k) * e.sample_time_min;
+      for (Eigen::Index j = 0; j < e.U.cols(); ++j) out << ' ' << e.U(k, j);
+      for (Eigen::Index j = 0; j < e.Y.cols(); ++j) out << ' ' << e.Y(k, j);
+      out << '\n';
+    }
+  }
+  std::ofstream gp(figures / (e.name + ".gp"));
+  gp << "set terminal svg size 900,520 dynamic font 'sans,11'\nset output '"
+     << (figures / (e.name + ".svg")).string() << "'\nset multiplot layout 2,1 title '" << e.name
+     << ": inputs (top) and outputs (bottom)'\n"
+     << "set xlabel 't [min]'\nset grid\nset key outside right\n";
+  gp << "plot";
+  for (Eigen::Index j = 0; j < e.U.cols(); ++j) {
+    gp << (j ? ", " : " ") << "'" << data.string() << "' using 1:" << j + 2 << " with steps title '"
+       << r.input_names[static_cast<std::size_t>(j)] << "'";
+  }
+  gp << "\nplot";
+  for (Eigen::Index j = 0; j < e.Y.cols(); ++j) {
+    gp << (j ? ", " : " ") << "'" << data.string() << "' using 1:" << e.U.cols() + j + 2
+       << " with lines title '" << r.output_names[static_cast<std::size_t>(j)] << "'";
+  }
+  gp << "\nunset multiplot\n";
+}
+
+// Projections of the outputs on the strongest and weakest output directions, per experiment.
+void plot_projections(const CampaignResult& r, const std::filesystem::path& figures) {
+  const Eigen::Index last = r.true_gain.output_directions.cols() - 1;
+  std::ofstream gp(figures / "projections.gp");
+  gp << "set terminal svg size 1100,900 dynamic font 'sans,10'\nset output '"
+     << (figures / "projections.svg").string()
+     << "'\nset multiplot layout 5,4 title 'w_1^T y (x) against w_" << last + 1
+     << "^T y (y) per experiment, same scale'\nunset key\nset grid\n";
+  double extent = 0.0;
+  for (const Experiment& e : r.experiments) {
+    const Eigen::MatrixXd p = e.Y * r.true_gain.output_directions;
+    extent = std::max({extent, p.col(0).cwiseAbs().maxCoeff(), p.col(last).cwiseAbs().maxCoeff()});
+    const auto data = figures / (e.name + ".proj");
+    std::ofstream out(data);
+    for (Eigen::Index k = 0; k < p.rows(); k += std::max<Eigen::Index>(1, p.rows() / 1500)) {
+      out << p(k, 0) << ' ' << p(k, last) << '\n';
+    }
+  }
+  gp << "set xrange [" << -extent << ":" << extent << "]\nset yrange [" << -extent << ":" << extent
+     << "]\n";
+  for (const Experiment& e : r.experiments) {
+    gp << "set title '" << e.name << "'\nplot '" << (figures / (e.name + ".proj")).string()
+       << "' with dots lc rgb '#1f4e9c'\n";
+  }
+  gp << "unset multiplot\n";
+}
+
+// Singular values of G(jω): the true plant against every identified model.
+void plot_frequency(const CampaignResult& r, const sim::Plant& plant,
+                    const std::filesystem::path& figures) {
+  const auto data = figures / "sigma.dat";
+  {
+    std::ofstream out(data);
+    for (int k = 0; k <= 120; ++k) {
+      const double omega = std::pow(10.0, -4.0 + 4.0 * k / 120.0);
+      out << omega;
+      Eigen::JacobiSVD<Eigen::MatrixXcd> truth(plant.frequency_response(omega));
+      for (Eigen::Index i = 0; i < truth.singularValues().size(); ++i)
+        out << ' ' << truth.singularValues()(i);
+      for (const Experiment& e : r.experiments) {
+        Eigen::JacobiSVD<Eigen::MatrixXcd> model(model_response(e.identified.model, omega));
+        const Eigen::VectorXd sv = model.singularValues();
+        for (Eigen::Index i = 0; i < sv.size(); ++i)
+          out << ' ' << (std::isfinite(sv(i)) ? sv(i) : 0.0);
+      }
+      out << '\n';
+    }
+  }
+  const Eigen::Index n = r.true_gain.singular_values.size();
+  std::ofstream gp(figures / "sigma.gp");
+  gp << "set terminal svg size 1000,600 dynamic font 'sans,11'\nset output '"
+     << (figures / "sigma.svg").string()
+     << "'\nset logscale xy\nset grid\nset xlabel 'omega [rad/min]'\nset ylabel 'sigma_i(G(j "
+        "omega))'\n"
+     << "set title 'true plant (black) and identified models (colour: directional designs blue, "
+        "others orange)'\n"
+     << "unset key\nplot";
+  bool first = true;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    gp << (first ? " " : ", ") << "'" << data.string() << "' using 1:" << i + 2
+       << " with lines lw 3 lc rgb 'black'";
+    first = false;
+  }
+  for (std::size_t e = 0; e < r.experiments.size(); ++e) {
+    const char* colour = directional(r.experiments[e].name) ? "#3060c0" : "#e08020";
+    for (Eigen::Index i = 0; i < n; ++i) {
+      gp << ", '" << data.string() << "' using 1:" << 2 + n + static_cast<Eigen::Index>(e) * n + i
+         << " with lines lw 1 lc rgb '" << colour << "'";
+    }
+  }
+  gp << '\n';
+}
+
+double average_over(const CampaignResult& r, bool dir, double Experiment::*field) {
+  double sum = 0.0;
+  int n = 0;
+  for (const Experiment& e : r.experiments) {
+    if (directional(e.name) == dir && std::isfinite(e.*field)) {
+      sum += e.*field;
+      ++n;
+    }
+  }
+  return n ? sum / n : std::nan("");
+}
+
+}  // namespace
+
+void write_summary(const CampaignResult& r, const std::filesystem::path& dir) {
+  nlohmann::json experiments = nlohmann::json::array();
+  for (const Experiment& e : r.experiments) {
+    experiments.push_back(
+        {{"name", e.name},
+         {"number", e.number},
+         {"cf_avg", number(e.cf_avg)},
+         {"pips_avg", number(e.pips_avg)},
+         {"fit_avg", number(e.fit_avg)},
+         {"crossfit_avg", number(e.crossfit_avg)},
+         {"crossfit_best", number(e.crossfit_best)},
+         {"crossfit_worst", number(e.crossfit_worst)},
+         {"singular_values",
+          e.identified.gain ? vector(e.identified.gain->singular_values) : nlohmann::json(nullptr)},
+         {"projection_std", vector(e.projection_std)},
+         {"ratio", number(e.ratio)},
+         {"upsilon", number(e.upsilon)}});
+  }
+  const nlohmann::json j = {{"plant", r.plant},
+                            {"design_gain_source", r.design_gain_source},
+                            {"true_singular_values", vector(r.true_gain.singular_values)},
+                            {"experiments", experiments}};
+  std::ofstream out(dir / "summary.json");
+  out << j.dump(2) << '\n';
+  if (!out) throw std::runtime_error((dir / "summary.json").string() + ": cannot be written");
+}
+
+void write_report(const CampaignResult& r, const sim::Plant& plant,
+                  const std::filesystem::path& dir) {
+  const auto figures = dir / "figures";
+  std::filesystem::create_directories(figures);
+  for (const Experiment& e : r.experiments) plot_experiment(e, r, figures);
+  plot_projections(r, figures);
+  plot_frequency(r, plant, figures);
+  for (const auto& entry : std::filesystem::directory_iterator(figures)) {
+    if (entry.path().extension() == ".gp") run_gnuplot(entry.path());
+  }
+
+  std::ostringstream h;
+  h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>excite campaign: "
+    << r.plant
+    << "</title><style>body{font-family:sans-serif;max-width:1150px;margin:2em auto;color:#222}"
+       "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px "
+       "8px;text-align:right}"
+       "th{background:#eef}td:first-child,th:first-child{text-align:left}tr.dir "
+       "td{background:#eef5ff}"
+       "img{max-width:100%;border:1px solid #ddd;margin:.5em "
+       "0}.note{color:#555}</style></head><body>";
+  h << "<h1>Identification campaign: " << r.plant << "</h1>";
+  h << "<p>The study of thesis chapter 6 on <b>" << r.plant
+    << "</b>: every design of Table 6.1 simulated with "
+    << "measurement noise, a two-pole-plus-delay model (6.1.1) identified per output, and every "
+       "model validated "
+    << "on every other experiment. Directional designs used the gain directions of the <b>"
+    << r.design_gain_source << "</b>. Rows of directional designs are shaded.</p>";
+  h << "<p>True singular values of G(0):";
+  for (Eigen::Index i = 0; i < r.true_gain.singular_values.size(); ++i)
+    h << ' ' << general(r.true_gain.singular_values(i));
+  h << " (κ = " << general(r.true_gain.condition_number) << "); used for the designs:";
+  for (Eigen::Index i = 0; i < r.design_gain.singular_values.size(); ++i) {
+    h << ' ' << general(r.design_gain.singular_values(i));
+  }
+  h << ".</p>";
+
+  // What the data show.
+  const double ratio_dir = average_over(r, true, &Experiment::ratio);
+  const double ratio_other = average_over(r, false, &Experiment::ratio);
+  const double worst_dir = average_over(r, true, &Experiment::crossfit_worst);
+  const double worst_other = average_over(r, false, &Experiment::crossfit_worst);
+  h << "<h2>What the data show</h2><ul>";
+  h << "<li>Output balance (ratio min/max of the projection standard deviations, 1 = balanced): "
+       "directional designs "
+    << fixed(ratio_dir) << " on average, the others " << fixed(ratio_other) << ". "
+    << (ratio_dir > ratio_other
+            ? "The directional designs give better balanced outputs on this plant."
+            : "The directional designs do <b>not</b> give better balanced outputs on this plant.")
+    << "</li>";
+  h << "<li>Worst-case cross-fit: directional designs " << fixed(worst_dir, 1)
+    << " % on average, the others " << fixed(worst_other, 1) << " %. "
+    << (worst_dir > worst_other
+            ? "Models from directional designs hold up better on other experiments' data."
+            : "Models from directional designs do <b>not</b> hold up better on other experiments' "
+              "data.")
+    << "</li></ul>";
+
+  h << "<h2>Inputs: plant-friendliness (SPEC "
+       "§5)</h2><table><tr><th>#</th><th>design</th><th>samples</th>"
+       "<th>CF avg</th><th>PIPS avg %</th></tr>";
+  for (const Experiment& e : r.experiments) {
+    h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.number << ' '
+      << e.name << "</td><td>" << (directional(e.name) ? "directional" : "inputs") << "</td><td>"
+      << e.U.rows() << "</td><td>" << fixed(e.cf_avg) << "</td><td>" << fixed(e.pips_avg, 1)
+      << "</td></tr>";
+  }
+  h << "</table>";
+
+  h << "<h2>Models: fit and cross-fit (5.5.1, SPEC §6)</h2><table><tr><th>model from</th><th>own "
+       "fit %</th>"
+       "<th>cross-fit avg %</th><th>best %</th><th>worst %</th></tr>";
+  for (const Experiment& e : r.experiments) {
+    h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.name << "</td><td>"
+      << fixed(e.fit_avg, 1) << "</td><td>" << fixed(e.crossfit_avg, 1) << "</td><td>"
+      << fixed(e.crossfit_best, 1) << "</td><td>" << fixed(e.crossfit_worst, 1) << "</td></tr>";
+  }
+  h << "</table>";
+
+  const Eigen::Index n = r.true_gain.singular_values.size();
+  h << "<h2>Identified gain directions</h2><table><tr><th>model from</th>";
+  for (Eigen::Index i = 0; i < n; ++i) h << "<th>σ" << i + 1 << "</th>";
+  h << "<th>κ</th></tr><tr><td><b>true</b></td>";
+  for (Eigen::Index i = 0; i < n; ++i)
+    h << "<td><b>" << general(r.true_gain.singular_values(i)) << "</b></td>";
+  h << "<td><b>" << general(r.true_gain.condition_number) << "</b></td></tr>";
+  for (const Experiment& e : r.experiments) {
+    h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.name << "</td>";
+    for (Eigen::Index i = 0; i < n; ++i) {
+      h << "<td>" << (e.identified.gain ? general(e.identified.gain->singular_values(i)) : "–")
+        << "</td>";
+    }
+    h << "<td>" << (e.identified.gain ? general(e.identified.gain->condition_number) : "–")
+      << "</td></tr>";
+  }
+  h << "</table>";
+
+  h << "<h2>Output balance (5.5.2, 6.2.1)</h2><p class='note'>Standard deviation of the "
+       "projections w_iᵀy on the "
+       "true output gain directions, their ratio min/max, and Υ = "
+       "det(corr(Y)).</p><table><tr><th>design</th>";
+  for (Eigen::Index i = 0; i < n; ++i) h << "<th>std w" << i + 1 << "ᵀy</th>";
+  h << "<th>ratio</th><th>Υ</th></tr>";
+  for (const Experiment& e : r.experiments) {
+    h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.name << "</td>";
+    for (Eigen::Index i = 0; i < e.projection_std.size(); ++i)
+      h << "<td>" << general(e.projection_std(i)) << "</td>";
+    h << "<td>" << fixed(e.ratio) << "</td><td>" << general(e.upsilon) << "</td></tr>";
+  }
+  h << "</table>";
+
+  h << "<h2>Figures</h2><h3>Output projections, strongest against weakest direction</h3>"
+       "<img src='figures/projections.svg' alt='projections'>"
+       "<h3>Singular values of G(jω): true plant and identified models</h3><img "
+       "src='figures/sigma.svg' alt='sigma'>"
+       "<h3>Inputs and outputs of each experiment</h3>";
+  for (const Experiment& e : r.experiments)
+    h << "<img src='figures/" << e.name << ".svg' alt='" << e.name << "'>";
+  h << "</body></html>\n";
+  std::ofstream out(dir / "index.html");
+  out << h.str();
+  if (!out) throw std::runtime_error((dir / "index.html").string() + ": cannot be written");
+}
+
+}  // namespace excite::host

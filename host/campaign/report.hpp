@@ -1,0 +1,23 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// What a campaign leaves in its folder: summary.json (machine-readable, one entry per
+// experiment) and index.html (the report a process engineer reads), with its figures drawn
+// by gnuplot as SVG in figures/.
+
+#include <filesystem>
+
+#include "host/campaign/campaign.hpp"
+#include "sim/plants/plant.hpp"
+
+namespace excite::host {
+
+/// DIR/summary.json: [{"name","cf_avg","pips_avg","fit_avg","crossfit_avg","crossfit_best",
+/// "crossfit_worst","singular_values","projection_std","ratio","upsilon"}…] inside
+/// {"plant", "design_gain_source", "true_singular_values", "experiments": […]}.
+void write_summary(const CampaignResult& result, const std::filesystem::path& dir);
+
+/// DIR/index.html and DIR/figures/*.svg. Throws std::runtime_error when gnuplot fails.
+void write_report(const CampaignResult& result, const sim::Plant& plant,
+                  const std::filesystem::path& dir);
+
+}  // namespace excite::host
