@@ -50,7 +50,15 @@ TableExtent extent_of(const std::vector<Block>& blocks) {
 void compile(const ServerRegisters& regs, std::string_view source, hal::modbus::RegisterPlan& plan,
              std::vector<Block>& holding, std::vector<Block>& input) {
   if (const auto v = hal::modbus::compile_register_map(regs.map, plan); !v.ok()) {
-    fail(source, "registers." + v.field, v.value, v.expected);
+    // hal names fields relative to the map; here the map is the [registers] table.
+    std::string expected = v.expected;
+    for (const std::string name : {"setpoints[", "values[", "heartbeat_address"}) {
+      const std::string with = "with " + name;
+      if (const auto at = expected.find(with); at != std::string::npos) {
+        expected.insert(at + 5, "registers.");
+      }
+    }
+    fail(source, "registers." + v.field, v.value, expected);
   }
   for (std::size_t i = 0; i < regs.map.setpoints.size(); ++i) {
     holding.push_back({"registers.setpoints[" + std::to_string(i) + "].address",
