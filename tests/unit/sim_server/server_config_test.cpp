@@ -4,6 +4,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 #include <string>
 
@@ -222,6 +226,27 @@ TEST(LoadPlant, UnknownLibraryPlantListsTheKnownOnes) {
   settings.library = "alatiqi5x5";
   const std::string e = error_of([&] { load_plant(settings, ".", "c.toml"); });
   EXPECT_THAT(e, HasSubstr("c.toml: plant.library = \"alatiqi5x5\": expected one of alatiqi4x4"));
+}
+
+TEST(LoadPlant, RelativePlantFileIsReadFromTheConfigDirectory) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("excite-plant-unit-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "wb.toml") << library_plant_toml("woodberry2x2");
+  PlantSettings settings;
+  settings.file = "wb.toml";
+  const PlantDefinition plant = load_plant(settings, dir);
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(plant.g.inputs(), 2);
+  EXPECT_EQ(plant.g.static_gain(), library_plant("woodberry2x2").static_gain());
+}
+
+TEST(ServerConfig, LibraryAndFileTogetherAreRefused) {
+  EXPECT_THAT(error_of([] {
+                parse_server_config("[plant]\nlibrary = \"a\"\nfile = \"b\"\n" +
+                                    two_by_two().substr(two_by_two().find("[registers]")));
+              }),
+              HasSubstr("plant.file = \"b\": expected either library or file, not both"));
 }
 
 TEST(LoadPlant, NoPlantAtAllIsNamed) {
