@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <thread>
@@ -46,23 +47,20 @@ PlantServer::PlantServer(PlantProcess& process, RegisterImage& image, ServeOptio
   if (!options_.lockstep && !(options_.sample_time_s > 0.0)) {
     throw std::runtime_error("--sample-time-s must be > 0 (wall-clock seconds per sample)");
   }
-  if (!options_.log_path.empty()) {
-    log_ = std::fopen(options_.log_path.c_str(), "w");
-    if (log_ == nullptr)
-      throw std::runtime_error(system_error(("--log " + options_.log_path).c_str()));
-    for (const std::string& name : options_.input_names) log_inputs_.push_back({name, "-"});
-    for (const std::string& name : options_.output_names) log_outputs_.push_back({name, "-"});
-    log_buffer_.resize(std::max<std::size_t>(
-        runlog::max_row_chars(log_inputs_.size(), log_outputs_.size()), 4096));
-    const runlog::Header header{options_.plant_description, log_plan_, process.sample_time_min(),
-                                log_inputs_, log_outputs_};
-    log_writer_.emplace(log_, header, log_buffer_);
-    if (const auto s = log_writer_->write_header(); s != runlog::WriteStatus::ok) {
-      throw std::runtime_error("--log " + options_.log_path + ": " +
-                               std::string(runlog::describe(s)));
-    }
+  // Listen first and open the log last: when either fails, nothing is left behind (no
+  // socket, no header-only log).
+  try {
+    listen();
+    open_log();
+  } catch (...) {
+    release();
+    if (log_opened_) std::remove(options_.log_path.c_str());
+    throw;
   }
+  mirror_faults_to_control();
+}
 
+void PlantServer::listen() {
   ctx_ = modbus_new_tcp(options_.host.c_str(), options_.port);
   if (ctx_ == nullptr) throw std::runtime_error(system_error("modbus_new_tcp"));
   listen_fd_ = modbus_tcp_listen(ctx_, 4);
@@ -74,14 +72,41 @@ PlantServer::PlantServer(PlantProcess& process, RegisterImage& image, ServeOptio
   socklen_t length = sizeof address;
   getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&address), &length);
   port_ = ntohs(address.sin_port);
-  mirror_faults_to_control();
+}
+
+void PlantServer::open_log() {
+  if (options_.log_path.empty()) return;
+  log_ = std::fopen(options_.log_path.c_str(), "w");
+  if (log_ == nullptr) {
+    throw std::runtime_error(system_error(("--log " + options_.log_path).c_str()));
+  }
+  log_opened_ = true;
+  for (const std::string& name : options_.input_names) log_inputs_.push_back({name, "-"});
+  for (const std::string& name : options_.output_names) log_outputs_.push_back({name, "-"});
+  log_buffer_.resize(
+      std::max<std::size_t>(runlog::max_row_chars(log_inputs_.size(), log_outputs_.size()), 4096));
+  const runlog::Header header{options_.plant_description, log_plan_, process_.sample_time_min(),
+                              log_inputs_, log_outputs_};
+  log_writer_.emplace(log_, header, log_buffer_);
+  if (const auto s = log_writer_->write_header(); s != runlog::WriteStatus::ok) {
+    throw std::runtime_error("--log " + options_.log_path + ": " +
+                             std::string(runlog::describe(s)));
+  }
+}
+
+void PlantServer::release() {
+  while (!clients_.empty()) close_client(clients_.size() - 1);
+  if (listen_fd_ != -1) close(listen_fd_);
+  listen_fd_ = -1;
+  if (ctx_ != nullptr) modbus_free(ctx_);
+  ctx_ = nullptr;
+  log_writer_.reset();
+  if (log_ != nullptr) std::fclose(log_);
+  log_ = nullptr;
 }
 
 PlantServer::~PlantServer() {
-  while (!clients_.empty()) close_client(clients_.size() - 1);
-  if (listen_fd_ != -1) close(listen_fd_);
-  if (ctx_ != nullptr) modbus_free(ctx_);
-  if (log_ != nullptr) std::fclose(log_);
+  release();
 }
 
 void PlantServer::accept_client() {

@@ -72,6 +72,9 @@ class PlantServer {
     bool write = false;
   };
 
+  void listen();
+  void open_log();
+  void release();
   void accept_client();
   void close_client(std::size_t index);
   void serve_client(std::size_t index, const std::function<bool()>& stop);
@@ -101,6 +104,7 @@ class PlantServer {
 
   // Run log: channel names and units must outlive the writer's header.
   std::FILE* log_ = nullptr;
+  bool log_opened_ = false;
   std::vector<runlog::Channel> log_inputs_;
   std::vector<runlog::Channel> log_outputs_;
   std::vector<char> log_buffer_;

@@ -291,6 +291,20 @@ TEST_F(ExcitePlant, SigintAlsoStopsCleanly) {
   EXPECT_EQ(plant_->stop(SIGINT), 0);
 }
 
+TEST_F(ExcitePlant, PortInUseExitsWithOneAndLeavesNoLog) {
+  start({"--lockstep"});
+  const auto log_path = dir_.path() / "second.csv";
+  PlantRunner second({"--config", config_path_.string(), "--port", std::to_string(port_), "--log",
+                      log_path.string()},
+                     dir_.path() / "second-stderr.txt");
+  EXPECT_FALSE(second.wait_listening());
+  EXPECT_EQ(second.wait_exit(), 1);
+  EXPECT_THAT(second.stderr_text(),
+              HasSubstr("cannot listen on 127.0.0.1:" + std::to_string(port_)));
+  EXPECT_FALSE(std::filesystem::exists(log_path));
+  EXPECT_EQ(exchange(1), Status::ok);  // the first plant is unaffected
+}
+
 // ---- Bad input: a clear error, exit code 2, nothing served. ----
 
 struct Refused {
