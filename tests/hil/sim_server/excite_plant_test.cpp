@@ -92,7 +92,7 @@ class ExcitePlant : public ::testing::Test {
 
     hal::modbus::ModbusConfig bus_config;
     bus_config.device.port = port_;
-    bus_config.device.response_timeout_ms = 300;  // generous: the machine is shared
+    bus_config.device.response_timeout_ms = 300;                  // generous: the machine is shared
     bus_config.map = parse_server_config(kConfig).registers.map;  // the gateway's map
     const auto v = bus_.configure(bus_config);
     ASSERT_TRUE(v.ok()) << v.message();
