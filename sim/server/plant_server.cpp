@@ -1,0 +1,282 @@
+// SPDX-License-Identifier: MIT
+#include "sim/server/plant_server.hpp"
+
+#include <arpa/inet.h>
+#include <modbus.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <thread>
+
+namespace excite::sim::server {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr auto kPollSlice = std::chrono::milliseconds(50);  // stop request latency bound
+constexpr int kMaxCatchUp = 1000;  // plant samples taken at once after a stall at most
+
+std::string system_error(const char* what) {
+  return std::string(what) + ": " + std::strerror(errno);
+}
+
+// Sleeps `duration` in slices, returning early when `stop()` becomes true.
+void interruptible_sleep(std::chrono::milliseconds duration, const std::function<bool()>& stop) {
+  const auto end = Clock::now() + duration;
+  while (!stop() && Clock::now() < end) {
+    std::this_thread::sleep_for(std::min<Clock::duration>(kPollSlice, end - Clock::now()));
+  }
+}
+
+}  // namespace
+
+PlantServer::PlantServer(PlantProcess& process, RegisterImage& image, ServeOptions options)
+    : process_(process),
+      image_(image),
+      options_(std::move(options)),
+      faults_(options_.faults),
+      u_(static_cast<std::size_t>(process.inputs())),
+      y_(static_cast<std::size_t>(process.outputs())) {
+  if (!options_.lockstep && !(options_.sample_time_s > 0.0)) {
+    throw std::runtime_error("--sample-time-s must be > 0 (wall-clock seconds per sample)");
+  }
+  // Listen first and open the log last: when either fails, nothing is left behind (no
+  // socket, no header-only log).
+  try {
+    listen();
+    open_log();
+  } catch (...) {
+    release();
+    if (log_opened_) std::remove(options_.log_path.c_str());
+    throw;
+  }
+  mirror_faults_to_control();
+}
+
+void PlantServer::listen() {
+  ctx_ = modbus_new_tcp(options_.host.c_str(), options_.port);
+  if (ctx_ == nullptr) throw std::runtime_error(system_error("modbus_new_tcp"));
+  listen_fd_ = modbus_tcp_listen(ctx_, 4);
+  if (listen_fd_ == -1) {
+    throw std::runtime_error("cannot listen on " + options_.host + ":" +
+                             std::to_string(options_.port) + ": " + modbus_strerror(errno));
+  }
+  sockaddr_in address{};
+  socklen_t length = sizeof address;
+  getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&address), &length);
+  port_ = ntohs(address.sin_port);
+}
+
+void PlantServer::open_log() {
+  if (options_.log_path.empty()) return;
+  log_ = std::fopen(options_.log_path.c_str(), "w");
+  if (log_ == nullptr) {
+    throw std::runtime_error(system_error(("--log " + options_.log_path).c_str()));
+  }
+  log_opened_ = true;
+  for (const std::string& name : options_.input_names) log_inputs_.push_back({name, "-"});
+  for (const std::string& name : options_.output_names) log_outputs_.push_back({name, "-"});
+  log_buffer_.resize(
+      std::max<std::size_t>(runlog::max_row_chars(log_inputs_.size(), log_outputs_.size()), 4096));
+  const runlog::Header header{options_.plant_description, log_plan_, process_.sample_time_min(),
+                              log_inputs_, log_outputs_};
+  log_writer_.emplace(log_, header, log_buffer_);
+  if (const auto s = log_writer_->write_header(); s != runlog::WriteStatus::ok) {
+    throw std::runtime_error("--log " + options_.log_path + ": " +
+                             std::string(runlog::describe(s)));
+  }
+}
+
+void PlantServer::release() {
+  while (!clients_.empty()) close_client(clients_.size() - 1);
+  if (listen_fd_ != -1) close(listen_fd_);
+  listen_fd_ = -1;
+  if (ctx_ != nullptr) modbus_free(ctx_);
+  ctx_ = nullptr;
+  log_writer_.reset();
+  if (log_ != nullptr) std::fclose(log_);
+  log_ = nullptr;
+}
+
+PlantServer::~PlantServer() {
+  release();
+}
+
+void PlantServer::accept_client() {
+  const int fd = accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
+  if (fd == -1) return;  // the peer gave up before we accepted: nothing to serve
+  if (static_cast<int>(clients_.size()) >= options_.max_clients) close_client(0);
+  clients_.push_back(fd);
+}
+
+void PlantServer::close_client(std::size_t index) {
+  close(clients_[index]);
+  clients_.erase(clients_.begin() + static_cast<std::ptrdiff_t>(index));
+}
+
+bool PlantServer::touches_control(const Request& request) const {
+  if (!image_.layout().control_address || request.function_code == 4) return false;
+  const std::uint32_t start = *image_.layout().control_address;
+  return request.address < start + control_block_size &&
+         start < request.address + std::max<std::uint32_t>(request.count, 1);
+}
+
+void PlantServer::load_faults_from_control() {
+  if (!image_.layout().control_address) return;
+  faults_.stall_ms = image_.control(0);
+  faults_.stall_requests = image_.control(1);
+  faults_.drop_requests = image_.control(2);
+  faults_.exception_requests = image_.control(3);
+  faults_.freeze_echo = image_.control(4) != 0;
+}
+
+void PlantServer::mirror_faults_to_control() {
+  if (!image_.layout().control_address) return;
+  image_.set_control(0, faults_.stall_ms);
+  image_.set_control(1, faults_.stall_requests);
+  image_.set_control(2, faults_.drop_requests);
+  image_.set_control(3, faults_.exception_requests);
+  image_.set_control(4, faults_.freeze_echo ? 1 : 0);
+}
+
+void PlantServer::take_sample() {
+  image_.read_setpoints(u_.data());
+  const std::uint64_t k = process_.samples();
+  process_.sample(u_.data(), y_.data());
+  image_.write_values(y_.data());
+  if (log_writer_) {
+    const runlog::Row row{static_cast<double>(k) * process_.sample_time_min(),
+                          k,
+                          process_.last_du(),
+                          u_,
+                          process_.last_dy(),
+                          0};
+    if (const auto s = log_writer_->write_row(row); s != runlog::WriteStatus::ok) {
+      throw std::runtime_error("--log " + options_.log_path + ": sample " + std::to_string(k) +
+                               ": " + std::string(runlog::describe(s)));
+    }
+  }
+}
+
+void PlantServer::on_heartbeat_written() {
+  const std::uint16_t heartbeat = image_.heartbeat();
+  if (heartbeat_seen_ && heartbeat == last_heartbeat_) return;
+  heartbeat_seen_ = true;
+  last_heartbeat_ = heartbeat;
+  if (options_.lockstep) take_sample();
+  if (!(faults_armed() && faults_.freeze_echo)) image_.set_heartbeat_echo(heartbeat);
+}
+
+void PlantServer::serve_client(std::size_t index, const std::function<bool()>& stop) {
+  std::uint8_t query[MODBUS_TCP_MAX_ADU_LENGTH];
+  modbus_set_socket(ctx_, clients_[index]);
+  const int length = modbus_receive(ctx_, query);
+  if (length < 0) {  // peer closed, reset, or sent something that is not Modbus TCP
+    close_client(index);
+    return;
+  }
+  if (length == 0) return;  // a request for another unit: ignored, as libmodbus does
+  ++requests_;
+
+  const int header = modbus_get_header_length(ctx_);
+  Request request;
+  request.function_code = query[header];
+  request.address = static_cast<std::uint32_t>((query[header + 1] << 8) | query[header + 2]);
+  request.count = static_cast<std::uint32_t>((query[header + 3] << 8) | query[header + 4]);
+  if (request.function_code == MODBUS_FC_WRITE_SINGLE_REGISTER) {
+    request.count = 1;
+    request.write = true;
+  } else if (request.function_code == MODBUS_FC_WRITE_MULTIPLE_REGISTERS) {
+    request.write = true;
+  }
+  const bool control = touches_control(request);
+
+  if (!control && faults_armed()) {
+    if (faults_.drop_requests > 0) {
+      --faults_.drop_requests;
+      mirror_faults_to_control();
+      ++ordinary_requests_;
+      close_client(index);
+      return;
+    }
+    if (faults_.exception_requests > 0) {
+      --faults_.exception_requests;
+      mirror_faults_to_control();
+      ++ordinary_requests_;
+      modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE);
+      return;
+    }
+    if (faults_.stall_requests > 0) {
+      --faults_.stall_requests;
+      mirror_faults_to_control();
+      interruptible_sleep(std::chrono::milliseconds(faults_.stall_ms), stop);
+    }
+  }
+  if (!control) ++ordinary_requests_;
+
+  // The reply writes the registers (or answers an illegal address with an exception).
+  if (modbus_reply(ctx_, query, length, image_.mapping()) == -1) {
+    close_client(index);  // the peer went away while we answered
+  }
+  if (!request.write) return;
+  image_.note_write(request.address, request.count);
+  if (control) load_faults_from_control();
+  const std::uint32_t hb = image_.layout().heartbeat_address;
+  if (request.address <= hb && hb < request.address + request.count) on_heartbeat_written();
+}
+
+void PlantServer::run(const std::function<bool()>& stop) {
+  const auto period = std::chrono::duration_cast<Clock::duration>(
+      std::chrono::duration<double>(options_.lockstep ? 1.0 : options_.sample_time_s));
+  auto next_sample = Clock::now();
+  std::vector<pollfd> fds;
+  while (!stop()) {
+    if (!options_.lockstep) {  // free-running: every sample whose time has come
+      int taken = 0;
+      auto now = Clock::now();
+      while (now >= next_sample && taken < kMaxCatchUp) {
+        take_sample();
+        next_sample += period;
+        ++taken;
+      }
+      if (now >= next_sample) next_sample = now + period;  // too far behind: skip ahead
+    }
+    auto wait = std::chrono::duration_cast<std::chrono::nanoseconds>(kPollSlice);
+    if (!options_.lockstep) {
+      wait = std::clamp(
+          std::chrono::duration_cast<std::chrono::nanoseconds>(next_sample - Clock::now()),
+          std::chrono::nanoseconds(0), wait);
+    }
+    fds.clear();
+    fds.push_back({listen_fd_, POLLIN, 0});
+    for (const int fd : clients_) fds.push_back({fd, POLLIN, 0});
+    const timespec timeout{static_cast<time_t>(wait.count() / 1000000000),
+                           static_cast<long>(wait.count() % 1000000000)};
+    const int ready = ppoll(fds.data(), fds.size(), &timeout, nullptr);
+    if (ready < 0) {
+      if (errno == EINTR) continue;
+      throw std::runtime_error(system_error("ppoll"));
+    }
+    if (ready == 0) continue;
+    // Serve clients from the newest down, so closing one does not shift the others' slots.
+    for (std::size_t i = fds.size() - 1; i >= 1; --i) {
+      if (fds[i].revents != 0 && i - 1 < clients_.size() && clients_[i - 1] == fds[i].fd) {
+        serve_client(i - 1, stop);
+      }
+    }
+    if ((fds[0].revents & POLLIN) != 0) accept_client();
+  }
+  while (!clients_.empty()) close_client(clients_.size() - 1);
+  if (log_ != nullptr && std::fflush(log_) != 0) {
+    throw std::runtime_error(system_error(("--log " + options_.log_path).c_str()));
+  }
+}
+
+}  // namespace excite::sim::server

@@ -1,0 +1,115 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// excite-plant's Modbus TCP server: serves the register image, advances the plant in
+// free-running (wall-clock) or lock-step time, misbehaves on purpose when told to, and
+// logs every plant sample in the run-log format. Single-threaded: one poll loop serves up
+// to max_clients connections (a reconnecting gateway is accepted; when full, the oldest
+// connection is closed), the plant clock and the stop request.
+
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "firmware/runlog/writer.hpp"
+#include "sim/server/plant_process.hpp"
+#include "sim/server/register_image.hpp"
+
+struct _modbus;
+
+namespace excite::sim::server {
+
+/// Faults on purpose (STYLE.md practice 9). The counts apply to the following requests
+/// that do not touch the control block, one fault per request, in the order drop,
+/// exception, stall. Mirrored in the control block (README) when one is configured.
+struct FaultSettings {
+  std::uint16_t stall_ms = 0;            // how long a stalled request waits before its reply
+  std::uint16_t stall_requests = 0;      // requests answered only after stall_ms
+  std::uint16_t drop_requests = 0;       // requests answered by closing the connection
+  std::uint16_t exception_requests = 0;  // requests answered with exception 4 (device failure)
+  bool freeze_echo = false;              // the heartbeat echo stops following the heartbeat
+};
+
+struct ServeOptions {
+  std::string host = "127.0.0.1";  // IPv4 address to listen on ("0.0.0.0": all)
+  std::uint16_t port = 0;          // 0: an ephemeral port, see PlantServer::port()
+  bool lockstep = false;           // one plant sample per heartbeat change
+  double sample_time_s = 1.0;      // free-running: wall-clock seconds per plant sample
+  FaultSettings faults;            // from the command line
+  std::uint64_t faults_after = 0;  // ordinary requests served normally before faults apply
+  std::string log_path;            // run log of every plant sample; empty: none
+  std::string plant_description;   // the run log's `plant:` line
+  std::vector<std::string> input_names;
+  std::vector<std::string> output_names;
+  int max_clients = 8;
+};
+
+class PlantServer {
+ public:
+  /// Opens the log (if any) and listens. Throws std::runtime_error naming what failed.
+  PlantServer(PlantProcess& process, RegisterImage& image, ServeOptions options);
+  ~PlantServer();
+  PlantServer(const PlantServer&) = delete;
+  PlantServer& operator=(const PlantServer&) = delete;
+
+  std::uint16_t port() const { return port_; }
+
+  /// Serves until `stop()` returns true (checked at least every 50 ms), then closes every
+  /// connection and flushes the log. Throws std::runtime_error on a failed log write or
+  /// socket error it cannot recover from.
+  void run(const std::function<bool()>& stop);
+
+  std::uint64_t requests() const { return requests_; }
+
+ private:
+  struct Request {
+    int function_code = 0;
+    std::uint32_t address = 0;
+    std::uint32_t count = 0;
+    bool write = false;
+  };
+
+  void listen();
+  void open_log();
+  void release();
+  void accept_client();
+  void close_client(std::size_t index);
+  void serve_client(std::size_t index, const std::function<bool()>& stop);
+  bool touches_control(const Request& request) const;
+  void on_heartbeat_written();
+  void take_sample();
+  void load_faults_from_control();
+  void mirror_faults_to_control();
+  bool faults_armed() const { return ordinary_requests_ >= options_.faults_after; }
+
+  PlantProcess& process_;
+  RegisterImage& image_;
+  ServeOptions options_;
+  _modbus* ctx_ = nullptr;
+  int listen_fd_ = -1;
+  std::uint16_t port_ = 0;
+  std::vector<int> clients_;  // oldest first
+
+  FaultSettings faults_;
+  std::uint64_t requests_ = 0;
+  std::uint64_t ordinary_requests_ = 0;  // requests that do not touch the control block
+  bool heartbeat_seen_ = false;
+  std::uint16_t last_heartbeat_ = 0;
+
+  std::vector<double> u_;
+  std::vector<double> y_;
+
+  // Run log: channel names and units must outlive the writer's header.
+  std::FILE* log_ = nullptr;
+  bool log_opened_ = false;
+  std::vector<runlog::Channel> log_inputs_;
+  std::vector<runlog::Channel> log_outputs_;
+  std::vector<char> log_buffer_;
+  std::string log_plan_ = "none (excite-plant)";
+  std::optional<runlog::FileWriter> log_writer_;
+};
+
+}  // namespace excite::sim::server

@@ -1,0 +1,140 @@
+// SPDX-License-Identifier: MIT
+#include "sim/server/register_image.hpp"
+
+#include <modbus.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "hal/modbus/word_order.hpp"
+
+namespace excite::sim::server {
+
+using hal::modbus::RegisterType;
+
+RegisterImage::RegisterImage(ServerLayout layout, const std::vector<double>& input_baseline,
+                             const std::vector<double>& output_baseline)
+    : layout_(std::move(layout)),
+      last_setpoints_(input_baseline),
+      written_(layout_.setpoints.size(), false) {
+  if (input_baseline.size() != layout_.setpoints.size() ||
+      output_baseline.size() != layout_.values.size()) {
+    throw std::invalid_argument("RegisterImage: baselines do not match the layout");
+  }
+  mapping_ =
+      modbus_mapping_new_start_address(0, 0, 0, 0, layout_.holding.start, layout_.holding.count,
+                                       layout_.input.start, layout_.input.count);
+  if (mapping_ == nullptr) {
+    throw std::runtime_error(std::string("modbus_mapping_new_start_address: ") +
+                             modbus_strerror(errno));
+  }
+  for (std::size_t i = 0; i < layout_.setpoints.size(); ++i) {
+    const PlacedValue& p = layout_.setpoints[i];
+    std::uint16_t* r = cell(p);
+    if (p.codec.type == RegisterType::float32) {
+      hal::modbus::encode_float32(static_cast<float>(input_baseline[i]), p.codec.order, r);
+    } else {
+      bool clamped = false;
+      r[0] = hal::modbus::to_raw(p.codec, input_baseline[i], clamped);
+    }
+  }
+  write_values(output_baseline.data());
+  clamped_values_ = 0;
+}
+
+RegisterImage::~RegisterImage() {
+  modbus_mapping_free(mapping_);
+}
+
+std::uint16_t* RegisterImage::cell(const PlacedValue& value) const {
+  if (value.input_table) {
+    return mapping_->tab_input_registers + (value.address - layout_.input.start);
+  }
+  return mapping_->tab_registers + (value.address - layout_.holding.start);
+}
+
+void RegisterImage::note_write(std::uint32_t address, std::uint32_t count) {
+  for (std::size_t i = 0; i < layout_.setpoints.size(); ++i) {
+    const PlacedValue& p = layout_.setpoints[i];
+    const std::uint32_t size = hal::modbus::register_count(p.codec.type);
+    if (p.address < address + count && address < p.address + size) {
+      written_[i] = true;
+    }
+  }
+}
+
+void RegisterImage::read_setpoints(double* u) {
+  for (std::size_t i = 0; i < layout_.setpoints.size(); ++i) {
+    const PlacedValue& p = layout_.setpoints[i];
+    if (!written_[i]) {
+      u[i] = last_setpoints_[i];
+      continue;
+    }
+    const std::uint16_t* r = cell(p);
+    const double value = p.codec.type == RegisterType::float32
+                             ? static_cast<double>(hal::modbus::decode_float32(r, p.codec.order))
+                             : hal::modbus::from_raw(p.codec, r[0]);
+    if (std::isfinite(value)) {
+      last_setpoints_[i] = value;
+    } else {
+      ++rejected_setpoints_;
+    }
+    u[i] = last_setpoints_[i];
+  }
+}
+
+void RegisterImage::write_values(const double* y) {
+  for (std::size_t j = 0; j < layout_.values.size(); ++j) {
+    const PlacedValue& p = layout_.values[j];
+    std::uint16_t* r = cell(p);
+    if (p.codec.type == RegisterType::float32) {
+      hal::modbus::encode_float32(static_cast<float>(y[j]), p.codec.order, r);
+    } else {
+      bool clamped = false;
+      r[0] = hal::modbus::to_raw(p.codec, y[j], clamped);
+      clamped_values_ += clamped ? 1 : 0;
+    }
+  }
+}
+
+std::uint16_t RegisterImage::heartbeat() const {
+  return holding(layout_.heartbeat_address);
+}
+
+std::uint16_t RegisterImage::heartbeat_echo() const {
+  return *cell(layout_.heartbeat_echo);
+}
+
+void RegisterImage::set_heartbeat_echo(std::uint16_t value) {
+  *cell(layout_.heartbeat_echo) = value;
+}
+
+std::uint16_t RegisterImage::control(std::uint32_t index) const {
+  return holding(*layout_.control_address + index);
+}
+
+void RegisterImage::set_control(std::uint32_t index, std::uint16_t value) {
+  set_holding(*layout_.control_address + index, value);
+}
+
+bool RegisterImage::in_holding(std::uint32_t address) const {
+  return address >= layout_.holding.start &&
+         address < layout_.holding.start + layout_.holding.count;
+}
+
+std::uint16_t RegisterImage::holding(std::uint32_t address) const {
+  return mapping_->tab_registers[address - layout_.holding.start];
+}
+
+void RegisterImage::set_holding(std::uint32_t address, std::uint16_t value) {
+  mapping_->tab_registers[address - layout_.holding.start] = value;
+}
+
+std::uint16_t RegisterImage::input(std::uint32_t address) const {
+  return mapping_->tab_input_registers[address - layout_.input.start];
+}
+
+}  // namespace excite::sim::server

@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The plant's register image: the libmodbus mapping (holding and input tables sized to the
+// layout) and the conversions between it and the plant, with hal's codecs — setpoints are
+// decoded exactly as hal's ModbusFieldBus encodes them, values encoded as it decodes them.
+
+#include <cstdint>
+#include <vector>
+
+#include "sim/server/server_layout.hpp"
+
+struct _modbus_mapping_t;
+
+namespace excite::sim::server {
+
+class RegisterImage {
+ public:
+  /// Allocates the tables; setpoints start at `input_baseline` (the plant holds its
+  /// operating point until the gateway writes), values at `output_baseline`.
+  RegisterImage(ServerLayout layout, const std::vector<double>& input_baseline,
+                const std::vector<double>& output_baseline);
+  ~RegisterImage();
+  RegisterImage(const RegisterImage&) = delete;
+  RegisterImage& operator=(const RegisterImage&) = delete;
+
+  const ServerLayout& layout() const { return layout_; }
+  _modbus_mapping_t* mapping() { return mapping_; }
+
+  /// Records that a write request covered holding registers [address, address + count):
+  /// each setpoint it touches is from now on read from its registers.
+  void note_write(std::uint32_t address, std::uint32_t count);
+
+  /// The setpoints, engineering units, one per plant input: the input baseline exactly
+  /// until the gateway first writes a setpoint, then its decoded registers. A float32
+  /// register pair that is not finite keeps the last good value and is counted.
+  void read_setpoints(double* u);
+  /// Writes the process values (one per plant output). int16/uint16 outside the
+  /// engineering range are clamped to it (and counted), as a transmitter saturates.
+  void write_values(const double* y);
+
+  std::uint16_t heartbeat() const;
+  std::uint16_t heartbeat_echo() const;
+  void set_heartbeat_echo(std::uint16_t value);
+
+  /// Control block register `index` (0..control_block_size−1); only with a control block.
+  std::uint16_t control(std::uint32_t index) const;
+  void set_control(std::uint32_t index, std::uint16_t value);
+
+  /// Raw access by protocol address (for tests and the request checks); the address must
+  /// lie in the table's extent.
+  std::uint16_t holding(std::uint32_t address) const;
+  void set_holding(std::uint32_t address, std::uint16_t value);
+  std::uint16_t input(std::uint32_t address) const;
+
+  bool in_holding(std::uint32_t address) const;
+
+  std::uint64_t rejected_setpoints() const { return rejected_setpoints_; }
+  std::uint64_t clamped_values() const { return clamped_values_; }
+
+ private:
+  std::uint16_t* cell(const PlacedValue& value) const;
+
+  ServerLayout layout_;
+  _modbus_mapping_t* mapping_ = nullptr;
+  std::vector<double> last_setpoints_;
+  std::vector<bool> written_;
+  std::uint64_t rejected_setpoints_ = 0;
+  std::uint64_t clamped_values_ = 0;
+};
+
+}  // namespace excite::sim::server

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The excite-plant configuration file (TOML, format in sim/server/README.md): which plant,
+// its operating point and noise, and the register map the gateway uses. The per-value
+// register fields are hal's (`hal::modbus::RegisterEntry`), checked by hal's own
+// `compile_register_map`, so the plant and the gateway agree on every bit.
+//
+// Every error is a std::invalid_argument whose message reads
+//   "<source>: <field> = <value>: expected <what>".
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hal/modbus/register_map.hpp"
+
+namespace excite::sim::server {
+
+/// The plant and its operating point. Exactly one of `library` and `file` is set.
+struct PlantSettings {
+  std::string library;                  // a library plant name (sim/library), or
+  std::string file;                     // a plant file (sim/lti format), relative to the config
+  double sample_time_min = 1.0;         // model sample time T, minutes, > 0
+  std::vector<double> input_baseline;   // operating point per input (engineering units);
+                                        // empty → 0 for every input
+  std::vector<double> output_baseline;  // operating point per output; empty → 0
+  std::vector<double> noise_variance;   // per output (squared output units); empty → no
+                                        // noise; one value → the same on every output
+  std::uint64_t noise_seed = 1;
+};
+
+/// Number of registers in the fault control block (holding registers, see README).
+inline constexpr std::uint32_t control_block_size = 5;
+
+/// The register map: hal's map (setpoints FC16, heartbeat, values FC03/FC04) plus what only
+/// the plant side has: where the heartbeat is echoed and the fault control block.
+struct ServerRegisters {
+  hal::modbus::RegisterMap map;  // setpoints in plant-input order, values in plant-output order
+  std::uint32_t heartbeat_echo_address = 0;
+  int heartbeat_echo_function_code = 3;          // 3 (holding) or 4 (input register)
+  std::optional<std::uint32_t> control_address;  // first of control_block_size holding regs
+};
+
+struct ServerConfig {
+  PlantSettings plant;
+  ServerRegisters registers;
+  std::filesystem::path base_directory;  // where a relative plant file is looked up
+};
+
+/// Parses the configuration text; `source` names it in messages. Checks keys and types
+/// (unknown keys are errors) and the register map on its own (hal's checks plus overlaps
+/// across the whole holding/input tables, echo and control block included). The plant
+/// section may be absent or incomplete here: counts against the plant are checked by
+/// `compile_layout` (server_layout.hpp).
+ServerConfig parse_server_config(std::string_view toml_text, std::string_view source = "config");
+
+/// Reads and parses a configuration file; base_directory is the file's directory.
+ServerConfig load_server_config(const std::filesystem::path& path);
+
+}  // namespace excite::sim::server

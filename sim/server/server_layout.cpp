@@ -1,0 +1,162 @@
+// SPDX-License-Identifier: MIT
+#include "sim/server/server_layout.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace excite::sim::server {
+namespace {
+
+[[noreturn]] void fail(std::string_view source, const std::string& field, const std::string& value,
+                       const std::string& expected) {
+  throw std::invalid_argument(std::string(source) + ": " + field + " = " + value + ": expected " +
+                              expected);
+}
+
+// One block of registers in one table, named by its configuration field.
+struct Block {
+  std::string field;
+  std::uint32_t address;
+  std::uint32_t size;
+};
+
+void check_overlaps(std::vector<Block> blocks, std::string_view source) {
+  std::stable_sort(blocks.begin(), blocks.end(),
+                   [](const Block& a, const Block& b) { return a.address < b.address; });
+  for (std::size_t i = 1; i < blocks.size(); ++i) {
+    const Block& previous = blocks[i - 1];
+    const Block& block = blocks[i];
+    if (previous.address + previous.size > block.address) {
+      fail(source, block.field, std::to_string(block.address),
+           "no overlap with " + previous.field + " (registers " + std::to_string(previous.address) +
+               ".." + std::to_string(previous.address + previous.size - 1) + ")");
+    }
+  }
+}
+
+TableExtent extent_of(const std::vector<Block>& blocks) {
+  if (blocks.empty()) return {};
+  std::uint32_t lo = blocks.front().address;
+  std::uint32_t hi = 0;
+  for (const Block& b : blocks) {
+    lo = std::min(lo, b.address);
+    hi = std::max(hi, b.address + b.size);
+  }
+  return {lo, hi - lo};
+}
+
+// Compiles with hal and collects the blocks of both tables.
+void compile(const ServerRegisters& regs, std::string_view source, hal::modbus::RegisterPlan& plan,
+             std::vector<Block>& holding, std::vector<Block>& input) {
+  if (const auto v = hal::modbus::compile_register_map(regs.map, plan); !v.ok()) {
+    // hal names fields relative to the map; here the map is the [registers] table.
+    std::string expected = v.expected;
+    for (const std::string name : {"setpoints[", "values[", "heartbeat_address"}) {
+      const std::string with = "with " + name;
+      if (const auto at = expected.find(with); at != std::string::npos) {
+        expected.insert(at + 5, "registers.");
+      }
+    }
+    fail(source, "registers." + v.field, v.value, expected);
+  }
+  for (std::size_t i = 0; i < regs.map.setpoints.size(); ++i) {
+    holding.push_back({"registers.setpoints[" + std::to_string(i) + "].address",
+                       regs.map.setpoints[i].address,
+                       hal::modbus::register_count(plan.setpoints[i].type)});
+  }
+  holding.push_back({"registers.heartbeat_address", *regs.map.heartbeat_address, 1});
+  for (std::size_t i = 0; i < regs.map.values.size(); ++i) {
+    auto& table = regs.map.values[i].function_code == 4 ? input : holding;
+    table.push_back({"registers.values[" + std::to_string(i) + "].address",
+                     regs.map.values[i].address, hal::modbus::register_count(plan.values[i].type)});
+  }
+  auto& echo_table = regs.heartbeat_echo_function_code == 4 ? input : holding;
+  echo_table.push_back({"registers.heartbeat_echo_address", regs.heartbeat_echo_address, 1});
+  if (regs.control_address) {
+    holding.push_back({"registers.control_address", *regs.control_address, control_block_size});
+  }
+  check_overlaps(holding, source);
+  check_overlaps(input, source);
+}
+
+}  // namespace
+
+void check_registers(const ServerRegisters& registers, std::string_view source) {
+  if (!registers.map.heartbeat_address) {
+    fail(source, "registers.heartbeat_address", "(missing)", "a holding register address");
+  }
+  hal::modbus::RegisterPlan plan;
+  std::vector<Block> holding;
+  std::vector<Block> input;
+  compile(registers, source, plan, holding, input);
+}
+
+ServerLayout compile_layout(const ServerConfig& config, int inputs, int outputs, bool lockstep,
+                            std::string_view source) {
+  const ServerRegisters& regs = config.registers;
+  if (!regs.map.heartbeat_address) {
+    fail(source, "registers.heartbeat_address", "(missing)", "a holding register address");
+  }
+  hal::modbus::RegisterPlan plan;
+  std::vector<Block> holding;
+  std::vector<Block> input;
+  compile(regs, source, plan, holding, input);
+
+  const auto count = [](std::size_t n) { return std::to_string(n); };
+  if (regs.map.setpoints.size() != static_cast<std::size_t>(inputs)) {
+    fail(source, "registers.setpoints", count(regs.map.setpoints.size()) + " entries",
+         count(static_cast<std::size_t>(inputs)) + " (one per plant input, in plant order)");
+  }
+  if (regs.map.values.size() != static_cast<std::size_t>(outputs)) {
+    fail(source, "registers.values", count(regs.map.values.size()) + " entries",
+         count(static_cast<std::size_t>(outputs)) + " (one per plant output, in plant order)");
+  }
+  const PlantSettings& plant = config.plant;
+  if (!plant.input_baseline.empty() &&
+      plant.input_baseline.size() != static_cast<std::size_t>(inputs)) {
+    fail(source, "plant.input_baseline", count(plant.input_baseline.size()) + " values",
+         count(static_cast<std::size_t>(inputs)) + " (one per plant input)");
+  }
+  if (!plant.output_baseline.empty() &&
+      plant.output_baseline.size() != static_cast<std::size_t>(outputs)) {
+    fail(source, "plant.output_baseline", count(plant.output_baseline.size()) + " values",
+         count(static_cast<std::size_t>(outputs)) + " (one per plant output)");
+  }
+  if (plant.noise_variance.size() > 1 &&
+      plant.noise_variance.size() != static_cast<std::size_t>(outputs)) {
+    fail(source, "plant.noise_variance", count(plant.noise_variance.size()) + " values",
+         "one value, or " + count(static_cast<std::size_t>(outputs)) + " (one per plant output)");
+  }
+  if (lockstep) {
+    for (std::size_t i = 0; i < regs.map.setpoints.size(); ++i) {
+      if (regs.map.setpoints[i].address > *regs.map.heartbeat_address) {
+        fail(source, "registers.heartbeat_address", std::to_string(*regs.map.heartbeat_address),
+             "above every setpoint register in lock-step mode (registers.setpoints[" +
+                 std::to_string(i) +
+                 "].address = " + std::to_string(regs.map.setpoints[i].address) +
+                 "), so the heartbeat is written last");
+      }
+    }
+  }
+
+  ServerLayout layout;
+  for (std::size_t i = 0; i < regs.map.setpoints.size(); ++i) {
+    layout.setpoints.push_back({plan.setpoints[i], regs.map.setpoints[i].address, false});
+  }
+  for (std::size_t i = 0; i < regs.map.values.size(); ++i) {
+    layout.values.push_back(
+        {plan.values[i], regs.map.values[i].address, regs.map.values[i].function_code == 4});
+  }
+  layout.heartbeat_address = *regs.map.heartbeat_address;
+  hal::modbus::Codec echo;
+  echo.type = hal::modbus::RegisterType::uint16;
+  layout.heartbeat_echo = {echo, regs.heartbeat_echo_address,
+                           regs.heartbeat_echo_function_code == 4};
+  layout.control_address = regs.control_address;
+  layout.holding = extent_of(holding);
+  layout.input = extent_of(input);
+  return layout;
+}
+
+}  // namespace excite::sim::server

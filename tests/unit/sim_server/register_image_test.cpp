@@ -1,0 +1,204 @@
+// SPDX-License-Identifier: MIT
+// The register image ↔ plant mapping: setpoints written in each word order reach the plant,
+// outputs appear in the registers in the configured word order, scaled types follow hal.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "hal/modbus/word_order.hpp"
+#include "sim/library/library.hpp"
+#include "sim/server/plant_process.hpp"
+#include "sim/server/register_image.hpp"
+#include "sim/server/server_config.hpp"
+#include "sim/server/server_layout.hpp"
+
+namespace excite::sim::server {
+namespace {
+
+using hal::modbus::WordOrder;
+
+// Four float32 setpoints (one per word order) and four values (one per word order, FC03
+// and FC04 alternating), plus an int16 setpoint and a uint16 value: a 5-input, 5-output map.
+ServerLayout five_by_five() {
+  const std::string text = R"(
+[registers]
+heartbeat_address = 120
+heartbeat_echo_address = 121
+[[registers.setpoints]]
+address = 100
+word_order = "ABCD"
+[[registers.setpoints]]
+address = 102
+word_order = "CDAB"
+[[registers.setpoints]]
+address = 104
+word_order = "BADC"
+[[registers.setpoints]]
+address = 106
+word_order = "dcba"
+[[registers.setpoints]]
+address = 108
+type = "int16"
+eng_min = -50.0
+eng_max = 50.0
+[[registers.values]]
+address = 200
+function_code = 3
+word_order = "ABCD"
+[[registers.values]]
+address = 200
+function_code = 4
+word_order = "CDAB"
+[[registers.values]]
+address = 202
+function_code = 3
+word_order = "BADC"
+[[registers.values]]
+address = 202
+function_code = 4
+word_order = "DCBA"
+[[registers.values]]
+address = 204
+function_code = 4
+type = "uint16"
+eng_min = 0.0
+eng_max = 1.0
+raw_min = 0
+raw_max = 27648
+)";
+  return compile_layout(parse_server_config(text), 5, 5, true);
+}
+
+const std::vector<double> kInputBaseline{1.0, 2.0, 3.0, 4.0, 5.0};
+const std::vector<double> kOutputBaseline{0.5, 0.25, 0.125, 0.0625, 0.5};
+
+// Registers a gateway would write: 123456.0f (0x47F12000) in each word order.
+constexpr std::array<std::array<std::uint16_t, 2>, 4> kOracle{
+    {{0x47F1, 0x2000}, {0x2000, 0x47F1}, {0xF147, 0x0020}, {0x0020, 0xF147}}};
+
+TEST(RegisterImage, SetpointsStartAtTheInputBaselineExactly) {
+  RegisterImage image(five_by_five(), kInputBaseline, kOutputBaseline);
+  std::vector<double> u(5);
+  image.read_setpoints(u.data());
+  EXPECT_EQ(u, kInputBaseline);  // not the float32-rounded register contents
+  // …and the registers already hold the operating point, for a client that reads them.
+  const std::uint16_t r[2] = {image.holding(100), image.holding(101)};
+  EXPECT_EQ(hal::modbus::decode_float32(r, WordOrder::abcd), 1.0F);
+}
+
+TEST(RegisterImage, FloatSetpointWrittenInEachWordOrderReachesThePlant) {
+  RegisterImage image(five_by_five(), kInputBaseline, kOutputBaseline);
+  for (std::uint32_t i = 0; i < 4; ++i) {
+    image.set_holding(100 + 2 * i, kOracle[i][0]);
+    image.set_holding(101 + 2 * i, kOracle[i][1]);
+  }
+  image.note_write(100, 8);
+  std::vector<double> u(5);
+  image.read_setpoints(u.data());
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(u[static_cast<std::size_t>(i)], 123456.0) << "input " << i;
+  EXPECT_EQ(u[4], 5.0);  // not written yet: still its baseline
+}
+
+TEST(RegisterImage, ScaledInt16SetpointIsDecodedAsHalEncodesIt) {
+  RegisterImage image(five_by_five(), kInputBaseline, kOutputBaseline);
+  // −25 in −50..50 over −32768..32767: raw = −32768 + 25·65535/100 = −16384.25 → −16384.
+  image.set_holding(108, static_cast<std::uint16_t>(-16384 & 0xFFFF));
+  image.note_write(108, 1);
+  std::vector<double> u(5);
+  image.read_setpoints(u.data());
+  EXPECT_NEAR(u[4], -25.0, 100.0 / 65535.0);
+}
+
+TEST(RegisterImage, NonFiniteFloatSetpointKeepsTheLastGoodValue) {
+  RegisterImage image(five_by_five(), kInputBaseline, kOutputBaseline);
+  std::uint16_t r[2];
+  hal::modbus::encode_float32(7.5F, WordOrder::abcd, r);
+  image.set_holding(100, r[0]);
+  image.set_holding(101, r[1]);
+  image.note_write(100, 2);
+  std::vector<double> u(5);
+  image.read_setpoints(u.data());
+  EXPECT_EQ(u[0], 7.5);
+  image.set_holding(100, 0x7FC0);  // quiet NaN
+  image.set_holding(101, 0x0000);
+  image.read_setpoints(u.data());
+  EXPECT_EQ(u[0], 7.5);
+  EXPECT_EQ(image.rejected_setpoints(), 1U);
+}
+
+TEST(RegisterImage, OutputsAppearInTheConfiguredWordOrderAndTable) {
+  RegisterImage image(five_by_five(), kInputBaseline, kOutputBaseline);
+  const std::vector<double> y{123456.0, 123456.0, 123456.0, 123456.0, 0.5};
+  image.write_values(y.data());
+  const auto holding = [&](std::uint32_t a) { return image.holding(a); };
+  const auto input = [&](std::uint32_t a) { return image.input(a); };
+  EXPECT_EQ(holding(200), kOracle[0][0]);
+  EXPECT_EQ(holding(201), kOracle[0][1]);
+  EXPECT_EQ(input(200), kOracle[1][0]);
+  EXPECT_EQ(input(201), kOracle[1][1]);
+  EXPECT_EQ(holding(202), kOracle[2][0]);
+  EXPECT_EQ(holding(203), kOracle[2][1]);
+  EXPECT_EQ(input(202), kOracle[3][0]);
+  EXPECT_EQ(input(203), kOracle[3][1]);
+  EXPECT_EQ(input(204), 13824);  // 0.5 of 0..27648
+}
+
+TEST(RegisterImage, ScaledOutputBeyondItsRangeSaturatesAndIsCounted) {
+  RegisterImage image(five_by_five(), kInputBaseline, kOutputBaseline);
+  const std::vector<double> y{0, 0, 0, 0, 1.5};
+  image.write_values(y.data());
+  EXPECT_EQ(image.input(204), 27648);
+  EXPECT_EQ(image.clamped_values(), 1U);
+}
+
+TEST(RegisterImage, HeartbeatAndEchoLiveAtTheirAddresses) {
+  RegisterImage image(five_by_five(), kInputBaseline, kOutputBaseline);
+  image.set_holding(120, 4711);
+  EXPECT_EQ(image.heartbeat(), 4711);
+  image.set_heartbeat_echo(4711);
+  EXPECT_EQ(image.holding(121), 4711);
+}
+
+TEST(PlantProcess, DeviationsAroundTheOperatingPointFollowDiscretePlant) {
+  const TransferMatrix g = library_plant("woodberry2x2");
+  PlantSettings settings;
+  settings.input_baseline = {1.95, 1.71};
+  settings.output_baseline = {96.0, 0.5};
+  PlantProcess process(g, settings);
+  DiscretePlant reference(g, 1.0);
+  for (int k = 0; k < 30; ++k) {
+    const double u[2] = {1.95 + 0.1 * (k % 3), 1.71 - 0.05 * (k % 5)};
+    const double du[2] = {u[0] - 1.95, u[1] - 1.71};
+    double y[2];
+    double dy[2];
+    process.sample(u, y);
+    reference.step(du, dy);
+    EXPECT_EQ(y[0], 96.0 + dy[0]) << "k = " << k;
+    EXPECT_EQ(y[1], 0.5 + dy[1]) << "k = " << k;
+  }
+  EXPECT_EQ(process.samples(), 30U);
+}
+
+TEST(PlantProcess, NoiseIsTheSeededMeasurementNoise) {
+  const TransferMatrix g = library_plant("woodberry2x2");
+  PlantSettings settings;
+  settings.noise_variance = {0.03};
+  settings.noise_seed = 42;
+  PlantProcess process(g, settings);
+  MeasurementNoise noise(2, 0.03, 42);
+  const double u[2] = {0.0, 0.0};
+  for (int k = 0; k < 10; ++k) {
+    double y[2];
+    process.sample(u, y);
+    double expected[2] = {0.0, 0.0};
+    noise.add(expected);
+    EXPECT_EQ(y[0], expected[0]);
+    EXPECT_EQ(y[1], expected[1]);
+  }
+}
+
+}  // namespace
+}  // namespace excite::sim::server
