@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <tuple>
 
@@ -156,6 +157,66 @@ TEST_F(ExciteCli, CorruptedPlanIsRefused) {
   EXPECT_NE(r.out.find(path("s.plan")), std::string::npos) << r.out;
 }
 
+// The host's hop: design → simulate → run log → identify → validate, balance.
+TEST_F(ExciteCli, SimulatedRunIsIdentifiedValidatedAndBalanced) {
+  ASSERT_EQ(
+      excite("design -q --plant woodberry2x2 --preset prbsUnc -o " + path("wb.plan")).exit_code, 0);
+  const Result sim = excite("simulate " + path("wb.plan") +
+                            " --plant woodberry2x2 --noise-var 0.03 --seed 7 -o " + path("wb.csv"));
+  ASSERT_EQ(sim.exit_code, 0) << sim.out;
+  const Result id = excite("identify --json -o " + path("wb.json") + " " + path("wb.csv"));
+  ASSERT_EQ(id.exit_code, 0) << id.out;
+  const auto model = nlohmann::json::parse(id.out);
+  for (const char* key : {"outputs", "gain", "singular_values", "condition_number"})
+    EXPECT_TRUE(model.contains(key)) << key;
+  EXPECT_GT(model["outputs"][0]["fit"].get<double>(), 90.0);
+  // Wood–Berry G(0) = [12.8 −18.9; 6.6 −19.4]: the noisy PRBS run recovers it closely.
+  EXPECT_NEAR(model["gain"][0][0].get<double>(), 12.8, 0.5);
+  EXPECT_NEAR(model["gain"][1][1].get<double>(), -19.4, 0.5);
+  const Result v = excite("validate --json " + path("wb.json") + " " + path("wb.csv"));
+  ASSERT_EQ(v.exit_code, 0) << v.out;
+  EXPECT_NEAR(nlohmann::json::parse(v.out)["outputs"][0]["fit"].get<double>(),
+              model["outputs"][0]["fit"].get<double>(), 1e-9);
+  const Result b = excite("balance --json --plant woodberry2x2 " + path("wb.csv"));
+  ASSERT_EQ(b.exit_code, 0) << b.out;
+  const auto balance = nlohmann::json::parse(b.out);
+  EXPECT_EQ(balance["projection_std"].size(), 2U);
+  EXPECT_GT(balance["ratio"].get<double>(), 0.0);
+  EXPECT_GT(balance["upsilon"].get<double>(), 0.0);
+}
+
+TEST_F(ExciteCli, SimulationIsReproducibleBySeed) {
+  ASSERT_EQ(
+      excite("design -q --plant woodberry2x2 --preset stepSeq -o " + path("s.plan")).exit_code, 0);
+  for (const char* name : {"a.csv", "b.csv"}) {
+    ASSERT_EQ(excite("simulate " + path("s.plan") +
+                     " --plant woodberry2x2 --noise-var 0.03 --seed 3 -o " + path(name))
+                  .exit_code,
+              0);
+  }
+  std::ifstream a(path("a.csv")), b(path("b.csv"));
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(a), {}),
+            std::string(std::istreambuf_iterator<char>(b), {}));
+}
+
+TEST_F(ExciteCli, PlanForAnotherPlantIsRefusedAndNothingWritten) {
+  ASSERT_EQ(excite("design -q --plant alatiqi4x4 --preset stepSeq -o " + path("a.plan")).exit_code,
+            0);
+  const Result r =
+      excite("simulate " + path("a.plan") + " --plant woodberry2x2 -o " + path("x.csv"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("4 channels"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(path("x.csv")));
+}
+
+TEST_F(ExciteCli, StepResponseOfTheColumnSettlesTowardsItsGain) {
+  const Result r =
+      excite("simulate --plant colaA --step L=0.001 --samples 50 -o " + path("step.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("dxD"), std::string::npos) << r.out;
+  EXPECT_EQ(excite("identify " + path("nosuch.csv")).exit_code, 1);
+}
+
 TEST_F(ExciteCli, UnknownPlantListsTheKnownOnes) {
   const Result r = excite("gains --plant nosuch");
   EXPECT_EQ(r.exit_code, 1);
@@ -167,7 +228,8 @@ TEST_F(ExciteCli, MissingRequiredOptionIsAUsageError) {
 }
 
 TEST_F(ExciteCli, EveryCommandHasHelp) {
-  for (const char* cmd : {"gains", "design", "inspect", "case-study"}) {
+  for (const char* cmd : {"gains", "design", "inspect", "case-study", "simulate", "identify",
+                          "validate", "crossval", "balance", "campaign"}) {
     const Result r = excite(std::string(cmd) + " --help");
     EXPECT_EQ(r.exit_code, 0) << cmd;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << cmd << ": " << r.out;
