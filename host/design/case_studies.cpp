@@ -18,7 +18,7 @@ struct CaseStudy {
   std::vector<std::string_view> input_names;
 };
 
-// α = 2, β = 3 throughout (thesis 6.3); amplitude 1 and limits ±2 in each input's unit
+// α = 2, β = 3 throughout (thesis 6.3); limits ±2 amplitudes in each input's unit
 // (the thesis states no input limits; ±2 leaves directional designs room to scale).
 // alatiqi4x4 is the thesis's case study (6.3). For the others τ_L and τ_H are the
 // smallest and largest time constants of the elements that carry the plant's gain, and
@@ -63,7 +63,7 @@ PriorKnowledge case_study(std::string_view plant) {
     prior.beta = 3.0;
     prior.step_length_min = s.step_length_min;
     for (const std::string_view name : s.input_names)
-      prior.inputs.push_back({std::string(name), 1.0, -2.0, 2.0});
+      prior.inputs.push_back({std::string(name), s.amplitude, -2.0 * s.amplitude, 2.0 * s.amplitude});
     prior.gain = plant_gain(plant);
     validate(prior);
     return prior;
