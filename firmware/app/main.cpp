@@ -222,12 +222,8 @@ int main(int argc, char** argv) {
     return fail(ExitCode::device, config_path + ": " + v.message());
   }
   excite::hal::PosixClock clock;
-  std::vector<engine::TickRecord> ring_storage;  // sized once, below
-  struct HeapRing final : engine::LogRingBase {
-    explicit HeapRing(std::span<engine::TickRecord> s) : LogRingBase(s) {}
-  };
-  ring_storage.resize(config.log_ring);
-  HeapRing ring(ring_storage);
+  std::vector<engine::TickRecord> ring_storage(config.log_ring);  // sized once
+  engine::SpanLogRing ring(ring_storage);
   excite::app::Runner runner(*eng, bus, clock, ring,
                              std::chrono::duration_cast<excite::hal::Nanoseconds>(
                                  std::chrono::duration<double>(period_s)));

@@ -62,6 +62,12 @@ class LogRingBase {
   std::atomic<std::uint64_t> overruns_{0};
 };
 
+/// A ring over caller-owned storage (sized once at start-up, e.g. from the configuration).
+class SpanLogRing final : public LogRingBase {
+ public:
+  explicit SpanLogRing(std::span<TickRecord> storage) noexcept : LogRingBase(storage) {}
+};
+
 /// A ring of N records (N ≥ 1). Large: allocate once at start-up (or make it static).
 template <std::size_t N>
 class LogRing final : public LogRingBase {

@@ -109,7 +109,8 @@ class GatewayLoop : public ::testing::Test {
   // Configures, arms (reading the live plant), runs until safe with the log thread.
   app::RunStats run(engine::Command first = engine::Command::start) {
     EXPECT_TRUE(engine_.configure(config_, table_));
-    ring_ = std::make_unique<engine::LogRing<kRing>>();
+    ring_storage_.assign(ring_records_, engine::TickRecord{});
+    ring_ = std::make_unique<engine::SpanLogRing>(ring_storage_);
     app::Runner runner(engine_, *bus_, clock_, *ring_, std::chrono::seconds(60));
     runner.set_observer(&script_);
     const engine::Status armed = runner.arm();
@@ -151,7 +152,9 @@ class GatewayLoop : public ::testing::Test {
   std::unique_ptr<hal::simlink::SimLinkFieldBus> bus_;
   engine::EngineConfig config_;
   engine::Engine engine_;
-  std::unique_ptr<engine::LogRing<kRing>> ring_;
+  std::size_t ring_records_ = kRing;
+  std::vector<engine::TickRecord> ring_storage_;
+  std::unique_ptr<engine::SpanLogRing> ring_;
   app::CommandMailbox commands_;
   Script script_;
   std::string log_path_;

@@ -74,9 +74,11 @@ TEST(AllocationCountersTest, SeeOperatorNewAndMalloc) {
   const long new_before = excite::test::allocations();
   const long malloc_before = excite::test::mallocs();
   auto* p = new std::vector<int>(100);
-  void* raw = std::malloc(64);
+  void* volatile raw = std::malloc(64);  // volatile: the call may not be elided
   EXPECT_GE(excite::test::allocations() - new_before, 2);
-  if (excite::test::malloc_interposed()) EXPECT_GE(excite::test::mallocs() - malloc_before, 3);
+  if (excite::test::malloc_interposed()) {
+    EXPECT_GE(excite::test::mallocs() - malloc_before, 1);
+  }
   std::free(raw);
   delete p;
 }
