@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "firmware/app/gateway_config.hpp"
 
+#include <toml++/toml.h>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
 #include <stdexcept>
-#include <toml++/toml.h>
 
 #include "firmware/runlog/format.hpp"
 
@@ -79,7 +79,7 @@ std::optional<std::int64_t> integer(const toml::table& t, const std::string& whe
 }
 
 std::optional<std::string> text(const toml::table& t, const std::string& where,
-                                 const std::string& key) {
+                                const std::string& key) {
   const toml::node* n = t.get(key);
   if (n == nullptr) return std::nullopt;
   auto s = n->value_exact<std::string>();
@@ -99,10 +99,10 @@ const toml::table* table_at(const toml::table& root, const std::string& key, boo
 
 void parse_gateway(const toml::table& t, GatewayConfig& c) {
   const std::string w = "gateway";
-  check_keys(t, w,
-             {"plant", "period_s", "ramp_s", "resume_dwell_s", "suspend_timeout_s",
-              "comm_fail_limit", "comm_loss", "heartbeat_max_lag_s", "log_ring",
-              "realtime_priority"});
+  check_keys(
+      t, w,
+      {"plant", "period_s", "ramp_s", "resume_dwell_s", "suspend_timeout_s", "comm_fail_limit",
+       "comm_loss", "heartbeat_max_lag_s", "log_ring", "realtime_priority"});
   if (auto s = text(t, w, "plant")) {
     if (s->find_first_of("\r\n") != std::string::npos) {
       throw ConfigError(w + ".plant", '"' + *s + '"', "one line of text");
@@ -136,7 +136,8 @@ void parse_gateway(const toml::table& t, GatewayConfig& c) {
     }
   }
   if (auto v = integer(t, w, "log_ring", 16, 1 << 20)) c.log_ring = static_cast<std::uint32_t>(*v);
-  if (auto v = integer(t, w, "realtime_priority", 0, 99)) c.realtime_priority = static_cast<int>(*v);
+  if (auto v = integer(t, w, "realtime_priority", 0, 99))
+    c.realtime_priority = static_cast<int>(*v);
 }
 
 void parse_device(const toml::table& t, hal::modbus::ModbusDevice& d) {
@@ -160,8 +161,7 @@ void parse_device(const toml::table& t, hal::modbus::ModbusDevice& d) {
 
 // The register fields shared by setpoints and values.
 void parse_register(const toml::table& t, const std::string& w, hal::modbus::RegisterEntry& e) {
-  e.address = static_cast<std::uint32_t>(
-      integer(t, w, "address", 0, 1 << 20).value_or(0));
+  e.address = static_cast<std::uint32_t>(integer(t, w, "address", 0, 1 << 20).value_or(0));
   if (t.get("address") == nullptr) throw ConfigError(w + ".address", "(missing)", "an address");
   if (auto v = integer(t, w, "function_code", 0, 255)) e.function_code = static_cast<int>(*v);
   if (auto s = text(t, w, "type")) e.type = *s;
@@ -247,8 +247,7 @@ void parse_values(const toml::table& root, GatewayConfig& c) {
     const toml::table& t = *node.as_table();
     check_keys(t, w,
                {"name", "unit", "address", "function_code", "type", "word_order", "eng_min",
-                "eng_max", "raw_min", "raw_max", "role", "test_low", "test_high",
-                "hysteresis"});
+                "eng_max", "raw_min", "raw_max", "role", "test_low", "test_high", "hysteresis"});
     ValueSpec v;
     v.name = channel_name(t, w);
     v.unit = channel_unit(t, w);

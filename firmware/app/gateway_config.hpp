@@ -28,7 +28,7 @@ enum class ValueRole : std::uint8_t {
 struct SetpointSpec {
   std::string name;  // run-log channel name: letters, digits, _ . -
   std::string unit = "-";
-  double min = 0.0;       // absolute limits of the setpoint, engineering units
+  double min = 0.0;  // absolute limits of the setpoint, engineering units
   double max = 0.0;
   double max_move = 0.0;  // largest change per tick
   std::string readback;   // name of the value (role readback) giving the baseline
@@ -44,18 +44,18 @@ struct ValueSpec {
 };
 
 struct GatewayConfig {
-  std::string source;                // file name, for messages
-  std::string plant = "unnamed";     // the run log's `plant:` line
-  std::optional<double> period_s;    // tick period; default the plan's sample time
-  double ramp_s = 0.0;               // excitation ramps in and out over this time
-  double resume_dwell_s = 0.0;       // back inside the limits this long → resume
-  double suspend_timeout_s = 0.0;    // suspended this long → abort; 0 = never
+  std::string source;              // file name, for messages
+  std::string plant = "unnamed";   // the run log's `plant:` line
+  std::optional<double> period_s;  // tick period; default the plan's sample time
+  double ramp_s = 0.0;             // excitation ramps in and out over this time
+  double resume_dwell_s = 0.0;     // back inside the limits this long → resume
+  double suspend_timeout_s = 0.0;  // suspended this long → abort; 0 = never
   std::uint32_t comm_fail_limit = 3;
   engine::CommLossAction comm_loss = engine::CommLossAction::hold;
-  double heartbeat_max_lag_s = 0.0;  // with a heartbeat_echo value; 0 → 3 ticks
-  std::uint32_t log_ring = 4096;     // run-log ring records
-  int realtime_priority = 80;        // SCHED_FIFO priority; 0 = leave the scheduler alone
-  hal::modbus::ModbusConfig modbus;  // device and register map
+  double heartbeat_max_lag_s = 0.0;     // with a heartbeat_echo value; 0 → 3 ticks
+  std::uint32_t log_ring = 4096;        // run-log ring records
+  int realtime_priority = 80;           // SCHED_FIFO priority; 0 = leave the scheduler alone
+  hal::modbus::ModbusConfig modbus;     // device and register map
   std::vector<SetpointSpec> setpoints;  // in plan channel order
   std::vector<ValueSpec> values;        // in register-map order
 };

@@ -16,7 +16,9 @@ LogDrain::LogDrain(engine::LogRingBase& ring, std::FILE* file, LogLayout layout)
       dy_(layout_.output_values.size()),
       writer_(file_, layout_.header, std::span<char>(buffer_)) {}
 
-LogDrain::~LogDrain() { stop(); }
+LogDrain::~LogDrain() {
+  stop();
+}
 
 bool LogDrain::write_header() {
   const runlog::WriteStatus s = writer_.write_header();

@@ -18,9 +18,9 @@
 namespace excite::app {
 
 struct LogLayout {
-  runlog::Header header;            // names, units, sample time (the plan's T, minutes)
-  std::vector<int> output_values;   // value index of each logged output, header order
-  double sample_time_min = 0.0;     // t_min = tick · sample_time_min
+  runlog::Header header;           // names, units, sample time (the plan's T, minutes)
+  std::vector<int> output_values;  // value index of each logged output, header order
+  double sample_time_min = 0.0;    // t_min = tick · sample_time_min
 };
 
 class LogDrain {

@@ -83,7 +83,8 @@ void read_stdin_commands() {
       } else if (line == "abort") {
         g_commands.post(engine::Command::abort);
       } else if (!line.empty()) {
-        std::fprintf(stderr, "excite-gateway: unknown command \"%s\" (start, suspend, resume, abort)\n",
+        std::fprintf(stderr,
+                     "excite-gateway: unknown command \"%s\" (start, suspend, resume, abort)\n",
                      line.c_str());
       }
     }
@@ -120,12 +121,12 @@ void print_dry_run(const excite::app::GatewayConfig& config, const excite::plan:
       lo = std::min(lo, table.at(k, static_cast<std::uint32_t>(c)));
       hi = std::max(hi, table.at(k, static_cast<std::uint32_t>(c)));
     }
-    std::printf("  %-12s register %5u %-7s %-4s du in [%g, %g] %s, limits [%g, %g], max move %g/tick, "
-                "baseline from %s (plan channel \"%s\")\n",
-                s.name.c_str(), r.address, r.type.c_str(),
-                r.type == "float32" ? r.word_order.c_str() : "", lo, hi, s.unit.c_str(), s.min,
-                s.max, s.max_move, s.readback.c_str(),
-                excite::plan::text_of(plan.meta.channels[c].name).data());
+    std::printf(
+        "  %-12s register %5u %-7s %-4s du in [%g, %g] %s, limits [%g, %g], max move %g/tick, "
+        "baseline from %s (plan channel \"%s\")\n",
+        s.name.c_str(), r.address, r.type.c_str(), r.type == "float32" ? r.word_order.c_str() : "",
+        lo, hi, s.unit.c_str(), s.min, s.max, s.max_move, s.readback.c_str(),
+        excite::plan::text_of(plan.meta.channels[c].name).data());
   }
   if (config.modbus.map.heartbeat_address) {
     std::printf("  heartbeat    register %5u uint16 counter, +1 per tick\n",
@@ -138,13 +139,15 @@ void print_dry_run(const excite::app::GatewayConfig& config, const excite::plan:
     static const char* roles[] = {"output", "readback", "heartbeat_echo", "command"};
     std::printf("  %-12s register %5u FC%02d %-7s %s", v.name.c_str(), r.address, r.function_code,
                 r.type.c_str(), roles[static_cast<int>(v.role)]);
-    if (v.test_low) std::printf(", test limits [%g, %g] hysteresis %g", *v.test_low, *v.test_high, v.hysteresis);
+    if (v.test_low)
+      std::printf(", test limits [%g, %g] hysteresis %g", *v.test_low, *v.test_high, v.hysteresis);
     std::printf("\n");
   }
-  std::printf("ramp %u ticks, resume dwell %u ticks, suspend timeout %u ticks, comm loss after %u "
-              "failed exchanges (%s)\n",
-              ec.ramp_ticks, ec.resume_dwell_ticks, ec.suspend_timeout_ticks, ec.comm_fail_limit,
-              ec.comm_loss == engine::CommLossAction::hold ? "hold" : "ramp to baseline");
+  std::printf(
+      "ramp %u ticks, resume dwell %u ticks, suspend timeout %u ticks, comm loss after %u "
+      "failed exchanges (%s)\n",
+      ec.ramp_ticks, ec.resume_dwell_ticks, ec.suspend_timeout_ticks, ec.comm_fail_limit,
+      ec.comm_loss == engine::CommLossAction::hold ? "hold" : "ramp to baseline");
   const std::uint32_t rows = std::min<std::uint32_t>(table.samples, 5);
   std::printf("first %u rows of du:\n", rows);
   for (std::uint32_t k = 0; k < rows; ++k) {
@@ -255,36 +258,37 @@ int main(int argc, char** argv) {
   drain.set_event_stream(stderr);
   if (!drain.write_header()) {
     std::fclose(log);
-    return fail(ExitCode::log_error,
-                log_path + ": cannot write the header: " +
-                    std::string(excite::runlog::describe(drain.last_error())));
+    return fail(ExitCode::log_error, log_path + ": cannot write the header: " +
+                                         std::string(excite::runlog::describe(drain.last_error())));
   }
   drain.start();
 
   // 5. Real time, signals, operator input; run.
   const excite::app::RealtimeResult rt = excite::app::make_realtime(config.realtime_priority);
-  for (const auto& w : rt.warnings) std::fprintf(stderr, "excite-gateway: warning: %s\n", w.c_str());
+  for (const auto& w : rt.warnings)
+    std::fprintf(stderr, "excite-gateway: warning: %s\n", w.c_str());
   install_signals();
   read_stdin_commands();
-  std::fprintf(stderr, "excite-gateway: armed (%u setpoints, %u values, %u rows, period %g s)%s\n",
-               engine_config.inputs, engine_config.values, table.samples, period_s,
-               auto_start ? "; starting" : "; waiting for start (SIGUSR1, stdin, command register)");
+  std::fprintf(
+      stderr, "excite-gateway: armed (%u setpoints, %u values, %u rows, period %g s)%s\n",
+      engine_config.inputs, engine_config.values, table.samples, period_s,
+      auto_start ? "; starting" : "; waiting for start (SIGUSR1, stdin, command register)");
   if (auto_start) g_commands.post(engine::Command::start);
   const excite::app::RunStats stats = runner.run(g_commands, &g_hard_stop);
   drain.stop();
   const bool closed = std::fclose(log) == 0;
 
-  std::fprintf(stderr,
-               "excite-gateway: %s after %llu ticks (%s); rows logged %llu, ring overruns %llu, "
-               "failed exchanges %llu, comm losses %llu, suspensions %llu, schedule overruns %llu\n",
-               engine::to_string(stats.final_state), static_cast<unsigned long long>(stats.ticks),
-               engine::to_string(stats.outcome),
-               static_cast<unsigned long long>(drain.rows_written()),
-               static_cast<unsigned long long>(stats.ring_overruns),
-               static_cast<unsigned long long>(stats.failed_exchanges),
-               static_cast<unsigned long long>(eng->comm_losses()),
-               static_cast<unsigned long long>(eng->suspensions()),
-               static_cast<unsigned long long>(stats.schedule_overruns));
+  std::fprintf(
+      stderr,
+      "excite-gateway: %s after %llu ticks (%s); rows logged %llu, ring overruns %llu, "
+      "failed exchanges %llu, comm losses %llu, suspensions %llu, schedule overruns %llu\n",
+      engine::to_string(stats.final_state), static_cast<unsigned long long>(stats.ticks),
+      engine::to_string(stats.outcome), static_cast<unsigned long long>(drain.rows_written()),
+      static_cast<unsigned long long>(stats.ring_overruns),
+      static_cast<unsigned long long>(stats.failed_exchanges),
+      static_cast<unsigned long long>(eng->comm_losses()),
+      static_cast<unsigned long long>(eng->suspensions()),
+      static_cast<unsigned long long>(stats.schedule_overruns));
   if (!closed || drain.last_error() != excite::runlog::WriteStatus::ok) {
     return fail(ExitCode::log_error, log_path + ": writing the run log failed: " +
                                          std::string(excite::runlog::describe(drain.last_error())));

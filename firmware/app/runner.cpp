@@ -8,10 +8,9 @@ namespace excite::app {
 engine::Status Runner::arm() noexcept {
   const std::uint32_t n = engine_.config().values;
   if (bus_.value_count() != n || bus_.setpoint_count() != engine_.config().inputs) {
-    return engine::Status::error(engine::StatusCode::invalid_field,
-                                 "field bus = %zu setpoints, %zu values, expected %u, %u",
-                                 bus_.setpoint_count(), bus_.value_count(),
-                                 engine_.config().inputs, n);
+    return engine::Status::error(
+        engine::StatusCode::invalid_field, "field bus = %zu setpoints, %zu values, expected %u, %u",
+        bus_.setpoint_count(), bus_.value_count(), engine_.config().inputs, n);
   }
   const hal::Status s = bus_.read(std::span<double>(values_.data(), n));
   if (s != hal::Status::ok) {

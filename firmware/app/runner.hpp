@@ -28,7 +28,7 @@ struct RunStats {
   std::uint64_t ticks = 0;              // ticks executed
   std::uint64_t schedule_overruns = 0;  // grid points skipped because a tick ran late
   std::uint64_t failed_exchanges = 0;
-  std::uint64_t ring_overruns = 0;      // records dropped because the log ring was full
+  std::uint64_t ring_overruns = 0;  // records dropped because the log ring was full
   engine::State final_state = engine::State::configured;
   engine::Outcome outcome = engine::Outcome::none;
 };
@@ -43,8 +43,8 @@ class TickObserver {
 
 class Runner {
  public:
-  Runner(engine::Engine& engine, hal::FieldBus& bus, hal::Clock& clock,
-         engine::LogRingBase& ring, hal::Nanoseconds period) noexcept
+  Runner(engine::Engine& engine, hal::FieldBus& bus, hal::Clock& clock, engine::LogRingBase& ring,
+         hal::Nanoseconds period) noexcept
       : engine_(engine), bus_(bus), clock_(clock), ring_(ring), period_(period) {}
 
   void set_observer(TickObserver* observer) noexcept { observer_ = observer; }

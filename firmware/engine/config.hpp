@@ -22,16 +22,16 @@ inline constexpr std::int32_t kNone = -1;                          // "no value 
 
 /// One setpoint (a plan channel), absolute engineering units.
 struct InputLimits {
-  double min = 0.0;       // lowest setpoint ever written
-  double max = 0.0;       // highest setpoint ever written; min ≤ max
-  double max_move = 0.0;  // largest |Δsetpoint| per tick, > 0
+  double min = 0.0;               // lowest setpoint ever written
+  double max = 0.0;               // highest setpoint ever written; min ≤ max
+  double max_move = 0.0;          // largest |Δsetpoint| per tick, > 0
   std::int32_t readback = kNone;  // value index whose reading at arm is the baseline
 };
 
 /// Test limits of one value (a controlled variable), absolute engineering units.
 struct TestLimit {
   bool enabled = false;
-  double low = 0.0;         // outside [low, high] → suspend
+  double low = 0.0;  // outside [low, high] → suspend
   double high = 0.0;
   double hysteresis = 0.0;  // resume only inside [low + h, high − h]; 0 ≤ 2h < high − low
 };
@@ -51,8 +51,8 @@ struct EngineConfig {
   std::uint32_t suspend_timeout_ticks = 0;  // suspended this long → abort; 0 = never
   std::uint32_t comm_fail_limit = 3;        // failed exchanges in a row → comm loss, ≥ 1
   std::int32_t heartbeat_echo = kNone;      // value index where the peer echoes the heartbeat
-  std::uint32_t heartbeat_max_lag = 0;  // echo older than this many ticks → stale (comm loss)
-  std::int32_t command_value = kNone;   // value index of the operator command register
+  std::uint32_t heartbeat_max_lag = 0;      // echo older than this many ticks → stale (comm loss)
+  std::int32_t command_value = kNone;       // value index of the operator command register
   CommLossAction comm_loss = CommLossAction::hold;
 };
 

@@ -99,8 +99,7 @@ void Engine::apply_command() noexcept {
       if (state_ == State::configured) {
         state_ = State::safe;
         outcome_ = Outcome::aborted_by_operator;
-      } else if (state_ == State::armed || state_ == State::running ||
-                 state_ == State::suspended) {
+      } else if (state_ == State::armed || state_ == State::running || state_ == State::suspended) {
         state_ = State::aborted;
         outcome_ = Outcome::aborted_by_operator;
       }
@@ -281,8 +280,8 @@ void Engine::observe(bool exchange_ok, std::span<const double> values) noexcept 
       if (ramp_ == 0.0 && at_baseline() && exchange_ok_ && !stale_) {
         state_ = State::safe;
       } else if ((reasons_ & kReasonComm) != 0 && config_.suspend_timeout_ticks != 0 &&
-                 returning_ticks_ >= std::uint64_t{config_.ramp_ticks} +
-                                         config_.suspend_timeout_ticks) {
+                 returning_ticks_ >=
+                     std::uint64_t{config_.ramp_ticks} + config_.suspend_timeout_ticks) {
         state_ = State::safe;  // the link stays down: give up confirming the baseline
       }
       break;

@@ -72,9 +72,7 @@ class Engine {
   [[nodiscard]] std::uint32_t flags() const noexcept { return flags_; }
   [[nodiscard]] double ramp() const noexcept { return ramp_; }  // 0 … 1
   [[nodiscard]] double baseline(std::uint32_t input) const noexcept { return base_u_[input]; }
-  [[nodiscard]] double value_baseline(std::uint32_t value) const noexcept {
-    return base_y_[value];
-  }
+  [[nodiscard]] double value_baseline(std::uint32_t value) const noexcept { return base_y_[value]; }
   [[nodiscard]] const TickOutput& output() const noexcept { return out_; }
   [[nodiscard]] const EngineConfig& config() const noexcept { return config_; }
   // Counters over the run (for the summary line and the log's notes).
@@ -105,11 +103,11 @@ class Engine {
   std::array<double, kMaxInputs> excitation_{};  // table row in use (frozen when suspended)
   std::array<double, kMaxValues> last_y_{};      // last good values
   TickOutput out_{};
-  double ramp_ = 0.0;          // excitation scale, 0 … 1, moves 1/ramp_ticks per tick
-  std::uint32_t row_ = 0;      // table row of the current excitation
-  bool row_started_ = false;   // row_ has been written at least once
-  std::uint64_t ticks_ = 0;    // ticks since arm
-  std::uint32_t flags_ = 0;    // this tick's runlog flags
+  double ramp_ = 0.0;         // excitation scale, 0 … 1, moves 1/ramp_ticks per tick
+  std::uint32_t row_ = 0;     // table row of the current excitation
+  bool row_started_ = false;  // row_ has been written at least once
+  std::uint64_t ticks_ = 0;   // ticks since arm
+  std::uint32_t flags_ = 0;   // this tick's runlog flags
   bool exchange_ok_ = false;
 
   std::uint32_t fail_streak_ = 0;     // failed exchanges in a row

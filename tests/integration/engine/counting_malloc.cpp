@@ -18,7 +18,9 @@ std::atomic<long> g_mallocs{0};
 }  // namespace
 
 namespace excite::test {
-long mallocs() { return g_mallocs.load(std::memory_order_relaxed); }
+long mallocs() {
+  return g_mallocs.load(std::memory_order_relaxed);
+}
 bool malloc_interposed() {
 #ifdef EXCITE_NO_MALLOC_INTERPOSE
   return false;

@@ -10,8 +10,8 @@ namespace excite::testing {
 
 namespace {
 std::size_t count_flag(const runlog::RunLog& log, std::uint32_t flag) {
-  return static_cast<std::size_t>(
-      std::count_if(log.flags.begin(), log.flags.end(), [flag](std::uint32_t f) { return (f & flag) != 0; }));
+  return static_cast<std::size_t>(std::count_if(
+      log.flags.begin(), log.flags.end(), [flag](std::uint32_t f) { return (f & flag) != 0; }));
 }
 }  // namespace
 

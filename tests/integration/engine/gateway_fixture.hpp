@@ -162,8 +162,8 @@ class GatewayLoop : public ::testing::Test {
   std::uint64_t max_ticks_ = 0;
   std::uint64_t rows_written_ = 0;
   double held_[kInputs] = {};
-  const runlog::Channel inputs_[kInputs] = {{"L", "kmol/min"}, {"V", "kmol/min"},
-                                            {"S", "kmol/min"}, {"F", "kmol/min"}};
+  const runlog::Channel inputs_[kInputs] = {
+      {"L", "kmol/min"}, {"V", "kmol/min"}, {"S", "kmol/min"}, {"F", "kmol/min"}};
   const runlog::Channel outputs_[kOutputs] = {{"xD", "-"}, {"xS", "-"}, {"xB", "-"}, {"T", "K"}};
 };
 
