@@ -85,7 +85,7 @@ bool LogDrain::drain_once() {
 
 void LogDrain::start() {
   stopping_ = false;
-  thread_ = std::thread([this] {
+  thread_.start([this] {
     while (!stopping_.load()) {
       if (!drain_once()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }

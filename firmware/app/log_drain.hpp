@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "firmware/app/small_thread.hpp"
 #include "firmware/engine/log_ring.hpp"
 #include "firmware/runlog/writer.hpp"
 
@@ -66,7 +67,7 @@ class LogDrain {
   std::atomic<bool> stopping_{false};
   std::atomic<std::uint64_t> rows_{0};
   std::atomic<runlog::WriteStatus> error_{runlog::WriteStatus::ok};
-  std::thread thread_;
+  SmallThread thread_;
 };
 
 }  // namespace excite::app

@@ -18,8 +18,10 @@
 #include "firmware/app/exit_codes.hpp"
 #include "firmware/app/gateway_config.hpp"
 #include "firmware/app/log_drain.hpp"
+#include "firmware/app/proc_status.hpp"
 #include "firmware/app/realtime.hpp"
 #include "firmware/app/runner.hpp"
+#include "firmware/app/small_thread.hpp"
 #include "firmware/engine/engine.hpp"
 #include "firmware/engine/load_plan.hpp"
 #include "firmware/plan/plan.hpp"
@@ -70,7 +72,8 @@ void install_signals() {
 
 // Operator commands typed on stdin, one per line: start, suspend, resume, abort.
 void read_stdin_commands() {
-  std::thread([] {
+  static excite::app::SmallThread reader;
+  reader.start([] {
     std::string line;
     while (std::getline(std::cin, line)) {
       line.erase(std::remove_if(line.begin(), line.end(), ::isspace), line.end());
@@ -88,7 +91,8 @@ void read_stdin_commands() {
                      line.c_str());
       }
     }
-  }).detach();
+  });
+  reader.detach();
 }
 
 int fail(ExitCode code, const std::string& message) {
@@ -273,10 +277,14 @@ int main(int argc, char** argv) {
       stderr, "excite-gateway: armed (%u setpoints, %u values, %u rows, period %g s)%s\n",
       engine_config.inputs, engine_config.values, table.samples, period_s,
       auto_start ? "; starting" : "; waiting for start (SIGUSR1, stdin, command register)");
+  std::fprintf(stderr, "excite-gateway: memory after start-up: %s\n",
+               excite::app::memory_status().c_str());
   if (auto_start) g_commands.post(engine::Command::start);
   const excite::app::RunStats stats = runner.run(g_commands, &g_hard_stop);
   drain.stop();
   const bool closed = std::fclose(log) == 0;
+  std::fprintf(stderr, "excite-gateway: memory after the run: %s\n",
+               excite::app::memory_status().c_str());
 
   std::fprintf(
       stderr,

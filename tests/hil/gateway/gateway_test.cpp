@@ -220,6 +220,12 @@ TEST_F(GatewayHil, StreamsTheCaseStudyPlanToCompletionAndExitsZero) {
   const std::string err = gw->err();
   ASSERT_TRUE(std::regex_search(err, m, rows));
   EXPECT_EQ(std::stoul(m[1]), log.rows());
+  // The resident-memory lines, for the README's figures.
+  std::istringstream lines(err);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find("memory") != std::string::npos) std::printf("%s\n", line.c_str());
+  }
+  EXPECT_NE(err.find("memory after start-up: VmRSS"), std::string::npos);
 }
 
 TEST_F(GatewayHil, SigtermRampsOutFlushesAValidLogAndExitsSix) {
