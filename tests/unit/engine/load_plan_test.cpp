@@ -16,6 +16,9 @@
 namespace excite::engine {
 namespace {
 
+using signal::Status;
+using signal::StatusCode;
+
 std::vector<std::uint8_t> encoded(const plan::Plan& p) {
   std::vector<std::uint8_t> out(plan::max_encoded_size());
   const plan::EncodeResult r = plan::encode(p, out);
