@@ -46,6 +46,12 @@ bool LogDrain::write(const engine::TickRecord& r) {
     error_ = s;
     return false;
   }
+  // Every row goes to the file whole: even a SIGKILL leaves a log that ends on a complete
+  // row (one write(2) of one row, never a stdio buffer cut mid-row).
+  if (std::fflush(file_) != 0) {
+    error_ = runlog::WriteStatus::io_error;
+    return false;
+  }
   rows_.fetch_add(1);
   return true;
 }

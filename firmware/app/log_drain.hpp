@@ -2,8 +2,8 @@
 #pragma once
 // The non-real-time side of the run log: a thread pops TickRecords from the ring and writes
 // them as run-log rows (firmware/runlog, the format `excite simulate` writes and
-// `excite identify` reads), flushing the FILE after every batch so an interrupted run
-// leaves a valid log up to its last drained tick. stop() drains what is left and flushes.
+// `excite identify` reads), flushing the FILE after every row so an interrupted run (even
+// SIGKILL) leaves a valid log up to its last drained tick. stop() drains what is left.
 
 #include <atomic>
 #include <chrono>

@@ -244,6 +244,16 @@ TEST_F(GatewayHil, SigtermRampsOutFlushesAValidLogAndExitsSix) {
   EXPECT_NE(gw->err().find("aborted by operator"), std::string::npos) << gw->err();
 }
 
+TEST_F(GatewayHil, KilledRunLeavesAValidLogUpToItsLastTick) {
+  auto gw = start({"--start"});
+  ASSERT_TRUE(wait_for_writes(200));
+  gw->signal(SIGKILL);  // no flush, no ramp-out: the log must still be valid
+  ASSERT_EQ(gw->wait(10s).value_or(-1), 128 + SIGKILL);
+  const runlog::RunLog log = read_log();
+  EXPECT_GE(log.rows(), 150U);
+  EXPECT_EQ(log.k.back(), log.rows() - 1);
+}
+
 TEST_F(GatewayHil, TestLimitExcursionSuspendsThenResumesWithHysteresisAndDwell) {
   auto gw = start({"--start"});
   ASSERT_TRUE(wait_for_writes(100));
