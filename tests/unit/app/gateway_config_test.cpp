@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <regex>
 #include <sstream>
 #include <string>
 
@@ -115,7 +114,7 @@ TEST(GatewayConfigTest, HysteresisLeavingNoBandIsRefused) {
 
 TEST(GatewayConfigTest, TomlSyntaxErrorNamesLineAndColumn) {
   const std::string e = error_of("[gateway\nplant = 1\n");
-  EXPECT_TRUE(std::regex_search(e, std::regex("^gw\\.toml:1:[0-9]+: "))) << e;
+  EXPECT_EQ(e.rfind("gw.toml:1:", 0), 0U) << e;  // file:line:column: what
 }
 
 TEST(GatewayConfigTest, UnknownCommLossActionIsRefused) {
