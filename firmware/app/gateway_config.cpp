@@ -1,0 +1,433 @@
+// SPDX-License-Identifier: MIT
+#include "firmware/app/gateway_config.hpp"
+
+#include <toml++/toml.h>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "firmware/runlog/format.hpp"
+
+namespace excite::app {
+
+namespace {
+
+// A configuration error: "<field> = <value>: expected <what>".
+struct ConfigError : std::runtime_error {
+  ConfigError(const std::string& field, const std::string& value, const std::string& expected)
+      : std::runtime_error(field + " = " + value + ": expected " + expected) {}
+};
+
+std::string describe(const toml::node& node) {
+  std::ostringstream out;
+  if (node.is_string()) {
+    out << '"' << node.value<std::string>().value_or("") << '"';
+  } else if (node.is_table()) {
+    out << "a table";
+  } else if (node.is_array()) {
+    out << "an array";
+  } else {
+    node.visit([&out](const auto& v) { out << v; });
+  }
+  return out.str();
+}
+
+void check_keys(const toml::table& table, const std::string& where,
+                const std::set<std::string>& allowed) {
+  for (const auto& [key, node] : table) {
+    const std::string k(key.str());
+    if (allowed.count(k) == 0) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      throw ConfigError(where.empty() ? k : where + "." + k, describe(node),
+                        "one of the known keys (" + list + ")");
+    }
+  }
+}
+
+std::optional<double> number(const toml::table& t, const std::string& where,
+                             const std::string& key) {
+  const toml::node* n = t.get(key);
+  if (n == nullptr) return std::nullopt;
+  if (auto i = n->value_exact<std::int64_t>()) return static_cast<double>(*i);
+  if (auto d = n->value_exact<double>()) {
+    if (!std::isfinite(*d)) throw ConfigError(where + "." + key, describe(*n), "a finite number");
+    return *d;
+  }
+  throw ConfigError(where + "." + key, describe(*n), "a number");
+}
+
+double required_number(const toml::table& t, const std::string& where, const std::string& key) {
+  auto v = number(t, where, key);
+  if (!v) throw ConfigError(where + "." + key, "(missing)", "a number");
+  return *v;
+}
+
+std::optional<std::int64_t> integer(const toml::table& t, const std::string& where,
+                                    const std::string& key, std::int64_t lo, std::int64_t hi) {
+  const toml::node* n = t.get(key);
+  if (n == nullptr) return std::nullopt;
+  auto i = n->value_exact<std::int64_t>();
+  if (!i || *i < lo || *i > hi) {
+    throw ConfigError(where + "." + key, describe(*n),
+                      "an integer " + std::to_string(lo) + "…" + std::to_string(hi));
+  }
+  return *i;
+}
+
+std::optional<std::string> text(const toml::table& t, const std::string& where,
+                                const std::string& key) {
+  const toml::node* n = t.get(key);
+  if (n == nullptr) return std::nullopt;
+  auto s = n->value_exact<std::string>();
+  if (!s) throw ConfigError(where + "." + key, describe(*n), "a string");
+  return *s;
+}
+
+const toml::table* table_at(const toml::table& root, const std::string& key, bool required) {
+  const toml::node* n = root.get(key);
+  if (n == nullptr) {
+    if (required) throw ConfigError("[" + key + "]", "(missing)", "a table");
+    return nullptr;
+  }
+  if (!n->is_table()) throw ConfigError(key, describe(*n), "a table [" + key + "]");
+  return n->as_table();
+}
+
+void parse_gateway(const toml::table& t, GatewayConfig& c) {
+  const std::string w = "gateway";
+  check_keys(
+      t, w,
+      {"plant", "period_s", "ramp_s", "resume_dwell_s", "suspend_timeout_s", "comm_fail_limit",
+       "comm_loss", "heartbeat_max_lag_s", "log_ring", "realtime_priority"});
+  if (auto s = text(t, w, "plant")) {
+    if (s->find_first_of("\r\n") != std::string::npos) {
+      throw ConfigError(w + ".plant", '"' + *s + '"', "one line of text");
+    }
+    c.plant = *s;
+  }
+  if (auto v = number(t, w, "period_s")) {
+    if (*v <= 0.0) throw ConfigError(w + ".period_s", std::to_string(*v), "> 0 seconds");
+    c.period_s = *v;
+  }
+  auto non_negative = [&](const char* key, double& out) {
+    if (auto v = number(t, w, key)) {
+      if (*v < 0.0) throw ConfigError(w + "." + key, std::to_string(*v), ">= 0 seconds");
+      out = *v;
+    }
+  };
+  non_negative("ramp_s", c.ramp_s);
+  non_negative("resume_dwell_s", c.resume_dwell_s);
+  non_negative("suspend_timeout_s", c.suspend_timeout_s);
+  non_negative("heartbeat_max_lag_s", c.heartbeat_max_lag_s);
+  if (auto v = integer(t, w, "comm_fail_limit", 1, 1000000)) {
+    c.comm_fail_limit = static_cast<std::uint32_t>(*v);
+  }
+  if (auto s = text(t, w, "comm_loss")) {
+    if (*s == "hold") {
+      c.comm_loss = engine::CommLossAction::hold;
+    } else if (*s == "ramp") {
+      c.comm_loss = engine::CommLossAction::ramp_to_baseline;
+    } else {
+      throw ConfigError(w + ".comm_loss", '"' + *s + '"', "\"hold\" or \"ramp\"");
+    }
+  }
+  if (auto v = integer(t, w, "log_ring", 16, 1 << 20)) c.log_ring = static_cast<std::uint32_t>(*v);
+  if (auto v = integer(t, w, "realtime_priority", 0, 99))
+    c.realtime_priority = static_cast<int>(*v);
+}
+
+void parse_device(const toml::table& t, hal::modbus::ModbusDevice& d) {
+  const std::string w = "device";
+  check_keys(t, w,
+             {"transport", "host", "port", "serial_port", "baud", "parity", "data_bits",
+              "stop_bits", "unit_id", "response_timeout_ms"});
+  if (auto s = text(t, w, "transport")) d.transport = *s;
+  if (auto s = text(t, w, "host")) d.host = *s;
+  if (auto v = integer(t, w, "port", 0, 1 << 30)) d.port = static_cast<std::uint32_t>(*v);
+  if (auto s = text(t, w, "serial_port")) d.serial_port = *s;
+  if (auto v = integer(t, w, "baud", 0, 1 << 30)) d.baud = static_cast<std::int32_t>(*v);
+  if (auto s = text(t, w, "parity")) d.parity = *s;
+  if (auto v = integer(t, w, "data_bits", 0, 64)) d.data_bits = static_cast<std::int32_t>(*v);
+  if (auto v = integer(t, w, "stop_bits", 0, 64)) d.stop_bits = static_cast<std::int32_t>(*v);
+  if (auto v = integer(t, w, "unit_id", -1, 1 << 16)) d.unit_id = static_cast<std::int32_t>(*v);
+  if (auto v = integer(t, w, "response_timeout_ms", 0, 1 << 30)) {
+    d.response_timeout_ms = static_cast<std::int32_t>(*v);
+  }
+}
+
+// The register fields shared by setpoints and values.
+void parse_register(const toml::table& t, const std::string& w, hal::modbus::RegisterEntry& e) {
+  e.address = static_cast<std::uint32_t>(integer(t, w, "address", 0, 1 << 20).value_or(0));
+  if (t.get("address") == nullptr) throw ConfigError(w + ".address", "(missing)", "an address");
+  if (auto v = integer(t, w, "function_code", 0, 255)) e.function_code = static_cast<int>(*v);
+  if (auto s = text(t, w, "type")) e.type = *s;
+  if (auto s = text(t, w, "word_order")) e.word_order = *s;
+  if (auto v = number(t, w, "eng_min")) e.eng_min = *v;
+  if (auto v = number(t, w, "eng_max")) e.eng_max = *v;
+  if (auto v = integer(t, w, "raw_min", -32768, 65535)) e.raw_min = static_cast<std::int32_t>(*v);
+  if (auto v = integer(t, w, "raw_max", -32768, 65535)) e.raw_max = static_cast<std::int32_t>(*v);
+}
+
+std::string channel_name(const toml::table& t, const std::string& w) {
+  auto name = text(t, w, "name");
+  if (!name) throw ConfigError(w + ".name", "(missing)", "a name");
+  if (!runlog::valid_channel_name(*name)) {
+    throw ConfigError(w + ".name", '"' + *name + '"',
+                      "letters, digits, '_', '.', '-' (a run-log channel name)");
+  }
+  return *name;
+}
+
+std::string channel_unit(const toml::table& t, const std::string& w) {
+  auto unit = text(t, w, "unit");
+  if (!unit) return "-";
+  if (!runlog::valid_unit(*unit)) {
+    throw ConfigError(w + ".unit", '"' + *unit + '"', "a unit without spaces, ',' or '='");
+  }
+  return *unit;
+}
+
+const toml::array& array_of_tables(const toml::table& root, const std::string& key) {
+  const toml::node* n = root.get(key);
+  if (n == nullptr || !n->is_array()) {
+    throw ConfigError(key, n == nullptr ? "(missing)" : describe(*n),
+                      "an array of tables [[" + key + "]]");
+  }
+  return *n->as_array();
+}
+
+void parse_setpoints(const toml::table& root, GatewayConfig& c) {
+  const toml::array& list = array_of_tables(root, "setpoints");
+  std::size_t i = 0;
+  for (const toml::node& node : list) {
+    const std::string w = "setpoints[" + std::to_string(i++) + "]";
+    if (!node.is_table()) throw ConfigError(w, describe(node), "a table");
+    const toml::table& t = *node.as_table();
+    check_keys(t, w,
+               {"name", "unit", "address", "function_code", "type", "word_order", "eng_min",
+                "eng_max", "raw_min", "raw_max", "min", "max", "max_move", "readback"});
+    SetpointSpec s;
+    s.name = channel_name(t, w);
+    s.unit = channel_unit(t, w);
+    s.min = required_number(t, w, "min");
+    s.max = required_number(t, w, "max");
+    if (s.min > s.max) {
+      throw ConfigError(w + ".max", std::to_string(s.max), ">= min = " + std::to_string(s.min));
+    }
+    s.max_move = required_number(t, w, "max_move");
+    if (s.max_move <= 0.0) {
+      throw ConfigError(w + ".max_move", std::to_string(s.max_move), "> 0 per tick");
+    }
+    auto rb = text(t, w, "readback");
+    if (!rb) throw ConfigError(w + ".readback", "(missing)", "the name of a readback value");
+    s.readback = *rb;
+    hal::modbus::RegisterEntry e;
+    e.name = s.name;
+    e.function_code = 16;
+    parse_register(t, w, e);
+    c.modbus.map.setpoints.push_back(e);
+    c.setpoints.push_back(s);
+  }
+  if (c.setpoints.empty() || c.setpoints.size() > engine::kMaxInputs) {
+    throw ConfigError("setpoints", std::to_string(c.setpoints.size()) + " entries",
+                      "1…" + std::to_string(engine::kMaxInputs));
+  }
+}
+
+void parse_values(const toml::table& root, GatewayConfig& c) {
+  const toml::array& list = array_of_tables(root, "values");
+  std::size_t i = 0;
+  for (const toml::node& node : list) {
+    const std::string w = "values[" + std::to_string(i++) + "]";
+    if (!node.is_table()) throw ConfigError(w, describe(node), "a table");
+    const toml::table& t = *node.as_table();
+    check_keys(t, w,
+               {"name", "unit", "address", "function_code", "type", "word_order", "eng_min",
+                "eng_max", "raw_min", "raw_max", "role", "test_low", "test_high", "hysteresis"});
+    ValueSpec v;
+    v.name = channel_name(t, w);
+    v.unit = channel_unit(t, w);
+    if (auto role = text(t, w, "role")) {
+      if (*role == "output") {
+        v.role = ValueRole::output;
+      } else if (*role == "readback") {
+        v.role = ValueRole::readback;
+      } else if (*role == "heartbeat_echo") {
+        v.role = ValueRole::heartbeat_echo;
+      } else if (*role == "command") {
+        v.role = ValueRole::command;
+      } else {
+        throw ConfigError(w + ".role", '"' + *role + '"',
+                          "output, readback, heartbeat_echo or command");
+      }
+    }
+    v.test_low = number(t, w, "test_low");
+    v.test_high = number(t, w, "test_high");
+    if (v.test_low.has_value() != v.test_high.has_value()) {
+      throw ConfigError(w + (v.test_low ? ".test_high" : ".test_low"), "(missing)",
+                        "test_low and test_high together");
+    }
+    if (v.test_low && v.role != ValueRole::output) {
+      throw ConfigError(w + ".test_low", std::to_string(*v.test_low),
+                        "test limits on outputs only");
+    }
+    v.hysteresis = number(t, w, "hysteresis").value_or(0.0);
+    if (v.test_low && !(*v.test_low < *v.test_high && v.hysteresis >= 0.0 &&
+                        2.0 * v.hysteresis < *v.test_high - *v.test_low)) {
+      throw ConfigError(w + ".hysteresis", std::to_string(v.hysteresis),
+                        ">= 0 and 2 * hysteresis < test_high - test_low (with test_low < "
+                        "test_high)");
+    }
+    hal::modbus::RegisterEntry e;
+    e.name = v.name;
+    e.function_code = 3;
+    parse_register(t, w, e);
+    c.modbus.map.values.push_back(e);
+    c.values.push_back(v);
+  }
+  if (c.values.empty() || c.values.size() > engine::kMaxValues) {
+    throw ConfigError("values", std::to_string(c.values.size()) + " entries",
+                      "1…" + std::to_string(engine::kMaxValues));
+  }
+}
+
+void cross_check(GatewayConfig& c) {
+  std::set<std::string> names;
+  auto unique = [&names](const std::string& field, const std::string& name) {
+    if (!names.insert(name).second) {
+      throw ConfigError(field, '"' + name + '"', "a name not used by another setpoint or value");
+    }
+  };
+  for (std::size_t i = 0; i < c.setpoints.size(); ++i) {
+    unique("setpoints[" + std::to_string(i) + "].name", c.setpoints[i].name);
+  }
+  int echoes = 0;
+  int commands = 0;
+  for (std::size_t j = 0; j < c.values.size(); ++j) {
+    unique("values[" + std::to_string(j) + "].name", c.values[j].name);
+    if (c.values[j].role == ValueRole::heartbeat_echo && ++echoes > 1) {
+      throw ConfigError("values[" + std::to_string(j) + "].role", "\"heartbeat_echo\"",
+                        "at most one heartbeat_echo value");
+    }
+    if (c.values[j].role == ValueRole::command && ++commands > 1) {
+      throw ConfigError("values[" + std::to_string(j) + "].role", "\"command\"",
+                        "at most one command value");
+    }
+  }
+  for (std::size_t i = 0; i < c.setpoints.size(); ++i) {
+    const auto& rb = c.setpoints[i].readback;
+    const auto it = std::find_if(c.values.begin(), c.values.end(),
+                                 [&rb](const ValueSpec& v) { return v.name == rb; });
+    if (it == c.values.end() || it->role != ValueRole::readback) {
+      throw ConfigError("setpoints[" + std::to_string(i) + "].readback", '"' + rb + '"',
+                        "the name of a value with role = \"readback\"");
+    }
+  }
+  if (std::none_of(c.values.begin(), c.values.end(),
+                   [](const ValueSpec& v) { return v.role == ValueRole::output; })) {
+    throw ConfigError("values", "no output", "at least one value with role = \"output\"");
+  }
+  const hal::Validation v = hal::modbus::validate(c.modbus);
+  if (!v.ok()) throw ConfigError(v.field, v.value, v.expected);
+}
+
+}  // namespace
+
+ConfigResult parse_gateway_config(std::string_view text_in, std::string_view source) {
+  ConfigResult result;
+  try {
+    toml::table root = toml::parse(text_in, source);
+    GatewayConfig c;
+    c.source = std::string(source);
+    check_keys(root, "", {"gateway", "device", "map", "setpoints", "values"});
+    if (const toml::table* g = table_at(root, "gateway", false)) parse_gateway(*g, c);
+    parse_device(*table_at(root, "device", true), c.modbus.device);
+    if (const toml::table* m = table_at(root, "map", false)) {
+      check_keys(*m, "map", {"heartbeat_address", "write_chunk", "read_chunk"});
+      if (auto v = integer(*m, "map", "heartbeat_address", 0, 1 << 20)) {
+        c.modbus.map.heartbeat_address = static_cast<std::uint32_t>(*v);
+      }
+      if (auto v = integer(*m, "map", "write_chunk", 0, 1 << 20)) {
+        c.modbus.map.write_chunk = static_cast<std::uint32_t>(*v);
+      }
+      if (auto v = integer(*m, "map", "read_chunk", 0, 1 << 20)) {
+        c.modbus.map.read_chunk = static_cast<std::uint32_t>(*v);
+      }
+    }
+    parse_setpoints(root, c);
+    parse_values(root, c);
+    cross_check(c);
+    result.config = std::move(c);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream out;
+    out << source << ":" << e.source().begin.line << ":" << e.source().begin.column << ": "
+        << e.description();
+    result.error = out.str();
+  } catch (const ConfigError& e) {
+    result.error = std::string(source) + ": " + e.what();
+  }
+  return result;
+}
+
+ConfigResult load_gateway_config(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    ConfigResult r;
+    r.error = path + ": cannot open the configuration file";
+    return r;
+  }
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return parse_gateway_config(buffer.str(), path);
+}
+
+engine::EngineConfig to_engine_config(const GatewayConfig& c, double period_s) {
+  auto ticks = [period_s](double seconds) {
+    return static_cast<std::uint32_t>(std::ceil(seconds / period_s - 1e-9));
+  };
+  engine::EngineConfig e;
+  e.inputs = static_cast<std::uint32_t>(c.setpoints.size());
+  e.values = static_cast<std::uint32_t>(c.values.size());
+  for (std::size_t i = 0; i < c.setpoints.size(); ++i) {
+    const SetpointSpec& s = c.setpoints[i];
+    e.input[i].min = s.min;
+    e.input[i].max = s.max;
+    e.input[i].max_move = s.max_move;
+    for (std::size_t j = 0; j < c.values.size(); ++j) {
+      if (c.values[j].name == s.readback) e.input[i].readback = static_cast<std::int32_t>(j);
+    }
+  }
+  for (std::size_t j = 0; j < c.values.size(); ++j) {
+    const ValueSpec& v = c.values[j];
+    if (v.test_low) {
+      e.test[j] = {true, *v.test_low, *v.test_high, v.hysteresis};
+    }
+    if (v.role == ValueRole::heartbeat_echo) e.heartbeat_echo = static_cast<std::int32_t>(j);
+    if (v.role == ValueRole::command) e.command_value = static_cast<std::int32_t>(j);
+  }
+  e.ramp_ticks = ticks(c.ramp_s);
+  e.resume_dwell_ticks = std::max<std::uint32_t>(1, ticks(c.resume_dwell_s));
+  e.suspend_timeout_ticks = ticks(c.suspend_timeout_s);
+  e.comm_fail_limit = c.comm_fail_limit;
+  e.comm_loss = c.comm_loss;
+  if (e.heartbeat_echo != engine::kNone) {
+    e.heartbeat_max_lag = c.heartbeat_max_lag_s > 0.0
+                              ? std::clamp<std::uint32_t>(ticks(c.heartbeat_max_lag_s), 1, 30000)
+                              : 3;
+  }
+  return e;
+}
+
+std::vector<int> output_indices(const GatewayConfig& c) {
+  std::vector<int> out;
+  for (std::size_t j = 0; j < c.values.size(); ++j) {
+    if (c.values[j].role == ValueRole::output) out.push_back(static_cast<int>(j));
+  }
+  return out;
+}
+
+}  // namespace excite::app

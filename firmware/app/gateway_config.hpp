@@ -1,0 +1,78 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The gateway configuration file (TOML; README.md has the complete example): run
+// parameters in seconds, the Modbus device and register map (hal's ModbusConfig), and per
+// setpoint and per value what the engine needs (absolute limits, slew, readback, test
+// limits, roles). Parsed once at start-up (allocates); every error names the file, the
+// key, the value found and what was expected.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "firmware/engine/config.hpp"
+#include "hal/modbus/modbus_field_bus.hpp"
+
+namespace excite::app {
+
+/// What a value read from the field is for.
+enum class ValueRole : std::uint8_t {
+  output,          // a controlled variable: logged as dy_<name>, may carry test limits
+  readback,        // the live value of a setpoint: the baseline at arm
+  heartbeat_echo,  // the peer's echo of the heartbeat counter
+  command,         // the operator command register: 1 start, 2 suspend, 3 resume, 4 abort
+};
+
+struct SetpointSpec {
+  std::string name;  // run-log channel name: letters, digits, _ . -
+  std::string unit = "-";
+  double min = 0.0;  // absolute limits of the setpoint, engineering units
+  double max = 0.0;
+  double max_move = 0.0;  // largest change per tick
+  std::string readback;   // name of the value (role readback) giving the baseline
+};
+
+struct ValueSpec {
+  std::string name;
+  std::string unit = "-";
+  ValueRole role = ValueRole::output;
+  std::optional<double> test_low;  // test limits (outputs), absolute engineering units
+  std::optional<double> test_high;
+  double hysteresis = 0.0;
+};
+
+struct GatewayConfig {
+  std::string source;              // file name, for messages
+  std::string plant = "unnamed";   // the run log's `plant:` line
+  std::optional<double> period_s;  // tick period; default the plan's sample time
+  double ramp_s = 0.0;             // excitation ramps in and out over this time
+  double resume_dwell_s = 0.0;     // back inside the limits this long → resume
+  double suspend_timeout_s = 0.0;  // suspended this long → abort; 0 = never
+  std::uint32_t comm_fail_limit = 3;
+  engine::CommLossAction comm_loss = engine::CommLossAction::hold;
+  double heartbeat_max_lag_s = 0.0;     // with a heartbeat_echo value; 0 → 3 ticks
+  std::uint32_t log_ring = 4096;        // run-log ring records
+  int realtime_priority = 80;           // SCHED_FIFO priority; 0 = leave the scheduler alone
+  hal::modbus::ModbusConfig modbus;     // device and register map
+  std::vector<SetpointSpec> setpoints;  // in plan channel order
+  std::vector<ValueSpec> values;        // in register-map order
+};
+
+struct ConfigResult {
+  std::optional<GatewayConfig> config;
+  std::string error;  // "<source>: <field> = <value>: expected <what>" when !config
+};
+
+ConfigResult parse_gateway_config(std::string_view text, std::string_view source);
+ConfigResult load_gateway_config(const std::string& path);
+
+/// The engine's configuration for a tick period of `period_s` (seconds → ticks, rounded
+/// up). Value indices follow the register-map order.
+engine::EngineConfig to_engine_config(const GatewayConfig& config, double period_s);
+
+/// Value indices of the outputs (the run log's dy columns), in order.
+std::vector<int> output_indices(const GatewayConfig& config);
+
+}  // namespace excite::app

@@ -1,0 +1,313 @@
+// SPDX-License-Identifier: MIT
+// excite-gateway: streams a plan's tables to the field (README.md: command line,
+// configuration file, lifecycle, exit codes).
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "firmware/app/command_mailbox.hpp"
+#include "firmware/app/exit_codes.hpp"
+#include "firmware/app/gateway_config.hpp"
+#include "firmware/app/log_drain.hpp"
+#include "firmware/app/proc_status.hpp"
+#include "firmware/app/realtime.hpp"
+#include "firmware/app/runner.hpp"
+#include "firmware/app/small_thread.hpp"
+#include "firmware/engine/engine.hpp"
+#include "firmware/engine/load_plan.hpp"
+#include "firmware/plan/plan.hpp"
+#include "firmware/signal/generate.hpp"
+#include "hal/modbus/modbus_field_bus.hpp"
+#include "hal/posix/posix_clock.hpp"
+
+namespace {
+
+using excite::app::ExitCode;
+namespace engine = excite::engine;
+
+excite::app::CommandMailbox g_commands;
+std::atomic<bool> g_hard_stop{false};
+std::atomic<int> g_terminations{0};
+
+// Async-signal-safe: only atomics.
+extern "C" void on_signal(int signo) {
+  switch (signo) {
+    case SIGTERM:
+    case SIGINT:
+      if (g_terminations.fetch_add(1) == 0) {
+        g_commands.post(engine::Command::abort);  // ramp out, flush, exit
+      } else {
+        g_hard_stop.store(true);  // a second one: stop now (the log is still flushed)
+      }
+      break;
+    case SIGUSR1:
+      g_commands.post(engine::Command::start);
+      break;
+    case SIGUSR2:
+      g_commands.post(engine::Command::suspend);
+      break;
+    case SIGHUP:
+      g_commands.post(engine::Command::resume);
+      break;
+    default:
+      break;
+  }
+}
+
+void install_signals() {
+  struct sigaction action {};
+  action.sa_handler = on_signal;
+  sigemptyset(&action.sa_mask);
+  for (int signo : {SIGTERM, SIGINT, SIGUSR1, SIGUSR2, SIGHUP}) sigaction(signo, &action, nullptr);
+}
+
+// Operator commands typed on stdin, one per line: start, suspend, resume, abort.
+void read_stdin_commands() {
+  static excite::app::SmallThread reader;
+  reader.start([] {
+    std::string line;
+    while (std::getline(std::cin, line)) {
+      line.erase(std::remove_if(line.begin(), line.end(), ::isspace), line.end());
+      if (line == "start") {
+        g_commands.post(engine::Command::start);
+      } else if (line == "suspend") {
+        g_commands.post(engine::Command::suspend);
+      } else if (line == "resume") {
+        g_commands.post(engine::Command::resume);
+      } else if (line == "abort") {
+        g_commands.post(engine::Command::abort);
+      } else if (!line.empty()) {
+        std::fprintf(stderr,
+                     "excite-gateway: unknown command \"%s\" (start, suspend, resume, abort)\n",
+                     line.c_str());
+      }
+    }
+  });
+  reader.detach();
+}
+
+int fail(ExitCode code, const std::string& message) {
+  std::fprintf(stderr, "excite-gateway: %s\n", message.c_str());
+  return static_cast<int>(code);
+}
+
+void print_dry_run(const excite::app::GatewayConfig& config, const excite::plan::Plan& plan,
+                   excite::signal::ConstTableView table, double period_s,
+                   const engine::EngineConfig& ec) {
+  std::printf("dry run: every check passed; nothing was opened or written.\n");
+  std::printf("plan: %s, %u channels x %u samples, T = %g s; tick period %g s\n",
+              excite::plan::text_of(plan.meta.design_name).data(), table.channels, table.samples,
+              plan.meta.sample_time_s, period_s);
+  const auto& d = config.modbus.device;
+  if (d.transport == "tcp") {
+    std::printf("device: modbus tcp %s:%u unit %d, response timeout %d ms\n", d.host.c_str(),
+                d.port, d.unit_id, d.response_timeout_ms);
+  } else {
+    std::printf("device: modbus rtu %s %d baud unit %d\n", d.serial_port.c_str(), d.baud,
+                d.unit_id);
+  }
+  std::printf("would write every tick (FC16), setpoint = baseline (read back at arm) + du:\n");
+  for (std::size_t c = 0; c < config.setpoints.size(); ++c) {
+    const auto& s = config.setpoints[c];
+    const auto& r = config.modbus.map.setpoints[c];
+    double lo = 0.0;
+    double hi = 0.0;
+    for (std::uint32_t k = 0; k < table.samples; ++k) {
+      lo = std::min(lo, table.at(k, static_cast<std::uint32_t>(c)));
+      hi = std::max(hi, table.at(k, static_cast<std::uint32_t>(c)));
+    }
+    std::printf(
+        "  %-12s register %5u %-7s %-4s du in [%g, %g] %s, limits [%g, %g], max move %g/tick, "
+        "baseline from %s (plan channel \"%s\")\n",
+        s.name.c_str(), r.address, r.type.c_str(), r.type == "float32" ? r.word_order.c_str() : "",
+        lo, hi, s.unit.c_str(), s.min, s.max, s.max_move, s.readback.c_str(),
+        excite::plan::text_of(plan.meta.channels[c].name).data());
+  }
+  if (config.modbus.map.heartbeat_address) {
+    std::printf("  heartbeat    register %5u uint16 counter, +1 per tick\n",
+                *config.modbus.map.heartbeat_address);
+  }
+  std::printf("would read every tick:\n");
+  for (std::size_t j = 0; j < config.values.size(); ++j) {
+    const auto& v = config.values[j];
+    const auto& r = config.modbus.map.values[j];
+    static const char* roles[] = {"output", "readback", "heartbeat_echo", "command"};
+    std::printf("  %-12s register %5u FC%02d %-7s %s", v.name.c_str(), r.address, r.function_code,
+                r.type.c_str(), roles[static_cast<int>(v.role)]);
+    if (v.test_low)
+      std::printf(", test limits [%g, %g] hysteresis %g", *v.test_low, *v.test_high, v.hysteresis);
+    std::printf("\n");
+  }
+  std::printf(
+      "ramp %u ticks, resume dwell %u ticks, suspend timeout %u ticks, comm loss after %u "
+      "failed exchanges (%s)\n",
+      ec.ramp_ticks, ec.resume_dwell_ticks, ec.suspend_timeout_ticks, ec.comm_fail_limit,
+      ec.comm_loss == engine::CommLossAction::hold ? "hold" : "ramp to baseline");
+  const std::uint32_t rows = std::min<std::uint32_t>(table.samples, 5);
+  std::printf("first %u rows of du:\n", rows);
+  for (std::uint32_t k = 0; k < rows; ++k) {
+    std::printf("  k=%u", k);
+    for (std::uint32_t c = 0; c < table.channels; ++c) std::printf(" %g", table.at(k, c));
+    std::printf("\n");
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App cli{"excite-gateway: streams an excite plan to the field bus (firmware/app/README.md)"};
+  std::string config_path;
+  std::string plan_path;
+  std::string log_path;
+  bool dry_run = false;
+  bool auto_start = false;
+  cli.add_option("--config", config_path, "gateway configuration (TOML)")->required();
+  cli.add_option("--plan", plan_path, "plan file written by `excite design`")->required();
+  cli.add_option("--log", log_path, "run log to write (CSV, firmware/runlog format)");
+  cli.add_flag("--dry-run", dry_run, "validate everything and print what would be written");
+  cli.add_flag("--start", auto_start, "start streaming right after arming (no start command)");
+  try {
+    cli.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = cli.exit(e);
+    return rc == 0 ? 0 : static_cast<int>(ExitCode::usage);
+  }
+  if (!dry_run && log_path.empty()) {
+    return fail(ExitCode::usage, "--log is required (except with --dry-run)");
+  }
+
+  // 1. Configuration.
+  const excite::app::ConfigResult loaded = excite::app::load_gateway_config(config_path);
+  if (!loaded.config) return fail(ExitCode::bad_config, loaded.error);
+  const excite::app::GatewayConfig& config = *loaded.config;
+
+  // 2. Plan → tables in fixed storage, checked against the plan's limits.
+  std::ifstream plan_in(plan_path, std::ios::binary);
+  if (!plan_in) return fail(ExitCode::bad_plan, plan_path + ": cannot open the plan file");
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(plan_in)),
+                                        std::istreambuf_iterator<char>());
+  auto plan = std::make_unique<excite::plan::Plan>();
+  if (auto s = engine::load_plan(bytes, static_cast<std::uint32_t>(config.setpoints.size()),
+                                 excite::signal::kTableCapacity, *plan);
+      !s) {
+    return fail(ExitCode::bad_plan, plan_path + ": " + s.message());
+  }
+  std::vector<double> storage(excite::signal::kTableCapacity);  // the gateway's fixed table
+  std::vector<double> scratch(excite::signal::scratch_size(plan->recipe));
+  excite::signal::TableView table;
+  if (auto s = engine::make_table(*plan, storage, scratch, table); !s) {
+    return fail(ExitCode::bad_plan, plan_path + ": " + s.message());
+  }
+  scratch = {};
+  const double period_s = config.period_s.value_or(plan->meta.sample_time_s);
+  const engine::EngineConfig engine_config = excite::app::to_engine_config(config, period_s);
+  auto eng = std::make_unique<engine::Engine>();
+  if (auto s = eng->configure(engine_config, table); !s) {
+    return fail(ExitCode::bad_config, config_path + ": " + s.message());
+  }
+  if (dry_run) {
+    print_dry_run(config, *plan, table, period_s, engine_config);
+    return static_cast<int>(ExitCode::ok);
+  }
+
+  // 3. Log file, then the bus (connects; nothing written), then arm (reads only).
+  std::FILE* log = std::fopen(log_path.c_str(), "w");
+  if (log == nullptr) return fail(ExitCode::log_error, log_path + ": cannot open for writing");
+  excite::hal::modbus::ModbusFieldBus bus;
+  if (auto v = bus.configure(config.modbus); !v.ok()) {
+    std::fclose(log);
+    std::remove(log_path.c_str());
+    return fail(ExitCode::device, config_path + ": " + v.message());
+  }
+  excite::hal::PosixClock clock;
+  std::vector<engine::TickRecord> ring_storage(config.log_ring);  // sized once
+  engine::SpanLogRing ring(ring_storage);
+  excite::app::Runner runner(*eng, bus, clock, ring,
+                             std::chrono::duration_cast<excite::hal::Nanoseconds>(
+                                 std::chrono::duration<double>(period_s)));
+  if (auto s = runner.arm(); !s) {
+    std::fclose(log);
+    std::remove(log_path.c_str());
+    return fail(ExitCode::arm_refused, "refused to arm: " + std::string(s.message()));
+  }
+
+  // 4. Run log header and thread.
+  std::vector<std::string> units;
+  std::vector<excite::runlog::Channel> inputs;
+  std::vector<excite::runlog::Channel> outputs;
+  for (const auto& s : config.setpoints) inputs.push_back({s.name, s.unit});
+  const std::vector<int> out_idx = excite::app::output_indices(config);
+  for (int j : out_idx) {
+    const auto& v = config.values[static_cast<std::size_t>(j)];
+    outputs.push_back({v.name, v.unit});
+  }
+  excite::app::LogLayout layout;
+  layout.header.plant = config.plant;
+  layout.header.plan = plan_path;
+  layout.sample_time_min = plan->meta.sample_time_s / 60.0;
+  layout.header.sample_time_min = layout.sample_time_min;
+  layout.header.inputs = inputs;
+  layout.header.outputs = outputs;
+  layout.output_values = out_idx;
+  excite::app::LogDrain drain(ring, log, layout);
+  drain.set_event_stream(stderr);
+  if (!drain.write_header()) {
+    std::fclose(log);
+    return fail(ExitCode::log_error, log_path + ": cannot write the header: " +
+                                         std::string(excite::runlog::describe(drain.last_error())));
+  }
+  drain.start();
+
+  // 5. Real time, signals, operator input; run.
+  const excite::app::RealtimeResult rt = excite::app::make_realtime(config.realtime_priority);
+  for (const auto& w : rt.warnings)
+    std::fprintf(stderr, "excite-gateway: warning: %s\n", w.c_str());
+  install_signals();
+  read_stdin_commands();
+  std::fprintf(
+      stderr, "excite-gateway: armed (%u setpoints, %u values, %u rows, period %g s)%s\n",
+      engine_config.inputs, engine_config.values, table.samples, period_s,
+      auto_start ? "; starting" : "; waiting for start (SIGUSR1, stdin, command register)");
+  std::fprintf(stderr, "excite-gateway: memory after start-up: %s\n",
+               excite::app::memory_status().c_str());
+  if (auto_start) g_commands.post(engine::Command::start);
+  const excite::app::RunStats stats = runner.run(g_commands, &g_hard_stop);
+  drain.stop();
+  const bool closed = std::fclose(log) == 0;
+  std::fprintf(stderr, "excite-gateway: memory after the run: %s\n",
+               excite::app::memory_status().c_str());
+
+  std::fprintf(
+      stderr,
+      "excite-gateway: %s after %llu ticks (%s); rows logged %llu, ring overruns %llu, "
+      "failed exchanges %llu, comm losses %llu, suspensions %llu, schedule overruns %llu\n",
+      engine::to_string(stats.final_state), static_cast<unsigned long long>(stats.ticks),
+      engine::to_string(stats.outcome), static_cast<unsigned long long>(drain.rows_written()),
+      static_cast<unsigned long long>(stats.ring_overruns),
+      static_cast<unsigned long long>(stats.failed_exchanges),
+      static_cast<unsigned long long>(eng->comm_losses()),
+      static_cast<unsigned long long>(eng->suspensions()),
+      static_cast<unsigned long long>(stats.schedule_overruns));
+  if (!closed || drain.last_error() != excite::runlog::WriteStatus::ok) {
+    return fail(ExitCode::log_error, log_path + ": writing the run log failed: " +
+                                         std::string(excite::runlog::describe(drain.last_error())));
+  }
+  if (stats.ring_overruns > 0) {
+    return fail(ExitCode::log_incomplete,
+                "the log ring overran: " + std::to_string(stats.ring_overruns) +
+                    " ticks are missing from " + log_path);
+  }
+  if (stats.outcome == engine::Outcome::completed && stats.final_state == engine::State::safe) {
+    return static_cast<int>(ExitCode::ok);
+  }
+  return static_cast<int>(ExitCode::aborted);
+}

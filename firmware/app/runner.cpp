@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: MIT
+#include "firmware/app/runner.hpp"
+
+#include "excite/hal/periodic.hpp"
+
+namespace excite::app {
+
+engine::Status Runner::arm() noexcept {
+  const std::uint32_t n = engine_.config().values;
+  if (bus_.value_count() != n || bus_.setpoint_count() != engine_.config().inputs) {
+    return engine::Status::error(
+        engine::StatusCode::invalid_field, "field bus = %zu setpoints, %zu values, expected %u, %u",
+        bus_.setpoint_count(), bus_.value_count(), engine_.config().inputs, n);
+  }
+  const hal::Status s = bus_.read(std::span<double>(values_.data(), n));
+  if (s != hal::Status::ok) {
+    return engine::Status::error(engine::StatusCode::invalid_field,
+                                 "first read of the live values = %s (%s), expected ok",
+                                 hal::to_string(s), bus_.detail());
+  }
+  return engine_.arm(std::span<const double>(values_.data(), n));
+}
+
+void Runner::tick(std::int64_t time_ns, engine::Command command) noexcept {
+  if (command != engine::Command::none) engine_.command(command);
+  const engine::TickOutput& out = engine_.compute();
+  const std::uint32_t n = engine_.config().values;
+  const std::span<double> values(values_.data(), n);
+  bool ok = false;
+  if (out.write) {
+    last_status_ = bus_.write(out.setpoints(), out.heartbeat);
+    if (last_status_ == hal::Status::ok) last_status_ = bus_.read(values);
+    ok = last_status_ == hal::Status::ok;
+  }
+  engine_.observe(ok, values);
+  if (out.write) ring_.push(engine_.record(time_ns));
+  ++ticks_;
+}
+
+RunStats Runner::run(CommandMailbox& commands, const std::atomic<bool>* stop,
+                     std::uint64_t max_ticks) noexcept {
+  hal::PeriodicSchedule schedule(clock_, period_);
+  RunStats stats;
+  const std::uint64_t first = ticks_;
+  while (true) {
+    if (stop != nullptr && stop->load(std::memory_order_acquire)) break;
+    if (max_ticks != 0 && ticks_ - first >= max_ticks) break;
+    const hal::Nanoseconds nominal = schedule.wait_next();
+    if (!lateness_.empty()) {
+      const auto late_us = (clock_.now() - nominal).count() / 1000;
+      const auto last = lateness_.size() - 1;
+      const auto bin = late_us < 0 ? 0U : static_cast<std::size_t>(late_us);
+      ++lateness_[bin < last ? bin : last];
+    }
+    tick(nominal.count(), commands.take());
+    if (observer_ != nullptr) observer_->after_tick(engine_, ticks_ - 1);
+    if (engine_.state() == engine::State::safe) break;
+  }
+  stats.ticks = ticks_ - first;
+  stats.schedule_overruns = schedule.overruns();
+  stats.failed_exchanges = engine_.failed_exchanges();
+  stats.ring_overruns = ring_.overruns();
+  stats.final_state = engine_.state();
+  stats.outcome = engine_.outcome();
+  return stats;
+}
+
+}  // namespace excite::app

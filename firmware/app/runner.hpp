@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The gateway's cyclic loop: the engine (pure) wired to a field bus and a clock.
+//
+//   every period:  wait for the grid point (PeriodicSchedule, absolute deadline)
+//                  take an operator command; compute; write + read on the bus;
+//                  observe; push the tick's record into the log ring
+//
+// until the engine is safe (the tick that confirmed the baseline is logged), max_ticks
+// have run, or `stop` is raised (hard stop: no ramp-out; SIGTERM posts abort instead).
+// run() allocates nothing, throws nothing and blocks on nothing but the bus and the
+// clock (proved by tests/integration/engine/no_alloc_test).
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <span>
+
+#include "excite/hal/clock.hpp"
+#include "excite/hal/field_bus.hpp"
+#include "firmware/app/command_mailbox.hpp"
+#include "firmware/engine/engine.hpp"
+#include "firmware/engine/log_ring.hpp"
+
+namespace excite::app {
+
+struct RunStats {
+  std::uint64_t ticks = 0;              // ticks executed
+  std::uint64_t schedule_overruns = 0;  // grid points skipped because a tick ran late
+  std::uint64_t failed_exchanges = 0;
+  std::uint64_t ring_overruns = 0;  // records dropped because the log ring was full
+  engine::State final_state = engine::State::configured;
+  engine::Outcome outcome = engine::Outcome::none;
+};
+
+/// Optional per-tick observer (tests: inject faults at a given tick; bench: nothing).
+/// Called after the record is pushed; must not allocate.
+class TickObserver {
+ public:
+  virtual ~TickObserver() = default;
+  virtual void after_tick(const engine::Engine& engine, std::uint64_t tick) noexcept = 0;
+};
+
+class Runner {
+ public:
+  Runner(engine::Engine& engine, hal::FieldBus& bus, hal::Clock& clock, engine::LogRingBase& ring,
+         hal::Nanoseconds period) noexcept
+      : engine_(engine), bus_(bus), clock_(clock), ring_(ring), period_(period) {}
+
+  void set_observer(TickObserver* observer) noexcept { observer_ = observer; }
+
+  /// Histogram of tick lateness (start of the tick's work − its grid point), one bin per
+  /// microsecond, the last bin collecting everything later. Empty span: not measured.
+  void set_lateness_histogram(std::span<std::uint64_t> bins_us) noexcept { lateness_ = bins_us; }
+
+  /// Reads the live values once (nothing is written) and arms the engine with them.
+  engine::Status arm() noexcept;
+
+  RunStats run(CommandMailbox& commands, const std::atomic<bool>* stop = nullptr,
+               std::uint64_t max_ticks = 0) noexcept;
+
+  /// One tick at nominal time `time_ns` (run() calls it on the grid).
+  void tick(std::int64_t time_ns, engine::Command command) noexcept;
+
+  [[nodiscard]] hal::Status last_status() const noexcept { return last_status_; }
+
+ private:
+  engine::Engine& engine_;
+  hal::FieldBus& bus_;
+  hal::Clock& clock_;
+  engine::LogRingBase& ring_;
+  hal::Nanoseconds period_;
+  TickObserver* observer_ = nullptr;
+  std::span<std::uint64_t> lateness_{};
+  std::array<double, engine::kMaxValues> values_{};
+  hal::Status last_status_ = hal::Status::ok;
+  std::uint64_t ticks_ = 0;
+};
+
+}  // namespace excite::app

@@ -1,0 +1,82 @@
+// SPDX-License-Identifier: MIT
+#include "firmware/engine/config.hpp"
+
+#include <cmath>
+
+namespace excite::engine {
+
+namespace {
+
+bool valid_index(std::int32_t index, std::uint32_t count) {
+  return index == kNone || (index >= 0 && static_cast<std::uint32_t>(index) < count);
+}
+
+}  // namespace
+
+Status validate(const EngineConfig& config) {
+  if (config.inputs < 1 || config.inputs > kMaxInputs) {
+    return Status::error(StatusCode::invalid_field, "inputs = %u, expected 1…%u", config.inputs,
+                         kMaxInputs);
+  }
+  if (config.values < 1 || config.values > kMaxValues) {
+    return Status::error(StatusCode::invalid_field, "values = %u, expected 1…%u", config.values,
+                         kMaxValues);
+  }
+  for (std::uint32_t c = 0; c < config.inputs; ++c) {
+    const InputLimits& in = config.input[c];
+    if (!std::isfinite(in.min) || !std::isfinite(in.max) || in.min > in.max) {
+      return Status::error(StatusCode::invalid_field,
+                           "input[%u].min, max = %g, %g, expected finite with min <= max", c,
+                           in.min, in.max);
+    }
+    if (!std::isfinite(in.max_move) || in.max_move <= 0.0) {
+      return Status::error(StatusCode::invalid_field, "input[%u].max_move = %g, expected > 0", c,
+                           in.max_move);
+    }
+    if (in.readback == kNone || !valid_index(in.readback, config.values)) {
+      return Status::error(StatusCode::invalid_field,
+                           "input[%u].readback = %d, expected a value index 0…%u", c, in.readback,
+                           config.values - 1);
+    }
+  }
+  for (std::uint32_t j = 0; j < config.values; ++j) {
+    const TestLimit& t = config.test[j];
+    if (!t.enabled) continue;
+    if (!std::isfinite(t.low) || !std::isfinite(t.high) || t.low >= t.high) {
+      return Status::error(StatusCode::invalid_field,
+                           "test[%u].low, high = %g, %g, expected finite with low < high", j, t.low,
+                           t.high);
+    }
+    if (!std::isfinite(t.hysteresis) || t.hysteresis < 0.0 ||
+        2.0 * t.hysteresis >= t.high - t.low) {
+      return Status::error(StatusCode::invalid_field,
+                           "test[%u].hysteresis = %g, expected 0 <= 2 * hysteresis < high - low "
+                           "= %g",
+                           j, t.hysteresis, t.high - t.low);
+    }
+  }
+  if (config.resume_dwell_ticks < 1) {
+    return Status::error(StatusCode::invalid_field, "resume_dwell_ticks = 0, expected >= 1");
+  }
+  if (config.comm_fail_limit < 1) {
+    return Status::error(StatusCode::invalid_field, "comm_fail_limit = 0, expected >= 1");
+  }
+  if (!valid_index(config.heartbeat_echo, config.values)) {
+    return Status::error(StatusCode::invalid_field,
+                         "heartbeat_echo = %d, expected -1 (none) or a value index 0…%u",
+                         config.heartbeat_echo, config.values - 1);
+  }
+  if (config.heartbeat_echo != kNone &&
+      (config.heartbeat_max_lag < 1 || config.heartbeat_max_lag > 30000)) {
+    return Status::error(StatusCode::invalid_field, "heartbeat_max_lag = %u, expected 1…30000",
+                         config.heartbeat_max_lag);
+  }
+  if (!valid_index(config.command_value, config.values)) {
+    return Status::error(StatusCode::invalid_field,
+                         "command_value = %d, expected -1 (none) or a value index 0…%u",
+                         config.command_value, config.values - 1);
+  }
+  return {};
+}
+
+}  // namespace excite::engine

@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// What the engine needs to know besides the plan: absolute limits of every setpoint, the
+// test limits of the controlled variables, ramps, dwell and timeouts — all in ticks and in
+// each channel's engineering unit. The app fills it from the gateway configuration file
+// (firmware/app/README.md), converting seconds to ticks.
+
+#include <array>
+#include <cstdint>
+
+#include "firmware/signal/recipe.hpp"
+#include "firmware/signal/status.hpp"
+
+namespace excite::engine {
+
+using signal::Status;
+using signal::StatusCode;
+
+inline constexpr std::uint32_t kMaxInputs = signal::kMaxChannels;  // setpoints = plan channels
+inline constexpr std::uint32_t kMaxValues = 32;                    // values read per tick
+inline constexpr std::int32_t kNone = -1;                          // "no value index"
+
+/// One setpoint (a plan channel), absolute engineering units.
+struct InputLimits {
+  double min = 0.0;               // lowest setpoint ever written
+  double max = 0.0;               // highest setpoint ever written; min ≤ max
+  double max_move = 0.0;          // largest |Δsetpoint| per tick, > 0
+  std::int32_t readback = kNone;  // value index whose reading at arm is the baseline
+};
+
+/// Test limits of one value (a controlled variable), absolute engineering units.
+struct TestLimit {
+  bool enabled = false;
+  double low = 0.0;  // outside [low, high] → suspend
+  double high = 0.0;
+  double hysteresis = 0.0;  // resume only inside [low + h, high − h]; 0 ≤ 2h < high − low
+};
+
+enum class CommLossAction : std::uint8_t {
+  hold,              // keep the last setpoints while the link is down
+  ramp_to_baseline,  // ramp the excitation out, as for a test-limit suspension
+};
+
+struct EngineConfig {
+  std::uint32_t inputs = 0;  // setpoints written per tick, 1..kMaxInputs
+  std::uint32_t values = 0;  // values read per tick, 1..kMaxValues
+  std::array<InputLimits, kMaxInputs> input{};
+  std::array<TestLimit, kMaxValues> test{};
+  std::uint32_t ramp_ticks = 0;          // excitation 0 → full (and back) over this many ticks
+  std::uint32_t resume_dwell_ticks = 1;  // all back inside (with hysteresis) this long → resume
+  std::uint32_t suspend_timeout_ticks = 0;  // suspended this long → abort; 0 = never
+  std::uint32_t comm_fail_limit = 3;        // failed exchanges in a row → comm loss, ≥ 1
+  std::int32_t heartbeat_echo = kNone;      // value index where the peer echoes the heartbeat
+  std::uint32_t heartbeat_max_lag = 0;      // echo older than this many ticks → stale (comm loss)
+  std::int32_t command_value = kNone;       // value index of the operator command register
+  CommLossAction comm_loss = CommLossAction::hold;
+};
+
+/// Ok, or the first broken rule naming the field ("input[1].max_move = 0, expected > 0").
+Status validate(const EngineConfig& config);
+
+}  // namespace excite::engine

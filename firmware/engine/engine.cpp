@@ -1,0 +1,308 @@
+// SPDX-License-Identifier: MIT
+#include "firmware/engine/engine.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "firmware/runlog/format.hpp"
+
+namespace excite::engine {
+
+Status Engine::configure(const EngineConfig& config, signal::ConstTableView table) {
+  if (Status s = validate(config); !s) return s;
+  if (table.data == nullptr || table.channels != config.inputs || table.samples == 0) {
+    return Status::error(StatusCode::invalid_field,
+                         "table = %u channels x %u samples, expected %u channels (the "
+                         "configuration's setpoints) and at least 1 sample",
+                         table.channels, table.samples, config.inputs);
+  }
+  *this = Engine{};
+  config_ = config;
+  table_ = table;
+  configured_ = true;
+  out_.inputs = config.inputs;
+  return {};
+}
+
+Status Engine::arm(std::span<const double> live_values) {
+  if (!configured_ || state_ != State::configured) {
+    return Status::error(StatusCode::invalid_field, "engine state = %s, expected configured",
+                         to_string(state_));
+  }
+  if (live_values.size() != config_.values) {
+    return Status::error(StatusCode::invalid_field, "live values = %zu, expected %u",
+                         live_values.size(), config_.values);
+  }
+  for (std::uint32_t j = 0; j < config_.values; ++j) {
+    if (!std::isfinite(live_values[j])) {
+      return Status::error(StatusCode::invalid_field, "value[%u] at arm = %g, expected finite", j,
+                           live_values[j]);
+    }
+  }
+  std::array<double, kMaxInputs> base{};
+  for (std::uint32_t c = 0; c < config_.inputs; ++c) {
+    const InputLimits& in = config_.input[c];
+    base[c] = live_values[static_cast<std::uint32_t>(in.readback)];
+    if (base[c] < in.min || base[c] > in.max) {
+      return Status::error(StatusCode::limit_violated,
+                           "input[%u] baseline = %g (read back from value[%d]), expected within "
+                           "[%g, %g]",
+                           c, base[c], in.readback, in.min, in.max);
+    }
+    double lo = 0.0;
+    double hi = 0.0;
+    for (std::uint32_t k = 0; k < table_.samples; ++k) {
+      lo = std::min(lo, table_.at(k, c));
+      hi = std::max(hi, table_.at(k, c));
+    }
+    if (base[c] + lo < in.min || base[c] + hi > in.max) {
+      return Status::error(StatusCode::limit_violated,
+                           "input[%u] baseline + table = [%g, %g], expected within [%g, %g] "
+                           "(baseline %g)",
+                           c, base[c] + lo, base[c] + hi, in.min, in.max, base[c]);
+    }
+  }
+  base_u_ = base;
+  for (std::uint32_t j = 0; j < config_.values; ++j) {
+    base_y_[j] = live_values[j];
+    last_y_[j] = live_values[j];
+  }
+  if (config_.command_value != kNone) {
+    last_command_code_ = live_values[static_cast<std::uint32_t>(config_.command_value)];
+    have_command_code_ = true;
+  }
+  out_.setpoint = base_u_;
+  out_.heartbeat = 0;
+  excitation_.fill(0.0);
+  ramp_ = 0.0;
+  armed_ = true;
+  state_ = State::armed;
+  return {};
+}
+
+void Engine::apply_command() noexcept {
+  const Command c = pending_;
+  pending_ = Command::none;
+  switch (c) {
+    case Command::none:
+      break;
+    case Command::start:
+      if (state_ == State::armed) state_ = State::running;
+      break;
+    case Command::suspend:
+      if (state_ == State::running || state_ == State::suspended) reasons_ |= kReasonOperator;
+      break;
+    case Command::resume:
+      reasons_ &= static_cast<std::uint8_t>(~kReasonOperator);
+      break;
+    case Command::abort:
+      if (state_ == State::configured) {
+        state_ = State::safe;
+        outcome_ = Outcome::aborted_by_operator;
+      } else if (state_ == State::armed || state_ == State::running || state_ == State::suspended) {
+        state_ = State::aborted;
+        outcome_ = Outcome::aborted_by_operator;
+      }
+      break;
+  }
+}
+
+void Engine::enter_suspended() noexcept {
+  state_ = State::suspended;
+  suspended_ticks_ = 0;
+  ++suspensions_;
+}
+
+void Engine::enter_returning() noexcept {
+  state_ = State::returning;
+  returning_ticks_ = 0;
+}
+
+const TickOutput& Engine::compute() noexcept {
+  flags_ = 0;
+  if (state_ == State::completed || state_ == State::aborted) enter_returning();
+  apply_command();
+  if (state_ == State::running && reasons_ != 0) enter_suspended();
+  if (state_ == State::suspended && reasons_ == 0) state_ = State::running;
+  if (state_ == State::configured || !armed_) {
+    out_.write = false;
+    return out_;
+  }
+  out_.write = true;
+  out_.heartbeat = static_cast<std::uint16_t>(out_.heartbeat + 1U);
+  ++ticks_;
+
+  if (state_ == State::running) {
+    if (row_started_) ++row_;
+    row_started_ = true;
+    if (row_ >= table_.samples) {  // the last row was written last tick
+      row_ = table_.samples - 1;
+      state_ = State::completed;
+      outcome_ = Outcome::completed;
+    } else {
+      for (std::uint32_t c = 0; c < config_.inputs; ++c) excitation_[c] = table_.at(row_, c);
+    }
+  }
+
+  // The excitation's scale moves towards its goal by 1/ramp_ticks per tick: ramp-in when
+  // running, ramp-out otherwise; held while suspended on comm loss with action hold.
+  double goal = state_ == State::running ? 1.0 : 0.0;
+  if (state_ == State::suspended && (reasons_ & kReasonComm) != 0 &&
+      config_.comm_loss == CommLossAction::hold) {
+    goal = ramp_;
+  }
+  const double step = config_.ramp_ticks == 0 ? 1.0 : 1.0 / config_.ramp_ticks;
+  ramp_ = goal > ramp_ ? std::min(goal, ramp_ + step) : std::max(goal, ramp_ - step);
+  if (state_ == State::suspended) flags_ |= runlog::kSuspended;
+
+  for (std::uint32_t c = 0; c < config_.inputs; ++c) {
+    const InputLimits& in = config_.input[c];
+    double target = base_u_[c] + ramp_ * excitation_[c];
+    if (ramp_ == 0.0) target = base_u_[c];
+    if (target < in.min || target > in.max) {
+      target = std::clamp(target, in.min, in.max);
+      flags_ |= runlog::kClamped;
+    }
+    const double previous = out_.setpoint[c];
+    if (target - previous > in.max_move) {
+      target = previous + in.max_move;
+      flags_ |= runlog::kRateLimited;
+    } else if (previous - target > in.max_move) {
+      target = previous - in.max_move;
+      flags_ |= runlog::kRateLimited;
+    }
+    out_.setpoint[c] = target;
+  }
+  return out_;
+}
+
+void Engine::check_comm(bool exchange_ok, std::span<const double> values) noexcept {
+  if (!exchange_ok) {
+    ++fail_streak_;
+    ++failed_total_;
+  } else {
+    fail_streak_ = 0;
+  }
+  stale_ = false;
+  if (exchange_ok && config_.heartbeat_echo != kNone && ticks_ > config_.heartbeat_max_lag) {
+    const double echo = values[static_cast<std::uint32_t>(config_.heartbeat_echo)];
+    if (!(echo >= 0.0 && echo <= 65535.0)) {
+      stale_ = true;
+    } else {
+      const auto seen = static_cast<std::uint16_t>(std::lround(echo));
+      const auto lag = static_cast<std::uint16_t>(out_.heartbeat - seen);
+      stale_ = lag > config_.heartbeat_max_lag;
+    }
+  }
+  if (fail_streak_ >= config_.comm_fail_limit || stale_) {
+    if ((reasons_ & kReasonComm) == 0) ++comm_losses_;
+    reasons_ |= kReasonComm;
+    comm_ok_streak_ = 0;
+  } else if ((reasons_ & kReasonComm) != 0 && exchange_ok) {
+    if (++comm_ok_streak_ >= config_.resume_dwell_ticks) {
+      reasons_ &= static_cast<std::uint8_t>(~kReasonComm);
+      comm_ok_streak_ = 0;
+    }
+  }
+}
+
+void Engine::check_limits(bool exchange_ok, std::span<const double> values) noexcept {
+  if (!exchange_ok) return;  // nothing new to judge; the comm guard handles silence
+  bool outside = false;
+  bool inside_band = true;
+  for (std::uint32_t j = 0; j < config_.values; ++j) {
+    const TestLimit& t = config_.test[j];
+    if (!t.enabled) continue;
+    const double v = values[j];
+    if (!(v >= t.low && v <= t.high)) outside = true;  // NaN counts as outside
+    if (!(v >= t.low + t.hysteresis && v <= t.high - t.hysteresis)) inside_band = false;
+  }
+  if (outside) {
+    reasons_ |= kReasonLimit;
+    inside_streak_ = 0;
+  } else if ((reasons_ & kReasonLimit) != 0) {
+    if (!inside_band) {
+      inside_streak_ = 0;
+    } else if (++inside_streak_ >= config_.resume_dwell_ticks) {
+      reasons_ &= static_cast<std::uint8_t>(~kReasonLimit);
+      inside_streak_ = 0;
+    }
+  }
+}
+
+void Engine::read_command_register(bool exchange_ok, std::span<const double> values) noexcept {
+  if (!exchange_ok || config_.command_value == kNone) return;
+  const double code = values[static_cast<std::uint32_t>(config_.command_value)];
+  if (!std::isfinite(code)) return;
+  if (!have_command_code_ || code != last_command_code_) {
+    last_command_code_ = code;
+    have_command_code_ = true;
+    const Command c = command_from_code(std::llround(code));
+    if (c != Command::none) pending_ = c;
+  }
+}
+
+bool Engine::at_baseline() const noexcept {
+  for (std::uint32_t c = 0; c < config_.inputs; ++c) {
+    if (out_.setpoint[c] != base_u_[c]) return false;
+  }
+  return true;
+}
+
+void Engine::observe(bool exchange_ok, std::span<const double> values) noexcept {
+  if (!armed_) return;  // nothing was written, nothing to judge
+  exchange_ok_ = exchange_ok && values.size() >= config_.values;
+  check_comm(exchange_ok_, values);
+  if (exchange_ok_) {
+    for (std::uint32_t j = 0; j < config_.values; ++j) last_y_[j] = values[j];
+  }
+  check_limits(exchange_ok_, values);
+  read_command_register(exchange_ok_, values);
+  if (!exchange_ok_ || (reasons_ & kReasonComm) != 0) flags_ |= runlog::kCommLost;
+  if (stale_) flags_ |= runlog::kStale;
+
+  switch (state_) {
+    case State::running:
+      if (reasons_ != 0) enter_suspended();
+      break;
+    case State::suspended:
+      if ((reasons_ & (kReasonLimit | kReasonComm)) != 0) {
+        ++suspended_ticks_;
+        if (config_.suspend_timeout_ticks != 0 &&
+            suspended_ticks_ >= config_.suspend_timeout_ticks) {
+          state_ = State::aborted;
+          outcome_ = Outcome::aborted_on_timeout;
+        }
+      }
+      break;
+    case State::returning:
+      ++returning_ticks_;
+      if (ramp_ == 0.0 && at_baseline() && exchange_ok_ && !stale_) {
+        state_ = State::safe;
+      } else if ((reasons_ & kReasonComm) != 0 && config_.suspend_timeout_ticks != 0 &&
+                 returning_ticks_ >=
+                     std::uint64_t{config_.ramp_ticks} + config_.suspend_timeout_ticks) {
+        state_ = State::safe;  // the link stays down: give up confirming the baseline
+      }
+      break;
+    default:
+      break;
+  }
+}
+
+TickRecord Engine::record(std::int64_t time_ns) const noexcept {
+  TickRecord r;
+  r.time_ns = time_ns;
+  r.tick = ticks_ == 0 ? 0 : ticks_ - 1;
+  r.row = row_;
+  r.state = state_;
+  r.flags = flags_;
+  for (std::uint32_t c = 0; c < config_.inputs; ++c) {
+    r.u[c] = out_.setpoint[c];
+    r.du[c] = out_.setpoint[c] - base_u_[c];
+  }
+  for (std::uint32_t j = 0; j < config_.values; ++j) r.dy[j] = last_y_[j] - base_y_[j];
+  return r;
+}
+
+}  // namespace excite::engine

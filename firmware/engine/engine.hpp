@@ -1,0 +1,127 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The gateway engine: the lifecycle (state.hpp) and the tick, as a pure state machine.
+// It does no I/O: the loop around it (firmware/app) does, once per tick,
+//
+//   const TickOutput& out = engine.compute();          // setpoints for this tick
+//   status = bus.write(out.setpoints(), out.heartbeat) // (skipped while !out.write)
+//            then bus.read(values);
+//   engine.observe(status == ok, values);              // test limits, comm guards, states
+//   ring.push(engine.record(now));
+//
+// configure() and arm() run at start-up; compute(), observe(), command() and record() are
+// the cyclic path: no allocation, no exceptions, no blocking, O(inputs + values).
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "firmware/engine/config.hpp"
+#include "firmware/engine/state.hpp"
+#include "firmware/engine/tick_record.hpp"
+#include "firmware/signal/table.hpp"
+
+namespace excite::engine {
+
+/// What the loop writes this tick.
+struct TickOutput {
+  bool write = false;  // false only in configured: nothing goes to the field
+  std::uint16_t heartbeat = 0;
+  std::uint32_t inputs = 0;
+  std::array<double, kMaxInputs> setpoint{};  // absolute, engineering units
+
+  [[nodiscard]] std::span<const double> setpoints() const { return {setpoint.data(), inputs}; }
+};
+
+class Engine {
+ public:
+  /// Takes the configuration (validate(config) must pass) and the table (not owned; kept
+  /// alive by the caller; table.channels == config.inputs, already checked against the
+  /// plan's deviation limits by load_plan). → configured.
+  Status configure(const EngineConfig& config, signal::ConstTableView table);
+
+  /// Captures the baseline from the live values (config.values of them, read from the
+  /// field before anything was written): setpoint baseline from each input's readback,
+  /// value baseline for dy. Refuses, writing nothing, when the engine is not configured,
+  /// a value is not finite, a baseline lies outside [min, max], or baseline + the table's
+  /// extremes would leave [min, max] of a channel. → armed.
+  Status arm(std::span<const double> live_values);
+
+  /// Queues an operator command, applied at the next compute() (the last one wins).
+  /// Safe to call from the tick's thread only; the app funnels signals through an atomic.
+  void command(Command c) noexcept { pending_ = c; }
+
+  /// Phase 1 of a tick: applies the pending command and the transitions due, advances the
+  /// table row while running and returns the setpoints (clamped to [min, max], slew
+  /// limited to max_move per tick) with the next heartbeat.
+  const TickOutput& compute() noexcept;
+
+  /// Phase 2: the exchange's result. `values` (config.values of them) is read only when
+  /// exchange_ok. Checks the heartbeat echo, the test limits and the command register,
+  /// and moves the state (suspend, resume after dwell, abort on timeout, safe).
+  void observe(bool exchange_ok, std::span<const double> values) noexcept;
+
+  /// The tick just completed, for the run log.
+  [[nodiscard]] TickRecord record(std::int64_t time_ns) const noexcept;
+
+  [[nodiscard]] State state() const noexcept { return state_; }
+  [[nodiscard]] Outcome outcome() const noexcept { return outcome_; }
+  [[nodiscard]] std::uint8_t suspend_reasons() const noexcept { return reasons_; }
+  [[nodiscard]] std::uint32_t row() const noexcept { return row_; }
+  [[nodiscard]] std::uint64_t ticks() const noexcept { return ticks_; }  // since arm
+  [[nodiscard]] std::uint32_t flags() const noexcept { return flags_; }
+  [[nodiscard]] double ramp() const noexcept { return ramp_; }  // 0 … 1
+  [[nodiscard]] double baseline(std::uint32_t input) const noexcept { return base_u_[input]; }
+  [[nodiscard]] double value_baseline(std::uint32_t value) const noexcept { return base_y_[value]; }
+  [[nodiscard]] const TickOutput& output() const noexcept { return out_; }
+  [[nodiscard]] const EngineConfig& config() const noexcept { return config_; }
+  // Counters over the run (for the summary line and the log's notes).
+  [[nodiscard]] std::uint64_t failed_exchanges() const noexcept { return failed_total_; }
+  [[nodiscard]] std::uint64_t comm_losses() const noexcept { return comm_losses_; }
+  [[nodiscard]] std::uint64_t suspensions() const noexcept { return suspensions_; }
+
+ private:
+  void apply_command() noexcept;
+  void enter_suspended() noexcept;
+  void enter_returning() noexcept;
+  void check_comm(bool exchange_ok, std::span<const double> values) noexcept;
+  void check_limits(bool exchange_ok, std::span<const double> values) noexcept;
+  void read_command_register(bool exchange_ok, std::span<const double> values) noexcept;
+  [[nodiscard]] bool at_baseline() const noexcept;
+
+  EngineConfig config_{};
+  signal::ConstTableView table_{};
+  State state_ = State::configured;
+  Outcome outcome_ = Outcome::none;
+  bool configured_ = false;
+  bool armed_ = false;  // arm() succeeded: writing is allowed
+  Command pending_ = Command::none;
+  std::uint8_t reasons_ = 0;
+
+  std::array<double, kMaxInputs> base_u_{};
+  std::array<double, kMaxValues> base_y_{};
+  std::array<double, kMaxInputs> excitation_{};  // table row in use (frozen when suspended)
+  std::array<double, kMaxValues> last_y_{};      // last good values
+  TickOutput out_{};
+  double ramp_ = 0.0;         // excitation scale, 0 … 1, moves 1/ramp_ticks per tick
+  std::uint32_t row_ = 0;     // table row of the current excitation
+  bool row_started_ = false;  // row_ has been written at least once
+  std::uint64_t ticks_ = 0;   // ticks since arm
+  std::uint32_t flags_ = 0;   // this tick's runlog flags
+  bool exchange_ok_ = false;
+
+  std::uint32_t fail_streak_ = 0;     // failed exchanges in a row
+  std::uint32_t comm_ok_streak_ = 0;  // good exchanges in a row while kReasonComm
+  std::uint32_t inside_streak_ = 0;   // ticks all inside the hysteresis band
+  std::uint64_t suspended_ticks_ = 0;
+  std::uint64_t returning_ticks_ = 0;
+  bool stale_ = false;
+  double last_command_code_ = 0.0;
+  bool have_command_code_ = false;
+
+  std::uint64_t failed_total_ = 0;
+  std::uint64_t comm_losses_ = 0;
+  std::uint64_t suspensions_ = 0;
+};
+
+}  // namespace excite::engine

@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: MIT
+#include "firmware/engine/state.hpp"
+
+namespace excite::engine {
+
+const char* to_string(State state) noexcept {
+  switch (state) {
+    case State::configured:
+      return "configured";
+    case State::armed:
+      return "armed";
+    case State::running:
+      return "running";
+    case State::suspended:
+      return "suspended";
+    case State::completed:
+      return "completed";
+    case State::aborted:
+      return "aborted";
+    case State::returning:
+      return "returning";
+    case State::safe:
+      return "safe";
+  }
+  return "unknown";
+}
+
+const char* to_string(Command command) noexcept {
+  switch (command) {
+    case Command::none:
+      return "none";
+    case Command::start:
+      return "start";
+    case Command::suspend:
+      return "suspend";
+    case Command::resume:
+      return "resume";
+    case Command::abort:
+      return "abort";
+  }
+  return "unknown";
+}
+
+const char* to_string(Outcome outcome) noexcept {
+  switch (outcome) {
+    case Outcome::none:
+      return "none";
+    case Outcome::completed:
+      return "completed";
+    case Outcome::aborted_by_operator:
+      return "aborted by operator";
+    case Outcome::aborted_on_timeout:
+      return "aborted on suspension timeout";
+  }
+  return "unknown";
+}
+
+Command command_from_code(std::int64_t code) noexcept {
+  switch (code) {
+    case 1:
+      return Command::start;
+    case 2:
+      return Command::suspend;
+    case 3:
+      return Command::resume;
+    case 4:
+      return Command::abort;
+    default:
+      return Command::none;
+  }
+}
+
+}  // namespace excite::engine

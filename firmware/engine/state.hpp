@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The engine's lifecycle (README.md has the table: what holds in each state, what moves it).
+//
+//   configured ─arm→ armed ─start→ running ⇄ suspended
+//   running ─table done→ completed ─→ returning ─baseline reached→ safe
+//   armed | running | suspended ─abort / suspend timeout→ aborted ─→ returning
+//   configured ─abort→ safe (nothing was ever written)
+
+#include <cstdint>
+
+namespace excite::engine {
+
+enum class State : std::uint8_t {
+  configured,  // tables ready, bus open; nothing is written
+  armed,       // baseline captured; the baseline and the heartbeat are written every tick
+  running,     // the table streams: setpoint = baseline + ramp · table[k], k advancing
+  suspended,   // k frozen; excitation ramps to the baseline (or holds on comm loss, if so set)
+  completed,   // the last table row was written (one tick), then returning
+  aborted,     // operator abort or suspension timeout (one tick), then returning
+  returning,   // excitation ramps out to the baseline
+  safe,        // the baseline is written and confirmed; the run is over
+};
+
+/// Operator commands (signals, command register, command line), applied at the next tick.
+enum class Command : std::uint8_t { none = 0, start = 1, suspend = 2, resume = 3, abort = 4 };
+
+/// Why a run is suspended: a bit set; the run resumes when it is empty.
+enum SuspendReason : std::uint8_t {
+  kReasonLimit = 1U << 0,     // a controlled variable left its test limits
+  kReasonOperator = 1U << 1,  // suspend command, until a resume command
+  kReasonComm = 1U << 2,      // communication lost (failed exchanges or stale heartbeat echo)
+};
+
+/// How a run ended (meaningful in returning and safe).
+enum class Outcome : std::uint8_t { none, completed, aborted_by_operator, aborted_on_timeout };
+
+const char* to_string(State state) noexcept;
+const char* to_string(Command command) noexcept;
+const char* to_string(Outcome outcome) noexcept;
+
+/// The command register's integer code → Command (unknown codes → none).
+Command command_from_code(std::int64_t code) noexcept;
+
+}  // namespace excite::engine

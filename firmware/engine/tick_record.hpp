@@ -1,0 +1,24 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// One tick as the run log records it: what was written, what was read, the state, flags.
+
+#include <array>
+#include <cstdint>
+
+#include "firmware/engine/config.hpp"
+#include "firmware/engine/state.hpp"
+
+namespace excite::engine {
+
+struct TickRecord {
+  std::int64_t time_ns = 0;  // the tick's nominal time (clock epoch)
+  std::uint64_t tick = 0;    // ticks since arm: 0, 1, 2, … (the run log's k)
+  std::uint32_t row = 0;     // table row k written this tick (frozen while suspended)
+  State state = State::configured;
+  std::uint32_t flags = 0;              // runlog::Flag bits
+  std::array<double, kMaxInputs> du{};  // setpoint − baseline
+  std::array<double, kMaxInputs> u{};   // setpoint written (absolute)
+  std::array<double, kMaxValues> dy{};  // value − value at arm (last good on comm loss)
+};
+
+}  // namespace excite::engine

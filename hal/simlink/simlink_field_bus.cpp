@@ -1,0 +1,123 @@
+// SPDX-License-Identifier: MIT
+#include "hal/simlink/simlink_field_bus.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace excite::hal::simlink {
+
+SimLinkFieldBus::SimLinkFieldBus(const sim::TransferMatrix& g, double sample_time_min,
+                                 SimLinkConfig config, VirtualClock* clock)
+    : plant_(g, sample_time_min),
+      config_(std::move(config)),
+      clock_(clock),
+      inputs_(static_cast<std::size_t>(g.inputs())),
+      outputs_(static_cast<std::size_t>(g.outputs())),
+      values_(outputs_),
+      held_(inputs_),
+      du_(inputs_),
+      y_(outputs_, 0.0),
+      disturbance_(outputs_) {
+  if (config_.input_baseline.size() != inputs_) {
+    throw std::invalid_argument("simlink input_baseline has " +
+                                std::to_string(config_.input_baseline.size()) +
+                                " values, expected " + std::to_string(inputs_));
+  }
+  if (config_.output_baseline.size() != outputs_) {
+    throw std::invalid_argument("simlink output_baseline has " +
+                                std::to_string(config_.output_baseline.size()) +
+                                " values, expected " + std::to_string(outputs_));
+  }
+  held_ = config_.input_baseline;
+  for (auto& d : disturbance_) d.store(0.0);
+  if (config_.readbacks) {
+    readback_base_ = static_cast<int>(values_);
+    values_ += inputs_;
+  }
+  if (config_.heartbeat_echo) echo_index_ = static_cast<int>(values_++);
+  if (config_.command_register) command_index_ = static_cast<int>(values_++);
+}
+
+int SimLinkFieldBus::readback_index(std::size_t input) const noexcept {
+  if (readback_base_ < 0 || input >= inputs_) return -1;
+  return readback_base_ + static_cast<int>(input);
+}
+
+void SimLinkFieldBus::drop(int calls, Status status) noexcept {
+  drop_status_.store(status);
+  drop_calls_.store(calls);
+}
+
+void SimLinkFieldBus::set_disturbance(std::size_t output, double value) noexcept {
+  if (output < outputs_) disturbance_[output].store(value);
+}
+
+bool SimLinkFieldBus::consume_drop(Status& status) noexcept {
+  int left = drop_calls_.load();
+  while (left > 0 && !drop_calls_.compare_exchange_weak(left, left - 1)) {
+  }
+  if (left <= 0) return false;
+  status = drop_status_.load();
+  dropped_.fetch_add(1);
+  detail_ = "simlink: exchange dropped on purpose";
+  return true;
+}
+
+void SimLinkFieldBus::spend_time() noexcept {
+  if (clock_ != nullptr) clock_->advance(config_.exchange_time);
+}
+
+Status SimLinkFieldBus::write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept {
+  spend_time();
+  if (setpoints.size() != inputs_) {
+    detail_ = "simlink: wrong number of setpoints";
+    return Status::bad_argument;
+  }
+  for (double s : setpoints) {
+    if (!std::isfinite(s)) {
+      detail_ = "simlink: non-finite setpoint";
+      return Status::bad_argument;
+    }
+  }
+  Status dropped = Status::ok;
+  const bool drop_this = consume_drop(dropped);
+  if (!drop_this) {
+    for (std::size_t i = 0; i < inputs_; ++i) held_[i] = setpoints[i];
+    heartbeat_.store(heartbeat);
+    if (!echo_frozen_.load()) echo_.store(heartbeat);
+    writes_.fetch_add(1);
+  }
+  // The plant's time goes on whether or not the write arrived: one sample per write.
+  for (std::size_t i = 0; i < inputs_; ++i) du_[i] = held_[i] - config_.input_baseline[i];
+  plant_.step(du_.data(), y_.data());
+  samples_.fetch_add(1);
+  if (drop_this) return dropped;
+  detail_ = "";
+  return Status::ok;
+}
+
+Status SimLinkFieldBus::read(std::span<double> values) noexcept {
+  spend_time();
+  if (values.size() != values_) {
+    detail_ = "simlink: wrong number of values";
+    return Status::bad_argument;
+  }
+  Status dropped = Status::ok;
+  if (consume_drop(dropped)) return dropped;
+  for (std::size_t j = 0; j < outputs_; ++j) {
+    values[j] = config_.output_baseline[j] + y_[j] + disturbance_[j].load();
+  }
+  if (readback_base_ >= 0) {
+    for (std::size_t i = 0; i < inputs_; ++i) {
+      values[static_cast<std::size_t>(readback_base_) + i] = held_[i];
+    }
+  }
+  if (echo_index_ >= 0) values[static_cast<std::size_t>(echo_index_)] = echo_.load();
+  if (command_index_ >= 0) values[static_cast<std::size_t>(command_index_)] = command_.load();
+  reads_.fetch_add(1);
+  detail_ = "";
+  return Status::ok;
+}
+
+}  // namespace excite::hal::simlink

@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: MIT
+// The engine's cyclic calls allocate nothing (STYLE.md practice 5): operator new and the
+// malloc family are counted over 10 000 ticks through every state and fault path.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <vector>
+
+#include "firmware/engine/log_ring.hpp"
+#include "tests/integration/engine/counting_malloc.hpp"
+#include "tests/support/counting_new.hpp"
+#include "tests/unit/engine/engine_fixture.hpp"
+
+namespace excite::engine::testing {
+
+TEST_F(EngineTest, TenThousandTicksThroughEveryPathAllocateNothing) {
+  EngineConfig c = small_config();
+  c.suspend_timeout_ticks = 0;  // no abort: keep the run going
+  c.ramp_ticks = 3;
+  const std::vector<double> long_table(2 * 20000, 0.5);  // longer than the run
+  ASSERT_TRUE(engine_.configure(c, {long_table.data(), 2, 20000}));
+  arm();
+  engine_.command(Command::start);
+  auto ring = std::make_unique<LogRing<256>>();
+  TickRecord sink;
+  const long new_before = excite::test::allocations();
+  const long malloc_before = excite::test::mallocs();
+  for (int i = 0; i < 10000; ++i) {
+    switch (i % 100) {  // excursions, comm loss, stale echo and operator commands
+      case 10:
+        field_.values[kY0] = 120.0;
+        break;
+      case 20:
+        field_.values[kY0] = 100.0;
+        break;
+      case 40:
+        field_.ok = false;
+        break;
+      case 45:
+        field_.ok = true;
+        break;
+      case 60:
+        field_.echo = false;
+        break;
+      case 66:
+        field_.echo = true;
+        break;
+      case 80:
+        engine_.command(Command::suspend);
+        break;
+      case 85:
+        engine_.command(Command::resume);
+        break;
+      default:
+        break;
+    }
+    tick();
+    ring->push(engine_.record(i));
+    ring->pop(sink);
+  }
+  EXPECT_EQ(excite::test::allocations() - new_before, 0);
+  EXPECT_EQ(excite::test::mallocs() - malloc_before, 0);
+  EXPECT_GT(engine_.suspensions(), 100U);  // the paths were really taken
+  EXPECT_GT(engine_.comm_losses(), 100U);
+  EXPECT_EQ(engine_.ticks(), 10000U);
+}
+
+}  // namespace excite::engine::testing
+
+namespace excite::engine::testing {
+
+// The counters themselves see allocations (so a zero above means something).
+TEST(AllocationCountersTest, SeeOperatorNewAndMalloc) {
+  const long new_before = excite::test::allocations();
+  const long malloc_before = excite::test::mallocs();
+  auto* p = new std::vector<int>(100);
+  void* volatile raw = std::malloc(64);  // volatile: the call may not be elided
+  EXPECT_GE(excite::test::allocations() - new_before, 2);
+  if (excite::test::malloc_interposed()) {
+    EXPECT_GE(excite::test::mallocs() - malloc_before, 1);
+  }
+  std::free(raw);
+  delete p;
+}
+
+}  // namespace excite::engine::testing
