@@ -30,7 +30,8 @@ Experiment run_experiment(const PriorKnowledge& prior, const PresetInfo& preset,
                           const CampaignOptions& options, const GainAnalysis& true_gain) {
   const Design design = design_preset(prior, preset, 0);
   SimulationOptions sim;
-  sim.noise_variance = options.noise_variance;
+  sim.noise_variance = options.noise_variance >= 0.0 ? options.noise_variance
+                                                     : case_study_noise_variance(options.plant);
   sim.seed = options.seed + static_cast<std::uint64_t>(preset.number);
   const SimulatedRun run = simulate_plan(*design.plan, std::string(preset.acronym), plant, sim);
 

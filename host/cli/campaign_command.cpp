@@ -47,8 +47,7 @@ void add_campaign_command(CLI::App& app) {
   cmd->add_flag("--true-gain", opt->campaign.true_gain,
                 "directions from the true G(0), not the step test's");
   cmd->add_option("--noise-var", opt->campaign.noise_variance,
-                  "measurement noise variance per output")
-      ->capture_default_str()
+                  "measurement noise variance per output (default: the case study's)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--seed", opt->campaign.seed, "noise seed")->capture_default_str();
   cmd->add_option("--threads", opt->campaign.threads, "identification threads")
