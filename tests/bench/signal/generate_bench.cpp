@@ -7,48 +7,18 @@
 // Counter `allocs`: heap allocations per iteration in the timed loop (the core's must be 0).
 #include <benchmark/benchmark.h>
 
-#include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <map>
 #include <memory>
-#include <new>
 #include <numbers>
 #include <string>
 #include <vector>
 
 #include "firmware/signal/generate.hpp"
 #include "firmware/signal/mseq.hpp"
+#include "tests/support/counting_new.hpp"
 #include "tests/unit/signal/example_recipes.hpp"
-
-namespace {
-std::atomic<long> g_allocations{0};
-void* counted_alloc(std::size_t size) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  std::abort();
-}
-}  // namespace
-
-void* operator new(std::size_t size) {
-  return counted_alloc(size);
-}
-void* operator new[](std::size_t size) {
-  return counted_alloc(size);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 namespace excite::signal {
 namespace {
@@ -138,28 +108,30 @@ void naive_generate(const Recipe& r, std::vector<double>& table) {
 void run_core(benchmark::State& state, const Recipe& recipe) {
   std::vector<double> table(std::size_t{kChannels} * kSamples);
   std::vector<double> scratch(scratch_size(recipe));
-  const long before = g_allocations.load();
+  const long before = excite::test::allocations();
   for (auto _ : state) {
     const Status status = generate(recipe, {table.data(), kChannels, kSamples}, scratch);
     if (!status) state.SkipWithError(status.message());
     benchmark::DoNotOptimize(table.data());
     benchmark::ClobberMemory();
   }
-  state.counters["allocs"] = benchmark::Counter(static_cast<double>(g_allocations.load() - before),
-                                                benchmark::Counter::kAvgIterations);
+  state.counters["allocs"] =
+      benchmark::Counter(static_cast<double>(excite::test::allocations() - before),
+                         benchmark::Counter::kAvgIterations);
   state.SetItemsProcessed(state.iterations() * kSamples);
 }
 
 void run_naive(benchmark::State& state, const Recipe& recipe) {
   std::vector<double> table(std::size_t{kChannels} * kSamples);
-  const long before = g_allocations.load();
+  const long before = excite::test::allocations();
   for (auto _ : state) {
     naive_generate(recipe, table);
     benchmark::DoNotOptimize(table.data());
     benchmark::ClobberMemory();
   }
-  state.counters["allocs"] = benchmark::Counter(static_cast<double>(g_allocations.load() - before),
-                                                benchmark::Counter::kAvgIterations);
+  state.counters["allocs"] =
+      benchmark::Counter(static_cast<double>(excite::test::allocations() - before),
+                         benchmark::Counter::kAvgIterations);
   state.SetItemsProcessed(state.iterations() * kSamples);
 }
 
