@@ -555,9 +555,11 @@ ConfigResult load_gateway_config(const std::string& path) {
   return parse_gateway_config(buffer.str(), path);
 }
 
-engine::EngineConfig to_engine_config(const GatewayConfig& c, double period_s) {
-  auto ticks = [period_s](double seconds) {
-    return static_cast<std::uint32_t>(std::ceil(seconds / period_s - 1e-9));
+engine::EngineConfig to_engine_config(const GatewayConfig& c,
+                                      std::chrono::duration<double> period) {
+  auto ticks = [period](double seconds) {
+    return static_cast<std::uint32_t>(
+        std::ceil(std::chrono::duration<double>(seconds) / period - 1e-9));
   };
   engine::EngineConfig e;
   e.inputs = static_cast<std::uint32_t>(c.setpoints.size());

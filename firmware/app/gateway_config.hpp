@@ -7,6 +7,7 @@
 // at start-up (allocates); every error names the file, the key, the value found and what
 // was expected.
 
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -83,9 +84,10 @@ struct ConfigResult {
 ConfigResult parse_gateway_config(std::string_view text, std::string_view source);
 ConfigResult load_gateway_config(const std::string& path);
 
-/// The engine's configuration for a tick period of `period_s` (seconds → ticks, rounded
-/// up). Value indices follow the register-map order.
-engine::EngineConfig to_engine_config(const GatewayConfig& config, double period_s);
+/// The engine's configuration for a tick period (the configuration's seconds → ticks,
+/// rounded up). Value indices follow the register-map order.
+engine::EngineConfig to_engine_config(const GatewayConfig& config,
+                                      std::chrono::duration<double> period);
 
 /// Value indices of the outputs (the run log's dy columns), in order.
 std::vector<int> output_indices(const GatewayConfig& config);

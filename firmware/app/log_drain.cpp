@@ -35,7 +35,7 @@ bool LogDrain::write(const engine::TickRecord& r) {
     dy_[i] = r.dy[static_cast<std::size_t>(layout_.output_values[i])];
   }
   runlog::Row row;
-  row.t_min = static_cast<double>(r.tick) * layout_.sample_time_min;
+  row.t_min = static_cast<double>(r.tick) * layout_.header.sample_time_min;
   row.k = r.tick;
   row.du = std::span<const double>(r.du.data(), n);
   row.u = std::span<const double>(r.u.data(), n);
@@ -58,7 +58,7 @@ bool LogDrain::write(const engine::TickRecord& r) {
 
 void LogDrain::report(const engine::TickRecord& r) {
   if (events_ == nullptr) return;
-  const double t = static_cast<double>(r.tick) * layout_.sample_time_min;
+  const double t = static_cast<double>(r.tick) * layout_.header.sample_time_min;
   if (r.state != last_state_) {
     std::fprintf(events_, "tick %llu (t = %g min, row %u): %s -> %s\n",
                  static_cast<unsigned long long>(r.tick), t, r.row, engine::to_string(last_state_),
@@ -91,6 +91,7 @@ bool LogDrain::drain_once() {
 
 void LogDrain::start() {
   stopping_ = false;
+  finished_ = false;
   thread_.start([this] {
     while (!stopping_.load()) {
       if (!drain_once()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -99,6 +100,8 @@ void LogDrain::start() {
 }
 
 void LogDrain::stop() {
+  if (finished_) return;  // once: the caller may close the FILE after the first stop()
+  finished_ = true;
   if (thread_.joinable()) {
     stopping_ = true;
     thread_.join();

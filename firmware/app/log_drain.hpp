@@ -19,9 +19,9 @@
 namespace excite::app {
 
 struct LogLayout {
-  runlog::Header header;           // names, units, sample time (the plan's T, minutes)
+  runlog::Header header;           // names, units, producer, sample time (the plan's T,
+                                   // minutes: t_min = tick · header.sample_time_min)
   std::vector<int> output_values;  // value index of each logged output, header order
-  double sample_time_min = 0.0;    // t_min = tick · sample_time_min
 };
 
 class LogDrain {
@@ -36,7 +36,8 @@ class LogDrain {
   bool write_header();
 
   void start();
-  /// Drains everything pushed so far, flushes, joins the thread.
+  /// Drains everything pushed so far, flushes, joins the thread. Later calls (the
+  /// destructor's) do nothing, so the caller may close the FILE after the first.
   void stop();
 
   /// Where state changes and comm-loss marks are reported as they are drained (one line
@@ -65,6 +66,7 @@ class LogDrain {
   engine::State last_state_ = engine::State::configured;
   bool last_comm_lost_ = false;
   std::atomic<bool> stopping_{false};
+  bool finished_ = false;  // stop() has run since start()
   std::atomic<std::uint64_t> rows_{0};
   std::atomic<runlog::WriteStatus> error_{runlog::WriteStatus::ok};
   SmallThread thread_;

@@ -14,18 +14,19 @@
 #include <thread>
 #include <vector>
 
+#include "excite/hal/virtual_clock.hpp"
 #include "firmware/app/bus_factory.hpp"
 #include "firmware/app/command_mailbox.hpp"
 #include "firmware/app/exit_codes.hpp"
+#include "firmware/app/gateway.hpp"
 #include "firmware/app/gateway_config.hpp"
 #include "firmware/app/log_drain.hpp"
 #include "firmware/app/proc_status.hpp"
 #include "firmware/app/realtime.hpp"
-#include "firmware/app/runner.hpp"
 #include "firmware/app/small_thread.hpp"
 #include "firmware/engine/engine.hpp"
-#include "firmware/engine/load_plan.hpp"
 #include "firmware/plan/plan.hpp"
+#include "firmware/runlog/format.hpp"
 #include "firmware/signal/generate.hpp"
 #include "hal/posix/posix_clock.hpp"
 
@@ -100,13 +101,16 @@ int fail(ExitCode code, const std::string& message) {
   return static_cast<int>(code);
 }
 
-void print_dry_run(const excite::app::GatewayConfig& config, const excite::plan::Plan& plan,
-                   excite::signal::ConstTableView table, double period_s,
-                   const engine::EngineConfig& ec) {
+void print_dry_run(const excite::app::Gateway& gw) {
+  const excite::app::GatewayConfig& config = gw.config();
+  const excite::plan::Plan& plan = gw.plan();
+  const excite::signal::ConstTableView table = gw.table();
+  const engine::EngineConfig& ec = gw.engine_config();
   std::printf("dry run: every check passed; nothing was opened or written.\n");
-  std::printf("plan: %s, %u channels x %u samples, T = %g s; tick period %g s\n",
-              excite::plan::text_of(plan.meta.design_name).data(), table.channels, table.samples,
-              plan.meta.sample_time_s, period_s);
+  std::printf("plan: %s (format v%u), %u channels x %u samples, T = %g min; tick period %g s\n",
+              excite::plan::text_of(plan.meta.design_name).data(),
+              unsigned{plan.meta.format_version}, table.channels, table.samples,
+              gw.sample_time().count(), std::chrono::duration<double>(gw.period()).count());
   std::printf("device: %s%s\n", excite::app::describe_peer(config).c_str(),
               config.simulator ? " (a simulated plant)" : "");
   const bool can = config.transport == excite::app::Transport::can;
@@ -181,11 +185,17 @@ int main(int argc, char** argv) {
   std::string config_path;
   std::string plan_path;
   std::string log_path;
+  std::string clock_mode = "realtime";
   bool dry_run = false;
   bool auto_start = false;
   cli.add_option("--config", config_path, "gateway configuration (TOML)")->required();
   cli.add_option("--plan", plan_path, "plan file written by `excite design`")->required();
   cli.add_option("--log", log_path, "run log to write (CSV, firmware/runlog format)");
+  cli.add_option("--clock", clock_mode,
+                 "realtime: one tick per period; lockstep: tick as soon as the previous exchange "
+                 "returned (a simulated plant owns the clock; [device] simulator = true)")
+      ->check(CLI::IsMember({"realtime", "lockstep"}))
+      ->capture_default_str();
   cli.add_flag("--dry-run", dry_run, "validate everything and print what would be written");
   cli.add_flag("--start", auto_start, "start streaming right after arming (no start command)");
   try {
@@ -197,123 +207,99 @@ int main(int argc, char** argv) {
   if (!dry_run && log_path.empty()) {
     return fail(ExitCode::usage, "--log is required (except with --dry-run)");
   }
+  const bool lockstep = clock_mode == "lockstep";
 
   // 1. Configuration.
-  const excite::app::ConfigResult loaded = excite::app::load_gateway_config(config_path);
+  excite::app::ConfigResult loaded = excite::app::load_gateway_config(config_path);
   if (!loaded.config) return fail(ExitCode::bad_config, loaded.error);
-  const excite::app::GatewayConfig& config = *loaded.config;
+  if (lockstep && !loaded.config->simulator) {
+    return fail(ExitCode::usage,
+                "--clock lockstep refused: " + config_path +
+                    ": device.simulator = false: expected true (lockstep lets the peer set the "
+                    "pace, which only a simulated plant may do; a real plant runs in real time)");
+  }
+  excite::app::Gateway gw(std::move(*loaded.config));
+  const excite::app::GatewayConfig& config = gw.config();
 
-  // 2. Plan → tables in fixed storage, checked against the plan's limits.
+  // 2.–3. Plan → table in fixed storage, checked against the plan's limits → engine.
   std::ifstream plan_in(plan_path, std::ios::binary);
   if (!plan_in) return fail(ExitCode::bad_plan, plan_path + ": cannot open the plan file");
   const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(plan_in)),
                                         std::istreambuf_iterator<char>());
-  auto plan = std::make_unique<excite::plan::Plan>();
-  if (auto s = engine::load_plan(bytes, static_cast<std::uint32_t>(config.setpoints.size()),
-                                 excite::signal::kTableCapacity, *plan);
-      !s) {
-    return fail(ExitCode::bad_plan, plan_path + ": " + s.message());
-  }
-  std::vector<double> storage(excite::signal::kTableCapacity);  // the gateway's fixed table
-  std::vector<double> scratch(excite::signal::scratch_size(plan->recipe));
-  excite::signal::TableView table;
-  if (auto s = engine::make_table(*plan, storage, scratch, table); !s) {
-    return fail(ExitCode::bad_plan, plan_path + ": " + s.message());
-  }
-  scratch = {};
-  const double period_s = config.period_s.value_or(plan->meta.sample_time_s);
-  const engine::EngineConfig engine_config = excite::app::to_engine_config(config, period_s);
-  auto eng = std::make_unique<engine::Engine>();
-  if (auto s = eng->configure(engine_config, table); !s) {
-    return fail(ExitCode::bad_config, config_path + ": " + s.message());
-  }
+  if (auto e = gw.load_plan(bytes, plan_path)) return fail(e->code, e->message);
   if (dry_run) {
-    print_dry_run(config, *plan, table, period_s, engine_config);
+    print_dry_run(gw);
     return static_cast<int>(ExitCode::ok);
   }
 
-  // 3. Log file, then the bus (connects; nothing written), then arm (reads only).
+  // Log file, then the bus (connects; nothing written), then arm (reads only).
   std::FILE* log = std::fopen(log_path.c_str(), "w");
   if (log == nullptr) return fail(ExitCode::log_error, log_path + ": cannot open for writing");
-  excite::hal::PosixClock clock;
-  excite::app::BusResult made = excite::app::make_field_bus(config, clock);
+  excite::hal::PosixClock real_clock;
+  excite::hal::VirtualClock lockstep_clock;  // sleep_until returns at once: the peer paces
+  excite::hal::Clock& tick_clock =
+      lockstep ? static_cast<excite::hal::Clock&>(lockstep_clock) : real_clock;
+  excite::app::BusResult made = excite::app::make_field_bus(config, real_clock);
   if (!made.bus) {
     std::fclose(log);
     std::remove(log_path.c_str());
     return fail(ExitCode::device, config_path + ": " + made.error);
   }
-  excite::hal::FieldBus& bus = *made.bus;
-  std::vector<engine::TickRecord> ring_storage(config.log_ring);  // sized once
-  engine::SpanLogRing ring(ring_storage);
-  excite::app::Runner runner(*eng, bus, clock, ring,
-                             std::chrono::duration_cast<excite::hal::Nanoseconds>(
-                                 std::chrono::duration<double>(period_s)));
-  if (auto s = runner.arm(); !s) {
+  if (auto e = gw.arm(*made.bus, tick_clock)) {
     std::fclose(log);
     std::remove(log_path.c_str());
-    return fail(ExitCode::arm_refused, "refused to arm: " + std::string(s.message()));
+    return fail(e->code, e->message);
   }
 
-  // 4. Run log header and thread.
-  std::vector<std::string> units;
-  std::vector<excite::runlog::Channel> inputs;
-  std::vector<excite::runlog::Channel> outputs;
-  for (const auto& s : config.setpoints) inputs.push_back({s.name, s.unit});
-  const std::vector<int> out_idx = excite::app::output_indices(config);
-  for (int j : out_idx) {
-    const auto& v = config.values[static_cast<std::size_t>(j)];
-    outputs.push_back({v.name, v.unit});
-  }
-  excite::app::LogLayout layout;
-  layout.header.plant = config.plant;
-  layout.header.plan = plan_path;
-  layout.sample_time_min = plan->meta.sample_time_s / 60.0;
-  layout.header.sample_time_min = layout.sample_time_min;
-  layout.header.inputs = inputs;
-  layout.header.outputs = outputs;
-  layout.output_values = out_idx;
-  excite::app::LogDrain drain(ring, log, layout);
-  drain.set_event_stream(stderr);
-  if (!drain.write_header()) {
+  // Run log header and thread.
+  gw.set_event_stream(stderr);
+  if (auto e = gw.start_log(log, "excite-gateway " + std::string(excite::runlog::kVersion))) {
     std::fclose(log);
-    return fail(ExitCode::log_error, log_path + ": cannot write the header: " +
-                                         std::string(excite::runlog::describe(drain.last_error())));
+    return fail(e->code, log_path + ": " + e->message);
   }
-  drain.start();
 
-  // 5. Real time, signals, operator input; run.
+  // Real time, signals, operator input; run.
   const excite::app::RealtimeResult rt = excite::app::make_realtime(config.realtime_priority);
   for (const auto& w : rt.warnings)
     std::fprintf(stderr, "excite-gateway: warning: %s\n", w.c_str());
   install_signals();
   read_stdin_commands();
   std::fprintf(
-      stderr, "excite-gateway: armed (%u setpoints, %u values, %u rows, period %g s)%s\n",
-      engine_config.inputs, engine_config.values, table.samples, period_s,
+      stderr, "excite-gateway: armed (%u setpoints, %u values, %u rows, T = %g min, %s)%s\n",
+      gw.engine_config().inputs, gw.engine_config().values, gw.table().samples,
+      gw.sample_time().count(),
+      lockstep
+          ? "lockstep: each tick as soon as the previous exchange returned"
+          : ("period " + std::to_string(std::chrono::duration<double>(gw.period()).count()) + " s")
+                .c_str(),
       auto_start ? "; starting" : "; waiting for start (SIGUSR1, stdin, command register)");
   std::fprintf(stderr, "excite-gateway: memory after start-up: %s\n",
                excite::app::memory_status().c_str());
   if (auto_start) g_commands.post(engine::Command::start);
-  const excite::app::RunStats stats = runner.run(g_commands, &g_hard_stop);
-  drain.stop();
+  const excite::app::RunStats stats = gw.run(g_commands, &g_hard_stop);
+  const excite::runlog::WriteStatus log_status = gw.finish_log();
   const bool closed = std::fclose(log) == 0;
   std::fprintf(stderr, "excite-gateway: memory after the run: %s\n",
                excite::app::memory_status().c_str());
 
+  const engine::Engine& eng = gw.engine();
   std::fprintf(
       stderr,
       "excite-gateway: %s after %llu ticks (%s); rows logged %llu, ring overruns %llu, "
       "failed exchanges %llu, comm losses %llu, suspensions %llu, schedule overruns %llu\n",
       engine::to_string(stats.final_state), static_cast<unsigned long long>(stats.ticks),
-      engine::to_string(stats.outcome), static_cast<unsigned long long>(drain.rows_written()),
+      engine::to_string(stats.outcome), static_cast<unsigned long long>(gw.rows_logged()),
       static_cast<unsigned long long>(stats.ring_overruns),
       static_cast<unsigned long long>(stats.failed_exchanges),
-      static_cast<unsigned long long>(eng->comm_losses()),
-      static_cast<unsigned long long>(eng->suspensions()),
+      static_cast<unsigned long long>(eng.comm_losses()),
+      static_cast<unsigned long long>(eng.suspensions()),
       static_cast<unsigned long long>(stats.schedule_overruns));
-  if (!closed || drain.last_error() != excite::runlog::WriteStatus::ok) {
+  const std::string at_end = gw.range_end_report();
+  std::fprintf(stderr, "excite-gateway: values at the end of their register's range: %s\n",
+               at_end.empty() ? "none" : at_end.c_str());
+  if (!closed || log_status != excite::runlog::WriteStatus::ok) {
     return fail(ExitCode::log_error, log_path + ": writing the run log failed: " +
-                                         std::string(excite::runlog::describe(drain.last_error())));
+                                         std::string(excite::runlog::describe(log_status)));
   }
   if (stats.ring_overruns > 0) {
     return fail(ExitCode::log_incomplete,

@@ -32,6 +32,12 @@ void Runner::tick(std::int64_t time_ns, engine::Command command) noexcept {
     if (last_status_ == hal::Status::ok) last_status_ = bus_.read(values);
     ok = last_status_ == hal::Status::ok;
   }
+  if (ok) {
+    for (std::size_t j = 0; j < range_ends_.size() && j < n; ++j) {
+      const RangeEnd& e = range_ends_[j];
+      if (e.watched && (values[j] <= e.low || values[j] >= e.high)) ++range_counts_[j];
+    }
+  }
   engine_.observe(ok, values);
   if (out.write) ring_.push(engine_.record(time_ns));
   ++ticks_;

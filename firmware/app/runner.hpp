@@ -33,6 +33,14 @@ struct RunStats {
   engine::Outcome outcome = engine::Outcome::none;
 };
 
+/// A value's watched range end: a good reading ≤ low or ≥ high is counted (the reading may
+/// have been clipped by the register; register_range.hpp). Not watched: never counted.
+struct RangeEnd {
+  bool watched = false;
+  double low = 0.0;
+  double high = 0.0;
+};
+
 /// Optional per-tick observer (tests: inject faults at a given tick; bench: nothing).
 /// Called after the record is pushed; must not allocate.
 class TickObserver {
@@ -53,6 +61,13 @@ class Runner {
   /// microsecond, the last bin collecting everything later. Empty span: not measured.
   void set_lateness_histogram(std::span<std::uint64_t> bins_us) noexcept { lateness_ = bins_us; }
 
+  /// Counts, per value, good readings at the end of their range (both spans of size
+  /// config().values, owned by the caller). Empty: nothing watched.
+  void watch_range_ends(std::span<const RangeEnd> ends, std::span<std::uint64_t> counts) noexcept {
+    range_ends_ = ends;
+    range_counts_ = counts;
+  }
+
   /// Reads the live values once (nothing is written) and arms the engine with them.
   engine::Status arm() noexcept;
 
@@ -72,6 +87,8 @@ class Runner {
   hal::Nanoseconds period_;
   TickObserver* observer_ = nullptr;
   std::span<std::uint64_t> lateness_{};
+  std::span<const RangeEnd> range_ends_{};
+  std::span<std::uint64_t> range_counts_{};
   std::array<double, engine::kMaxValues> values_{};
   hal::Status last_status_ = hal::Status::ok;
   std::uint64_t ticks_ = 0;

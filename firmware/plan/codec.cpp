@@ -156,7 +156,9 @@ Status read_payload(ByteReader& r, Plan& plan) {
   Metadata& meta = plan.meta;
   Recipe& recipe = plan.recipe;
   meta.created_unix_s = r.u64();
-  meta.sample_time_s = r.f64();
+  // T: minutes since version 2; version 1 stored seconds (the one conversion, here).
+  const double sample_time = r.f64();
+  meta.sample_time_min = meta.format_version == 1 ? sample_time / 60.0 : sample_time;
   if (!r.ok()) return truncated_in(r, "the metadata");
   if (Status s = read_text(r, meta.design_name, "meta.design_name"); !s) return s;
   if (Status s = read_text(r, meta.provenance, "meta.provenance"); !s) return s;
@@ -305,7 +307,7 @@ EncodeResult encode(const Plan& plan, std::span<std::uint8_t> out) {
   w.u32(static_cast<std::uint32_t>(size - kHeaderSize - kTrailerSize));
 
   w.u64(plan.meta.created_unix_s);
-  w.f64(plan.meta.sample_time_s);
+  w.f64(plan.meta.sample_time_min);
   write_text(w, plan.meta.design_name);
   write_text(w, plan.meta.provenance);
   w.u32(recipe.channels);

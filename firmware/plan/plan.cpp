@@ -36,10 +36,10 @@ Status validate(const Plan& plan) {
                          "meta.provenance has no terminating NUL, expected ≤ %zu bytes",
                          kProvenanceCapacity - 1);
   }
-  if (!(std::isfinite(meta.sample_time_s) && meta.sample_time_s > 0.0)) {
+  if (!(std::isfinite(meta.sample_time_min) && meta.sample_time_min > 0.0)) {
     return Status::error(StatusCode::invalid_field,
-                         "meta.sample_time_s = %g, expected a finite number > 0",
-                         meta.sample_time_s);
+                         "meta.sample_time_min = %g, expected a finite number > 0",
+                         meta.sample_time_min);
   }
   for (std::uint32_t c = 0; c < plan.recipe.channels; ++c) {
     const ChannelMeta& ch = meta.channels[c];

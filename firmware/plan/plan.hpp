@@ -18,7 +18,7 @@ using signal::Status;
 using signal::StatusCode;
 
 /// Format version this build writes, and the newest it reads.
-inline constexpr std::uint16_t kFormatVersion = 1;
+inline constexpr std::uint16_t kFormatVersion = 2;
 
 inline constexpr std::size_t kNameCapacity = 32;         // 31 bytes + NUL
 inline constexpr std::size_t kProvenanceCapacity = 128;  // 127 bytes + NUL
@@ -57,7 +57,9 @@ struct Metadata {
   Text<kNameCapacity> design_name{};              // e.g. "prbsUnc", ≤ 31 bytes
   Text<kProvenanceCapacity> provenance{};         // plant, spec, tool version, ≤ 127 bytes
   std::uint64_t created_unix_s = 0;               // creation time, seconds since 1970 UTC
-  double sample_time_s = 0.0;                     // T, seconds per table row, > 0
+  double sample_time_min = 0.0;  // T, minutes per table row, > 0: the project's one unit of
+                                 // time from the design to the run log (version 1 files
+                                 // stored seconds; decode() converts them once)
   std::array<ChannelMeta, signal::kMaxChannels> channels{};  // [0, recipe.channels) used
 };
 
@@ -67,7 +69,7 @@ struct Plan {
 };
 
 /// Ok when the recipe is valid (signal::validate) and the metadata keeps its contract:
-/// 1 ≤ format_version ≤ kFormatVersion, sample_time_s finite and > 0, texts NUL-terminated,
+/// 1 ≤ format_version ≤ kFormatVersion, sample_time_min finite and > 0, texts NUL-terminated,
 /// every used channel's min and max finite with min ≤ max. The first broken rule
 /// otherwise, naming the field ("meta.channels[1].min = 3, expected ≤ max = 2").
 Status validate(const Plan& plan);

@@ -13,6 +13,11 @@ namespace excite::runlog {
 
 inline constexpr std::string_view kMagicLine = "# excite run log v1";
 
+/// The project's version, for the `# producer:` header line ("excite-gateway 0.1.0",
+/// "excite simulate 0.1.0"). The line is an optional v1 header key: readers that predate
+/// it ignore it (unknown keys are for people), so the format stays version 1.
+inline constexpr std::string_view kVersion = EXCITE_VERSION;
+
 /// Per-sample condition bits of the `flags` column (decimal unsigned integer).
 enum Flag : std::uint32_t {
   kSuspended = 1U << 0,    // experiment suspended: the engine holds inputs at the baseline

@@ -103,6 +103,7 @@ class Parser {
                          "; expected '# excite run log v1' (not an excite run log?)");
     }
     bool seen[6] = {};
+    bool seen_producer = false;  // optional: logs written before it existed have none
     static constexpr std::string_view kKeys[6] = {"plant",  "plan",    "sample_time_min",
                                                   "inputs", "outputs", "units"};
     std::string_view units_value;
@@ -124,7 +125,14 @@ class Parser {
       for (std::size_t i = 0; i < 6; ++i) {
         if (key == kKeys[i]) which = i;
       }
-      if (which == 6) continue;  // unknown keys are for people; ignored
+      if (which == 6) {
+        if (key == "producer") {
+          if (seen_producer) return fail(0, "header key 'producer' given twice");
+          seen_producer = true;
+          log_.producer = std::string(value);
+        }
+        continue;  // other unknown keys are for people; ignored
+      }
       if (seen[which]) return fail(0, "header key '" + std::string(key) + "' given twice");
       seen[which] = true;
       switch (which) {

@@ -16,6 +16,7 @@ namespace excite::runlog {
 /// A run log in columns. du[i], u[i] are input i's columns, dy[j] output j's, each with
 /// rows() values; t_min, k, flags likewise.
 struct RunLog {
+  std::string producer;  // the `# producer:` line ("excite-gateway 0.1.0"); "" when absent
   std::string plant;
   std::string plan;
   double sample_time_min = 0.0;

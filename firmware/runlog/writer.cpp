@@ -136,7 +136,9 @@ std::string_view describe(WriteStatus status) {
 }
 
 WriteResult format_header(const Header& header, std::span<char> out) {
-  if (!one_line(header.plant) || !one_line(header.plan)) return {WriteStatus::bad_text, 0};
+  if (!one_line(header.plant) || !one_line(header.plan) || !one_line(header.producer)) {
+    return {WriteStatus::bad_text, 0};
+  }
   if (!std::isfinite(header.sample_time_min) || header.sample_time_min <= 0.0) {
     return {WriteStatus::bad_sample_time, 0};
   }
@@ -144,6 +146,10 @@ WriteResult format_header(const Header& header, std::span<char> out) {
 
   Sink s(out);
   s.text(kMagicLine);
+  if (!header.producer.empty()) {
+    s.text("\n# producer: ");
+    s.text(header.producer);
+  }
   s.text("\n# plant: ");
   s.text(header.plant);
   s.text("\n# plan: ");

@@ -23,6 +23,9 @@ struct Header {
   double sample_time_min = 0.0;  // T, minutes, finite and > 0
   std::span<const Channel> inputs;
   std::span<const Channel> outputs;
+  std::string_view producer = {};  // program and version, one line, e.g. "excite-gateway 0.1.0";
+                                   // written as `# producer:` when not empty (every excite
+                                   // producer sets it)
 };
 
 /// One sample. du, u have one value per input, dy one per output; all finite.

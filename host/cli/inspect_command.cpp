@@ -40,7 +40,7 @@ void run(const InspectOptions& opt) {
     j["design"] = std::string(plan::text_of(p->meta.design_name));
     j["provenance"] = std::string(plan::text_of(p->meta.provenance));
     j["samples"] = p->recipe.samples;
-    j["sample_time_s"] = p->meta.sample_time_s;
+    j["sample_time_min"] = p->meta.sample_time_min;
     if (!excursions.empty()) {
       nlohmann::json ex = nlohmann::json::array();
       for (const OutputExcursion& e : excursions) ex.push_back({{"min", e.min}, {"max", e.max}});
@@ -52,8 +52,7 @@ void run(const InspectOptions& opt) {
   std::cout << "plan " << opt.plan_path << ": " << plan::text_of(p->meta.design_name) << " ("
             << plan::text_of(p->meta.provenance) << ")\n"
             << p->recipe.channels << " channels x " << p->recipe.samples << " samples of "
-            << num(p->meta.sample_time_s / 60.0) << " min, " << p->recipe.source_count
-            << " sources\n\n";
+            << num(p->meta.sample_time_min) << " min, " << p->recipe.source_count << " sources\n\n";
   print_input_measures(std::cout, measures, names, cf_continuous);
   if (!excursions.empty()) {
     std::cout << "\npredicted static output excursions G(0)*u(k) on " << opt.plant << ":\n";

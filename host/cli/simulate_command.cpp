@@ -6,6 +6,7 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "firmware/runlog/format.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/plan_file.hpp"
@@ -72,6 +73,7 @@ void run(const SimulateOptions& opt) {
     result = simulate_plan(*p, opt.plan_path, *plant, opt.sim);
   }
   if (!opt.output.empty()) {
+    result.producer = "excite simulate " + std::string(runlog::kVersion);
     write_run_log(result, opt.output);
     std::cout << "wrote " << opt.output << ": " << result.du.rows() << " samples of "
               << result.sample_time_min << " min, " << result.input_names.size() << " inputs, "

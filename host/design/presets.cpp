@@ -42,7 +42,7 @@ std::unique_ptr<plan::Plan> make_plan(const PriorKnowledge& prior, const PresetI
     provenance.resize(plan::kProvenanceCapacity - 1);
   plan::set_text(m.provenance, provenance);
   m.created_unix_s = created_unix_s;
-  m.sample_time_s = prior.sample_time_min * 60.0;
+  m.sample_time_min = prior.sample_time_min;
   for (std::size_t j = 0; j < prior.inputs.size(); ++j) {
     const InputSpec& in = prior.inputs[j];
     if (!plan::set_text(m.channels[j].name, in.name)) {

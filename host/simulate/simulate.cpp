@@ -45,7 +45,7 @@ SimulatedRun simulate_plan(const plan::Plan& plan, std::string plan_label, sim::
                                 std::to_string(plant.inputs()) + " inputs; expected equal");
   }
   if (options.periods == 0) throw std::invalid_argument("periods = 0, expected at least 1");
-  SimulatedRun run = describe(plant, plan.meta.sample_time_s / 60.0);
+  SimulatedRun run = describe(plant, plan.meta.sample_time_min);
   run.plan = std::move(plan_label);
   const Table table = make_table(plan.recipe);
   run.du.resize(table.rows() * options.periods, table.cols());
@@ -82,7 +82,8 @@ void write_run_log(const SimulatedRun& run, const std::filesystem::path& path) {
   for (std::size_t i = 0; i < run.output_names.size(); ++i) {
     outputs.push_back({run.output_names[i], run.output_units[i]});
   }
-  const runlog::Header header{run.plant, run.plan, run.sample_time_min, inputs, outputs};
+  const runlog::Header header{run.plant, run.plan, run.sample_time_min,
+                              inputs,    outputs,  run.producer};
 
   std::filesystem::path partial = path;
   partial += ".partial";

@@ -25,6 +25,7 @@ struct SimulationOptions {
 struct SimulatedRun {
   std::string plant;
   std::string plan;
+  std::string producer;  // the run log's `# producer:` line, set by the command
   double sample_time_min = 0.0;
   std::vector<std::string> input_names, input_units, output_names, output_units;
   Eigen::VectorXd input_baseline;  // absolute inputs at the operating point

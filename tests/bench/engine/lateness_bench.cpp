@@ -23,15 +23,12 @@
 #include <vector>
 
 #include "firmware/app/command_mailbox.hpp"
+#include "firmware/app/gateway.hpp"
 #include "firmware/app/realtime.hpp"
-#include "firmware/app/runner.hpp"
-#include "firmware/engine/engine.hpp"
-#include "firmware/engine/log_ring.hpp"
-#include "firmware/signal/generate.hpp"
 #include "hal/posix/posix_clock.hpp"
 #include "hal/simlink/simlink_field_bus.hpp"
 #include "sim/library/library.hpp"
-#include "tests/unit/plan/example_plan.hpp"
+#include "tests/integration/engine/simlink_gateway.hpp"
 
 namespace {
 
@@ -105,43 +102,36 @@ int main(int argc, char** argv) {
     if (a.rfind("--benchmark_min_time", 0) == 0) ticks = 2000;  // CTest: brief
   }
 
-  // Start-up (may allocate): the case-study-shaped 4×4 plan, tiled to the run's length.
-  const auto plan = plan::testing::example_plan();
-  const std::uint32_t base_rows = plan->recipe.samples;
-  std::vector<double> base(std::size_t{4} * base_rows);
-  std::vector<double> scratch(signal::scratch_size(plan->recipe));
-  signal::TableView base_view{base.data(), 4, base_rows};
-  if (!signal::generate(plan->recipe, base_view, scratch)) return 1;
+  // Start-up (may allocate): the gateway component exactly as excite-gateway builds it,
+  // with the case-study-shaped 4×4 plan lengthened to the run (excitation zero after its
+  // 4080 rows; the loop's work per tick does not depend on the values), the period
+  // compressed to period_us, the simlink plant as the bus and the POSIX clock.
   const auto rows =
       static_cast<std::uint32_t>(std::min<std::uint64_t>(ticks + 100, signal::kTableCapacity / 4));
-  std::vector<double> table(std::size_t{4} * rows);
-  for (std::uint32_t k = 0; k < rows; ++k) {
-    for (std::uint32_t c = 0; c < 4; ++c)
-      table[std::size_t{k} * 4 + c] = base_view.at(k % base_rows, c);
+  testing::SimlinkGatewayOptions options;
+  options.ring_records = static_cast<std::size_t>(ticks + 16);  // never drained during the run
+  options.limit = 50.0;
+  options.max_move = 100.0;
+  options.test_limits = false;
+  options.ramp_ticks = 10;
+  options.period_s = period_us * 1e-6;
+  app::Gateway gw(testing::simlink_config(options));
+  if (auto e = gw.load_plan(testing::example_plan_file(rows), "example plan")) {
+    std::fprintf(stderr, "%s\n", e->message.c_str());
+    return 1;
   }
   hal::simlink::SimLinkConfig sc;
-  sc.input_baseline = {50, 60, 70, 80};
+  sc.input_baseline.assign(testing::kU0, testing::kU0 + testing::kInputs);
   sc.output_baseline = {0, 0, 0, 0};
-  hal::simlink::SimLinkFieldBus bus(sim::library_plant("alatiqi4x4"), 1.0, sc);
-  engine::EngineConfig ec;
-  ec.inputs = 4;
-  ec.values = static_cast<std::uint32_t>(bus.value_count());
-  for (std::uint32_t i = 0; i < 4; ++i)
-    ec.input[i] = {sc.input_baseline[i] - 50, sc.input_baseline[i] + 50, 100,
-                   bus.readback_index(i)};
-  ec.heartbeat_echo = bus.heartbeat_echo_index();
-  ec.heartbeat_max_lag = 3;
-  ec.ramp_ticks = 10;
-  engine::Engine eng;
-  if (!eng.configure(ec, signal::ConstTableView(table.data(), 4, rows))) return 1;
-  std::vector<engine::TickRecord> ring_storage(ticks + 16);
-  engine::SpanLogRing ring(ring_storage);
+  sc.command_register = true;
+  hal::simlink::SimLinkFieldBus bus(sim::library_plant("alatiqi4x4"), gw.sample_time().count(), sc);
   hal::PosixClock clock;
-  app::Runner runner(eng, bus, clock, ring, std::chrono::microseconds(period_us));
   std::vector<std::uint64_t> bins(kBins, 0);
-  runner.set_lateness_histogram(bins);
-  if (!runner.arm()) return 1;
-
+  gw.set_lateness_histogram(bins);
+  if (auto e = gw.arm(bus, clock)) {
+    std::fprintf(stderr, "%s\n", e->message.c_str());
+    return 1;
+  }
   // cyclictest at the same period and priority, for the same number of loops, in parallel.
   const std::string ct_out = "/tmp/excite_cyclictest_" + std::to_string(getpid()) + ".txt";
   const pid_t ct = fork();
@@ -162,7 +152,7 @@ int main(int argc, char** argv) {
     for (const auto& w : r.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     app::CommandMailbox commands;
     commands.post(engine::Command::start);
-    const app::RunStats stats = runner.run(commands, nullptr, ticks);
+    const app::RunStats stats = gw.run(commands, nullptr, ticks);
     std::printf("engine: %llu ticks, %llu schedule overruns (ticks skipped), state %s\n",
                 static_cast<unsigned long long>(stats.ticks),
                 static_cast<unsigned long long>(stats.schedule_overruns),

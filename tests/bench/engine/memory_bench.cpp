@@ -14,14 +14,11 @@
 
 #include "excite/hal/virtual_clock.hpp"
 #include "firmware/app/command_mailbox.hpp"
+#include "firmware/app/gateway.hpp"
 #include "firmware/app/realtime.hpp"
-#include "firmware/app/runner.hpp"
-#include "firmware/engine/load_plan.hpp"
-#include "firmware/plan/codec.hpp"
-#include "firmware/signal/generate.hpp"
 #include "hal/simlink/simlink_field_bus.hpp"
 #include "sim/library/library.hpp"
-#include "tests/unit/plan/example_plan.hpp"
+#include "tests/integration/engine/simlink_gateway.hpp"
 
 namespace {
 
@@ -47,56 +44,52 @@ int main(int argc, char** argv) {
     std::ifstream f(argv[2], std::ios::binary);
     bytes.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
   } else {
-    bytes.resize(plan::max_encoded_size());
-    const auto r = plan::encode(*plan::testing::example_plan(), bytes);
-    bytes.resize(r.size);
+    bytes = testing::example_plan_file();
   }
   const app::RealtimeResult rt = app::make_realtime(0);  // mlockall: the gateway's set-up
-  auto p = std::make_unique<plan::Plan>();
-  if (auto s = engine::load_plan(bytes, 4, signal::kTableCapacity, *p); !s) {
-    std::fprintf(stderr, "%s\n", s.message());
+  // The gateway component exactly as excite-gateway builds it (configuration → plan →
+  // table → engine → arm); only the bus (simlink plant) and the clock (virtual) differ.
+  testing::SimlinkGatewayOptions options;
+  options.ring_records = 4096;  // the configuration's default ring
+  options.limit = 50.0;
+  options.max_move = 100.0;
+  options.test_limits = false;
+  app::Gateway gw(testing::simlink_config(options));
+  if (auto e = gw.load_plan(bytes, argc > 2 ? argv[2] : "example plan")) {
+    std::fprintf(stderr, "%s\n", e->message.c_str());
     return 1;
   }
-  std::vector<double> storage(signal::kTableCapacity);
-  std::vector<double> scratch(signal::scratch_size(p->recipe));
-  signal::TableView table;
-  if (auto s = engine::make_table(*p, storage, scratch, table); !s) return 1;
-  scratch = {};
   hal::VirtualClock clock;
   hal::simlink::SimLinkConfig sc;
-  sc.input_baseline = {50, 60, 70, 80};
+  sc.input_baseline.assign(testing::kU0, testing::kU0 + testing::kInputs);
   sc.output_baseline = {0, 0, 0, 0};
-  hal::simlink::SimLinkFieldBus bus(sim::library_plant("alatiqi4x4"), 1.0, sc, &clock);
-  engine::EngineConfig ec;
-  ec.inputs = 4;
-  ec.values = static_cast<std::uint32_t>(bus.value_count());
-  for (std::uint32_t i = 0; i < 4; ++i) {
-    ec.input[i] = {sc.input_baseline[i] - 50, sc.input_baseline[i] + 50, 100,
-                   bus.readback_index(i)};
+  sc.command_register = true;
+  hal::simlink::SimLinkFieldBus bus(sim::library_plant("alatiqi4x4"), gw.sample_time().count(), sc,
+                                    &clock);
+  if (auto e = gw.arm(bus, clock)) {
+    std::fprintf(stderr, "%s\n", e->message.c_str());
+    return 1;
   }
-  auto eng = std::make_unique<engine::Engine>();
-  if (!eng->configure(ec, table)) return 1;
-  std::vector<engine::TickRecord> ring_storage(4096);  // the configuration's default ring
-  engine::SpanLogRing ring(ring_storage);
-  app::Runner runner(*eng, bus, clock, ring, std::chrono::seconds(60));
-  if (!runner.arm()) return 1;
+  const signal::ConstTableView table = gw.table();
   std::printf(
       "plan: %u channels x %u samples; table storage %zu values (%zu kB); ring %zu records "
       "(%zu kB); memory locked: %s\n",
-      table.channels, table.samples, storage.size(), storage.size() * 8 / 1024, ring_storage.size(),
-      ring_storage.size() * sizeof(engine::TickRecord) / 1024, rt.locked ? "yes" : "no");
+      table.channels, table.samples, signal::kTableCapacity, signal::kTableCapacity * 8 / 1024,
+      options.ring_records, options.ring_records * sizeof(engine::TickRecord) / 1024,
+      rt.locked ? "yes" : "no");
   print_status("after start-up");
   app::CommandMailbox commands;
   commands.post(engine::Command::start);
   engine::TickRecord sink;
   std::uint64_t ticks = 0;
-  while (eng->state() != engine::State::safe) {
-    ticks += runner.run(commands, nullptr, 1000).ticks;
+  engine::LogRingBase& ring = gw.log_ring();  // drained here, between batches
+  while (gw.engine().state() != engine::State::safe) {
+    ticks += gw.run(commands, nullptr, 1000).ticks;
     while (ring.pop(sink)) {
     }
   }
   std::printf("ran %llu ticks to %s\n", static_cast<unsigned long long>(ticks),
-              engine::to_string(eng->state()));
+              engine::to_string(gw.engine().state()));
   print_status("after the run");
   return 0;
 }

@@ -9,6 +9,12 @@
 // input register 301 is the operator command register.
 #include <gtest/gtest.h>
 
+#include <linux/can.h>
+#include <linux/can/raw.h>
+#include <net/if.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <atomic>
 #include <bit>
 #include <cmath>
@@ -19,6 +25,7 @@
 
 #include "firmware/runlog/format.hpp"
 #include "firmware/runlog/reader.hpp"
+#include "hal/can/can_field_bus.hpp"
 #include "tests/hil/gateway/gateway_process.hpp"
 #include "tests/hil/hal_modbus/fault_server.hpp"
 
@@ -115,6 +122,12 @@ eng_min = 0
 eng_max = 65535
 )";
   return t.str();
+}
+
+// The configuration with `device_keys` added to [device] and `tail` appended.
+std::string with(std::string text, const std::string& device_keys, const std::string& tail = "") {
+  text.insert(text.find("[device]\n") + 9, device_keys);
+  return text + tail;
 }
 
 class GatewayHil : public ::testing::Test {
@@ -401,6 +414,232 @@ TEST_F(GatewayHil, CorruptPlanIsRefused) {
   ASSERT_EQ(gw->wait(20s).value_or(-1), 3);
   EXPECT_NE(gw->err().find("stored CRC-32"), std::string::npos) << gw->err();
   EXPECT_TRUE(server_->seen().empty());
+}
+
+TEST_F(GatewayHil, LockstepIsRefusedUnlessTheDeviceIsMarkedAsASimulator) {
+  auto gw = start({"--start", "--clock", "lockstep"});
+  ASSERT_EQ(gw->wait(20s).value_or(-1), 1);
+  EXPECT_NE(gw->err().find("--clock lockstep refused: " + config_ +
+                           ": device.simulator = false: expected true"),
+            std::string::npos)
+      << gw->err();
+  EXPECT_TRUE(server_->seen().empty());
+  EXPECT_FALSE(fs::exists(log_));
+}
+
+TEST_F(GatewayHil, LockstepTicksAsSoonAsTheExchangeReturnsAndTheLogNamesItsProducer) {
+  // 10 ms ticks: sleeping out the periods would take 4080+ x 10 ms = 41 s.
+  std::string text = with(config_text(server_->port()), "simulator = true\n");
+  text.replace(text.find("period_s = 0.002"), 16, "period_s = 0.010");
+  write_config(text);
+  const auto t0 = std::chrono::steady_clock::now();
+  auto gw = start({"--start", "--clock", "lockstep"});
+  const auto rc = gw->wait(120s);
+  const double elapsed_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(rc.has_value());
+  EXPECT_EQ(*rc, 0) << gw->err();
+  const runlog::RunLog log = read_log();
+  ASSERT_GT(log.rows(), 4080U);
+  const double realtime_s = static_cast<double>(log.rows()) * 0.010;
+  std::printf("lockstep: %zu ticks in %.1f s (sleeping out 10 ms periods: %.1f s)\n", log.rows(),
+              elapsed_s, realtime_s);
+  EXPECT_LT(elapsed_s, 0.5 * realtime_s);
+  EXPECT_EQ(log.producer, "excite-gateway " + std::string(runlog::kVersion));
+  EXPECT_EQ(log.sample_time_min, 1.0);  // the plan's T, minutes, whatever the tick period
+  EXPECT_EQ(log.t_min[100], 100.0);
+  EXPECT_NE(gw->err().find("lockstep"), std::string::npos) << gw->err();
+  expect_baseline_held();
+}
+
+TEST_F(GatewayHil, ValuesAtTheEndOfTheirRegisterAreCountedInTheSummary) {
+  // xE: a uint16 output scaled 0..1 that the peer holds at 65535 (a clipped value).
+  write_config(with(config_text(server_->port()), "simulator = true\n",
+                    "\n[[values]]\nname = \"xE\"\naddress = 302\nfunction_code = 4\ntype = "
+                    "\"uint16\"\neng_min = 0.0\neng_max = 1.0\n"));
+  server_->set_input(302, 65535);
+  auto gw = start({"--start", "--clock", "lockstep"});
+  ASSERT_EQ(gw->wait(120s).value_or(-1), 0) << gw->err();
+  const runlog::RunLog log = read_log();
+  const std::string err = gw->err();
+  const std::string mark = "values at the end of their register's range: xE ";
+  const auto at = err.find(mark);
+  ASSERT_NE(at, std::string::npos) << err;
+  const auto counted = std::stoul(err.substr(at + mark.size()));  // one per good exchange
+  EXPECT_GT(counted, 4000U);
+  EXPECT_LE(counted, log.rows());
+  EXPECT_NE(err.find("readings (register 302 uint16 raw 0..65535 = 0..1)"), std::string::npos)
+      << err;
+}
+
+TEST_F(GatewayHil, SetpointLimitsTheRegisterCannotCarryAreRefusedAtConfiguration) {
+  std::string text = config_text(server_->port());
+  // S as a scaled int16 of 0..50 kmol/min cannot carry its limits 60..80.
+  const std::string was = "address = 104\ntype = \"float32\"\nword_order = \"CDAB\"";
+  const auto at = text.find(was);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, was.size(), "address = 104\ntype = \"int16\"\neng_min = 0.0\neng_max = 50.0");
+  write_config(text);
+  auto gw = start({"--start"});
+  ASSERT_EQ(gw->wait(20s).value_or(-1), 2);
+  EXPECT_NE(gw->err().find("setpoints[2].max = 80: expected <= 50, the most register 104 int16"),
+            std::string::npos)
+      << gw->err();
+  EXPECT_TRUE(server_->seen().empty());
+}
+
+// ---- CAN ----
+
+std::string can_config_text(const std::string& iface) {
+  std::string t = R"([gateway]
+plant = "vcan peer"
+period_s = 0.002
+ramp_s = 0.01
+resume_dwell_s = 0.04
+suspend_timeout_s = 2.0
+heartbeat_max_lag_s = 0.2
+log_ring = 16384
+realtime_priority = 0
+
+[device]
+transport = "can"
+
+[can]
+interface = ")" + iface +
+                  R"("
+value_timeout_ms = 100
+heartbeat_id = 0x211
+heartbeat_byte_offset = 4
+)";
+  const char* names[] = {"L", "V", "S", "F"};
+  for (int i = 0; i < 4; ++i) {
+    t += "\n[[setpoints]]\nname = \"" + std::string(names[i]) +
+         "\"\ncan_id = " + (i < 2 ? "0x210" : "0x211") +
+         "\nbyte_offset = " + std::to_string(2 * (i % 2)) +
+         "\ntype = \"int16\"\nscale = 0.01\nmin = " + std::to_string(kU0[i] - 10) +
+         "\nmax = " + std::to_string(kU0[i] + 10) + "\nmax_move = 1.0\nreadback = \"" + names[i] +
+         "_sp\"\n";
+  }
+  const char* outputs[] = {"xD", "xS", "xB", "T"};
+  for (int j = 0; j < 4; ++j) {
+    t += "\n[[values]]\nname = \"" + std::string(outputs[j]) +
+         "\"\ncan_id = " + (j < 2 ? "0x310" : "0x311") +
+         "\nbyte_offset = " + std::to_string(4 * (j % 2)) + "\ntype = \"float32\"\n";
+  }
+  for (int i = 0; i < 4; ++i) {
+    t += "\n[[values]]\nname = \"" + std::string(names[i]) +
+         "_sp\"\nrole = \"readback\"\ncan_id = 0x312\nbyte_offset = " + std::to_string(2 * i) +
+         "\ntype = \"int16\"\nscale = 0.01\n";
+  }
+  t += "\n[[values]]\nname = \"hb_echo\"\nrole = \"heartbeat_echo\"\ncan_id = 0x313\n"
+       "byte_offset = 0\ntype = \"uint16\"\n";
+  return t;
+}
+
+// A controller on the CAN bus: takes the setpoint frames (0x210, 0x211 with the heartbeat),
+// sends the outputs (0x310, 0x311, float32 little-endian), the readbacks of what it holds
+// (0x312, int16 at 0.01) and the heartbeat echo (0x313) every millisecond.
+class CanPeer {
+ public:
+  explicit CanPeer(const std::string& iface) {
+    fd_ = socket(PF_CAN, SOCK_RAW, CAN_RAW);
+    sockaddr_can addr{};
+    addr.can_family = AF_CAN;
+    addr.can_ifindex = static_cast<int>(if_nametoindex(iface.c_str()));
+    timeval tv{0, 1000};
+    setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    ok_ = fd_ >= 0 && bind(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0;
+    for (int i = 0; i < 4; ++i) raw_[i] = static_cast<std::int16_t>(std::lround(kU0[i] * 100));
+    if (ok_) thread_ = std::thread([this] { loop(); });
+  }
+  ~CanPeer() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+    if (fd_ >= 0) close(fd_);
+  }
+  bool ok() const { return ok_; }
+  double held(int i) const { return raw_[i].load() / 100.0; }
+
+ private:
+  void loop() {
+    while (!stop_) {
+      can_frame f{};
+      if (read(fd_, &f, sizeof f) == static_cast<ssize_t>(sizeof f)) {
+        if (f.can_id == 0x210 || f.can_id == 0x211) {
+          const int base = f.can_id == 0x210 ? 0 : 2;
+          for (int k = 0; k < 2; ++k) {
+            raw_[base + k] = static_cast<std::int16_t>(f.data[2 * k] | f.data[2 * k + 1] << 8);
+          }
+          if (f.can_id == 0x211) hb_ = static_cast<std::uint16_t>(f.data[4] | f.data[5] << 8);
+        }
+      }
+      send_values();
+    }
+  }
+  void send_values() {
+    can_frame f{};
+    f.can_dlc = 8;
+    const float y = static_cast<float>(kY0);
+    for (canid_t id : {0x310U, 0x311U}) {
+      f.can_id = id;
+      std::memcpy(f.data, &y, 4);
+      std::memcpy(f.data + 4, &y, 4);
+      write(fd_, &f, sizeof f);
+    }
+    f.can_id = 0x312;
+    for (int i = 0; i < 4; ++i) {
+      const auto r = static_cast<std::uint16_t>(raw_[i].load());
+      f.data[2 * i] = static_cast<std::uint8_t>(r & 0xFF);
+      f.data[2 * i + 1] = static_cast<std::uint8_t>(r >> 8);
+    }
+    write(fd_, &f, sizeof f);
+    f = can_frame{};
+    f.can_id = 0x313;
+    f.can_dlc = 2;
+    f.data[0] = static_cast<std::uint8_t>(hb_ & 0xFF);
+    f.data[1] = static_cast<std::uint8_t>(hb_ >> 8);
+    write(fd_, &f, sizeof f);
+  }
+  int fd_ = -1;
+  bool ok_ = false;
+  std::atomic<bool> stop_{false};
+  std::atomic<std::int16_t> raw_[4];
+  std::uint16_t hb_ = 0;
+  std::thread thread_;
+};
+
+TEST_F(GatewayHil, StreamsTheCaseStudyPlanOverCanOnVcan) {
+  const hal::can::SocketCanSupport support = hal::can::probe_socketcan();
+  if (support.status != hal::Status::ok) {
+    GTEST_SKIP() << "no SocketCAN in this kernel (" << support.reason
+                 << "); run on a kernel with vcan: modprobe vcan; ip link add vcan0 type vcan; "
+                    "ip link set vcan0 up";
+  }
+  if (if_nametoindex("vcan0") == 0) {
+    GTEST_SKIP() << "SocketCAN is there but no vcan0: ip link add vcan0 type vcan; ip link set "
+                    "vcan0 up";
+  }
+  CanPeer peer("vcan0");
+  ASSERT_TRUE(peer.ok());
+  write_config(can_config_text("vcan0"));
+  auto gw = start({"--start"});
+  ASSERT_EQ(gw->wait(120s).value_or(-1), 0) << gw->err();
+  const runlog::RunLog log = read_log();
+  EXPECT_GT(log.rows(), 4080U);
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(peer.held(i), kU0[i], 1e-9) << i;
+}
+
+TEST_F(GatewayHil, CanWithoutSocketCanExitsFourNamingTheReason) {
+  if (hal::can::probe_socketcan().status == hal::Status::ok) {
+    GTEST_SKIP() << "this kernel has SocketCAN: the missing-AF_CAN path cannot be shown here";
+  }
+  write_config(can_config_text("vcan0"));
+  auto gw = start({"--start"});
+  ASSERT_EQ(gw->wait(20s).value_or(-1), 4);
+  EXPECT_NE(gw->err().find("can.interface = \"vcan0\": expected a usable SocketCAN interface"),
+            std::string::npos)
+      << gw->err();
+  EXPECT_FALSE(fs::exists(log_));
 }
 
 }  // namespace

@@ -23,13 +23,13 @@ TEST_F(GatewayLoop, ExcursionSuspendsThenResumesAfterDwellAndStillCompletes) {
   const app::RunStats stats = run();
   // THEN the run is suspended during the excursion, resumes after the dwell and completes
   EXPECT_EQ(stats.outcome, engine::Outcome::completed);
-  EXPECT_EQ(engine_.suspensions(), 1U);
+  EXPECT_EQ(engine().suspensions(), 1U);
   const runlog::RunLog log = read_log();
   const std::size_t suspended = count_flag(log, runlog::kSuspended);
   EXPECT_GE(suspended, 50U + 10U - 2U);  // the excursion plus the 10-tick dwell
   EXPECT_LE(suspended, 50U + 10U + 2U);
   EXPECT_EQ(log.rows(), stats.ticks);
-  EXPECT_EQ(engine_.row(), table_.samples - 1);  // every row was streamed, none skipped
+  EXPECT_EQ(engine().row(), table_.samples - 1);  // every row was streamed, none skipped
   EXPECT_GT(stats.ticks, table_.samples + suspended);
 }
 
@@ -62,7 +62,7 @@ TEST_F(GatewayLoop, CommLossHoldsReconnectsAndMarksTheLog) {
   const app::RunStats stats = run();
   EXPECT_EQ(stats.outcome, engine::Outcome::completed);
   EXPECT_EQ(bus_->dropped(), 8U);
-  EXPECT_EQ(engine_.comm_losses(), 1U);
+  EXPECT_EQ(engine().comm_losses(), 1U);
   const runlog::RunLog log = read_log();
   EXPECT_EQ(log.rows(), stats.ticks);
   // The failed exchanges and the dwell after the reconnect are marked comm_lost.
@@ -139,7 +139,7 @@ TEST_F(GatewayLoop, RingOverrunIsCountedNeverSilent) {
   ring_records_ = 256;
   row_delay_ = std::chrono::milliseconds(1);
   max_ticks_ = 3000;
-  config_.suspend_timeout_ticks = 0;
+  config_.suspend_timeout_s = 0.0;
   script_.at(0, [this] { bus_->set_disturbance(0, 2.0 * kTestBand); });  // stay suspended
   const app::RunStats stats = run();
   EXPECT_EQ(stats.ticks, 3000U);

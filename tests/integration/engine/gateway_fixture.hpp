@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // Closed loop in one process (STYLE.md practice 10): the 4-channel case-study-shaped plan
-// (4080 rows, T = 1 min) streamed by the engine through the Runner to the alatiqi4x4 plant
-// behind a SimLinkFieldBus, on a VirtualClock (hours of plant time in milliseconds),
-// logged by the LogDrain into a real CSV file that the run-log reader reads back.
+// (4080 rows, T = 1 min) streamed by the gateway component (firmware/app/gateway.hpp, the
+// same one excite-gateway's main() runs) to the alatiqi4x4 plant behind a SimLinkFieldBus,
+// on a VirtualClock (hours of plant time in milliseconds), logged by its LogDrain into a
+// real CSV file that the run-log reader reads back. Only the bus and the clock differ from
+// the field; the configuration is a GatewayConfig as the TOML parser builds it.
 //
 // Values: [0, 4) outputs, [4, 8) readbacks, 8 heartbeat echo, 9 command register.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -19,26 +22,14 @@
 
 #include "excite/hal/virtual_clock.hpp"
 #include "firmware/app/command_mailbox.hpp"
-#include "firmware/app/log_drain.hpp"
-#include "firmware/app/runner.hpp"
+#include "firmware/app/gateway.hpp"
 #include "firmware/engine/engine.hpp"
-#include "firmware/engine/load_plan.hpp"
-#include "firmware/plan/codec.hpp"
 #include "firmware/runlog/reader.hpp"
-#include "firmware/signal/generate.hpp"
 #include "hal/simlink/simlink_field_bus.hpp"
 #include "sim/library/library.hpp"
-#include "tests/unit/plan/example_plan.hpp"
+#include "tests/integration/engine/simlink_gateway.hpp"
 
 namespace excite::testing {
-
-inline constexpr std::uint32_t kInputs = 4;
-inline constexpr std::uint32_t kOutputs = 4;
-inline constexpr std::uint32_t kEcho = 8;
-inline constexpr std::uint32_t kCommand = 9;
-inline constexpr double kU0[kInputs] = {50.0, 60.0, 70.0, 80.0};
-inline constexpr double kY0[kOutputs] = {0.9, 0.1, 0.5, 0.3};
-inline constexpr double kTestBand = 1000.0;  // test limits y0 ± band: never hit by the plan
 
 // Runs a scripted action after a given tick (fault injection at a known time).
 class Script final : public app::TickObserver {
@@ -57,18 +48,7 @@ class Script final : public app::TickObserver {
 class GatewayLoop : public ::testing::Test {
  protected:
   void SetUp() override {
-    plan_ = plan::testing::example_plan();
-    std::vector<std::uint8_t> bytes(plan::max_encoded_size());
-    const plan::EncodeResult encoded = plan::encode(*plan_, bytes);
-    ASSERT_TRUE(encoded.status);
-    bytes.resize(encoded.size);
-    loaded_ = std::make_unique<plan::Plan>();
-    ASSERT_TRUE(engine::load_plan(bytes, kInputs, signal::kTableCapacity, *loaded_));
-    storage_.resize(signal::kTableCapacity);
-    std::vector<double> scratch(signal::scratch_size(loaded_->recipe));
-    const engine::Status s = engine::make_table(*loaded_, storage_, scratch, table_);
-    ASSERT_TRUE(s) << s.message();
-
+    plan_file_ = example_plan_file();
     hal::simlink::SimLinkConfig sc;
     sc.input_baseline.assign(kU0, kU0 + kInputs);
     sc.output_baseline.assign(kY0, kY0 + kOutputs);
@@ -76,7 +56,7 @@ class GatewayLoop : public ::testing::Test {
     sc.exchange_time = std::chrono::milliseconds(2);
     bus_ = std::make_unique<hal::simlink::SimLinkFieldBus>(sim::library_plant("alatiqi4x4"), 1.0,
                                                            sc, &clock_);
-    config_ = engine_config();
+    config_ = simlink_config({});
     log_path_ = (std::filesystem::temp_directory_path() /
                  ("excite_engine_" + std::to_string(::getpid()) + "_" +
                   ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".csv"))
@@ -86,56 +66,44 @@ class GatewayLoop : public ::testing::Test {
 
   void TearDown() override { std::filesystem::remove(log_path_); }
 
-  engine::EngineConfig engine_config() const {
-    engine::EngineConfig c;
-    c.inputs = kInputs;
-    c.values = static_cast<std::uint32_t>(bus_->value_count());
-    for (std::uint32_t i = 0; i < kInputs; ++i) {
-      c.input[i] = {kU0[i] - 20.0, kU0[i] + 20.0, 5.0, bus_->readback_index(i)};
+  // Builds the gateway from config_ and the plan file (stages 1–3) and arms it on the live
+  // plant (stage 4); false (with a test failure) when a stage fails.
+  bool start_up() {
+    config_.log_ring = static_cast<std::uint32_t>(ring_records_);
+    gateway_ = std::make_unique<app::Gateway>(config_);
+    if (auto e = gateway_->load_plan(plan_file_, "example plan")) {
+      ADD_FAILURE() << e->message;
+      return false;
     }
-    for (std::uint32_t j = 0; j < kOutputs; ++j) {
-      c.test[j] = {true, kY0[j] - kTestBand, kY0[j] + kTestBand, 10.0};
+    table_ = gateway_->table();
+    gateway_->set_observer(&script_);
+    gateway_->set_row_delay(row_delay_);
+    if (auto e = gateway_->arm(*bus_, clock_)) {
+      ADD_FAILURE() << e->message;
+      return false;
     }
-    c.ramp_ticks = 5;
-    c.resume_dwell_ticks = 10;
-    c.suspend_timeout_ticks = 200;
-    c.comm_fail_limit = 3;
-    c.heartbeat_echo = bus_->heartbeat_echo_index();
-    c.heartbeat_max_lag = 3;
-    c.command_value = bus_->command_index();
-    return c;
+    return true;
   }
 
-  // Configures, arms (reading the live plant), runs until safe with the log thread.
+  // Start-up, run log, then runs until safe (or max_ticks_) with the log thread.
   app::RunStats run(engine::Command first = engine::Command::start) {
-    EXPECT_TRUE(engine_.configure(config_, table_));
-    ring_storage_.assign(ring_records_, engine::TickRecord{});
-    ring_ = std::make_unique<engine::SpanLogRing>(ring_storage_);
-    app::Runner runner(engine_, *bus_, clock_, *ring_, std::chrono::seconds(60));
-    runner.set_observer(&script_);
-    const engine::Status armed = runner.arm();
-    EXPECT_TRUE(armed) << armed.message();
+    if (!start_up()) return {};
     std::FILE* file = std::fopen(log_path_.c_str(), "w");
     EXPECT_NE(file, nullptr);
-    app::LogLayout layout;
-    layout.header.plant = "alatiqi4x4 (simlink)";
-    layout.header.plan = "example plan";
-    layout.sample_time_min = 1.0;
-    layout.header.sample_time_min = 1.0;
-    layout.header.inputs = inputs_;
-    layout.header.outputs = outputs_;
-    layout.output_values = {0, 1, 2, 3};
-    app::LogDrain drain(*ring_, file, layout);
-    drain.set_row_delay(row_delay_);
-    EXPECT_TRUE(drain.write_header());
-    drain.start();
+    if (auto e = gateway_->start_log(file, "excite-gateway (integration test)")) {
+      ADD_FAILURE() << e->message;
+      std::fclose(file);
+      return {};
+    }
     if (first != engine::Command::none) commands_.post(first);
-    const app::RunStats stats = runner.run(commands_, nullptr, max_ticks_);
-    drain.stop();
-    rows_written_ = drain.rows_written();
+    const app::RunStats stats = gateway_->run(commands_, nullptr, max_ticks_);
+    EXPECT_EQ(gateway_->finish_log(), runlog::WriteStatus::ok);
+    rows_written_ = gateway_->rows_logged();
     std::fclose(file);
     return stats;
   }
+
+  [[nodiscard]] const engine::Engine& engine() const { return gateway_->engine(); }
 
   runlog::RunLog read_log() {
     runlog::ReadResult r = runlog::read_run_log(log_path_);
@@ -144,17 +112,13 @@ class GatewayLoop : public ::testing::Test {
   }
 
   static constexpr std::size_t kRing = 8192;
-  std::unique_ptr<plan::Plan> plan_;
-  std::unique_ptr<plan::Plan> loaded_;
-  std::vector<double> storage_;
-  signal::TableView table_;
+  std::vector<std::uint8_t> plan_file_;
+  signal::ConstTableView table_;
   hal::VirtualClock clock_;
   std::unique_ptr<hal::simlink::SimLinkFieldBus> bus_;
-  engine::EngineConfig config_;
-  engine::Engine engine_;
+  app::GatewayConfig config_;
+  std::unique_ptr<app::Gateway> gateway_;
   std::size_t ring_records_ = kRing;
-  std::vector<engine::TickRecord> ring_storage_;
-  std::unique_ptr<engine::SpanLogRing> ring_;
   app::CommandMailbox commands_;
   Script script_;
   std::string log_path_;
@@ -162,9 +126,6 @@ class GatewayLoop : public ::testing::Test {
   std::uint64_t max_ticks_ = 0;
   std::uint64_t rows_written_ = 0;
   double held_[kInputs] = {};
-  const runlog::Channel inputs_[kInputs] = {
-      {"L", "kmol/min"}, {"V", "kmol/min"}, {"S", "kmol/min"}, {"F", "kmol/min"}};
-  const runlog::Channel outputs_[kOutputs] = {{"xD", "-"}, {"xS", "-"}, {"xB", "-"}, {"T", "K"}};
 };
 
 }  // namespace excite::testing

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // The cyclic path allocates nothing (STYLE.md practice 5): operator new replaced and the
-// malloc family interposed, counted over 10 000+ ticks of the Runner (engine + simlink plant
-// + log ring) through excursions, comm loss, stale echo and operator commands.
+// malloc family interposed, counted over 10 000+ ticks of the gateway component's run()
+// (Runner: engine + simlink plant + log ring + range-end watch) through excursions, comm
+// loss, stale echo and operator commands. The ring is drained on this thread between
+// batches (no log thread), so only the cyclic path runs while counting.
 #include "tests/integration/engine/counting_malloc.hpp"
 #include "tests/integration/engine/gateway_fixture.hpp"
 #include "tests/support/counting_new.hpp"
@@ -46,24 +48,15 @@ class Faults final : public app::TickObserver {
 };
 
 TEST_F(GatewayLoop, TenThousandTicksOfTheCyclicPathAllocateNothing) {
-  config_.suspend_timeout_ticks = 0;
-  // The plan tiled to 12 000 rows so the run outlasts the measurement (set-up may allocate).
-  constexpr std::uint32_t kRows = 12000;
-  std::vector<double> tiled(std::size_t{kInputs} * kRows);
-  for (std::uint32_t k = 0; k < kRows; ++k) {
-    for (std::uint32_t c = 0; c < kInputs; ++c) {
-      tiled[std::size_t{k} * kInputs + c] = table_.at(k % table_.samples, c);
-    }
-  }
-  config_.input[0].max_move = 100.0;  // the tiles' seams need no slew to stay bumpless here
-  ASSERT_TRUE(engine_.configure(config_, signal::ConstTableView(tiled.data(), kInputs, kRows)));
-  ring_storage_.assign(kRing, engine::TickRecord{});
-  ring_ = std::make_unique<engine::SpanLogRing>(ring_storage_);
-  app::Runner runner(engine_, *bus_, clock_, *ring_, std::chrono::seconds(60));
+  config_.suspend_timeout_s = 0.0;
+  // The plan lengthened to 12 000 rows so the run outlasts the measurement (set-up may
+  // allocate); the gateway component is built exactly as excite-gateway builds it.
+  plan_file_ = example_plan_file(12000);
   Faults faults(*bus_, commands_);
-  runner.set_observer(&faults);
-  ASSERT_TRUE(runner.arm());
+  ASSERT_TRUE(start_up());
+  gateway_->set_observer(&faults);
   commands_.post(engine::Command::start);
+  engine::LogRingBase& ring = gateway_->log_ring();
 
   // The consumer side runs between batches (same thread) so the ring never overruns.
   engine::TickRecord sink;
@@ -73,18 +66,18 @@ TEST_F(GatewayLoop, TenThousandTicksOfTheCyclicPathAllocateNothing) {
   for (int batch = 0; batch < 25; ++batch) {
     const long n0 = excite::test::allocations();
     const long m0 = excite::test::mallocs();
-    ticks += runner.run(commands_, nullptr, 500).ticks;
+    ticks += gateway_->run(commands_, nullptr, 500).ticks;
     new_count += excite::test::allocations() - n0;
     malloc_count += excite::test::mallocs() - m0;
-    while (ring_->pop(sink)) {
+    while (ring.pop(sink)) {
     }
   }
   EXPECT_GE(ticks, 10000U);
   EXPECT_EQ(new_count, 0);
   EXPECT_EQ(malloc_count, 0) << "(malloc interposed: " << excite::test::malloc_interposed() << ")";
-  EXPECT_GT(engine_.suspensions(), 40U);  // the fault paths were taken
+  EXPECT_GT(engine().suspensions(), 40U);  // the fault paths were taken
   EXPECT_GT(bus_->dropped(), 50U);
-  EXPECT_EQ(ring_->overruns(), 0U);
+  EXPECT_EQ(ring.overruns(), 0U);
 }
 
 }  // namespace excite::testing

@@ -9,7 +9,7 @@ TEST_F(GatewayLoop, StreamsTheWholePlanAndEndsSafeAtBaseline) {
   const app::RunStats stats = run();
   EXPECT_EQ(stats.final_state, engine::State::safe);
   EXPECT_EQ(stats.outcome, engine::Outcome::completed);
-  EXPECT_EQ(engine_.row(), table_.samples - 1);
+  EXPECT_EQ(engine().row(), table_.samples - 1);
   for (std::uint32_t i = 0; i < kInputs; ++i) EXPECT_EQ(bus_->held_setpoint(i), kU0[i]);
   EXPECT_EQ(bus_->writes(), stats.ticks);  // one exchange per tick, none lost
 }
@@ -23,10 +23,13 @@ TEST_F(GatewayLoop, TicksLoggedEqualTicksExecutedAndTheLogReadsBack) {
   EXPECT_EQ(log.k.front(), 0U);
   EXPECT_EQ(log.k.back(), stats.ticks - 1);
   EXPECT_EQ(log.input_names, (std::vector<std::string>{"L", "V", "S", "F"}));
+  EXPECT_EQ(log.producer, "excite-gateway (integration test)");
+  EXPECT_EQ(log.sample_time_min, 1.0);  // the plan's T, minutes, as the plan file holds it
+  EXPECT_EQ(log.t_min[10], 10.0);
 }
 
 TEST_F(GatewayLoop, LoggedExcitationIsTheTableOnceRampedIn) {
-  for (std::uint32_t c = 0; c < kInputs; ++c) config_.input[c].max_move = 50.0;  // no slew
+  for (std::uint32_t c = 0; c < kInputs; ++c) config_.setpoints[c].max_move = 50.0;  // no slew
   const app::RunStats stats = run();
   ASSERT_GT(stats.ticks, table_.samples);
   const runlog::RunLog log = read_log();

@@ -97,7 +97,7 @@ TEST(GatewayConfigTest, TheCanExampleMapsSetpointsAndValuesToFrames) {
   EXPECT_EQ(c.can.map.values[1].byte_offset, 4U);
   EXPECT_EQ(c.can.map.values[5].id, 0x311U);
   EXPECT_TRUE(c.modbus.map.setpoints.empty());
-  const engine::EngineConfig e = to_engine_config(c, 60.0);
+  const engine::EngineConfig e = to_engine_config(c, std::chrono::minutes(1));
   EXPECT_EQ(e.input[1].readback, 3);
   EXPECT_EQ(e.heartbeat_echo, 4);
   EXPECT_EQ(e.command_value, 5);
@@ -171,7 +171,7 @@ TEST(GatewayConfigTest, SetpointLimitsBeyondTheRegisterAreRefused) {
 TEST(GatewayConfigTest, SecondsBecomeTicksOfThePeriod) {
   const ConfigResult r = load_gateway_config(kExample);
   ASSERT_TRUE(r.config);
-  const engine::EngineConfig e = to_engine_config(*r.config, 60.0);
+  const engine::EngineConfig e = to_engine_config(*r.config, std::chrono::seconds(60));
   EXPECT_EQ(e.ramp_ticks, 5U);               // 300 s
   EXPECT_EQ(e.resume_dwell_ticks, 10U);      // 600 s
   EXPECT_EQ(e.suspend_timeout_ticks, 120U);  // 7200 s

@@ -90,7 +90,7 @@ TEST(PlanCodec, DecodedPlanKeepsTheMetadata) {
   EXPECT_EQ(text_of(decoded->meta.design_name), testing::kDesignName);
   EXPECT_EQ(text_of(decoded->meta.provenance), testing::kProvenance);
   EXPECT_EQ(decoded->meta.created_unix_s, 1'795'000'000U);
-  EXPECT_EQ(decoded->meta.sample_time_s, 60.0);
+  EXPECT_EQ(decoded->meta.sample_time_min, 1.0);
   for (std::uint32_t c = 0; c < 4; ++c) {
     EXPECT_EQ(text_of(decoded->meta.channels[c].name), text_of(plan->meta.channels[c].name));
     EXPECT_EQ(decoded->meta.channels[c].min, plan->meta.channels[c].min);
@@ -101,7 +101,7 @@ TEST(PlanCodec, DecodedPlanKeepsTheMetadata) {
 TEST(PlanCodec, WritesTheHeaderAndChecksumOfTheDocumentedLayout) {
   const Bytes file = encoded(*example_plan());
   const Bytes header(file.begin(), file.begin() + 12);
-  EXPECT_EQ(header, (Bytes{0x89, 'E', 'X', 'P', 'L', 'A', 'N', '\n', 1, 0, 0, 0}));
+  EXPECT_EQ(header, (Bytes{0x89, 'E', 'X', 'P', 'L', 'A', 'N', '\n', 2, 0, 0, 0}));
   const std::uint32_t payload = u32_at(file, 12);
   EXPECT_EQ(payload, file.size() - 20);
   const std::uint32_t stored = u32_at(file, file.size() - 4);
@@ -143,7 +143,7 @@ TEST(PlanCodec, FullestPlanNeedsExactlyMaxEncodedSize) {
     s.steps.segment_count = signal::kMaxSegments;
   }
   r.line_count = signal::kMaxLines;
-  plan->meta.sample_time_s = 1.0;
+  plan->meta.sample_time_min = 1.0 / 60.0;
   set_text(plan->meta.design_name, std::string(31, 'd'));
   set_text(plan->meta.provenance, std::string(127, 'p'));
   for (auto& ch : plan->meta.channels) set_text(ch.name, std::string(31, 'c'));
@@ -184,13 +184,61 @@ TEST(PlanCodec, LeavesADefaultPlanWhenItRefuses) {
 
 TEST(PlanCodec, RefusesANewerVersionNamingTheFilesAndTheBuildsVersion) {
   Bytes file = encoded(*example_plan());
-  file[8] = 2;
+  file[8] = 3;
   reseal(file);
   auto out = std::make_unique<Plan>();
   const Status status = decode(file, *out);
   EXPECT_EQ(status.code(), StatusCode::unsupported_version);
   EXPECT_EQ(std::string(status.message()),
-            "plan file has format version 2, this build reads versions 1…1");
+            "plan file has format version 3, this build reads versions 1…2");
+}
+
+// Version 2 stores T in minutes (the project's unit); version 1 stored seconds and is still
+// read, converted once in decode().
+double f64_at(const Bytes& b, std::size_t at) {
+  std::uint64_t bits = 0;
+  for (std::size_t i = 0; i < 8; ++i) bits |= std::uint64_t{b[at + i]} << (8U * i);
+  double v = 0.0;
+  std::memcpy(&v, &bits, sizeof v);
+  return v;
+}
+
+void put_f64(Bytes& b, std::size_t at, double v) {
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &v, sizeof v);
+  for (std::size_t i = 0; i < 8; ++i) b[at + i] = static_cast<std::uint8_t>(bits >> (8U * i));
+}
+
+constexpr std::size_t kSampleTimeOffset = 16 + 8;  // header, created_unix_s
+
+TEST(PlanCodec, Version2WritesTheSampleTimeInMinutes) {
+  auto plan = example_plan();
+  plan->meta.sample_time_min = 0.5;
+  const Bytes file = encoded(*plan);
+  EXPECT_EQ(file[8] | file[9] << 8U, 2);
+  EXPECT_EQ(f64_at(file, kSampleTimeOffset), 0.5);
+  auto out = std::make_unique<Plan>();
+  ASSERT_TRUE(decode(file, *out));
+  EXPECT_EQ(out->meta.format_version, 2U);
+  EXPECT_EQ(out->meta.sample_time_min, 0.5);
+}
+
+TEST(PlanCodec, ReadsVersion1WhoseSampleTimeIsInSeconds) {
+  auto plan = example_plan();
+  plan->meta.sample_time_min = 0.5;
+  const Bytes v2 = encoded(*plan);
+  Bytes v1 = v2;  // the same plan as a version-1 file: version 1, T = 30 s
+  v1[8] = 1;
+  put_f64(v1, kSampleTimeOffset, 30.0);
+  reseal(v1);
+  auto out = std::make_unique<Plan>();
+  const Status status = decode(v1, *out);
+  ASSERT_TRUE(status) << status.message();
+  EXPECT_EQ(out->meta.format_version, 1U);
+  EXPECT_EQ(out->meta.sample_time_min, 0.5);
+  EXPECT_EQ(out->recipe.samples, plan->recipe.samples);
+  out->meta.format_version = kFormatVersion;
+  EXPECT_EQ(encoded(*out), v2);  // re-encoded, it is the version-2 file
 }
 
 TEST(PlanCodec, RefusesBadMagic) {
@@ -296,11 +344,11 @@ TEST(PlanCodec, EncodeRefusesABufferShorterThanTheFile) {
 
 TEST(PlanCodec, EncodeRefusesAnInvalidPlan) {
   auto plan = example_plan();
-  plan->meta.sample_time_s = 0.0;
+  plan->meta.sample_time_min = 0.0;
   Bytes out(max_encoded_size());
   const EncodeResult result = encode(*plan, out);
   EXPECT_EQ(std::string(result.status.message()),
-            "meta.sample_time_s = 0, expected a finite number > 0");
+            "meta.sample_time_min = 0, expected a finite number > 0");
 }
 
 }  // namespace

@@ -19,7 +19,7 @@ inline std::unique_ptr<Plan> example_plan() {
   set_text(plan->meta.design_name, kDesignName);
   set_text(plan->meta.provenance, kProvenance);
   plan->meta.created_unix_s = 1'795'000'000;
-  plan->meta.sample_time_s = 60.0;
+  plan->meta.sample_time_min = 1.0;
   const char* names[] = {"reflux L", "steam V", "side draw S", "feed F"};
   for (std::uint32_t c = 0; c < 4; ++c) {
     set_text(plan->meta.channels[c].name, names[c]);

@@ -27,9 +27,9 @@ TEST(PlanValidate, PassesOnTheRecipesFirstError) {
 
 TEST(PlanValidate, RefusesANonPositiveSampleTime) {
   auto plan = example_plan();
-  plan->meta.sample_time_s = -1.0;
+  plan->meta.sample_time_min = -1.0;
   EXPECT_EQ(std::string(validate(*plan).message()),
-            "meta.sample_time_s = -1, expected a finite number > 0");
+            "meta.sample_time_min = -1, expected a finite number > 0");
 }
 
 TEST(PlanValidate, RefusesAChannelWhoseMinExceedsItsMax) {

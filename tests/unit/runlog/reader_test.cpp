@@ -49,6 +49,17 @@ TEST(RunLogReader, ReadsHeaderAndColumns) {
   EXPECT_EQ(r.log.dy[0][3], 0.03);
 }
 
+TEST(RunLogReader, ALogWithoutProducerLineStillReads) {
+  const ReadResult r = parse_run_log(kHeader + kColumns + rows(2), "run.csv");
+  ASSERT_TRUE(r.ok()) << r.error->to_string();
+  EXPECT_EQ(r.log.producer, "");
+  const ReadResult twice = parse_run_log("# excite run log v1\n# producer: a\n# producer: b\n" +
+                                             kHeader.substr(20) + kColumns + rows(2),
+                                         "run.csv");
+  ASSERT_FALSE(twice.ok());
+  EXPECT_EQ(twice.error->message, "header key 'producer' given twice");
+}
+
 TEST(RunLogReader, AcceptsColumnsInAnyOrderAndCrLf) {
   std::string text = kHeader + "flags,dy_xD,u_V,u_L,du_V,du_L,k,t_min\r\n";
   text += "0,1.5,3,2,-1,-2,7,3.5\r\n0,1.25,3,2,-1,-2,8,4\r\n";

@@ -65,6 +65,23 @@ TEST(RunLogWriter, HeaderListsMagicKeysUnitsAndColumns) {
             "t_min,k,du_L,du_V,u_L,u_V,dy_xD,flags\n");
 }
 
+TEST(RunLogWriter, ProducerLineNamesTheProgramAndReadsBack) {
+  std::array<char, 1024> buf{};
+  Header h = two_by_one();
+  h.producer = "excite-gateway 0.1.0";
+  const WriteResult r = format_header(h, buf);
+  ASSERT_EQ(r.status, WriteStatus::ok);
+  const std::string text = text_of(r, buf);
+  EXPECT_EQ(text.rfind("# excite run log v1\n# producer: excite-gateway 0.1.0\n# plant:", 0), 0U)
+      << text;
+  const ReadResult back = parse_run_log(text + "0,0,0,0,1,1,0,0\n1,1,0,0,1,1,0,0\n", "run.csv");
+  ASSERT_TRUE(back.ok()) << back.error->to_string();
+  EXPECT_EQ(back.log.producer, "excite-gateway 0.1.0");
+  h.producer = "two\nlines";
+  EXPECT_EQ(format_header(h, buf).status, WriteStatus::bad_text);
+  EXPECT_FALSE(kVersion.empty());  // CMake's project version reaches the code
+}
+
 TEST(RunLogWriter, RowUsesShortestRoundTripNumbers) {
   std::array<char, 1024> buf{};
   const std::array<double, 2> du = {0.1, -0.25};

@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: MIT
+#include "firmware/app/gateway.hpp"
+
+#include <cmath>
+
+#include "firmware/app/register_range.hpp"
+#include "firmware/engine/load_plan.hpp"
+
+namespace excite::app {
+
+Gateway::Gateway(GatewayConfig config) : config_(std::move(config)) {}
+
+Gateway::~Gateway() = default;  // LogDrain's destructor stops the log thread if still running
+
+StageResult Gateway::load_plan(std::span<const std::uint8_t> plan_file, std::string plan_name) {
+  plan_name_ = std::move(plan_name);
+  plan_ = std::make_unique<plan::Plan>();
+  if (auto s = engine::load_plan(plan_file, static_cast<std::uint32_t>(config_.setpoints.size()),
+                                 signal::kTableCapacity, *plan_);
+      !s) {
+    return StageError{ExitCode::bad_plan, plan_name_ + ": " + s.message()};
+  }
+  storage_.assign(signal::kTableCapacity, 0.0);
+  {
+    std::vector<double> scratch(signal::scratch_size(plan_->recipe));
+    if (auto s = engine::make_table(*plan_, storage_, scratch, table_); !s) {
+      return StageError{ExitCode::bad_plan, plan_name_ + ": " + s.message()};
+    }
+  }
+  sample_time_ = Minutes(plan_->meta.sample_time_min);
+  const std::chrono::duration<double> period =
+      config_.period_s ? std::chrono::duration<double>(*config_.period_s)
+                       : std::chrono::duration<double>(sample_time_);
+  period_ = std::chrono::round<hal::Nanoseconds>(period);
+  if (period_.count() <= 0) {
+    return StageError{ExitCode::bad_config,
+                      config_.source + ": gateway.period_s = " + std::to_string(period.count()) +
+                          ": expected at least 1 ns"};
+  }
+  engine_config_ = to_engine_config(config_, period);
+  engine_ = std::make_unique<engine::Engine>();
+  if (auto s = engine_->configure(engine_config_, table_); !s) {
+    return StageError{ExitCode::bad_config, config_.source + ": " + s.message()};
+  }
+  // Outputs and readbacks carried by a bounded register are watched for readings at its
+  // end (a quarter of one raw count inside it, or beyond).
+  const std::vector<CarriedRange> ranges = value_ranges(config_);
+  range_what_.assign(config_.values.size(), std::string());
+  for (std::size_t j = 0; j < ranges.size() && j < config_.values.size(); ++j) {
+    const ValueRole role = config_.values[j].role;
+    if (!ranges[j].bounded || (role != ValueRole::output && role != ValueRole::readback)) {
+      continue;
+    }
+    range_ends_[j] = {true, ranges[j].low + 0.25 * ranges[j].count,
+                      ranges[j].high - 0.25 * ranges[j].count};
+    range_what_[j] = ranges[j].what;
+  }
+  return std::nullopt;
+}
+
+StageResult Gateway::arm(hal::FieldBus& bus, hal::Clock& clock) {
+  ring_storage_.assign(config_.log_ring, engine::TickRecord{});  // sized once
+  ring_ = std::make_unique<engine::SpanLogRing>(ring_storage_);
+  runner_ = std::make_unique<Runner>(*engine_, bus, clock, *ring_, period_);
+  runner_->watch_range_ends(
+      std::span<const RangeEnd>(range_ends_.data(), config_.values.size()),
+      std::span<std::uint64_t>(range_end_counts_.data(), config_.values.size()));
+  if (auto s = runner_->arm(); !s) {
+    return StageError{ExitCode::arm_refused, "refused to arm: " + std::string(s.message())};
+  }
+  return std::nullopt;
+}
+
+StageResult Gateway::start_log(std::FILE* file, std::string producer) {
+  producer_ = std::move(producer);
+  inputs_.clear();
+  outputs_.clear();
+  for (const auto& s : config_.setpoints) inputs_.push_back({s.name, s.unit});
+  LogLayout layout;
+  layout.output_values = output_indices(config_);
+  for (int j : layout.output_values) {
+    const ValueSpec& v = config_.values[static_cast<std::size_t>(j)];
+    outputs_.push_back({v.name, v.unit});
+  }
+  layout.header.producer = producer_;
+  layout.header.plant = config_.plant;
+  layout.header.plan = plan_name_;
+  layout.header.sample_time_min = sample_time_.count();  // the plan's T, minutes
+  layout.header.inputs = inputs_;
+  layout.header.outputs = outputs_;
+  drain_ = std::make_unique<LogDrain>(*ring_, file, std::move(layout));
+  drain_->set_event_stream(events_);
+  drain_->set_row_delay(row_delay_);
+  if (!drain_->write_header()) {
+    drain_->stop();  // done with the FILE: the caller closes it
+    return StageError{ExitCode::log_error, "cannot write the run log's header: " +
+                                               std::string(runlog::describe(drain_->last_error()))};
+  }
+  drain_->start();
+  return std::nullopt;
+}
+
+RunStats Gateway::run(CommandMailbox& commands, const std::atomic<bool>* stop,
+                      std::uint64_t max_ticks) noexcept {
+  runner_->set_observer(observer_);
+  runner_->set_lateness_histogram(lateness_);
+  return runner_->run(commands, stop, max_ticks);
+}
+
+runlog::WriteStatus Gateway::finish_log() {
+  if (!drain_) return runlog::WriteStatus::ok;
+  drain_->stop();
+  return drain_->last_error();
+}
+
+std::uint64_t Gateway::rows_logged() const noexcept {
+  return drain_ ? drain_->rows_written() : 0;
+}
+
+std::string Gateway::range_end_report() const {
+  std::string out;
+  for (std::size_t j = 0; j < config_.values.size(); ++j) {
+    if (range_end_counts_[j] == 0) continue;
+    out += (out.empty() ? "" : "; ") + config_.values[j].name + " " +
+           std::to_string(range_end_counts_[j]) + " readings (" + range_what_[j] + ")";
+  }
+  return out;
+}
+
+}  // namespace excite::app

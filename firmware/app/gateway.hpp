@@ -1,0 +1,142 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The gateway in one component: configuration → plan → tables → engine → arm → run → log.
+// excite-gateway's main(), the integration fixtures and the benches all build the gateway
+// through it; they differ only in the field bus and the clock they hand it (a Modbus or CAN
+// bus and the POSIX clock in the field; a simulated plant and a virtual clock in tests).
+//
+//   Gateway gw(config);                      1. a parsed, validated configuration
+//   gw.load_plan(bytes, "plans/x.plan");     2.–3. plan decoded, table generated into fixed
+//                                                  storage and checked, engine configured
+//   gw.arm(bus, clock);                      4. one read of the live values; nothing written
+//   gw.start_log(file, "excite-gateway 0.1.0");  5. header written, log thread started
+//   gw.run(commands, &stop);                 6. the cyclic loop: allocates nothing
+//   gw.finish_log();                         7. drained, flushed, log thread joined
+//
+// Each start-up stage returns std::nullopt, or the failure with the exit code
+// excite-gateway returns for it (README.md) and a message naming what was wrong. Start-up
+// allocates and may fail; run() allocates nothing and throws nothing.
+//
+// Time: the plan's sample time T is in minutes (plan format v2) and stays in minutes into
+// the run log (t_min = tick · T); the tick period is T itself, converted once to the
+// clock's nanoseconds by std::chrono, unless the configuration's period_s compresses time.
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "excite/hal/clock.hpp"
+#include "excite/hal/field_bus.hpp"
+#include "firmware/app/command_mailbox.hpp"
+#include "firmware/app/exit_codes.hpp"
+#include "firmware/app/gateway_config.hpp"
+#include "firmware/app/log_drain.hpp"
+#include "firmware/app/runner.hpp"
+#include "firmware/engine/engine.hpp"
+#include "firmware/engine/log_ring.hpp"
+#include "firmware/plan/plan.hpp"
+#include "firmware/runlog/writer.hpp"
+#include "firmware/signal/generate.hpp"
+
+namespace excite::app {
+
+struct StageError {
+  ExitCode code = ExitCode::ok;
+  std::string message;  // one line, without the program name
+};
+using StageResult = std::optional<StageError>;  // nullopt: the stage succeeded
+
+/// The sample time's one unit, minutes; std::chrono converts it to the clock's nanoseconds.
+using Minutes = std::chrono::duration<double, std::ratio<60>>;
+
+class Gateway {
+ public:
+  explicit Gateway(GatewayConfig config);
+  ~Gateway();
+  Gateway(const Gateway&) = delete;
+  Gateway& operator=(const Gateway&) = delete;
+
+  /// 2.–3. Decodes the plan file (its channel count against the setpoints), generates its
+  /// table into the fixed storage (signal::kTableCapacity values), checks it against the
+  /// plan's limits (bad_plan), and configures the engine (bad_config). `plan_name` is the
+  /// run log's `plan:` line.
+  StageResult load_plan(std::span<const std::uint8_t> plan_file, std::string plan_name);
+
+  /// 4. Reads the live values once through `bus` (configured; nothing is written) and arms
+  /// the engine on them (arm_refused). bus and clock must outlive the Gateway's run().
+  StageResult arm(hal::FieldBus& bus, hal::Clock& clock);
+
+  /// 5. Writes the run log's header to `file` (the caller's; closed by the caller after
+  /// finish_log()) naming `producer`, and starts the log thread (log_error).
+  StageResult start_log(std::FILE* file, std::string producer);
+
+  /// 6. Runs until the engine is safe, `stop` is raised or max_ticks have run (0: no limit).
+  RunStats run(CommandMailbox& commands, const std::atomic<bool>* stop = nullptr,
+               std::uint64_t max_ticks = 0) noexcept;
+
+  /// 7. Drains what is left, flushes, joins the log thread; the first write error, if any.
+  runlog::WriteStatus finish_log();
+
+  // ---- what start-up produced (valid after load_plan) ----
+  [[nodiscard]] const GatewayConfig& config() const noexcept { return config_; }
+  [[nodiscard]] const plan::Plan& plan() const noexcept { return *plan_; }
+  [[nodiscard]] signal::ConstTableView table() const noexcept { return table_; }
+  [[nodiscard]] const engine::EngineConfig& engine_config() const noexcept {
+    return engine_config_;
+  }
+  [[nodiscard]] Minutes sample_time() const noexcept { return sample_time_; }
+  [[nodiscard]] hal::Nanoseconds period() const noexcept { return period_; }
+  [[nodiscard]] const engine::Engine& engine() const noexcept { return *engine_; }
+  [[nodiscard]] std::uint64_t rows_logged() const noexcept;
+  /// The log ring (valid after arm), for a caller that drains it on its own thread instead
+  /// of start_log() (the no-allocation proof, the benches).
+  [[nodiscard]] engine::LogRingBase& log_ring() noexcept { return *ring_; }
+
+  /// Readings at the end of their register's range, per value (register_range.hpp).
+  [[nodiscard]] std::span<const std::uint64_t> readings_at_range_end() const noexcept {
+    return {range_end_counts_.data(), config_.values.size()};
+  }
+  /// "xD 101 readings (register 200 uint16 raw 0..65535 = 0..1)"; "" when there were none.
+  [[nodiscard]] std::string range_end_report() const;
+
+  // ---- hooks (tests and benches) ----
+  void set_observer(TickObserver* observer) noexcept { observer_ = observer; }
+  void set_lateness_histogram(std::span<std::uint64_t> bins_us) noexcept { lateness_ = bins_us; }
+  void set_event_stream(std::FILE* events) noexcept { events_ = events; }
+  void set_row_delay(std::chrono::microseconds delay) noexcept { row_delay_ = delay; }
+
+ private:
+  GatewayConfig config_;
+  std::unique_ptr<plan::Plan> plan_;
+  std::vector<double> storage_;  // the gateway's fixed table storage
+  signal::TableView table_;
+  engine::EngineConfig engine_config_;
+  std::unique_ptr<engine::Engine> engine_;
+  Minutes sample_time_{0.0};
+  hal::Nanoseconds period_{0};
+  std::vector<engine::TickRecord> ring_storage_;
+  std::unique_ptr<engine::SpanLogRing> ring_;
+  std::unique_ptr<Runner> runner_;
+  std::array<RangeEnd, engine::kMaxValues> range_ends_{};
+  std::array<std::uint64_t, engine::kMaxValues> range_end_counts_{};
+  std::vector<std::string> range_what_;
+  // The run log: the strings its header points into live here.
+  std::string plan_name_;
+  std::string producer_;
+  std::vector<runlog::Channel> inputs_;
+  std::vector<runlog::Channel> outputs_;
+  std::unique_ptr<LogDrain> drain_;
+  TickObserver* observer_ = nullptr;
+  std::span<std::uint64_t> lateness_{};
+  std::FILE* events_ = nullptr;
+  std::chrono::microseconds row_delay_{0};
+};
+
+}  // namespace excite::app
