@@ -153,6 +153,10 @@ std::vector<std::string> plant_names() {
   return names;
 }
 
+std::unique_ptr<Plant> make_linear_plant(std::string name, TransferMatrix g) {
+  return std::make_unique<LinearPlant>(std::move(name), std::move(g));
+}
+
 std::unique_ptr<Plant> make_plant(std::string_view name_or_path) {
   if (name_or_path.ends_with(".toml")) {
     const PlantDefinition definition = load_plant_file(std::string(name_or_path));

@@ -18,6 +18,8 @@
 #include <string_view>
 #include <vector>
 
+#include "sim/lti/transfer_matrix.hpp"
+
 namespace excite::sim {
 
 class Plant {
@@ -60,6 +62,9 @@ class Plant {
 
 /// Names `make_plant` knows: the linear library plants, then colaA and pilot15.
 std::vector<std::string> plant_names();
+
+/// A linear plant from its transfer-function matrix (minutes), named `name`.
+std::unique_ptr<Plant> make_linear_plant(std::string name, TransferMatrix g);
 
 /// A plant by name, or from a TOML plant file when `name_or_path` ends in ".toml"
 /// (sim/lti/README.md). std::invalid_argument listing the known names otherwise.

@@ -29,7 +29,7 @@
 #include "firmware/engine/log_ring.hpp"
 #include "firmware/signal/generate.hpp"
 #include "hal/posix/posix_clock.hpp"
-#include "hal/simlink/simlink_field_bus.hpp"
+#include "sim/simlink/simlink_field_bus.hpp"
 #include "sim/library/library.hpp"
 #include "tests/unit/plan/example_plan.hpp"
 

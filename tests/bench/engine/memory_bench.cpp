@@ -19,7 +19,7 @@
 #include "firmware/engine/load_plan.hpp"
 #include "firmware/plan/codec.hpp"
 #include "firmware/signal/generate.hpp"
-#include "hal/simlink/simlink_field_bus.hpp"
+#include "sim/simlink/simlink_field_bus.hpp"
 #include "sim/library/library.hpp"
 #include "tests/unit/plan/example_plan.hpp"
 

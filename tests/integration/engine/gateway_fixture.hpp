@@ -26,7 +26,7 @@
 #include "firmware/plan/codec.hpp"
 #include "firmware/runlog/reader.hpp"
 #include "firmware/signal/generate.hpp"
-#include "hal/simlink/simlink_field_bus.hpp"
+#include "sim/simlink/simlink_field_bus.hpp"
 #include "sim/library/library.hpp"
 #include "tests/unit/plan/example_plan.hpp"
 
