@@ -9,6 +9,9 @@
 //   live   reset(T), then step(du(k), dy(k)) once per sample (a plant server, an in-process
 //          link): the same trajectory one sample at a time, with bounded work and no
 //          allocation per step. simulate() does not disturb the live state.
+// A column's step() may also refuse a sample its inputs make impossible (a stage drained:
+// std::invalid_argument) or one over its work cap (std::runtime_error,
+// sim/column/README.md "Live stepping"); the refused sample is not taken.
 
 #include <Eigen/Core>
 
