@@ -156,8 +156,9 @@ class ColaA::System {
 
 struct ColaA::Workspace {
   Workspace(const ColaAParameters& p, Eigen::Index stages)
-      : system(p, stages), solver(stages), stepper(2 * stages) {}
+      : system(p, stages), probe(p, stages), solver(stages), stepper(2 * stages) {}
   System system;
+  System probe;              // flows for products() and check_state(), so they allocate nothing
   HoldupFirstSolver solver;  // constant molar flows: holdups do not depend on x
   Rosenbrock4<System, HoldupFirstSolver> stepper;
 };
@@ -213,8 +214,13 @@ Eigen::VectorXd ColaA::initial_guess(const Operating& op) const {
   return s;
 }
 
+void ColaA::prepare() const {
+  if (!work_) work_ = std::make_unique<Workspace>(p_, stages_);
+}
+
 Products ColaA::products(const Eigen::VectorXd& s, const Operating& op) const {
-  System sys(p_, stages_);
+  prepare();
+  System& sys = work_->probe;
   sys.set_operating(op);
   const Eigen::Index top = stages_ - 1;
   return Products{sys.liquid_out(top, s[2 * top + 1]) - op.reflux_kmol_min, sys.liquid_out(0, s[1]),
@@ -234,7 +240,8 @@ void ColaA::check_state(const Eigen::VectorXd& s) const {
   }
   // Liquid flows leaving each stage (B, tray overflows, L + D) must not be negative: a
   // negative one means the inputs empty that stage. λ(V − V₀) is taken at the nominal V.
-  System sys(p_, stages_);
+  prepare();
+  System& sys = work_->probe;
   sys.set_operating(p_.nominal);
   for (Eigen::Index j = 0; j < stages_; ++j) {
     double out = sys.liquid_out(j, s[2 * j + 1]);
@@ -255,7 +262,7 @@ void ColaA::check_state(const Eigen::VectorXd& s) const {
 void ColaA::integrate(Eigen::VectorXd& s, const Operating& op, double duration_min,
                       StepMemory& steps, const Tolerance& tol, IntegrationStats* stats) const {
   validate(op, "colaA inputs");
-  if (!work_) work_ = std::make_unique<Workspace>(p_, stages_);
+  prepare();
   work_->system.set_operating(op);
   work_->stepper.integrate(work_->system, work_->solver, s, duration_min, steps, tol, stats);
   check_state(s);

@@ -48,6 +48,7 @@ class ColaA final : public ColumnModel {
   void check_state(const Eigen::VectorXd& s) const override;
   void integrate(Eigen::VectorXd& s, const Operating& op, double duration_min, StepMemory& steps,
                  const Tolerance& tol, IntegrationStats* stats) const override;
+  void prepare() const override;
 
   const ColaAParameters& parameters() const { return p_; }
 

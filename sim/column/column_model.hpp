@@ -53,6 +53,11 @@ class ColumnModel {
   virtual void integrate(Eigen::VectorXd& s, const Operating& op, double duration_min,
                          StepMemory& steps, const Tolerance& tol,
                          IntegrationStats* stats) const = 0;
+
+  /// Allocates the integrator's buffers now (they are otherwise made on first use), so that
+  /// integrate(), products() and check_state() allocate nothing afterwards while they
+  /// succeed (an error message allocates).
+  virtual void prepare() const = 0;
 };
 
 }  // namespace excite::sim::column

@@ -35,7 +35,8 @@ Eigen::MatrixXd Linearisation::static_gain() const {
   return -c * a.partialPivLu().solve(b);
 }
 
-ColumnPlant::ColumnPlant(std::unique_ptr<ColumnModel> model) : model_(std::move(model)) {
+ColumnPlant::ColumnPlant(std::unique_ptr<ColumnModel> model)
+    : model_(std::move(model)), input_context_(model_->name() + " inputs (nominal + deviation)") {
   const Operating nom = model_->nominal();
   nominal_state_ = solve_steady_state(*model_, nom, model_->initial_guess(nom)).state;
   const Products p = model_->products(nominal_state_, nom);
@@ -106,9 +107,21 @@ void ColumnPlant::set_disturbances(double feed_kmol_min, double feed_light) {
 
 void ColumnPlant::reset() {
   state_ = nominal_state_;
+  trial_ = nominal_state_;
   disturbance_ = model_->nominal();
   steps_ = {};
   stats_ = {};
+  samples_ = 0;
+  model_->prepare();
+}
+
+void ColumnPlant::set_max_steps_per_sample(long n) {
+  if (n < 1) {
+    std::ostringstream msg;
+    msg << model_->name() << ": max_steps_per_sample = " << n << "; expected at least 1";
+    throw std::invalid_argument(msg.str());
+  }
+  tol_.max_steps = n;
 }
 
 void ColumnPlant::set_state(const Eigen::VectorXd& s) {
@@ -136,14 +149,24 @@ Eigen::Vector2d ColumnPlant::output_deviation() const {
   return Eigen::Vector2d(p.x_top, p.x_bottom) - nominal_y_;
 }
 
-void ColumnPlant::advance(const double* u, double duration_min) {
+void ColumnPlant::advance(const double* u, double duration_min, long sample) {
   const Operating op = with_inputs(disturbance_, u, model_->nominal());
-  validate(op, model_->name() + " inputs (nominal + deviation)");
-  Eigen::VectorXd s = state_;
+  validate(op, input_context_);
+  trial_ = state_;  // same size: no allocation
   StepMemory steps = steps_;
-  model_->integrate(s, op, duration_min, steps, tol_, &stats_);
-  state_ = s;  // only a completed interval is committed
+  try {
+    model_->integrate(trial_, op, duration_min, steps, tol_, &stats_);
+  } catch (const std::runtime_error& e) {
+    std::ostringstream msg;
+    msg << model_->name() << ": sample " << sample << " (" << duration_min
+        << " min) needs more than max_steps_per_sample = " << tol_.max_steps
+        << " integration steps, or the step size collapsed (" << e.what()
+        << "); the plant stays at the start of the sample";
+    throw std::runtime_error(msg.str());
+  }
+  state_.swap(trial_);  // only a completed interval is committed
   steps_ = steps;
+  ++samples_;
 }
 
 Eigen::MatrixXd ColumnPlant::simulate(const Eigen::MatrixXd& U, double sample_time_min) {
@@ -167,17 +190,17 @@ Eigen::MatrixXd ColumnPlant::simulate(const Eigen::MatrixXd& U, double sample_ti
   for (Eigen::Index k = 0; k < U.rows(); ++k) {
     Y.row(k) = output_deviation().transpose();
     const double u[2] = {U(k, 0), U(k, 1)};
-    advance(u, sample_time_min);
+    advance(u, sample_time_min, static_cast<long>(k));
   }
   return Y;
 }
 
 void ColumnPlant::step(const double* u, double* y) {
-  require_finite_inputs(u, model_->name(), -1);
+  require_finite_inputs(u, model_->name(), samples_);
   const Eigen::Vector2d dy = output_deviation();
   y[0] = dy[0];
   y[1] = dy[1];
-  advance(u, sample_time_min_);
+  advance(u, sample_time_min_, samples_);
 }
 
 }  // namespace excite::sim::column

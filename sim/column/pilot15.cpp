@@ -12,7 +12,13 @@ namespace excite::sim::column {
 class Pilot15::System {
  public:
   explicit System(const Pilot15& m)
-      : m_(m), p_(m.p_), n_(p_.trays), y_(static_cast<std::size_t>(p_.trays + 2)) {}
+      : m_(m),
+        p_(m.p_),
+        n_(p_.trays),
+        y_(static_cast<std::size_t>(p_.trays + 2)),
+        sp_(m.state_size()),
+        up_(m.state_size()),
+        down_(m.state_size()) {}
 
   void set_operating(const Operating& op) { op_ = op; }
   Eigen::Index size() const { return m_.state_size(); }
@@ -95,19 +101,25 @@ class Pilot15::System {
   }
 
   Eigen::MatrixXd jacobian(const Eigen::VectorXd& s) const {
+    Eigen::MatrixXd j(size(), size());
+    jacobian_into(s, j);
+    return j;
+  }
+
+  /// ∂f/∂s by central differences into j (n×n; no allocation when it has that size).
+  void jacobian_into(const Eigen::VectorXd& s, Eigen::MatrixXd& j) const {
     const Eigen::Index n = size();
-    Eigen::MatrixXd j(n, n);
-    Eigen::VectorXd sp = s, up(n), down(n);
+    j.resize(n, n);
+    sp_ = s;
     for (Eigen::Index k = 0; k < n; ++k) {
       const double h = 6e-6 * std::max(std::abs(s[k]), 1e-2);
-      sp[k] = s[k] + h;
-      derivative(sp, up);
-      sp[k] = s[k] - h;
-      derivative(sp, down);
-      sp[k] = s[k];
-      j.col(k) = (up - down) / (2.0 * h);
+      sp_[k] = s[k] + h;
+      derivative(sp_, up_);
+      sp_[k] = s[k] - h;
+      derivative(sp_, down_);
+      sp_[k] = s[k];
+      j.col(k) = (up_ - down_) / (2.0 * h);
     }
-    return j;
   }
 
  private:
@@ -116,10 +128,12 @@ class Pilot15::System {
   int n_;
   Operating op_{};
   mutable std::vector<double> y_;
+  mutable Eigen::VectorXd sp_, up_, down_;  // Jacobian scratch
 };
 
 struct Pilot15::Workspace {
-  explicit Workspace(const Pilot15& m) : system(m), stepper(m.state_size()) {}
+  explicit Workspace(const Pilot15& m)
+      : system(m), solver(m.state_size()), stepper(m.state_size()) {}
   System system;
   DenseSolver<System> solver;
   Rosenbrock4<System, DenseSolver<System>> stepper;
@@ -255,10 +269,14 @@ void Pilot15::check_state(const Eigen::VectorXd& s) const {
   }
 }
 
+void Pilot15::prepare() const {
+  if (!work_) work_ = std::make_unique<Workspace>(*this);
+}
+
 void Pilot15::integrate(Eigen::VectorXd& s, const Operating& op, double duration_min,
                         StepMemory& steps, const Tolerance& tol, IntegrationStats* stats) const {
   validate(op, "pilot15 inputs");
-  if (!work_) work_ = std::make_unique<Workspace>(*this);
+  prepare();
   work_->system.set_operating(op);
   work_->stepper.integrate(work_->system, work_->solver, s, duration_min, steps, tol, stats);
   check_state(s);

@@ -66,6 +66,7 @@ class Pilot15 final : public ColumnModel {
   void check_state(const Eigen::VectorXd& s) const override;
   void integrate(Eigen::VectorXd& s, const Operating& op, double duration_min, StepMemory& steps,
                  const Tolerance& tol, IntegrationStats* stats) const override;
+  void prepare() const override;
 
   const Pilot15Parameters& parameters() const { return p_; }
   /// Bubble temperatures (°C) of the drum (index 0) and trays 1…N.

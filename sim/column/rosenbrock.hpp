@@ -23,15 +23,19 @@
 #include <boost/numeric/odeint/stepper/rosenbrock4.hpp>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace excite::sim::column {
 
 /// Error tolerances of the step controller: a step is accepted when the root-mean-square
 /// over the components of error estimate / (absolute + relative·max(|s_old|, |s_new|))
-/// is at most 1.
+/// is at most 1. `max_steps` caps the work of one integrate() call: at most that many
+/// attempted steps (accepted + rejected), each one Jacobian factorisation, six derivative
+/// evaluations and six solves; 0 means no cap.
 struct Tolerance {
   double absolute = 1e-9;
   double relative = 1e-9;
+  long max_steps = 0;
 };
 
 /// Step-size memory carried from one integrate() call to the next (one per trajectory):
@@ -59,14 +63,21 @@ class Rosenbrock4 {
   /// times the first accepted step of the previous call (that step resolved the same kind
   /// of fast transient; this saves a rejected step per sample). The result depends only on
   /// (s, memory), never on earlier use of this object. Throws std::runtime_error if the
-  /// step size collapses.
+  /// step size collapses or tol.max_steps attempts do not reach the end (s and memory are
+  /// then partly advanced: the caller keeps its own copy to roll back).
   void integrate(const System& sys, Solver& solver, Eigen::VectorXd& s, double duration,
                  StepMemory& memory, const Tolerance& tol, IntegrationStats* stats = nullptr) {
     double t = 0.0;
     double h = std::min(memory.proposal > 0.0 ? memory.proposal : duration, duration);
     if (memory.first > 0.0) h = std::min(h, 1.5 * memory.first);
     bool first = true;
+    long attempts = 0;
     while (t < duration) {
+      if (tol.max_steps > 0 && attempts == tol.max_steps) {
+        throw std::runtime_error("Rosenbrock4: " + std::to_string(attempts) +
+                                 " steps did not reach the end of the interval (max_steps)");
+      }
+      ++attempts;
       const double remaining = duration - t;
       // Land on the end: the last step takes what remains; when less than two steps
       // remain, two equal steps replace a full one and a sliver.
@@ -150,19 +161,33 @@ class Rosenbrock4 {
 };
 
 /// Dense solver for small systems: partial-pivot LU of shift·I − J, with J from
-/// System::jacobian(s) (an n×n Eigen matrix).
+/// System::jacobian_into(s, J) when the system has it (no allocation once the buffers have
+/// their size), else from System::jacobian(s) (an n×n Eigen matrix).
 template <class System>
 class DenseSolver {
  public:
+  /// n: the system size, to size the buffers up front (0: on first use).
+  explicit DenseSolver(Eigen::Index n = 0) : m_(n, n), lu_(n), work_(n) {}
+
   void factorise(const System& sys, const Eigen::VectorXd& s, double shift) {
-    Eigen::MatrixXd m = -sys.jacobian(s);
-    m.diagonal().array() += shift;
-    lu_.compute(m);
+    if constexpr (requires { sys.jacobian_into(s, m_); }) {
+      sys.jacobian_into(s, m_);
+      m_ = -m_;
+    } else {
+      m_ = -sys.jacobian(s);
+    }
+    m_.diagonal().array() += shift;
+    lu_.compute(m_);
   }
-  void solve(Eigen::VectorXd& rhs) const { rhs = lu_.solve(rhs); }
+  void solve(Eigen::VectorXd& rhs) const {
+    work_ = rhs;
+    rhs.noalias() = lu_.solve(work_);
+  }
 
  private:
+  Eigen::MatrixXd m_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+  mutable Eigen::VectorXd work_;
 };
 
 }  // namespace excite::sim::column

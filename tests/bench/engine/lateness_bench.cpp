@@ -26,7 +26,7 @@
 #include "firmware/app/gateway.hpp"
 #include "firmware/app/realtime.hpp"
 #include "hal/posix/posix_clock.hpp"
-#include "hal/simlink/simlink_field_bus.hpp"
+#include "sim/simlink/simlink_field_bus.hpp"
 #include "sim/library/library.hpp"
 #include "tests/integration/engine/simlink_gateway.hpp"
 
@@ -120,11 +120,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", e->message.c_str());
     return 1;
   }
-  hal::simlink::SimLinkConfig sc;
+  sim::simlink::SimLinkConfig sc;
   sc.input_baseline.assign(testing::kU0, testing::kU0 + testing::kInputs);
   sc.output_baseline = {0, 0, 0, 0};
   sc.command_register = true;
-  hal::simlink::SimLinkFieldBus bus(sim::library_plant("alatiqi4x4"), gw.sample_time().count(), sc);
+  sim::simlink::SimLinkFieldBus bus(sim::library_plant("alatiqi4x4"), gw.sample_time().count(), sc);
   hal::PosixClock clock;
   std::vector<std::uint64_t> bins(kBins, 0);
   gw.set_lateness_histogram(bins);

@@ -16,7 +16,7 @@
 #include "firmware/app/command_mailbox.hpp"
 #include "firmware/app/gateway.hpp"
 #include "firmware/app/realtime.hpp"
-#include "hal/simlink/simlink_field_bus.hpp"
+#include "sim/simlink/simlink_field_bus.hpp"
 #include "sim/library/library.hpp"
 #include "tests/integration/engine/simlink_gateway.hpp"
 
@@ -60,11 +60,11 @@ int main(int argc, char** argv) {
     return 1;
   }
   hal::VirtualClock clock;
-  hal::simlink::SimLinkConfig sc;
+  sim::simlink::SimLinkConfig sc;
   sc.input_baseline.assign(testing::kU0, testing::kU0 + testing::kInputs);
   sc.output_baseline = {0, 0, 0, 0};
   sc.command_register = true;
-  hal::simlink::SimLinkFieldBus bus(sim::library_plant("alatiqi4x4"), gw.sample_time().count(), sc,
+  sim::simlink::SimLinkFieldBus bus(sim::library_plant("alatiqi4x4"), gw.sample_time().count(), sc,
                                     &clock);
   if (auto e = gw.arm(bus, clock)) {
     std::fprintf(stderr, "%s\n", e->message.c_str());

@@ -25,7 +25,7 @@
 #include "firmware/app/gateway.hpp"
 #include "firmware/engine/engine.hpp"
 #include "firmware/runlog/reader.hpp"
-#include "hal/simlink/simlink_field_bus.hpp"
+#include "sim/simlink/simlink_field_bus.hpp"
 #include "sim/library/library.hpp"
 #include "tests/integration/engine/simlink_gateway.hpp"
 
@@ -49,12 +49,12 @@ class GatewayLoop : public ::testing::Test {
  protected:
   void SetUp() override {
     plan_file_ = example_plan_file();
-    hal::simlink::SimLinkConfig sc;
+    sim::simlink::SimLinkConfig sc;
     sc.input_baseline.assign(kU0, kU0 + kInputs);
     sc.output_baseline.assign(kY0, kY0 + kOutputs);
     sc.command_register = true;
     sc.exchange_time = std::chrono::milliseconds(2);
-    bus_ = std::make_unique<hal::simlink::SimLinkFieldBus>(sim::library_plant("alatiqi4x4"), 1.0,
+    bus_ = std::make_unique<sim::simlink::SimLinkFieldBus>(sim::library_plant("alatiqi4x4"), 1.0,
                                                            sc, &clock_);
     config_ = simlink_config({});
     log_path_ = (std::filesystem::temp_directory_path() /
@@ -115,7 +115,7 @@ class GatewayLoop : public ::testing::Test {
   std::vector<std::uint8_t> plan_file_;
   signal::ConstTableView table_;
   hal::VirtualClock clock_;
-  std::unique_ptr<hal::simlink::SimLinkFieldBus> bus_;
+  std::unique_ptr<sim::simlink::SimLinkFieldBus> bus_;
   app::GatewayConfig config_;
   std::unique_ptr<app::Gateway> gateway_;
   std::size_t ring_records_ = kRing;

@@ -12,7 +12,7 @@ namespace excite::testing {
 
 class Faults final : public app::TickObserver {
  public:
-  explicit Faults(hal::simlink::SimLinkFieldBus& bus, app::CommandMailbox& commands)
+  explicit Faults(sim::simlink::SimLinkFieldBus& bus, app::CommandMailbox& commands)
       : bus_(bus), commands_(commands) {}
   void after_tick(const engine::Engine&, std::uint64_t tick) noexcept override {
     switch (tick % 500) {
@@ -43,7 +43,7 @@ class Faults final : public app::TickObserver {
   }
 
  private:
-  hal::simlink::SimLinkFieldBus& bus_;
+  sim::simlink::SimLinkFieldBus& bus_;
   app::CommandMailbox& commands_;
 };
 

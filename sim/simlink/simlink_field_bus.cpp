@@ -1,34 +1,49 @@
 // SPDX-License-Identifier: MIT
-#include "hal/simlink/simlink_field_bus.hpp"
+#include "sim/simlink/simlink_field_bus.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <exception>
 #include <stdexcept>
 #include <string>
 
-namespace excite::hal::simlink {
+namespace excite::sim::simlink {
 
-SimLinkFieldBus::SimLinkFieldBus(const sim::TransferMatrix& g, double sample_time_min,
-                                 SimLinkConfig config, VirtualClock* clock)
-    : plant_(g, sample_time_min),
-      config_(std::move(config)),
-      clock_(clock),
-      inputs_(static_cast<std::size_t>(g.inputs())),
-      outputs_(static_cast<std::size_t>(g.outputs())),
-      values_(outputs_),
-      held_(inputs_),
-      du_(inputs_),
-      y_(outputs_, 0.0),
-      disturbance_(outputs_) {
+using hal::Status;
+
+SimLinkFieldBus::SimLinkFieldBus(std::unique_ptr<Plant> plant, double sample_time_min,
+                                 SimLinkConfig config, hal::VirtualClock* clock)
+    : plant_(std::move(plant)), config_(std::move(config)), clock_(clock) {
+  if (!plant_) throw std::invalid_argument("simlink plant is null, expected a sim::Plant");
+  inputs_ = static_cast<std::size_t>(plant_->inputs());
+  outputs_ = static_cast<std::size_t>(plant_->outputs());
+  values_ = outputs_;
+  held_.assign(inputs_, 0.0);
+  du_.assign(inputs_, 0.0);
+  y_.assign(outputs_, 0.0);
+  disturbance_ = std::vector<std::atomic<double>>(outputs_);
+  if (config_.input_baseline.empty()) {
+    const Eigen::VectorXd u0 = plant_->input_baseline();
+    config_.input_baseline.assign(u0.data(), u0.data() + u0.size());
+  }
+  if (config_.output_baseline.empty()) {
+    const Eigen::VectorXd y0 = plant_->output_baseline();
+    config_.output_baseline.assign(y0.data(), y0.data() + y0.size());
+  }
   if (config_.input_baseline.size() != inputs_) {
     throw std::invalid_argument("simlink input_baseline has " +
                                 std::to_string(config_.input_baseline.size()) +
-                                " values, expected " + std::to_string(inputs_));
+                                " values, expected " + std::to_string(inputs_) + " (one per " +
+                                plant_->name() + " input, or none for the plant's own)");
   }
   if (config_.output_baseline.size() != outputs_) {
     throw std::invalid_argument("simlink output_baseline has " +
                                 std::to_string(config_.output_baseline.size()) +
-                                " values, expected " + std::to_string(outputs_));
+                                " values, expected " + std::to_string(outputs_) + " (one per " +
+                                plant_->name() + " output, or none for the plant's own)");
   }
+  plant_->reset(sample_time_min);
   held_ = config_.input_baseline;
   for (auto& d : disturbance_) d.store(0.0);
   if (config_.readbacks) {
@@ -38,6 +53,10 @@ SimLinkFieldBus::SimLinkFieldBus(const sim::TransferMatrix& g, double sample_tim
   if (config_.heartbeat_echo) echo_index_ = static_cast<int>(values_++);
   if (config_.command_register) command_index_ = static_cast<int>(values_++);
 }
+
+SimLinkFieldBus::SimLinkFieldBus(const TransferMatrix& g, double sample_time_min,
+                                 SimLinkConfig config, hal::VirtualClock* clock)
+    : SimLinkFieldBus(make_linear_plant("simlink", g), sample_time_min, std::move(config), clock) {}
 
 int SimLinkFieldBus::readback_index(std::size_t input) const noexcept {
   if (readback_base_ < 0 || input >= inputs_) return -1;
@@ -90,7 +109,15 @@ Status SimLinkFieldBus::write(std::span<const double> setpoints, std::uint16_t h
   }
   // The plant's time goes on whether or not the write arrived: one sample per write.
   for (std::size_t i = 0; i < inputs_; ++i) du_[i] = held_[i] - config_.input_baseline[i];
-  plant_.step(du_.data(), y_.data());
+  try {
+    plant_->step(du_, y_);
+  } catch (const std::exception& e) {  // the plant refused the sample; it did not happen
+    std::strncpy(plant_error_, e.what(), sizeof plant_error_ - 1);
+    plant_error_[sizeof plant_error_ - 1] = '\0';
+    detail_ = plant_error_;
+    plant_errors_.fetch_add(1);
+    return Status::peer_error;
+  }
   samples_.fetch_add(1);
   if (drop_this) return dropped;
   detail_ = "";
@@ -120,4 +147,4 @@ Status SimLinkFieldBus::read(std::span<double> values) noexcept {
   return Status::ok;
 }
 
-}  // namespace excite::hal::simlink
+}  // namespace excite::sim::simlink
