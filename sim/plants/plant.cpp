@@ -3,7 +3,10 @@
 
 #include <Eigen/LU>
 
+#include <cmath>
 #include <complex>
+#include <cstdio>
+#include <optional>
 #include <stdexcept>
 
 #include "sim/column/column_plant.hpp"
@@ -13,6 +16,44 @@
 
 namespace excite::sim {
 namespace {
+
+std::string number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.12g", v);
+  return text;
+}
+
+void require_sample_time(const std::string& plant, double sample_time_min) {
+  if (std::isfinite(sample_time_min) && sample_time_min > 0.0) return;
+  throw std::invalid_argument(plant + ": sample_time_min = " + number(sample_time_min) +
+                              ", expected a finite number of minutes > 0");
+}
+
+// The checks every step() makes before touching the plant (no allocation on success).
+void require_step_arguments(const std::string& plant, bool live, std::span<const double> du,
+                            std::span<double> dy, int inputs, int outputs) {
+  if (!live) {
+    throw std::invalid_argument(plant +
+                                ": step() before reset(sample_time_min): expected "
+                                "reset() to start the live simulation");
+  }
+  if (du.size() != static_cast<std::size_t>(inputs)) {
+    throw std::invalid_argument(plant + ": du has " + std::to_string(du.size()) +
+                                " values, expected " + std::to_string(inputs) +
+                                " (one deviation per input)");
+  }
+  if (dy.size() != static_cast<std::size_t>(outputs)) {
+    throw std::invalid_argument(plant + ": dy has " + std::to_string(dy.size()) +
+                                " values, expected " + std::to_string(outputs) +
+                                " (one deviation per output)");
+  }
+  for (std::size_t j = 0; j < du.size(); ++j) {
+    if (!std::isfinite(du[j])) {
+      throw std::invalid_argument(plant + ": du[" + std::to_string(j) + "] = " + number(du[j]) +
+                                  ", expected a finite deviation");
+    }
+  }
+}
 
 class LinearPlant final : public Plant {
  public:
@@ -28,6 +69,7 @@ class LinearPlant final : public Plant {
     return std::vector<std::string>(static_cast<std::size_t>(g_.outputs()), "-");
   }
   Eigen::VectorXd input_baseline() const override { return Eigen::VectorXd::Zero(g_.inputs()); }
+  Eigen::VectorXd output_baseline() const override { return Eigen::VectorXd::Zero(g_.outputs()); }
   Eigen::MatrixXd static_gain() const override { return g_.static_gain(); }
   Eigen::MatrixXcd frequency_response(double omega) const override {
     return g_.frequency_response(omega);
@@ -35,10 +77,24 @@ class LinearPlant final : public Plant {
   Eigen::MatrixXd simulate(const Eigen::MatrixXd& du, double sample_time_min) override {
     return DiscretePlant(g_, sample_time_min).simulate(du);
   }
+  void reset(double sample_time_min) override {
+    require_sample_time(name_, sample_time_min);
+    if (live_ && live_->sample_time_min() == sample_time_min) {
+      live_->reset();
+    } else {
+      live_.reset();
+      live_.emplace(g_, sample_time_min);
+    }
+  }
+  void step(std::span<const double> du, std::span<double> dy) override {
+    require_step_arguments(name_, live_.has_value(), du, dy, g_.inputs(), g_.outputs());
+    live_->step(du.data(), dy.data());
+  }
 
  private:
   std::string name_;
   TransferMatrix g_;
+  std::optional<DiscretePlant> live_;  // the live simulation, from reset() on
 };
 
 class Column final : public Plant {
@@ -54,6 +110,7 @@ class Column final : public Plant {
     const column::Operating op = column_.nominal_operating();
     return Eigen::Vector2d(op.reflux_kmol_min, op.boilup_kmol_min);
   }
+  Eigen::VectorXd output_baseline() const override { return column_.nominal_outputs(); }
   Eigen::MatrixXd static_gain() const override { return column_.static_gain(); }
   Eigen::MatrixXcd frequency_response(double omega) const override {
     const auto& lin = column_.linearise();
@@ -69,9 +126,22 @@ class Column final : public Plant {
     column_.reset();
     return column_.simulate(du, sample_time_min);
   }
+  // The live simulation runs on its own copy of the column (built at the first reset()), so
+  // simulate() leaves it alone.
+  void reset(double sample_time_min) override {
+    require_sample_time(column_.name(), sample_time_min);
+    if (!live_) live_.emplace(column::ColumnPlant::by_name(column_.name()));
+    live_->reset();
+    live_->set_sample_time_min(sample_time_min);
+  }
+  void step(std::span<const double> du, std::span<double> dy) override {
+    require_step_arguments(column_.name(), live_.has_value(), du, dy, 2, 2);
+    live_->step(du.data(), dy.data());
+  }
 
  private:
   column::ColumnPlant column_;
+  std::optional<column::ColumnPlant> live_;
 };
 
 }  // namespace
