@@ -4,11 +4,13 @@
 #include <toml++/toml.h>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 
+#include "firmware/app/register_range.hpp"
 #include "firmware/runlog/format.hpp"
 
 namespace excite::app {
@@ -140,12 +142,33 @@ void parse_gateway(const toml::table& t, GatewayConfig& c) {
     c.realtime_priority = static_cast<int>(*v);
 }
 
-void parse_device(const toml::table& t, hal::modbus::ModbusDevice& d) {
+Transport parse_transport(const toml::table& t) {
+  const auto s = text(t, "device", "transport");
+  if (!s || *s == "modbus-tcp" || *s == "tcp") return Transport::modbus_tcp;
+  if (*s == "modbus-rtu" || *s == "rtu") return Transport::modbus_rtu;
+  if (*s == "can") return Transport::can;
+  throw ConfigError("device.transport", '"' + *s + '"',
+                    "\"modbus-tcp\", \"modbus-rtu\" or \"can\" (\"tcp\" and \"rtu\" are still "
+                    "accepted)");
+}
+
+void parse_device(const toml::table& t, GatewayConfig& c) {
   const std::string w = "device";
+  c.transport = parse_transport(t);
+  if (const toml::node* n = t.get("simulator")) {
+    const auto b = n->value_exact<bool>();
+    if (!b) throw ConfigError(w + ".simulator", describe(*n), "true or false");
+    c.simulator = *b;
+  }
+  if (c.transport == Transport::can) {
+    check_keys(t, w, {"transport", "simulator"});  // the CAN device is the [can] section
+    return;
+  }
+  hal::modbus::ModbusDevice& d = c.modbus.device;
   check_keys(t, w,
-             {"transport", "host", "port", "serial_port", "baud", "parity", "data_bits",
-              "stop_bits", "unit_id", "response_timeout_ms"});
-  if (auto s = text(t, w, "transport")) d.transport = *s;
+             {"transport", "simulator", "host", "port", "serial_port", "baud", "parity",
+              "data_bits", "stop_bits", "unit_id", "response_timeout_ms"});
+  d.transport = c.transport == Transport::modbus_tcp ? "tcp" : "rtu";
   if (auto s = text(t, w, "host")) d.host = *s;
   if (auto v = integer(t, w, "port", 0, 1 << 30)) d.port = static_cast<std::uint32_t>(*v);
   if (auto s = text(t, w, "serial_port")) d.serial_port = *s;
@@ -159,7 +182,57 @@ void parse_device(const toml::table& t, hal::modbus::ModbusDevice& d) {
   }
 }
 
-// The register fields shared by setpoints and values.
+bool flag(const toml::table& t, const std::string& where, const std::string& key) {
+  const toml::node* n = t.get(key);
+  if (n == nullptr) return false;
+  const auto b = n->value_exact<bool>();
+  if (!b) throw ConfigError(where + "." + key, describe(*n), "true or false");
+  return *b;
+}
+
+// The [can] section: interface, timeouts and the heartbeat's place in a setpoint frame.
+void parse_can(const toml::table& t, hal::can::CanConfig& c) {
+  const std::string w = "can";
+  check_keys(
+      t, w,
+      {"interface", "value_timeout_ms", "enobufs_limit", "heartbeat_id", "heartbeat_extended",
+       "heartbeat_byte_offset", "heartbeat_type", "heartbeat_byte_order"});
+  auto iface = text(t, w, "interface");
+  if (!iface) throw ConfigError(w + ".interface", "(missing)", "a SocketCAN interface, e.g. can0");
+  c.interface = *iface;
+  if (auto v = integer(t, w, "value_timeout_ms", 0, 1 << 30)) {
+    c.value_timeout_ms = static_cast<std::int32_t>(*v);
+  }
+  if (auto v = integer(t, w, "enobufs_limit", 0, 1 << 30)) {
+    c.enobufs_limit = static_cast<std::uint32_t>(*v);
+  }
+  if (auto id = integer(t, w, "heartbeat_id", 0, 0x1FFFFFFF)) {
+    hal::can::CanSignal hb;
+    hb.name = "heartbeat";
+    hb.id = static_cast<std::uint32_t>(*id);
+    hb.extended = flag(t, w, "heartbeat_extended");
+    hb.byte_offset =
+        static_cast<std::uint32_t>(integer(t, w, "heartbeat_byte_offset", 0, 7).value_or(0));
+    hb.type = text(t, w, "heartbeat_type").value_or("uint16");
+    hb.byte_order = text(t, w, "heartbeat_byte_order").value_or("little");
+    c.map.heartbeat = hb;
+  } else {
+    for (const char* key : {"heartbeat_extended", "heartbeat_byte_offset", "heartbeat_type",
+                            "heartbeat_byte_order"}) {
+      if (const toml::node* n = t.get(key)) {
+        throw ConfigError(w + "." + key, describe(*n), "heartbeat_id as well");
+      }
+    }
+  }
+}
+
+// The register fields shared by setpoints and values (Modbus transports).
+const std::set<std::string> kModbusKeys = {"address", "function_code", "type",    "word_order",
+                                           "eng_min", "eng_max",       "raw_min", "raw_max"};
+// The frame layout shared by setpoints and values (transport can).
+const std::set<std::string> kCanKeys = {"can_id",     "extended", "byte_offset", "type",
+                                        "byte_order", "scale",    "offset"};
+
 void parse_register(const toml::table& t, const std::string& w, hal::modbus::RegisterEntry& e) {
   e.address = static_cast<std::uint32_t>(integer(t, w, "address", 0, 1 << 20).value_or(0));
   if (t.get("address") == nullptr) throw ConfigError(w + ".address", "(missing)", "an address");
@@ -170,6 +243,25 @@ void parse_register(const toml::table& t, const std::string& w, hal::modbus::Reg
   if (auto v = number(t, w, "eng_max")) e.eng_max = *v;
   if (auto v = integer(t, w, "raw_min", -32768, 65535)) e.raw_min = static_cast<std::int32_t>(*v);
   if (auto v = integer(t, w, "raw_max", -32768, 65535)) e.raw_max = static_cast<std::int32_t>(*v);
+}
+
+void parse_signal(const toml::table& t, const std::string& w, hal::can::CanSignal& s) {
+  auto id = integer(t, w, "can_id", 0, 0x1FFFFFFF);
+  if (!id) throw ConfigError(w + ".can_id", "(missing)", "a CAN identifier (e.g. 0x210)");
+  s.id = static_cast<std::uint32_t>(*id);
+  s.extended = flag(t, w, "extended");
+  s.byte_offset = static_cast<std::uint32_t>(integer(t, w, "byte_offset", 0, 7).value_or(0));
+  if (auto v = text(t, w, "type")) s.type = *v;
+  if (auto v = text(t, w, "byte_order")) s.byte_order = *v;
+  if (auto v = number(t, w, "scale")) s.scale = *v;
+  if (auto v = number(t, w, "offset")) s.offset = *v;
+}
+
+// The keys an entry may carry: its own plus the transport's mapping keys.
+std::set<std::string> entry_keys(std::set<std::string> own, Transport transport) {
+  const auto& mapping = transport == Transport::can ? kCanKeys : kModbusKeys;
+  own.insert(mapping.begin(), mapping.end());
+  return own;
 }
 
 std::string channel_name(const toml::table& t, const std::string& w) {
@@ -208,8 +300,7 @@ void parse_setpoints(const toml::table& root, GatewayConfig& c) {
     if (!node.is_table()) throw ConfigError(w, describe(node), "a table");
     const toml::table& t = *node.as_table();
     check_keys(t, w,
-               {"name", "unit", "address", "function_code", "type", "word_order", "eng_min",
-                "eng_max", "raw_min", "raw_max", "min", "max", "max_move", "readback"});
+               entry_keys({"name", "unit", "min", "max", "max_move", "readback"}, c.transport));
     SetpointSpec s;
     s.name = channel_name(t, w);
     s.unit = channel_unit(t, w);
@@ -225,11 +316,18 @@ void parse_setpoints(const toml::table& root, GatewayConfig& c) {
     auto rb = text(t, w, "readback");
     if (!rb) throw ConfigError(w + ".readback", "(missing)", "the name of a readback value");
     s.readback = *rb;
-    hal::modbus::RegisterEntry e;
-    e.name = s.name;
-    e.function_code = 16;
-    parse_register(t, w, e);
-    c.modbus.map.setpoints.push_back(e);
+    if (c.transport == Transport::can) {
+      hal::can::CanSignal e;
+      e.name = s.name;
+      parse_signal(t, w, e);
+      c.can.map.setpoints.push_back(e);
+    } else {
+      hal::modbus::RegisterEntry e;
+      e.name = s.name;
+      e.function_code = 16;
+      parse_register(t, w, e);
+      c.modbus.map.setpoints.push_back(e);
+    }
     c.setpoints.push_back(s);
   }
   if (c.setpoints.empty() || c.setpoints.size() > engine::kMaxInputs) {
@@ -245,9 +343,9 @@ void parse_values(const toml::table& root, GatewayConfig& c) {
     const std::string w = "values[" + std::to_string(i++) + "]";
     if (!node.is_table()) throw ConfigError(w, describe(node), "a table");
     const toml::table& t = *node.as_table();
-    check_keys(t, w,
-               {"name", "unit", "address", "function_code", "type", "word_order", "eng_min",
-                "eng_max", "raw_min", "raw_max", "role", "test_low", "test_high", "hysteresis"});
+    check_keys(
+        t, w,
+        entry_keys({"name", "unit", "role", "test_low", "test_high", "hysteresis"}, c.transport));
     ValueSpec v;
     v.name = channel_name(t, w);
     v.unit = channel_unit(t, w);
@@ -282,16 +380,48 @@ void parse_values(const toml::table& root, GatewayConfig& c) {
                         ">= 0 and 2 * hysteresis < test_high - test_low (with test_low < "
                         "test_high)");
     }
-    hal::modbus::RegisterEntry e;
-    e.name = v.name;
-    e.function_code = 3;
-    parse_register(t, w, e);
-    c.modbus.map.values.push_back(e);
+    if (c.transport == Transport::can) {
+      hal::can::CanSignal e;
+      e.name = v.name;
+      parse_signal(t, w, e);
+      c.can.map.values.push_back(e);
+    } else {
+      hal::modbus::RegisterEntry e;
+      e.name = v.name;
+      e.function_code = 3;
+      parse_register(t, w, e);
+      c.modbus.map.values.push_back(e);
+    }
     c.values.push_back(v);
   }
   if (c.values.empty() || c.values.size() > engine::kMaxValues) {
     throw ConfigError("values", std::to_string(c.values.size()) + " entries",
                       "1…" + std::to_string(engine::kMaxValues));
+  }
+}
+
+std::string g17(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+// A setpoint's limits must lie inside what its register (signal) can carry: the bus would
+// clip a setpoint beyond it without the engine knowing.
+void check_representable(const GatewayConfig& c) {
+  const std::vector<CarriedRange> ranges = setpoint_ranges(c);
+  for (std::size_t i = 0; i < ranges.size() && i < c.setpoints.size(); ++i) {
+    const CarriedRange& r = ranges[i];
+    if (!r.bounded) continue;
+    const std::string w = "setpoints[" + std::to_string(i) + "]";
+    if (c.setpoints[i].min < r.low) {
+      throw ConfigError(w + ".min", g17(c.setpoints[i].min),
+                        ">= " + g17(r.low) + ", the least " + r.what + " can carry");
+    }
+    if (c.setpoints[i].max > r.high) {
+      throw ConfigError(w + ".max", g17(c.setpoints[i].max),
+                        "<= " + g17(r.high) + ", the most " + r.what + " can carry");
+    }
   }
 }
 
@@ -331,11 +461,37 @@ void cross_check(GatewayConfig& c) {
                    [](const ValueSpec& v) { return v.role == ValueRole::output; })) {
     throw ConfigError("values", "no output", "at least one value with role = \"output\"");
   }
-  const hal::Validation v = hal::modbus::validate(c.modbus);
-  if (!v.ok()) throw ConfigError(v.field, v.value, v.expected);
+  if (c.transport == Transport::can) {
+    hal::Validation v = hal::can::validate(c.can);
+    if (!v.ok()) {
+      // hal names the frame map's fields; the file spells them can_id and [can].heartbeat_*.
+      if (v.field.rfind("heartbeat.", 0) == 0) {
+        v.field = "can.heartbeat_" + v.field.substr(10);
+      } else if (v.field.size() > 3 && v.field.compare(v.field.size() - 3, 3, ".id") == 0) {
+        v.field = v.field.substr(0, v.field.size() - 3) + ".can_id";
+      }
+      throw ConfigError(v.field, v.value, v.expected);
+    }
+  } else {
+    const hal::Validation v = hal::modbus::validate(c.modbus);
+    if (!v.ok()) throw ConfigError(v.field, v.value, v.expected);
+  }
+  check_representable(c);
 }
 
 }  // namespace
+
+const char* to_string(Transport transport) noexcept {
+  switch (transport) {
+    case Transport::modbus_tcp:
+      return "modbus-tcp";
+    case Transport::modbus_rtu:
+      return "modbus-rtu";
+    case Transport::can:
+      return "can";
+  }
+  return "unknown";
+}
 
 ConfigResult parse_gateway_config(std::string_view text_in, std::string_view source) {
   ConfigResult result;
@@ -343,9 +499,23 @@ ConfigResult parse_gateway_config(std::string_view text_in, std::string_view sou
     toml::table root = toml::parse(text_in, source);
     GatewayConfig c;
     c.source = std::string(source);
-    check_keys(root, "", {"gateway", "device", "map", "setpoints", "values"});
+    check_keys(root, "", {"gateway", "device", "map", "can", "setpoints", "values"});
     if (const toml::table* g = table_at(root, "gateway", false)) parse_gateway(*g, c);
-    parse_device(*table_at(root, "device", true), c.modbus.device);
+    parse_device(*table_at(root, "device", true), c);
+    const toml::table* can = table_at(root, "can", false);
+    if (c.transport == Transport::can) {
+      if (can == nullptr)
+        throw ConfigError("[can]", "(missing)", "a table with transport = \"can\"");
+      parse_can(*can, c.can);
+      if (const toml::node* m = root.get("map")) {
+        throw ConfigError("map", describe(*m),
+                          "no [map] with transport = \"can\" (the heartbeat is can.heartbeat_id)");
+      }
+    } else if (can != nullptr) {
+      throw ConfigError(
+          "can", "a table",
+          "no [can] section with transport = \"" + std::string(to_string(c.transport)) + "\"");
+    }
     if (const toml::table* m = table_at(root, "map", false)) {
       check_keys(*m, "map", {"heartbeat_address", "write_chunk", "read_chunk"});
       if (auto v = integer(*m, "map", "heartbeat_address", 0, 1 << 20)) {

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // The gateway configuration file (TOML; README.md has the complete example): run
-// parameters in seconds, the Modbus device and register map (hal's ModbusConfig), and per
-// setpoint and per value what the engine needs (absolute limits, slew, readback, test
-// limits, roles). Parsed once at start-up (allocates); every error names the file, the
-// key, the value found and what was expected.
+// parameters in seconds, the transport (Modbus TCP, Modbus RTU or CAN) with its device and
+// register or frame map (hal's ModbusConfig or CanConfig), and per setpoint and per value
+// what the engine needs (absolute limits, slew, readback, test limits, roles). Parsed once
+// at start-up (allocates); every error names the file, the key, the value found and what
+// was expected.
 
 #include <cstdint>
 #include <optional>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "firmware/engine/config.hpp"
+#include "hal/can/can_field_bus.hpp"
 #include "hal/modbus/modbus_field_bus.hpp"
 
 namespace excite::app {
@@ -24,6 +26,15 @@ enum class ValueRole : std::uint8_t {
   heartbeat_echo,  // the peer's echo of the heartbeat counter
   command,         // the operator command register: 1 start, 2 suspend, 3 resume, 4 abort
 };
+
+/// The field bus the gateway talks to ([device] transport).
+enum class Transport : std::uint8_t {
+  modbus_tcp,  // "modbus-tcp" (also accepted: "tcp")
+  modbus_rtu,  // "modbus-rtu" (also accepted: "rtu")
+  can,         // "can": SocketCAN, the [can] section and per-entry frame layout
+};
+
+const char* to_string(Transport transport) noexcept;
 
 struct SetpointSpec {
   std::string name;  // run-log channel name: letters, digits, _ . -
@@ -52,10 +63,14 @@ struct GatewayConfig {
   double suspend_timeout_s = 0.0;  // suspended this long → abort; 0 = never
   std::uint32_t comm_fail_limit = 3;
   engine::CommLossAction comm_loss = engine::CommLossAction::hold;
-  double heartbeat_max_lag_s = 0.0;     // with a heartbeat_echo value; 0 → 3 ticks
-  std::uint32_t log_ring = 4096;        // run-log ring records
-  int realtime_priority = 80;           // SCHED_FIFO priority; 0 = leave the scheduler alone
-  hal::modbus::ModbusConfig modbus;     // device and register map
+  double heartbeat_max_lag_s = 0.0;  // with a heartbeat_echo value; 0 → 3 ticks
+  std::uint32_t log_ring = 4096;     // run-log ring records
+  int realtime_priority = 80;        // SCHED_FIFO priority; 0 = leave the scheduler alone
+  Transport transport = Transport::modbus_tcp;
+  bool simulator = false;               // [device] simulator: the peer is a simulated plant
+                                        // (allows --clock lockstep)
+  hal::modbus::ModbusConfig modbus;     // transport modbus-*: device and register map
+  hal::can::CanConfig can;              // transport can: interface and frame map
   std::vector<SetpointSpec> setpoints;  // in plan channel order
   std::vector<ValueSpec> values;        // in register-map order
 };

@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "firmware/app/bus_factory.hpp"
 #include "firmware/app/command_mailbox.hpp"
 #include "firmware/app/exit_codes.hpp"
 #include "firmware/app/gateway_config.hpp"
@@ -26,7 +27,6 @@
 #include "firmware/engine/load_plan.hpp"
 #include "firmware/plan/plan.hpp"
 #include "firmware/signal/generate.hpp"
-#include "hal/modbus/modbus_field_bus.hpp"
 #include "hal/posix/posix_clock.hpp"
 
 namespace {
@@ -107,42 +107,55 @@ void print_dry_run(const excite::app::GatewayConfig& config, const excite::plan:
   std::printf("plan: %s, %u channels x %u samples, T = %g s; tick period %g s\n",
               excite::plan::text_of(plan.meta.design_name).data(), table.channels, table.samples,
               plan.meta.sample_time_s, period_s);
-  const auto& d = config.modbus.device;
-  if (d.transport == "tcp") {
-    std::printf("device: modbus tcp %s:%u unit %d, response timeout %d ms\n", d.host.c_str(),
-                d.port, d.unit_id, d.response_timeout_ms);
-  } else {
-    std::printf("device: modbus rtu %s %d baud unit %d\n", d.serial_port.c_str(), d.baud,
-                d.unit_id);
-  }
-  std::printf("would write every tick (FC16), setpoint = baseline (read back at arm) + du:\n");
+  std::printf("device: %s%s\n", excite::app::describe_peer(config).c_str(),
+              config.simulator ? " (a simulated plant)" : "");
+  const bool can = config.transport == excite::app::Transport::can;
+  std::printf("would write every tick, setpoint = baseline (read back at arm) + du:\n");
   for (std::size_t c = 0; c < config.setpoints.size(); ++c) {
     const auto& s = config.setpoints[c];
-    const auto& r = config.modbus.map.setpoints[c];
     double lo = 0.0;
     double hi = 0.0;
     for (std::uint32_t k = 0; k < table.samples; ++k) {
       lo = std::min(lo, table.at(k, static_cast<std::uint32_t>(c)));
       hi = std::max(hi, table.at(k, static_cast<std::uint32_t>(c)));
     }
+    if (can) {
+      const auto& g = config.can.map.setpoints[c];
+      std::printf("  %-12s CAN 0x%03X byte %u %-7s %-6s scale %g offset %g", s.name.c_str(), g.id,
+                  g.byte_offset, g.type.c_str(), g.byte_order.c_str(), g.scale, g.offset);
+    } else {
+      const auto& r = config.modbus.map.setpoints[c];
+      std::printf("  %-12s register %5u %-7s %-4s", s.name.c_str(), r.address, r.type.c_str(),
+                  r.type == "float32" ? r.word_order.c_str() : "");
+    }
     std::printf(
-        "  %-12s register %5u %-7s %-4s du in [%g, %g] %s, limits [%g, %g], max move %g/tick, "
-        "baseline from %s (plan channel \"%s\")\n",
-        s.name.c_str(), r.address, r.type.c_str(), r.type == "float32" ? r.word_order.c_str() : "",
+        " du in [%g, %g] %s, limits [%g, %g], max move %g/tick, baseline from %s (plan channel "
+        "\"%s\")\n",
         lo, hi, s.unit.c_str(), s.min, s.max, s.max_move, s.readback.c_str(),
         excite::plan::text_of(plan.meta.channels[c].name).data());
   }
-  if (config.modbus.map.heartbeat_address) {
+  if (!can && config.modbus.map.heartbeat_address) {
     std::printf("  heartbeat    register %5u uint16 counter, +1 per tick\n",
                 *config.modbus.map.heartbeat_address);
+  }
+  if (can && config.can.map.heartbeat) {
+    const auto& h = *config.can.map.heartbeat;
+    std::printf("  heartbeat    CAN 0x%03X byte %u %s counter, +1 per tick\n", h.id, h.byte_offset,
+                h.type.c_str());
   }
   std::printf("would read every tick:\n");
   for (std::size_t j = 0; j < config.values.size(); ++j) {
     const auto& v = config.values[j];
-    const auto& r = config.modbus.map.values[j];
     static const char* roles[] = {"output", "readback", "heartbeat_echo", "command"};
-    std::printf("  %-12s register %5u FC%02d %-7s %s", v.name.c_str(), r.address, r.function_code,
-                r.type.c_str(), roles[static_cast<int>(v.role)]);
+    if (can) {
+      const auto& g = config.can.map.values[j];
+      std::printf("  %-12s CAN 0x%03X byte %u %-7s %s", v.name.c_str(), g.id, g.byte_offset,
+                  g.type.c_str(), roles[static_cast<int>(v.role)]);
+    } else {
+      const auto& r = config.modbus.map.values[j];
+      std::printf("  %-12s register %5u FC%02d %-7s %s", v.name.c_str(), r.address, r.function_code,
+                  r.type.c_str(), roles[static_cast<int>(v.role)]);
+    }
     if (v.test_low)
       std::printf(", test limits [%g, %g] hysteresis %g", *v.test_low, *v.test_high, v.hysteresis);
     std::printf("\n");
@@ -222,13 +235,14 @@ int main(int argc, char** argv) {
   // 3. Log file, then the bus (connects; nothing written), then arm (reads only).
   std::FILE* log = std::fopen(log_path.c_str(), "w");
   if (log == nullptr) return fail(ExitCode::log_error, log_path + ": cannot open for writing");
-  excite::hal::modbus::ModbusFieldBus bus;
-  if (auto v = bus.configure(config.modbus); !v.ok()) {
+  excite::hal::PosixClock clock;
+  excite::app::BusResult made = excite::app::make_field_bus(config, clock);
+  if (!made.bus) {
     std::fclose(log);
     std::remove(log_path.c_str());
-    return fail(ExitCode::device, config_path + ": " + v.message());
+    return fail(ExitCode::device, config_path + ": " + made.error);
   }
-  excite::hal::PosixClock clock;
+  excite::hal::FieldBus& bus = *made.bus;
   std::vector<engine::TickRecord> ring_storage(config.log_ring);  // sized once
   engine::SpanLogRing ring(ring_storage);
   excite::app::Runner runner(*eng, bus, clock, ring,

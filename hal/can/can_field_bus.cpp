@@ -56,10 +56,9 @@ void CanFieldBus::release() noexcept {
   }
 }
 
-Validation CanFieldBus::prepare(const CanConfig& config, CanPlan& plan) {
-  release();
-  plan_ = CanPlan{};
-  std::snprintf(detail_, sizeof detail_, "not configured");
+namespace {
+
+Validation check_settings(const CanConfig& config) {
   if (config.interface.empty() || config.interface.size() >= IFNAMSIZ) {
     return Validation::invalid(
         "can.interface", "\"" + config.interface + "\"",
@@ -72,6 +71,22 @@ Validation CanFieldBus::prepare(const CanConfig& config, CanPlan& plan) {
   if (config.enobufs_limit < 1) {
     return Validation::invalid("can.enobufs_limit", "0", "at least 1 write() call");
   }
+  return Validation::valid();
+}
+
+}  // namespace
+
+Validation validate(const CanConfig& config) {
+  if (Validation v = check_settings(config); !v.ok()) return v;
+  CanPlan plan;
+  return compile_frame_map(config.map, plan);
+}
+
+Validation CanFieldBus::prepare(const CanConfig& config, CanPlan& plan) {
+  release();
+  plan_ = CanPlan{};
+  std::snprintf(detail_, sizeof detail_, "not configured");
+  if (Validation v = check_settings(config); !v.ok()) return v;
   return compile_frame_map(config.map, plan);
 }
 

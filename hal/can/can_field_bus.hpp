@@ -24,6 +24,10 @@ struct CanConfig {
   std::uint32_t enobufs_limit = 10;     // consecutive write() calls with ENOBUFS = link loss
 };
 
+// Checks the interface name, the timeouts and the frame map without opening a socket
+// (what can be checked of a CAN configuration on a machine without AF_CAN).
+Validation validate(const CanConfig& config);
+
 // Whether this kernel can open a SocketCAN raw socket. reason: "" when ok, else a
 // static string naming the call and errno (e.g. EAFNOSUPPORT: no AF_CAN).
 struct SocketCanSupport {

@@ -13,9 +13,10 @@ namespace excite::app {
 namespace {
 
 const std::string kExample = EXCITE_EXAMPLE_CONFIG;
+const std::string kCanExample = EXCITE_CAN_EXAMPLE_CONFIG;
 
-std::string example_text() {
-  std::ifstream in(kExample);
+std::string example_text(const std::string& path = kExample) {
+  std::ifstream in(path);
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
@@ -37,6 +38,134 @@ TEST(GatewayConfigTest, TheDocumentedExampleParses) {
   EXPECT_EQ(c.modbus.map.setpoints[2].type, "int16");
   EXPECT_EQ(c.modbus.map.values[0].function_code, 4);
   EXPECT_EQ(output_indices(c), (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(c.transport, Transport::modbus_tcp);
+  EXPECT_EQ(c.modbus.device.transport, "tcp");
+  EXPECT_FALSE(c.simulator);
+}
+
+TEST(GatewayConfigTest, TransportNamesOldAndNew) {
+  const std::pair<const char*, Transport> cases[] = {{"modbus-tcp", Transport::modbus_tcp},
+                                                     {"tcp", Transport::modbus_tcp},
+                                                     {"modbus-rtu", Transport::modbus_rtu},
+                                                     {"rtu", Transport::modbus_rtu}};
+  for (const auto& [name, transport] : cases) {
+    std::string text = example_text();
+    text.replace(text.find("\"modbus-tcp\""), 12, std::string("\"") + name + "\"");
+    if (transport == Transport::modbus_rtu) {
+      text.replace(text.find("host = \"10.0.0.5\""), 17, "serial_port = \"/dev/ttyS0\"");
+    }
+    const ConfigResult r = parse_gateway_config(text, "gw.toml");
+    ASSERT_TRUE(r.config) << name << ": " << r.error;
+    EXPECT_EQ(r.config->transport, transport) << name;
+    EXPECT_EQ(r.config->modbus.device.transport,
+              transport == Transport::modbus_tcp ? "tcp" : "rtu");
+  }
+  std::string text = example_text();
+  text.replace(text.find("\"modbus-tcp\""), 12, "\"udp\"");
+  EXPECT_EQ(error_of(text),
+            "gw.toml: device.transport = \"udp\": expected \"modbus-tcp\", \"modbus-rtu\" or "
+            "\"can\" (\"tcp\" and \"rtu\" are still accepted)");
+}
+
+TEST(GatewayConfigTest, SimulatorFlag) {
+  std::string text = example_text();
+  text.replace(text.find("# simulator = false"), 19, "simulator = true");
+  const ConfigResult r = parse_gateway_config(text, "gw.toml");
+  ASSERT_TRUE(r.config) << r.error;
+  EXPECT_TRUE(r.config->simulator);
+  text.replace(text.find("simulator = true"), 16, "simulator = 1");
+  EXPECT_EQ(error_of(text), "gw.toml: device.simulator = 1: expected true or false");
+}
+
+TEST(GatewayConfigTest, TheCanExampleMapsSetpointsAndValuesToFrames) {
+  const ConfigResult r = load_gateway_config(kCanExample);
+  ASSERT_TRUE(r.config) << r.error;
+  const GatewayConfig& c = *r.config;
+  EXPECT_EQ(c.transport, Transport::can);
+  EXPECT_EQ(c.can.interface, "can0");
+  EXPECT_EQ(c.can.value_timeout_ms, 500);
+  ASSERT_EQ(c.can.map.setpoints.size(), 2U);
+  EXPECT_EQ(c.can.map.setpoints[1].id, 0x210U);
+  EXPECT_EQ(c.can.map.setpoints[1].byte_offset, 2U);
+  EXPECT_EQ(c.can.map.setpoints[1].type, "int16");
+  EXPECT_EQ(c.can.map.setpoints[1].scale, 0.001);
+  ASSERT_TRUE(c.can.map.heartbeat.has_value());
+  EXPECT_EQ(c.can.map.heartbeat->id, 0x210U);
+  EXPECT_EQ(c.can.map.heartbeat->byte_offset, 4U);
+  ASSERT_EQ(c.can.map.values.size(), 6U);
+  EXPECT_EQ(c.can.map.values[1].type, "float32");
+  EXPECT_EQ(c.can.map.values[1].byte_offset, 4U);
+  EXPECT_EQ(c.can.map.values[5].id, 0x311U);
+  EXPECT_TRUE(c.modbus.map.setpoints.empty());
+  const engine::EngineConfig e = to_engine_config(c, 60.0);
+  EXPECT_EQ(e.input[1].readback, 3);
+  EXPECT_EQ(e.heartbeat_echo, 4);
+  EXPECT_EQ(e.command_value, 5);
+}
+
+TEST(GatewayConfigTest, CanFrameLayoutErrorsNameTheKeyOfTheFile) {
+  std::string text = example_text(kCanExample);
+  text.replace(text.find("byte_offset = 2"), 15, "byte_offset = 1");  // V over L's byte 1
+  std::string e = error_of(text);
+  EXPECT_NE(e.find("gw.toml: setpoints[1].byte_offset = 1: expected no overlap with "
+                   "setpoints[0] in frame 0x210"),
+            std::string::npos)
+      << e;
+  text = example_text(kCanExample);
+  text.replace(text.find("can_id = 0x310"), 14, "can_id = 0x800");
+  EXPECT_EQ(error_of(text),
+            "gw.toml: values[0].can_id = 0x800: expected 0x0..0x7FF (11-bit identifier; set "
+            "extended for 29-bit)");
+  text = example_text(kCanExample);
+  text.replace(text.find("heartbeat_type = \"uint16\""), 25, "heartbeat_type = \"int32\"");
+  EXPECT_EQ(error_of(text),
+            "gw.toml: can.heartbeat_type = \"int32\": expected uint8 or uint16 (a counter)");
+}
+
+TEST(GatewayConfigTest, TransportSpecificKeysAndSectionsAreChecked) {
+  std::string text = example_text(kCanExample);  // a Modbus key under CAN
+  text.replace(text.find("byte_offset = 0"), 15, "address = 100");
+  std::string e = error_of(text);
+  EXPECT_NE(e.find("gw.toml: setpoints[0].address = 100: expected one of the known keys"),
+            std::string::npos)
+      << e;
+  text = example_text(kCanExample);
+  text.replace(text.find("[can]"), 5, "[canbus]");
+  e = error_of(text);
+  EXPECT_NE(e.find("canbus"), std::string::npos) << e;
+  text = example_text(kCanExample);
+  text.replace(text.find("interface = \"can0\""), 18, "");
+  EXPECT_EQ(error_of(text),
+            "gw.toml: can.interface = (missing): expected a SocketCAN interface, e.g. can0");
+  text = example_text();
+  text += "\n[can]\ninterface = \"can0\"\n";
+  EXPECT_EQ(error_of(text),
+            "gw.toml: can = a table: expected no [can] section with transport = \"modbus-tcp\"");
+  text = example_text(kCanExample);
+  text.replace(text.find("can_id = 0x311\nbyte_offset = 6"), 14, "can_id = 0x210");
+  e = error_of(text);
+  EXPECT_NE(e.find("values[5].can_id = 0x210: expected an identifier not also used for "
+                   "setpoints"),
+            std::string::npos)
+      << e;
+}
+
+TEST(GatewayConfigTest, SetpointLimitsBeyondTheRegisterAreRefused) {
+  std::string text = example_text();  // S: int16, eng 0..2 on raw 0..27648
+  text.replace(text.find("max = 1.8"), 9, "max = 2.5");
+  EXPECT_EQ(error_of(text),
+            "gw.toml: setpoints[2].max = 2.5: expected <= 2, the most register 104 int16 raw "
+            "0..27648 = 0..2 can carry");
+  text = example_text();
+  text.replace(text.find("min = 0.2"), 9, "min = -0.5");
+  EXPECT_EQ(error_of(text),
+            "gw.toml: setpoints[2].min = -0.5: expected >= 0, the least register 104 int16 raw "
+            "0..27648 = 0..2 can carry");
+  text = example_text(kCanExample);  // L: int16 at 0.001 kmol/min per count
+  text.replace(text.find("max = 3.5"), 9, "max = 40.0");
+  EXPECT_EQ(error_of(text),
+            "gw.toml: setpoints[0].max = 40: expected <= 32.767000000000003, the most CAN 0x210 "
+            "int16 scale 0.001 offset 0 can carry");
 }
 
 TEST(GatewayConfigTest, SecondsBecomeTicksOfThePeriod) {

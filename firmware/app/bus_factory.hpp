@@ -1,0 +1,27 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The field bus of the configured transport, built and configured at start-up (allocates,
+// connects or opens the socket, writes nothing): Modbus TCP, Modbus RTU or SocketCAN.
+
+#include <memory>
+#include <string>
+
+#include "excite/hal/clock.hpp"
+#include "excite/hal/field_bus.hpp"
+#include "firmware/app/gateway_config.hpp"
+
+namespace excite::app {
+
+struct BusResult {
+  std::unique_ptr<hal::FieldBus> bus;  // configured; null on failure
+  std::string error;                   // "<field> = <value>: expected <what>" when !bus
+};
+
+/// `clock` is what the CAN bus measures the age of value frames with (a real clock even
+/// when the gateway ticks in lockstep); it must outlive the bus.
+BusResult make_field_bus(const GatewayConfig& config, const hal::Clock& clock);
+
+/// One line naming the peer, e.g. "modbus-tcp 10.0.0.5:502 unit 1, response timeout 200 ms".
+std::string describe_peer(const GatewayConfig& config);
+
+}  // namespace excite::app
