@@ -72,7 +72,9 @@ std::string gateway_toml(const LoopOptions& opt, const sim::Plant& plant,
   os << "[gateway]\nplant = " << toml_string(plant.name() + " (excite-plant)") << "\n";
   if (opt.period_s > 0.0) os << "period_s = " << toml_number(opt.period_s) << "\n";
   os << "comm_fail_limit = 3\ncomm_loss = \"hold\"\nrealtime_priority = 0\n\n";
-  os << "[device]\ntransport = \"tcp\"\nhost = " << toml_string(opt.host) << "\nport = " << opt.port
+  os << "[device]\ntransport = \"modbus-tcp\"\nsimulator = true   # the peer is excite-plant: "
+        "--clock lockstep allowed\nhost = "
+     << toml_string(opt.host) << "\nport = " << opt.port
      << "\nunit_id = 1\nresponse_timeout_ms = 1000\n\n";
   os << "[map]\nheartbeat_address = " << *map.heartbeat_address << "\n";
   const double move = opt.max_move > 0.0 ? opt.max_move : 2.0 * range;
@@ -156,7 +158,8 @@ void run(const LoopOptions& opt) {
   server.plant.sample_time_min = sample_time;
   const Eigen::VectorXd u0 = plant->input_baseline();
   std::vector<double> u0v(u0.data(), u0.data() + u0.size());
-  std::vector<double> y0v(static_cast<std::size_t>(plant->outputs()), 0.0);
+  const Eigen::VectorXd y0 = plant->output_baseline();
+  std::vector<double> y0v(y0.data(), y0.data() + y0.size());
   server.plant.input_baseline = u0v;
   server.plant.output_baseline = y0v;
   if (noise > 0.0) server.plant.noise_variance = {noise};

@@ -219,15 +219,14 @@ int main(int argc, char** argv) {
     if (app.count("--noise-var") > 0) config.plant.noise_variance = {noise_var};
     if (seed_opt->count() > 0) config.plant.noise_seed = seed;
     if (app.count("--sample-time-min") > 0) config.plant.sample_time_min = sample_time_min;
-    const excite::sim::PlantDefinition plant =
-        load_plant(config.plant, config.base_directory, source);
+    PlantProcess process(load_plant(config.plant, config.base_directory, source), config.plant);
+    const excite::sim::Plant& plant = process.plant();
     if (config_path.empty()) {
-      config.registers = default_registers(plant.g.inputs(), plant.g.outputs(),
-                                           plant.g.input_names(), plant.g.output_names());
+      config.registers = default_registers(plant.inputs(), plant.outputs(), plant.input_names(),
+                                           plant.output_names());
     }
     const ServerLayout layout =
-        compile_layout(config, plant.g.inputs(), plant.g.outputs(), options.lockstep, source);
-    PlantProcess process(plant.g, config.plant);
+        compile_layout(config, plant.inputs(), plant.outputs(), options.lockstep, source);
     RegisterImage image(layout, process.input_baseline(), process.output_baseline());
     if (speedup > 0.0) {
       options.sample_time_s = 60.0 * process.sample_time_min() / speedup;
@@ -235,10 +234,11 @@ int main(int argc, char** argv) {
       options.sample_time_s =
           sample_time_s > 0.0 ? sample_time_s : 60.0 * process.sample_time_min();
     }
-    options.plant_description =
-        plant.name.empty() ? config.plant.file : plant.name + " (excite-plant)";
-    options.input_names = plant.g.input_names();
-    options.output_names = plant.g.output_names();
+    options.plant_description = plant.name() + " (excite-plant)";
+    options.input_names = plant.input_names();
+    options.output_names = plant.output_names();
+    options.input_units = plant.input_units();
+    options.output_units = plant.output_units();
 
     std::unique_ptr<PlantServer> server;
     try {
@@ -250,8 +250,8 @@ int main(int argc, char** argv) {
     install_handlers();
     std::printf("listening %s:%u\n", options.host.c_str(), static_cast<unsigned>(server->port()));
     std::fflush(stdout);
-    std::cerr << "excite-plant: " << options.plant_description << ", " << plant.g.inputs()
-              << " inputs, " << plant.g.outputs() << " outputs, T = " << process.sample_time_min()
+    std::cerr << "excite-plant: " << options.plant_description << ", " << plant.inputs()
+              << " inputs, " << plant.outputs() << " outputs, T = " << process.sample_time_min()
               << " min, "
               << (options.lockstep ? std::string("lock-step")
                                    : std::to_string(options.sample_time_s) + " s per sample")

@@ -72,8 +72,17 @@ void PlantServer::open_log() {
     throw std::runtime_error(system_error(("--log " + options_.log_path).c_str()));
   }
   log_opened_ = true;
-  for (const std::string& name : options_.input_names) log_inputs_.push_back({name, "-"});
-  for (const std::string& name : options_.output_names) log_outputs_.push_back({name, "-"});
+  // Channels hold views: of options_ (alive as long as the server) or of a literal.
+  const auto unit = [](const std::vector<std::string>& units, std::size_t i) {
+    return i < units.size() && !units[i].empty() ? std::string_view(units[i])
+                                                 : std::string_view("-");
+  };
+  for (std::size_t i = 0; i < options_.input_names.size(); ++i) {
+    log_inputs_.push_back({options_.input_names[i], unit(options_.input_units, i)});
+  }
+  for (std::size_t j = 0; j < options_.output_names.size(); ++j) {
+    log_outputs_.push_back({options_.output_names[j], unit(options_.output_units, j)});
+  }
   log_buffer_.resize(
       std::max<std::size_t>(runlog::max_row_chars(log_inputs_.size(), log_outputs_.size()), 4096));
   const runlog::Header header{options_.plant_description, log_plan_, process_.sample_time_min(),

@@ -49,6 +49,8 @@ struct ServeOptions {
   std::string plant_description;   // the run log's `plant:` line
   std::vector<std::string> input_names;
   std::vector<std::string> output_names;
+  std::vector<std::string> input_units;  // run-log units; empty: "-"
+  std::vector<std::string> output_units;
   int max_clients = 8;
   double idle_timeout_s = 60.0;    // a connection silent this long is closed (not the gateway's)
   double partial_timeout_s = 2.0;  // a request not complete this long after its first byte:

@@ -52,7 +52,7 @@ class LoopConfig : public ::testing::Test {
 };
 
 TEST_F(LoopConfig, GeneratedPairParsesOnBothSides) {
-  for (const std::string plant : {"alatiqi4x4", "woodberry2x2"}) {
+  for (const std::string plant : {"alatiqi4x4", "woodberry2x2", "colaA", "pilot15"}) {
     const auto out = dir_.path() / plant;
     ASSERT_EQ(excite({"loop-config", "--plant", plant, "--port", "1502", "-o", out.string()}), 0)
         << excite_output();
