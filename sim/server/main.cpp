@@ -8,6 +8,7 @@
 #include <arpa/inet.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -119,7 +120,8 @@ int main(int argc, char** argv) {
   auto* tcp_opt = app.add_option("--modbus-tcp", modbus_tcp,
                                  "serve Modbus TCP on ADDR:PORT (port 0: ephemeral)");
   auto* rtu_opt = app.add_option("--modbus-rtu", modbus_rtu, "serve Modbus RTU on a serial DEVICE");
-  app.add_option("--baud", baud, "baud rate for --modbus-rtu")->needs(rtu_opt);
+  app.add_option("--baud", baud, "baud rate for --modbus-rtu (default 19200; 8N1, unit 1)")
+      ->needs(rtu_opt);
   auto* can_opt = app.add_option("--can", can_interface, "serve on a SocketCAN interface");
   tcp_opt->excludes(rtu_opt)->excludes(can_opt);
   rtu_opt->excludes(can_opt);
@@ -181,8 +183,16 @@ int main(int argc, char** argv) {
     }
     check_positive("--idle-timeout-s", options.idle_timeout_s, false, "seconds > 0");
     if (!modbus_rtu.empty()) {
-      bad("--modbus-rtu", "\"" + modbus_rtu + "\"",
-          "--modbus-tcp: Modbus RTU serving is not implemented yet (sim/server/README.md)");
+      options.rtu_device = modbus_rtu;
+      if (app.count("--baud") > 0) {
+        static const std::vector<std::uint32_t> rates{1200,  2400,  4800,   9600,  19200,
+                                                      38400, 57600, 115200, 230400};
+        if (std::find(rates.begin(), rates.end(), baud) == rates.end()) {
+          bad("--baud", std::to_string(baud),
+              "a standard rate: 1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200, 230400");
+        }
+        options.rtu_baud = static_cast<int>(baud);
+      }
     }
     if (!can_interface.empty()) {
       bad("--can", "\"" + can_interface + "\"",
@@ -248,7 +258,11 @@ int main(int argc, char** argv) {
       return kExitServeFailed;
     }
     install_handlers();
-    std::printf("listening %s:%u\n", options.host.c_str(), static_cast<unsigned>(server->port()));
+    if (options.rtu_device.empty()) {
+      std::printf("listening %s:%u\n", options.host.c_str(), static_cast<unsigned>(server->port()));
+    } else {  // the same shape: DEVICE:BAUD
+      std::printf("listening %s:%d\n", options.rtu_device.c_str(), options.rtu_baud);
+    }
     std::fflush(stdout);
     std::cerr << "excite-plant: " << options.plant_description << ", " << plant.inputs()
               << " inputs, " << plant.outputs() << " outputs, T = " << process.sample_time_min()
@@ -264,10 +278,10 @@ int main(int argc, char** argv) {
       code = kExitServeFailed;
     }
     std::cerr << "excite-plant: stopped after " << process.samples() << " samples, "
-              << server->requests() << " requests, " << server->illegal_functions()
-              << " illegal functions, " << server->closed_connections()
-              << " connections closed by the server, " << image.clamped_values()
-              << " values did not fit their registers\n";
+              << server->requests() << " requests, " << server->rejected_frames()
+              << " rejected frames, " << server->illegal_functions() << " illegal functions, "
+              << server->closed_connections() << " connections closed by the server, "
+              << image.clamped_values() << " values did not fit their registers\n";
     for (std::size_t j = 0; j < image.misfits().size(); ++j) {
       const RegisterImage::Misfit& m = image.misfits()[j];
       if (m.count == 0) continue;

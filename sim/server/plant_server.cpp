@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
+#include <thread>
 
 namespace excite::sim::server {
 namespace {
@@ -52,6 +53,19 @@ PlantServer::PlantServer(PlantProcess& process, RegisterImage& image, ServeOptio
 }
 
 void PlantServer::listen() {
+  if (rtu()) {  // a serial line: one master, unit 1
+    ctx_ = modbus_new_rtu(options_.rtu_device.c_str(), options_.rtu_baud, 'N', 8, 1);
+    if (ctx_ == nullptr) {
+      throw std::runtime_error("--modbus-rtu " + options_.rtu_device + ": " +
+                               modbus_strerror(errno));
+    }
+    modbus_set_slave(ctx_, 1);
+    if (modbus_connect(ctx_) == -1) {
+      throw std::runtime_error("cannot open serial device " + options_.rtu_device + ": " +
+                               modbus_strerror(errno));
+    }
+    return;
+  }
   ctx_ = modbus_new_tcp(options_.host.c_str(), options_.port);
   if (ctx_ == nullptr) throw std::runtime_error(system_error("modbus_new_tcp"));
   listen_fd_ = modbus_tcp_listen(ctx_, 4);
@@ -98,6 +112,7 @@ void PlantServer::release() {
   while (!clients_.empty()) close_client(clients_.size() - 1);
   if (listen_fd_ != -1) close(listen_fd_);
   listen_fd_ = -1;
+  if (ctx_ != nullptr && rtu()) modbus_close(ctx_);
   if (ctx_ != nullptr) modbus_free(ctx_);
   ctx_ = nullptr;
   log_writer_.reset();
@@ -162,12 +177,13 @@ void PlantServer::receive(std::size_t index) {
   if (c.have == 6 + length) answer(index, false);
 }
 
-void PlantServer::answer(std::size_t index, bool stall_done) {
-  Client& c = clients_[index];
-  std::uint8_t* query = c.frame.data();
-  const int length = static_cast<int>(c.have);
-  constexpr int header = 7;
+PlantServer::Outcome PlantServer::handle(std::uint8_t* query, int length, bool stall_done,
+                                         bool& heartbeat_written) {
+  heartbeat_written = false;
+  const int header = modbus_get_header_length(ctx_);  // 7 (TCP MBAP) or 1 (RTU address)
+  const int crc = rtu() ? 2 : 0;
   if (!stall_done) ++requests_;
+  const auto replied = [](int rc) { return rc == -1 ? Outcome::close : Outcome::replied; };
 
   Request request;
   request.function_code = query[header];
@@ -176,27 +192,17 @@ void PlantServer::answer(std::size_t index, bool stall_done) {
     case MODBUS_FC_READ_HOLDING_REGISTERS:
     case MODBUS_FC_READ_INPUT_REGISTERS:
     case MODBUS_FC_WRITE_SINGLE_REGISTER:
-      well_formed = length == header + 5;
+      well_formed = length == header + 5 + crc;
       break;
     case MODBUS_FC_WRITE_MULTIPLE_REGISTERS:
-      well_formed = length >= header + 6 && length == header + 6 + query[header + 5];
+      well_formed = length >= header + 6 + crc && length == header + 6 + query[header + 5] + crc;
       break;
     default:  // not served: answered before any fault, counted, connection kept
       ++illegal_functions_;
-      c.have = 0;
-      modbus_set_socket(ctx_, c.fd);
-      if (modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_FUNCTION) == -1) {
-        close_client(index);
-      }
-      return;
+      return replied(modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_FUNCTION));
   }
   if (!well_formed) {
-    c.have = 0;
-    modbus_set_socket(ctx_, c.fd);
-    if (modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE) == -1) {
-      close_client(index);
-    }
-    return;
+    return replied(modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE));
   }
   request.address = static_cast<std::uint32_t>((query[header + 1] << 8) | query[header + 2]);
   request.count = static_cast<std::uint32_t>((query[header + 3] << 8) | query[header + 4]);
@@ -213,47 +219,77 @@ void PlantServer::answer(std::size_t index, bool stall_done) {
       --faults_.drop_requests;
       mirror_faults_to_control();
       ++ordinary_requests_;
-      close_client(index);
-      return;
+      return Outcome::drop;
     }
     if (faults_.exception_requests > 0) {
       --faults_.exception_requests;
       mirror_faults_to_control();
       ++ordinary_requests_;
-      c.have = 0;
-      modbus_set_socket(ctx_, c.fd);
-      if (modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE) == -1) {
-        close_client(index);
-      }
-      return;
+      return replied(modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE));
     }
     if (faults_.stall_requests > 0) {
       --faults_.stall_requests;
       mirror_faults_to_control();
       ++ordinary_requests_;
-      // Answered later by run(); the other connections are served meanwhile.
-      c.reply_at = Clock::now() + std::chrono::milliseconds(faults_.stall_ms);
-      return;
+      return Outcome::stall;
     }
   }
   if (!control && !stall_done) ++ordinary_requests_;
-  c.reply_at.reset();
-  c.have = 0;
 
   // The reply writes the registers (or answers an illegal address with an exception).
-  modbus_set_socket(ctx_, c.fd);
-  const bool sent = modbus_reply(ctx_, query, length, image_.mapping()) != -1;
+  const Outcome outcome = replied(modbus_reply(ctx_, query, length, image_.mapping()));
   if (request.write) {
     image_.note_write(request.address, request.count);
     if (control) load_faults_from_control();
     const std::uint32_t hb = image_.layout().heartbeat_address;
     if (request.address <= hb && hb < request.address + request.count) {
-      for (Client& other : clients_) other.gateway = false;
-      clients_[index].gateway = true;
+      heartbeat_written = true;
       on_heartbeat_written();
     }
   }
-  if (!sent) close_client(index);  // the peer went away (or stopped reading) while we answered
+  return outcome;
+}
+
+void PlantServer::answer(std::size_t index, bool stall_done) {
+  Client& c = clients_[index];
+  modbus_set_socket(ctx_, c.fd);
+  bool heartbeat = false;
+  const Outcome outcome = handle(c.frame.data(), static_cast<int>(c.have), stall_done, heartbeat);
+  if (outcome == Outcome::stall) {  // answered later by run(); the others are served meanwhile
+    c.reply_at = Clock::now() + std::chrono::milliseconds(faults_.stall_ms);
+    return;
+  }
+  c.reply_at.reset();
+  c.have = 0;
+  if (heartbeat) {
+    for (Client& other : clients_) other.gateway = false;
+    c.gateway = true;
+  }
+  // drop: the fault; close: the peer went away (or stopped reading) while we answered
+  if (outcome != Outcome::replied) close_client(index);
+}
+
+void PlantServer::serve_rtu(const std::function<bool()>& stop) {
+  std::uint8_t query[MODBUS_RTU_MAX_ADU_LENGTH];
+  // libmodbus reads the frame (inter-byte timeout) and checks the address and the CRC.
+  const int length = modbus_receive(ctx_, query);
+  if (length <= 0) {  // another unit's request (0), or a bad CRC / garbage: resynchronise
+    if (length < 0) {
+      ++rejected_frames_;
+      modbus_flush(ctx_);
+    }
+    return;
+  }
+  bool heartbeat = false;
+  if (handle(query, length, false, heartbeat) ==
+      Outcome::stall) {  // one master on the line: nobody else waits
+    const auto end = Clock::now() + std::chrono::milliseconds(faults_.stall_ms);
+    while (!stop() && Clock::now() < end) {
+      std::this_thread::sleep_for(std::min<Clock::duration>(kPollSlice, end - Clock::now()));
+    }
+    handle(query, length, true, heartbeat);
+  }
+  // drop on a serial line: no reply (the master times out); there is no connection to close
 }
 
 void PlantServer::check_deadlines(Clock::time_point now) {
@@ -380,6 +416,15 @@ void PlantServer::run(const std::function<bool()>& stop) {
             std::chrono::nanoseconds(0), wait);
     }
     fds.clear();
+    if (rtu()) {
+      fds.push_back({modbus_get_socket(ctx_), POLLIN, 0});
+      const timespec timeout{static_cast<time_t>(wait.count() / 1000000000),
+                             static_cast<long>(wait.count() % 1000000000)};
+      const int ready = ppoll(fds.data(), fds.size(), &timeout, nullptr);
+      if (ready < 0 && errno != EINTR) throw std::runtime_error(system_error("ppoll"));
+      if (ready > 0) serve_rtu(stop);
+      continue;
+    }
     fds.push_back({listen_fd_, POLLIN, 0});
     // A stalled connection is not read until its reply is sent (fd −1: poll skips it).
     for (const Client& c : clients_) fds.push_back({c.reply_at ? -1 : c.fd, POLLIN, 0});

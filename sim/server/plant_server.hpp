@@ -51,6 +51,8 @@ struct ServeOptions {
   std::vector<std::string> output_names;
   std::vector<std::string> input_units;  // run-log units; empty: "-"
   std::vector<std::string> output_units;
+  std::string rtu_device;  // non-empty: serve Modbus RTU on this serial device
+  int rtu_baud = 19200;    // RTU: 8 data bits, no parity, 1 stop bit, unit 1
   int max_clients = 8;
   double idle_timeout_s = 60.0;    // a connection silent this long is closed (not the gateway's)
   double partial_timeout_s = 2.0;  // a request not complete this long after its first byte:
@@ -77,6 +79,8 @@ class PlantServer {
   std::uint64_t illegal_functions() const { return illegal_functions_; }
   /// Connections closed by the server: malformed frames, idle, partial, evicted.
   std::uint64_t closed_connections() const { return closed_connections_; }
+  /// RTU: frames dropped for a bad CRC or garbage on the line.
+  std::uint64_t rejected_frames() const { return rejected_frames_; }
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -105,7 +109,13 @@ class PlantServer {
   void accept_client();
   void close_client(std::size_t index);
   void receive(std::size_t index);
+  enum class Outcome { replied, close, drop, stall };
+  // One complete request (ADU of `length` bytes; the reply goes out on ctx_'s current
+  // socket): function-code and length checks, faults, the reply, the write bookkeeping.
+  Outcome handle(std::uint8_t* query, int length, bool stall_done, bool& heartbeat_written);
   void answer(std::size_t index, bool stall_done);
+  bool rtu() const { return !options_.rtu_device.empty(); }
+  void serve_rtu(const std::function<bool()>& stop);
   void check_deadlines(Clock::time_point now);
   bool touches_control(const Request& request) const;
   void on_heartbeat_written();
@@ -124,6 +134,7 @@ class PlantServer {
   std::vector<Client> clients_;  // oldest first
   std::uint64_t illegal_functions_ = 0;
   std::uint64_t closed_connections_ = 0;
+  std::uint64_t rejected_frames_ = 0;
   std::vector<std::uint64_t> misfits_reported_;  // per output: count when last reported
 
   FaultSettings faults_;
