@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// excite-plant: a simulated plant behind a Modbus TCP server, so the gateway can be tested
+// excite-plant: a simulated plant behind a Modbus TCP (or RTU) server, so the gateway can be tested
 // in the loop unchanged. Usage and exit codes: sim/server/README.md and --help.
 //
 // Exit codes: 0 stopped by SIGTERM/SIGINT; 1 failed while serving (cannot listen, log
@@ -82,8 +82,8 @@ void parse_endpoint(const std::string& text, std::string& host, std::uint16_t& p
 int main(int argc, char** argv) {
   using namespace excite::sim::server;
   CLI::App app{
-      "excite-plant: a simulated plant served over Modbus TCP for testing excite-gateway in "
-      "the loop.\nExit codes: 0 stopped by SIGTERM/SIGINT, 1 failed while serving, 2 bad "
+      "excite-plant: a simulated plant served over Modbus TCP or RTU for testing excite-gateway "
+      "in the loop.\nExit codes: 0 stopped by SIGTERM/SIGINT, 1 failed while serving, 2 bad "
       "command line or configuration (nothing served)."};
   std::string config_path;
   std::string plant_name;
@@ -107,7 +107,8 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   auto* plant_opt = app.add_option(
       "--plant", plant_name,
-      "plant: a library plant name or a plant file ending in .toml (overrides plant.*)");
+      "plant: a library plant, colaA, pilot15, or a plant file ending in .toml (overrides "
+      "plant.*)");
   app.add_option("--plant-file", plant_file, "plant file, sim/lti format (overrides plant.file)")
       ->excludes(plant_opt)
       ->check(CLI::ExistingFile);
@@ -122,7 +123,8 @@ int main(int argc, char** argv) {
   auto* rtu_opt = app.add_option("--modbus-rtu", modbus_rtu, "serve Modbus RTU on a serial DEVICE");
   app.add_option("--baud", baud, "baud rate for --modbus-rtu (default 19200; 8N1, unit 1)")
       ->needs(rtu_opt);
-  auto* can_opt = app.add_option("--can", can_interface, "serve on a SocketCAN interface");
+  auto* can_opt =
+      app.add_option("--can", can_interface, "SocketCAN interface (not implemented yet: refused)");
   tcp_opt->excludes(rtu_opt)->excludes(can_opt);
   rtu_opt->excludes(can_opt);
   auto* clock_opt = app.add_option("--clock", clock, "lockstep | realtime")
