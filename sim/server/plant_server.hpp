@@ -1,14 +1,15 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// excite-plant's Modbus TCP server: serves the register image, advances the plant in
-// free-running (wall-clock) or lock-step time, misbehaves on purpose when told to, and
-// logs every plant sample in the run-log format. Single-threaded and non-blocking: one poll
-// loop assembles each connection's requests from whatever bytes have arrived, so no client
+// excite-plant's Modbus server (TCP, or RTU on a serial device): serves the register image,
+// advances the plant in free-running (wall-clock) or lock-step time, misbehaves on purpose when
+// told to, and logs every plant sample in the run-log format. Single-threaded and non-blocking: one
+// poll loop assembles each connection's requests from whatever bytes have arrived, so no client
 // (slow, half-open, stalled on purpose) delays another. Up to max_clients connections: a new
 // one is always accepted; when full, the least recently active connection other than the
 // gateway's (the last one that wrote the heartbeat) is closed. Idle and partial requests are
 // bounded in time. Function codes 3, 4, 6 and 16 are served; any other is answered with
-// exception 1 (illegal function), so no request bypasses the heartbeat bookkeeping.
+// exception 1 (illegal function), so no request bypasses the heartbeat bookkeeping. RTU: one
+// master on the line, the same request handling, libmodbus framing and CRC.
 
 #include <array>
 #include <chrono>
