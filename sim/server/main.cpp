@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// excite-plant: a simulated plant behind a Modbus TCP server, so the gateway can be tested
+// excite-plant: a simulated plant behind a Modbus TCP (or RTU) server, so the gateway can be tested
 // in the loop unchanged. Usage and exit codes: sim/server/README.md and --help.
 //
 // Exit codes: 0 stopped by SIGTERM/SIGINT; 1 failed while serving (cannot listen, log
@@ -8,13 +8,16 @@
 #include <arpa/inet.h>
 
 #include <CLI/CLI.hpp>
-#include <atomic>
+#include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
 
+#include "sim/server/default_map.hpp"
 #include "sim/server/plant_process.hpp"
 #include "sim/server/plant_server.hpp"
 #include "sim/server/register_image.hpp"
@@ -42,40 +45,112 @@ void install_handlers() {
   std::signal(SIGPIPE, SIG_IGN);  // a vanished client is an error return, not a death
 }
 
+[[noreturn]] void bad(const std::string& field, const std::string& value,
+                      const std::string& expected) {
+  throw std::invalid_argument(field + " = " + value + ": expected " + expected);
+}
+
+std::string text_of(double x) {
+  std::ostringstream os;
+  os << x;
+  return os.str();
+}
+
+// A finite number above (or at, when `zero_ok`) zero, or an error naming the option.
+void check_positive(const std::string& option, double x, bool zero_ok, const std::string& what) {
+  if (!std::isfinite(x) || x < 0.0 || (!zero_ok && x == 0.0)) bad(option, text_of(x), what);
+}
+
+// "ADDR:PORT" → host and port (ADDR an IPv4 address, PORT 0..65535).
+void parse_endpoint(const std::string& text, std::string& host, std::uint16_t& port) {
+  const auto colon = text.rfind(':');
+  const std::string expected = "ADDR:PORT, an IPv4 address and a port 0..65535 (127.0.0.1:1502)";
+  if (colon == std::string::npos) bad("--modbus-tcp", "\"" + text + "\"", expected);
+  host = text.substr(0, colon);
+  const std::string port_text = text.substr(colon + 1);
+  in_addr probe{};
+  if (inet_pton(AF_INET, host.c_str(), &probe) != 1 || port_text.empty() ||
+      port_text.find_first_not_of("0123456789") != std::string::npos || port_text.size() > 5 ||
+      std::stoul(port_text) > 65535) {
+    bad("--modbus-tcp", "\"" + text + "\"", expected);
+  }
+  port = static_cast<std::uint16_t>(std::stoul(port_text));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace excite::sim::server;
   CLI::App app{
-      "excite-plant: a simulated plant served over Modbus TCP for testing excite-gateway in "
-      "the loop.\nExit codes: 0 stopped by SIGTERM/SIGINT, 1 failed while serving, 2 bad "
+      "excite-plant: a simulated plant served over Modbus TCP or RTU for testing excite-gateway "
+      "in the loop.\nExit codes: 0 stopped by SIGTERM/SIGINT, 1 failed while serving, 2 bad "
       "command line or configuration (nothing served)."};
   std::string config_path;
   std::string plant_name;
   std::string plant_file;
+  std::string modbus_tcp;
+  std::string modbus_rtu;
+  std::string can_interface;
+  std::uint32_t baud = 0;
+  std::string clock;
+  double speedup = 0.0;
+  double noise_var = -1.0;
+  std::uint64_t seed = 0;
+  double sample_time_min = 0.0;
   ServeOptions options;
   options.port = 1502;
   double sample_time_s = 0.0;
   std::uint64_t faults_after = 0;
-  app.add_option("--config", config_path, "register map and plant settings (TOML)")
-      ->required()
+  app.add_option("--config", config_path,
+                 "register map and plant settings (TOML); default: the register map derived "
+                 "from --plant (README, Default register map)")
       ->check(CLI::ExistingFile);
-  auto* plant_opt =
-      app.add_option("--plant", plant_name, "library plant by name (overrides plant.library)");
+  auto* plant_opt = app.add_option(
+      "--plant", plant_name,
+      "plant: a library plant, colaA, pilot15, or a plant file ending in .toml (overrides "
+      "plant.*)");
   app.add_option("--plant-file", plant_file, "plant file, sim/lti format (overrides plant.file)")
       ->excludes(plant_opt)
       ->check(CLI::ExistingFile);
-  app.add_option("--host", options.host, "IPv4 address to listen on")->capture_default_str();
-  app.add_option("--port", options.port, "TCP port; 0: ephemeral (printed on stdout)")
-      ->capture_default_str();
-  auto* lockstep = app.add_flag("--lockstep", options.lockstep,
-                                "one plant sample per heartbeat change (deterministic)");
+  app.add_option(
+      "--noise-var", noise_var,
+      "measurement noise variance on every output, >= 0 (overrides plant.noise_variance)");
+  auto* seed_opt = app.add_option("--seed", seed, "noise seed (overrides plant.noise_seed)");
+  app.add_option("--sample-time-min", sample_time_min,
+                 "model sample time T, minutes > 0 (overrides plant.sample_time_min; default 1)");
+  auto* tcp_opt = app.add_option("--modbus-tcp", modbus_tcp,
+                                 "serve Modbus TCP on ADDR:PORT (port 0: ephemeral)");
+  auto* rtu_opt = app.add_option("--modbus-rtu", modbus_rtu, "serve Modbus RTU on a serial DEVICE");
+  app.add_option("--baud", baud, "baud rate for --modbus-rtu (default 19200; 8N1, unit 1)")
+      ->needs(rtu_opt);
+  auto* can_opt =
+      app.add_option("--can", can_interface, "SocketCAN interface (not implemented yet: refused)");
+  tcp_opt->excludes(rtu_opt)->excludes(can_opt);
+  rtu_opt->excludes(can_opt);
+  auto* clock_opt = app.add_option("--clock", clock, "lockstep | realtime")
+                        ->check(CLI::IsMember({"lockstep", "realtime"}));
+  app.add_option("--speedup", speedup, "realtime: plant minutes per wall-clock minute, > 0")
+      ->needs(clock_opt);
+  auto* host_opt = app.add_option("--host", options.host,
+                                  "(older form of --modbus-tcp) IPv4 address to listen on")
+                       ->capture_default_str()
+                       ->excludes(tcp_opt);
+  auto* port_opt =
+      app.add_option("--port", options.port, "(older form of --modbus-tcp) TCP port; 0: ephemeral")
+          ->capture_default_str()
+          ->excludes(tcp_opt);
+  (void)host_opt;
+  (void)port_opt;
+  auto* lockstep = app.add_flag("--lockstep", options.lockstep, "(older form of --clock lockstep)")
+                       ->excludes(clock_opt);
   app.add_option("--sample-time-s", sample_time_s,
-                 "wall-clock seconds per plant sample (free-running); default: real time, "
-                 "60 x plant.sample_time_min")
-      ->check(CLI::PositiveNumber)
-      ->excludes(lockstep);
+                 "(older form of --clock realtime --speedup) wall-clock seconds per plant sample")
+      ->excludes(lockstep)
+      ->excludes(clock_opt);
   app.add_option("--log", options.log_path, "run log (CSV) of every plant sample");
+  app.add_option("--idle-timeout-s", options.idle_timeout_s,
+                 "close a connection silent this long (never the gateway's), seconds > 0")
+      ->capture_default_str();
   app.add_option("--stall-ms", options.faults.stall_ms, "stall duration for --stall-requests");
   app.add_option("--stall-requests", options.faults.stall_requests,
                  "answer this many requests only after --stall-ms");
@@ -93,34 +168,89 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : kExitBadInput;
   }
   options.faults_after = faults_after;
-  in_addr probe{};
-  if (inet_pton(AF_INET, options.host.c_str(), &probe) != 1) {
-    std::cerr << "excite-plant: --host = \"" << options.host
-              << "\": expected an IPv4 address such as 127.0.0.1 or 0.0.0.0\n";
+
+  try {
+    // Numbers are checked by name before anything else (NaN and negatives included).
+    if (app.count("--noise-var") > 0)
+      check_positive("--noise-var", noise_var, true, "a variance >= 0");
+    if (app.count("--sample-time-min") > 0) {
+      check_positive("--sample-time-min", sample_time_min, false, "minutes > 0");
+    }
+    if (app.count("--speedup") > 0) {
+      check_positive("--speedup", speedup, false, "a factor > 0 (plant minutes per wall minute)");
+      if (clock != "realtime") bad("--speedup", text_of(speedup), "only with --clock realtime");
+    }
+    if (app.count("--sample-time-s") > 0) {
+      check_positive("--sample-time-s", sample_time_s, false, "seconds > 0");
+    }
+    check_positive("--idle-timeout-s", options.idle_timeout_s, false, "seconds > 0");
+    if (!modbus_rtu.empty()) {
+      options.rtu_device = modbus_rtu;
+      if (app.count("--baud") > 0) {
+        static const std::vector<std::uint32_t> rates{1200,  2400,  4800,   9600,  19200,
+                                                      38400, 57600, 115200, 230400};
+        if (std::find(rates.begin(), rates.end(), baud) == rates.end()) {
+          bad("--baud", std::to_string(baud),
+              "a standard rate: 1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200, 230400");
+        }
+        options.rtu_baud = static_cast<int>(baud);
+      }
+    }
+    if (!can_interface.empty()) {
+      bad("--can", "\"" + can_interface + "\"",
+          "--modbus-tcp: CAN serving is not implemented yet (sim/server/README.md)");
+    }
+    if (!modbus_tcp.empty()) parse_endpoint(modbus_tcp, options.host, options.port);
+    in_addr probe{};
+    if (inet_pton(AF_INET, options.host.c_str(), &probe) != 1) {
+      bad("--host", "\"" + options.host + "\"", "an IPv4 address such as 127.0.0.1 or 0.0.0.0");
+    }
+    if (clock == "lockstep") options.lockstep = true;
+    if (config_path.empty() && plant_name.empty() && plant_file.empty()) {
+      bad("--plant", "(none)", "a plant (library name or .toml file), or --config FILE");
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "excite-plant: " << e.what() << "\n";
     return kExitBadInput;
   }
 
+  const std::string source = config_path.empty() ? std::string("excite-plant") : config_path;
   try {
-    ServerConfig config = load_server_config(config_path);
+    ServerConfig config;
+    if (!config_path.empty()) config = load_server_config(config_path);
     if (!plant_name.empty()) {
-      config.plant.library = plant_name;
-      config.plant.file.clear();
+      const bool file =
+          plant_name.size() > 5 && plant_name.compare(plant_name.size() - 5, 5, ".toml") == 0;
+      config.plant.library = file ? "" : plant_name;
+      config.plant.file = file ? std::filesystem::absolute(plant_name).string() : "";
     }
     if (!plant_file.empty()) {
       config.plant.file = std::filesystem::absolute(plant_file).string();
       config.plant.library.clear();
     }
-    const excite::sim::PlantDefinition plant =
-        load_plant(config.plant, config.base_directory, config_path);
+    if (app.count("--noise-var") > 0) config.plant.noise_variance = {noise_var};
+    if (seed_opt->count() > 0) config.plant.noise_seed = seed;
+    if (app.count("--sample-time-min") > 0) config.plant.sample_time_min = sample_time_min;
+    PlantProcess process(load_plant(config.plant, config.base_directory, source), config.plant);
+    const excite::sim::Plant& plant = process.plant();
+    if (config_path.empty()) {
+      config.registers = default_registers(plant.inputs(), plant.outputs(), plant.input_names(),
+                                           plant.output_names());
+    }
     const ServerLayout layout =
-        compile_layout(config, plant.g.inputs(), plant.g.outputs(), options.lockstep, config_path);
-    PlantProcess process(plant.g, config.plant);
+        compile_layout(config, plant.inputs(), plant.outputs(), options.lockstep, source);
     RegisterImage image(layout, process.input_baseline(), process.output_baseline());
-    options.sample_time_s = sample_time_s > 0.0 ? sample_time_s : 60.0 * process.sample_time_min();
-    options.plant_description =
-        plant.name.empty() ? config.plant.file : plant.name + " (excite-plant)";
-    options.input_names = plant.g.input_names();
-    options.output_names = plant.g.output_names();
+    if (speedup > 0.0) {
+      options.sample_time_s = 60.0 * process.sample_time_min() / speedup;
+    } else {
+      options.sample_time_s =
+          sample_time_s > 0.0 ? sample_time_s : 60.0 * process.sample_time_min();
+    }
+    options.plant_description = plant.name() + " (excite-plant)";
+    options.input_names = plant.input_names();
+    options.output_names = plant.output_names();
+    options.input_units = plant.input_units();
+    options.output_units = plant.output_units();
 
     std::unique_ptr<PlantServer> server;
     try {
@@ -130,23 +260,40 @@ int main(int argc, char** argv) {
       return kExitServeFailed;
     }
     install_handlers();
-    std::printf("listening %s:%u\n", options.host.c_str(), static_cast<unsigned>(server->port()));
+    if (options.rtu_device.empty()) {
+      std::printf("listening %s:%u\n", options.host.c_str(), static_cast<unsigned>(server->port()));
+    } else {  // the same shape: DEVICE:BAUD
+      std::printf("listening %s:%d\n", options.rtu_device.c_str(), options.rtu_baud);
+    }
     std::fflush(stdout);
-    std::cerr << "excite-plant: " << options.plant_description << ", " << plant.g.inputs()
-              << " inputs, " << plant.g.outputs() << " outputs, T = " << process.sample_time_min()
+    std::cerr << "excite-plant: " << options.plant_description << ", " << plant.inputs()
+              << " inputs, " << plant.outputs() << " outputs, T = " << process.sample_time_min()
               << " min, "
               << (options.lockstep ? std::string("lock-step")
                                    : std::to_string(options.sample_time_s) + " s per sample")
-              << "\n";
+              << (config_path.empty() ? ", default register map" : "") << "\n";
+    int code = kExitStopped;
     try {
       server->run([] { return g_stop != 0; });
     } catch (const std::exception& e) {
       std::cerr << "excite-plant: " << e.what() << "\n";
-      return kExitServeFailed;
+      code = kExitServeFailed;
     }
     std::cerr << "excite-plant: stopped after " << process.samples() << " samples, "
-              << server->requests() << " requests\n";
-    return kExitStopped;
+              << server->requests() << " requests, " << server->rejected_frames()
+              << " rejected frames, " << server->illegal_functions() << " illegal functions, "
+              << server->closed_connections() << " connections closed by the server, "
+              << image.clamped_values() << " values did not fit their registers\n";
+    for (std::size_t j = 0; j < image.misfits().size(); ++j) {
+      const RegisterImage::Misfit& m = image.misfits()[j];
+      if (m.count == 0) continue;
+      const PlacedValue& p = layout.values[j];
+      std::cerr << "excite-plant: output " << options.output_names[j] << ": " << m.count
+                << " samples outside its register's range [" << p.codec.eng_min << ", "
+                << p.codec.eng_max << "] (lowest " << m.lowest << ", highest " << m.highest
+                << "); the register held the range's end\n";
+    }
+    return code;
   } catch (const std::exception& e) {
     std::cerr << "excite-plant: " << e.what() << "\n";
     return kExitBadInput;

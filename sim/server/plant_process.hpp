@@ -1,43 +1,50 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// The simulated process behind the registers: a DiscretePlant in deviation variables around
-// an operating point, with seeded measurement noise (sim/lti). One call of sample() is one
-// plant sample k: u(k) absolute → du(k) = u(k) − u0 → DiscretePlant::step → dy(k) + noise →
-// y(k) = y0 + dy(k).
+// The simulated process behind the registers: any sim::Plant (linear library plants, plant
+// files, the nonlinear columns colaA and pilot15) stepped live, one sample per call, in
+// deviation variables around an operating point, with seeded measurement noise (sim/lti).
+// One call of sample() is one plant sample k: u(k) absolute → du(k) = u(k) − u0 →
+// Plant::step → dy(k) + noise → y(k) = y0 + dy(k).
 
 #include <cstdint>
+#include <filesystem>
+#include <memory>
 #include <optional>
+#include <string_view>
 #include <vector>
 
-#include "sim/lti/discrete_plant.hpp"
 #include "sim/lti/noise.hpp"
-#include "sim/lti/plant_toml.hpp"
-#include "sim/lti/transfer_matrix.hpp"
+#include "sim/plants/plant.hpp"
 #include "sim/server/server_config.hpp"
 
 namespace excite::sim::server {
 
-/// The plant named by the settings: a library plant (sim/library) or a plant file, a
-/// relative path taken from `base_directory`. Throws std::invalid_argument
+/// The plant named by the settings: a plant `make_plant` knows (sim/plants: the library
+/// plants, colaA, pilot15) or a plant file (sim/lti format, ending in .toml), a relative
+/// path taken from `base_directory`. Throws std::invalid_argument
 /// "<source>: plant.library = ...: expected ..." (or the plant file's own error).
-PlantDefinition load_plant(const PlantSettings& settings,
-                           const std::filesystem::path& base_directory,
-                           std::string_view source = "config");
+std::unique_ptr<Plant> load_plant(const PlantSettings& settings,
+                                  const std::filesystem::path& base_directory,
+                                  std::string_view source = "config");
 
 class PlantProcess {
  public:
-  /// Baselines and noise from `settings` (sizes already checked by compile_layout; empty
-  /// baselines are zeros). Throws std::invalid_argument for a bad sample time.
-  PlantProcess(const TransferMatrix& g, const PlantSettings& settings);
+  /// Resets the plant at settings.sample_time_min. Operating point: settings' baselines,
+  /// or, when empty, the plant's own (input_baseline(), output_baseline(): zeros for the
+  /// linear plants, the columns' nominal flows and compositions). Noise from the settings
+  /// (sizes already checked by compile_layout). Throws std::invalid_argument for a bad
+  /// sample time.
+  PlantProcess(std::unique_ptr<Plant> plant, const PlantSettings& settings);
 
-  int inputs() const { return plant_.inputs(); }
-  int outputs() const { return plant_.outputs(); }
-  double sample_time_min() const { return plant_.sample_time_min(); }
+  int inputs() const { return static_cast<int>(du_.size()); }
+  int outputs() const { return static_cast<int>(dy_.size()); }
+  double sample_time_min() const { return sample_time_min_; }
   const std::vector<double>& input_baseline() const { return u0_; }
   const std::vector<double>& output_baseline() const { return y0_; }
+  const Plant& plant() const { return *plant_; }
 
   /// Sample k: reads u(k) (absolute, inputs() values), writes y(k) (absolute, outputs()
-  /// values), advances k. Allocation-free.
+  /// values), advances k. No allocation (the plant's step allocates nothing after reset).
   void sample(const double* u, double* y);
 
   /// Samples taken so far (the k of the next sample).
@@ -47,7 +54,8 @@ class PlantProcess {
   const std::vector<double>& last_dy() const { return dy_; }
 
  private:
-  DiscretePlant plant_;
+  std::unique_ptr<Plant> plant_;
+  double sample_time_min_;
   std::vector<double> u0_;
   std::vector<double> y0_;
   std::optional<MeasurementNoise> noise_;

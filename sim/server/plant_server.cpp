@@ -27,14 +27,6 @@ std::string system_error(const char* what) {
   return std::string(what) + ": " + std::strerror(errno);
 }
 
-// Sleeps `duration` in slices, returning early when `stop()` becomes true.
-void interruptible_sleep(std::chrono::milliseconds duration, const std::function<bool()>& stop) {
-  const auto end = Clock::now() + duration;
-  while (!stop() && Clock::now() < end) {
-    std::this_thread::sleep_for(std::min<Clock::duration>(kPollSlice, end - Clock::now()));
-  }
-}
-
 }  // namespace
 
 PlantServer::PlantServer(PlantProcess& process, RegisterImage& image, ServeOptions options)
@@ -61,6 +53,19 @@ PlantServer::PlantServer(PlantProcess& process, RegisterImage& image, ServeOptio
 }
 
 void PlantServer::listen() {
+  if (rtu()) {  // a serial line: one master, unit 1
+    ctx_ = modbus_new_rtu(options_.rtu_device.c_str(), options_.rtu_baud, 'N', 8, 1);
+    if (ctx_ == nullptr) {
+      throw std::runtime_error("--modbus-rtu " + options_.rtu_device + ": " +
+                               modbus_strerror(errno));
+    }
+    modbus_set_slave(ctx_, 1);
+    if (modbus_connect(ctx_) == -1) {
+      throw std::runtime_error("cannot open serial device " + options_.rtu_device + ": " +
+                               modbus_strerror(errno));
+    }
+    return;
+  }
   ctx_ = modbus_new_tcp(options_.host.c_str(), options_.port);
   if (ctx_ == nullptr) throw std::runtime_error(system_error("modbus_new_tcp"));
   listen_fd_ = modbus_tcp_listen(ctx_, 4);
@@ -81,8 +86,17 @@ void PlantServer::open_log() {
     throw std::runtime_error(system_error(("--log " + options_.log_path).c_str()));
   }
   log_opened_ = true;
-  for (const std::string& name : options_.input_names) log_inputs_.push_back({name, "-"});
-  for (const std::string& name : options_.output_names) log_outputs_.push_back({name, "-"});
+  // Channels hold views: of options_ (alive as long as the server) or of a literal.
+  const auto unit = [](const std::vector<std::string>& units, std::size_t i) {
+    return i < units.size() && !units[i].empty() ? std::string_view(units[i])
+                                                 : std::string_view("-");
+  };
+  for (std::size_t i = 0; i < options_.input_names.size(); ++i) {
+    log_inputs_.push_back({options_.input_names[i], unit(options_.input_units, i)});
+  }
+  for (std::size_t j = 0; j < options_.output_names.size(); ++j) {
+    log_outputs_.push_back({options_.output_names[j], unit(options_.output_units, j)});
+  }
   log_buffer_.resize(
       std::max<std::size_t>(runlog::max_row_chars(log_inputs_.size(), log_outputs_.size()), 4096));
   const runlog::Header header{options_.plant_description, log_plan_, process_.sample_time_min(),
@@ -98,6 +112,7 @@ void PlantServer::release() {
   while (!clients_.empty()) close_client(clients_.size() - 1);
   if (listen_fd_ != -1) close(listen_fd_);
   listen_fd_ = -1;
+  if (ctx_ != nullptr && rtu()) modbus_close(ctx_);
   if (ctx_ != nullptr) modbus_free(ctx_);
   ctx_ = nullptr;
   log_writer_.reset();
@@ -110,15 +125,188 @@ PlantServer::~PlantServer() {
 }
 
 void PlantServer::accept_client() {
-  const int fd = accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
+  const int fd = accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
   if (fd == -1) return;  // the peer gave up before we accepted: nothing to serve
-  if (static_cast<int>(clients_.size()) >= options_.max_clients) close_client(0);
-  clients_.push_back(fd);
+  if (static_cast<int>(clients_.size()) >= options_.max_clients) {
+    // Evict the least recently active connection that is not the gateway's.
+    std::optional<std::size_t> victim;
+    for (std::size_t i = 0; i < clients_.size(); ++i) {
+      if (clients_[i].gateway) continue;
+      if (!victim || clients_[i].last_activity < clients_[*victim].last_activity) victim = i;
+    }
+    close_client(victim.value_or(0));
+  }
+  Client client;
+  client.fd = fd;
+  client.last_activity = Clock::now();
+  clients_.push_back(client);
 }
 
 void PlantServer::close_client(std::size_t index) {
-  close(clients_[index]);
+  close(clients_[index].fd);
   clients_.erase(clients_.begin() + static_cast<std::ptrdiff_t>(index));
+}
+
+void PlantServer::receive(std::size_t index) {
+  Client& c = clients_[index];
+  // MBAP header: transaction (2), protocol 0 (2), length of unit + PDU (2), unit (1).
+  const std::size_t need =
+      c.have < 7 ? 7 - c.have : 6 + ((std::size_t{c.frame[4]} << 8) | c.frame[5]) - c.have;
+  const ssize_t n = recv(c.fd, c.frame.data() + c.have, need, MSG_DONTWAIT);
+  if (n == 0) {  // the peer closed
+    close_client(index);
+    return;
+  }
+  if (n < 0) {
+    if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return;
+    close_client(index);  // reset
+    return;
+  }
+  const auto now = Clock::now();
+  if (c.have == 0) c.request_started = now;
+  c.have += static_cast<std::size_t>(n);
+  c.last_activity = now;
+  if (c.have < 7) return;
+  const std::size_t protocol = (std::size_t{c.frame[2]} << 8) | c.frame[3];
+  const std::size_t length = (std::size_t{c.frame[4]} << 8) | c.frame[5];
+  if (protocol != 0 || length < 2 || length > kMaxAdu - 6) {  // not Modbus TCP: no resync
+    ++closed_connections_;
+    close_client(index);
+    return;
+  }
+  if (c.have == 6 + length) answer(index, false);
+}
+
+PlantServer::Outcome PlantServer::handle(std::uint8_t* query, int length, bool stall_done,
+                                         bool& heartbeat_written) {
+  heartbeat_written = false;
+  const int header = modbus_get_header_length(ctx_);  // 7 (TCP MBAP) or 1 (RTU address)
+  const int crc = rtu() ? 2 : 0;
+  if (!stall_done) ++requests_;
+  const auto replied = [](int rc) { return rc == -1 ? Outcome::close : Outcome::replied; };
+
+  Request request;
+  request.function_code = query[header];
+  bool well_formed = false;
+  switch (request.function_code) {
+    case MODBUS_FC_READ_HOLDING_REGISTERS:
+    case MODBUS_FC_READ_INPUT_REGISTERS:
+    case MODBUS_FC_WRITE_SINGLE_REGISTER:
+      well_formed = length == header + 5 + crc;
+      break;
+    case MODBUS_FC_WRITE_MULTIPLE_REGISTERS:
+      well_formed = length >= header + 6 + crc && length == header + 6 + query[header + 5] + crc;
+      break;
+    default:  // not served: answered before any fault, counted, connection kept
+      ++illegal_functions_;
+      return replied(modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_FUNCTION));
+  }
+  if (!well_formed) {
+    return replied(modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE));
+  }
+  request.address = static_cast<std::uint32_t>((query[header + 1] << 8) | query[header + 2]);
+  request.count = static_cast<std::uint32_t>((query[header + 3] << 8) | query[header + 4]);
+  if (request.function_code == MODBUS_FC_WRITE_SINGLE_REGISTER) {
+    request.count = 1;
+    request.write = true;
+  } else if (request.function_code == MODBUS_FC_WRITE_MULTIPLE_REGISTERS) {
+    request.write = true;
+  }
+  const bool control = touches_control(request);
+
+  if (!control && !stall_done && faults_armed()) {
+    if (faults_.drop_requests > 0) {
+      --faults_.drop_requests;
+      mirror_faults_to_control();
+      ++ordinary_requests_;
+      return Outcome::drop;
+    }
+    if (faults_.exception_requests > 0) {
+      --faults_.exception_requests;
+      mirror_faults_to_control();
+      ++ordinary_requests_;
+      return replied(modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE));
+    }
+    if (faults_.stall_requests > 0) {
+      --faults_.stall_requests;
+      mirror_faults_to_control();
+      ++ordinary_requests_;
+      return Outcome::stall;
+    }
+  }
+  if (!control && !stall_done) ++ordinary_requests_;
+
+  // The reply writes the registers (or answers an illegal address with an exception).
+  const Outcome outcome = replied(modbus_reply(ctx_, query, length, image_.mapping()));
+  if (request.write) {
+    image_.note_write(request.address, request.count);
+    if (control) load_faults_from_control();
+    const std::uint32_t hb = image_.layout().heartbeat_address;
+    if (request.address <= hb && hb < request.address + request.count) {
+      heartbeat_written = true;
+      on_heartbeat_written();
+    }
+  }
+  return outcome;
+}
+
+void PlantServer::answer(std::size_t index, bool stall_done) {
+  Client& c = clients_[index];
+  modbus_set_socket(ctx_, c.fd);
+  bool heartbeat = false;
+  const Outcome outcome = handle(c.frame.data(), static_cast<int>(c.have), stall_done, heartbeat);
+  if (outcome == Outcome::stall) {  // answered later by run(); the others are served meanwhile
+    c.reply_at = Clock::now() + std::chrono::milliseconds(faults_.stall_ms);
+    return;
+  }
+  c.reply_at.reset();
+  c.have = 0;
+  if (heartbeat) {
+    for (Client& other : clients_) other.gateway = false;
+    c.gateway = true;
+  }
+  // drop: the fault; close: the peer went away (or stopped reading) while we answered
+  if (outcome != Outcome::replied) close_client(index);
+}
+
+void PlantServer::serve_rtu(const std::function<bool()>& stop) {
+  std::uint8_t query[MODBUS_RTU_MAX_ADU_LENGTH];
+  // libmodbus reads the frame (inter-byte timeout) and checks the address and the CRC.
+  const int length = modbus_receive(ctx_, query);
+  if (length <= 0) {  // another unit's request (0), or a bad CRC / garbage: resynchronise
+    if (length < 0) {
+      ++rejected_frames_;
+      modbus_flush(ctx_);
+    }
+    return;
+  }
+  bool heartbeat = false;
+  if (handle(query, length, false, heartbeat) ==
+      Outcome::stall) {  // one master on the line: nobody else waits
+    const auto end = Clock::now() + std::chrono::milliseconds(faults_.stall_ms);
+    while (!stop() && Clock::now() < end) {
+      std::this_thread::sleep_for(std::min<Clock::duration>(kPollSlice, end - Clock::now()));
+    }
+    handle(query, length, true, heartbeat);
+  }
+  // drop on a serial line: no reply (the master times out); there is no connection to close
+}
+
+void PlantServer::check_deadlines(Clock::time_point now) {
+  const auto idle = std::chrono::duration<double>(options_.idle_timeout_s);
+  const auto partial = std::chrono::duration<double>(options_.partial_timeout_s);
+  for (std::size_t i = clients_.size(); i-- > 0;) {
+    Client& c = clients_[i];
+    if (c.reply_at) {
+      if (now >= *c.reply_at) answer(i, true);
+    } else if (c.have > 0 && now - c.request_started > partial) {
+      ++closed_connections_;
+      close_client(i);
+    } else if (c.have == 0 && !c.gateway && now - c.last_activity > idle) {
+      ++closed_connections_;
+      close_client(i);
+    }
+  }
 }
 
 bool PlantServer::touches_control(const Request& request) const {
@@ -151,6 +339,7 @@ void PlantServer::take_sample() {
   const std::uint64_t k = process_.samples();
   process_.sample(u_.data(), y_.data());
   image_.write_values(y_.data());
+  report_misfits(k);
   if (log_writer_) {
     const runlog::Row row{static_cast<double>(k) * process_.sample_time_min(),
                           k,
@@ -165,6 +354,29 @@ void PlantServer::take_sample() {
   }
 }
 
+void PlantServer::report_misfits(std::uint64_t k) {
+  const auto& misfits = image_.misfits();
+  misfits_reported_.resize(misfits.size(), 0);
+  std::uint64_t total = 0;
+  for (std::size_t j = 0; j < misfits.size(); ++j) {
+    total += misfits[j].count;
+    if (misfits[j].count == 0 || misfits_reported_[j] != 0) continue;
+    misfits_reported_[j] = misfits[j].count;  // the first misfit of each output, at once
+    const hal::modbus::Codec& codec = image_.layout().values[j].codec;
+    std::fprintf(stderr,
+                 "excite-plant: sample %llu: output %s = %.9g does not fit its register (%s "
+                 "range [%g, %g]): the register holds the range's end; counted, summary at "
+                 "stop\n",
+                 static_cast<unsigned long long>(k),
+                 j < options_.output_names.size() ? options_.output_names[j].c_str() : "?", y_[j],
+                 codec.type == hal::modbus::RegisterType::int16 ? "int16" : "uint16", codec.eng_min,
+                 codec.eng_max);
+  }
+  if (image_.layout().control_address) {
+    image_.set_control(5, static_cast<std::uint16_t>(std::min<std::uint64_t>(total, 65535)));
+  }
+}
+
 void PlantServer::on_heartbeat_written() {
   const std::uint16_t heartbeat = image_.heartbeat();
   if (heartbeat_seen_ && heartbeat == last_heartbeat_) return;
@@ -174,65 +386,8 @@ void PlantServer::on_heartbeat_written() {
   if (!(faults_armed() && faults_.freeze_echo)) image_.set_heartbeat_echo(heartbeat);
 }
 
-void PlantServer::serve_client(std::size_t index, const std::function<bool()>& stop) {
-  std::uint8_t query[MODBUS_TCP_MAX_ADU_LENGTH];
-  modbus_set_socket(ctx_, clients_[index]);
-  const int length = modbus_receive(ctx_, query);
-  if (length < 0) {  // peer closed, reset, or sent something that is not Modbus TCP
-    close_client(index);
-    return;
-  }
-  if (length == 0) return;  // a request for another unit: ignored, as libmodbus does
-  ++requests_;
-
-  const int header = modbus_get_header_length(ctx_);
-  Request request;
-  request.function_code = query[header];
-  request.address = static_cast<std::uint32_t>((query[header + 1] << 8) | query[header + 2]);
-  request.count = static_cast<std::uint32_t>((query[header + 3] << 8) | query[header + 4]);
-  if (request.function_code == MODBUS_FC_WRITE_SINGLE_REGISTER) {
-    request.count = 1;
-    request.write = true;
-  } else if (request.function_code == MODBUS_FC_WRITE_MULTIPLE_REGISTERS) {
-    request.write = true;
-  }
-  const bool control = touches_control(request);
-
-  if (!control && faults_armed()) {
-    if (faults_.drop_requests > 0) {
-      --faults_.drop_requests;
-      mirror_faults_to_control();
-      ++ordinary_requests_;
-      close_client(index);
-      return;
-    }
-    if (faults_.exception_requests > 0) {
-      --faults_.exception_requests;
-      mirror_faults_to_control();
-      ++ordinary_requests_;
-      modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE);
-      return;
-    }
-    if (faults_.stall_requests > 0) {
-      --faults_.stall_requests;
-      mirror_faults_to_control();
-      interruptible_sleep(std::chrono::milliseconds(faults_.stall_ms), stop);
-    }
-  }
-  if (!control) ++ordinary_requests_;
-
-  // The reply writes the registers (or answers an illegal address with an exception).
-  if (modbus_reply(ctx_, query, length, image_.mapping()) == -1) {
-    close_client(index);  // the peer went away while we answered
-  }
-  if (!request.write) return;
-  image_.note_write(request.address, request.count);
-  if (control) load_faults_from_control();
-  const std::uint32_t hb = image_.layout().heartbeat_address;
-  if (request.address <= hb && hb < request.address + request.count) on_heartbeat_written();
-}
-
 void PlantServer::run(const std::function<bool()>& stop) {
+  for (Client& c : clients_) c.last_activity = Clock::now();
   const auto period = std::chrono::duration_cast<Clock::duration>(
       std::chrono::duration<double>(options_.lockstep ? 1.0 : options_.sample_time_s));
   auto next_sample = Clock::now();
@@ -254,9 +409,25 @@ void PlantServer::run(const std::function<bool()>& stop) {
           std::chrono::duration_cast<std::chrono::nanoseconds>(next_sample - Clock::now()),
           std::chrono::nanoseconds(0), wait);
     }
+    for (const Client& c : clients_) {
+      if (c.reply_at)
+        wait = std::clamp(
+            std::chrono::duration_cast<std::chrono::nanoseconds>(*c.reply_at - Clock::now()),
+            std::chrono::nanoseconds(0), wait);
+    }
     fds.clear();
+    if (rtu()) {
+      fds.push_back({modbus_get_socket(ctx_), POLLIN, 0});
+      const timespec timeout{static_cast<time_t>(wait.count() / 1000000000),
+                             static_cast<long>(wait.count() % 1000000000)};
+      const int ready = ppoll(fds.data(), fds.size(), &timeout, nullptr);
+      if (ready < 0 && errno != EINTR) throw std::runtime_error(system_error("ppoll"));
+      if (ready > 0) serve_rtu(stop);
+      continue;
+    }
     fds.push_back({listen_fd_, POLLIN, 0});
-    for (const int fd : clients_) fds.push_back({fd, POLLIN, 0});
+    // A stalled connection is not read until its reply is sent (fd −1: poll skips it).
+    for (const Client& c : clients_) fds.push_back({c.reply_at ? -1 : c.fd, POLLIN, 0});
     const timespec timeout{static_cast<time_t>(wait.count() / 1000000000),
                            static_cast<long>(wait.count() % 1000000000)};
     const int ready = ppoll(fds.data(), fds.size(), &timeout, nullptr);
@@ -264,13 +435,13 @@ void PlantServer::run(const std::function<bool()>& stop) {
       if (errno == EINTR) continue;
       throw std::runtime_error(system_error("ppoll"));
     }
-    if (ready == 0) continue;
     // Serve clients from the newest down, so closing one does not shift the others' slots.
-    for (std::size_t i = fds.size() - 1; i >= 1; --i) {
-      if (fds[i].revents != 0 && i - 1 < clients_.size() && clients_[i - 1] == fds[i].fd) {
-        serve_client(i - 1, stop);
+    for (std::size_t i = fds.size() - 1; ready > 0 && i >= 1; --i) {
+      if (fds[i].revents != 0 && i - 1 < clients_.size() && clients_[i - 1].fd == fds[i].fd) {
+        receive(i - 1);
       }
     }
+    check_deadlines(Clock::now());
     if ((fds[0].revents & POLLIN) != 0) accept_client();
   }
   while (!clients_.empty()) close_client(clients_.size() - 1);

@@ -1,11 +1,17 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// excite-plant's Modbus TCP server: serves the register image, advances the plant in
-// free-running (wall-clock) or lock-step time, misbehaves on purpose when told to, and
-// logs every plant sample in the run-log format. Single-threaded: one poll loop serves up
-// to max_clients connections (a reconnecting gateway is accepted; when full, the oldest
-// connection is closed), the plant clock and the stop request.
+// excite-plant's Modbus server (TCP, or RTU on a serial device): serves the register image,
+// advances the plant in free-running (wall-clock) or lock-step time, misbehaves on purpose when
+// told to, and logs every plant sample in the run-log format. Single-threaded and non-blocking: one
+// poll loop assembles each connection's requests from whatever bytes have arrived, so no client
+// (slow, half-open, stalled on purpose) delays another. Up to max_clients connections: a new
+// one is always accepted; when full, the least recently active connection other than the
+// gateway's (the last one that wrote the heartbeat) is closed. Idle and partial requests are
+// bounded in time. Function codes 3, 4, 6 and 16 are served; any other is answered with
+// exception 1 (illegal function), so no request bypasses the heartbeat bookkeeping. RTU: one
+// master on the line, the same request handling, libmodbus framing and CRC.
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -44,7 +50,14 @@ struct ServeOptions {
   std::string plant_description;   // the run log's `plant:` line
   std::vector<std::string> input_names;
   std::vector<std::string> output_names;
+  std::vector<std::string> input_units;  // run-log units; empty: "-"
+  std::vector<std::string> output_units;
+  std::string rtu_device;  // non-empty: serve Modbus RTU on this serial device
+  int rtu_baud = 19200;    // RTU: 8 data bits, no parity, 1 stop bit, unit 1
   int max_clients = 8;
+  double idle_timeout_s = 60.0;    // a connection silent this long is closed (not the gateway's)
+  double partial_timeout_s = 2.0;  // a request not complete this long after its first byte:
+                                   // the connection is closed
 };
 
 class PlantServer {
@@ -63,8 +76,17 @@ class PlantServer {
   void run(const std::function<bool()>& stop);
 
   std::uint64_t requests() const { return requests_; }
+  /// Requests answered with exception 1 (function code not served).
+  std::uint64_t illegal_functions() const { return illegal_functions_; }
+  /// Connections closed by the server: malformed frames, idle, partial, evicted.
+  std::uint64_t closed_connections() const { return closed_connections_; }
+  /// RTU: frames dropped for a bad CRC or garbage on the line.
+  std::uint64_t rejected_frames() const { return rejected_frames_; }
 
  private:
+  using Clock = std::chrono::steady_clock;
+  static constexpr std::size_t kMaxAdu = 260;  // Modbus TCP: 7-byte MBAP + 253-byte PDU
+
   struct Request {
     int function_code = 0;
     std::uint32_t address = 0;
@@ -72,15 +94,34 @@ class PlantServer {
     bool write = false;
   };
 
+  struct Client {
+    int fd = -1;
+    std::array<std::uint8_t, kMaxAdu> frame{};
+    std::size_t have = 0;                       // bytes of the request being assembled
+    Clock::time_point last_activity;            // last byte received (or accepted)
+    Clock::time_point request_started;          // first byte of the request being assembled
+    std::optional<Clock::time_point> reply_at;  // a stalled request, answered then
+    bool gateway = false;                       // the last connection that wrote the heartbeat
+  };
+
   void listen();
   void open_log();
   void release();
   void accept_client();
   void close_client(std::size_t index);
-  void serve_client(std::size_t index, const std::function<bool()>& stop);
+  void receive(std::size_t index);
+  enum class Outcome { replied, close, drop, stall };
+  // One complete request (ADU of `length` bytes; the reply goes out on ctx_'s current
+  // socket): function-code and length checks, faults, the reply, the write bookkeeping.
+  Outcome handle(std::uint8_t* query, int length, bool stall_done, bool& heartbeat_written);
+  void answer(std::size_t index, bool stall_done);
+  bool rtu() const { return !options_.rtu_device.empty(); }
+  void serve_rtu(const std::function<bool()>& stop);
+  void check_deadlines(Clock::time_point now);
   bool touches_control(const Request& request) const;
   void on_heartbeat_written();
   void take_sample();
+  void report_misfits(std::uint64_t k);
   void load_faults_from_control();
   void mirror_faults_to_control();
   bool faults_armed() const { return ordinary_requests_ >= options_.faults_after; }
@@ -91,7 +132,11 @@ class PlantServer {
   _modbus* ctx_ = nullptr;
   int listen_fd_ = -1;
   std::uint16_t port_ = 0;
-  std::vector<int> clients_;  // oldest first
+  std::vector<Client> clients_;  // oldest first
+  std::uint64_t illegal_functions_ = 0;
+  std::uint64_t closed_connections_ = 0;
+  std::uint64_t rejected_frames_ = 0;
+  std::vector<std::uint64_t> misfits_reported_;  // per output: count when last reported
 
   FaultSettings faults_;
   std::uint64_t requests_ = 0;

@@ -3,6 +3,7 @@
 
 #include <modbus.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -19,7 +20,8 @@ RegisterImage::RegisterImage(ServerLayout layout, const std::vector<double>& inp
                              const std::vector<double>& output_baseline)
     : layout_(std::move(layout)),
       last_setpoints_(input_baseline),
-      written_(layout_.setpoints.size(), false) {
+      written_(layout_.setpoints.size(), false),
+      misfits_(layout_.values.size()) {
   if (input_baseline.size() != layout_.setpoints.size() ||
       output_baseline.size() != layout_.values.size()) {
     throw std::invalid_argument("RegisterImage: baselines do not match the layout");
@@ -42,7 +44,8 @@ RegisterImage::RegisterImage(ServerLayout layout, const std::vector<double>& inp
     }
   }
   write_values(output_baseline.data());
-  clamped_values_ = 0;
+  clamped_values_ = 0;  // a baseline outside the range is counted from the first sample on
+  misfits_.assign(layout_.values.size(), Misfit{});
 }
 
 RegisterImage::~RegisterImage() {
@@ -95,7 +98,13 @@ void RegisterImage::write_values(const double* y) {
     } else {
       bool clamped = false;
       r[0] = hal::modbus::to_raw(p.codec, y[j], clamped);
-      clamped_values_ += clamped ? 1 : 0;
+      if (clamped) {
+        ++clamped_values_;
+        Misfit& m = misfits_[j];
+        m.lowest = m.count == 0 ? y[j] : std::min(m.lowest, y[j]);
+        m.highest = m.count == 0 ? y[j] : std::max(m.highest, y[j]);
+        ++m.count;
+      }
     }
   }
 }

@@ -34,8 +34,9 @@ class RegisterImage {
   /// until the gateway first writes a setpoint, then its decoded registers. A float32
   /// register pair that is not finite keeps the last good value and is counted.
   void read_setpoints(double* u);
-  /// Writes the process values (one per plant output). int16/uint16 outside the
-  /// engineering range are clamped to it (and counted), as a transmitter saturates.
+  /// Writes the process values (one per plant output). An int16/uint16 value outside its
+  /// engineering range cannot be encoded: the register holds the range's end (as a
+  /// transmitter saturates) and the value is counted per output (`misfits`) — never silently.
   void write_values(const double* y);
 
   std::uint16_t heartbeat() const;
@@ -57,6 +58,16 @@ class RegisterImage {
   std::uint64_t rejected_setpoints() const { return rejected_setpoints_; }
   std::uint64_t clamped_values() const { return clamped_values_; }
 
+  /// Values of one output that did not fit its register (int16/uint16 outside
+  /// [eng_min, eng_max]): how many samples, and the lowest and highest such value.
+  struct Misfit {
+    std::uint64_t count = 0;
+    double lowest = 0.0;
+    double highest = 0.0;
+  };
+  /// One per plant output, in plant order.
+  const std::vector<Misfit>& misfits() const { return misfits_; }
+
  private:
   std::uint16_t* cell(const PlacedValue& value) const;
 
@@ -66,6 +77,7 @@ class RegisterImage {
   std::vector<bool> written_;
   std::uint64_t rejected_setpoints_ = 0;
   std::uint64_t clamped_values_ = 0;
+  std::vector<Misfit> misfits_;
 };
 
 }  // namespace excite::sim::server

@@ -189,7 +189,8 @@ std::vector<hal::modbus::RegisterEntry> read_entries(const Reader& r, const std:
 
 ServerRegisters read_registers(const Reader& r) {
   r.only_keys({"setpoints", "values", "heartbeat_address", "heartbeat_echo_address",
-               "heartbeat_echo_function_code", "control_address", "write_chunk", "read_chunk"});
+               "heartbeat_echo_function_code", "control_address", "command_address", "write_chunk",
+               "read_chunk"});
   ServerRegisters regs;
   regs.map.setpoints = read_entries(r, "setpoints", true);
   regs.map.values = read_entries(r, "values", false);
@@ -206,6 +207,10 @@ ServerRegisters read_registers(const Reader& r) {
           "control_address", 0, 65536 - control_block_size,
           "a holding address with room for " + std::to_string(control_block_size) + " registers")) {
     regs.control_address = static_cast<std::uint32_t>(*c);
+  }
+  if (const auto c =
+          r.integer("command_address", 0, 65535, "a holding register address 0..65535")) {
+    regs.command_address = static_cast<std::uint32_t>(*c);
   }
   if (const auto w = r.integer("write_chunk", 2, 123, "2..123")) {
     regs.map.write_chunk = static_cast<std::uint32_t>(*w);

@@ -32,8 +32,9 @@ struct PlantSettings {
   std::uint64_t noise_seed = 1;
 };
 
-/// Number of registers in the fault control block (holding registers, see README).
-inline constexpr std::uint32_t control_block_size = 5;
+/// Number of registers in the control block (holding registers, see README): five fault
+/// settings and, at +5, the count of values that did not fit their registers.
+inline constexpr std::uint32_t control_block_size = 6;
 
 /// The register map: hal's map (setpoints FC16, heartbeat, values FC03/FC04) plus what only
 /// the plant side has: where the heartbeat is echoed and the fault control block.
@@ -42,6 +43,8 @@ struct ServerRegisters {
   std::uint32_t heartbeat_echo_address = 0;
   int heartbeat_echo_function_code = 3;          // 3 (holding) or 4 (input register)
   std::optional<std::uint32_t> control_address;  // first of control_block_size holding regs
+  std::optional<std::uint32_t> command_address;  // holding register an operator writes the
+                                                 // gateway's command to (uint16, starts at 0)
 };
 
 struct ServerConfig {

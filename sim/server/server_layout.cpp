@@ -76,6 +76,9 @@ void compile(const ServerRegisters& regs, std::string_view source, hal::modbus::
   if (regs.control_address) {
     holding.push_back({"registers.control_address", *regs.control_address, control_block_size});
   }
+  if (regs.command_address) {
+    holding.push_back({"registers.command_address", *regs.command_address, 1});
+  }
   check_overlaps(holding, source);
   check_overlaps(input, source);
 }
@@ -154,6 +157,7 @@ ServerLayout compile_layout(const ServerConfig& config, int inputs, int outputs,
   layout.heartbeat_echo = {echo, regs.heartbeat_echo_address,
                            regs.heartbeat_echo_function_code == 4};
   layout.control_address = regs.control_address;
+  layout.command_address = regs.command_address;
   layout.holding = extent_of(holding);
   layout.input = extent_of(input);
   return layout;

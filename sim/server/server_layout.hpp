@@ -33,6 +33,7 @@ struct ServerLayout {
   std::uint32_t heartbeat_address = 0;  // holding
   PlacedValue heartbeat_echo;           // uint16, raw counter
   std::optional<std::uint32_t> control_address;
+  std::optional<std::uint32_t> command_address;  // holding, uint16 raw
   TableExtent holding;
   TableExtent input;
 };

@@ -33,13 +33,17 @@ std::filesystem::path TempDir::write(const std::string& name, const std::string&
 }
 
 PlantRunner::PlantRunner(const std::vector<std::string>& args, std::filesystem::path stderr_file)
+    : PlantRunner(EXCITE_PLANT_PATH, args, std::move(stderr_file)) {}
+
+PlantRunner::PlantRunner(const std::string& program_path, const std::vector<std::string>& args,
+                         std::filesystem::path stderr_file)
     : stderr_file_(std::move(stderr_file)) {
   int out[2];
   if (pipe2(out, O_CLOEXEC) != 0) throw std::runtime_error("pipe2 failed");
   const int err = open(stderr_file_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (err == -1) throw std::runtime_error("cannot open " + stderr_file_.string());
   std::vector<char*> argv;
-  std::string program = EXCITE_PLANT_PATH;
+  std::string program = program_path;
   argv.push_back(program.data());
   std::vector<std::string> copies = args;
   for (std::string& a : copies) argv.push_back(a.data());
@@ -110,6 +114,33 @@ std::string PlantRunner::stderr_text() const {
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+}  // namespace excite::test
+
+namespace excite::test {
+
+int run_to_completion(const std::string& program, const std::vector<std::string>& args,
+                      const std::filesystem::path& output_file) {
+  const int out = open(output_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (out == -1) throw std::runtime_error("cannot open " + output_file.string());
+  std::vector<std::string> copies = args;
+  std::string program_copy = program;
+  std::vector<char*> argv{program_copy.data()};
+  for (std::string& a : copies) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    dup2(out, STDOUT_FILENO);
+    dup2(out, STDERR_FILENO);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  close(out);
+  if (pid < 0) throw std::runtime_error("fork failed");
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
 }  // namespace excite::test

@@ -34,6 +34,9 @@ class PlantRunner {
  public:
   /// Starts excite-plant with `args`; stderr goes to `stderr_file`.
   PlantRunner(const std::vector<std::string>& args, std::filesystem::path stderr_file);
+  /// Starts another program the same way (the gateway, for a test of both sides).
+  PlantRunner(const std::string& program_path, const std::vector<std::string>& args,
+              std::filesystem::path stderr_file);
   ~PlantRunner();
   PlantRunner(const PlantRunner&) = delete;
   PlantRunner& operator=(const PlantRunner&) = delete;
@@ -62,5 +65,10 @@ class PlantRunner {
   std::filesystem::path stderr_file_;
   std::string first_line_;
 };
+
+/// Runs `program` with `args` to its end, stdout and stderr into `output_file`; returns the
+/// exit code (128 + signal when killed).
+int run_to_completion(const std::string& program, const std::vector<std::string>& args,
+                      const std::filesystem::path& output_file);
 
 }  // namespace excite::test

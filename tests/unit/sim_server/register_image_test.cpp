@@ -10,6 +10,8 @@
 
 #include "hal/modbus/word_order.hpp"
 #include "sim/library/library.hpp"
+#include "sim/lti/discrete_plant.hpp"
+#include "sim/plants/plant.hpp"
 #include "sim/server/plant_process.hpp"
 #include "sim/server/register_image.hpp"
 #include "sim/server/server_config.hpp"
@@ -167,7 +169,7 @@ TEST(PlantProcess, DeviationsAroundTheOperatingPointFollowDiscretePlant) {
   PlantSettings settings;
   settings.input_baseline = {1.95, 1.71};
   settings.output_baseline = {96.0, 0.5};
-  PlantProcess process(g, settings);
+  PlantProcess process(make_plant("woodberry2x2"), settings);
   DiscretePlant reference(g, 1.0);
   for (int k = 0; k < 30; ++k) {
     const double u[2] = {1.95 + 0.1 * (k % 3), 1.71 - 0.05 * (k % 5)};
@@ -182,12 +184,44 @@ TEST(PlantProcess, DeviationsAroundTheOperatingPointFollowDiscretePlant) {
   EXPECT_EQ(process.samples(), 30U);
 }
 
+TEST(PlantProcess, ColumnAroundItsOwnOperatingPointEqualsItsBatchSimulation) {
+  // GIVEN colaA live, with no baselines configured: the plant's own operating point
+  PlantSettings settings;
+  PlantProcess process(make_plant("colaA"), settings);
+  const auto reference = make_plant("colaA");
+  const Eigen::VectorXd u0 = reference->input_baseline();
+  const Eigen::VectorXd y0 = reference->output_baseline();
+  ASSERT_EQ(process.input_baseline(), std::vector<double>(u0.data(), u0.data() + u0.size()));
+  ASSERT_EQ(process.output_baseline(), std::vector<double>(y0.data(), y0.data() + y0.size()));
+  EXPECT_GT(u0.norm(), 1.0);  // absolute flows, not deviations
+  // WHEN it is fed steps of 0.01 kmol/min for 40 samples
+  constexpr int kSamples = 40;
+  Eigen::MatrixXd du(kSamples, 2);
+  Eigen::MatrixXd y(kSamples, 2);
+  for (int k = 0; k < kSamples; ++k) {
+    du(k, 0) = (k / 7) % 2 == 0 ? 0.01 : -0.01;
+    du(k, 1) = (k / 5) % 2 == 0 ? -0.01 : 0.01;
+    const double u[2] = {u0(0) + du(k, 0), u0(1) + du(k, 1)};
+    double yk[2];
+    process.sample(u, yk);
+    y(k, 0) = yk[0] - y0(0);
+    y(k, 1) = yk[1] - y0(1);
+    du(k, 0) = process.last_du()[0];  // exactly what the plant was given
+    du(k, 1) = process.last_du()[1];
+  }
+  // THEN the deviations equal the batch simulation of the same inputs
+  const Eigen::MatrixXd batch = reference->simulate(du, 1.0);
+  EXPECT_LT((y - batch).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_GT(batch.cwiseAbs().maxCoeff(), 1e-5);  // the column responded
+}
+
 TEST(PlantProcess, NoiseIsTheSeededMeasurementNoise) {
   const TransferMatrix g = library_plant("woodberry2x2");
   PlantSettings settings;
   settings.noise_variance = {0.03};
   settings.noise_seed = 42;
-  PlantProcess process(g, settings);
+  PlantProcess process(make_plant("woodberry2x2"), settings);
+  EXPECT_EQ(process.outputs(), g.outputs());
   MeasurementNoise noise(2, 0.03, 42);
   const double u[2] = {0.0, 0.0};
   for (int k = 0; k < 10; ++k) {

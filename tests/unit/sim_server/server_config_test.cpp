@@ -84,10 +84,10 @@ TEST(ServerConfig, TheDocumentedExampleParsesAndFitsItsPlant) {
   EXPECT_EQ(config.registers.map.heartbeat_address, 108U);
   EXPECT_EQ(config.registers.heartbeat_echo_function_code, 4);
   EXPECT_EQ(config.registers.control_address, 400U);
-  const PlantDefinition plant = load_plant(config.plant, config.base_directory);
-  const ServerLayout layout = compile_layout(config, plant.g.inputs(), plant.g.outputs(), true);
+  const auto plant = load_plant(config.plant, config.base_directory);
+  const ServerLayout layout = compile_layout(config, plant->inputs(), plant->outputs(), true);
   EXPECT_EQ(layout.holding.start, 100U);
-  EXPECT_EQ(layout.holding.count, 305U);  // 100..404: setpoints, heartbeat, y3, control
+  EXPECT_EQ(layout.holding.count, 306U);  // 100..405: setpoints, heartbeat, y3, control
   EXPECT_EQ(layout.input.start, 200U);
   EXPECT_EQ(layout.input.count, 101U);  // 200..300: values and echo
   EXPECT_TRUE(layout.values[2].input_table == false);
@@ -235,10 +235,10 @@ TEST(LoadPlant, RelativePlantFileIsReadFromTheConfigDirectory) {
   std::ofstream(dir / "wb.toml") << library_plant_toml("woodberry2x2");
   PlantSettings settings;
   settings.file = "wb.toml";
-  const PlantDefinition plant = load_plant(settings, dir);
+  const auto plant = load_plant(settings, dir);
   std::filesystem::remove_all(dir);
-  EXPECT_EQ(plant.g.inputs(), 2);
-  EXPECT_EQ(plant.g.static_gain(), library_plant("woodberry2x2").static_gain());
+  EXPECT_EQ(plant->inputs(), 2);
+  EXPECT_EQ(plant->static_gain(), library_plant("woodberry2x2").static_gain());
 }
 
 TEST(ServerConfig, LibraryAndFileTogetherAreRefused) {
@@ -247,6 +247,14 @@ TEST(ServerConfig, LibraryAndFileTogetherAreRefused) {
                                     two_by_two().substr(two_by_two().find("[registers]")));
               }),
               HasSubstr("plant.file = \"b\": expected either library or file, not both"));
+}
+
+TEST(LoadPlant, TheColumnsAreLivePlantsToo) {
+  PlantSettings settings;
+  for (const std::string name : {"colaA", "pilot15"}) {
+    settings.library = name;
+    EXPECT_EQ(load_plant(settings, ".")->inputs(), 2) << name;
+  }
 }
 
 TEST(LoadPlant, NoPlantAtAllIsNamed) {

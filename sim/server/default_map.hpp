@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The register map excite-plant serves when no configuration file is given, derived from the
+// plant's input and output counts (sim/server/README.md, "Default register map"). Every
+// value is float32, word order ABCD; the gateway configuration written by `excite
+// loop-config` uses the same addresses.
+//
+//   holding 100 + 2i   setpoint u_i (FC16 write, FC03 read back), i = 0..inputs−1
+//   holding 100 + 2n   heartbeat (uint16, written last, n = inputs)
+//   holding 301        command register (uint16, 0 = none; an operator writes it)
+//   holding 400..405   control block (faults, misfit counter)
+//   input   200 + 2j   output y_j (FC04), j = 0..outputs−1
+//   input   300        heartbeat echo (uint16)
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sim/server/server_config.hpp"
+
+namespace excite::sim::server {
+
+inline constexpr std::uint32_t default_setpoint_base = 100;
+inline constexpr std::uint32_t default_value_base = 200;
+inline constexpr std::uint32_t default_echo_address = 300;
+inline constexpr std::uint32_t default_command_address = 301;
+inline constexpr std::uint32_t default_control_address = 400;
+inline constexpr int default_max_inputs = 99;   // setpoints + heartbeat stay below 300
+inline constexpr int default_max_outputs = 50;  // values stay below the echo at 300
+
+/// The default map for a plant with `inputs` inputs and `outputs` outputs, entries named
+/// by `input_names`/`output_names` when given (sizes must then match). Throws
+/// std::invalid_argument "plant = ...: expected at most 99 inputs and 50 outputs ..." beyond
+/// the table's room.
+ServerRegisters default_registers(int inputs, int outputs,
+                                  const std::vector<std::string>& input_names = {},
+                                  const std::vector<std::string>& output_names = {});
+
+}  // namespace excite::sim::server
