@@ -19,10 +19,14 @@
 #include <cerrno>
 #include <chrono>
 #include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <thread>
 #include <vector>
 
 #include "hal/modbus/modbus_field_bus.hpp"
+#include "sim/plants/plant.hpp"
 #include "sim/server/default_map.hpp"
 #include "tests/hil/sim_server/plant_runner.hpp"
 
@@ -372,6 +376,47 @@ eng_max = 2.0
   EXPECT_THAT(text, HasSubstr("output y2: 7 samples outside its register's range [0, 2] "
                               "(lowest 5, highest 5)"));
   EXPECT_THAT(text, HasSubstr("7 values did not fit their registers"));
+}
+
+// Interoperability with a client we did not write: mbpoll (Debian package) writes a float
+// setpoint and the heartbeat, and reads the outputs, through the non-blocking framing.
+TEST_F(Robust, MbpollWritesAndReadsTheServer) {
+  constexpr const char* kMbpoll = "/usr/bin/mbpoll";
+  if (!std::filesystem::exists(kMbpoll)) GTEST_SKIP() << "mbpoll is not installed (Debian: mbpoll)";
+  plant_.emplace(std::vector<std::string>{"--plant", "woodberry2x2", "--modbus-tcp", "127.0.0.1:0",
+                                          "--clock", "lockstep"},
+                 dir_.path() / "stderr.txt");
+  const auto port = plant_->wait_listening();
+  ASSERT_TRUE(port);
+  const auto out = dir_.path() / "mbpoll.txt";
+  const auto mbpoll = [&](std::vector<std::string> args) {
+    std::vector<std::string> all{"-m", "tcp", "-p", std::to_string(*port), "-a", "1",
+                                 "-0", "-B",  "-1"};
+    all.insert(all.end(), args.begin(), args.end());
+    return test::run_to_completion(kMbpoll, all, out);
+  };
+  const auto text = [&] {
+    std::ifstream in(out);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  // u1 = 1.5 (float32 ABCD at 100), then five heartbeats (holding 104): five samples
+  ASSERT_EQ(mbpoll({"-r", "100", "-t", "4:float", "127.0.0.1", "1.5"}), 0) << text();
+  for (int k = 1; k <= 5; ++k) {
+    ASSERT_EQ(mbpoll({"-r", "104", "-t", "4", "127.0.0.1", std::to_string(k)}), 0) << text();
+  }
+  ASSERT_EQ(mbpoll({"-r", "200", "-t", "3:float", "-c", "2", "127.0.0.1"}), 0) << text();
+  const std::string values = text();
+  const auto reference = make_plant("woodberry2x2");
+  reference->reset(1.0);
+  std::array<double, 2> dy{};
+  for (int k = 0; k < 5; ++k) reference->step(std::array<double, 2>{1.5, 0.0}, dy);
+  const auto at = values.find("[200]:");
+  ASSERT_NE(at, std::string::npos) << values;
+  const double y1 = std::stod(values.substr(at + 6));
+  EXPECT_GT(dy[0], 0.5);  // the plant responded
+  EXPECT_NEAR(y1, dy[0], 1e-5 * std::abs(dy[0])) << values;
+  ASSERT_EQ(plant_->stop(SIGTERM), 0);
+  EXPECT_THAT(plant_->stderr_text(), HasSubstr("stopped after 5 samples"));
 }
 
 struct Refused {
