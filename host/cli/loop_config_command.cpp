@@ -3,54 +3,24 @@
 //                    [--output-range R] [--sample-time-min T] [--noise-var V] [--seed S] -o DIR
 //
 // One register map for both sides of the loop: writes DIR/plant.toml (excite-plant's
-// configuration) and DIR/gateway.toml (excite-gateway's), both from the default register
-// map of sim/server/default_map.hpp, so an engineer never types an address twice.
+// configuration) and DIR/gateway.toml (excite-gateway's), both made by host/loop's
+// make_loop_config from sim/server's default register map.
 
-#include <algorithm>
-#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 #include <stdexcept>
 
 #include "host/cli/commands.hpp"
-#include "host/design/case_studies.hpp"
-#include "sim/plants/plant.hpp"
-#include "sim/server/config_writer.hpp"
-#include "sim/server/default_map.hpp"
+#include "host/loop/loop_config.hpp"
 
 namespace excite::host::cli {
 namespace {
 
-using sim::server::toml_number;
-using sim::server::toml_string;
-
-struct LoopOptions {
-  std::string plant;
-  std::string host = "127.0.0.1";
-  std::uint32_t port = 1502;
-  double input_range = 0.0;      // ± deviation allowed on every input; 0: the case study's
-  double max_move = 0.0;         // largest change per tick; 0: the whole input range
-  double output_range = 0.0;     // ± test limits around each output's baseline; 0: none
-  double sample_time_min = 0.0;  // 0: the case study's (1 without one)
-  double noise_var = -1.0;       // < 0: the case study's (0 without one)
-  std::uint64_t seed = 1;
-  double period_s = 0.0;  // gateway tick period; 0: the plan's sample time
+struct LoopConfigCommand {
+  LoopConfigOptions config;
   std::string output_dir;
 };
-
-[[noreturn]] void bad(const std::string& field, double value, const std::string& expected) {
-  std::ostringstream os;
-  os << field << " = " << value << ": expected " << expected;
-  throw std::invalid_argument(os.str());
-}
-
-void check(const std::string& field, double value, bool zero_ok) {
-  if (!std::isfinite(value) || value < 0.0 || (!zero_ok && value == 0.0)) {
-    bad(field, value, zero_ok ? "a finite number >= 0" : "a finite number > 0");
-  }
-}
 
 void write_file(const std::filesystem::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -59,155 +29,49 @@ void write_file(const std::filesystem::path& path, const std::string& text) {
   if (!out) throw std::runtime_error(path.string() + ": cannot write");
 }
 
-std::string gateway_toml(const LoopOptions& opt, const sim::Plant& plant,
-                         const sim::server::ServerConfig& server, double range,
-                         const std::vector<double>& u0, const std::vector<double>& y0) {
-  const auto& map = server.registers.map;
-  const auto in_units = plant.input_units();
-  const auto out_units = plant.output_units();
-  std::ostringstream os;
-  os << "# excite-gateway configuration written by `excite loop-config --plant " << opt.plant
-     << "`,\n# the register map of plant.toml beside it (sim/server/README.md, Default register "
-        "map).\n# Keys: firmware/app/README.md.\n\n";
-  os << "[gateway]\nplant = " << toml_string(plant.name() + " (excite-plant)") << "\n";
-  if (opt.period_s > 0.0) os << "period_s = " << toml_number(opt.period_s) << "\n";
-  os << "comm_fail_limit = 3\ncomm_loss = \"hold\"\nrealtime_priority = 0\n\n";
-  os << "[device]\ntransport = \"modbus-tcp\"\nsimulator = true   # the peer is excite-plant: "
-        "--clock lockstep allowed\nhost = "
-     << toml_string(opt.host) << "\nport = " << opt.port
-     << "\nunit_id = 1\nresponse_timeout_ms = 1000\n\n";
-  os << "[map]\nheartbeat_address = " << *map.heartbeat_address << "\n";
-  const double move = opt.max_move > 0.0 ? opt.max_move : 2.0 * range;
-  for (std::size_t i = 0; i < map.setpoints.size(); ++i) {
-    const auto& e = map.setpoints[i];
-    os << "\n[[setpoints]]\nname = " << toml_string(e.name)
-       << "\nunit = " << toml_string(in_units[i]) << "\naddress = " << e.address
-       << "\ntype = \"float32\"\nword_order = " << toml_string(e.word_order)
-       << "\nmin = " << toml_number(u0[i] - range) << "\nmax = " << toml_number(u0[i] + range)
-       << "\nmax_move = " << toml_number(move) << "\nreadback = " << toml_string(e.name + "_sp")
-       << "\n";
-  }
-  for (std::size_t j = 0; j < map.values.size(); ++j) {
-    const auto& e = map.values[j];
-    os << "\n[[values]]\nname = " << toml_string(e.name) << "\nunit = " << toml_string(out_units[j])
-       << "\naddress = " << e.address << "\nfunction_code = " << e.function_code
-       << "\ntype = \"float32\"\nword_order = " << toml_string(e.word_order) << "\n";
-    if (opt.output_range > 0.0) {
-      os << "test_low = " << toml_number(y0[j] - opt.output_range)
-         << "\ntest_high = " << toml_number(y0[j] + opt.output_range)
-         << "\nhysteresis = " << toml_number(0.1 * opt.output_range) << "\n";
-    }
-  }
-  for (std::size_t i = 0; i < map.setpoints.size(); ++i) {
-    const auto& e = map.setpoints[i];
-    os << "\n[[values]]\nname = " << toml_string(e.name + "_sp")
-       << "\nunit = " << toml_string(in_units[i])
-       << "\nrole = \"readback\"\naddress = " << e.address
-       << "\nfunction_code = 3\ntype = \"float32\"\nword_order = " << toml_string(e.word_order)
-       << "\n";
-  }
-  os << "\n[[values]]\nname = \"hb_echo\"\nrole = \"heartbeat_echo\"\naddress = "
-     << server.registers.heartbeat_echo_address
-     << "\nfunction_code = " << server.registers.heartbeat_echo_function_code
-     << "\ntype = \"uint16\"\neng_min = 0\neng_max = 65535\n";
-  os << "\n[[values]]\nname = \"command\"\nrole = \"command\"   # 1 start, 2 suspend, 3 resume, "
-        "4 abort\naddress = "
-     << *server.registers.command_address
-     << "\nfunction_code = 3\ntype = \"uint16\"\neng_min = 0\neng_max = 65535\n";
-  return os.str();
-}
-
-void run(const LoopOptions& opt) {
-  check("--input-range", opt.input_range, true);
-  check("--max-move", opt.max_move, true);
-  check("--output-range", opt.output_range, true);
-  check("--sample-time-min", opt.sample_time_min, true);
-  check("--period-s", opt.period_s, true);
-  if (opt.noise_var != -1.0) check("--noise-var", opt.noise_var, true);
-  if (opt.port > 65535) bad("--port", opt.port, "a TCP port 0..65535");
-  const auto plant = sim::make_plant(opt.plant);
-
-  // The case study (when the plant has one) gives the defaults: T, noise, input range.
-  double range = opt.input_range;
-  double sample_time = opt.sample_time_min;
-  double noise = opt.noise_var;
-  const auto studies = case_study_plants();
-  const bool has_study = std::find(studies.begin(), studies.end(), opt.plant) != studies.end();
-  if (has_study) {
-    const PriorKnowledge prior = case_study(opt.plant);
-    if (range == 0.0) {
-      for (const InputSpec& in : prior.inputs) range = std::max({range, -in.min, in.max});
-    }
-    if (sample_time == 0.0) sample_time = prior.sample_time_min;
-    if (noise < 0.0) noise = case_study_noise_variance(opt.plant);
-  }
-  if (range == 0.0) {
-    bad("--input-range", 0.0,
-        "a range > 0 for plant " + opt.plant + ", which has no case study to take it from");
-  }
-  if (sample_time == 0.0) sample_time = 1.0;
-  if (noise < 0.0) noise = 0.0;
-
-  sim::server::ServerConfig server;
-  const bool file = opt.plant.size() > 5 && opt.plant.ends_with(".toml");
-  if (file) {
-    server.plant.file = std::filesystem::absolute(opt.plant).string();
-  } else {
-    server.plant.library = opt.plant;
-  }
-  server.plant.sample_time_min = sample_time;
-  const Eigen::VectorXd u0 = plant->input_baseline();
-  std::vector<double> u0v(u0.data(), u0.data() + u0.size());
-  const Eigen::VectorXd y0 = plant->output_baseline();
-  std::vector<double> y0v(y0.data(), y0.data() + y0.size());
-  server.plant.input_baseline = u0v;
-  server.plant.output_baseline = y0v;
-  if (noise > 0.0) server.plant.noise_variance = {noise};
-  server.plant.noise_seed = opt.seed;
-  server.registers = sim::server::default_registers(plant->inputs(), plant->outputs(),
-                                                    plant->input_names(), plant->output_names());
-
-  const std::filesystem::path dir(opt.output_dir);
+void run(const LoopConfigCommand& cmd) {
+  const LoopConfigPair pair = make_loop_config(cmd.config);
+  const std::filesystem::path dir(cmd.output_dir);
   std::filesystem::create_directories(dir);
   const auto plant_path = dir / "plant.toml";
   const auto gateway_path = dir / "gateway.toml";
-  write_file(plant_path,
-             sim::server::format_server_config(
-                 server, "excite-plant configuration written by `excite loop-config --plant " +
-                             opt.plant + "`; its gateway side: gateway.toml"));
-  write_file(gateway_path, gateway_toml(opt, *plant, server, range, u0v, y0v));
+  write_file(plant_path, pair.plant_toml);
+  write_file(gateway_path, pair.gateway_toml);
+  const auto& c = cmd.config;
   std::cout << "wrote " << plant_path.string() << " and " << gateway_path.string() << "\n"
-            << "  excite-plant --config " << plant_path.string() << " --modbus-tcp " << opt.host
-            << ":" << opt.port << " --clock lockstep\n"
+            << "  excite-plant --config " << plant_path.string() << " --modbus-tcp " << c.host
+            << ":" << c.port << " --clock lockstep\n"
             << "  excite-gateway --config " << gateway_path.string()
-            << " --plan PLAN --log RUN.csv --start\n";
+            << " --plan PLAN --log RUN.csv --start --clock lockstep\n";
 }
 
 }  // namespace
 
 void add_loop_config_command(CLI::App& app) {
-  auto opt = std::make_shared<LoopOptions>();
+  auto opt = std::make_shared<LoopConfigCommand>();
   CLI::App* cmd = app.add_subcommand(
       "loop-config",
       "write a matching excite-plant and excite-gateway configuration (one register map)");
-  cmd->add_option("--plant", opt->plant,
+  cmd->add_option("--plant", opt->config.plant,
                   "plant: library name, colaA, pilot15, or a plant file (.toml)")
       ->required();
-  cmd->add_option("--host", opt->host, "address the gateway connects to")->capture_default_str();
-  cmd->add_option("--port", opt->port, "TCP port of the plant server")->capture_default_str();
-  cmd->add_option("--input-range", opt->input_range,
+  cmd->add_option("--host", opt->config.host, "address the gateway connects to")
+      ->capture_default_str();
+  cmd->add_option("--port", opt->config.port, "TCP port of the plant server")
+      ->capture_default_str();
+  cmd->add_option("--input-range", opt->config.input_range,
                   "setpoint limits: baseline +- this on every input (default: the case "
                   "study's, 2 amplitudes)");
-  cmd->add_option("--max-move", opt->max_move,
+  cmd->add_option("--max-move", opt->config.max_move,
                   "largest setpoint change per tick (default: 2 x the input range)");
-  cmd->add_option("--output-range", opt->output_range,
+  cmd->add_option("--output-range", opt->config.output_range,
                   "test limits on every output: baseline +- this (default: none)");
-  cmd->add_option("--sample-time-min", opt->sample_time_min,
+  cmd->add_option("--sample-time-min", opt->config.sample_time_min,
                   "plant sample time, minutes (default: the case study's)");
-  cmd->add_option("--noise-var", opt->noise_var,
+  cmd->add_option("--noise-var", opt->config.noise_var,
                   "measurement noise variance (default: the case study's)");
-  cmd->add_option("--seed", opt->seed, "noise seed")->capture_default_str();
-  cmd->add_option("--period-s", opt->period_s,
+  cmd->add_option("--seed", opt->config.seed, "noise seed")->capture_default_str();
+  cmd->add_option("--period-s", opt->config.period_s,
                   "gateway tick period, seconds (default: the plan's sample time; shorter "
                   "compresses time in tests)");
   cmd->add_option("-o,--output", opt->output_dir, "directory for plant.toml and gateway.toml")

@@ -99,8 +99,13 @@ void PlantServer::open_log() {
   }
   log_buffer_.resize(
       std::max<std::size_t>(runlog::max_row_chars(log_inputs_.size(), log_outputs_.size()), 4096));
-  const runlog::Header header{options_.plant_description, log_plan_, process_.sample_time_min(),
-                              log_inputs_, log_outputs_};
+  producer_ = "excite-plant " + std::string(runlog::kVersion);
+  const runlog::Header header{options_.plant_description,
+                              log_plan_,
+                              process_.sample_time_min(),
+                              log_inputs_,
+                              log_outputs_,
+                              producer_};
   log_writer_.emplace(log_, header, log_buffer_);
   if (const auto s = log_writer_->write_header(); s != runlog::WriteStatus::ok) {
     throw std::runtime_error("--log " + options_.log_path + ": " +

@@ -154,6 +154,7 @@ class PlantServer {
   std::vector<runlog::Channel> log_outputs_;
   std::vector<char> log_buffer_;
   std::string log_plan_ = "none (excite-plant)";
+  std::string producer_;  // the log's `# producer:` line
   std::optional<runlog::FileWriter> log_writer_;
 };
 

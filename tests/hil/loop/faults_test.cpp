@@ -91,7 +91,8 @@ class Faults : public LoopTest {
     while (std::chrono::steady_clock::now() < until) {
       std::size_t lines = 0;
       std::ifstream in(path("plant.csv"));
-      for (std::string line; std::getline(in, line);) lines += line.empty() || line[0] == '#' ? 0 : 1;
+      for (std::string line; std::getline(in, line);)
+        lines += line.empty() || line[0] == '#' ? 0U : 1U;
       if (lines > samples) return true;
       std::this_thread::sleep_for(20ms);
     }

@@ -36,8 +36,8 @@ TEST_F(Interop, MbpollWritesASetpointStepsThePlantAndReadsItsOutputs) {
   const std::string mb = "mbpoll -m tcp -a 1 -0 -1 -p " + std::to_string(port) + " ";
   ASSERT_TRUE(shell(mb + "-r 100 -t 4:float -B 127.0.0.1 1.5 > " + path("w.out").string()));
   for (int k = 1; k <= 6; ++k) {
-    ASSERT_TRUE(shell(mb + "-r 104 -t 4 127.0.0.1 " + std::to_string(k) + " >> " +
-                      path("w.out").string()));
+    ASSERT_TRUE(
+        shell(mb + "-r 104 -t 4 127.0.0.1 " + std::to_string(k) + " >> " + path("w.out").string()));
   }
   ASSERT_TRUE(shell(mb + "-r 300 -t 3 127.0.0.1 > " + path("echo.out").string()));
   ASSERT_TRUE(shell(mb + "-r 200 -c 2 -t 3:float -B 127.0.0.1 > " + path("y.out").string()));
@@ -79,7 +79,8 @@ TEST_F(Interop, PymodbusClientDrivesThePlantServer) {
   ASSERT_EQ(plant.rows(), 9U);
   EXPECT_EQ(plant.du[0].back(), -0.75);
   EXPECT_NE(y[0], 0.0);
-  for (int j = 0; j < 2; ++j) EXPECT_NEAR(y[j], plant.dy[j].back(), 1e-5 * (1 + std::abs(y[j])));
+  for (std::size_t j = 0; j < 2; ++j)
+    EXPECT_NEAR(y[j], plant.dy[j].back(), 1e-5 * (1 + std::abs(y[j])));
 }
 
 TEST_F(Interop, GatewayStreamsToAPymodbusServerStandingInForAPlc) {
@@ -87,11 +88,11 @@ TEST_F(Interop, GatewayStreamsToAPymodbusServerStandingInForAPlc) {
     GTEST_SKIP() << "python3-pymodbus is not installed";
   }
   // GIVEN a PLC stand-in that we did not write, serving the default map's addresses
-  PlantRunner plc("/usr/bin/python3",
-                  {std::string(EXCITE_LOOP_DIR) + "/pymodbus_plc.py", "--setpoints", "2",
-                   "--setpoint-base", "100", "--heartbeat", "104", "--echo", "300",
-                   "--record", path("plc.csv").string()},
-                  path("plc.stderr"));
+  PlantRunner plc(
+      "/usr/bin/python3",
+      {std::string(EXCITE_LOOP_DIR) + "/pymodbus_plc.py", "--setpoints", "2", "--setpoint-base",
+       "100", "--heartbeat", "104", "--echo", "300", "--record", path("plc.csv").string()},
+      path("plc.stderr"));
   const auto port = plc.wait_listening(10s);
   ASSERT_TRUE(port.has_value()) << plc.stderr_text();
   // and the gateway configured for that map with a real-time 10 ms tick (a PLC is no

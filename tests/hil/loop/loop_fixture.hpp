@@ -73,9 +73,9 @@ class LoopTest : public ::testing::Test {
   /// (PORT 0: ephemeral); waits for its "listening" line and returns the port.
   std::uint16_t start_plant(const std::vector<std::string>& plant_args, std::uint16_t port,
                             const std::string& log = "plant.csv") {
-    std::vector<std::string> args = {"--config", path("plant.toml").string(), "--modbus-tcp",
-                                     "127.0.0.1:" + std::to_string(port), "--log",
-                                     path(log).string()};
+    std::vector<std::string> args = {"--config",     path("plant.toml").string(),
+                                     "--modbus-tcp", "127.0.0.1:" + std::to_string(port),
+                                     "--log",        path(log).string()};
     args.insert(args.end(), plant_args.begin(), plant_args.end());
     plant_ = std::make_unique<PlantRunner>(args, path("plant.stderr"));
     const auto listening = plant_->wait_listening();
@@ -86,8 +86,9 @@ class LoopTest : public ::testing::Test {
   /// The real gateway with gateway.toml, `plan` and log gw.csv, plus `extra` arguments.
   std::unique_ptr<GatewayProcess> start_gateway(const fs::path& plan,
                                                 std::vector<std::string> extra = {}) {
-    std::vector<std::string> args = {"--config", path("gateway.toml").string(), "--plan",
-                                     plan.string(), "--log", path("gw.csv").string()};
+    std::vector<std::string> args = {"--config", path("gateway.toml").string(),
+                                     "--plan",   plan.string(),
+                                     "--log",    path("gw.csv").string()};
     args.insert(args.end(), extra.begin(), extra.end());
     return std::make_unique<GatewayProcess>(EXCITE_GATEWAY, args, path("gw").string());
   }

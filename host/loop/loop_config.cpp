@@ -1,0 +1,155 @@
+// SPDX-License-Identifier: MIT
+#include "host/loop/loop_config.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+#include "host/design/case_studies.hpp"
+#include "sim/plants/plant.hpp"
+#include "sim/server/config_writer.hpp"
+#include "sim/server/default_map.hpp"
+
+namespace excite::host {
+namespace {
+
+using sim::server::toml_number;
+using sim::server::toml_string;
+
+[[noreturn]] void bad(const std::string& field, double value, const std::string& expected) {
+  std::ostringstream os;
+  os << field << " = " << value << ": expected " << expected;
+  throw std::invalid_argument(os.str());
+}
+
+void check(const std::string& field, double value, bool zero_ok) {
+  if (!std::isfinite(value) || value < 0.0 || (!zero_ok && value == 0.0)) {
+    bad(field, value, zero_ok ? "a finite number >= 0" : "a finite number > 0");
+  }
+}
+
+std::string gateway_toml(const LoopConfigOptions& opt, const sim::Plant& plant,
+                         const sim::server::ServerConfig& server, double range,
+                         const std::vector<double>& u0, const std::vector<double>& y0) {
+  const auto& map = server.registers.map;
+  const auto in_units = plant.input_units();
+  const auto out_units = plant.output_units();
+  std::ostringstream os;
+  os << "# excite-gateway configuration written by `excite loop-config --plant " << opt.plant
+     << "`,\n# the register map of plant.toml beside it (sim/server/README.md, Default register "
+        "map).\n# Keys: firmware/app/README.md.\n\n";
+  os << "[gateway]\nplant = " << toml_string(plant.name() + " (excite-plant)") << "\n";
+  if (opt.period_s > 0.0) os << "period_s = " << toml_number(opt.period_s) << "\n";
+  os << "comm_fail_limit = 3\ncomm_loss = \"hold\"\nrealtime_priority = 0\n\n";
+  os << "[device]\ntransport = \"modbus-tcp\"\nsimulator = true   # the peer is excite-plant: "
+        "--clock lockstep allowed\nhost = "
+     << toml_string(opt.host) << "\nport = " << opt.port
+     << "\nunit_id = 1\nresponse_timeout_ms = 1000\n\n";
+  os << "[map]\nheartbeat_address = " << *map.heartbeat_address << "\n";
+  const double move = opt.max_move > 0.0 ? opt.max_move : 2.0 * range;
+  for (std::size_t i = 0; i < map.setpoints.size(); ++i) {
+    const auto& e = map.setpoints[i];
+    // The gateway's baseline is the float32 register read back at arm, which may sit half a
+    // float32 step (|u0|·2⁻²⁴) from u0: the limits allow one step more, so a design that
+    // uses exactly ±range is not refused for the register's rounding.
+    const double slack = std::abs(u0[i]) * 0x1p-23;
+    os << "\n[[setpoints]]\nname = " << toml_string(e.name)
+       << "\nunit = " << toml_string(in_units[i]) << "\naddress = " << e.address
+       << "\ntype = \"float32\"\nword_order = " << toml_string(e.word_order)
+       << "\nmin = " << toml_number(u0[i] - range - slack)
+       << "\nmax = " << toml_number(u0[i] + range + slack) << "\nmax_move = " << toml_number(move)
+       << "\nreadback = " << toml_string(e.name + "_sp") << "\n";
+  }
+  for (std::size_t j = 0; j < map.values.size(); ++j) {
+    const auto& e = map.values[j];
+    os << "\n[[values]]\nname = " << toml_string(e.name) << "\nunit = " << toml_string(out_units[j])
+       << "\naddress = " << e.address << "\nfunction_code = " << e.function_code
+       << "\ntype = \"float32\"\nword_order = " << toml_string(e.word_order) << "\n";
+    if (opt.output_range > 0.0) {
+      os << "test_low = " << toml_number(y0[j] - opt.output_range)
+         << "\ntest_high = " << toml_number(y0[j] + opt.output_range)
+         << "\nhysteresis = " << toml_number(0.1 * opt.output_range) << "\n";
+    }
+  }
+  for (std::size_t i = 0; i < map.setpoints.size(); ++i) {
+    const auto& e = map.setpoints[i];
+    os << "\n[[values]]\nname = " << toml_string(e.name + "_sp")
+       << "\nunit = " << toml_string(in_units[i])
+       << "\nrole = \"readback\"\naddress = " << e.address
+       << "\nfunction_code = 3\ntype = \"float32\"\nword_order = " << toml_string(e.word_order)
+       << "\n";
+  }
+  os << "\n[[values]]\nname = \"hb_echo\"\nrole = \"heartbeat_echo\"\naddress = "
+     << server.registers.heartbeat_echo_address
+     << "\nfunction_code = " << server.registers.heartbeat_echo_function_code
+     << "\ntype = \"uint16\"\neng_min = 0\neng_max = 65535\n";
+  os << "\n[[values]]\nname = \"command\"\nrole = \"command\"   # 1 start, 2 suspend, 3 resume, "
+        "4 abort\naddress = "
+     << *server.registers.command_address
+     << "\nfunction_code = 3\ntype = \"uint16\"\neng_min = 0\neng_max = 65535\n";
+  return os.str();
+}
+
+}  // namespace
+
+LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
+  check("--input-range", opt.input_range, true);
+  check("--max-move", opt.max_move, true);
+  check("--output-range", opt.output_range, true);
+  check("--sample-time-min", opt.sample_time_min, true);
+  check("--period-s", opt.period_s, true);
+  if (opt.noise_var != -1.0) check("--noise-var", opt.noise_var, true);
+  if (opt.port > 65535) bad("--port", opt.port, "a TCP port 0..65535");
+  const auto plant = sim::make_plant(opt.plant);
+
+  // The case study (when the plant has one) gives the defaults: T, noise, input range.
+  double range = opt.input_range;
+  double sample_time = opt.sample_time_min;
+  double noise = opt.noise_var;
+  const auto studies = case_study_plants();
+  const bool has_study = std::find(studies.begin(), studies.end(), opt.plant) != studies.end();
+  if (has_study) {
+    const PriorKnowledge prior = case_study(opt.plant);
+    if (range == 0.0) {
+      for (const InputSpec& in : prior.inputs) range = std::max({range, -in.min, in.max});
+    }
+    if (sample_time == 0.0) sample_time = prior.sample_time_min;
+    if (noise < 0.0) noise = case_study_noise_variance(opt.plant);
+  }
+  if (range == 0.0) {
+    bad("--input-range", 0.0,
+        "a range > 0 for plant " + opt.plant + ", which has no case study to take it from");
+  }
+  if (sample_time == 0.0) sample_time = 1.0;
+  if (noise < 0.0) noise = 0.0;
+
+  sim::server::ServerConfig server;
+  const bool file = opt.plant.size() > 5 && opt.plant.ends_with(".toml");
+  if (file) {
+    server.plant.file = std::filesystem::absolute(opt.plant).string();
+  } else {
+    server.plant.library = opt.plant;
+  }
+  server.plant.sample_time_min = sample_time;
+  const Eigen::VectorXd u0 = plant->input_baseline();
+  std::vector<double> u0v(u0.data(), u0.data() + u0.size());
+  const Eigen::VectorXd y0 = plant->output_baseline();
+  std::vector<double> y0v(y0.data(), y0.data() + y0.size());
+  server.plant.input_baseline = u0v;
+  server.plant.output_baseline = y0v;
+  if (noise > 0.0) server.plant.noise_variance = {noise};
+  server.plant.noise_seed = opt.seed;
+  server.registers = sim::server::default_registers(plant->inputs(), plant->outputs(),
+                                                    plant->input_names(), plant->output_names());
+
+  LoopConfigPair pair;
+  pair.plant_toml = sim::server::format_server_config(
+      server, "excite-plant configuration written by `excite loop-config --plant " + opt.plant +
+                  "`; its gateway side: gateway.toml");
+  pair.gateway_toml = gateway_toml(opt, *plant, server, range, u0v, y0v);
+  return pair;
+}
+
+}  // namespace excite::host

@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// One register map for both sides of the loop: the excite-plant configuration
+// (sim/server/README.md) and the excite-gateway configuration (firmware/app/README.md) made
+// from one description — the plant and sim/server's default register map — so no address
+// is typed twice. `excite loop-config` writes them; the campaign streams through them.
+
+#include <cstdint>
+#include <string>
+
+namespace excite::host {
+
+struct LoopConfigOptions {
+  std::string plant;               // what sim::make_plant takes
+  std::string host = "127.0.0.1";  // the plant server's address, as the gateway dials it
+  std::uint32_t port = 1502;       // its TCP port
+  double input_range = 0.0;        // ± deviation allowed on every input; 0: the case study's
+  double max_move = 0.0;           // largest change per tick; 0: 2 × input_range
+  double output_range = 0.0;       // ± test limits around each output's baseline; 0: none
+  double sample_time_min = 0.0;    // 0: the case study's (1 without one)
+  double noise_var = -1.0;         // < 0: the case study's (0 without one)
+  std::uint64_t seed = 1;
+  double period_s = 0.0;  // gateway tick period; 0: the plan's sample time
+};
+
+struct LoopConfigPair {
+  std::string plant_toml;    // excite-plant --config
+  std::string gateway_toml;  // excite-gateway --config
+};
+
+/// Both configurations as TOML text. Throws std::invalid_argument naming the option, its
+/// value and what was expected (NaN, negative, a port beyond 65535, a plant without a case
+/// study and no input range), or what sim::make_plant throws for an unknown plant.
+LoopConfigPair make_loop_config(const LoopConfigOptions& options);
+
+}  // namespace excite::host

@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: MIT
+#include "host/loop/stream.hpp"
+
+#include <unistd.h>
+
+#include <csignal>
+#include <fstream>
+#include <stdexcept>
+
+#include "host/loop/child_process.hpp"
+
+namespace excite::host {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << text;
+  out.close();
+  if (!out) throw std::runtime_error(path.string() + ": cannot write");
+}
+
+std::string last_line(const std::string& text) {
+  const auto end = text.find_last_not_of('\n');
+  if (end == std::string::npos) return "";
+  const auto start = text.rfind('\n', end);
+  return text.substr(start == std::string::npos ? 0 : start + 1,
+                     end - (start == std::string::npos ? 0 : start + 1) + 1);
+}
+
+[[noreturn]] void failed(const ChildProcess& child, const std::string& what) {
+  throw std::runtime_error(child.name() + " " + what + ": " + last_line(child.stderr_text()));
+}
+
+}  // namespace
+
+LoopPrograms programs_beside_this_one() {
+  const fs::path self = fs::read_symlink("/proc/self/exe");
+  LoopPrograms p{self.parent_path() / "excite-plant", self.parent_path() / "excite-gateway"};
+  for (const fs::path& program : {p.plant_server, p.gateway}) {
+    if (access(program.c_str(), X_OK) != 0) {
+      throw std::runtime_error(program.string() +
+                               ": not found beside this program (build the whole project)");
+    }
+  }
+  return p;
+}
+
+LoopResult stream_in_the_loop(const LoopRun& run) {
+  const auto start = std::chrono::steady_clock::now();
+  fs::create_directories(run.work_dir);
+  LoopResult result;
+  result.gateway_log = run.work_dir / "run.csv";
+  result.plant_log = run.work_dir / "plant.csv";
+  const fs::path plant_toml = run.work_dir / "plant.toml";
+  const fs::path gateway_toml = run.work_dir / "gateway.toml";
+
+  // The plant side first: it picks its port; then the gateway side for that port.
+  LoopConfigOptions config = run.config;
+  write_text(plant_toml, make_loop_config(config).plant_toml);
+  ChildProcess plant(run.programs.plant_server,
+                     {"--config", plant_toml.string(), "--modbus-tcp", config.host + ":0",
+                      "--clock", "lockstep", "--log", result.plant_log.string()},
+                     run.work_dir / "plant.stderr");
+  const auto listening = plant.read_line(10s);
+  const std::string prefix = "listening ";
+  if (!listening || listening->rfind(prefix, 0) != 0) failed(plant, "did not start");
+  config.port =
+      static_cast<std::uint32_t>(std::stoul(listening->substr(listening->rfind(':') + 1)));
+  write_text(gateway_toml, make_loop_config(config).gateway_toml);
+
+  ChildProcess gateway(run.programs.gateway,
+                       {"--config", gateway_toml.string(), "--plan", run.plan.string(), "--log",
+                        result.gateway_log.string(), "--start", "--clock", "lockstep"},
+                       run.work_dir / "gateway.stderr");
+  const auto rc = gateway.wait(run.timeout);
+  if (!rc) {
+    gateway.stop(SIGTERM, 10s);
+    failed(gateway, "did not finish within " + std::to_string(run.timeout.count()) + " s");
+  }
+  if (*rc != 0) failed(gateway, "exited with " + std::to_string(*rc));
+  result.gateway_summary = last_line(gateway.stderr_text());
+  const auto plant_rc = plant.stop(SIGTERM, 10s);
+  if (plant_rc.value_or(-1) != 0) failed(plant, "did not stop cleanly");
+
+  runlog::ReadResult read = runlog::read_run_log(result.gateway_log.string());
+  if (!read.ok()) throw std::runtime_error(read.error->to_string());
+  result.log = std::move(read.log);
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace excite::host
