@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# packaging_deb_install_test: builds the amd64 packages of the build directory $1 with CPack,
+# installs them into a scratch root (dpkg --root, maintainer scripts run chrootless with
+# DPKG_ROOT), checks the files, the service user, the installed tools working together
+# (excite design -> excite-gateway --dry-run on the example configuration), that the unit
+# passes `systemd-analyze verify` with no complaint, and that removal takes the files away.
+# Exit 0 passed, 1 failed (the first failed check is printed), 77 skipped (reason printed).
+set -euo pipefail
+build=$(cd "$1" && pwd)
+work=$(mktemp -d "${TMPDIR:-/tmp}/excite-package-test.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAILED: $*" >&2; exit 1; }
+check() { local what=$1; shift; "$@" || fail "$what"; echo "ok: $what"; }
+
+command -v dpkg >/dev/null || { echo "SKIPPED: dpkg is not installed (not a Debian system)"; exit 77; }
+command -v systemd-analyze >/dev/null ||
+  { echo "SKIPPED: systemd-analyze is missing (apt-get install systemd; toolchain/packages.txt)"; exit 77; }
+
+cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work/packages" >"$work/cpack.log" 2>&1 ||
+  { cat "$work/cpack.log" >&2; fail "cpack -G DEB"; }
+version=$(sed -n 's/^set(CPACK_PACKAGE_VERSION "\(.*\)")$/\1/p' "$build/CPackConfig.cmake")
+gw="$work/packages/excite-gateway_${version}_amd64.deb"
+host="$work/packages/excite-host_${version}_amd64.deb"
+check "excite-gateway_${version}_amd64.deb built" test -f "$gw"
+check "excite-host_${version}_amd64.deb built" test -f "$host"
+check "excite-gateway: Architecture amd64" test "$(dpkg-deb -f "$gw" Architecture)" = amd64
+check "excite-gateway: depends on libmodbus5" grep -q libmodbus5 <<<"$(dpkg-deb -f "$gw" Depends)"
+check "excite-gateway: has a postinst" grep -q postinst <<<"$(dpkg-deb -I "$gw")"
+
+root="$work/root"
+mkdir -p "$root/var/lib/dpkg/info" "$root/var/lib/dpkg/updates" "$root/etc"
+touch "$root/var/lib/dpkg/status"
+dpkg --root="$root" --log=/dev/null --force-depends --force-script-chrootless \
+  -i "$gw" "$host" >"$work/dpkg.log" 2>&1 || { cat "$work/dpkg.log" >&2; fail "dpkg --root -i"; }
+check "dpkg: excite-gateway installed" grep -q 'install ok installed' \
+  <<<"$(dpkg --root="$root" -s excite-gateway)"
+check "dpkg: excite-host installed" grep -q 'install ok installed' \
+  <<<"$(dpkg --root="$root" -s excite-host)"
+
+for f in usr/bin/excite-gateway usr/bin/excite usr/bin/excite-plant; do
+  check "/$f is executable" test -x "$root/$f"
+  check "/$f is stripped" bash -c "! readelf -S '$root/$f' | grep -q '\.debug_info'"
+done
+unit="$root/usr/lib/systemd/system/excite-gateway.service"
+check "unit installed" test -f "$unit"
+check "sysusers.d file installed" test -f "$root/usr/lib/sysusers.d/excite-gateway.conf"
+check "example configuration installed" \
+  test -f "$root/usr/share/doc/excite-gateway/examples/gateway.example.toml"
+check "plant example installed" test -f "$root/usr/share/doc/excite-host/examples/alatiqi4x4.toml"
+check "README installed" test -f "$root/usr/share/doc/excite-gateway/README.md"
+if command -v systemd-sysusers >/dev/null; then
+  check "postinst created user excite" grep -q '^excite:' "$root/etc/passwd"
+  check "user excite is in group dialout" grep -Eq '^dialout:.*[:,]excite(,|$)' "$root/etc/group"
+fi
+
+# The unit: runs the installed binary as user excite, with the two capabilities, no --start.
+exec_line=$(grep '^ExecStart=' "$unit")
+check "unit runs /usr/bin/excite-gateway (installed)" grep -q ' /usr/bin/excite-gateway ' <<<"$exec_line"
+if grep -q -- '--start' <<<"$exec_line"; then fail "unit passes --start: $exec_line"; fi
+echo "ok: unit never passes --start"
+check "unit: User=excite" grep -qx 'User=excite' "$unit"
+check "unit: capabilities" grep -qx 'AmbientCapabilities=CAP_SYS_NICE CAP_IPC_LOCK' "$unit"
+check "unit: Restart=on-failure" grep -qx 'Restart=on-failure' "$unit"
+check "unit: LogsDirectory=excite" grep -qx 'LogsDirectory=excite' "$unit"
+verify=$(systemd-analyze verify "$unit" 2>&1) || fail "systemd-analyze verify: $verify"
+check "systemd-analyze verify: no complaint" test -z "$verify"
+
+# The installed tools together: a plan designed by the installed excite passes the installed
+# gateway's every check with the installed example configuration.
+export LD_LIBRARY_PATH=""  # the host's libraries, as on a target with the Depends installed
+"$root/usr/bin/excite" design -q --plant alatiqi4x4 --preset prbsUnc -o "$work/case.plan" ||
+  fail "installed excite design"
+"$root/usr/bin/excite-gateway" --dry-run --plan "$work/case.plan" \
+  --config "$root/usr/share/doc/excite-gateway/examples/gateway.example.toml" >"$work/dry.txt" 2>&1 ||
+  { cat "$work/dry.txt" >&2; fail "installed excite-gateway --dry-run on the example configuration"; }
+echo "ok: installed excite-gateway --dry-run passes the example configuration and a designed plan"
+
+dpkg --root="$root" --log=/dev/null --force-depends --force-script-chrootless \
+  -r excite-gateway excite-host >"$work/dpkg-r.log" 2>&1 || { cat "$work/dpkg-r.log" >&2; fail "dpkg -r"; }
+check "removed: binary gone" test ! -e "$root/usr/bin/excite-gateway"
+check "removed: unit gone" test ! -e "$unit"
+echo "package test: every check passed"
