@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# packaging_deb_install_test: builds the amd64 packages of the build directory $1 with CPack,
+# packaging_deb_install_test BUILD_DIR [ARCH]: builds the packages of BUILD_DIR with CPack.
+# amd64 (the default): builds the amd64 packages,
 # installs them into a scratch root (dpkg --root, maintainer scripts run chrootless with
 # DPKG_ROOT), checks the files, the service user, the installed tools working together
 # (excite design -> excite-gateway --dry-run on the example configuration), that the unit
@@ -8,6 +9,7 @@
 # Exit 0 passed, 1 failed (the first failed check is printed), 77 skipped (reason printed).
 set -euo pipefail
 build=$(cd "$1" && pwd)
+arch=${2:-amd64}  # a cross build (arm64, armhf): the gateway package's contents only
 work=$(mktemp -d "${TMPDIR:-/tmp}/excite-package-test.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAILED: $*" >&2; exit 1; }
@@ -20,6 +22,25 @@ command -v systemd-analyze >/dev/null ||
 cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work/packages" >"$work/cpack.log" 2>&1 ||
   { cat "$work/cpack.log" >&2; fail "cpack -G DEB"; }
 version=$(sed -n 's/^set(CPACK_PACKAGE_VERSION "\(.*\)")$/\1/p' "$build/CPackConfig.cmake")
+if [[ "$arch" != amd64 ]]; then
+  # Cross: the target's package, unpacked (dpkg will not install another architecture's
+  # package into a root without that architecture's libraries).
+  gw="$work/packages/excite-gateway_${version}_${arch}.deb"
+  declare -A machine=([arm64]=AArch64 [armhf]=ARM)
+  check "excite-gateway_${version}_${arch}.deb built" test -f "$gw"
+  check "excite-gateway: Architecture $arch" test "$(dpkg-deb -f "$gw" Architecture)" = "$arch"
+  dpkg-deb -x "$gw" "$work/x"
+  check "/usr/bin/excite-gateway is a ${machine[$arch]} executable" \
+    grep -q "Machine: *${machine[$arch]}" <<<"$(readelf -h "$work/x/usr/bin/excite-gateway")"
+  check "/usr/bin/excite-gateway is stripped" \
+    bash -c "! readelf -S '$work/x/usr/bin/excite-gateway' | grep -q '\.debug_info'"
+  check "unit installed" test -f "$work/x/usr/lib/systemd/system/excite-gateway.service"
+  check "example configuration installed" \
+    test -f "$work/x/usr/share/doc/excite-gateway/examples/gateway.example.toml"
+  check "no excite-host package for $arch" test ! -e "$work/packages/excite-host_${version}_${arch}.deb"
+  echo "package test ($arch): every check passed"
+  exit 0
+fi
 gw="$work/packages/excite-gateway_${version}_amd64.deb"
 host="$work/packages/excite-host_${version}_amd64.deb"
 check "excite-gateway_${version}_amd64.deb built" test -f "$gw"
