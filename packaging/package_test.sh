@@ -87,6 +87,29 @@ check "unit: LogsDirectory=excite" grep -qx 'LogsDirectory=excite' "$unit"
 verify=$(systemd-analyze verify "$unit" 2>&1) || fail "systemd-analyze verify: $verify"
 check "systemd-analyze verify: no complaint" test -z "$verify"
 
+# The unit's command line as systemd hands it to the shell ("$$" -> "$", "%%" -> "%"), with the
+# installed binary and scratch /etc/excite and /var/log/excite: a missing configuration, then
+# a missing plan, are refused with exactly one line naming the file, exit 2 and 3 (no
+# connection is attempted before either check).
+cmd=${exec_line#ExecStart=}
+cmd=${cmd//\$\$/\$}
+cmd=${cmd//%%/%}
+cmd=${cmd//\/usr\/bin\/excite-gateway/$root/usr/bin/excite-gateway}
+cmd=${cmd//\/etc\/excite/$work/etc-excite}
+cmd=${cmd//\/var\/log\/excite/$work/log-excite}
+mkdir -p "$work/etc-excite" "$work/log-excite"
+refused() {  # refused CODE NEEDLE: runs the unit's command, expects CODE and one line with NEEDLE
+  local rc=0 err
+  err=$(eval "$cmd" 2>&1 >/dev/null) || rc=$?
+  [[ $rc -eq $1 && $(wc -l <<<"$err") -eq 1 && "$err" == *"$2"* ]] ||
+    fail "unit command: expected exit $1 and one line naming $2, got exit $rc: $err"
+  echo "ok: unit command refuses ($1): $err"
+}
+refused 2 "$work/etc-excite/gateway.toml"
+cp "$root/usr/share/doc/excite-gateway/examples/gateway.example.toml" "$work/etc-excite/gateway.toml"
+refused 3 "$work/etc-excite/gateway.plan"
+check "no run log left by a refusal" test -z "$(ls "$work/log-excite")"
+
 # The installed tools together: a plan designed by the installed excite passes the installed
 # gateway's every check with the installed example configuration.
 export LD_LIBRARY_PATH=""  # the host's libraries, as on a target with the Depends installed
