@@ -28,7 +28,7 @@ class LogRingBase {
       overruns_.fetch_add(1, std::memory_order_relaxed);
       return false;
     }
-    slots_[head % slots_.size()] = record;
+    slots_[static_cast<std::size_t>(head % slots_.size())] = record;  // < size(): 32-bit safe
     head_.store(head + 1, std::memory_order_release);
     return true;
   }
@@ -38,7 +38,7 @@ class LogRingBase {
     const std::uint64_t tail = tail_.load(std::memory_order_relaxed);
     const std::uint64_t head = head_.load(std::memory_order_acquire);
     if (tail == head) return false;
-    out = slots_[tail % slots_.size()];
+    out = slots_[static_cast<std::size_t>(tail % slots_.size())];  // < size(): 32-bit safe
     tail_.store(tail + 1, std::memory_order_release);
     return true;
   }

@@ -138,7 +138,7 @@ Status generate_block(const Recipe& recipe, std::uint32_t first_sample, TableVie
       case SourceKind::multisine: {
         const std::span<const double> period =
             multisine_scratch.period_of(recipe, source.multisine);
-        std::size_t t = t0 % period.size();
+        std::size_t t = static_cast<std::size_t>(t0 % period.size());  // < size(): 32-bit safe
         accumulate(block, first_sample, rows, weight, [&] {
           const double s = period[t];
           if (++t == period.size()) t = 0;

@@ -75,7 +75,8 @@ TEST(Prbs, StartingAtT0GivesTheSamplesFromT0OfTheWholeSignal) {
   const std::vector<double> whole = prbs_samples(source, 2000);
   for (const std::uint64_t t0 : {1U, 4U, 5U, 6U, 634U, 1500U}) {
     const std::vector<double> tail = prbs_samples(source, 100, t0);
-    for (std::size_t j = 0; j < tail.size(); ++j) ASSERT_EQ(tail[j], whole[t0 + j]) << t0;
+    for (std::size_t j = 0; j < tail.size(); ++j)
+      ASSERT_EQ(tail[j], whole[static_cast<std::size_t>(t0 + j)]) << t0;
   }
 }
 

@@ -42,8 +42,8 @@ TEST(Steps, StartingAtT0GiveTheSamplesFromT0OfTheWholeSequence) {
   const std::vector<double> whole = step_samples(source, 14);
   for (std::uint64_t t0 = 0; t0 < 12; ++t0) {
     const std::vector<double> tail = step_samples(source, 2, t0);
-    EXPECT_EQ(tail[0], whole[t0]) << t0;
-    EXPECT_EQ(tail[1], whole[t0 + 1]) << t0;
+    EXPECT_EQ(tail[0], whole[static_cast<std::size_t>(t0)]) << t0;
+    EXPECT_EQ(tail[1], whole[static_cast<std::size_t>(t0 + 1)]) << t0;
   }
 }
 

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 
 namespace excite::signal {
@@ -13,10 +14,14 @@ namespace {
 constexpr long double kTwoPi = 6.283185307179586476925286766559L;
 
 TEST(CosSinTurn, AgreesWithLongDoubleCosineOnEveryGridPointWithin2e16) {
+  if (std::numeric_limits<long double>::digits <= std::numeric_limits<double>::digits) {
+    GTEST_SKIP() << "long double is no wider than double on this target (armhf): no reference";
+  }
   for (const std::uint64_t period : {2U, 3U, 7U, 8U, 1001U, 4080U}) {
     for (std::uint64_t m = 0; m < period; ++m) {
       const CosSin cs = cos_sin_turn(m, period);
-      const long double angle = kTwoPi * static_cast<long double>(m) / period;
+      const long double angle =
+          kTwoPi * static_cast<long double>(m) / static_cast<long double>(period);
       ASSERT_NEAR(cs.cos, static_cast<double>(std::cos(angle)), 2e-16) << m << "/" << period;
       ASSERT_NEAR(cs.sin, static_cast<double>(std::sin(angle)), 2e-16) << m << "/" << period;
     }
