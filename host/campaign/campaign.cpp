@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "host/campaign/campaign.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -41,11 +42,11 @@ Balance balance_of(const Eigen::MatrixXd& Y, const GainAnalysis& true_gain) {
   return b;
 }
 
-// One experiment, start to finish. A plant of its own, so experiments run in parallel.
-Experiment run_experiment(const PriorKnowledge& prior, const PresetInfo& preset,
+// One designed experiment run and identified. A plant of its own, so experiments run in
+// parallel.
+Experiment run_experiment(const Design& design, const PresetInfo& preset,
                           const CampaignOptions& options, double noise_variance,
                           const GainAnalysis& true_gain) {
-  const Design design = design_preset(prior, preset, 0);
   SimulationOptions sim;
   sim.seed = options.seed + static_cast<std::uint64_t>(preset.number);
   sim.noise_variance = 0.0;
@@ -153,8 +154,8 @@ CampaignResult run_campaign(const CampaignOptions& options,
   PriorKnowledge prior = true_prior;
   std::size_t first_pooled = 0;
   if (options.design_gain == DesignGain::step_test) {
-    result.experiments[0] =
-        run_experiment(true_prior, all.front(), options, result.noise_variance, result.true_gain);
+    result.experiments[0] = run_experiment(design_preset(true_prior, all.front(), 0), all.front(),
+                                           options, result.noise_variance, result.true_gain);
     report(result.experiments[0]);
     const Experiment& step = result.experiments[0];
     if (!step.identified.gain) {
@@ -171,11 +172,25 @@ CampaignResult run_campaign(const CampaignOptions& options,
     result.design_gain_source = "true G(0)";
   }
 
-  // 2. Every design (the others), in parallel.
-  parallel_for(static_cast<int>(all.size() - first_pooled), options.threads, [&](int k) {
-    const std::size_t i = first_pooled + static_cast<std::size_t>(k);
+  // 2. Every design (the others), in parallel; then their runs and identifications, the
+  //    longest first so that no long run starts last on an otherwise idle pool.
+  const auto pooled = static_cast<int>(all.size() - first_pooled);
+  std::vector<Design> designs(static_cast<std::size_t>(pooled));
+  parallel_for(pooled, options.threads, [&](int k) {
+    designs[static_cast<std::size_t>(k)] =
+        design_preset(prior, all[first_pooled + static_cast<std::size_t>(k)], 0);
+  });
+  std::vector<int> order(static_cast<std::size_t>(pooled));
+  for (int k = 0; k < pooled; ++k) order[static_cast<std::size_t>(k)] = k;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return designs[static_cast<std::size_t>(a)].table.rows() >
+           designs[static_cast<std::size_t>(b)].table.rows();
+  });
+  parallel_for(pooled, options.threads, [&](int slot) {
+    const auto k = static_cast<std::size_t>(order[static_cast<std::size_t>(slot)]);
+    const std::size_t i = first_pooled + k;
     result.experiments[i] =
-        run_experiment(prior, all[i], options, result.noise_variance, result.true_gain);
+        run_experiment(designs[k], all[i], options, result.noise_variance, result.true_gain);
     report(result.experiments[i]);
   });
   if (result.experiments[0].identified.gain)

@@ -3,8 +3,10 @@
 // thread and on the pool (issue 14 §8), in the same process, real simulations and real
 // identification. Default plant woodberry2x2 (small, 945-sample experiments);
 // EXCITE_BENCH_PLANT=alatiqi4x4 runs the case study. After the benchmarks the program
-// prints wall time per thread count, the speed-up against one thread, and whether every
-// figure is bit-identical across thread counts (exit status 1 if not).
+// prints wall and CPU time per thread count, the speed-up against one thread, whether every
+// figure is bit-identical across thread counts (exit status 1 if not), and a control: the
+// speed-up of the same pool on independent arithmetic, i.e. what the machine allows now
+// (on a machine shared with other jobs a process may get well under its cores).
 
 #include <benchmark/benchmark.h>
 
@@ -13,11 +15,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "host/campaign/campaign.hpp"
+#include "host/campaign/parallel.hpp"
 
 namespace {
 
@@ -69,18 +73,42 @@ std::vector<double> figures(const CampaignResult& r) {
   return v;
 }
 
+// Control: the same pool on tasks that share nothing (a spin of arithmetic each), so the
+// campaign's speed-up can be read against what this machine gives the process right now.
+double control_speed_up(int threads) {
+  const auto spin = [](int) {
+    double x = 0.0;
+    for (long i = 0; i < 100'000'000; ++i) x += 1e-9 * static_cast<double>(i % 7);
+    benchmark::DoNotOptimize(x);
+  };
+  double wall[2] = {0.0, 0.0};
+  for (int k = 0; k < 2; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    excite::host::parallel_for(threads, k == 0 ? 1 : threads, spin);
+    wall[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  return wall[0] / wall[1];
+}
+
 int summary() {
   const int pool = pool_threads();
-  std::printf("\ncampaign on %s, %u hardware threads\n", plant().c_str(),
-              std::thread::hardware_concurrency());
+  double load = 0.0;  // the machine's 1-minute load: wall times mean little when it is high
+  if (FILE* f = std::fopen("/proc/loadavg", "r")) {
+    if (std::fscanf(f, "%lf", &load) != 1) load = 0.0;
+    std::fclose(f);
+  }
+  std::printf("\ncampaign on %s, %u hardware threads, load average %.1f\n", plant().c_str(),
+              std::thread::hardware_concurrency(), load);
   double one = 0.0;
   std::vector<double> reference;
   bool identical = true;
   for (const int threads : {1, pool}) {
     const auto t0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();
     const CampaignResult r = run(threads);
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
     if (threads == 1) {
       one = wall;
       reference = figures(r);
@@ -89,10 +117,16 @@ int summary() {
       identical = f.size() == reference.size() &&
                   std::memcmp(f.data(), reference.data(), f.size() * sizeof(double)) == 0;
     }
-    std::printf("  threads %d: wall %.2f s, speed-up against one thread x%.2f\n", threads, wall,
-                one / wall);
+    std::printf(
+        "  threads %d: wall %.2f s, cpu %.2f s (%.2f cores busy), speed-up against one "
+        "thread x%.2f\n",
+        threads, wall, cpu, cpu / wall, one / wall);
   }
   std::printf("  results bit-identical across thread counts: %s\n", identical ? "yes" : "NO");
+  std::printf(
+      "  control, %d independent spins on the same pool: speed-up x%.2f (the most this "
+      "machine gives now)\n",
+      pool, control_speed_up(pool));
   return identical ? 0 : 1;
 }
 
