@@ -206,10 +206,15 @@ void modified_zippered(const DesignContext& ctx, Composition& comp) {
     }
   }
   set = multisine::guillaume(set, snow_options());
+  const std::string sizes =
+      ctx.prior.sized_by_static_output()
+          ? std::string(
+                "own lines at their played RMS c_unc/|G(0) e_j|, the shared lines along "
+                "v_n at c/sigma_n")
+          : format("own lines %.3g x the shared lines along v_n", kCorrelatedLowShare);
   comp.notes.push_back(
-      format("modified zippered (4.4.21): own lines %.3g x the shared lines along v_n; Guillaume "
-             "phases%s: continuous crest factors %s",
-             kCorrelatedLowShare, snow_note().c_str(), crest_factors(set).c_str()));
+      format("modified zippered (4.4.21): %s; Guillaume phases%s: continuous crest factors %s",
+             sizes.c_str(), snow_note().c_str(), crest_factors(set).c_str()));
   const std::uint32_t window = whole_periods(comp, md.period);
   comp.mix = Eigen::MatrixXd::Zero(n, n + static_cast<Eigen::Index>(set.shared.size()));
   for (std::uint32_t c = 0; c < n; ++c) {
