@@ -138,6 +138,14 @@ void size_by_static_output(const PresetInfo& preset, const GainAnalysis& g, Comp
   const DesignSize& size = design_size(preset.acronym);
   const Eigen::Index n = g.gain.cols();
   const Eigen::VectorXd column_norm = g.gain.colwise().norm().transpose();
+  for (Eigen::Index j = 0; j < n; ++j) {
+    if (!(column_norm(j) > 0.0)) {
+      throw std::invalid_argument(format(
+          "gain: column %ld is zero (input %ld moves no output at steady state), expected every "
+          "input to have a static effect for sizing = static_output; use input_amplitude",
+          static_cast<long>(j), static_cast<long>(j)));
+    }
+  }
   const auto m = static_cast<Eigen::Index>(comp.sources.size());
   const char* measure = size.measure == SizeMeasure::peak ? "peak" : "RMS";
   const char* origin = size.thesis_value ? "thesis" : "ours, by analogy with prbsDirCorrSim";

@@ -260,6 +260,19 @@ TEST(Presets, UnknownAcronymListsTheKnownOnes) {
   }
 }
 
+TEST(Presets, StaticOutputSizingRefusesAnInputWithoutStaticEffect) {
+  PriorKnowledge prior = case_study("alatiqi4x4");
+  prior.gain.col(2).setZero();
+  try {
+    design_preset(prior, find_preset("prbsUnc"), 0);
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("gain: column 2 is zero"), std::string::npos) << e.what();
+  }
+  prior.sizing = Sizing::input_amplitude;
+  EXPECT_NO_THROW(design_preset(prior, find_preset("prbsUnc"), 0));
+}
+
 TEST(Presets, DirectionalDesignWithoutGainIsRefused) {
   PriorKnowledge prior = case_study("alatiqi4x4");
   prior.gain.resize(0, 0);
