@@ -199,9 +199,12 @@ std::vector<std::string> convention_lines(const CampaignResult& r) {
             "host/design/case_studies.cpp); directional designs match the static output RMS of "
             "their plain counterparts.");
   lines.push_back("Noise: Gaussian, variance " + general(r.noise_variance) +
-                  " on every output. For the linear plants the default 5·10⁻⁴ is the thesis's "
-                  "s² = 0.03 read as a Simulink noise power over its 60 s sample time "
-                  "(0.03/60, SPEC §4); --noise-var overrides.");
+                  " on every output (--noise-var overrides). " +
+                  (r.sized_by_static_output
+                       ? "The linear case studies' default 5·10⁻⁴ is the thesis's s² = 0.03 read "
+                         "as a Simulink noise power over its 60 s sample time (0.03/60, SPEC §4)."
+                       : "The columns' default 10⁻⁸ is a composition analyser's 10⁻⁴ mole "
+                         "fraction, in the outputs' own unit."));
   lines.push_back("Gain used for the designs: " + r.design_gain_source +
                   " (--design-gain step-test designs from the step test's estimate).");
   lines.push_back(
