@@ -1,8 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "host/campaign/campaign.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <mutex>
+#include <stdexcept>
 
+#include "host/campaign/parallel.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/presets.hpp"
 #include "host/identify/balance.hpp"
@@ -14,6 +19,8 @@
 namespace excite::host {
 namespace {
 
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
 double mean_finite(const std::vector<double>& v) {
   double sum = 0.0;
   int n = 0;
@@ -23,17 +30,31 @@ double mean_finite(const std::vector<double>& v) {
       ++n;
     }
   }
-  return n > 0 ? sum / n : std::nan("");
+  return n > 0 ? sum / n : kNaN;
 }
 
-Experiment run_experiment(const PriorKnowledge& prior, const PresetInfo& preset, sim::Plant& plant,
-                          const CampaignOptions& options, const GainAnalysis& true_gain) {
-  const Design design = design_preset(prior, preset, 0);
+Balance balance_of(const Eigen::MatrixXd& Y, const GainAnalysis& true_gain) {
+  Balance b;
+  const DirectionalBalance d = directional_balance(Y, true_gain.output_directions);
+  b.projection_std = d.std_dev;
+  b.ratio = d.ratio;
+  b.upsilon = output_correlation_determinant(Y);
+  return b;
+}
+
+// One designed experiment run and identified. A plant of its own, so experiments run in
+// parallel.
+Experiment run_experiment(const Design& design, const PresetInfo& preset,
+                          const CampaignOptions& options, double noise_variance,
+                          const GainAnalysis& true_gain) {
   SimulationOptions sim;
-  sim.noise_variance = options.noise_variance >= 0.0 ? options.noise_variance
-                                                     : case_study_noise_variance(options.plant);
   sim.seed = options.seed + static_cast<std::uint64_t>(preset.number);
-  const SimulatedRun run = simulate_plan(*design.plan, std::string(preset.acronym), plant, sim);
+  sim.noise_variance = 0.0;
+  const SimulatedRun clean = simulate_plan(*design.plan, std::string(preset.acronym),
+                                           *sim::make_plant(options.plant), sim);
+  sim.noise_variance = noise_variance;
+  const SimulatedRun run = simulate_plan(*design.plan, std::string(preset.acronym),
+                                         *sim::make_plant(options.plant), sim);
 
   Experiment e;
   e.number = preset.number;
@@ -41,84 +62,144 @@ Experiment run_experiment(const PriorKnowledge& prior, const PresetInfo& preset,
   e.sample_time_min = run.sample_time_min;
   e.U = run.du;
   e.Y = run.dy;
+  e.Y_clean = clean.dy;
+  e.limit_scale = design.limit_scale;
   const InputMeasures m = measure_inputs(design.table);
   e.cf_avg = m.average.crest_factor;
+  e.cf_period_avg = active_crest_factor_avg(design.table);
   e.pips_avg = m.average.pips;
   IdentifyOptions identify_options;
-  identify_options.threads = options.threads;
+  identify_options.threads = 1;  // the campaign's pool runs experiments in parallel
   e.identified = identify(e.U, e.Y, e.sample_time_min, identify_options);
   std::vector<double> fits;
   for (const OutputFit& f : e.identified.fits) fits.push_back(f.fit_percent);
   e.fit_avg = mean_finite(fits);
-  const DirectionalBalance b = directional_balance(e.Y, true_gain.output_directions);
-  e.projection_std = b.std_dev;
-  e.ratio = b.ratio;
-  e.upsilon = output_correlation_determinant(e.Y);
+  e.balance_clean = balance_of(e.Y_clean, true_gain);
+  e.balance_noisy = balance_of(e.Y, true_gain);
   return e;
+}
+
+// SPEC §6: every model on every data set, rows in parallel; the per-model figures as
+// cross_validate() gives them (a NaN fit makes that model's cross figures NaN).
+void cross_validate_parallel(CampaignResult& result, int threads) {
+  const auto R = static_cast<Eigen::Index>(result.experiments.size());
+  result.crossfit.resize(R, R);
+  parallel_for(static_cast<int>(R), threads, [&](int a) {
+    const Experiment& model = result.experiments[static_cast<std::size_t>(a)];
+    for (Eigen::Index b = 0; b < R; ++b) {
+      const Experiment& data = result.experiments[static_cast<std::size_t>(b)];
+      const std::vector<double> f = fit(model.identified.model, data.U, data.Y);
+      double sum = 0.0;
+      for (const double v : f) sum += v;
+      result.crossfit(a, b) = sum / static_cast<double>(f.size());
+    }
+  });
+  for (Eigen::Index a = 0; a < R; ++a) {
+    Experiment& e = result.experiments[static_cast<std::size_t>(a)];
+    double sum = 0.0;
+    double best = -std::numeric_limits<double>::infinity();
+    double worst = std::numeric_limits<double>::infinity();
+    bool any_nan = false;
+    for (Eigen::Index b = 0; b < R; ++b) {
+      if (b == a) continue;
+      const double v = result.crossfit(a, b);
+      if (std::isnan(v)) {
+        any_nan = true;
+        continue;
+      }
+      sum += v;
+      best = std::max(best, v);
+      worst = std::min(worst, v);
+    }
+    e.crossfit_avg = any_nan ? kNaN : sum / static_cast<double>(R - 1);
+    e.crossfit_best = any_nan ? kNaN : best;
+    e.crossfit_worst = any_nan ? kNaN : worst;
+  }
 }
 
 }  // namespace
 
 CampaignResult run_campaign(const CampaignOptions& options,
                             const std::function<void(const std::string&)>& progress) {
+  if (options.threads < 1) {
+    throw std::invalid_argument("campaign: threads = " + std::to_string(options.threads) +
+                                ", expected at least 1");
+  }
+  std::mutex say_mutex;
   const auto say = [&](const std::string& line) {
+    const std::lock_guard<std::mutex> lock(say_mutex);
     if (progress) progress(line);
   };
   const auto plant = sim::make_plant(options.plant);
-  PriorKnowledge prior = case_study(options.plant);
+  const PriorKnowledge true_prior = case_study(options.plant);
   CampaignResult result;
   result.plant = options.plant;
   result.input_names = plant->input_names();
   result.output_names = plant->output_names();
-  result.true_gain = analyse_gain(prior.gain);
+  result.noise_variance = options.noise_variance >= 0.0 ? options.noise_variance
+                                                        : case_study_noise_variance(options.plant);
+  result.sized_by_static_output = true_prior.sized_by_static_output();
+  result.true_gain = analyse_gain(true_prior.gain);
   const auto& all = presets();
   const auto total = std::to_string(all.size());
+  result.experiments.resize(all.size());
+  const auto report = [&](const Experiment& e) {
+    say("[" + std::to_string(e.number) + "/" + total + "] " + e.name + ": fit " +
+        std::to_string(e.fit_avg) + " %, ratio " + std::to_string(e.balance_clean.ratio) +
+        " (noise-free)");
+  };
 
-  // 1. The step test: its identified G(0) gives the directions (thesis 6.1.1), unless asked
-  //    to use the true one.
-  result.experiments.push_back(
-      run_experiment(prior, all.front(), *plant, options, result.true_gain));
-  const Experiment& step = result.experiments.front();
-  say("[1/" + total + "] stepSeq: fit " + std::to_string(step.fit_avg) + " %");
-  if (options.true_gain) {
-    result.design_gain = result.true_gain;
-    result.design_gain_source = "true G(0)";
-  } else {
+  // 1. The step test, sized with the prior knowledge's (true) G(0). Designing from its
+  //    estimate (thesis 6.1.1) needs it first; with the true G(0) it joins the pool.
+  PriorKnowledge prior = true_prior;
+  std::size_t first_pooled = 0;
+  if (options.design_gain == DesignGain::step_test) {
+    result.experiments[0] = run_experiment(design_preset(true_prior, all.front(), 0), all.front(),
+                                           options, result.noise_variance, result.true_gain);
+    report(result.experiments[0]);
+    const Experiment& step = result.experiments[0];
     if (!step.identified.gain) {
       throw std::invalid_argument("the step test did not identify G(0): " +
                                   step.identified.gain_unavailable_reason);
     }
     result.design_gain = *step.identified.gain;
     result.design_gain_source = "step test (stepSeq)";
+    require_full_rank(result.design_gain);
+    prior.gain = result.design_gain.gain;
+    first_pooled = 1;
+  } else {
+    result.design_gain = result.true_gain;
+    result.design_gain_source = "true G(0)";
   }
-  require_full_rank(result.design_gain);
-  prior.gain = result.design_gain.gain;
 
-  // 2. Every other design with those directions.
-  for (std::size_t i = 1; i < all.size(); ++i) {
-    result.experiments.push_back(run_experiment(prior, all[i], *plant, options, result.true_gain));
-    const Experiment& e = result.experiments.back();
-    say("[" + std::to_string(i + 1) + "/" + total + "] " + e.name + ": fit " +
-        std::to_string(e.fit_avg) + " %, ratio " + std::to_string(e.ratio));
-  }
+  // 2. Every design (the others), in parallel; then their runs and identifications, the
+  //    longest first so that no long run starts last on an otherwise idle pool.
+  const auto pooled = static_cast<int>(all.size() - first_pooled);
+  std::vector<Design> designs(static_cast<std::size_t>(pooled));
+  parallel_for(pooled, options.threads, [&](int k) {
+    designs[static_cast<std::size_t>(k)] =
+        design_preset(prior, all[first_pooled + static_cast<std::size_t>(k)], 0);
+  });
+  std::vector<int> order(static_cast<std::size_t>(pooled));
+  for (int k = 0; k < pooled; ++k) order[static_cast<std::size_t>(k)] = k;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return designs[static_cast<std::size_t>(a)].table.rows() >
+           designs[static_cast<std::size_t>(b)].table.rows();
+  });
+  parallel_for(pooled, options.threads, [&](int slot) {
+    const auto k = static_cast<std::size_t>(order[static_cast<std::size_t>(slot)]);
+    const std::size_t i = first_pooled + k;
+    result.experiments[i] =
+        run_experiment(designs[k], all[i], options, result.noise_variance, result.true_gain);
+    report(result.experiments[i]);
+  });
+  if (result.experiments[0].identified.gain)
+    result.step_gain = *result.experiments[0].identified.gain;
 
   // 3. Every model on every other experiment's data.
-  std::vector<IdentifiedModel> models;
-  std::vector<Dataset> data;
-  for (const Experiment& e : result.experiments) {
-    models.push_back(e.identified.model);
-    data.push_back({e.name, e.U, e.Y});
-  }
-  const CrossValidation cv = cross_validate(models, data);
-  result.crossfit = cv.fit;
-  for (std::size_t a = 0; a < result.experiments.size(); ++a) {
-    Experiment& e = result.experiments[a];
-    e.crossfit_avg = cv.models[a].cross_average;
-    e.crossfit_best = cv.models[a].cross_best;
-    e.crossfit_worst = cv.models[a].cross_worst;
-  }
-  say("cross-validated " + std::to_string(models.size()) + " models on " +
-      std::to_string(data.size()) + " runs");
+  cross_validate_parallel(result, options.threads);
+  say("cross-validated " + std::to_string(all.size()) + " models on " + std::to_string(all.size()) +
+      " runs");
   return result;
 }
 

@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// The chapter-6 study on any plant (SPEC §4–§6): a step test whose identified G(0) gives
-// the directions (or the true G(0) when asked), then every preset of Table 6.1 designed,
-// simulated with measurement noise, identified, judged for output balance, and every model
-// cross-validated on every other experiment's data.
+// The chapter-6 study on any plant (SPEC §3–§6): every preset of Table 6.1 designed with
+// the true G(0) (or, when asked, the step test's estimate), sized by static output,
+// simulated with measurement noise, identified, judged for output balance on the
+// noise-free and the noisy outputs, and every model cross-validated on every other
+// experiment's data. Designs, identifications and cross-validations run on a pool of
+// threads; the results do not depend on the thread count.
 
 #include <Eigen/Core>
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,40 +19,60 @@
 
 namespace excite::host {
 
+/// Which G(0) the designs use.
+enum class DesignGain {
+  true_gain,  // the plant's G(0) (default, thesis 6.3)
+  step_test,  // identified from the sequential step test (experiment 1, thesis 6.1.1)
+};
+
 struct CampaignOptions {
   std::string plant;
-  double noise_variance = -1.0;  // per output; < 0: the case study's (0.03 in thesis 6.3)
+  double noise_variance = -1.0;  // per output; < 0: the case study's (5e-4 linear plants)
   std::uint64_t seed = 1;        // experiment e uses seed + e
-  bool true_gain = false;        // directions from the true G(0) instead of the step test's
-  int threads = 2;               // identification threads
+  DesignGain design_gain = DesignGain::true_gain;
+  int threads = 2;  // experiments and cross-validations in parallel (≥ 1)
+};
+
+/// Output balance of one experiment's outputs (5.5.2, 6.2.1).
+struct Balance {
+  Eigen::VectorXd projection_std;  // of w_iᵀ y, true directions (5.5.2)
+  double ratio = 0.0;              // min/max of projection_std
+  double upsilon = 0.0;            // det(corr(Y)) (6.2.1)
 };
 
 struct Experiment {
   int number = 0;    // Table 6.1
   std::string name;  // acronym
   double sample_time_min = 0.0;
-  Eigen::MatrixXd U, Y;  // N × n inputs, N × p noisy outputs (deviations)
-  double cf_avg = 0.0, pips_avg = 0.0;
+  Eigen::MatrixXd U, Y;        // N × n inputs, N × p noisy outputs (deviations)
+  Eigen::MatrixXd Y_clean;     // N × p noise-free outputs (same run, no noise)
+  double cf_avg = 0.0;         // crest factor over the experiment, averaged over inputs
+  double cf_period_avg = 0.0;  // over each input's active span (its periods), averaged
+  double pips_avg = 0.0;
+  double limit_scale = 1.0;  // < 1: scaled as a whole to fit the input limits
   IdentificationResult identified;
   double fit_avg = 0.0;  // own data, averaged over outputs (5.5.1)
   double crossfit_avg = 0.0, crossfit_best = 0.0, crossfit_worst = 0.0;
-  Eigen::VectorXd projection_std;  // of w_iᵀ y, true directions (5.5.2)
-  double ratio = 0.0;              // min/max of projection_std
-  double upsilon = 0.0;            // det(corr(Y)) (6.2.1)
+  Balance balance_clean;  // on the noise-free outputs: a property of the excitation
+  Balance balance_noisy;  // on the measured (noisy) outputs
 };
 
 struct CampaignResult {
   std::string plant;
   std::vector<std::string> input_names, output_names;
+  double noise_variance = 0.0;  // what the runs used
+  bool sized_by_static_output = false;
   GainAnalysis true_gain;
-  GainAnalysis design_gain;        // what the directional designs used
-  std::string design_gain_source;  // "step test (stepSeq)" or "true G(0)"
+  GainAnalysis design_gain;               // what the designs used
+  std::string design_gain_source;         // "true G(0)" or "step test (stepSeq)"
+  std::optional<GainAnalysis> step_gain;  // the step test's estimate, when it has one
   std::vector<Experiment> experiments;
   Eigen::MatrixXd crossfit;  // fit(a, b): model a on data b, averaged over outputs
 };
 
-/// Runs the campaign; `progress` (may be empty) gets one line per step for the terminal.
-/// Throws std::invalid_argument for an unknown plant or a plant without a case study.
+/// Runs the campaign; `progress` (may be empty) gets one line per step for the terminal
+/// (called from the pool's threads, one call at a time). Throws std::invalid_argument for
+/// an unknown plant or a plant without a case study.
 CampaignResult run_campaign(const CampaignOptions& options,
                             const std::function<void(const std::string&)>& progress);
 

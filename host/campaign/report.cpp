@@ -104,11 +104,11 @@ void plot_projections(const CampaignResult& r, const std::filesystem::path& figu
   std::ofstream gp(figures / "projections.gp");
   gp << "set terminal svg size 1100,900 dynamic font 'sans,10'\nset output '"
      << (figures / "projections.svg").string()
-     << "'\nset multiplot layout 5,4 title 'w_1^T y (x) against w_" << last + 1
+     << "'\nset multiplot layout 5,4 title 'noise-free outputs: w_1^T y (x) against w_" << last + 1
      << "^T y (y) per experiment, same scale'\nunset key\nset grid\n";
   double extent = 0.0;
   for (const Experiment& e : r.experiments) {
-    const Eigen::MatrixXd p = e.Y * r.true_gain.output_directions;
+    const Eigen::MatrixXd p = e.Y_clean * r.true_gain.output_directions;
     extent = std::max({extent, p.col(0).cwiseAbs().maxCoeff(), p.col(last).cwiseAbs().maxCoeff()});
     const auto data = figures / (e.name + ".proj");
     std::ofstream out(data);
@@ -171,16 +171,59 @@ void plot_frequency(const CampaignResult& r, const sim::Plant& plant,
   gp << '\n';
 }
 
-double average_over(const CampaignResult& r, bool dir, double Experiment::*field) {
+template <typename Field>
+double average_over(const CampaignResult& r, bool dir, Field field) {
   double sum = 0.0;
   int n = 0;
   for (const Experiment& e : r.experiments) {
-    if (directional(e.name) == dir && std::isfinite(e.*field)) {
-      sum += e.*field;
+    const double v = field(e);
+    if (directional(e.name) == dir && std::isfinite(v)) {
+      sum += v;
       ++n;
     }
   }
   return n ? sum / n : std::nan("");
+}
+
+// The conventions a reader needs to compare the figures with the thesis's (SPEC §3, §4).
+std::vector<std::string> convention_lines(const CampaignResult& r) {
+  std::vector<std::string> lines;
+  lines.push_back(
+      r.sized_by_static_output
+          ? "Amplitudes: every design sized by the static output it causes (SPEC §3): plain "
+            "designs move input j by c/‖G(0)e_j‖, directional designs along c·σ_i⁻¹v_i, with the "
+            "thesis's factor c per design (host/design/sizing.cpp; peak for steps and PRBS, RMS "
+            "for multisines). Input limits are separate; a design that does not fit is scaled "
+            "as a whole (column 'limit scale')."
+          : "Amplitudes: this plant's designs are sized by input amplitude (its case study, "
+            "host/design/case_studies.cpp); directional designs match the static output RMS of "
+            "their plain counterparts.");
+  lines.push_back("Noise: Gaussian, variance " + general(r.noise_variance) +
+                  " on every output (--noise-var overrides). " +
+                  (r.sized_by_static_output
+                       ? "The linear case studies' default 5·10⁻⁴ is the thesis's s² = 0.03 read "
+                         "as a Simulink noise power over its 60 s sample time (0.03/60, SPEC §4)."
+                       : "The columns' default 10⁻⁸ is a composition analyser's 10⁻⁴ mole "
+                         "fraction, in the outputs' own unit."));
+  lines.push_back("Gain used for the designs: " + r.design_gain_source +
+                  " (--design-gain step-test designs from the step test's estimate).");
+  lines.push_back(
+      "Balance: projections on the true output directions w_i (5.5.2) and Υ (6.2.1) are "
+      "properties of the excitation and are measured on the noise-free simulated outputs; the "
+      "figures on the noisy outputs stand beside them, labelled.");
+  lines.push_back(
+      "Crest factors: 'CF period' over each input's active span (its whole periods), 'CF "
+      "experiment' over the whole experiment; a sequential multisine plays each channel for "
+      "one of n periods, so its experiment CF is √n times its period CF.");
+  return lines;
+}
+
+nlohmann::json conventions(const CampaignResult& r) {
+  return {{"noise_variance", r.noise_variance},
+          {"sizing", r.sized_by_static_output ? "static_output" : "input_amplitude"},
+          {"design_gain", r.design_gain_source},
+          {"balance_measured_on", "noise-free outputs (ratio, upsilon); noisy beside (*_noisy)"},
+          {"text", convention_lines(r)}};
 }
 
 }  // namespace
@@ -191,7 +234,10 @@ void write_summary(const CampaignResult& r, const std::filesystem::path& dir) {
     experiments.push_back(
         {{"name", e.name},
          {"number", e.number},
+         {"samples", e.U.rows()},
          {"cf_avg", number(e.cf_avg)},
+         {"cf_period_avg", number(e.cf_period_avg)},
+         {"limit_scale", number(e.limit_scale)},
          {"pips_avg", number(e.pips_avg)},
          {"fit_avg", number(e.fit_avg)},
          {"crossfit_avg", number(e.crossfit_avg)},
@@ -199,14 +245,22 @@ void write_summary(const CampaignResult& r, const std::filesystem::path& dir) {
          {"crossfit_worst", number(e.crossfit_worst)},
          {"singular_values",
           e.identified.gain ? vector(e.identified.gain->singular_values) : nlohmann::json(nullptr)},
-         {"projection_std", vector(e.projection_std)},
-         {"ratio", number(e.ratio)},
-         {"upsilon", number(e.upsilon)}});
+         {"projection_std", vector(e.balance_clean.projection_std)},
+         {"ratio", number(e.balance_clean.ratio)},
+         {"upsilon", number(e.balance_clean.upsilon)},
+         {"projection_std_noisy", vector(e.balance_noisy.projection_std)},
+         {"ratio_noisy", number(e.balance_noisy.ratio)},
+         {"upsilon_noisy", number(e.balance_noisy.upsilon)}});
   }
-  const nlohmann::json j = {{"plant", r.plant},
-                            {"design_gain_source", r.design_gain_source},
-                            {"true_singular_values", vector(r.true_gain.singular_values)},
-                            {"experiments", experiments}};
+  const nlohmann::json j = {
+      {"plant", r.plant},
+      {"design_gain_source", r.design_gain_source},
+      {"conventions", conventions(r)},
+      {"true_singular_values", vector(r.true_gain.singular_values)},
+      {"design_singular_values", vector(r.design_gain.singular_values)},
+      {"step_test_singular_values",
+       r.step_gain ? vector(r.step_gain->singular_values) : nlohmann::json(nullptr)},
+      {"experiments", experiments}};
   std::ofstream out(dir / "summary.json");
   out << j.dump(2) << '\n';
   if (!out) throw std::runtime_error((dir / "summary.json").string() + ": cannot be written");
@@ -247,16 +301,27 @@ void write_report(const CampaignResult& r, const sim::Plant& plant,
   for (Eigen::Index i = 0; i < r.design_gain.singular_values.size(); ++i) {
     h << ' ' << general(r.design_gain.singular_values(i));
   }
-  h << ".</p>";
+  h << "; the step test's estimate:";
+  if (r.step_gain) {
+    for (Eigen::Index i = 0; i < r.step_gain->singular_values.size(); ++i)
+      h << ' ' << general(r.step_gain->singular_values(i));
+  } else {
+    h << " none";
+  }
+  h << ".</p><h2>Conventions</h2><ul>";
+  for (const std::string& line : convention_lines(r)) h << "<li>" << line << "</li>";
+  h << "</ul>";
 
   // What the data show.
-  const double ratio_dir = average_over(r, true, &Experiment::ratio);
-  const double ratio_other = average_over(r, false, &Experiment::ratio);
-  const double worst_dir = average_over(r, true, &Experiment::crossfit_worst);
-  const double worst_other = average_over(r, false, &Experiment::crossfit_worst);
+  const auto ratio = [](const Experiment& e) { return e.balance_clean.ratio; };
+  const auto worst = [](const Experiment& e) { return e.crossfit_worst; };
+  const double ratio_dir = average_over(r, true, ratio);
+  const double ratio_other = average_over(r, false, ratio);
+  const double worst_dir = average_over(r, true, worst);
+  const double worst_other = average_over(r, false, worst);
   h << "<h2>What the data show</h2><ul>";
-  h << "<li>Output balance (ratio min/max of the projection standard deviations, 1 = balanced): "
-       "directional designs "
+  h << "<li>Output balance on the noise-free outputs (ratio min/max of the projection standard "
+       "deviations, 1 = balanced): directional designs "
     << fixed(ratio_dir) << " on average, the others " << fixed(ratio_other) << ". "
     << (ratio_dir > ratio_other
             ? "The directional designs give better balanced outputs on this plant."
@@ -272,11 +337,12 @@ void write_report(const CampaignResult& r, const sim::Plant& plant,
 
   h << "<h2>Inputs: plant-friendliness (SPEC "
        "§5)</h2><table><tr><th>#</th><th>design</th><th>samples</th>"
-       "<th>CF avg</th><th>PIPS avg %</th></tr>";
+       "<th>CF period</th><th>CF experiment</th><th>PIPS avg %</th><th>limit scale</th></tr>";
   for (const Experiment& e : r.experiments) {
     h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.number << ' '
       << e.name << "</td><td>" << (directional(e.name) ? "directional" : "inputs") << "</td><td>"
-      << e.U.rows() << "</td><td>" << fixed(e.cf_avg) << "</td><td>" << fixed(e.pips_avg, 1)
+      << e.U.rows() << "</td><td>" << fixed(e.cf_period_avg) << "</td><td>" << fixed(e.cf_avg)
+      << "</td><td>" << fixed(e.pips_avg, 1) << "</td><td>" << fixed(e.limit_scale, 4)
       << "</td></tr>";
   }
   h << "</table>";
@@ -310,16 +376,18 @@ void write_report(const CampaignResult& r, const sim::Plant& plant,
   h << "</table>";
 
   h << "<h2>Output balance (5.5.2, 6.2.1)</h2><p class='note'>Standard deviation of the "
-       "projections w_iᵀy on the "
-       "true output gain directions, their ratio min/max, and Υ = "
-       "det(corr(Y)).</p><table><tr><th>design</th>";
-  for (Eigen::Index i = 0; i < n; ++i) h << "<th>std w" << i + 1 << "ᵀy</th>";
-  h << "<th>ratio</th><th>Υ</th></tr>";
+       "projections w_iᵀy on the true output gain directions, their ratio min/max, and Υ = "
+       "det(corr(Y)): on the noise-free outputs (a property of the excitation), and on the "
+       "noisy outputs beside them.</p><table><tr><th>design</th>";
+  for (Eigen::Index i = 0; i < n; ++i) h << "<th>std w" << i + 1 << "ᵀy (noise-free)</th>";
+  h << "<th>ratio noise-free</th><th>ratio noisy</th><th>Υ noise-free</th><th>Υ noisy</th></tr>";
   for (const Experiment& e : r.experiments) {
     h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.name << "</td>";
-    for (Eigen::Index i = 0; i < e.projection_std.size(); ++i)
-      h << "<td>" << general(e.projection_std(i)) << "</td>";
-    h << "<td>" << fixed(e.ratio) << "</td><td>" << general(e.upsilon) << "</td></tr>";
+    for (Eigen::Index i = 0; i < e.balance_clean.projection_std.size(); ++i)
+      h << "<td>" << general(e.balance_clean.projection_std(i)) << "</td>";
+    h << "<td>" << fixed(e.balance_clean.ratio) << "</td><td>" << fixed(e.balance_noisy.ratio)
+      << "</td><td>" << general(e.balance_clean.upsilon) << "</td><td>"
+      << general(e.balance_noisy.upsilon) << "</td></tr>";
   }
   h << "</table>";
 

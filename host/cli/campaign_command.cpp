@@ -1,10 +1,14 @@
 // SPDX-License-Identifier: MIT
-// excite campaign --plant NAME -o DIR [--true-gain] [--noise-var V] [--seed S] [--threads N]
+// excite campaign --plant NAME -o DIR [--design-gain true|step-test] [--noise-var V] [--seed S]
+//                 [--threads N]
 // The chapter-6 study: DIR/summary.json and the report DIR/index.html.
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <map>
+#include <thread>
 
 #include "host/campaign/campaign.hpp"
 #include "host/campaign/report.hpp"
@@ -44,13 +48,18 @@ void add_campaign_command(CLI::App& app) {
   cmd->add_option("-o,--output-dir", opt->output_dir,
                   "folder for summary.json, index.html, figures/")
       ->required();
-  cmd->add_flag("--true-gain", opt->campaign.true_gain,
-                "directions from the true G(0), not the step test's");
+  const std::map<std::string, DesignGain> gains = {{"true", DesignGain::true_gain},
+                                                   {"step-test", DesignGain::step_test}};
+  cmd->add_option("--design-gain", opt->campaign.design_gain,
+                  "G(0) the designs use: true (default, the plant's) or step-test (its estimate)")
+      ->transform(CLI::CheckedTransformer(gains, CLI::ignore_case));
   cmd->add_option("--noise-var", opt->campaign.noise_variance,
                   "measurement noise variance per output (default: the case study's)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--seed", opt->campaign.seed, "noise seed")->capture_default_str();
-  cmd->add_option("--threads", opt->campaign.threads, "identification threads")
+  opt->campaign.threads = static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+  cmd->add_option("--threads", opt->campaign.threads,
+                  "experiments identified and cross-validated in parallel (default: the cores)")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
   cmd->callback([opt] { run(*opt); });

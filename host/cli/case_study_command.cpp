@@ -36,8 +36,15 @@ void run(const CaseStudyOptions& opt) {
     std::cout << ' ' << num(gains.singular_values(i), 5);
   std::cout << " (kappa = " << num(gains.condition_number, 4) << ")\n\n";
 
-  TextTable table({"#", "design", "samples", "CF", "PIPS %", "PF", "Phi %", "Phi_i", "RMS",
-                   "max|u|", "RMS |G(0)u|", "y min", "y max"});
+  TextTable table({"#", "design", "samples", "CF period", "CF", "PIPS %", "PF", "Phi %", "Phi_i",
+                   "RMS", "max|u|", "RMS |G(0)u|", "y min", "y max", "limit scale"});
+  std::vector<std::string> range_header{"#", "design"};
+  for (const InputSpec& in : prior.inputs) {
+    range_header.push_back(in.name + " min");
+    range_header.push_back(in.name + " max");
+  }
+  TextTable ranges(range_header);
+  std::vector<std::string> scaled;
   bool first = true;
   for (const PresetInfo& preset : presets()) {
     const Design d = design_preset(prior, preset, created);
@@ -53,18 +60,39 @@ void run(const CaseStudyOptions& opt) {
     const double y_rms = std::sqrt(y.rowwise().squaredNorm().mean());
     const double u_peak = d.table.cwiseAbs().maxCoeff();
     table.add_row({std::to_string(preset.number), std::string(preset.acronym),
-                   std::to_string(d.plan->recipe.samples), num(m.average.crest_factor),
-                   num(m.average.pips), num(m.average.peak_factor), num(m.average.phi),
-                   num(m.average.phi_smooth), num(m.average.rms), num(u_peak), num(y_rms),
-                   num(y.minCoeff()), num(y.maxCoeff())});
+                   std::to_string(d.plan->recipe.samples), num(active_crest_factor_avg(d.table)),
+                   num(m.average.crest_factor), num(m.average.pips), num(m.average.peak_factor),
+                   num(m.average.phi), num(m.average.phi_smooth), num(m.average.rms), num(u_peak),
+                   num(y_rms), num(y.minCoeff()), num(y.maxCoeff()), num(d.limit_scale)});
+    std::vector<std::string> range{std::to_string(preset.number), std::string(preset.acronym)};
+    for (const ChannelMeasures& c : m.channels) {
+      range.push_back(num(c.min));
+      range.push_back(num(c.max));
+    }
+    ranges.add_row(range);
+    if (d.limit_scale < 1.0 - 1e-9) {
+      scaled.push_back(std::string(preset.acronym) + " scaled by " + num(d.limit_scale, 4) +
+                       " to fit the input limits");
+    }
     if (!opt.output_dir.empty()) {
       write_plan_file(
           *d.plan, std::filesystem::path(opt.output_dir) / (std::string(preset.acronym) + ".plan"));
     }
   }
-  std::cout
-      << "plant-friendliness, averaged over the inputs (SPEC §5), and the static outputs G(0)u:\n";
+  std::cout << "sizing: "
+            << (prior.sized_by_static_output()
+                    ? "by static output, the thesis's factor c per design (SPEC 3, "
+                      "host/design/sizing.cpp)"
+                    : "by input amplitude")
+            << "; input limits:";
+  for (const InputSpec& in : prior.inputs)
+    std::cout << ' ' << in.name << " [" << num(in.min) << ", " << num(in.max) << "]";
+  std::cout << "\n\nplant-friendliness, averaged over the inputs (SPEC §5; CF period: over each "
+               "input's active span, CF: over the experiment), and the static outputs G(0)u:\n";
   table.print(std::cout);
+  std::cout << "\nper-input range of every design:\n";
+  ranges.print(std::cout);
+  for (const std::string& line : scaled) std::cout << "note: " << line << '\n';
   if (!opt.output_dir.empty()) std::cout << "\nplans written to " << opt.output_dir << "/\n";
 }
 

@@ -46,6 +46,10 @@ void run(const DesignOptions& opt) {
   }
   if (!design.plan) design = design_preset(prior, find_preset(preset_name), creation_time());
   write_plan_file(*design.plan, opt.output);
+  if (design.limit_scale < 1.0 - 1e-9) {  // said even with --quiet: the size changed
+    std::cerr << "note: the design does not fit the input limits; the whole design is scaled by "
+              << design.limit_scale << " (directions preserved, no channel clipped)\n";
+  }
   if (!opt.quiet) {
     for (const std::string& note : design.notes) std::cout << note << '\n';
     std::cout << "wrote " << opt.output << ": " << preset_name << ", "

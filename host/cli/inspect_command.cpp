@@ -1,8 +1,12 @@
 // SPDX-License-Identifier: MIT
-// excite inspect PLAN [--json] [--plant NAME]: the plan's metadata, the plant-friendliness
-// of its table (SPEC §5) and, given a plant, the predicted static output excursions.
+// excite inspect PLAN... [--json] [--plant NAME]: each plan's metadata, the
+// plant-friendliness of its table (SPEC §5, with every input's min and max) and, given a
+// plant, the predicted static output excursions. Several plans: then one table of every
+// design's per-input min and max, side by side.
 
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "host/cli/commands.hpp"
 #include "host/cli/input_table.hpp"
@@ -18,25 +22,32 @@ namespace excite::host::cli {
 namespace {
 
 struct InspectOptions {
-  std::string plan_path;
+  std::vector<std::string> plan_paths;
   std::string plant;
   bool json = false;
 };
 
-void run(const InspectOptions& opt) {
-  const auto p = read_plan_file(opt.plan_path);
+// One plan; returns its table's measures for the side-by-side summary.
+nlohmann::json inspect_one(const InspectOptions& opt, const std::string& plan_path,
+                           InputMeasures& measures_out, std::vector<std::string>& names_out,
+                           std::string& design_out) {
+  const auto p = read_plan_file(plan_path);
   const Table table = make_table(p->recipe);
   const InputMeasures measures = measure_inputs(table);
+  measures_out = measures;
+  design_out = std::string(plan::text_of(p->meta.design_name));
   const std::vector<double> cf_continuous = continuous_crest_factors(p->recipe, table);
   std::vector<std::string> names;
   for (std::uint32_t c = 0; c < p->recipe.channels; ++c)
     names.emplace_back(plan::text_of(p->meta.channels[c].name));
+  names_out = names;
 
   std::vector<OutputExcursion> excursions;
   if (!opt.plant.empty()) excursions = static_output_excursions(plant_gain(opt.plant), table);
 
   if (opt.json) {
     nlohmann::json j = input_measures_json(measures, names, cf_continuous);
+    j["plan"] = plan_path;
     j["design"] = std::string(plan::text_of(p->meta.design_name));
     j["provenance"] = std::string(plan::text_of(p->meta.provenance));
     j["samples"] = p->recipe.samples;
@@ -46,10 +57,9 @@ void run(const InspectOptions& opt) {
       for (const OutputExcursion& e : excursions) ex.push_back({{"min", e.min}, {"max", e.max}});
       j["static_output_excursions"] = ex;
     }
-    std::cout << j.dump(2) << '\n';
-    return;
+    return j;
   }
-  std::cout << "plan " << opt.plan_path << ": " << plan::text_of(p->meta.design_name) << " ("
+  std::cout << "plan " << plan_path << ": " << plan::text_of(p->meta.design_name) << " ("
             << plan::text_of(p->meta.provenance) << ")\n"
             << p->recipe.channels << " channels x " << p->recipe.samples << " samples of "
             << num(p->meta.sample_time_min) << " min, " << p->recipe.source_count << " sources\n\n";
@@ -62,6 +72,42 @@ void run(const InspectOptions& opt) {
     }
     out.print(std::cout);
   }
+  return nullptr;
+}
+
+void run(const InspectOptions& opt) {
+  nlohmann::json all = nlohmann::json::array();
+  std::vector<std::string> designs;
+  std::vector<InputMeasures> measures(opt.plan_paths.size());
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < opt.plan_paths.size(); ++i) {
+    if (i > 0 && !opt.json) std::cout << '\n';
+    std::string design;
+    all.push_back(inspect_one(opt, opt.plan_paths[i], measures[i], names, design));
+    designs.push_back(design);
+  }
+  if (opt.json) {
+    std::cout << (all.size() == 1 ? all.front() : all).dump(2) << '\n';
+    return;
+  }
+  if (opt.plan_paths.size() < 2) return;
+  std::vector<std::string> header{"design"};
+  for (const std::string& name : names) {
+    header.push_back(name + " min");
+    header.push_back(name + " max");
+  }
+  TextTable ranges(header);
+  for (std::size_t i = 0; i < designs.size(); ++i) {
+    std::vector<std::string> row{designs[i]};
+    for (const ChannelMeasures& c : measures[i].channels) {
+      row.push_back(num(c.min));
+      row.push_back(num(c.max));
+    }
+    row.resize(header.size(), "-");  // plans with fewer channels than the last one
+    ranges.add_row(row);
+  }
+  std::cout << "\nper-input min and max of every design:\n";
+  ranges.print(std::cout);
 }
 
 }  // namespace
@@ -70,7 +116,7 @@ void add_inspect_command(CLI::App& app) {
   auto opt = std::make_shared<InspectOptions>();
   CLI::App* cmd = app.add_subcommand(
       "inspect", "Plant-friendliness of a plan's table (thesis Table 6.2 style)");
-  cmd->add_option("plan", opt->plan_path, "plan file")->required();
+  cmd->add_option("plan", opt->plan_paths, "plan file(s)")->required();
   cmd->add_option("--plant", opt->plant,
                   "library plant: also predict the static output excursions");
   cmd->add_flag("--json", opt->json, "machine-readable output");

@@ -9,6 +9,7 @@
 #include "firmware/plan/limits.hpp"
 #include "firmware/signal/validate.hpp"
 #include "host/design/composition.hpp"
+#include "host/design/sizing.hpp"
 
 namespace excite::host {
 namespace {
@@ -114,15 +115,118 @@ const PresetInfo& find_preset(std::string_view acronym) {
                               "\", expected one of: " + known);
 }
 
+namespace {
+
+// The size of a source on its own: 1 for the unit-peak binary sources; for a multisine the
+// peak (measure peak) or its RMS over a period, √(Σ a_k²/2) (measure rms).
+double source_size(const Composition& comp, std::size_t i, SizeMeasure measure) {
+  const signal::Source& s = comp.sources[i];
+  if (s.kind != signal::SourceKind::multisine || measure == SizeMeasure::peak) return 1.0;
+  double power = 0.0;
+  for (std::uint32_t k = 0; k < s.multisine.line_count; ++k) {
+    const double a = comp.lines[s.multisine.first_line + k].amplitude;
+    power += 0.5 * a * a;
+  }
+  return std::sqrt(power);
+}
+
+// SPEC §3 "Sizing", host/design/sizing.hpp: replaces comp.mix by the static-output size of
+// `preset`. Sources 0…n−1 drive input (or direction) i; further sources (correlated designs)
+// drive the weakest direction.
+void size_by_static_output(const PresetInfo& preset, const GainAnalysis& g, Composition& comp,
+                           std::vector<std::string>& notes) {
+  const DesignSize& size = design_size(preset.acronym);
+  const Eigen::Index n = g.gain.cols();
+  const Eigen::VectorXd column_norm = g.gain.colwise().norm().transpose();
+  for (Eigen::Index j = 0; j < n; ++j) {
+    if (!(column_norm(j) > 0.0)) {
+      throw std::invalid_argument(format(
+          "gain: column %ld is zero (input %ld moves no output at steady state), expected every "
+          "input to have a static effect for sizing = static_output; use input_amplitude",
+          static_cast<long>(j), static_cast<long>(j)));
+    }
+  }
+  const auto m = static_cast<Eigen::Index>(comp.sources.size());
+  const char* measure = size.measure == SizeMeasure::peak ? "peak" : "RMS";
+  const char* origin = size.thesis_value ? "thesis" : "ours, by analogy with prbsDirCorrSim";
+  Eigen::MatrixXd mix = Eigen::MatrixXd::Zero(n, m);
+  const bool correlated = size.unc > 0.0;
+  if (!preset.uses_directions() || correlated) {
+    const double c = correlated ? size.unc : size.c;
+    for (Eigen::Index j = 0; j < n; ++j) {
+      mix(j, j) =
+          c / (column_norm(j) * source_size(comp, static_cast<std::size_t>(j), size.measure));
+    }
+    notes.push_back(format("sizing (SPEC 3): %s of input j = c / |G(0) e_j| with c = %.3g (%s)",
+                           measure, c, origin));
+  }
+  if (correlated) {
+    // The further sources together give a static output of RMS c along G(0)·(their mix).
+    double power = 0.0;
+    for (Eigen::Index i = n; i < m; ++i) {
+      const Eigen::VectorXd d = comp.mix.col(i);
+      const double s = source_size(comp, static_cast<std::size_t>(i), size.measure);
+      power += (g.gain * d).squaredNorm() * s * s;
+    }
+    const double f = size.c / std::sqrt(power);
+    for (Eigen::Index i = n; i < m; ++i) mix.col(i) = f * comp.mix.col(i);
+    notes.push_back(
+        format("sizing (SPEC 3): the correlated part along v_n gives a static output of %s %.3g, "
+               "i.e. c * inv(sigma_n) * v_n (%s)",
+               measure, size.c, origin));
+  } else if (preset.uses_directions()) {
+    for (Eigen::Index i = 0; i < n; ++i) {
+      mix.col(i) = g.input_directions.col(i) *
+                   (size.c / (g.singular_values(i) *
+                              source_size(comp, static_cast<std::size_t>(i), size.measure)));
+    }
+    notes.push_back(
+        format("sizing (SPEC 3, 5.2.2): u = c * V * inv(Sigma) * s, %s of s_i = 1, c = %.3g (%s)",
+               measure, size.c, origin));
+  }
+  comp.mix = mix;
+}
+
+// Input limits (per plant, separate from the size): a design that does not fit is scaled
+// as a whole, directions preserved; never one channel clipped.
+void fit_limits(const PriorKnowledge& prior, const PresetInfo& preset, Composition& comp,
+                Design& design, std::uint64_t created_unix_s) {
+  const double c = limit_scale(prior, design.table);
+  if (c >= 1.0) return;
+  comp.mix *= c;
+  design.limit_scale = c;
+  design.notes.push_back(
+      c > 1.0 - 1e-9
+          ? format("limits: a peak equal to its limit, scaled by 1 - %.1g against rounding",
+                   1.0 - c)
+          : format("limits: the design does not fit the input limits; the whole design is "
+                   "scaled by %.4g (directions preserved, no channel clipped)",
+                   c));
+  design.plan = make_plan(prior, preset, comp, created_unix_s);
+  design.table = make_table(design.plan->recipe);
+}
+
+void check_design_limits(const Design& design) {
+  const plan::LimitCheck limits = plan::check_limits(
+      *design.plan, signal::ConstTableView(design.table.data(), design.plan->recipe.channels,
+                                           design.plan->recipe.samples));
+  if (!limits.status)
+    throw std::invalid_argument(std::string("design: ") + limits.status.message());
+}
+
+}  // namespace
+
 Design design_plain_multisine(const PriorKnowledge& prior, const PlainMultisine& spec,
                               std::uint64_t created_unix_s) {
   validate_inputs(prior);
   Design design;
-  const Composition comp = compose_plain_multisine(prior, spec);
+  Composition comp = compose_plain_multisine(prior, spec);
   design.notes = comp.notes;
   static constexpr PresetInfo kPlain{0, "multisine", "a multisine given by its lines", ""};
   design.plan = make_plan(prior, kPlain, comp, created_unix_s);
   design.table = make_table(design.plan->recipe);
+  fit_limits(prior, kPlain, comp, design, created_unix_s);
+  check_design_limits(design);
   return design;
 }
 
@@ -140,13 +244,18 @@ Design design_preset(const PriorKnowledge& prior, const PresetInfo& preset,
     gains = std::make_unique<GainAnalysis>(analyse_gain(prior.gain));
     if (preset.uses_directions()) require_full_rank(*gains);
   }
+  const bool by_output = prior.sized_by_static_output();
   const DesignContext context{prior, design.prbs, gains.get()};
   Composition comp = preset.acronym.starts_with("ms") ? compose_multisine(preset.acronym, context)
                                                       : compose_binary(preset.acronym, context);
   design.notes = design.prbs.explanation;
   design.notes.insert(design.notes.end(), comp.notes.begin(), comp.notes.end());
 
-  if (comp.mix.size() == 0) {  // gain directions: u = V Σ⁻¹ s (5.2.2)
+  if (by_output) {
+    if (comp.mix.size() == 0)
+      comp.mix = Eigen::MatrixXd::Identity(prior.input_count(), prior.input_count());
+    size_by_static_output(preset, *gains, comp, design.notes);
+  } else if (comp.mix.size() == 0) {  // gain directions: u = V Σ⁻¹ s (5.2.2)
     const GainAnalysis& g = require_gains(context, preset.acronym);
     comp.mix = g.input_directions * g.singular_values.cwiseInverse().asDiagonal();
     design.notes.push_back(
@@ -155,29 +264,22 @@ Design design_preset(const PriorKnowledge& prior, const PresetInfo& preset,
   design.plan = make_plan(prior, preset, comp, created_unix_s);
   design.table = make_table(design.plan->recipe);
 
-  if (preset.uses_directions()) {
-    // One common factor c: the largest that keeps every input within its limits, and no
-    // larger than what gives the static outputs the RMS of the corresponding input design.
+  if (!by_output && preset.uses_directions()) {
+    // Sized by input amplitude: one common factor c that gives the static outputs the RMS
+    // of the corresponding input design.
     const Design ref = design_preset(prior, find_preset(preset.reference), created_unix_s);
-    const double c_output =
+    const double c =
         static_output_rms(prior.gain, ref.table) / static_output_rms(prior.gain, design.table);
-    const double c_limits = limit_scale(prior, design.table);
-    const double c = std::min(c_output, c_limits);
-    design.notes.push_back(format(
-        "scale: c = min(c_output = %.4g [static output RMS of %.*s], c_limits = %.4g) = %.4g "
-        "(%s)",
-        c_output, static_cast<int>(preset.reference.size()), preset.reference.data(), c_limits, c,
-        c_limits < c_output ? "the input limits bind" : "outputs match the input design"));
+    design.notes.push_back(
+        format("sizing: input amplitudes; c = %.4g gives the static output "
+               "RMS of %.*s",
+               c, static_cast<int>(preset.reference.size()), preset.reference.data()));
     comp.mix *= c;
     design.plan = make_plan(prior, preset, comp, created_unix_s);
     design.table = make_table(design.plan->recipe);
   }
-
-  const plan::LimitCheck limits = plan::check_limits(
-      *design.plan, signal::ConstTableView(design.table.data(), design.plan->recipe.channels,
-                                           design.plan->recipe.samples));
-  if (!limits.status)
-    throw std::invalid_argument(std::string("design: ") + limits.status.message());
+  fit_limits(prior, preset, comp, design, created_unix_s);
+  check_design_limits(design);
   return design;
 }
 

@@ -38,6 +38,8 @@ struct Design {
   Table table;
   PrbsDesign prbs;
   std::vector<std::string> notes;  // A1's inequalities, then sequencing and scaling
+  double limit_scale = 1.0;        // < 1: the whole design was scaled by this to fit the
+                                   // input limits (directions preserved)
 };
 
 /// A single multisine given by its lines, for trying phase methods on a plain spectrum

@@ -13,10 +13,18 @@ namespace excite::host {
 
 struct InputSpec {
   std::string name;
-  double amplitude = 1.0;  // a: the level of steps and PRBS on this input (> 0)
+  double amplitude = 1.0;  // a: the level of steps and PRBS on this input (> 0); used when
+                           // the design is sized by input amplitude (Sizing below)
   double min = -1.0;       // lowest allowed deviation (< 0)
   double max = 1.0;        // highest allowed deviation (> 0)
 };
+
+/// How big a design is (SPEC §3, host/design/sizing.hpp). static_output is the default and
+/// needs G(0): every design sized by the static output it causes, with the thesis's factor
+/// c per design. input_amplitude: plain designs move input j by its amplitude a_j and
+/// directional designs match the static output RMS of their plain counterpart; a prior
+/// without G(0) is always sized so.
+enum class Sizing { static_output, input_amplitude };
 
 struct PriorKnowledge {
   std::string plant;              // provenance: library plant name or the spec file
@@ -28,8 +36,13 @@ struct PriorKnowledge {
   double step_length_min = 0.0;   // each +a and −a step; 0 → derived from the length
   std::vector<InputSpec> inputs;  // one per plant input
   Eigen::MatrixXd gain;           // G(0), outputs × inputs; empty when unknown
+  Sizing sizing = Sizing::static_output;
 
   int input_count() const { return static_cast<int>(inputs.size()); }
+  /// True when designs are sized by static output: asked for, and G(0) known.
+  bool sized_by_static_output() const {
+    return sizing == Sizing::static_output && gain.size() != 0;
+  }
 };
 
 /// Throws std::invalid_argument naming the first field that breaks its contract:

@@ -3,6 +3,7 @@
 
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -121,7 +122,7 @@ DesignSpec parse_design_spec(std::string_view toml_text, std::string_view source
     reader.fail(&root, "missing table [prior], expected the plant's prior knowledge");
   reader.only_keys(*prior, "prior.",
                    {"inputs", "sample_time_min", "tau_low_min", "tau_high_min", "alpha", "beta",
-                    "step_length_min", "gain"});
+                    "step_length_min", "gain", "sizing"});
   PriorKnowledge& p = spec.prior;
   p.plant = plant.empty() ? std::string(source_name) : plant;
   const double inputs = reader.number(*prior, "prior.", "inputs", true, 0.0);
@@ -131,6 +132,13 @@ DesignSpec parse_design_spec(std::string_view toml_text, std::string_view source
   p.alpha = reader.number(*prior, "prior.", "alpha", !plain, 2.0);
   p.beta = reader.number(*prior, "prior.", "beta", !plain, 3.0);
   p.step_length_min = reader.number(*prior, "prior.", "step_length_min", false, 0.0);
+  const std::string sizing = reader.text(*prior, "prior.", "sizing", false);
+  if (sizing == "input_amplitude") {
+    p.sizing = Sizing::input_amplitude;
+  } else if (!sizing.empty() && sizing != "static_output") {
+    reader.fail(prior->get("sizing"),
+                "prior.sizing = \"" + sizing + "\", expected static_output or input_amplitude");
+  }
 
   const toml::array* input_tables = root.get_as<toml::array>("input");
   const std::size_t declared = input_tables ? input_tables->size() : 0;
@@ -146,9 +154,11 @@ DesignSpec parse_design_spec(std::string_view toml_text, std::string_view source
     reader.only_keys(*in, prefix, {"name", "amplitude", "min", "max"});
     InputSpec spec_in;
     spec_in.name = reader.text(*in, prefix, "name", true);
-    spec_in.amplitude = reader.number(*in, prefix, "amplitude", true, 0.0);
     spec_in.min = reader.number(*in, prefix, "min", true, 0.0);
     spec_in.max = reader.number(*in, prefix, "max", true, 0.0);
+    // Used by input-amplitude sizing; by default the room to the nearer limit.
+    spec_in.amplitude =
+        reader.number(*in, prefix, "amplitude", false, std::min(-spec_in.min, spec_in.max));
     p.inputs.push_back(spec_in);
   }
 

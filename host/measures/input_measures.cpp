@@ -69,4 +69,21 @@ InputMeasures measure_inputs(const Eigen::Ref<const Eigen::MatrixXd>& table) {
   return result;
 }
 
+double active_crest_factor_avg(const Eigen::Ref<const Eigen::MatrixXd>& table) {
+  double sum = 0.0;
+  int count = 0;
+  for (Eigen::Index j = 0; j < table.cols(); ++j) {
+    Eigen::Index first = 0;
+    Eigen::Index last = table.rows() - 1;
+    while (first < table.rows() && table(first, j) == 0.0) ++first;
+    if (first >= table.rows()) continue;  // this channel does not move
+    while (table(last, j) == 0.0) --last;
+    const auto span = table.col(j).segment(first, last - first + 1);
+    const double rms = std::sqrt(span.squaredNorm() / static_cast<double>(span.size()));
+    sum += span.cwiseAbs().maxCoeff() / rms;
+    ++count;
+  }
+  return count > 0 ? sum / count : std::nan("");
+}
+
 }  // namespace excite::host

@@ -36,4 +36,10 @@ ChannelMeasures measure_channel(const Eigen::Ref<const Eigen::VectorXd>& x);
 /// Measures of every column of `table` (N samples × n channels) and their average.
 InputMeasures measure_inputs(const Eigen::Ref<const Eigen::MatrixXd>& table);
 
+/// Crest factor (4.3.6) of each channel over its active span, from its first to its last
+/// non-zero sample (a multisine's whole periods, a sequential channel's own slot),
+/// averaged over the channels that move; NaN when none moves. The experiment's crest
+/// factor of a channel active for a fraction f of it is this one divided by √f.
+double active_crest_factor_avg(const Eigen::Ref<const Eigen::MatrixXd>& table);
+
 }  // namespace excite::host

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The chapter-6 campaign on the Wood–Berry column (small: 945-sample experiments): every
-// design identified and cross-validated, and the summary and report written.
+// design identified and cross-validated, balance on noise-free and noisy outputs, the
+// results independent of the thread count, and the summary and report written.
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -8,7 +9,13 @@
 #include <filesystem>
 #include <fstream>
 
+#include <atomic>
+#include <cstring>
+#include <stdexcept>
+#include <vector>
+
 #include "host/campaign/campaign.hpp"
+#include "host/campaign/parallel.hpp"
 #include "host/campaign/report.hpp"
 
 namespace excite::host {
@@ -32,16 +39,71 @@ TEST_F(WoodBerryCampaign, IdentifiesEveryDesignOfTable61) {
     EXPECT_GT(e.fit_avg, 0.0) << e.name;
     EXPECT_LE(e.crossfit_worst, e.crossfit_avg) << e.name;
     EXPECT_LE(e.crossfit_avg, e.crossfit_best) << e.name;
-    EXPECT_GE(e.ratio, 0.0) << e.name;
-    EXPECT_LE(e.ratio, 1.0) << e.name;
+    for (const Balance* b : {&e.balance_clean, &e.balance_noisy}) {
+      EXPECT_GE(b->ratio, 0.0) << e.name;
+      EXPECT_LE(b->ratio, 1.0) << e.name;
+    }
+    EXPECT_EQ(e.Y_clean.rows(), e.Y.rows()) << e.name;
   }
 }
 
-TEST_F(WoodBerryCampaign, StepTestEstimatesTheGainThatTheDirectionalDesignsUse) {
-  EXPECT_EQ(result_->design_gain_source, "step test (stepSeq)");
-  // Noise 0.03 on outputs of size ~10: G(0) within 10 % of the true one.
-  const Eigen::MatrixXd error = result_->design_gain.gain - result_->true_gain.gain;
+// The noise-free outputs are the noisy ones less the noise: their difference has the
+// case study's variance 5e-4 (SPEC §4).
+TEST_F(WoodBerryCampaign, NoiseFreeAndNoisyOutputsDifferByTheCaseStudyNoise) {
+  EXPECT_EQ(result_->noise_variance, 5e-4);
+  const Experiment& e = result_->experiments[3];
+  const Eigen::MatrixXd noise = e.Y - e.Y_clean;
+  const double variance = noise.squaredNorm() / static_cast<double>(noise.size());
+  EXPECT_NEAR(variance, 5e-4, 0.5e-4);
+}
+
+// Directional designs balance the projections on w_i by construction: on the noise-free
+// outputs of prbsSimDir the ratio is close to 1 (SPEC §3: u = c V Σ⁻¹ s).
+TEST_F(WoodBerryCampaign, DirectionalPrbsIsBalancedOnTheNoiseFreeOutputs) {
+  const Experiment& e = result_->experiments[5];
+  ASSERT_EQ(e.name, "prbsSimDir");
+  EXPECT_GT(e.balance_clean.ratio, 0.8);
+}
+
+TEST_F(WoodBerryCampaign, DesignsUseTheTrueGainAndReportTheStepTestsEstimate) {
+  EXPECT_EQ(result_->design_gain_source, "true G(0)");
+  EXPECT_TRUE(result_->design_gain.gain.isApprox(result_->true_gain.gain, 1e-15));
+  ASSERT_TRUE(result_->step_gain.has_value());
+  const Eigen::MatrixXd error = result_->step_gain->gain - result_->true_gain.gain;
   EXPECT_LT(error.norm() / result_->true_gain.gain.norm(), 0.1);
+}
+
+// --design-gain step-test on one thread: the step test is the same experiment (sized with
+// the prior knowledge's G(0), same seed), so its figures are bit-identical to the pooled
+// default run's, and the other designs use its estimate.
+TEST_F(WoodBerryCampaign, StepTestGainOnOneThreadReproducesTheStepTest) {
+  CampaignOptions options;
+  options.plant = "woodberry2x2";
+  options.design_gain = DesignGain::step_test;
+  options.threads = 1;
+  const CampaignResult r = run_campaign(options, {});
+  EXPECT_EQ(r.design_gain_source, "step test (stepSeq)");
+  ASSERT_TRUE(r.step_gain.has_value());
+  EXPECT_TRUE(r.design_gain.gain == r.step_gain->gain);
+  const Experiment& a = r.experiments[0];
+  const Experiment& b = result_->experiments[0];
+  EXPECT_TRUE(a.Y == b.Y);
+  EXPECT_EQ(std::memcmp(&a.fit_avg, &b.fit_avg, sizeof(double)), 0);
+  EXPECT_TRUE(a.identified.gain->gain == b.identified.gain->gain);
+}
+
+TEST(ParallelFor, EveryTaskRunsOnceAndTheLowestFailureIsRethrown) {
+  std::vector<std::atomic<int>> runs(50);
+  parallel_for(50, 3, [&](int i) { ++runs[static_cast<std::size_t>(i)]; });
+  for (const auto& r : runs) EXPECT_EQ(r.load(), 1);
+  try {
+    parallel_for(20, 4, [](int i) {
+      if (i == 7 || i == 13) throw std::runtime_error("task " + std::to_string(i));
+    });
+    FAIL() << "expected an exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "task 7");
+  }
 }
 
 TEST_F(WoodBerryCampaign, WritesTheSummaryAndTheReportWithFigures) {
@@ -53,11 +115,18 @@ TEST_F(WoodBerryCampaign, WritesTheSummaryAndTheReportWithFigures) {
   const auto summary = nlohmann::json::parse(std::ifstream(dir / "summary.json"));
   ASSERT_EQ(summary["experiments"].size(), 17U);
   for (const char* key :
-       {"name", "cf_avg", "pips_avg", "fit_avg", "crossfit_avg", "crossfit_best", "crossfit_worst",
-        "singular_values", "projection_std", "ratio", "upsilon"}) {
+       {"name", "cf_avg", "cf_period_avg", "limit_scale", "pips_avg", "fit_avg", "crossfit_avg",
+        "crossfit_best", "crossfit_worst", "singular_values", "projection_std", "ratio", "upsilon",
+        "projection_std_noisy", "ratio_noisy", "upsilon_noisy"}) {
     EXPECT_TRUE(summary["experiments"][0].contains(key)) << key;
   }
-  EXPECT_TRUE(std::filesystem::file_size(dir / "index.html") > 1000);
+  EXPECT_EQ(summary["conventions"]["noise_variance"].get<double>(), 5e-4);
+  EXPECT_EQ(summary["conventions"]["sizing"], "static_output");
+  std::ifstream html_file(dir / "index.html");
+  const std::string html((std::istreambuf_iterator<char>(html_file)),
+                         std::istreambuf_iterator<char>());
+  for (const char* convention : {"Conventions", "0.03/60", "true G(0)", "noise-free outputs"})
+    EXPECT_NE(html.find(convention), std::string::npos) << convention;
   for (const char* figure : {"sigma.svg", "projections.svg", "prbsUnc.svg", "msGlmZipm.svg"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / "figures" / figure)) << figure;
   }

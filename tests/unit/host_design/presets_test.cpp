@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <utility>
+
 #include "host/design/case_studies.hpp"
 #include "host/measures/gain_directions.hpp"
 #include "host/measures/input_measures.hpp"
@@ -32,13 +35,28 @@ TEST(CaseStudyGain, EachDirectionInputGivesItsUnitOutputDirection) {
   }
 }
 
-TEST(Presets, EveryDesignLastsTheCaseStudyLengthAndRespectsTheLimits) {
+// |G(0) e_j|: the static output norm input j gives alone.
+double column_norm(Eigen::Index j) {
+  return case_study("alatiqi4x4").gain.col(j).norm();
+}
+
+// Whole periods, no zero tails (issue 14 §6): steps and PRBS last A1's 4080 samples, the
+// simultaneous multisines whole periods of their spectrum, the sequential ones n periods.
+TEST(Presets, EveryDesignLastsWholePeriodsAndRespectsTheLimits) {
   const PriorKnowledge prior = case_study("alatiqi4x4");
   for (const PresetInfo& preset : presets()) {
     const Design d = design_preset(prior, preset, 0);
-    // msGlmZipm: one period of A3's modified zippered spectrum (4713 > 4080 samples).
-    EXPECT_EQ(d.table.rows(), preset.acronym == "msGlmZipm" ? 4713 : 4080) << preset.acronym;
+    const signal::Recipe& r = d.plan->recipe;
+    if (preset.acronym.starts_with("ms")) {
+      const std::uint32_t period = r.sources[0].multisine.period;
+      const bool sequential = preset.acronym.find("Seq") != std::string_view::npos;
+      EXPECT_EQ(r.samples, sequential ? 4 * period : r.samples / period * period) << preset.acronym;
+      EXPECT_EQ(r.samples % period, 0U) << preset.acronym;
+    } else {
+      EXPECT_EQ(d.table.rows(), 4080) << preset.acronym;
+    }
     EXPECT_EQ(d.table.cols(), 4) << preset.acronym;
+    EXPECT_EQ(d.limit_scale, 1.0) << preset.acronym << ": limits ±15 leave every design whole";
     for (Eigen::Index j = 0; j < 4; ++j) {
       EXPECT_LE(d.table.col(j).maxCoeff(), prior.inputs[static_cast<std::size_t>(j)].max)
           << preset.acronym;
@@ -48,15 +66,33 @@ TEST(Presets, EveryDesignLastsTheCaseStudyLengthAndRespectsTheLimits) {
   }
 }
 
-// stepSeq: input j moves in [1020 j, 1020 (j+1)): +1 for 330 samples, −1 for 330, then 0.
-TEST(Presets, StepSeqMovesOneInputAtATimeUpThenDown) {
+// stepSeq (c = 1.2): input j moves in [1020 j, 1020 (j+1)): +1.2/|G e_j| for 330 samples,
+// −1.2/|G e_j| for 330, then 0, so that input j alone gives a static output of norm 1.2.
+TEST(Presets, StepSeqMovesOneInputAtATimeByItsStaticOutputSize) {
   const Design d = design("stepSeq");
   for (Eigen::Index j = 0; j < 4; ++j) {
     const Eigen::Index start = 1020 * j;
+    const double a = 1.2 / column_norm(j);
     for (Eigen::Index k = 0; k < 4080; ++k) {
       const Eigen::Index t = k - start;
-      const double expected = (t >= 0 && t < 330) ? 1.0 : (t >= 330 && t < 660) ? -1.0 : 0.0;
-      ASSERT_EQ(d.table(k, j), expected) << "input " << j << " sample " << k;
+      const double expected = (t >= 0 && t < 330) ? a : (t >= 330 && t < 660) ? -a : 0.0;
+      ASSERT_NEAR(d.table(k, j), expected, 1e-12) << "input " << j << " sample " << k;
+    }
+  }
+}
+
+// Multisines are sized on RMS: RMS_j · |G(0) e_j| = c (0.91 for msGlmSim, 1.28 msSrdSeq,
+// the RMS of a sequential channel taken over its own period).
+TEST(Presets, MultisinesAreSizedOnTheirRms) {
+  for (const auto& [acronym, c] : {std::pair{"msGlmSim", 0.91}, std::pair{"msSrdSeq", 1.28}}) {
+    const Design d = design(acronym);
+    const std::uint32_t period = d.plan->recipe.sources[0].multisine.period;
+    for (Eigen::Index j = 0; j < 4; ++j) {
+      const auto start =
+          static_cast<Eigen::Index>(d.plan->recipe.sources[static_cast<std::size_t>(j)].start);
+      const auto one_period = d.table.col(j).segment(start, period);
+      const double rms = std::sqrt(one_period.squaredNorm() / period);
+      EXPECT_NEAR(rms * column_norm(j), c, 1e-9) << acronym << " input " << j;
     }
   }
 }
@@ -67,12 +103,16 @@ TEST(Presets, PrbsUncChannelsAreCircularlyShiftedCopies) {
   const Eigen::Index shift = 16 * 16;  // d = 16 intervals of 16 samples
   for (Eigen::Index j = 1; j < 4; ++j) {
     for (Eigen::Index k = 0; k < 4080; ++k) {
-      ASSERT_EQ(d.table(k, j), d.table((k + j * shift) % 4080, 0))
+      ASSERT_NEAR(d.table(k, j) * column_norm(j),
+                  d.table((k + j * shift) % 4080, 0) * column_norm(0), 1e-12)
           << "input " << j << " sample " << k;
     }
   }
-  EXPECT_EQ(d.table.cwiseAbs().maxCoeff(), 1.0);
-  EXPECT_EQ(d.table.cwiseAbs().minCoeff(), 1.0);
+  // c = 1.0: input j moves by ±1/|G e_j|, all the time.
+  for (Eigen::Index j = 0; j < 4; ++j) {
+    EXPECT_NEAR(d.table.col(j).cwiseAbs().maxCoeff(), 1.0 / column_norm(j), 1e-12);
+    EXPECT_NEAR(d.table.col(j).cwiseAbs().minCoeff(), 1.0 / column_norm(j), 1e-12);
+  }
 }
 
 // u = c V Σ⁻¹ s ⇒ G(0) u = c W s: the projections w_iᵀ y are c·s_i, shifted copies of one
@@ -92,9 +132,50 @@ TEST(Presets, PrbsSimDirGivesOutputProjectionsOfEqualVariance) {
   EXPECT_NEAR(variance.minCoeff() / variance.maxCoeff(), 1.0, 1e-9);
 }
 
-TEST(Presets, DirectionalDesignsAreScaledToTheInputLimitsHere) {
-  const Design d = design("prbsSimDir");
-  EXPECT_NEAR(d.table.cwiseAbs().maxCoeff(), 2.0, 1e-9);  // limits ±2 bind on this plant
+// prbsSimDir (c = 0.4): u = 0.4 V Σ⁻¹ s with s_i = ±1, so every projection w_iᵀ G(0) u
+// moves by ±0.4.
+TEST(Presets, DirectionalDesignsMoveEveryOutputDirectionByC) {
+  const PriorKnowledge prior = case_study("alatiqi4x4");
+  const GainAnalysis a = analyse_gain(prior.gain);
+  const Eigen::MatrixXd projections =
+      design("prbsSimDir").table * prior.gain.transpose() * a.output_directions;
+  for (Eigen::Index i = 0; i < 4; ++i)
+    EXPECT_NEAR(projections.col(i).cwiseAbs().maxCoeff(), 0.4, 1e-9) << "direction " << i + 1;
+}
+
+// Input limits are separate from the size: a design that does not fit is scaled as a
+// whole (every value by one factor, so directions are kept), never clipped per channel.
+TEST(Presets, ADesignThatDoesNotFitTheLimitsIsScaledAsAWhole) {
+  PriorKnowledge prior = case_study("alatiqi4x4");
+  const Design free = design_preset(prior, find_preset("prbsSeqDir"), 0);
+  for (InputSpec& in : prior.inputs) {
+    in.amplitude = 0.5;
+    in.min = -1.0;
+    in.max = 1.0;
+  }
+  const Design bound = design_preset(prior, find_preset("prbsSeqDir"), 0);
+  const double peak = free.table.cwiseAbs().maxCoeff();
+  ASSERT_GT(peak, 1.0);
+  EXPECT_NEAR(bound.limit_scale, 1.0 / peak, 1e-9);
+  EXPECT_TRUE(bound.table.isApprox(bound.limit_scale * free.table, 1e-12));
+  EXPECT_LE(bound.table.cwiseAbs().maxCoeff(), 1.0);
+  bool said = false;
+  for (const std::string& note : bound.notes) said |= note.find("scaled by") != std::string::npos;
+  EXPECT_TRUE(said);
+}
+
+// Issue 14 §7: a plain multisine whose amplitude equals its limit passes design's own check.
+TEST(Presets, PlainMultisineAtItsLimitPassesTheLimitCheck) {
+  PriorKnowledge prior;
+  prior.plant = "test";
+  prior.inputs = {{"u", 5.4714, -5.4714, 5.4714}};
+  PlainMultisine spec;
+  spec.period = 256;
+  spec.first_line = 1;
+  spec.last_line = 31;
+  const Design d = design_plain_multisine(prior, spec, 0);
+  EXPECT_LE(d.table.cwiseAbs().maxCoeff(), 5.4714);
+  EXPECT_NEAR(d.table.cwiseAbs().maxCoeff(), 5.4714, 1e-9);
 }
 
 // Zhu's combined design: the inputs minus the uncorrelated part lie along v_n.
@@ -116,16 +197,28 @@ TEST(Presets, PrbsDirCorrSimAddsASignalAlongTheWeakestDirection) {
   }
 }
 
-TEST(Presets, SequentialMultisinesPlayWholePeriodsOneChannelAtATime) {
-  const Design d = design("msSrdSeq");
-  const signal::Recipe& r = d.plan->recipe;
-  ASSERT_EQ(r.source_count, 4U);
-  for (std::uint32_t i = 0; i < 4; ++i) {
-    const signal::Source& s = r.sources[i];
-    EXPECT_EQ(s.kind, signal::SourceKind::multisine);
-    EXPECT_EQ(s.start, i * 1020U);                      // slot of N/n samples
-    EXPECT_EQ(s.length % s.multisine.period, 0U) << i;  // whole periods
-    EXPECT_EQ(s.multisine.period, 943U);                // A2: N_s >= 2*pi*beta*tau_H/T (4.4.27)
+// Issue 14 §6: the sequential multisines play the simultaneous design's channel signals,
+// one whole period each, so over the experiment each channel's crest factor is exactly
+// twice (√4) its crest factor over its period, and the period's equals the simultaneous one.
+TEST(Presets, SequentialMultisinesPlayTheSimultaneousSignalsOneAtATime) {
+  for (const auto& [seq, sim] :
+       {std::pair{"msSrdSeq", "msSrdSim"}, std::pair{"msGlmSeq", "msGlmSim"}}) {
+    const Design s = design(seq);
+    const Design m = design(sim);
+    const std::uint32_t period = m.plan->recipe.sources[0].multisine.period;
+    ASSERT_EQ(s.plan->recipe.source_count, 4U);
+    const InputMeasures whole = measure_inputs(s.table);
+    const InputMeasures simultaneous = measure_inputs(m.table.topRows(period));
+    for (std::uint32_t i = 0; i < 4; ++i) {
+      const signal::Source& src = s.plan->recipe.sources[i];
+      EXPECT_EQ(src.start, i * period) << seq;
+      EXPECT_EQ(src.length, period) << seq;
+      const Eigen::VectorXd own = s.table.col(i).segment(i * period, period);
+      const Eigen::VectorXd other = m.table.col(i).head(period);
+      EXPECT_TRUE((own / own.norm()).isApprox(other / other.norm(), 1e-9)) << seq << " " << i;
+      EXPECT_NEAR(whole.channels[i].crest_factor, 2.0 * simultaneous.channels[i].crest_factor, 1e-9)
+          << seq << " " << i;
+    }
   }
 }
 
@@ -165,6 +258,19 @@ TEST(Presets, UnknownAcronymListsTheKnownOnes) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("prbsSimDir"), std::string::npos) << e.what();
   }
+}
+
+TEST(Presets, StaticOutputSizingRefusesAnInputWithoutStaticEffect) {
+  PriorKnowledge prior = case_study("alatiqi4x4");
+  prior.gain.col(2).setZero();
+  try {
+    design_preset(prior, find_preset("prbsUnc"), 0);
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("gain: column 2 is zero"), std::string::npos) << e.what();
+  }
+  prior.sizing = Sizing::input_amplitude;
+  EXPECT_NO_THROW(design_preset(prior, find_preset("prbsUnc"), 0));
 }
 
 TEST(Presets, DirectionalDesignWithoutGainIsRefused) {

@@ -92,6 +92,20 @@ TEST(DesignSpec, AmplitudeBeyondLimitsIsRefused) {
   EXPECT_NE(e.find("inputs[1].amplitude = 1.2"), std::string::npos) << e;
 }
 
+TEST(DesignSpec, SizingDefaultsToStaticOutputAndAcceptsInputAmplitude) {
+  EXPECT_EQ(parse_design_spec(kValidSpec, "spec.toml").prior.sizing, Sizing::static_output);
+  const std::string amplitude =
+      with(kValidSpec, "beta = 3.0", "beta = 3.0\nsizing = \"input_amplitude\"");
+  EXPECT_EQ(parse_design_spec(amplitude, "spec.toml").prior.sizing, Sizing::input_amplitude);
+  const std::string e = error_of(with(kValidSpec, "beta = 3.0", "beta = 3.0\nsizing = \"peak\""));
+  EXPECT_NE(e.find("prior.sizing = \"peak\""), std::string::npos) << e;
+}
+
+TEST(DesignSpec, AmplitudeIsOptionalAndDefaultsToTheRoomToTheNearerLimit) {
+  const DesignSpec spec = parse_design_spec(with(kValidSpec, "amplitude = 0.5\n", ""), "spec.toml");
+  EXPECT_EQ(spec.prior.inputs[1].amplitude, 1.0);  // min(1.0, 1.5)
+}
+
 TEST(DesignSpec, InputCountMustMatchTheInputTables) {
   const std::string e = error_of(with(kValidSpec, "inputs = 2", "inputs = 3"));
   EXPECT_NE(e.find("prior.inputs = 3"), std::string::npos) << e;

@@ -66,5 +66,16 @@ TEST(MeasureInputs, AveragesEveryFieldOverChannels) {
   EXPECT_DOUBLE_EQ(m.average.max, (1.0 + 4.0) / 2.0);
 }
 
+// A channel that moves in 10 of 40 samples: CF 1 over its active span, √(40/10) = 2 over
+// the table (the relation of sequential and simultaneous multisines); a still channel is
+// left out of the average.
+TEST(ActiveCrestFactor, IsTakenOverTheSpanWhereTheChannelMoves) {
+  Eigen::MatrixXd table = Eigen::MatrixXd::Zero(40, 2);
+  for (Eigen::Index k = 10; k < 20; ++k) table(k, 0) = (k % 2 == 0) ? 1.0 : -1.0;
+  EXPECT_DOUBLE_EQ(active_crest_factor_avg(table), 1.0);
+  EXPECT_DOUBLE_EQ(measure_inputs(table).channels[0].crest_factor, 2.0);
+  EXPECT_TRUE(std::isnan(active_crest_factor_avg(Eigen::MatrixXd::Zero(5, 1))));
+}
+
 }  // namespace
 }  // namespace excite::host
