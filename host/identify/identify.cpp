@@ -9,6 +9,7 @@
 #include <string>
 #include <thread>
 
+#include "host/identify/arx_start.hpp"
 #include "host/identify/input_screen.hpp"
 #include "host/identify/miso_fit.hpp"
 #include "host/identify/response_bank.hpp"
@@ -142,16 +143,40 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
     }
     Eigen::VectorXd y_hat = Eigen::VectorXd::Zero(y.size());
     if (!screen.usable.empty()) {
+      // Two starts, the better end kept (multi-start): the row's ARX model (sees all
+      // elements at once; exact on data the structure fits) and the grid basin search.
+      const MisoBounds bounds{options.max_delay_min, tp_max};
       const ResponseBank::Choice choice = bank.choose(y);
-      std::vector<TwoPoleDelay> initial;
+      std::vector<TwoPoleDelay> grid_start;
       for (std::size_t e = 0; e < screen.usable.size(); ++e) {
         TwoPoleDelay g = bank.grid()[static_cast<std::size_t>(choice.grid_index[e])];
         g.gain = choice.gain(static_cast<Eigen::Index>(e));
-        initial.push_back(g);
+        grid_start.push_back(g);
       }
-      const MisoResult miso =
-          fit_miso(U, y, screen.usable, std::move(initial), T_min,
-                   MisoBounds{options.max_delay_min, tp_max}, options.max_iterations);
+      MisoResult miso = fit_miso(U, y, screen.usable, std::move(grid_start), T_min, bounds,
+                                 options.max_iterations);
+      if (const auto Z = arx_contributions(U, y, screen.usable, T_min, options.max_delay_min)) {
+        // Each element fitted alone to its own part of the output, then all together.
+        std::vector<TwoPoleDelay> arx_start;
+        for (std::size_t e = 0; e < screen.usable.size(); ++e) {
+          const auto col = static_cast<Eigen::Index>(e);
+          const Eigen::VectorXd z = Z->col(col);
+          double gain = 0.0;
+          TwoPoleDelay g = bank.grid()[static_cast<std::size_t>(bank.choose_one(col, z, gain))];
+          g.gain = gain;
+          const MisoResult alone =
+              fit_miso(U, z, {screen.usable[e]}, {g}, T_min, bounds, options.max_iterations);
+          arx_start.push_back(alone.elements.front().value);
+        }
+        MisoResult from_arx = fit_miso(U, y, screen.usable, std::move(arx_start), T_min, bounds,
+                                       options.max_iterations);
+        if ((from_arx.y_hat - y).squaredNorm() <= (miso.y_hat - y).squaredNorm()) {
+          from_arx.iterations += miso.iterations;
+          miso = std::move(from_arx);
+        } else {
+          miso.iterations += from_arx.iterations;
+        }
+      }
       for (std::size_t e = 0; e < screen.usable.size(); ++e) {
         model.element(j, screen.usable[e]) = miso.elements[e];
       }
