@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace excite::host {
 namespace {
@@ -29,24 +30,58 @@ std::optional<Eigen::MatrixXd> arx_contributions(const Eigen::MatrixXd& U, const
   const Eigen::Index P = ub + na_max;
   if (m == 0 || N < 2 * (P + 1) || y.squaredNorm() == 0.0) return std::nullopt;
 
-  // [Φ y]: input lags, then −y(k − l), l = 1 … na_max, then y; from rest (zeros before 0).
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(N, P + 1);
+  // [Φ y]: input lags, then −y(k − l), l = 1 … na_max, then y; from rest (zeros before 0);
+  // every column scaled to unit norm (the rank test is about directions, not units; an
+  // all-zero column keeps scale 1). Norms from prefix sums of squares.
+  const auto prefix2 = [N](const auto& x) {
+    Eigen::VectorXd c(N + 1);
+    c(0) = 0.0;
+    for (Eigen::Index k = 0; k < N; ++k) c(k + 1) = c(k) + x(k) * x(k);
+    return c;
+  };
+  Eigen::VectorXd scale(P + 1);
   for (Eigen::Index e = 0; e < m; ++e) {
-    const auto u = U.col(inputs[static_cast<std::size_t>(e)]);
-    for (Eigen::Index lag = 0; lag < nb; ++lag) A.col(e * nb + lag).tail(N - lag) = u.head(N - lag);
+    const Eigen::VectorXd c = prefix2(U.col(inputs[static_cast<std::size_t>(e)]));
+    for (Eigen::Index lag = 0; lag < nb; ++lag) scale(e * nb + lag) = std::sqrt(c(N - lag));
   }
-  for (Eigen::Index l = 1; l <= na_max; ++l) A.col(ub + l - 1).tail(N - l) = -y.head(N - l);
-  A.col(P) = y;
-  // Unit-norm columns (the rank test is about directions, not units); an all-zero column
-  // (an input that only moves after the data end) keeps scale 1.
-  Eigen::VectorXd scale = A.colwise().norm().transpose();
+  const Eigen::VectorXd y2s = prefix2(y);
+  for (Eigen::Index l = 1; l <= na_max; ++l) scale(ub + l - 1) = std::sqrt(y2s(N - l));
+  scale(P) = std::sqrt(y2s(N));
   for (Eigen::Index col = 0; col <= P; ++col) {
     if (scale(col) == 0.0) scale(col) = 1.0;
   }
-  A = A * scale.cwiseInverse().asDiagonal();
-  const double y2 = 1.0;
-  Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(A);  // in place
-  const auto& R = qr.matrixQR();
+
+  // R of [Φ y] by a QR per chunk of rows stacked under the R so far (tall-skinny QR): the
+  // same R as one QR of all N rows, in cache-sized pieces, so the cost is N·P² with a
+  // constant that does not grow with N.
+  const Eigen::Index chunk = std::max<Eigen::Index>(2048, 2 * (P + 1));
+  Eigen::MatrixXd W(P + 1 + chunk, P + 1);
+  Eigen::Index top = 0;  // rows of R at the top of W
+  for (Eigen::Index k0 = 0; k0 < N; k0 += chunk) {
+    const Eigen::Index C = std::min(chunk, N - k0);
+    W.middleRows(top, C).setZero();
+    for (Eigen::Index r = 0; r < C; ++r) {
+      const Eigen::Index k = k0 + r;
+      const Eigen::Index row = top + r;
+      for (Eigen::Index e = 0; e < m; ++e) {
+        const auto u = U.col(inputs[static_cast<std::size_t>(e)]);
+        for (Eigen::Index lag = 0; lag < nb && lag <= k; ++lag) {
+          W(row, e * nb + lag) = u(k - lag) / scale(e * nb + lag);
+        }
+      }
+      for (Eigen::Index l = 1; l <= na_max && l <= k; ++l) {
+        W(row, ub + l - 1) = -y(k - l) / scale(ub + l - 1);
+      }
+      W(row, P) = y(k) / scale(P);
+    }
+    const Eigen::Index rows = top + C;
+    Eigen::Ref<Eigen::MatrixXd> stacked = W.topRows(rows);
+    const Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(stacked);  // in place
+    top = std::min(rows, P + 1);
+    W.topRows(top).triangularView<Eigen::StrictlyLower>().setZero();
+  }
+  const auto R = W.topRows(P + 1);
+  const double y2 = 1.0;  // ‖y‖² after scaling
 
   // Residual of the model with the first c columns: Σ_{l ≥ c} r_l², r = the y column of R.
   Eigen::VectorXd tail2(P + 2);
@@ -68,7 +103,7 @@ std::optional<Eigen::MatrixXd> arx_contributions(const Eigen::MatrixXd& U, const
   // θ for the first c columns; the minimum-norm solution when the input lags are rank
   // deficient (a multisine with fewer lines than lags: B_i is then free off the excited
   // lines, but B_i u_i, the element's part of the output, is not).
-  const Eigen::MatrixXd Rc = R.topLeftCorner(c, c).triangularView<Eigen::Upper>();
+  const Eigen::MatrixXd Rc = R.topLeftCorner(c, c);
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
   cod.setThreshold(kRankThreshold);
   cod.compute(Rc);

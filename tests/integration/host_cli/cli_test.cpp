@@ -185,6 +185,33 @@ TEST_F(ExciteCli, SimulatedRunIsIdentifiedValidatedAndBalanced) {
   EXPECT_GT(balance["upsilon"].get<double>(), 0.0);
 }
 
+// The time constants' upper bound (SPEC §6): β·τ_H of the run's case study by default
+// (woodberry2x2: 3 × 21 = 63 min), --max-time-constant or --tau-high to override; the text
+// output says which. A bound below the plant's 21-min lag shows in the estimates.
+TEST_F(ExciteCli, IdentifyBoundsTheTimeConstantsByBetaTauHigh) {
+  ASSERT_EQ(
+      excite("design -q --plant woodberry2x2 --preset prbsUnc -o " + path("wb.plan")).exit_code, 0);
+  ASSERT_EQ(excite("simulate " + path("wb.plan") + " --plant woodberry2x2 -o " + path("wb.csv"))
+                .exit_code,
+            0);
+  const Result def = excite("identify " + path("wb.csv"));
+  ASSERT_EQ(def.exit_code, 0) << def.out;
+  EXPECT_NE(def.out.find("time constants bounded by 63 min (beta x tau_H of the woodberry2x2"),
+            std::string::npos)
+      << def.out;
+  EXPECT_NE(excite("identify --tau-high 10 --beta 2 " + path("wb.csv"))
+                .out.find("bounded by 20 min (--beta x --tau-high)"),
+            std::string::npos);
+  const Result low = excite("identify --json --max-time-constant 15 " + path("wb.csv"));
+  ASSERT_EQ(low.exit_code, 0) << low.out;
+  for (const auto& out : nlohmann::json::parse(low.out)["outputs"]) {
+    for (const auto& e : out["elements"]) EXPECT_LE(e["Tp1"].get<double>(), 15.0) << e;
+  }
+  const Result bad = excite("identify --max-time-constant -1 " + path("wb.csv"));
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.out.find("--max-time-constant"), std::string::npos) << bad.out;
+}
+
 TEST_F(ExciteCli, SimulationIsReproducibleBySeed) {
   ASSERT_EQ(
       excite("design -q --plant woodberry2x2 --preset stepSeq -o " + path("s.plan")).exit_code, 0);
