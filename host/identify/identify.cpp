@@ -141,6 +141,7 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
 
   const InputScreen screen = screen_inputs(U);
   const ResponseBank bank(U, screen.usable, T_min, GridSpec{options.max_delay_min, tp_max});
+  const ArxBasis arx(U, screen.usable, T_min, options.max_delay_min);
 
   // One output's fit; writes only its own row of the model and its own OutputFit.
   const auto fit_output = [&](int j) {
@@ -172,7 +173,7 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
       // the better end is kept.
       const MisoBounds bounds{options.max_delay_min, tp_max};
       std::vector<std::vector<TwoPoleDelay>> starts;
-      if (const auto Z = arx_contributions(U, y, screen.usable, T_min, options.max_delay_min)) {
+      if (const auto Z = arx.contributions(y)) {
         // Each element fitted alone to its own part of the output (a start: few iterations).
         std::vector<TwoPoleDelay> arx_start;
         for (std::size_t e = 0; e < screen.usable.size(); ++e) {
