@@ -212,6 +212,35 @@ TEST_F(ExciteCli, IdentifyBoundsTheTimeConstantsByBetaTauHigh) {
   EXPECT_NE(bad.out.find("--max-time-constant"), std::string::npos) << bad.out;
 }
 
+// crossval takes the same bound: noise-free Wood–Berry runs are fitted exactly under the
+// default β·τ_H = 63 min, not when the bound (15 min) is below the plant's 21-min lag.
+TEST_F(ExciteCli, CrossvalBoundsTheTimeConstantsToo) {
+  for (const char* preset : {"prbsUnc", "stepSeq"}) {
+    const std::string plan = path((std::string(preset) + ".plan").c_str());
+    ASSERT_EQ(
+        excite("design -q --plant woodberry2x2 --preset " + std::string(preset) + " -o " + plan)
+            .exit_code,
+        0);
+    ASSERT_EQ(excite("simulate " + plan + " --plant woodberry2x2 -o " +
+                     path((std::string(preset) + ".csv").c_str()))
+                  .exit_code,
+              0);
+  }
+  const std::string runs = path("prbsUnc.csv") + " " + path("stepSeq.csv");
+  const Result def = excite("crossval --json " + runs);
+  ASSERT_EQ(def.exit_code, 0) << def.out;
+  const Result low = excite("crossval --json --max-time-constant 15 " + runs);
+  ASSERT_EQ(low.exit_code, 0) << low.out;
+  // (the output also carries crossval's "identified RUN" progress lines before the JSON)
+  const auto models = [](const std::string& out) {
+    return nlohmann::json::parse(out.substr(out.find('{')))["models"];
+  };
+  for (std::size_t a = 0; a < 2; ++a) {
+    EXPECT_GT(models(def.out)[a]["fit_own"].get<double>(), 99.9) << def.out;
+    EXPECT_LT(models(low.out)[a]["fit_own"].get<double>(), 99.9) << low.out;
+  }
+}
+
 TEST_F(ExciteCli, SimulationIsReproducibleBySeed) {
   ASSERT_EQ(
       excite("design -q --plant woodberry2x2 --preset stepSeq -o " + path("s.plan")).exit_code, 0);
