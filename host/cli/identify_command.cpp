@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
-// excite identify RUN.csv [--json] [-o MODEL] [--max-delay MIN] [--threads N]
+// excite identify RUN.csv [--json] [-o MODEL] [--max-delay MIN] [--max-time-constant MIN]
+//                         [--tau-high MIN] [--beta B] [--threads N]
 // (6.1.1) models per output, fit % (5.5.1), identified G(0) and its directions.
+// Time constants are bounded above by β·τ_H (SPEC §6): --max-time-constant if given, else
+// --beta·--tau-high, else the case study of the run log's plant, else the run's length.
 
 #include <fstream>
 #include <iostream>
@@ -9,6 +12,7 @@
 #include "host/cli/model_file.hpp"
 #include "host/cli/run_input.hpp"
 #include "host/cli/text_table.hpp"
+#include "host/cli/time_constant_bound.hpp"
 
 namespace excite::host::cli {
 namespace {
@@ -17,6 +21,7 @@ struct IdentifyCommandOptions {
   std::string run_path;
   std::string model_path;
   bool json = false;
+  TimeConstantBoundOptions bound;
   IdentifyOptions identify;
 };
 
@@ -52,8 +57,11 @@ void print(const IdentificationResult& r, const Run& run) {
 
 void run(const IdentifyCommandOptions& opt) {
   const Run data = read_run(opt.run_path);
+  IdentifyOptions options = opt.identify;
+  const auto [bound, source] = time_constant_bound(opt.bound, data.log.plant);
+  options.max_time_constant_min = bound;
   const IdentificationResult result =
-      identify(data.data.U, data.data.Y, data.data.sample_time_min, opt.identify);
+      identify(data.data.U, data.data.Y, data.data.sample_time_min, options);
   const nlohmann::json j = model_json(result, data.log.input_names, data.log.output_names);
   if (!opt.model_path.empty()) {
     std::ofstream out(opt.model_path);
@@ -63,6 +71,9 @@ void run(const IdentifyCommandOptions& opt) {
   if (opt.json) {
     std::cout << j.dump(2) << '\n';
   } else {
+    const double shown =
+        bound > 0.0 ? bound : static_cast<double>(data.data.U.rows()) * data.data.sample_time_min;
+    std::cout << "time constants bounded by " << num(shown) << " min (" << source << ")\n\n";
     print(result, data);
   }
 }
@@ -79,6 +90,7 @@ void add_identify_command(CLI::App& app) {
   cmd->add_option("--max-delay", opt->identify.max_delay_min, "upper bound of every delay, min")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  add_time_constant_bound_options(cmd, opt->bound);
   cmd->add_option("--threads", opt->identify.threads, "outputs fitted in parallel")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));

@@ -10,6 +10,7 @@
 #include "host/cli/model_file.hpp"
 #include "host/cli/run_input.hpp"
 #include "host/cli/text_table.hpp"
+#include "host/cli/time_constant_bound.hpp"
 #include "host/identify/validate.hpp"
 
 namespace excite::host::cli {
@@ -48,6 +49,7 @@ struct CrossvalOptions {
   std::vector<std::string> runs;
   bool json = false;
   int threads = 2;
+  TimeConstantBoundOptions bound;
 };
 
 void crossval(const CrossvalOptions& opt) {
@@ -58,6 +60,7 @@ void crossval(const CrossvalOptions& opt) {
     const Run r = read_run(path);
     IdentifyOptions options;
     options.threads = opt.threads;
+    options.max_time_constant_min = time_constant_bound(opt.bound, r.log.plant).first;
     models.push_back(identify(r.data.U, r.data.Y, r.data.sample_time_min, options).model);
     names.push_back(std::filesystem::path(path).stem().string());
     data.push_back({names.back(), r.data.U, r.data.Y});
@@ -104,6 +107,7 @@ void add_validate_commands(CLI::App& app) {
   cv->add_option("--threads", c->threads, "outputs fitted in parallel")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
+  add_time_constant_bound_options(cv, c->bound);
   cv->callback([c] { crossval(*c); });
 }
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <thread>
 
+#include "host/identify/arx_start.hpp"
 #include "host/identify/input_screen.hpp"
 #include "host/identify/miso_fit.hpp"
 #include "host/identify/response_bank.hpp"
@@ -82,6 +83,29 @@ void check_arguments(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double 
   check_finite(Y, "Y");
 }
 
+// Multi-start: the second start is polished too when its output error is within this
+// factor of the better start's (the two are then not clearly ranked).
+constexpr double kAmbiguousStart = 4.0;
+// Iterations for one element fitted alone to its part of the output (a start only).
+constexpr int kAloneIterations = 30;
+
+// ‖y − ŷ‖² of the start elements (one per input of `inputs`).
+double start_cost(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
+                  const std::vector<int>& inputs, const std::vector<TwoPoleDelay>& start,
+                  double T_min) {
+  Eigen::VectorXd r = y;
+  Eigen::VectorXd z(y.size());
+  for (std::size_t e = 0; e < inputs.size(); ++e) {
+    TwoPoleDelay unit = start[e];
+    unit.gain = 1.0;
+    const auto u = U.col(inputs[e]);
+    simulate(discretise(unit, T_min), {u.data(), static_cast<std::size_t>(u.size())},
+             {z.data(), static_cast<std::size_t>(z.size())});
+    r -= start[e].gain * z;
+  }
+  return r.squaredNorm();
+}
+
 void mark_row(IdentifiedModel& model, int out, ElementStatus status, const std::string& why) {
   for (int i = 0; i < model.inputs; ++i) {
     ElementEstimate& e = model.element(out, i);
@@ -117,6 +141,7 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
 
   const InputScreen screen = screen_inputs(U);
   const ResponseBank bank(U, screen.usable, T_min, GridSpec{options.max_delay_min, tp_max});
+  const ArxBasis arx(U, screen.usable, T_min, options.max_delay_min);
 
   // One output's fit; writes only its own row of the model and its own OutputFit.
   const auto fit_output = [&](int j) {
@@ -142,16 +167,50 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
     }
     Eigen::VectorXd y_hat = Eigen::VectorXd::Zero(y.size());
     if (!screen.usable.empty()) {
+      // Two starts (multi-start): the row's ARX model (sees all elements at once; exact on
+      // data the structure fits) and the grid basin search. The better start is polished;
+      // the other too when its output error is within kAmbiguousStart of the better's, and
+      // the better end is kept.
+      const MisoBounds bounds{options.max_delay_min, tp_max};
+      std::vector<std::vector<TwoPoleDelay>> starts;
+      if (const auto Z = arx.contributions(y)) {
+        // Each element fitted alone to its own part of the output (a start: few iterations).
+        std::vector<TwoPoleDelay> arx_start;
+        for (std::size_t e = 0; e < screen.usable.size(); ++e) {
+          const auto col = static_cast<Eigen::Index>(e);
+          const Eigen::VectorXd z = Z->col(col);
+          double gain = 0.0;
+          TwoPoleDelay g = bank.grid()[static_cast<std::size_t>(bank.choose_one(col, z, gain))];
+          g.gain = gain;
+          const MisoResult alone =
+              fit_miso(U, z, {screen.usable[e]}, {g}, T_min, bounds, kAloneIterations);
+          arx_start.push_back(alone.elements.front().value);
+        }
+        starts.push_back(std::move(arx_start));
+      }
       const ResponseBank::Choice choice = bank.choose(y);
-      std::vector<TwoPoleDelay> initial;
+      std::vector<TwoPoleDelay> grid_start;
       for (std::size_t e = 0; e < screen.usable.size(); ++e) {
         TwoPoleDelay g = bank.grid()[static_cast<std::size_t>(choice.grid_index[e])];
         g.gain = choice.gain(static_cast<Eigen::Index>(e));
-        initial.push_back(g);
+        grid_start.push_back(g);
       }
-      const MisoResult miso =
-          fit_miso(U, y, screen.usable, std::move(initial), T_min,
-                   MisoBounds{options.max_delay_min, tp_max}, options.max_iterations);
+      starts.push_back(std::move(grid_start));
+      std::vector<double> cost;
+      for (const auto& start : starts)
+        cost.push_back(start_cost(U, y, screen.usable, start, T_min));
+      const std::size_t first = cost.size() > 1 && cost[1] < cost[0] ? 1 : 0;
+      MisoResult miso =
+          fit_miso(U, y, screen.usable, starts[first], T_min, bounds, options.max_iterations);
+      for (std::size_t s = 0; s < starts.size(); ++s) {
+        if (s == first || !(cost[s] <= kAmbiguousStart * cost[first])) continue;
+        MisoResult other =
+            fit_miso(U, y, screen.usable, starts[s], T_min, bounds, options.max_iterations);
+        if ((other.y_hat - y).squaredNorm() < (miso.y_hat - y).squaredNorm()) {
+          std::swap(miso, other);
+        }
+        miso.iterations += other.iterations;
+      }
       for (std::size_t e = 0; e < screen.usable.size(); ++e) {
         model.element(j, screen.usable[e]) = miso.elements[e];
       }

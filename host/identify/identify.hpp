@@ -7,10 +7,13 @@
 // Per output:
 //   1. Which inputs can be identified: an input that is zero throughout, or a linear
 //      combination of other inputs, gets no parameters (status and reason instead).
-//   2. Initialisation (finding the basin): for every input, a grid of unit-gain responses
-//      (delay × time constant × shape); coordinate sweeps pick, per element, the grid
-//      response that most lowers the output error with all gains re-estimated jointly by
-//      linear least squares.
+//   2. Initialisation (finding the basin), two starts: (a) the row seen at once — an ARX
+//      least-squares model of the whole row gives each element's part of the output, and
+//      each element is fitted alone to its part (arx_start.hpp; exact on data the
+//      structure fits); (b) a grid of unit-gain responses per input (delay × time constant
+//      × shape) and coordinate sweeps that pick, per element, the grid response that most
+//      lowers the output error with all gains re-estimated jointly. The better start is
+//      polished, the other too when the two are not clearly ranked; the better end is kept.
 //   3. Bounded Levenberg–Marquardt on the output error of all 4 parameters of every element
 //      (gain, delay, two time constants), 0 ≤ T_d ≤ max_delay_min, 0 ≤ T_p ≤
 //      max_time_constant_min; Jacobian by central differences per element.
@@ -30,7 +33,8 @@ namespace excite::host {
 
 struct IdentifyOptions {
   double max_delay_min = 20.0;         // upper bound of T_d (thesis: 20 min)
-  double max_time_constant_min = 0.0;  // upper bound of T_p; 0 = the experiment length N·T
+  double max_time_constant_min = 0.0;  // upper bound of T_p; SPEC §6: β·τ_H of the prior
+                                       // knowledge; 0 = the experiment length N·T
   int max_iterations = 200;            // Levenberg–Marquardt iterations per output
   int threads = 1;                     // outputs are fitted in parallel on this many threads
 };

@@ -36,6 +36,23 @@ ResponseBank::ResponseBank(const Eigen::MatrixXd& U, const std::vector<int>& inp
   }
 }
 
+int ResponseBank::choose_one(Eigen::Index e, const Eigen::VectorXd& z, double& gain) const {
+  const Eigen::MatrixXf& R = responses_[static_cast<std::size_t>(e)];
+  const Eigen::VectorXf proj = R.transpose() * z.cast<float>();
+  const Eigen::VectorXf& n2 = norms2_[static_cast<std::size_t>(e)];
+  Eigen::Index best = 0;
+  float best_score = -1.0F;
+  for (Eigen::Index g = 0; g < proj.size(); ++g) {
+    const float score = n2(g) > 0.0F ? proj(g) * proj(g) / n2(g) : 0.0F;
+    if (score > best_score) {
+      best_score = score;
+      best = g;
+    }
+  }
+  gain = n2(best) > 0.0F ? static_cast<double>(proj(best) / n2(best)) : 0.0;
+  return static_cast<int>(best);
+}
+
 ResponseBank::Choice ResponseBank::choose(const Eigen::VectorXd& y) const {
   const auto m = static_cast<Eigen::Index>(responses_.size());
   const Eigen::Index N = y.size();

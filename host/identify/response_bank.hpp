@@ -35,6 +35,10 @@ class ResponseBank {
   };
   Choice choose(const Eigen::VectorXd& y) const;
 
+  /// For the part z of an output due to bank input e alone: the grid element (index) with
+  /// the best 1-D least-squares gain (returned in `gain`).
+  int choose_one(Eigen::Index e, const Eigen::VectorXd& z, double& gain) const;
+
  private:
   std::vector<TwoPoleDelay> grid_;
   std::vector<Eigen::MatrixXf> responses_;  // per input: N × grid, single precision

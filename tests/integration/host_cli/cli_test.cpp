@@ -186,6 +186,62 @@ TEST_F(ExciteCli, SimulatedRunIsIdentifiedValidatedAndBalanced) {
   EXPECT_GT(balance["upsilon"].get<double>(), 0.0);
 }
 
+// The time constants' upper bound (SPEC §6): β·τ_H of the run's case study by default
+// (woodberry2x2: 3 × 21 = 63 min), --max-time-constant or --tau-high to override; the text
+// output says which. A bound below the plant's 21-min lag shows in the estimates.
+TEST_F(ExciteCli, IdentifyBoundsTheTimeConstantsByBetaTauHigh) {
+  ASSERT_EQ(
+      excite("design -q --plant woodberry2x2 --preset prbsUnc -o " + path("wb.plan")).exit_code, 0);
+  ASSERT_EQ(excite("simulate " + path("wb.plan") + " --plant woodberry2x2 -o " + path("wb.csv"))
+                .exit_code,
+            0);
+  const Result def = excite("identify " + path("wb.csv"));
+  ASSERT_EQ(def.exit_code, 0) << def.out;
+  EXPECT_NE(def.out.find("time constants bounded by 63 min (beta x tau_H of the woodberry2x2"),
+            std::string::npos)
+      << def.out;
+  EXPECT_NE(excite("identify --tau-high 10 --beta 2 " + path("wb.csv"))
+                .out.find("bounded by 20 min (--beta x --tau-high)"),
+            std::string::npos);
+  const Result low = excite("identify --json --max-time-constant 15 " + path("wb.csv"));
+  ASSERT_EQ(low.exit_code, 0) << low.out;
+  for (const auto& out : nlohmann::json::parse(low.out)["outputs"]) {
+    for (const auto& e : out["elements"]) EXPECT_LE(e["Tp1"].get<double>(), 15.0) << e;
+  }
+  const Result bad = excite("identify --max-time-constant -1 " + path("wb.csv"));
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.out.find("--max-time-constant"), std::string::npos) << bad.out;
+}
+
+// crossval takes the same bound: noise-free Wood–Berry runs are fitted exactly under the
+// default β·τ_H = 63 min, not when the bound (15 min) is below the plant's 21-min lag.
+TEST_F(ExciteCli, CrossvalBoundsTheTimeConstantsToo) {
+  for (const char* preset : {"prbsUnc", "stepSeq"}) {
+    const std::string plan = path((std::string(preset) + ".plan").c_str());
+    ASSERT_EQ(
+        excite("design -q --plant woodberry2x2 --preset " + std::string(preset) + " -o " + plan)
+            .exit_code,
+        0);
+    ASSERT_EQ(excite("simulate " + plan + " --plant woodberry2x2 -o " +
+                     path((std::string(preset) + ".csv").c_str()))
+                  .exit_code,
+              0);
+  }
+  const std::string runs = path("prbsUnc.csv") + " " + path("stepSeq.csv");
+  const Result def = excite("crossval --json " + runs);
+  ASSERT_EQ(def.exit_code, 0) << def.out;
+  const Result low = excite("crossval --json --max-time-constant 15 " + runs);
+  ASSERT_EQ(low.exit_code, 0) << low.out;
+  // (the output also carries crossval's "identified RUN" progress lines before the JSON)
+  const auto models = [](const std::string& out) {
+    return nlohmann::json::parse(out.substr(out.find('{')))["models"];
+  };
+  for (std::size_t a = 0; a < 2; ++a) {
+    EXPECT_GT(models(def.out)[a]["fit_own"].get<double>(), 99.9) << def.out;
+    EXPECT_LT(models(low.out)[a]["fit_own"].get<double>(), 99.9) << low.out;
+  }
+}
+
 TEST_F(ExciteCli, SimulationIsReproducibleBySeed) {
   ASSERT_EQ(
       excite("design -q --plant woodberry2x2 --preset stepSeq -o " + path("s.plan")).exit_code, 0);

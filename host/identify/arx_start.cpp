@@ -1,0 +1,120 @@
+// SPDX-License-Identifier: MIT
+#include "host/identify/arx_start.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace excite::host {
+namespace {
+
+// A relative residual below this is "exact" for the order choice (residual RMS 1e-7 of
+// the output's): orders that only fit rounding are not preferred.
+constexpr double kExactResidual = 1e-14;
+
+// Singular values of R below this fraction of the largest (unit-norm columns) are taken
+// as rank deficiency (columns the data do not distinguish).
+constexpr double kRankThreshold = 1e-11;
+
+// Column norm, or 1 for an all-zero column.
+double norm_or_one(double n) {
+  return n == 0.0 ? 1.0 : n;
+}
+
+}  // namespace
+
+ArxBasis::ArxBasis(const Eigen::MatrixXd& U, std::vector<int> inputs, double T_min,
+                   double max_delay_min)
+    : U_(U),
+      inputs_(std::move(inputs)),
+      N_(U.rows()),
+      m_(static_cast<Eigen::Index>(inputs_.size())),
+      nb_(static_cast<Eigen::Index>(std::ceil(max_delay_min / T_min)) + 3) {
+  const Eigen::Index ub = m_ * nb_;
+  if (m_ == 0 || N_ < 2 * (ub + 2 * m_ + 1)) return;
+  // Φ_u: input lags 0 … nb − 1 from rest, unit-norm columns.
+  Eigen::MatrixXd phi = Eigen::MatrixXd::Zero(N_, ub);
+  scale_.resize(ub);
+  for (Eigen::Index e = 0; e < m_; ++e) {
+    const auto u = U_.col(inputs_[static_cast<std::size_t>(e)]);
+    for (Eigen::Index lag = 0; lag < nb_; ++lag) {
+      phi.col(e * nb_ + lag).tail(N_ - lag) = u.head(N_ - lag);
+      scale_(e * nb_ + lag) = norm_or_one(phi.col(e * nb_ + lag).norm());
+    }
+  }
+  phi = phi * scale_.cwiseInverse().asDiagonal();
+  qr_.compute(phi);
+  usable_ = true;
+}
+
+std::optional<Eigen::MatrixXd> ArxBasis::contributions(const Eigen::VectorXd& y) const {
+  const Eigen::Index ub = m_ * nb_;
+  const Eigen::Index na_max = 2 * m_;
+  const Eigen::Index P = ub + na_max;
+  if (!usable_ || y.size() != N_ || y.squaredNorm() == 0.0) return std::nullopt;
+
+  // The output's columns [−y(k − 1) … −y(k − na_max), y], unit norm, projected by Φ_u's Q:
+  // R of [Φ_u Φ_y y] = [R_uu  (Qᵀ C)_top ; 0  R of (Qᵀ C)_rest].
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(N_, na_max + 1);
+  for (Eigen::Index l = 1; l <= na_max; ++l) C.col(l - 1).tail(N_ - l) = -y.head(N_ - l);
+  C.col(na_max) = y;
+  Eigen::VectorXd scale(P + 1);
+  scale.head(ub) = scale_;
+  for (Eigen::Index col = 0; col <= na_max; ++col) {
+    scale(ub + col) = norm_or_one(C.col(col).norm());
+  }
+  C = C * scale.tail(na_max + 1).cwiseInverse().asDiagonal();
+  C.applyOnTheLeft(qr_.householderQ().adjoint());
+  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(P + 1, P + 1);
+  R.topLeftCorner(ub, ub) = qr_.matrixQR().topLeftCorner(ub, ub).triangularView<Eigen::Upper>();
+  R.topRightCorner(ub, na_max + 1) = C.topRows(ub);
+  const Eigen::HouseholderQR<Eigen::MatrixXd> rest(C.bottomRows(N_ - ub));
+  R.bottomRightCorner(na_max + 1, na_max + 1) =
+      rest.matrixQR().topRows(na_max + 1).triangularView<Eigen::Upper>();
+
+  // Residual of the model with the first c columns: Σ_{l ≥ c} r_l², r = the y column of R
+  // (‖y‖ = 1 after scaling).
+  Eigen::VectorXd tail2(P + 2);
+  tail2(P + 1) = 0.0;
+  for (Eigen::Index l = P; l >= 0; --l) tail2(l) = tail2(l + 1) + R(l, P) * R(l, P);
+  Eigen::Index na = 0;
+  double best = std::numeric_limits<double>::infinity();
+  const double log_n = std::log(static_cast<double>(N_));
+  for (Eigen::Index order = 0; order <= na_max; ++order) {
+    const double rel = std::max(tail2(ub + order), kExactResidual);
+    const double bic =
+        static_cast<double>(N_) * std::log(rel) + static_cast<double>(ub + order) * log_n;
+    if (bic < best) {
+      best = bic;
+      na = order;
+    }
+  }
+  const Eigen::Index c = ub + na;
+  // θ for the first c columns; the minimum-norm solution when the input lags are rank
+  // deficient (a multisine with fewer lines than lags: B_i is then free off the excited
+  // lines, but B_i u_i, the element's part of the output, is not).
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
+  cod.setThreshold(kRankThreshold);
+  cod.compute(R.topLeftCorner(c, c));
+  const Eigen::VectorXd theta =
+      (cod.solve(R.col(P).head(c)) * scale(P)).cwiseQuotient(scale.head(c));
+  const Eigen::VectorXd a = theta.tail(na);
+
+  Eigen::MatrixXd Z(N_, m_);
+  for (Eigen::Index e = 0; e < m_; ++e) {
+    const auto u = U_.col(inputs_[static_cast<std::size_t>(e)]);
+    const Eigen::VectorXd b = theta.segment(e * nb_, nb_);
+    for (Eigen::Index k = 0; k < N_; ++k) {
+      double v = 0.0;
+      for (Eigen::Index lag = 0; lag < nb_ && lag <= k; ++lag) v += b(lag) * u(k - lag);
+      for (Eigen::Index l = 1; l <= na && l <= k; ++l) v -= a(l - 1) * Z(k - l, e);
+      Z(k, e) = v;
+    }
+  }
+  if (!Z.allFinite() || Z.cwiseAbs().maxCoeff() > 1e6 * y.cwiseAbs().maxCoeff()) {
+    return std::nullopt;  // A unstable: the contributions diverge
+  }
+  return Z;
+}
+
+}  // namespace excite::host
