@@ -46,22 +46,34 @@ Balance balance_of(const Eigen::MatrixXd& Y, const GainAnalysis& true_gain) {
 // parallel.
 Experiment run_experiment(const Design& design, const PresetInfo& preset,
                           const CampaignOptions& options, double noise_variance,
-                          const GainAnalysis& true_gain) {
+                          const GainAnalysis& true_gain, double max_time_constant_min) {
   SimulationOptions sim;
   sim.seed = options.seed + static_cast<std::uint64_t>(preset.number);
   sim.noise_variance = 0.0;
   const SimulatedRun clean = simulate_plan(*design.plan, std::string(preset.acronym),
                                            *sim::make_plant(options.plant), sim);
   sim.noise_variance = noise_variance;
-  const SimulatedRun run = simulate_plan(*design.plan, std::string(preset.acronym),
-                                         *sim::make_plant(options.plant), sim);
+  const std::string name(preset.acronym);
+  const SimulatedRun run =
+      options.measured_run
+          ? options.measured_run({*design.plan, preset.number, name, sim.seed, noise_variance})
+          : simulate_plan(*design.plan, name, *sim::make_plant(options.plant), sim);
+  const Eigen::Index rows = clean.du.rows();
+  if (run.du.rows() < rows || run.dy.rows() < rows || run.du.cols() != clean.du.cols() ||
+      run.dy.cols() != clean.dy.cols()) {
+    throw std::runtime_error(name + ": the measured run has " + std::to_string(run.du.rows()) +
+                             " rows of " + std::to_string(run.du.cols()) + " inputs and " +
+                             std::to_string(run.dy.cols()) + " outputs, expected at least " +
+                             std::to_string(rows) + " rows of " + std::to_string(clean.du.cols()) +
+                             " and " + std::to_string(clean.dy.cols()));
+  }
 
   Experiment e;
   e.number = preset.number;
   e.name = std::string(preset.acronym);
   e.sample_time_min = run.sample_time_min;
-  e.U = run.du;
-  e.Y = run.dy;
+  e.U = run.du.topRows(rows);
+  e.Y = run.dy.topRows(rows);
   e.Y_clean = clean.dy;
   e.limit_scale = design.limit_scale;
   const InputMeasures m = measure_inputs(design.table);
@@ -70,6 +82,7 @@ Experiment run_experiment(const Design& design, const PresetInfo& preset,
   e.pips_avg = m.average.pips;
   IdentifyOptions identify_options;
   identify_options.threads = 1;  // the campaign's pool runs experiments in parallel
+  identify_options.max_time_constant_min = max_time_constant_min;  // SPEC §6: β·τ_H
   e.identified = identify(e.U, e.Y, e.sample_time_min, identify_options);
   std::vector<double> fits;
   for (const OutputFit& f : e.identified.fits) fits.push_back(f.fit_percent);
@@ -132,6 +145,7 @@ CampaignResult run_campaign(const CampaignOptions& options,
   };
   const auto plant = sim::make_plant(options.plant);
   const PriorKnowledge true_prior = case_study(options.plant);
+  const double max_time_constant = true_prior.beta * true_prior.tau_high_min;  // SPEC §6
   CampaignResult result;
   result.plant = options.plant;
   result.input_names = plant->input_names();
@@ -154,8 +168,9 @@ CampaignResult run_campaign(const CampaignOptions& options,
   PriorKnowledge prior = true_prior;
   std::size_t first_pooled = 0;
   if (options.design_gain == DesignGain::step_test) {
-    result.experiments[0] = run_experiment(design_preset(true_prior, all.front(), 0), all.front(),
-                                           options, result.noise_variance, result.true_gain);
+    result.experiments[0] =
+        run_experiment(design_preset(true_prior, all.front(), 0), all.front(), options,
+                       result.noise_variance, result.true_gain, max_time_constant);
     report(result.experiments[0]);
     const Experiment& step = result.experiments[0];
     if (!step.identified.gain) {
@@ -189,8 +204,8 @@ CampaignResult run_campaign(const CampaignOptions& options,
   parallel_for(pooled, options.threads, [&](int slot) {
     const auto k = static_cast<std::size_t>(order[static_cast<std::size_t>(slot)]);
     const std::size_t i = first_pooled + k;
-    result.experiments[i] =
-        run_experiment(designs[k], all[i], options, result.noise_variance, result.true_gain);
+    result.experiments[i] = run_experiment(designs[k], all[i], options, result.noise_variance,
+                                           result.true_gain, max_time_constant);
     report(result.experiments[i]);
   });
   if (result.experiments[0].identified.gain)

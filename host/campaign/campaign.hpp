@@ -14,8 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "firmware/plan/plan.hpp"
 #include "host/identify/identify.hpp"
 #include "host/measures/gain_directions.hpp"
+#include "host/simulate/simulate.hpp"
 
 namespace excite::host {
 
@@ -25,12 +27,30 @@ enum class DesignGain {
   step_test,  // identified from the sequential step test (experiment 1, thesis 6.1.1)
 };
 
+/// One experiment's measured run, as the campaign asks for it.
+struct RunRequest {
+  const plan::Plan& plan;
+  int number = 0;               // Table 6.1
+  std::string name;             // acronym
+  std::uint64_t seed = 0;       // of the measurement noise
+  double noise_variance = 0.0;  // per output
+};
+
+/// Makes a measured run: deviations, at least the plan's rows (rows past them, such as a
+/// gateway's closing ticks at the baseline, are not part of the experiment and are dropped).
+using MeasuredRun = std::function<SimulatedRun(const RunRequest&)>;
+
 struct CampaignOptions {
   std::string plant;
   double noise_variance = -1.0;  // per output; < 0: the case study's (5e-4 linear plants)
   std::uint64_t seed = 1;        // experiment e uses seed + e
   DesignGain design_gain = DesignGain::true_gain;
   int threads = 2;  // experiments and cross-validations in parallel (≥ 1)
+  /// Where the measured (noisy) runs come from: empty, simulate_plan in this process; set,
+  /// the caller's — `excite campaign --loop` streams each plan through the real
+  /// excite-gateway to the real excite-plant (host/loop). Called from the pool's threads.
+  /// The noise-free runs that balance is measured on are always simulated here.
+  MeasuredRun measured_run;
 };
 
 /// Output balance of one experiment's outputs (5.5.2, 6.2.1).

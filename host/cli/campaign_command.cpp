@@ -1,40 +1,124 @@
 // SPDX-License-Identifier: MIT
 // excite campaign --plant NAME -o DIR [--design-gain true|step-test] [--noise-var V] [--seed S]
-//                 [--threads N]
-// The chapter-6 study: DIR/summary.json and the report DIR/index.html.
+//                 [--threads N] [--loop]
+// The chapter-6 study: DIR/summary.json, the report DIR/index.html and every identified
+// model in DIR/models/. With --loop every plan is streamed through the real excite-gateway
+// to the real excite-plant (host/loop), and DIR/runs/ keeps each plan, configuration pair
+// and both sides' run logs.
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
+#include <mutex>
 #include <thread>
 
 #include "host/campaign/campaign.hpp"
 #include "host/campaign/report.hpp"
 #include "host/cli/commands.hpp"
+#include "host/cli/model_file.hpp"
+#include "host/design/plan_file.hpp"
+#include "host/loop/stream.hpp"
 
 namespace excite::host::cli {
 namespace {
 
+namespace fs = std::filesystem;
+
 struct CampaignCommandOptions {
   CampaignOptions campaign;
   std::string output_dir;
+  bool loop = false;
 };
 
-void run(const CampaignCommandOptions& opt) {
+std::string experiment_folder(int number, const std::string& name) {
+  return (number < 10 ? "0" : "") + std::to_string(number) + "-" + name;
+}
+
+// The measured runs of --loop: each plan streamed through the real gateway to the real
+// plant server, in lock-step, with the experiment's noise and seed (host/loop).
+MeasuredRun gateway_in_the_loop(const std::string& plant, const fs::path& runs,
+                                const std::function<void(const std::string&)>& say) {
+  const LoopPrograms programs = programs_beside_this_one();
+  return [=](const RunRequest& request) {
+    LoopRun loop;
+    loop.work_dir = runs / experiment_folder(request.number, request.name);
+    fs::create_directories(loop.work_dir);
+    loop.plan = loop.work_dir / (request.name + ".plan");
+    write_plan_file(request.plan, loop.plan);
+    loop.config.plant = plant;
+    loop.config.noise_var = request.noise_variance;
+    loop.config.seed = request.seed;
+    loop.programs = programs;
+    const LoopResult streamed = stream_in_the_loop(loop);
+    const runlog::RunLog& log = streamed.log;
+    SimulatedRun run;
+    run.plant = log.plant;
+    run.plan = log.plan;
+    run.sample_time_min = log.sample_time_min;
+    run.input_names = log.input_names;
+    run.output_names = log.output_names;
+    const auto rows = static_cast<Eigen::Index>(log.rows());
+    run.du.resize(rows, static_cast<Eigen::Index>(log.du.size()));
+    run.dy.resize(rows, static_cast<Eigen::Index>(log.dy.size()));
+    for (Eigen::Index r = 0; r < rows; ++r) {
+      const auto k = static_cast<std::size_t>(r);
+      for (std::size_t i = 0; i < log.du.size(); ++i)
+        run.du(r, static_cast<Eigen::Index>(i)) = log.du[i][k];
+      for (std::size_t j = 0; j < log.dy.size(); ++j)
+        run.dy(r, static_cast<Eigen::Index>(j)) = log.dy[j][k];
+    }
+    say(request.name + ": streamed through excite-gateway to excite-plant, " +
+        std::to_string(log.rows()) + " ticks in " + std::to_string(streamed.seconds).substr(0, 4) +
+        " s (" + streamed.gateway_log.string() + ")");
+    return run;
+  };
+}
+
+void write_models(const CampaignResult& result, const fs::path& dir) {
+  fs::create_directories(dir);
+  for (const Experiment& e : result.experiments) {
+    const fs::path path = dir / (experiment_folder(e.number, e.name) + ".json");
+    const fs::path partial = path.string() + ".partial";
+    std::ofstream out(partial);
+    out << model_json(e.identified, result.input_names, result.output_names).dump(2) << "\n";
+    out.close();
+    if (!out) throw std::runtime_error(partial.string() + ": cannot write");
+    fs::rename(partial, path);
+  }
+}
+
+void run(CampaignCommandOptions opt) {
   const auto start = std::chrono::steady_clock::now();
   const auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
-  const CampaignResult result = run_campaign(opt.campaign, [&](const std::string& line) {
+  std::mutex say_mutex;
+  const auto say = [&](const std::string& line) {
+    const std::lock_guard<std::mutex> lock(say_mutex);
     std::cerr << "[" << static_cast<int>(elapsed() * 10) / 10.0 << " s] " << line << std::endl;
-  });
-  std::filesystem::create_directories(opt.output_dir);
+  };
+  const fs::path out(opt.output_dir);
+  if (fs::exists(out) && !fs::is_directory(out)) {
+    throw std::invalid_argument("-o " + opt.output_dir + ": expected a folder (it is a file)");
+  }
+  fs::create_directories(out);
+  if (opt.loop) {
+    opt.campaign.measured_run = gateway_in_the_loop(opt.campaign.plant, out / "runs", say);
+    say("every plan goes through the real excite-gateway to excite-plant (Modbus TCP on "
+        "127.0.0.1, lock-step); runs in " +
+        (out / "runs").string());
+  }
+  const CampaignResult result = run_campaign(opt.campaign, say);
   write_summary(result, opt.output_dir);
   write_report(result, *sim::make_plant(opt.campaign.plant), opt.output_dir);
-  std::cout << "wrote " << opt.output_dir << "/summary.json and " << opt.output_dir
-            << "/index.html in " << elapsed() << " s\n";
+  write_models(result, out / "models");
+  std::cout << "wrote " << (out / "index.html").string() << " (report), "
+            << (out / "summary.json").string() << " and " << (out / "models").string() << "/"
+            << (opt.loop ? ", run logs in " + (out / "runs").string() + "/" : std::string())
+            << " in " << elapsed() << " s\n";
 }
 
 }  // namespace
@@ -62,6 +146,9 @@ void add_campaign_command(CLI::App& app) {
                   "experiments identified and cross-validated in parallel (default: the cores)")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
+  cmd->add_flag("--loop", opt->loop,
+                "stream every plan through the real excite-gateway to excite-plant (Modbus TCP "
+                "on 127.0.0.1, lock-step) instead of simulating it in this process");
   cmd->callback([opt] { run(*opt); });
 }
 
