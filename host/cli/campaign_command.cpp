@@ -20,7 +20,7 @@
 #include "host/cli/commands.hpp"
 #include "host/cli/model_file.hpp"
 #include "host/design/plan_file.hpp"
-#include "host/loop/stream.hpp"
+#include "host/loop/campaign_runs.hpp"
 
 namespace excite::host::cli {
 namespace {
@@ -32,50 +32,6 @@ struct CampaignCommandOptions {
   std::string output_dir;
   bool loop = false;
 };
-
-std::string experiment_folder(int number, const std::string& name) {
-  return (number < 10 ? "0" : "") + std::to_string(number) + "-" + name;
-}
-
-// The measured runs of --loop: each plan streamed through the real gateway to the real
-// plant server, in lock-step, with the experiment's noise and seed (host/loop).
-MeasuredRun gateway_in_the_loop(const std::string& plant, const fs::path& runs,
-                                const std::function<void(const std::string&)>& say) {
-  const LoopPrograms programs = programs_beside_this_one();
-  return [=](const RunRequest& request) {
-    LoopRun loop;
-    loop.work_dir = runs / experiment_folder(request.number, request.name);
-    fs::create_directories(loop.work_dir);
-    loop.plan = loop.work_dir / (request.name + ".plan");
-    write_plan_file(request.plan, loop.plan);
-    loop.config.plant = plant;
-    loop.config.noise_var = request.noise_variance;
-    loop.config.seed = request.seed;
-    loop.programs = programs;
-    const LoopResult streamed = stream_in_the_loop(loop);
-    const runlog::RunLog& log = streamed.log;
-    SimulatedRun run;
-    run.plant = log.plant;
-    run.plan = log.plan;
-    run.sample_time_min = log.sample_time_min;
-    run.input_names = log.input_names;
-    run.output_names = log.output_names;
-    const auto rows = static_cast<Eigen::Index>(log.rows());
-    run.du.resize(rows, static_cast<Eigen::Index>(log.du.size()));
-    run.dy.resize(rows, static_cast<Eigen::Index>(log.dy.size()));
-    for (Eigen::Index r = 0; r < rows; ++r) {
-      const auto k = static_cast<std::size_t>(r);
-      for (std::size_t i = 0; i < log.du.size(); ++i)
-        run.du(r, static_cast<Eigen::Index>(i)) = log.du[i][k];
-      for (std::size_t j = 0; j < log.dy.size(); ++j)
-        run.dy(r, static_cast<Eigen::Index>(j)) = log.dy[j][k];
-    }
-    say(request.name + ": streamed through excite-gateway to excite-plant, " +
-        std::to_string(log.rows()) + " ticks in " + std::to_string(streamed.seconds).substr(0, 4) +
-        " s (" + streamed.gateway_log.string() + ")");
-    return run;
-  };
-}
 
 void write_models(const CampaignResult& result, const fs::path& dir) {
   fs::create_directories(dir);
@@ -106,7 +62,8 @@ void run(CampaignCommandOptions opt) {
   }
   fs::create_directories(out);
   if (opt.loop) {
-    opt.campaign.measured_run = gateway_in_the_loop(opt.campaign.plant, out / "runs", say);
+    opt.campaign.measured_run = measured_runs_in_the_loop(opt.campaign.plant, out / "runs",
+                                                          programs_beside_this_one(), say);
     say("every plan goes through the real excite-gateway to excite-plant (Modbus TCP on "
         "127.0.0.1, lock-step); runs in " +
         (out / "runs").string());
