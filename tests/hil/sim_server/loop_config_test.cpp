@@ -98,11 +98,15 @@ TEST_F(LoopConfig, GatewayStreamsAPlanToThePlantThroughTheGeneratedPair) {
   const runlog::ReadResult pl = runlog::read_run_log(plant_log.string());
   ASSERT_TRUE(pl.ok()) << pl.error->to_string();
   EXPECT_GT(gw.log.rows(), 100U);
-  // One plant sample per gateway tick, in lock-step: the same rows, the same setpoints, and
-  // the gateway read exactly the plant's outputs (as float32 registers carry them).
+  // One plant sample per gateway tick, in lock-step: the same rows, the setpoints the
+  // gateway wrote as the float32 registers carry them, and the gateway read exactly the
+  // plant's outputs (likewise as float32).
   ASSERT_EQ(pl.log.rows(), gw.log.rows());
   for (std::size_t k = 0; k < gw.log.rows(); ++k) {
-    for (std::size_t i = 0; i < 2; ++i) ASSERT_EQ(gw.log.u[i][k], pl.log.u[i][k]) << "row " << k;
+    for (std::size_t i = 0; i < 2; ++i) {
+      ASSERT_EQ(static_cast<double>(static_cast<float>(gw.log.u[i][k])), pl.log.u[i][k])
+          << "row " << k;
+    }
     for (std::size_t j = 0; j < 2; ++j) {
       ASSERT_EQ(gw.log.dy[j][k], static_cast<double>(static_cast<float>(pl.log.dy[j][k])))
           << "row " << k;

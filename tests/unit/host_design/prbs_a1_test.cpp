@@ -59,12 +59,12 @@ TEST(PriorKnowledge, RefusesNonPositiveTimeConstantsNamingTheField) {
 
 TEST(PriorKnowledge, RefusesAnAmplitudeBeyondTheLimits) {
   PriorKnowledge prior = case_study("alatiqi4x4");
-  prior.inputs[2].amplitude = 3.0;
+  prior.inputs[2].amplitude = 20.0;  // the case study's limits are ±15
   try {
     validate(prior);
     FAIL() << "expected an error";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("inputs[2].amplitude = 3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("inputs[2].amplitude = 20"), std::string::npos) << e.what();
   }
 }
 
