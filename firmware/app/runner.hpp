@@ -6,7 +6,7 @@
 //                  take an operator command; compute; write + read on the bus;
 //                  observe; push the tick's record into the log ring
 //
-// until the engine is safe (the tick that confirmed the baseline is logged), max_ticks
+// until the engine is finished (safe or safe_unconfirmed; that tick is logged), max_ticks
 // have run, or `stop` is raised (hard stop: no ramp-out; SIGTERM posts abort instead).
 // run() allocates nothing, throws nothing and blocks on nothing but the bus and the
 // clock (proved by tests/integration/engine/no_alloc_test).
@@ -68,7 +68,9 @@ class Runner {
     range_counts_ = counts;
   }
 
-  /// Reads the live values once (nothing is written) and arms the engine with them.
+  /// Reads the live values once and arms the engine with them; then (verified writes)
+  /// writes the baseline once, reads it back and refuses when a readback disagrees
+  /// (Engine::verify_arm; the engine is left configured and names the setpoint).
   engine::Status arm() noexcept;
 
   RunStats run(CommandMailbox& commands, const std::atomic<bool>* stop = nullptr,
