@@ -66,6 +66,7 @@ StageResult Gateway::arm(hal::FieldBus& bus, hal::Clock& clock) {
   runner_->watch_range_ends(
       std::span<const RangeEnd>(range_ends_.data(), config_.values.size()),
       std::span<std::uint64_t>(range_end_counts_.data(), config_.values.size()));
+  runner_->set_verify_at_arm(verify_at_arm_);
   if (auto s = runner_->arm(); !s) {
     if (engine_->readback_fault().valid) {
       return StageError{ExitCode::arm_refused,

@@ -117,6 +117,10 @@ class Gateway {
   void set_lateness_histogram(std::span<std::uint64_t> bins_us) noexcept { lateness_ = bins_us; }
   void set_event_stream(std::FILE* events) noexcept { events_ = events; }
   void set_row_delay(std::chrono::microseconds delay) noexcept { row_delay_ = delay; }
+  /// Before arm(): false skips writing the baseline at arm (a lock-step simulated plant takes
+  /// one sample per heartbeat, so that write would shift the run by one sample); the
+  /// cyclic readback check still applies from the first tick.
+  void set_verify_at_arm(bool on) noexcept { verify_at_arm_ = on; }
 
  private:
   GatewayConfig config_;
@@ -143,6 +147,7 @@ class Gateway {
   std::span<std::uint64_t> lateness_{};
   std::FILE* events_ = nullptr;
   std::chrono::microseconds row_delay_{0};
+  bool verify_at_arm_ = true;
 };
 
 }  // namespace excite::app

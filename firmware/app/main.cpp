@@ -245,6 +245,7 @@ int main(int argc, char** argv) {
     std::remove(log_path.c_str());
     return fail(ExitCode::device, config_path + ": " + made.error);
   }
+  gw.set_verify_at_arm(!lockstep);  // README: verified writes, lock-step
   if (auto e = gw.arm(*made.bus, tick_clock)) {
     std::fclose(log);
     std::remove(log_path.c_str());

@@ -19,7 +19,7 @@ engine::Status Runner::arm() noexcept {
                                  hal::to_string(s), bus_.detail());
   }
   if (auto a = engine_.arm(std::span<const double>(values_.data(), n)); !a) return a;
-  if (!engine_.config().verify_readbacks) return {};
+  if (!engine_.config().verify_readbacks || !verify_at_arm_) return {};
   // Verified writes at arm: write the baseline once (heartbeat 0; the first tick writes 1),
   // read it back, and refuse before any excitation when a readback disagrees.
   const engine::TickOutput& out = engine_.output();

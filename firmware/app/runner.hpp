@@ -68,6 +68,10 @@ class Runner {
     range_counts_ = counts;
   }
 
+  /// Whether arm() writes the baseline once and reads it back (default true). Off only for
+  /// a lock-step simulated peer, where that write would be a plant sample of its own.
+  void set_verify_at_arm(bool on) noexcept { verify_at_arm_ = on; }
+
   /// Reads the live values once and arms the engine with them; then (verified writes)
   /// writes the baseline once, reads it back and refuses when a readback disagrees
   /// (Engine::verify_arm; the engine is left configured and names the setpoint).
@@ -94,6 +98,7 @@ class Runner {
   std::array<double, engine::kMaxValues> values_{};
   hal::Status last_status_ = hal::Status::ok;
   std::uint64_t ticks_ = 0;
+  bool verify_at_arm_ = true;
 };
 
 }  // namespace excite::app
