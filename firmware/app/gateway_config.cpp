@@ -431,6 +431,37 @@ void check_representable(const GatewayConfig& c) {
   }
 }
 
+// Verified writes: a readback of the setpoint's own holding register must decode it as it
+// is written, else every comparison would judge the encoding, not the field (a wrong
+// word_order would send the plant values up to 1e33 before any mismatch showed). Runs after
+// the register map's own validation (types and word orders are known good).
+void check_readback_encodings(const GatewayConfig& c) {
+  if (c.transport == Transport::can) return;
+  for (std::size_t i = 0; i < c.setpoints.size() && i < c.modbus.map.setpoints.size(); ++i) {
+    const auto& rb = c.setpoints[i].readback;
+    const auto it = std::find_if(c.values.begin(), c.values.end(),
+                                 [&rb](const ValueSpec& v) { return v.name == rb; });
+    if (it == c.values.end()) continue;
+    const auto& w = c.modbus.map.setpoints[i];
+    const auto& r = c.modbus.map.values[static_cast<std::size_t>(it - c.values.begin())];
+    const bool same_register = r.function_code == 3 && r.address == w.address;
+    const bool same_encoding =
+        r.type == w.type && (w.type != "float32" || r.word_order == w.word_order) &&
+        (w.type == "float32" || (r.eng_min == w.eng_min && r.eng_max == w.eng_max &&
+                                 r.raw_min == w.raw_min && r.raw_max == w.raw_max));
+    if (same_register && !same_encoding) {
+      auto enc = [](const hal::modbus::RegisterEntry& e) {
+        return e.type + (e.type == "float32" ? " " + e.word_order : std::string());
+      };
+      throw ConfigError(
+          "setpoints[" + std::to_string(i) + "] (" + c.setpoints[i].name + ") register " +
+              std::to_string(w.address),
+          enc(w),
+          "the encoding its readback " + rb + " reads the same register with (" + enc(r) + ")");
+    }
+  }
+}
+
 void cross_check(GatewayConfig& c) {
   std::set<std::string> names;
   auto unique = [&names](const std::string& field, const std::string& name) {
@@ -462,28 +493,6 @@ void cross_check(GatewayConfig& c) {
       throw ConfigError("setpoints[" + std::to_string(i) + "].readback", '"' + rb + '"',
                         "the name of a value with role = \"readback\"");
     }
-    // Verified writes: a readback of the setpoint's own holding register must decode it
-    // as it is written, else every comparison would judge the encoding, not the field (a
-    // wrong word_order would send the plant values up to 1e33 before any mismatch showed).
-    if (c.transport != Transport::can && i < c.modbus.map.setpoints.size()) {
-      const auto& w = c.modbus.map.setpoints[i];
-      const auto& r = c.modbus.map.values[static_cast<std::size_t>(it - c.values.begin())];
-      const bool same_register = r.function_code == 3 && r.address == w.address;
-      const bool same_encoding =
-          r.type == w.type && (w.type != "float32" || r.word_order == w.word_order) &&
-          (w.type == "float32" || (r.eng_min == w.eng_min && r.eng_max == w.eng_max &&
-                                   r.raw_min == w.raw_min && r.raw_max == w.raw_max));
-      if (same_register && !same_encoding) {
-        auto enc = [](const hal::modbus::RegisterEntry& e) {
-          return e.type + (e.type == "float32" ? " " + e.word_order : std::string());
-        };
-        throw ConfigError(
-            "setpoints[" + std::to_string(i) + "] (" + c.setpoints[i].name + ") register " +
-                std::to_string(w.address),
-            enc(w),
-            "the encoding its readback " + rb + " reads the same register with (" + enc(r) + ")");
-      }
-    }
   }
   if (std::none_of(c.values.begin(), c.values.end(),
                    [](const ValueSpec& v) { return v.role == ValueRole::output; })) {
@@ -505,6 +514,7 @@ void cross_check(GatewayConfig& c) {
     if (!v.ok()) throw ConfigError(v.field, v.value, v.expected);
   }
   check_representable(c);
+  check_readback_encodings(c);
 }
 
 }  // namespace
