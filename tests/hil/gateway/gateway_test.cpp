@@ -299,6 +299,44 @@ TEST_F(GatewayHil, AReadbackDecodingItsSetpointRegisterDifferentlyIsRefusedAtCon
   EXPECT_TRUE(server_->seen().empty());
 }
 
+// A PLC that clamps V to 60.5 on its own (its setpoint register is rewritten between the
+// gateway's write and read of some tick): with readback_mismatch_limit = 0 the first
+// mismatch is a fault; the run stops, V returns to its baseline 60 (which the PLC leaves
+// alone), the baseline reads back → confirmed → exit 11, naming V, written and read.
+TEST_F(GatewayHil, APlcThatClampsASetpointIsAFaultAndTheBaselineIsConfirmed) {
+  std::string text = config_text(server_->port());
+  text.replace(text.find("realtime_priority = 0"), 21,
+               "realtime_priority = 0\nreadback_mismatch_limit = 0");
+  write_config(text);
+  std::atomic<bool> stop{false};
+  std::thread plc([&] {
+    while (!stop) {
+      if (holding_float(*server_, 102) > 60.5F) put_float(*server_, true, 102, 60.5F);
+      std::this_thread::sleep_for(30us);
+    }
+  });
+  auto gw = start({"--start"});
+  const auto rc = gw->wait(120s);
+  stop = true;
+  plc.join();
+  ASSERT_TRUE(rc.has_value());
+  EXPECT_EQ(*rc, 11) << gw->err();
+  const std::string err = gw->err();
+  EXPECT_NE(err.find("fault: verified write failed: setpoint V (register 102 float32 CDAB): "
+                     "wrote "),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("read back 60.5 from V_sp at tick "), std::string::npos) << err;
+  EXPECT_NE(err.find(": safe after"), std::string::npos) << err;
+  EXPECT_NE(err.find("(fault: readback mismatch)"), std::string::npos) << err;
+  EXPECT_LT(read_log().rows(), 4000U) << "the run was not stopped";
+  expect_baseline_held();
+  std::istringstream lines(err);  // for the README
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find("fault") != std::string::npos) std::printf("%s\n", line.c_str());
+  }
+}
+
 TEST_F(GatewayHil, KilledRunLeavesAValidLogUpToItsLastTick) {
   auto gw = start({"--start"});
   ASSERT_TRUE(wait_for_writes(200));
