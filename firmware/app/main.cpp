@@ -169,6 +169,11 @@ void print_dry_run(const excite::app::Gateway& gw) {
       "failed exchanges (%s)\n",
       ec.ramp_ticks, ec.resume_dwell_ticks, ec.suspend_timeout_ticks, ec.comm_fail_limit,
       ec.comm_loss == engine::CommLossAction::hold ? "hold" : "ramp to baseline");
+  std::printf(
+      "verified writes: readback_lag_ticks = %u (1: a tick's reading reflects that tick's "
+      "write), more than %u mismatching ticks in a row -> fault; the baseline is written and "
+      "read back at arm\n",
+      ec.readback_lag_ticks, ec.readback_mismatch_limit);
   const std::uint32_t rows = std::min<std::uint32_t>(table.samples, 5);
   std::printf("first %u rows of du:\n", rows);
   for (std::uint32_t k = 0; k < rows; ++k) {
