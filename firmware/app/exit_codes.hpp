@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// excite-gateway's exit codes (README.md).
+// excite-gateway's exit codes (README.md, "Exit codes": one table). When several apply,
+// the field's state comes first: hard_stop, then unconfirmed, then fault, then the log's
+// codes (7, 8), then aborted, then ok.
 
 namespace excite::app {
 
@@ -13,10 +15,16 @@ enum class ExitCode : int {
                        // its table leaves the plan's limits
   device = 4,          // the field device is unreachable (connect failed)
   arm_refused = 5,     // the live values refuse arming (baseline outside limits, read failed)
-  aborted = 6,         // the run was aborted (operator, SIGTERM, suspension timeout, hard stop);
-                       // the log is complete up to the last tick
+  aborted = 6,         // aborted (operator: SIGTERM, stdin, command register; or a suspension
+                       // timeout) and the baseline was written and read back (confirmed)
   log_error = 7,       // the run log cannot be opened or written
   log_incomplete = 8,  // the log ring overran: ticks are missing from the log (counted)
+  hard_stop = 9,       // the ramp-out was cut short (a second SIGTERM/SIGINT): the field may
+                       // be left excited; the log is complete up to the last tick
+  unconfirmed = 10,    // safe, unconfirmed: the baseline was written but never read back
+                       // (link down, or readbacks disagreeing) — the field's state is unknown
+  fault = 11,          // a fault stopped the excitation (verified writes: a readback disagreed
+                       // with the setpoint written); the baseline was confirmed afterwards
 };
 
 }  // namespace excite::app

@@ -2,6 +2,7 @@
 #include "firmware/app/gateway.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "firmware/app/register_range.hpp"
 #include "firmware/engine/load_plan.hpp"
@@ -65,7 +66,12 @@ StageResult Gateway::arm(hal::FieldBus& bus, hal::Clock& clock) {
   runner_->watch_range_ends(
       std::span<const RangeEnd>(range_ends_.data(), config_.values.size()),
       std::span<std::uint64_t>(range_end_counts_.data(), config_.values.size()));
+  runner_->set_verify_at_arm(verify_at_arm_);
   if (auto s = runner_->arm(); !s) {
+    if (engine_->readback_fault().valid) {
+      return StageError{ExitCode::arm_refused,
+                        "refused to arm: verified write failed: " + readback_fault_report()};
+    }
     return StageError{ExitCode::arm_refused, "refused to arm: " + std::string(s.message())};
   }
   return std::nullopt;
@@ -115,6 +121,41 @@ runlog::WriteStatus Gateway::finish_log() {
 
 std::uint64_t Gateway::rows_logged() const noexcept {
   return drain_ ? drain_->rows_written() : 0;
+}
+
+namespace {
+
+std::string number_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+}  // namespace
+
+std::string Gateway::readback_fault_report() const {
+  const engine::ReadbackFault& f = engine_->readback_fault();
+  if (!f.valid) return "";
+  std::string where;
+  if (config_.transport == Transport::can) {
+    const auto& g = config_.can.map.setpoints[f.input];
+    char id[16];
+    std::snprintf(id, sizeof id, "0x%03X", g.id);
+    where = std::string("CAN ") + id + " byte " + std::to_string(g.byte_offset) + " " + g.type;
+  } else {
+    const auto& r = config_.modbus.map.setpoints[f.input];
+    where = "register " + std::to_string(r.address) + " " + r.type +
+            (r.type == "float32" ? " " + r.word_order : std::string());
+  }
+  const auto& sp = config_.setpoints[f.input];
+  const std::string readback =
+      f.value >= 0 ? config_.values[static_cast<std::size_t>(f.value)].name : sp.readback;
+  const engine::InputLimits& in = engine_config_.input[f.input];
+  return "setpoint " + sp.name + " (" + where + "): wrote " + number_text(f.written) +
+         ", read back " + number_text(f.read) + " from " + readback +
+         (f.at_arm ? std::string(" at arm") : " at tick " + std::to_string(f.tick)) +
+         " (tolerance " +
+         number_text(in.readback_abs_tol + in.readback_rel_tol * std::abs(f.written)) + ")";
 }
 
 std::string Gateway::range_end_report() const {

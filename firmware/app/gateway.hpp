@@ -8,7 +8,8 @@
 //   Gateway gw(config);                      1. a parsed, validated configuration
 //   gw.load_plan(bytes, "plans/x.plan");     2.–3. plan decoded, table generated into fixed
 //                                                  storage and checked, engine configured
-//   gw.arm(bus, clock);                      4. one read of the live values; nothing written
+//   gw.arm(bus, clock);                      4. one read of the live values, then the
+//                                                  baseline written once and read back
 //   gw.start_log(file, "excite-gateway 0.1.0");  5. header written, log thread started
 //   gw.run(commands, &stop);                 6. the cyclic loop: allocates nothing
 //   gw.finish_log();                         7. drained, flushed, log thread joined
@@ -69,8 +70,10 @@ class Gateway {
   /// run log's `plan:` line.
   StageResult load_plan(std::span<const std::uint8_t> plan_file, std::string plan_name);
 
-  /// 4. Reads the live values once through `bus` (configured; nothing is written) and arms
-  /// the engine on them (arm_refused). bus and clock must outlive the Gateway's run().
+  /// 4. Reads the live values once through `bus` and arms the engine on them; then writes
+  /// the baseline once and reads it back (verified writes). arm_refused on any failure,
+  /// naming the setpoint, what was written and what came back. bus and clock must outlive
+  /// the Gateway's run().
   StageResult arm(hal::FieldBus& bus, hal::Clock& clock);
 
   /// 5. Writes the run log's header to `file` (the caller's; closed by the caller after
@@ -105,12 +108,19 @@ class Gateway {
   }
   /// "xD 101 readings (register 200 uint16 raw 0..65535 = 0..1)"; "" when there were none.
   [[nodiscard]] std::string range_end_report() const;
+  /// The engine's readback fault in words: "setpoint u1 (register 100 float32 CDAB): wrote
+  /// 0.5, read back 3.2e-41 from u1_rb at tick 12"; "" when there was none.
+  [[nodiscard]] std::string readback_fault_report() const;
 
   // ---- hooks (tests and benches) ----
   void set_observer(TickObserver* observer) noexcept { observer_ = observer; }
   void set_lateness_histogram(std::span<std::uint64_t> bins_us) noexcept { lateness_ = bins_us; }
   void set_event_stream(std::FILE* events) noexcept { events_ = events; }
   void set_row_delay(std::chrono::microseconds delay) noexcept { row_delay_ = delay; }
+  /// Before arm(): false skips writing the baseline at arm (a lock-step simulated plant takes
+  /// one sample per heartbeat, so that write would shift the run by one sample); the
+  /// cyclic readback check still applies from the first tick.
+  void set_verify_at_arm(bool on) noexcept { verify_at_arm_ = on; }
 
  private:
   GatewayConfig config_;
@@ -137,6 +147,7 @@ class Gateway {
   std::span<std::uint64_t> lateness_{};
   std::FILE* events_ = nullptr;
   std::chrono::microseconds row_delay_{0};
+  bool verify_at_arm_ = true;
 };
 
 }  // namespace excite::app

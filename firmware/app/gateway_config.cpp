@@ -101,10 +101,10 @@ const toml::table* table_at(const toml::table& root, const std::string& key, boo
 
 void parse_gateway(const toml::table& t, GatewayConfig& c) {
   const std::string w = "gateway";
-  check_keys(
-      t, w,
-      {"plant", "period_s", "ramp_s", "resume_dwell_s", "suspend_timeout_s", "comm_fail_limit",
-       "comm_loss", "heartbeat_max_lag_s", "log_ring", "realtime_priority"});
+  check_keys(t, w,
+             {"plant", "period_s", "ramp_s", "resume_dwell_s", "suspend_timeout_s",
+              "comm_fail_limit", "comm_loss", "heartbeat_max_lag_s", "log_ring",
+              "realtime_priority", "readback_lag_ticks", "readback_mismatch_limit"});
   if (auto s = text(t, w, "plant")) {
     if (s->find_first_of("\r\n") != std::string::npos) {
       throw ConfigError(w + ".plant", '"' + *s + '"', "one line of text");
@@ -127,6 +127,12 @@ void parse_gateway(const toml::table& t, GatewayConfig& c) {
   non_negative("heartbeat_max_lag_s", c.heartbeat_max_lag_s);
   if (auto v = integer(t, w, "comm_fail_limit", 1, 1000000)) {
     c.comm_fail_limit = static_cast<std::uint32_t>(*v);
+  }
+  if (auto v = integer(t, w, "readback_lag_ticks", 1, engine::kMaxReadbackLag)) {
+    c.readback_lag_ticks = static_cast<std::uint32_t>(*v);
+  }
+  if (auto v = integer(t, w, "readback_mismatch_limit", 0, 1000000)) {
+    c.readback_mismatch_limit = static_cast<std::uint32_t>(*v);
   }
   if (auto s = text(t, w, "comm_loss")) {
     if (*s == "hold") {
@@ -425,6 +431,37 @@ void check_representable(const GatewayConfig& c) {
   }
 }
 
+// Verified writes: a readback of the setpoint's own holding register must decode it as it
+// is written, else every comparison would judge the encoding, not the field (a wrong
+// word_order would send the plant values up to 1e33 before any mismatch showed). Runs after
+// the register map's own validation (types and word orders are known good).
+void check_readback_encodings(const GatewayConfig& c) {
+  if (c.transport == Transport::can) return;
+  for (std::size_t i = 0; i < c.setpoints.size() && i < c.modbus.map.setpoints.size(); ++i) {
+    const auto& rb = c.setpoints[i].readback;
+    const auto it = std::find_if(c.values.begin(), c.values.end(),
+                                 [&rb](const ValueSpec& v) { return v.name == rb; });
+    if (it == c.values.end()) continue;
+    const auto& w = c.modbus.map.setpoints[i];
+    const auto& r = c.modbus.map.values[static_cast<std::size_t>(it - c.values.begin())];
+    const bool same_register = r.function_code == 3 && r.address == w.address;
+    const bool same_encoding =
+        r.type == w.type && (w.type != "float32" || r.word_order == w.word_order) &&
+        (w.type == "float32" || (r.eng_min == w.eng_min && r.eng_max == w.eng_max &&
+                                 r.raw_min == w.raw_min && r.raw_max == w.raw_max));
+    if (same_register && !same_encoding) {
+      auto enc = [](const hal::modbus::RegisterEntry& e) {
+        return e.type + (e.type == "float32" ? " " + e.word_order : std::string());
+      };
+      throw ConfigError(
+          "setpoints[" + std::to_string(i) + "] (" + c.setpoints[i].name + ") register " +
+              std::to_string(w.address),
+          enc(w),
+          "the encoding its readback " + rb + " reads the same register with (" + enc(r) + ")");
+    }
+  }
+}
+
 void cross_check(GatewayConfig& c) {
   std::set<std::string> names;
   auto unique = [&names](const std::string& field, const std::string& name) {
@@ -477,6 +514,7 @@ void cross_check(GatewayConfig& c) {
     if (!v.ok()) throw ConfigError(v.field, v.value, v.expected);
   }
   check_representable(c);
+  check_readback_encodings(c);
 }
 
 }  // namespace
@@ -586,6 +624,25 @@ engine::EngineConfig to_engine_config(const GatewayConfig& c,
   e.suspend_timeout_ticks = ticks(c.suspend_timeout_s);
   e.comm_fail_limit = c.comm_fail_limit;
   e.comm_loss = c.comm_loss;
+  // Verified writes: the tolerance is the coarser of the two encodings' resolution — one
+  // raw step of a scaled integer (engineering units), 2^-23 relative for float32.
+  e.verify_readbacks = true;
+  e.readback_lag_ticks = c.readback_lag_ticks;
+  e.readback_mismatch_limit = c.readback_mismatch_limit;
+  const std::vector<CarriedRange> sp = setpoint_ranges(c);
+  const std::vector<CarriedRange> va = value_ranges(c);
+  for (std::size_t i = 0; i < c.setpoints.size() && i < sp.size(); ++i) {
+    engine::InputLimits& in = e.input[i];
+    double abs_tol = sp[i].bounded ? sp[i].count : 0.0;
+    bool any_float = !sp[i].bounded;
+    if (in.readback >= 0 && static_cast<std::size_t>(in.readback) < va.size()) {
+      const CarriedRange& r = va[static_cast<std::size_t>(in.readback)];
+      if (r.bounded) abs_tol = std::max(abs_tol, r.count);
+      any_float = any_float || !r.bounded;
+    }
+    in.readback_abs_tol = abs_tol;
+    in.readback_rel_tol = any_float ? std::ldexp(1.0, -23) : 0.0;
+  }
   if (e.heartbeat_echo != engine::kNone) {
     e.heartbeat_max_lag = c.heartbeat_max_lag_s > 0.0
                               ? std::clamp<std::uint32_t>(ticks(c.heartbeat_max_lag_s), 1, 30000)

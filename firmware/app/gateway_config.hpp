@@ -63,6 +63,11 @@ struct GatewayConfig {
   double resume_dwell_s = 0.0;     // back inside the limits this long → resume
   double suspend_timeout_s = 0.0;  // suspended this long → abort; 0 = never
   std::uint32_t comm_fail_limit = 3;
+  // Verified writes (README.md): the reading of tick k reflects the write of tick
+  // k − (readback_lag_ticks − 1) (1: the same exchange, the Runner writes then reads); more
+  // than readback_mismatch_limit consecutive mismatching ticks on one setpoint is a fault.
+  std::uint32_t readback_lag_ticks = 1;
+  std::uint32_t readback_mismatch_limit = 3;
   engine::CommLossAction comm_loss = engine::CommLossAction::hold;
   double heartbeat_max_lag_s = 0.0;  // with a heartbeat_echo value; 0 → 3 ticks
   std::uint32_t log_ring = 4096;     // run-log ring records

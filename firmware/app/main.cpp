@@ -169,6 +169,11 @@ void print_dry_run(const excite::app::Gateway& gw) {
       "failed exchanges (%s)\n",
       ec.ramp_ticks, ec.resume_dwell_ticks, ec.suspend_timeout_ticks, ec.comm_fail_limit,
       ec.comm_loss == engine::CommLossAction::hold ? "hold" : "ramp to baseline");
+  std::printf(
+      "verified writes: readback_lag_ticks = %u (1: a tick's reading reflects that tick's "
+      "write), more than %u mismatching ticks in a row -> fault; the baseline is written and "
+      "read back at arm\n",
+      ec.readback_lag_ticks, ec.readback_mismatch_limit);
   const std::uint32_t rows = std::min<std::uint32_t>(table.samples, 5);
   std::printf("first %u rows of du:\n", rows);
   for (std::uint32_t k = 0; k < rows; ++k) {
@@ -245,6 +250,7 @@ int main(int argc, char** argv) {
     std::remove(log_path.c_str());
     return fail(ExitCode::device, config_path + ": " + made.error);
   }
+  gw.set_verify_at_arm(!lockstep);  // README: verified writes, lock-step
   if (auto e = gw.arm(*made.bus, tick_clock)) {
     std::fclose(log);
     std::remove(log_path.c_str());
@@ -283,20 +289,40 @@ int main(int argc, char** argv) {
                excite::app::memory_status().c_str());
 
   const engine::Engine& eng = gw.engine();
+  const bool cut_short = !engine::finished(stats.final_state);
   std::fprintf(
       stderr,
       "excite-gateway: %s after %llu ticks (%s); rows logged %llu, ring overruns %llu, "
-      "failed exchanges %llu, comm losses %llu, suspensions %llu, schedule overruns %llu\n",
-      engine::to_string(stats.final_state), static_cast<unsigned long long>(stats.ticks),
-      engine::to_string(stats.outcome), static_cast<unsigned long long>(gw.rows_logged()),
+      "failed exchanges %llu, comm losses %llu, suspensions %llu, readback mismatches %llu, "
+      "schedule overruns %llu\n",
+      cut_short ? "stopped before the baseline was reached (ramp-out cut short)"
+                : engine::to_string(stats.final_state),
+      static_cast<unsigned long long>(stats.ticks), engine::to_string(stats.outcome),
+      static_cast<unsigned long long>(gw.rows_logged()),
       static_cast<unsigned long long>(stats.ring_overruns),
       static_cast<unsigned long long>(stats.failed_exchanges),
       static_cast<unsigned long long>(eng.comm_losses()),
       static_cast<unsigned long long>(eng.suspensions()),
+      static_cast<unsigned long long>(eng.readback_mismatches()),
       static_cast<unsigned long long>(stats.schedule_overruns));
+  if (eng.readback_fault().valid) {
+    std::fprintf(stderr, "excite-gateway: fault: verified write failed: %s\n",
+                 gw.readback_fault_report().c_str());
+  }
+  if (stats.final_state == engine::State::safe_unconfirmed) {
+    std::fprintf(stderr,
+                 "excite-gateway: safe, unconfirmed: the baseline was written but not read back "
+                 "(check the field)\n");
+  }
   const std::string at_end = gw.range_end_report();
   std::fprintf(stderr, "excite-gateway: values at the end of their register's range: %s\n",
                at_end.empty() ? "none" : at_end.c_str());
+  // The field's state first (exit_codes.hpp), then the log's, then how the run ended.
+  if (cut_short) return static_cast<int>(ExitCode::hard_stop);
+  if (stats.final_state == engine::State::safe_unconfirmed) {
+    return static_cast<int>(ExitCode::unconfirmed);
+  }
+  if (stats.outcome == engine::Outcome::readback_fault) return static_cast<int>(ExitCode::fault);
   if (!closed || log_status != excite::runlog::WriteStatus::ok) {
     return fail(ExitCode::log_error, log_path + ": writing the run log failed: " +
                                          std::string(excite::runlog::describe(log_status)));
@@ -306,8 +332,6 @@ int main(int argc, char** argv) {
                 "the log ring overran: " + std::to_string(stats.ring_overruns) +
                     " ticks are missing from " + log_path);
   }
-  if (stats.outcome == engine::Outcome::completed && stats.final_state == engine::State::safe) {
-    return static_cast<int>(ExitCode::ok);
-  }
+  if (stats.outcome == engine::Outcome::completed) return static_cast<int>(ExitCode::ok);
   return static_cast<int>(ExitCode::aborted);
 }

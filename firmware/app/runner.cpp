@@ -18,7 +18,19 @@ engine::Status Runner::arm() noexcept {
                                  "first read of the live values = %s (%s), expected ok",
                                  hal::to_string(s), bus_.detail());
   }
-  return engine_.arm(std::span<const double>(values_.data(), n));
+  if (auto a = engine_.arm(std::span<const double>(values_.data(), n)); !a) return a;
+  if (!engine_.config().verify_readbacks || !verify_at_arm_) return {};
+  // Verified writes at arm: write the baseline once (heartbeat 0; the first tick writes 1),
+  // read it back, and refuse before any excitation when a readback disagrees.
+  const engine::TickOutput& out = engine_.output();
+  hal::Status w = bus_.write(out.setpoints(), 0);
+  if (w == hal::Status::ok) w = bus_.read(std::span<double>(values_.data(), n));
+  if (w != hal::Status::ok) {
+    return engine::Status::error(engine::StatusCode::invalid_field,
+                                 "writing the baseline and reading it back = %s (%s), expected ok",
+                                 hal::to_string(w), bus_.detail());
+  }
+  return engine_.verify_arm(std::span<const double>(values_.data(), n));
 }
 
 void Runner::tick(std::int64_t time_ns, engine::Command command) noexcept {
@@ -60,7 +72,7 @@ RunStats Runner::run(CommandMailbox& commands, const std::atomic<bool>* stop,
     }
     tick(nominal.count(), commands.take());
     if (observer_ != nullptr) observer_->after_tick(engine_, ticks_ - 1);
-    if (engine_.state() == engine::State::safe) break;
+    if (engine::finished(engine_.state())) break;
   }
   stats.ticks = ticks_ - first;
   stats.schedule_overruns = schedule.overruns();

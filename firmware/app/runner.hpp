@@ -6,7 +6,7 @@
 //                  take an operator command; compute; write + read on the bus;
 //                  observe; push the tick's record into the log ring
 //
-// until the engine is safe (the tick that confirmed the baseline is logged), max_ticks
+// until the engine is finished (safe or safe_unconfirmed; that tick is logged), max_ticks
 // have run, or `stop` is raised (hard stop: no ramp-out; SIGTERM posts abort instead).
 // run() allocates nothing, throws nothing and blocks on nothing but the bus and the
 // clock (proved by tests/integration/engine/no_alloc_test).
@@ -68,7 +68,13 @@ class Runner {
     range_counts_ = counts;
   }
 
-  /// Reads the live values once (nothing is written) and arms the engine with them.
+  /// Whether arm() writes the baseline once and reads it back (default true). Off only for
+  /// a lock-step simulated peer, where that write would be a plant sample of its own.
+  void set_verify_at_arm(bool on) noexcept { verify_at_arm_ = on; }
+
+  /// Reads the live values once and arms the engine with them; then (verified writes)
+  /// writes the baseline once, reads it back and refuses when a readback disagrees
+  /// (Engine::verify_arm; the engine is left configured and names the setpoint).
   engine::Status arm() noexcept;
 
   RunStats run(CommandMailbox& commands, const std::atomic<bool>* stop = nullptr,
@@ -92,6 +98,7 @@ class Runner {
   std::array<double, engine::kMaxValues> values_{};
   hal::Status last_status_ = hal::Status::ok;
   std::uint64_t ticks_ = 0;
+  bool verify_at_arm_ = true;
 };
 
 }  // namespace excite::app

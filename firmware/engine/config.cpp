@@ -38,6 +38,15 @@ Status validate(const EngineConfig& config) {
                            "input[%u].readback = %d, expected a value index 0…%u", c, in.readback,
                            config.values - 1);
     }
+    if (!(in.readback_abs_tol >= 0.0) || !(in.readback_rel_tol >= 0.0)) {
+      return Status::error(StatusCode::invalid_field,
+                           "input[%u].readback_abs_tol, readback_rel_tol = %g, %g, expected >= 0",
+                           c, in.readback_abs_tol, in.readback_rel_tol);
+    }
+  }
+  if (config.readback_lag_ticks < 1 || config.readback_lag_ticks > kMaxReadbackLag) {
+    return Status::error(StatusCode::invalid_field, "readback_lag_ticks = %u, expected 1…%u",
+                         config.readback_lag_ticks, kMaxReadbackLag);
   }
   for (std::uint32_t j = 0; j < config.values; ++j) {
     const TestLimit& t = config.test[j];

@@ -19,6 +19,7 @@ using signal::StatusCode;
 inline constexpr std::uint32_t kMaxInputs = signal::kMaxChannels;  // setpoints = plan channels
 inline constexpr std::uint32_t kMaxValues = 32;                    // values read per tick
 inline constexpr std::int32_t kNone = -1;                          // "no value index"
+inline constexpr std::uint32_t kMaxReadbackLag = 16;               // readback_lag_ticks ≤ this
 
 /// One setpoint (a plan channel), absolute engineering units.
 struct InputLimits {
@@ -26,6 +27,11 @@ struct InputLimits {
   double max = 0.0;               // highest setpoint ever written; min ≤ max
   double max_move = 0.0;          // largest |Δsetpoint| per tick, > 0
   std::int32_t readback = kNone;  // value index whose reading at arm is the baseline
+  // Verified writes: a readback agrees with the setpoint written when
+  //   |read − written| ≤ readback_abs_tol + readback_rel_tol · |written|
+  // (the register types' resolution: float32 2^-23 relative, a scaled integer one raw step).
+  double readback_abs_tol = 0.0;  // engineering units, ≥ 0
+  double readback_rel_tol = 0.0;  // ≥ 0
 };
 
 /// Test limits of one value (a controlled variable), absolute engineering units.
@@ -54,6 +60,13 @@ struct EngineConfig {
   std::uint32_t heartbeat_max_lag = 0;      // echo older than this many ticks → stale (comm loss)
   std::int32_t command_value = kNone;       // value index of the operator command register
   CommLossAction comm_loss = CommLossAction::hold;
+  // Verified writes (off by default in the engine; excite-gateway always turns them on).
+  bool verify_readbacks = false;
+  // The reading of tick k reflects the write of tick k − (lag − 1): 1 = the same exchange
+  // (the Runner writes, then reads). 1 … kMaxReadbackLag.
+  std::uint32_t readback_lag_ticks = 1;
+  // More than this many consecutive mismatching ticks on one setpoint → readback fault.
+  std::uint32_t readback_mismatch_limit = 3;
 };
 
 /// Ok, or the first broken rule naming the field ("input[1].max_move = 0, expected > 0").

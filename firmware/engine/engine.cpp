@@ -74,9 +74,41 @@ Status Engine::arm(std::span<const double> live_values) {
   out_.setpoint = base_u_;
   out_.heartbeat = 0;
   excitation_.fill(0.0);
+  written_.fill(base_u_);
   ramp_ = 0.0;
   armed_ = true;
   state_ = State::armed;
+  return {};
+}
+
+bool Engine::readback_agrees(std::uint32_t c, double written, double read) const noexcept {
+  const InputLimits& in = config_.input[c];
+  return std::abs(read - written) <= in.readback_abs_tol + in.readback_rel_tol * std::abs(written);
+}
+
+Status Engine::verify_arm(std::span<const double> values) {
+  if (!armed_ || state_ != State::armed) {
+    return Status::error(StatusCode::invalid_field, "engine state = %s, expected armed",
+                         to_string(state_));
+  }
+  if (!config_.verify_readbacks) return {};
+  if (values.size() != config_.values) {
+    return Status::error(StatusCode::invalid_field, "values after the baseline = %zu, expected %u",
+                         values.size(), config_.values);
+  }
+  for (std::uint32_t c = 0; c < config_.inputs; ++c) {
+    const auto j = static_cast<std::uint32_t>(config_.input[c].readback);
+    if (readback_agrees(c, base_u_[c], values[j])) continue;
+    fault_ = {true, true, c, config_.input[c].readback, base_u_[c], values[j], 0};
+    armed_ = false;
+    state_ = State::configured;
+    return Status::error(StatusCode::limit_violated,
+                         "input[%u]: wrote the baseline %.9g, read back %.9g from value[%d], "
+                         "expected within %g",
+                         c, base_u_[c], values[j], config_.input[c].readback,
+                         config_.input[c].readback_abs_tol +
+                             config_.input[c].readback_rel_tol * std::abs(base_u_[c]));
+  }
   return {};
 }
 
@@ -116,6 +148,7 @@ void Engine::enter_suspended() noexcept {
 void Engine::enter_returning() noexcept {
   state_ = State::returning;
   returning_ticks_ = 0;
+  confirm_ticks_ = 0;
 }
 
 const TickOutput& Engine::compute() noexcept {
@@ -173,6 +206,7 @@ const TickOutput& Engine::compute() noexcept {
     }
     out_.setpoint[c] = target;
   }
+  written_[ticks_ % kMaxReadbackLag] = out_.setpoint;
   return out_;
 }
 
@@ -242,6 +276,42 @@ void Engine::read_command_register(bool exchange_ok, std::span<const double> val
   }
 }
 
+// Verified writes: the reading of tick t reflects the write of tick t − (lag − 1); before
+// tick 1 the baseline was written (arm). More than readback_mismatch_limit consecutive
+// mismatches on one setpoint is a fault: excitation stops (aborted → returning).
+void Engine::check_readbacks(std::span<const double> values) noexcept {
+  baseline_read_back_ = false;
+  if (!exchange_ok_) return;
+  if (!config_.verify_readbacks) {
+    baseline_read_back_ = true;
+    return;
+  }
+  const std::uint64_t lag = config_.readback_lag_ticks;
+  const bool after_arm = ticks_ + 1 > lag;
+  const std::uint64_t slot = after_arm ? (ticks_ + 1 - lag) % kMaxReadbackLag : 0;
+  bool all_at_baseline = true;
+  for (std::uint32_t c = 0; c < config_.inputs; ++c) {
+    const double written = after_arm ? written_[slot][c] : base_u_[c];
+    const auto j = static_cast<std::uint32_t>(config_.input[c].readback);
+    const double read = values[j];
+    if (readback_agrees(c, written, read)) {
+      mismatch_streak_[c] = 0;
+      if (written != base_u_[c]) all_at_baseline = false;
+      continue;
+    }
+    all_at_baseline = false;
+    ++mismatches_total_;
+    if (++mismatch_streak_[c] > config_.readback_mismatch_limit && !fault_.valid) {
+      fault_ = {true, false, c, config_.input[c].readback, written, read, ticks_};
+      outcome_ = Outcome::readback_fault;
+      if (state_ == State::armed || state_ == State::running || state_ == State::suspended) {
+        state_ = State::aborted;
+      }
+    }
+  }
+  baseline_read_back_ = all_at_baseline;
+}
+
 bool Engine::at_baseline() const noexcept {
   for (std::uint32_t c = 0; c < config_.inputs; ++c) {
     if (out_.setpoint[c] != base_u_[c]) return false;
@@ -258,6 +328,7 @@ void Engine::observe(bool exchange_ok, std::span<const double> values) noexcept 
   }
   check_limits(exchange_ok_, values);
   read_command_register(exchange_ok_, values);
+  check_readbacks(values);
   if (!exchange_ok_ || (reasons_ & kReasonComm) != 0) flags_ |= runlog::kCommLost;
   if (stale_) flags_ |= runlog::kStale;
 
@@ -275,16 +346,27 @@ void Engine::observe(bool exchange_ok, std::span<const double> values) noexcept 
         }
       }
       break;
-    case State::returning:
+    case State::returning: {
       ++returning_ticks_;
-      if (ramp_ == 0.0 && at_baseline() && exchange_ok_ && !stale_) {
+      const bool out_at_baseline = ramp_ == 0.0 && at_baseline();
+      if (out_at_baseline) ++confirm_ticks_;
+      // Safe = the baseline was written and read back; otherwise, after the confirmation
+      // window, safe_unconfirmed (the link stays down, or the readbacks disagree).
+      const std::uint64_t window = std::max<std::uint64_t>(
+          config_.suspend_timeout_ticks,
+          std::uint64_t{config_.readback_lag_ticks} + config_.readback_mismatch_limit + 1);
+      if (out_at_baseline && exchange_ok_ && !stale_ && baseline_read_back_) {
         state_ = State::safe;
-      } else if ((reasons_ & kReasonComm) != 0 && config_.suspend_timeout_ticks != 0 &&
-                 returning_ticks_ >=
-                     std::uint64_t{config_.ramp_ticks} + config_.suspend_timeout_ticks) {
-        state_ = State::safe;  // the link stays down: give up confirming the baseline
+      } else if ((reasons_ & kReasonComm) != 0) {
+        if (config_.suspend_timeout_ticks != 0 &&
+            returning_ticks_ >= std::uint64_t{config_.ramp_ticks} + config_.suspend_timeout_ticks) {
+          state_ = State::safe_unconfirmed;
+        }
+      } else if (confirm_ticks_ > window) {
+        state_ = State::safe_unconfirmed;
       }
       break;
+    }
     default:
       break;
   }

@@ -33,6 +33,17 @@ struct TickOutput {
   [[nodiscard]] std::span<const double> setpoints() const { return {setpoint.data(), inputs}; }
 };
 
+/// The first readback that disagreed with the setpoint written (verified writes).
+struct ReadbackFault {
+  bool valid = false;
+  bool at_arm = false;         // found by verify_arm(): nothing was excited
+  std::uint32_t input = 0;     // setpoint (plan channel) index
+  std::int32_t value = kNone;  // value index of its readback
+  double written = 0.0;        // the setpoint written, engineering units
+  double read = 0.0;           // what came back
+  std::uint64_t tick = 0;      // engine tick of the reading (0 at arm)
+};
+
 class Engine {
  public:
   /// Takes the configuration (validate(config) must pass) and the table (not owned; kept
@@ -46,6 +57,13 @@ class Engine {
   /// a value is not finite, a baseline lies outside [min, max], or baseline + the table's
   /// extremes would leave [min, max] of a channel. → armed.
   Status arm(std::span<const double> live_values);
+
+  /// Verified writes at arm: `values` were read after the baseline (output()) was written
+  /// once. Every readback must agree with its baseline within the resolution
+  /// (InputLimits::readback_abs_tol/rel_tol), else the engine goes back to configured,
+  /// readback_fault() names the setpoint, and an error is returned. Ok when
+  /// config.verify_readbacks is off.
+  Status verify_arm(std::span<const double> values);
 
   /// Queues an operator command, applied at the next compute() (the last one wins).
   /// Safe to call from the tick's thread only; the app funnels signals through an atomic.
@@ -79,6 +97,10 @@ class Engine {
   [[nodiscard]] std::uint64_t failed_exchanges() const noexcept { return failed_total_; }
   [[nodiscard]] std::uint64_t comm_losses() const noexcept { return comm_losses_; }
   [[nodiscard]] std::uint64_t suspensions() const noexcept { return suspensions_; }
+  [[nodiscard]] std::uint64_t readback_mismatches() const noexcept { return mismatches_total_; }
+  [[nodiscard]] const ReadbackFault& readback_fault() const noexcept { return fault_; }
+  /// Whether `read` agrees with `written` for input c (the tolerance of InputLimits).
+  [[nodiscard]] bool readback_agrees(std::uint32_t c, double written, double read) const noexcept;
 
  private:
   void apply_command() noexcept;
@@ -87,6 +109,7 @@ class Engine {
   void check_comm(bool exchange_ok, std::span<const double> values) noexcept;
   void check_limits(bool exchange_ok, std::span<const double> values) noexcept;
   void read_command_register(bool exchange_ok, std::span<const double> values) noexcept;
+  void check_readbacks(std::span<const double> values) noexcept;
   [[nodiscard]] bool at_baseline() const noexcept;
 
   EngineConfig config_{};
@@ -118,6 +141,16 @@ class Engine {
   bool stale_ = false;
   double last_command_code_ = 0.0;
   bool have_command_code_ = false;
+
+  // Verified writes: the setpoints written in the last kMaxReadbackLag ticks (slot
+  // tick % kMaxReadbackLag), mismatch streaks, and whether this tick's readings confirmed
+  // the baseline (every readback agrees with a written baseline).
+  std::array<std::array<double, kMaxInputs>, kMaxReadbackLag> written_{};
+  std::array<std::uint32_t, kMaxInputs> mismatch_streak_{};
+  bool baseline_read_back_ = false;
+  std::uint64_t confirm_ticks_ = 0;  // returning ticks with the output at baseline
+  ReadbackFault fault_{};
+  std::uint64_t mismatches_total_ = 0;
 
   std::uint64_t failed_total_ = 0;
   std::uint64_t comm_losses_ = 0;

@@ -21,6 +21,8 @@ const char* to_string(State state) noexcept {
       return "returning";
     case State::safe:
       return "safe";
+    case State::safe_unconfirmed:
+      return "safe, unconfirmed";
   }
   return "unknown";
 }
@@ -51,6 +53,8 @@ const char* to_string(Outcome outcome) noexcept {
       return "aborted by operator";
     case Outcome::aborted_on_timeout:
       return "aborted on suspension timeout";
+    case Outcome::readback_fault:
+      return "fault: readback mismatch";
   }
   return "unknown";
 }

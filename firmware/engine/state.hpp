@@ -3,8 +3,9 @@
 // The engine's lifecycle (README.md has the table: what holds in each state, what moves it).
 //
 //   configured ─arm→ armed ─start→ running ⇄ suspended
-//   running ─table done→ completed ─→ returning ─baseline reached→ safe
-//   armed | running | suspended ─abort / suspend timeout→ aborted ─→ returning
+//   running ─table done→ completed ─→ returning ─baseline written and read back→ safe
+//   returning ─baseline not confirmed in time→ safe_unconfirmed
+//   armed | running | suspended ─abort / suspend timeout / readback fault→ aborted ─→ returning
 //   configured ─abort→ safe (nothing was ever written)
 
 #include <cstdint>
@@ -19,8 +20,15 @@ enum class State : std::uint8_t {
   completed,   // the last table row was written (one tick), then returning
   aborted,     // operator abort or suspension timeout (one tick), then returning
   returning,   // excitation ramps out to the baseline
-  safe,        // the baseline is written and confirmed; the run is over
+  safe,        // the baseline was written and read back (confirmed); the run is over
+  safe_unconfirmed,  // the baseline was written but never read back within the confirmation
+                     // window (link down, readback mismatch): the field's state is unknown
 };
+
+/// The run is over (safe or safe_unconfirmed): nothing more will be written.
+constexpr bool finished(State s) noexcept {
+  return s == State::safe || s == State::safe_unconfirmed;
+}
 
 /// Operator commands (signals, command register, command line), applied at the next tick.
 enum class Command : std::uint8_t { none = 0, start = 1, suspend = 2, resume = 3, abort = 4 };
@@ -33,7 +41,13 @@ enum SuspendReason : std::uint8_t {
 };
 
 /// How a run ended (meaningful in returning and safe).
-enum class Outcome : std::uint8_t { none, completed, aborted_by_operator, aborted_on_timeout };
+enum class Outcome : std::uint8_t {
+  none,
+  completed,
+  aborted_by_operator,
+  aborted_on_timeout,
+  readback_fault,  // a readback disagreed with the setpoint written (Engine::readback_fault())
+};
 
 const char* to_string(State state) noexcept;
 const char* to_string(Command command) noexcept;

@@ -238,6 +238,9 @@ TEST_F(GatewayHil, StreamsTheCaseStudyPlanToCompletionAndExitsZero) {
   expect_baseline_held();
   EXPECT_GE(server_->count(16), 4080);
   EXPECT_NE(gw->err().find("ring overruns 0"), std::string::npos) << gw->err();
+  // Verified writes: every readback agreed; the baseline was confirmed.
+  EXPECT_NE(gw->err().find("readback mismatches 0"), std::string::npos) << gw->err();
+  EXPECT_NE(gw->err().find(": safe after"), std::string::npos) << gw->err();
   const std::string err = gw->err();
   const auto at = err.find("rows logged ");
   ASSERT_NE(at, std::string::npos) << err;
@@ -264,6 +267,85 @@ TEST_F(GatewayHil, SigtermRampsOutFlushesAValidLogAndExitsSix) {
   for (const auto& du : log.du) EXPECT_EQ(du.back(), 0.0);
   expect_baseline_held();
   EXPECT_NE(gw->err().find("aborted by operator"), std::string::npos) << gw->err();
+}
+
+TEST_F(GatewayHil, ASecondSigtermCutsTheRampOutShortAndExitsNine) {
+  std::string text = config_text(server_->port());
+  text.replace(text.find("ramp_s = 0.01"), 13, "ramp_s = 4.0");  // 2000 ticks of ramp-out
+  write_config(text);
+  auto gw = start({"--start"});
+  ASSERT_TRUE(wait_for_writes(50));
+  std::this_thread::sleep_for(200ms);
+  gw->signal(SIGTERM);
+  std::this_thread::sleep_for(100ms);
+  gw->signal(SIGTERM);
+  const auto rc = gw->wait(20s);
+  ASSERT_TRUE(rc.has_value());
+  EXPECT_EQ(*rc, 9) << gw->err();
+  EXPECT_NE(gw->err().find("stopped before the baseline was reached (ramp-out cut short)"),
+            std::string::npos)
+      << gw->err();
+  const runlog::RunLog log = read_log();  // still valid, and shows where the field was left
+  double last = 0.0;
+  for (const auto& du : log.du) last = std::max(last, std::abs(du.back()));
+  EXPECT_GT(last, 0.0) << "the ramp-out was not cut short";
+}
+
+TEST_F(GatewayHil, AReadbackDecodingItsSetpointRegisterDifferentlyIsRefusedAtConfiguration) {
+  std::string text = config_text(server_->port());
+  // V_sp reads register 102 (V's own) as ABCD while V is written CDAB.
+  const std::string was =
+      "name = \"V_sp\"\nrole = \"readback\"\naddress = 102\nfunction_code = "
+      "3\ntype = \"float32\"\nword_order = \"CDAB\"";
+  const auto at = text.find(was);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at + was.size() - 5, 4, "ABCD");
+  write_config(text);
+  auto gw = start({"--start"});
+  ASSERT_EQ(gw->wait(20s).value_or(-1), 2) << gw->err();
+  EXPECT_NE(gw->err().find("setpoints[1] (V) register 102 = float32 CDAB: expected the encoding "
+                           "its readback V_sp reads the same register with (float32 ABCD)"),
+            std::string::npos)
+      << gw->err();
+  EXPECT_TRUE(server_->seen().empty());
+}
+
+// A PLC that clamps V to 60.5 on its own (its setpoint register is rewritten between the
+// gateway's write and read of some tick): with readback_mismatch_limit = 0 the first
+// mismatch is a fault; the run stops, V returns to its baseline 60 (which the PLC leaves
+// alone), the baseline reads back → confirmed → exit 11, naming V, written and read.
+TEST_F(GatewayHil, APlcThatClampsASetpointIsAFaultAndTheBaselineIsConfirmed) {
+  std::string text = config_text(server_->port());
+  text.replace(text.find("realtime_priority = 0"), 21,
+               "realtime_priority = 0\nreadback_mismatch_limit = 0");
+  write_config(text);
+  std::atomic<bool> stop{false};
+  std::thread plc([&] {
+    while (!stop) {
+      if (holding_float(*server_, 102) > 60.5F) put_float(*server_, true, 102, 60.5F);
+      std::this_thread::sleep_for(30us);
+    }
+  });
+  auto gw = start({"--start"});
+  const auto rc = gw->wait(120s);
+  stop = true;
+  plc.join();
+  ASSERT_TRUE(rc.has_value());
+  EXPECT_EQ(*rc, 11) << gw->err();
+  const std::string err = gw->err();
+  EXPECT_NE(err.find("fault: verified write failed: setpoint V (register 102 float32 CDAB): "
+                     "wrote "),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("read back 60.5 from V_sp at tick "), std::string::npos) << err;
+  EXPECT_NE(err.find(": safe after"), std::string::npos) << err;
+  EXPECT_NE(err.find("(fault: readback mismatch)"), std::string::npos) << err;
+  EXPECT_LT(read_log().rows(), 4000U) << "the run was not stopped";
+  expect_baseline_held();
+  std::istringstream lines(err);  // for the README
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find("fault") != std::string::npos) std::printf("%s\n", line.c_str());
+  }
 }
 
 TEST_F(GatewayHil, KilledRunLeavesAValidLogUpToItsLastTick) {

@@ -11,7 +11,8 @@ TEST_F(GatewayLoop, StreamsTheWholePlanAndEndsSafeAtBaseline) {
   EXPECT_EQ(stats.outcome, engine::Outcome::completed);
   EXPECT_EQ(engine().row(), table_.samples - 1);
   for (std::uint32_t i = 0; i < kInputs; ++i) EXPECT_EQ(bus_->held_setpoint(i), kU0[i]);
-  EXPECT_EQ(bus_->writes(), stats.ticks);  // one exchange per tick, none lost
+  // one exchange per tick, none lost, plus the baseline written and read back at arm
+  EXPECT_EQ(bus_->writes(), stats.ticks + 1);
 }
 
 TEST_F(GatewayLoop, TicksLoggedEqualTicksExecutedAndTheLogReadsBack) {

@@ -184,6 +184,33 @@ TEST(GatewayConfigTest, SecondsBecomeTicksOfThePeriod) {
   EXPECT_TRUE(engine::validate(e));
 }
 
+TEST(GatewayConfigTest, VerifiedWritesTakeTheResolutionOfBothEncodings) {
+  std::string text = example_text();
+  text.replace(text.find("readback_lag_ticks = 1"), 22, "readback_lag_ticks = 2");
+  const ConfigResult r = parse_gateway_config(text, "gw.toml");
+  ASSERT_TRUE(r.config) << r.error;
+  const engine::EngineConfig e = to_engine_config(*r.config, std::chrono::seconds(60));
+  EXPECT_TRUE(e.verify_readbacks);
+  EXPECT_EQ(e.readback_lag_ticks, 2U);
+  EXPECT_EQ(e.readback_mismatch_limit, 3U);
+  EXPECT_EQ(e.input[0].readback_rel_tol, 0x1p-23);  // L: float32 written and read
+  EXPECT_EQ(e.input[0].readback_abs_tol, 0.0);
+  EXPECT_EQ(e.input[2].readback_abs_tol, 2.0 / 27648);  // S: int16 raw 0..27648 = 0..2
+  EXPECT_EQ(e.input[2].readback_rel_tol, 0.0);
+  text.replace(text.find("readback_lag_ticks = 2"), 22, "readback_lag_ticks = 17");
+  EXPECT_NE(error_of(text).find("gateway.readback_lag_ticks = 17"), std::string::npos)
+      << error_of(text);
+}
+
+TEST(GatewayConfigTest, AReadbackOfTheSetpointRegisterMustUseItsEncoding) {
+  std::string text = example_text();
+  const auto at = text.find("name = \"V_sp\"");
+  text.replace(text.find("word_order = \"CDAB\"", at), 19, "word_order = \"ABCD\"");
+  EXPECT_EQ(error_of(text),
+            "gw.toml: setpoints[1] (V) register 102 = float32 CDAB: expected the encoding its "
+            "readback V_sp reads the same register with (float32 ABCD)");
+}
+
 TEST(GatewayConfigTest, UnknownKeyIsRefusedWithTheKnownOnes) {
   std::string text = example_text();
   text.replace(text.find("ramp_s"), 6, "ramp_x");
