@@ -88,7 +88,7 @@ TEST(ServerConfig, TheDocumentedExampleParsesAndFitsItsPlant) {
   const auto plant = load_plant(config.plant, config.base_directory);
   const ServerLayout layout = compile_layout(config, plant->inputs(), plant->outputs(), true);
   EXPECT_EQ(layout.holding.start, 100U);
-  EXPECT_EQ(layout.holding.count, 306U);  // 100..405: setpoints, heartbeat, y3, control
+  EXPECT_EQ(layout.holding.count, 308U);  // 100..407: setpoints, heartbeat, y3, control
   EXPECT_EQ(layout.input.start, 200U);
   EXPECT_EQ(layout.input.count, 101U);  // 200..300: values and echo
   EXPECT_TRUE(layout.values[2].input_table == false);
