@@ -162,6 +162,46 @@ TEST_F(Watchdog, RealtimePlantLogsItsInputsBackAtBaseline) {
   }
 }
 
+// The PLC's rule with a bare Modbus master (libmodbus): the watchdog arms on the first
+// heartbeat, a setpoint written while tripped is held back (the registers read the
+// baseline), and applies when the heartbeat moves again; the plant then samples it.
+TEST_F(Watchdog, SetpointsWrittenWhileTrippedApplyOnlyWhenTheHeartbeatMoves) {
+  start({"--clock", "lockstep", "--watchdog-s", "0.3"});
+  Observer master(port_);
+  ASSERT_TRUE(master.ok()) << modbus_strerror(errno);
+  const int heartbeat = kSetpoints + kSetpointRegisters;  // default map: after the setpoints
+  const std::vector<std::uint16_t> baseline = master.read(kSetpoints, kSetpointRegisters);
+  const float u0 = master.read_float(kSetpoints);
+  std::this_thread::sleep_for(500ms);
+  EXPECT_EQ(master.read_one(kWatchdogTrips), 0) << "not armed before the first heartbeat";
+
+  ASSERT_EQ(master.write_float(kSetpoints, u0 + 1.0F), 2);
+  ASSERT_EQ(modbus_write_register(master.ctx(), heartbeat, 1), 1);
+  EXPECT_EQ(master.read_float(kSetpoints), u0 + 1.0F);
+  std::this_thread::sleep_for(600ms);
+  EXPECT_EQ(master.read_one(kWatchdogTrips), 1);
+  EXPECT_EQ(master.read(kSetpoints, kSetpointRegisters), baseline) << "tripped: baseline";
+
+  ASSERT_EQ(master.write_float(kSetpoints, u0 + 0.5F), 2);
+  EXPECT_EQ(master.read(kSetpoints, kSetpointRegisters), baseline)
+      << "a setpoint written while tripped does not apply before the heartbeat moves";
+  ASSERT_EQ(modbus_write_register(master.ctx(), heartbeat, 1), 1);
+  EXPECT_EQ(master.read(kSetpoints, kSetpointRegisters), baseline) << "rewriting the same "
+                                                                      "heartbeat moves nothing";
+  ASSERT_EQ(modbus_write_register(master.ctx(), heartbeat, 2), 1);
+  EXPECT_EQ(master.read_float(kSetpoints), u0 + 0.5F) << "the heartbeat moved: it applies";
+  EXPECT_EQ(master.read_one(kWatchdogTrips), 1);
+
+  // The plant's log: sample 0 at u0 + 1, sample 1 (heartbeat 2) at u0 + 0.5 — the value
+  // written while tripped, sampled when the heartbeat moved.
+  const runlog::RunLog plant = stop_plant_and_read_its_log();
+  ASSERT_EQ(plant.rows(), 2U);
+  EXPECT_NEAR(plant.du[0][0], 1.0, 1e-6);
+  EXPECT_NEAR(plant.du[0][1], 0.5, 1e-6);
+  EXPECT_NE(plant_->stderr_text().find("watchdog: heartbeat moves again"), std::string::npos)
+      << plant_->stderr_text();
+}
+
 // loop-config writes the gateway's limits into plant.toml: a write beyond them (from a
 // client that is not the gateway, or a gateway misconfigured) is refused with exception 3,
 // nothing is written, and the refusal is counted. The gateway's own run stays untouched.
