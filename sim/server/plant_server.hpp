@@ -10,6 +10,9 @@
 // bounded in time. Function codes 3, 4, 6 and 16 are served; any other is answered with
 // exception 1 (illegal function), so no request bypasses the heartbeat bookkeeping. RTU: one
 // master on the line, the same request handling, libmodbus framing and CRC.
+// As a PLC would, it also guards itself (README, "Watchdog and input limits"): a heartbeat
+// watchdog returns the setpoints to the baseline when the heartbeat stands still, and a
+// setpoint write outside the input limits is refused with exception 3.
 
 #include <array>
 #include <chrono>
