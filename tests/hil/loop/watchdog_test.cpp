@@ -9,6 +9,8 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 #include <thread>
 
 #include "tests/hil/loop/loop_fixture.hpp"
@@ -243,6 +245,32 @@ TEST_F(Watchdog, InputRangeOnTheCommandLineOverridesTheConfiguredLimits) {
   EXPECT_EQ(errno, EMBXILVAL);
   EXPECT_EQ(client.write_float(kSetpoints, u0 + 0.5F), 2) << modbus_strerror(errno);
   EXPECT_EQ(client.read_one(kRefusedWrites), 1);
+}
+
+// Configured limits that do not fit the plant are refused by name before anything is served.
+TEST_F(Watchdog, LimitsThatMissTheBaselineOrThePlantAreRefusedByName) {
+  loop_config(kPlant, 1502, "--input-range 2");
+  std::ifstream in(path("plant.toml"));
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string good = text.str();
+  const auto at = good.find("input_min = [");
+  ASSERT_NE(at, std::string::npos) << good;
+  const auto end = good.find('\n', at);
+  const struct {
+    std::string line, message;
+  } cases[] = {
+      {"input_min = [1.0, -2.0]", "plant.input_min/input_max[0] = [1, "},
+      {"input_min = [-2.0, -2.0, -2.0]", "plant.input_max = (2 values): expected as many"},
+  };
+  for (const auto& c : cases) {
+    std::ofstream(path("bad.toml")) << good.substr(0, at) + c.line + good.substr(end);
+    PlantRunner plant({"--config", path("bad.toml").string(), "--modbus-tcp", "127.0.0.1:0"},
+                      path("bad.err"));
+    EXPECT_EQ(plant.wait_exit().value_or(-1), 2) << c.line;
+    EXPECT_NE(plant.stderr_text().find(c.message), std::string::npos)
+        << c.line << ": " << plant.stderr_text();
+  }
 }
 
 TEST_F(Watchdog, NegativeOrNanWatchdogIsRefusedByName) {
