@@ -74,6 +74,9 @@ void add_loop_config_command(CLI::App& app) {
   cmd->add_option("--period-s", opt->config.period_s,
                   "gateway tick period, seconds (default: the plan's sample time; shorter "
                   "compresses time in tests)");
+  cmd->add_option("--watchdog-s", opt->config.watchdog_s,
+                  "the plant's heartbeat watchdog, wall-clock seconds (0: off)")
+      ->capture_default_str();
   cmd->add_option("-o,--output", opt->output_dir, "directory for plant.toml and gateway.toml")
       ->required();
   cmd->callback([opt] { run(*opt); });

@@ -100,6 +100,7 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
   check("--output-range", opt.output_range, true);
   check("--sample-time-min", opt.sample_time_min, true);
   check("--period-s", opt.period_s, true);
+  check("--watchdog-s", opt.watchdog_s, true);
   if (opt.noise_var != -1.0) check("--noise-var", opt.noise_var, true);
   if (opt.port > 65535) bad("--port", opt.port, "a TCP port 0..65535");
   const auto plant = sim::make_plant(opt.plant);
@@ -141,6 +142,14 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
   server.plant.output_baseline = y0v;
   if (noise > 0.0) server.plant.noise_variance = {noise};
   server.plant.noise_seed = opt.seed;
+  // The plant's own controller: a heartbeat watchdog and the gateway's input limits (the
+  // same numbers as gateway.toml's min/max, float32 slack included).
+  server.plant.watchdog_s = opt.watchdog_s;
+  for (std::size_t i = 0; i < u0v.size(); ++i) {
+    const double slack = std::abs(u0v[i]) * 0x1p-23;
+    server.plant.input_min.push_back(u0v[i] - range - slack);
+    server.plant.input_max.push_back(u0v[i] + range + slack);
+  }
   server.registers = sim::server::default_registers(plant->inputs(), plant->outputs(),
                                                     plant->input_names(), plant->output_names());
 

@@ -20,7 +20,8 @@ struct LoopConfigOptions {
   double sample_time_min = 0.0;    // 0: the case study's (1 without one)
   double noise_var = -1.0;         // < 0: the case study's (0 without one)
   std::uint64_t seed = 1;
-  double period_s = 0.0;  // gateway tick period; 0: the plan's sample time
+  double period_s = 0.0;    // gateway tick period; 0: the plan's sample time
+  double watchdog_s = 3.0;  // the plant's heartbeat watchdog, wall-clock seconds; 0: off
 };
 
 struct LoopConfigPair {

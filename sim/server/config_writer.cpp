@@ -67,6 +67,11 @@ std::string format_server_config(const ServerConfig& config, const std::string& 
   }
   if (!p.noise_variance.empty()) os << "noise_variance = " << numbers(p.noise_variance) << "\n";
   os << "noise_seed = " << p.noise_seed << "\n";
+  if (p.watchdog_s > 0.0) os << "watchdog_s = " << toml_number(p.watchdog_s) << "\n";
+  if (!p.input_min.empty()) {
+    os << "input_min = " << numbers(p.input_min) << "\ninput_max = " << numbers(p.input_max)
+       << "\n";
+  }
 
   const ServerRegisters& r = config.registers;
   os << "\n[registers]\n";

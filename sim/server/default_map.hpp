@@ -8,7 +8,7 @@
 //   holding 100 + 2i   setpoint u_i (FC16 write, FC03 read back), i = 0..inputs−1
 //   holding 100 + 2n   heartbeat (uint16, written last, n = inputs)
 //   holding 301        command register (uint16, 0 = none; an operator writes it)
-//   holding 400..405   control block (faults, misfit counter)
+//   holding 400..407   control block (faults, misfit/watchdog/refused-write counters)
 //   input   200 + 2j   output y_j (FC04), j = 0..outputs−1
 //   input   300        heartbeat echo (uint16)
 

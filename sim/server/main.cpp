@@ -101,6 +101,8 @@ int main(int argc, char** argv) {
   options.port = 1502;
   double sample_time_s = 0.0;
   std::uint64_t faults_after = 0;
+  double watchdog_s = 0.0;
+  double input_range = 0.0;
   app.add_option("--config", config_path,
                  "register map and plant settings (TOML); default: the register map derived "
                  "from --plant (README, Default register map)")
@@ -159,6 +161,12 @@ int main(int argc, char** argv) {
   app.add_option("--exception-requests", options.faults.exception_requests,
                  "answer this many requests with exception 4 (server device failure)");
   app.add_flag("--freeze-echo", options.faults.freeze_echo, "never update the heartbeat echo");
+  app.add_option("--watchdog-s", watchdog_s,
+                 "heartbeat watchdog: heartbeat unchanged this long (wall-clock seconds, >= 0; 0 "
+                 "off) returns the inputs to the baseline (overrides plant.watchdog_s)");
+  app.add_option("--input-range", input_range,
+                 "input limits: baseline ± R on every input, > 0; writes outside are refused "
+                 "with exception 3 (overrides plant.input_min/input_max)");
   app.add_option("--faults-after", faults_after,
                  "serve this many requests normally before the faults above apply");
   try {
@@ -184,6 +192,12 @@ int main(int argc, char** argv) {
       check_positive("--sample-time-s", sample_time_s, false, "seconds > 0");
     }
     check_positive("--idle-timeout-s", options.idle_timeout_s, false, "seconds > 0");
+    if (app.count("--watchdog-s") > 0) {
+      check_positive("--watchdog-s", watchdog_s, true, "wall-clock seconds >= 0 (0: off)");
+    }
+    if (app.count("--input-range") > 0) {
+      check_positive("--input-range", input_range, false, "a range > 0 around the baseline");
+    }
     if (!modbus_rtu.empty()) {
       options.rtu_device = modbus_rtu;
       if (app.count("--baud") > 0) {
@@ -240,6 +254,30 @@ int main(int argc, char** argv) {
     const ServerLayout layout =
         compile_layout(config, plant.inputs(), plant.outputs(), options.lockstep, source);
     RegisterImage image(layout, process.input_baseline(), process.output_baseline());
+    options.watchdog_s = app.count("--watchdog-s") > 0 ? watchdog_s : config.plant.watchdog_s;
+    const std::vector<double>& u0 = process.input_baseline();
+    if (app.count("--input-range") > 0) {
+      for (const double b : u0) {
+        options.input_min.push_back(b - input_range);
+        options.input_max.push_back(b + input_range);
+      }
+    } else if (!config.plant.input_min.empty()) {
+      const std::size_t n = u0.size();
+      if (config.plant.input_min.size() != n) {
+        bad(source + ": plant.input_min", std::to_string(config.plant.input_min.size()) + " values",
+            std::to_string(n) + " (one per plant input)");
+      }
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!(config.plant.input_min[i] <= u0[i] && u0[i] <= config.plant.input_max[i])) {
+          bad(source + ": plant.input_min/input_max[" + std::to_string(i) + "]",
+              "[" + text_of(config.plant.input_min[i]) + ", " + text_of(config.plant.input_max[i]) +
+                  "]",
+              "limits around the input baseline " + text_of(u0[i]));
+        }
+      }
+      options.input_min = config.plant.input_min;
+      options.input_max = config.plant.input_max;
+    }
     if (speedup > 0.0) {
       options.sample_time_s = 60.0 * process.sample_time_min() / speedup;
     } else {
@@ -271,7 +309,10 @@ int main(int argc, char** argv) {
               << " min, "
               << (options.lockstep ? std::string("lock-step")
                                    : std::to_string(options.sample_time_s) + " s per sample")
-              << (config_path.empty() ? ", default register map" : "") << "\n";
+              << (config_path.empty() ? ", default register map" : "")
+              << (options.watchdog_s > 0.0 ? ", watchdog " + text_of(options.watchdog_s) + " s"
+                                           : std::string(", no watchdog"))
+              << (options.input_min.empty() ? ", no input limits" : ", input limits") << "\n";
     int code = kExitStopped;
     try {
       server->run([] { return g_stop != 0; });
@@ -283,7 +324,9 @@ int main(int argc, char** argv) {
               << server->requests() << " requests, " << server->rejected_frames()
               << " rejected frames, " << server->illegal_functions() << " illegal functions, "
               << server->closed_connections() << " connections closed by the server, "
-              << image.clamped_values() << " values did not fit their registers\n";
+              << image.clamped_values() << " values did not fit their registers, "
+              << server->watchdog_trips() << " watchdog trips, " << server->refused_writes()
+              << " writes refused for the input limits\n";
     for (std::size_t j = 0; j < image.misfits().size(); ++j) {
       const RegisterImage::Misfit& m = image.misfits()[j];
       if (m.count == 0) continue;

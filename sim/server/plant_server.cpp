@@ -50,6 +50,7 @@ PlantServer::PlantServer(PlantProcess& process, RegisterImage& image, ServeOptio
     throw;
   }
   mirror_faults_to_control();
+  mirror_counters_to_control();
 }
 
 void PlantServer::listen() {
@@ -241,6 +242,20 @@ PlantServer::Outcome PlantServer::handle(std::uint8_t* query, int length, bool s
   }
   if (!control && !stall_done) ++ordinary_requests_;
 
+  // The input limits, checked before anything is written: a refused request writes nothing.
+  if (request.write && !options_.input_min.empty()) {
+    const bool single = request.function_code == MODBUS_FC_WRITE_SINGLE_REGISTER;
+    const std::uint32_t count =
+        single ? 1U : std::min<std::uint32_t>(request.count, query[header + 5] / 2U);
+    request.count = count;
+    if (refuse_out_of_limits(request, query + header + (single ? 3 : 6))) {
+      return replied(modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE));
+    }
+  }
+
+  // Tripped: the setpoints written since the trip are put back under this write, so that
+  // the image holds them all when the heartbeat moves (below) or they are set aside again.
+  if (request.write && watchdog_tripped_ && has_pending_) image_.set_setpoint_registers(pending_);
   // The reply writes the registers (or answers an illegal address with an exception).
   const Outcome outcome = replied(modbus_reply(ctx_, query, length, image_.mapping()));
   if (request.write) {
@@ -250,6 +265,11 @@ PlantServer::Outcome PlantServer::handle(std::uint8_t* query, int length, bool s
     if (request.address <= hb && hb < request.address + request.count) {
       heartbeat_written = true;
       on_heartbeat_written();
+    }
+    if (watchdog_tripped_) {  // still stale: what was written waits, the baseline holds
+      pending_ = image_.setpoint_registers();
+      has_pending_ = true;
+      image_.restore_setpoint_baseline();
     }
   }
   return outcome;
@@ -382,11 +402,59 @@ void PlantServer::report_misfits(std::uint64_t k) {
   }
 }
 
+bool PlantServer::refuse_out_of_limits(const Request& request, const std::uint8_t* data) {
+  const auto out = image_.check_write(request.address, request.count, data, options_.input_min,
+                                      options_.input_max);
+  if (!out) return false;
+  ++refused_writes_;
+  mirror_counters_to_control();
+  if (refused_writes_ <= 10) {  // the first ten at once; the count at stop
+    const std::size_t i = out->input;
+    std::fprintf(stderr,
+                 "excite-plant: write refused (exception 3, illegal data value): input %s = "
+                 "%.9g outside its limits [%.9g, %.9g]; refused writes: %llu\n",
+                 i < options_.input_names.size() ? options_.input_names[i].c_str() : "?",
+                 out->value, options_.input_min[i], options_.input_max[i],
+                 static_cast<unsigned long long>(refused_writes_));
+  }
+  return true;
+}
+
+void PlantServer::check_watchdog(Clock::time_point now) {
+  if (!(options_.watchdog_s > 0.0) || !heartbeat_seen_ || watchdog_tripped_) return;
+  const double stale_s = std::chrono::duration<double>(now - heartbeat_changed_at_).count();
+  if (stale_s < options_.watchdog_s) return;
+  watchdog_tripped_ = true;
+  has_pending_ = false;
+  image_.restore_setpoint_baseline();
+  ++watchdog_trips_;
+  mirror_counters_to_control();
+  std::fprintf(stderr,
+               "excite-plant: watchdog: heartbeat unchanged for %.3f s (limit %g s): inputs "
+               "returned to the baseline (trip %llu); held there until the heartbeat moves\n",
+               stale_s, options_.watchdog_s, static_cast<unsigned long long>(watchdog_trips_));
+}
+
+void PlantServer::mirror_counters_to_control() {
+  if (!image_.layout().control_address) return;
+  const auto saturated = [](std::uint64_t n) {
+    return static_cast<std::uint16_t>(std::min<std::uint64_t>(n, 65535));
+  };
+  image_.set_control(6, saturated(watchdog_trips_));
+  image_.set_control(7, saturated(refused_writes_));
+}
+
 void PlantServer::on_heartbeat_written() {
   const std::uint16_t heartbeat = image_.heartbeat();
   if (heartbeat_seen_ && heartbeat == last_heartbeat_) return;
   heartbeat_seen_ = true;
   last_heartbeat_ = heartbeat;
+  heartbeat_changed_at_ = Clock::now();
+  if (watchdog_tripped_) {      // the gateway is back: what it wrote meanwhile applies
+    watchdog_tripped_ = false;  // the image already holds what was written (handle())
+    has_pending_ = false;
+    std::fprintf(stderr, "excite-plant: watchdog: heartbeat moves again: setpoints apply\n");
+  }
   if (options_.lockstep) take_sample();
   if (!(faults_armed() && faults_.freeze_echo)) image_.set_heartbeat_echo(heartbeat);
 }
@@ -398,6 +466,7 @@ void PlantServer::run(const std::function<bool()>& stop) {
   auto next_sample = Clock::now();
   std::vector<pollfd> fds;
   while (!stop()) {
+    check_watchdog(Clock::now());
     if (!options_.lockstep) {  // free-running: every sample whose time has come
       int taken = 0;
       auto now = Clock::now();

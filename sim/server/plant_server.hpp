@@ -10,6 +10,9 @@
 // bounded in time. Function codes 3, 4, 6 and 16 are served; any other is answered with
 // exception 1 (illegal function), so no request bypasses the heartbeat bookkeeping. RTU: one
 // master on the line, the same request handling, libmodbus framing and CRC.
+// As a PLC would, it also guards itself (README, "Watchdog and input limits"): a heartbeat
+// watchdog returns the setpoints to the baseline when the heartbeat stands still, and a
+// setpoint write outside the input limits is refused with exception 3.
 
 #include <array>
 #include <chrono>
@@ -58,6 +61,11 @@ struct ServeOptions {
   double idle_timeout_s = 60.0;    // a connection silent this long is closed (not the gateway's)
   double partial_timeout_s = 2.0;  // a request not complete this long after its first byte:
                                    // the connection is closed
+  // The plant's own controller (README, "Watchdog and input limits"):
+  double watchdog_s = 0.0;        // heartbeat unchanged this long (wall clock) after it first
+                                  // changed: setpoints back to the baseline; 0: off
+  std::vector<double> input_min;  // absolute limits per plant input; empty: none. A write
+  std::vector<double> input_max;  // that would put a setpoint outside: exception 3, counted
 };
 
 class PlantServer {
@@ -82,6 +90,10 @@ class PlantServer {
   std::uint64_t closed_connections() const { return closed_connections_; }
   /// RTU: frames dropped for a bad CRC or garbage on the line.
   std::uint64_t rejected_frames() const { return rejected_frames_; }
+  /// Times the watchdog returned the setpoints to the baseline (control block +6).
+  std::uint64_t watchdog_trips() const { return watchdog_trips_; }
+  /// Setpoint writes refused for the input limits (exception 3; control block +7).
+  std::uint64_t refused_writes() const { return refused_writes_; }
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -120,6 +132,10 @@ class PlantServer {
   void check_deadlines(Clock::time_point now);
   bool touches_control(const Request& request) const;
   void on_heartbeat_written();
+  // A write of setpoints outside the limits: counted, reported, true (the caller refuses).
+  bool refuse_out_of_limits(const Request& request, const std::uint8_t* data);
+  void check_watchdog(Clock::time_point now);
+  void mirror_counters_to_control();
   void take_sample();
   void report_misfits(std::uint64_t k);
   void load_faults_from_control();
@@ -143,6 +159,13 @@ class PlantServer {
   std::uint64_t ordinary_requests_ = 0;  // requests that do not touch the control block
   bool heartbeat_seen_ = false;
   std::uint16_t last_heartbeat_ = 0;
+
+  Clock::time_point heartbeat_changed_at_;  // wall clock of the last heartbeat change
+  bool watchdog_tripped_ = false;           // setpoints held at the baseline
+  std::vector<std::uint16_t> pending_;      // setpoints written while tripped: applied when
+  bool has_pending_ = false;                // the heartbeat moves again
+  std::uint64_t watchdog_trips_ = 0;
+  std::uint64_t refused_writes_ = 0;
 
   std::vector<double> u_;
   std::vector<double> y_;

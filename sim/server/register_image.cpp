@@ -19,6 +19,7 @@ using hal::modbus::RegisterType;
 RegisterImage::RegisterImage(ServerLayout layout, const std::vector<double>& input_baseline,
                              const std::vector<double>& output_baseline)
     : layout_(std::move(layout)),
+      input_baseline_(input_baseline),
       last_setpoints_(input_baseline),
       written_(layout_.setpoints.size(), false),
       misfits_(layout_.values.size()) {
@@ -33,16 +34,7 @@ RegisterImage::RegisterImage(ServerLayout layout, const std::vector<double>& inp
     throw std::runtime_error(std::string("modbus_mapping_new_start_address: ") +
                              modbus_strerror(errno));
   }
-  for (std::size_t i = 0; i < layout_.setpoints.size(); ++i) {
-    const PlacedValue& p = layout_.setpoints[i];
-    std::uint16_t* r = cell(p);
-    if (p.codec.type == RegisterType::float32) {
-      hal::modbus::encode_float32(static_cast<float>(input_baseline[i]), p.codec.order, r);
-    } else {
-      bool clamped = false;
-      r[0] = hal::modbus::to_raw(p.codec, input_baseline[i], clamped);
-    }
-  }
+  restore_setpoint_baseline();
   write_values(output_baseline.data());
   clamped_values_ = 0;  // a baseline outside the range is counted from the first sample on
   misfits_.assign(layout_.values.size(), Misfit{});
@@ -57,6 +49,67 @@ std::uint16_t* RegisterImage::cell(const PlacedValue& value) const {
     return mapping_->tab_input_registers + (value.address - layout_.input.start);
   }
   return mapping_->tab_registers + (value.address - layout_.holding.start);
+}
+
+void RegisterImage::restore_setpoint_baseline() {
+  for (std::size_t i = 0; i < layout_.setpoints.size(); ++i) {
+    const PlacedValue& p = layout_.setpoints[i];
+    std::uint16_t* r = cell(p);
+    if (p.codec.type == RegisterType::float32) {
+      hal::modbus::encode_float32(static_cast<float>(input_baseline_[i]), p.codec.order, r);
+    } else {
+      bool clamped = false;
+      r[0] = hal::modbus::to_raw(p.codec, input_baseline_[i], clamped);
+    }
+  }
+  last_setpoints_ = input_baseline_;
+}
+
+std::vector<std::uint16_t> RegisterImage::setpoint_registers() const {
+  std::vector<std::uint16_t> out;
+  for (const PlacedValue& p : layout_.setpoints) {
+    const std::uint16_t* r = cell(p);
+    out.insert(out.end(), r, r + hal::modbus::register_count(p.codec.type));
+  }
+  return out;
+}
+
+void RegisterImage::set_setpoint_registers(const std::vector<std::uint16_t>& registers) {
+  std::size_t at = 0;
+  for (const PlacedValue& p : layout_.setpoints) {
+    std::uint16_t* r = cell(p);
+    for (std::uint32_t k = 0;
+         k < hal::modbus::register_count(p.codec.type) && at < registers.size(); ++k) {
+      r[k] = registers[at++];
+    }
+  }
+}
+
+std::optional<RegisterImage::OutOfLimits> RegisterImage::check_write(
+    std::uint32_t address, std::uint32_t count, const std::uint8_t* data,
+    const std::vector<double>& min, const std::vector<double>& max) const {
+  for (std::size_t i = 0; i < layout_.setpoints.size() && i < min.size() && i < max.size(); ++i) {
+    const PlacedValue& p = layout_.setpoints[i];
+    const std::uint32_t size = hal::modbus::register_count(p.codec.type);
+    if (!(p.address < address + count && address < p.address + size)) continue;
+    std::uint16_t r[2] = {0, 0};
+    const std::uint16_t* old = cell(p);
+    for (std::uint32_t k = 0; k < size; ++k) {
+      const std::uint32_t a = p.address + k;
+      r[k] = address <= a && a < address + count
+                 ? static_cast<std::uint16_t>((data[2 * (a - address)] << 8) |
+                                              data[2 * (a - address) + 1])
+                 : old[k];
+    }
+    const bool f32 = p.codec.type == RegisterType::float32;
+    const double value = f32 ? static_cast<double>(hal::modbus::decode_float32(r, p.codec.order))
+                             : hal::modbus::from_raw(p.codec, r[0]);
+    const double tolerance = f32 ? (std::abs(min[i]) + std::abs(max[i])) * 0x1p-23 : 0.0;
+    if (!std::isfinite(value) || value < min[i] - tolerance || value > max[i] + tolerance) {
+      return OutOfLimits{i, value};
+    }
+  }
+  return std::nullopt;
 }
 
 void RegisterImage::note_write(std::uint32_t address, std::uint32_t count) {

@@ -5,6 +5,7 @@
 // decoded exactly as hal's ModbusFieldBus encodes them, values encoded as it decodes them.
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "sim/server/server_layout.hpp"
@@ -38,6 +39,26 @@ class RegisterImage {
   /// engineering range cannot be encoded: the register holds the range's end (as a
   /// transmitter saturates) and the value is counted per output (`misfits`) — never silently.
   void write_values(const double* y);
+
+  /// Rewrites every setpoint register with the input baseline (the watchdog's safe state):
+  /// the next sample and every reader see the baseline.
+  void restore_setpoint_baseline();
+  /// The raw setpoint registers, setpoint by setpoint in plant-input order, and back.
+  std::vector<std::uint16_t> setpoint_registers() const;
+  void set_setpoint_registers(const std::vector<std::uint16_t>& registers);
+
+  /// A setpoint a write would give a value outside [min, max] (or not finite).
+  struct OutOfLimits {
+    std::size_t input = 0;
+    double value = 0.0;
+  };
+  /// Checks a write of `count` registers at `address` (`data`: their big-endian bytes, as in
+  /// the request) before it is applied: every setpoint it touches is decoded from the
+  /// written registers, the others of a float32 pair from the image. Limits per input,
+  /// absolute; a float32 setpoint is allowed its register's rounding (relative 2^-23).
+  std::optional<OutOfLimits> check_write(std::uint32_t address, std::uint32_t count,
+                                         const std::uint8_t* data, const std::vector<double>& min,
+                                         const std::vector<double>& max) const;
 
   std::uint16_t heartbeat() const;
   std::uint16_t heartbeat_echo() const;
@@ -73,6 +94,7 @@ class RegisterImage {
 
   ServerLayout layout_;
   _modbus_mapping_t* mapping_ = nullptr;
+  std::vector<double> input_baseline_;
   std::vector<double> last_setpoints_;
   std::vector<bool> written_;
   std::uint64_t rejected_setpoints_ = 0;

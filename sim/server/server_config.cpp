@@ -121,7 +121,7 @@ const toml::table& sub_table(const Reader& parent, const toml::node* node, const
 
 PlantSettings read_plant(const Reader& r) {
   r.only_keys({"library", "file", "sample_time_min", "input_baseline", "output_baseline",
-               "noise_variance", "noise_seed"});
+               "noise_variance", "noise_seed", "watchdog_s", "input_min", "input_max"});
   PlantSettings plant;
   plant.library = r.text("library").value_or("");
   plant.file = r.text("file").value_or("");
@@ -143,6 +143,23 @@ PlantSettings read_plant(const Reader& r) {
   if (const auto seed =
           r.integer("noise_seed", 0, std::numeric_limits<std::int64_t>::max(), "a seed >= 0")) {
     plant.noise_seed = static_cast<std::uint64_t>(*seed);
+  }
+  if (const auto w = r.number("watchdog_s")) {
+    if (*w < 0.0) r.fail("watchdog_s", std::to_string(*w), "wall-clock seconds >= 0 (0: off)");
+    plant.watchdog_s = *w;
+  }
+  plant.input_min = r.numbers("input_min", false);
+  plant.input_max = r.numbers("input_max", false);
+  if (plant.input_min.size() != plant.input_max.size()) {
+    r.fail("input_max", "(" + std::to_string(plant.input_max.size()) + " values)",
+           "as many values as input_min (" + std::to_string(plant.input_min.size()) + ")");
+  }
+  for (std::size_t i = 0; i < plant.input_min.size(); ++i) {
+    if (!(plant.input_min[i] < plant.input_max[i])) {
+      r.fail("input_max[" + std::to_string(i) + "]", std::to_string(plant.input_max[i]),
+             "a limit above input_min[" + std::to_string(i) +
+                 "] = " + std::to_string(plant.input_min[i]));
+    }
   }
   return plant;
 }

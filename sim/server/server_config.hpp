@@ -30,11 +30,16 @@ struct PlantSettings {
   std::vector<double> noise_variance;   // per output (squared output units); empty → no
                                         // noise; one value → the same on every output
   std::uint64_t noise_seed = 1;
+  // What the plant's own controller enforces (README, "Watchdog and input limits"):
+  double watchdog_s = 0.0;        // heartbeat watchdog, wall-clock seconds >= 0; 0: off
+  std::vector<double> input_min;  // absolute limits per input (engineering units); empty:
+  std::vector<double> input_max;  // none. A setpoint write outside is refused (exception 3)
 };
 
 /// Number of registers in the control block (holding registers, see README): five fault
-/// settings and, at +5, the count of values that did not fit their registers.
-inline constexpr std::uint32_t control_block_size = 6;
+/// settings; at +5 the count of values that did not fit their registers, at +6 the count of
+/// watchdog trips, at +7 the count of setpoint writes refused for the input limits.
+inline constexpr std::uint32_t control_block_size = 8;
 
 /// The register map: hal's map (setpoints FC16, heartbeat, values FC03/FC04) plus what only
 /// the plant side has: where the heartbeat is echoed and the fault control block.

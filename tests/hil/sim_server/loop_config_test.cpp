@@ -11,6 +11,8 @@
 #include <sstream>
 
 #include "firmware/runlog/reader.hpp"
+#include "sim/server/config_writer.hpp"
+#include "sim/server/server_config.hpp"
 #include "tests/hil/sim_server/plant_runner.hpp"
 
 namespace excite::sim::server {
@@ -135,6 +137,35 @@ TEST_F(LoopConfig, BadNumbersAreRefusedByName) {
   EXPECT_THAT(excite_output(), HasSubstr("--input-range = nan: expected a finite number >= 0"));
   EXPECT_NE(excite({"loop-config", "--plant", "nosuch", "-o", (dir_.path() / "x").string()}), 0);
   EXPECT_THAT(excite_output(), HasSubstr("nosuch"));
+}
+
+// The plant side carries the plant's own controller: a watchdog (3 s unless told) and input
+// limits equal to the gateway's min/max, number for number.
+TEST_F(LoopConfig, PlantSideHasAWatchdogAndTheGatewaysLimits) {
+  const auto out = dir_.path() / "wd";
+  ASSERT_EQ(
+      excite({"loop-config", "--plant", "woodberry2x2", "--input-range", "2", "-o", out.string()}),
+      0)
+      << excite_output();
+  const ServerConfig plant = load_server_config(out / "plant.toml");
+  EXPECT_EQ(plant.plant.watchdog_s, 3.0);
+  ASSERT_EQ(plant.plant.input_min.size(), 2U);
+  const std::string gw = read_text(out / "gateway.toml");
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_THAT(gw, HasSubstr("\nmin = " + toml_number(plant.plant.input_min[i]) + "\n"));
+    EXPECT_THAT(gw, HasSubstr("\nmax = " + toml_number(plant.plant.input_max[i]) + "\n"));
+    EXPECT_NEAR(plant.plant.input_max[i] - plant.plant.input_min[i], 4.0, 1e-6);
+  }
+  ASSERT_EQ(excite({"loop-config", "--plant", "woodberry2x2", "--input-range", "2", "--watchdog-s",
+                    "0", "-o", out.string()}),
+            0);
+  EXPECT_EQ(load_server_config(out / "plant.toml").plant.watchdog_s, 0.0) << "0: off";
+  for (const std::string bad : {"nan", "-1"}) {
+    EXPECT_NE(
+        excite({"loop-config", "--plant", "woodberry2x2", "--watchdog-s", bad, "-o", out.string()}),
+        0);
+    EXPECT_THAT(excite_output(), HasSubstr("--watchdog-s = " + bad));
+  }
 }
 
 }  // namespace

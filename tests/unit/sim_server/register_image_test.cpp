@@ -234,5 +234,51 @@ TEST(PlantProcess, NoiseIsTheSeededMeasurementNoise) {
   }
 }
 
+// The plant's own limits, checked on a request's bytes before they are written.
+TEST(RegisterImage, CheckWriteFindsASetpointOutsideItsLimits) {
+  RegisterImage image(five_by_five(), kInputBaseline, kOutputBaseline);
+  const std::vector<double> lo(5, -10.0);
+  const std::vector<double> hi(5, 10.0);
+  const auto bytes = [](float x) {
+    std::uint16_t r[2];
+    hal::modbus::encode_float32(x, WordOrder::abcd, r);
+    return std::array<std::uint8_t, 4>{
+        static_cast<std::uint8_t>(r[0] >> 8), static_cast<std::uint8_t>(r[0] & 0xFF),
+        static_cast<std::uint8_t>(r[1] >> 8), static_cast<std::uint8_t>(r[1] & 0xFF)};
+  };
+  const auto big = bytes(1e30F);
+  const auto out = image.check_write(100, 2, big.data(), lo, hi);
+  ASSERT_TRUE(out.has_value());
+  EXPECT_EQ(out->input, 0U);
+  EXPECT_FLOAT_EQ(static_cast<float>(out->value), 1e30F);
+  EXPECT_FALSE(image.check_write(110, 2, big.data(), lo, hi).has_value()) << "no setpoint there";
+  const auto fine = bytes(9.5F);
+  EXPECT_FALSE(image.check_write(100, 2, fine.data(), lo, hi).has_value());
+  // int16 scaled setpoint at 108: raw 32767 is eng 50, beyond 10.
+  const std::uint8_t raw_max[2] = {0x7F, 0xFF};
+  const auto scaled = image.check_write(108, 1, raw_max, lo, hi);
+  ASSERT_TRUE(scaled.has_value());
+  EXPECT_EQ(scaled->input, 4U);
+}
+
+TEST(RegisterImage, RestoreSetpointBaselineRewritesTheRegisters) {
+  RegisterImage image(five_by_five(), kInputBaseline, kOutputBaseline);
+  const std::vector<std::uint16_t> baseline = image.setpoint_registers();
+  image.set_holding(100, 0x4120);  // 10.0f, ABCD
+  image.set_holding(101, 0x0000);
+  image.note_write(100, 2);
+  std::vector<double> u(5);
+  image.read_setpoints(u.data());
+  EXPECT_EQ(u[0], 10.0);
+  const std::vector<std::uint16_t> written = image.setpoint_registers();
+  image.restore_setpoint_baseline();
+  EXPECT_EQ(image.setpoint_registers(), baseline);
+  image.read_setpoints(u.data());
+  EXPECT_EQ(u[0], kInputBaseline[0]);
+  image.set_setpoint_registers(written);
+  image.read_setpoints(u.data());
+  EXPECT_EQ(u[0], 10.0);
+}
+
 }  // namespace
 }  // namespace excite::sim::server

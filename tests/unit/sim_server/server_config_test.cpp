@@ -12,6 +12,7 @@
 #include <string>
 
 #include "sim/library/library.hpp"
+#include "sim/server/config_writer.hpp"
 #include "sim/server/plant_process.hpp"
 #include "sim/server/server_config.hpp"
 #include "sim/server/server_layout.hpp"
@@ -87,7 +88,7 @@ TEST(ServerConfig, TheDocumentedExampleParsesAndFitsItsPlant) {
   const auto plant = load_plant(config.plant, config.base_directory);
   const ServerLayout layout = compile_layout(config, plant->inputs(), plant->outputs(), true);
   EXPECT_EQ(layout.holding.start, 100U);
-  EXPECT_EQ(layout.holding.count, 306U);  // 100..405: setpoints, heartbeat, y3, control
+  EXPECT_EQ(layout.holding.count, 308U);  // 100..407: setpoints, heartbeat, y3, control
   EXPECT_EQ(layout.input.start, 200U);
   EXPECT_EQ(layout.input.count, 101U);  // 200..300: values and echo
   EXPECT_TRUE(layout.values[2].input_table == false);
@@ -260,6 +261,53 @@ TEST(LoadPlant, TheColumnsAreLivePlantsToo) {
 TEST(LoadPlant, NoPlantAtAllIsNamed) {
   EXPECT_THAT(error_of([] { load_plant(PlantSettings{}, ".", "c.toml"); }),
               HasSubstr("expected plant.library or plant.file"));
+}
+
+// The plant's own controller: the heartbeat watchdog and the input limits ([plant] keys).
+std::string with_plant_keys(const std::string& keys) {
+  std::string text = two_by_two();
+  text.insert(text.find("[registers]"), keys + "\n");
+  return text;
+}
+
+TEST(ServerConfig, WatchdogAndInputLimitsAreReadAndWrittenBack) {
+  const ServerConfig c = parse_server_config(
+      with_plant_keys("watchdog_s = 2.5\ninput_min = [0.0, -1.5]\ninput_max = [4.0, 3.25]"));
+  EXPECT_EQ(c.plant.watchdog_s, 2.5);
+  EXPECT_EQ(c.plant.input_min, (std::vector<double>{0.0, -1.5}));
+  EXPECT_EQ(c.plant.input_max, (std::vector<double>{4.0, 3.25}));
+  const ServerConfig back = parse_server_config(format_server_config(c));
+  EXPECT_EQ(back.plant.watchdog_s, 2.5);
+  EXPECT_EQ(back.plant.input_min, c.plant.input_min);
+  EXPECT_EQ(back.plant.input_max, c.plant.input_max);
+  EXPECT_EQ(parse_server_config(two_by_two()).plant.watchdog_s, 0.0) << "off by default";
+  EXPECT_TRUE(parse_server_config(two_by_two()).plant.input_min.empty()) << "no limits";
+}
+
+TEST(ServerConfig, WatchdogNanOrNegativeIsRefusedByName) {
+  EXPECT_THAT(error_of([] { parse_server_config(with_plant_keys("watchdog_s = nan")); }),
+              HasSubstr("plant.watchdog_s = nan: expected a finite number"));
+  EXPECT_THAT(error_of([] { parse_server_config(with_plant_keys("watchdog_s = -1.0")); }),
+              HasSubstr("plant.watchdog_s = -1.000000: expected wall-clock seconds >= 0"));
+  EXPECT_THAT(error_of([] { parse_server_config(with_plant_keys("watchdog_s = \"3\"")); }),
+              HasSubstr("plant.watchdog_s = \"3\": expected a number"));
+}
+
+TEST(ServerConfig, InputLimitsNanMismatchedOrInvertedAreRefusedByName) {
+  EXPECT_THAT(
+      error_of([] {
+        parse_server_config(with_plant_keys("input_min = [nan, 0.0]\ninput_max = [1.0, 1.0]"));
+      }),
+      HasSubstr("plant.input_min[0] = nan: expected a finite number"));
+  EXPECT_THAT(error_of([] {
+                parse_server_config(with_plant_keys("input_min = [0.0, 0.0]\ninput_max = [1.0]"));
+              }),
+              HasSubstr("plant.input_max = (1 values): expected as many values as input_min (2)"));
+  EXPECT_THAT(
+      error_of([] {
+        parse_server_config(with_plant_keys("input_min = [0.0, 2.0]\ninput_max = [1.0, -2.0]"));
+      }),
+      HasSubstr("plant.input_max[1] = -2.000000: expected a limit above input_min[1]"));
 }
 
 }  // namespace
