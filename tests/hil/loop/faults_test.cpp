@@ -305,7 +305,8 @@ TEST_F(Faults, SigkillLeavesAValidLogAndNothingOutsideTheLimits) {
   const runlog::RunLog log = read_log_or_fail(path("gw.csv"));
   EXPECT_GE(log.rows(), 50U);
   EXPECT_EQ(log.k.back(), log.rows() - 1);
-  // No watchdog on this plant yet: it holds the last setpoint, which is inside the limits.
+  // Within the plant's watchdog time it holds the last setpoint, which is inside the limits
+  // (tests/hil/loop/watchdog_test checks what happens after it).
   const runlog::RunLog plant = stop_plant_and_read_its_log();
   for (std::size_t i = 0; i < plant.du.size(); ++i) {
     EXPECT_LE(max_abs(plant.du[i]), kInputRange * (1 + 1e-6)) << plant.input_names[i];
