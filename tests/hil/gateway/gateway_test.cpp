@@ -310,10 +310,11 @@ TEST_F(GatewayHil, AReadbackDecodingItsSetpointRegisterDifferentlyIsRefusedAtCon
   EXPECT_TRUE(server_->seen().empty());
 }
 
-// A PLC that clamps V to 60.5 on its own (its setpoint register is rewritten between the
-// gateway's write and read of some tick): with readback_mismatch_limit = 0 the first
-// mismatch is a fault; the run stops, V returns to its baseline 60 (which the PLC leaves
-// alone), the baseline reads back → confirmed → exit 11, naming V, written and read.
+// A PLC that clamps V to 60.03125 on its own (V's prbsUnc amplitude is 0.057) (its setpoint
+// register is rewritten between the gateway's write and read of some tick): with
+// readback_mismatch_limit = 0 the first mismatch is a fault; the run stops, V returns to its
+// baseline 60 (which the PLC leaves alone), the baseline reads back → confirmed → exit 11, naming
+// V, written and read.
 TEST_F(GatewayHil, APlcThatClampsASetpointIsAFaultAndTheBaselineIsConfirmed) {
   std::string text = config_text(server_->port());
   text.replace(text.find("realtime_priority = 0"), 21,
@@ -322,7 +323,7 @@ TEST_F(GatewayHil, APlcThatClampsASetpointIsAFaultAndTheBaselineIsConfirmed) {
   std::atomic<bool> stop{false};
   std::thread plc([&] {
     while (!stop) {
-      if (holding_float(*server_, 102) > 60.5F) put_float(*server_, true, 102, 60.5F);
+      if (holding_float(*server_, 102) > 60.03125F) put_float(*server_, true, 102, 60.03125F);
       std::this_thread::sleep_for(30us);
     }
   });
@@ -337,7 +338,7 @@ TEST_F(GatewayHil, APlcThatClampsASetpointIsAFaultAndTheBaselineIsConfirmed) {
                      "wrote "),
             std::string::npos)
       << err;
-  EXPECT_NE(err.find("read back 60.5 from V_sp at tick "), std::string::npos) << err;
+  EXPECT_NE(err.find("read back 60.03"), std::string::npos) << err;
   EXPECT_NE(err.find(": safe after"), std::string::npos) << err;
   EXPECT_NE(err.find("(fault: readback mismatch)"), std::string::npos) << err;
   EXPECT_LT(read_log().rows(), 4000U) << "the run was not stopped";

