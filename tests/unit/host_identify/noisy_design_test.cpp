@@ -19,8 +19,10 @@
 #include "host/design/case_studies.hpp"
 #include "host/design/presets.hpp"
 #include "host/identify/identify.hpp"
+#include "host/identify/validate.hpp"
 #include "host/simulate/simulate.hpp"
 #include "sim/library/library.hpp"
+#include "sim/lti/discrete_plant.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::host {
@@ -55,6 +57,14 @@ TEST_P(NoisyDesign, EveryRowReachesTheGlobalMinimumNearTheTruth) {
   std::printf("%s %s noise %g seed %llu: fit %%", c.plant, c.preset, c.noise_variance,
               static_cast<unsigned long long>(c.seed));
   for (const OutputFit& f : r.fits) std::printf(" %.3f", f.fit_percent);
+  // The true model's fit on the same data (the level of the global minimum).
+  const Eigen::MatrixXd Y_true = sim::DiscretePlant(g, run.sample_time_min).simulate(run.du);
+  std::printf("; the true model fits");
+  for (Eigen::Index j = 0; j < run.dy.cols(); ++j) {
+    const Eigen::VectorXd y = run.dy.col(j);
+    const Eigen::VectorXd y_true = Y_true.col(j);
+    std::printf(" %.3f", fit_percent(y, y_true));
+  }
   std::printf("\n");
   for (std::size_t j = 0; j < r.fits.size(); ++j) {
     EXPECT_GE(r.fits[j].fit_percent, 95.0) << "output " << j + 1;
