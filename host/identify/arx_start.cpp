@@ -103,8 +103,8 @@ std::optional<Eigen::MatrixXd> ArxBasis::contributions(const Eigen::VectorXd& y)
   // weakly excited direction would otherwise be fitted to the noise with a huge coefficient
   // that the elements' parts cancel in their sum but not one by one (the row's split
   // between elements would be meaningless and diverge).
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(R.topLeftCorner(c, c),
-                                              Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(R.topLeftCorner(c, c),
+                                           Eigen::ComputeThinU | Eigen::ComputeThinV);
   const Eigen::VectorXd& sv = svd.singularValues();
   const double sigma = std::sqrt(tail2(c) / static_cast<double>(std::max<Eigen::Index>(N_ - c, 1)));
   const double floor_sv = std::max(kRankThreshold * sv(0), sigma / kMaxDirectionError);
