@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "host/identify/arx_start.hpp"
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,6 +16,10 @@ constexpr double kExactResidual = 1e-14;
 // Singular values of R below this fraction of the largest (unit-norm columns) are taken
 // as rank deficiency (columns the data do not distinguish).
 constexpr double kRankThreshold = 1e-11;
+
+// A parameter direction whose coefficient's standard error exceeds this fraction of ‖y‖
+// is not determined by the data (dropped from the ARX solution).
+constexpr double kMaxDirectionError = 0.1;
 
 // Column norm, or 1 for an all-zero column.
 double norm_or_one(double n) {
@@ -90,14 +95,25 @@ std::optional<Eigen::MatrixXd> ArxBasis::contributions(const Eigen::VectorXd& y)
     }
   }
   const Eigen::Index c = ub + na;
-  // θ for the first c columns; the minimum-norm solution when the input lags are rank
-  // deficient (a multisine with fewer lines than lags: B_i is then free off the excited
-  // lines, but B_i u_i, the element's part of the output, is not).
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod;
-  cod.setThreshold(kRankThreshold);
-  cod.compute(R.topLeftCorner(c, c));
-  const Eigen::VectorXd theta =
-      (cod.solve(R.col(P).head(c)) * scale(P)).cwiseQuotient(scale.head(c));
+  // θ for the first c columns by a truncated SVD of R (c × c: independent of N). A
+  // direction v_k of the parameters is kept only when the data determine it: its singular
+  // value is not rank deficiency (kRankThreshold, e.g. a multisine with fewer lines than
+  // lags: B_i is then free off the excited lines, but B_i u_i is not) and its coefficient's
+  // standard error σ̂/s_k is below kMaxDirectionError of ‖y‖ (scaled units). Under noise, a
+  // weakly excited direction would otherwise be fitted to the noise with a huge coefficient
+  // that the elements' parts cancel in their sum but not one by one (the row's split
+  // between elements would be meaningless and diverge).
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(R.topLeftCorner(c, c),
+                                           Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd& sv = svd.singularValues();
+  const double sigma = std::sqrt(tail2(c) / static_cast<double>(std::max<Eigen::Index>(N_ - c, 1)));
+  const double floor_sv = std::max(kRankThreshold * sv(0), sigma / kMaxDirectionError);
+  const Eigen::VectorXd proj = svd.matrixU().transpose() * R.col(P).head(c);
+  Eigen::VectorXd theta_scaled = Eigen::VectorXd::Zero(c);
+  for (Eigen::Index k = 0; k < sv.size(); ++k) {
+    if (sv(k) > floor_sv) theta_scaled += svd.matrixV().col(k) * (proj(k) / sv(k));
+  }
+  const Eigen::VectorXd theta = (theta_scaled * scale(P)).cwiseQuotient(scale.head(c));
   const Eigen::VectorXd a = theta.tail(na);
 
   Eigen::MatrixXd Z(N_, m_);

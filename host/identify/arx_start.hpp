@@ -12,8 +12,10 @@
 //      leave a free common factor in A and B_i).
 //   2. Each element's part of the output on these data, z_i = (B_i/A) u_i. When the input
 //      lags are rank deficient (a multisine with fewer lines than lags, steps with few
-//      edges) B_i is not unique off the excited frequencies, but z_i is: the minimum-norm
-//      solution is taken. The caller fits one (6.1.1) element to each (u_i, z_i) alone —
+//      edges) B_i is not unique off the excited frequencies, but z_i is. The solve is a
+//      truncated SVD of R: directions of rank deficiency, and under noise directions the
+//      data do not determine (coefficient standard error above 0.1 ‖y‖), are dropped, so
+//      the split of the row between elements does not diverge on noise. The caller fits one (6.1.1) element to each (u_i, z_i) alone —
 //      a single-input problem with no other element to absorb — and starts the row's
 //      joint fit from those elements.
 //

@@ -118,8 +118,15 @@ class RowModel {
   Eigen::VectorXd v_;  // scratch: z / D
 };
 
+// A parameter whose squared component in a numerically null direction of JᵀJ exceeds this
+// is not determined (inf). Below it the direction does not involve the parameter: a null
+// direction such as T_d against a vanishing T_p2 is tilted by ~1e-5 towards other
+// parameters (K of the same row: a weight ~1e-9), which must not make K undetermined.
+constexpr double kNullWeight = 1e-6;
+
 // 1σ standard errors σ̂ √diag((JᵀJ)⁻¹) over the parameters not on a bound; inf for
-// parameters in a direction the data do not determine (a numerically zero eigenvalue).
+// parameters in a direction the data do not determine (a numerically zero eigenvalue,
+// weight above kNullWeight); the other parameters' variances over the determined directions.
 Eigen::VectorXd standard_errors(const Eigen::MatrixXd& J, double sse,
                                 const std::vector<bool>& on_bound) {
   const Eigen::Index P = J.cols();
@@ -149,7 +156,7 @@ Eigen::VectorXd standard_errors(const Eigen::MatrixXd& J, double sse,
     for (Eigen::Index k = 0; k < F; ++k) {
       const double w = V(a, k) * V(a, k);
       if (lam(k) <= floor) {
-        if (w > 1e-12) var = kInf;
+        if (w > kNullWeight) var = kInf;
       } else {
         var += w / lam(k);
       }
