@@ -15,9 +15,9 @@
 //      edges) B_i is not unique off the excited frequencies, but z_i is. The solve is a
 //      truncated SVD of R: directions of rank deficiency, and under noise directions the
 //      data do not determine (coefficient standard error above 0.1 ‖y‖), are dropped, so
-//      the split of the row between elements does not diverge on noise. The caller fits one (6.1.1) element to each (u_i, z_i) alone —
-//      a single-input problem with no other element to absorb — and starts the row's
-//      joint fit from those elements.
+//      the split of the row between elements does not diverge on noise. The caller fits one (6.1.1)
+//      element to each (u_i, z_i) alone — a single-input problem with no other element to absorb —
+//      and starts the row's joint fit from those elements.
 //
 // On data the (6.1.1) structure fits exactly the contributions are exact to rounding (the
 // ARX model of a row of second-order elements with a common denominator is exact). Cost:

@@ -26,8 +26,8 @@
 #include "firmware/app/gateway.hpp"
 #include "firmware/app/realtime.hpp"
 #include "hal/posix/posix_clock.hpp"
-#include "sim/simlink/simlink_field_bus.hpp"
 #include "sim/library/library.hpp"
+#include "sim/simlink/simlink_field_bus.hpp"
 #include "tests/integration/engine/simlink_gateway.hpp"
 
 namespace {

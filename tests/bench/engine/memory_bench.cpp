@@ -16,8 +16,8 @@
 #include "firmware/app/command_mailbox.hpp"
 #include "firmware/app/gateway.hpp"
 #include "firmware/app/realtime.hpp"
-#include "sim/simlink/simlink_field_bus.hpp"
 #include "sim/library/library.hpp"
+#include "sim/simlink/simlink_field_bus.hpp"
 #include "tests/integration/engine/simlink_gateway.hpp"
 
 namespace {

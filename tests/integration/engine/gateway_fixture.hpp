@@ -25,8 +25,8 @@
 #include "firmware/app/gateway.hpp"
 #include "firmware/engine/engine.hpp"
 #include "firmware/runlog/reader.hpp"
-#include "sim/simlink/simlink_field_bus.hpp"
 #include "sim/library/library.hpp"
+#include "sim/simlink/simlink_field_bus.hpp"
 #include "tests/integration/engine/simlink_gateway.hpp"
 
 namespace excite::testing {

@@ -64,7 +64,8 @@ TEST(PriorKnowledge, RefusesAnAmplitudeBeyondTheLimits) {
     validate(prior);
     FAIL() << "expected an error";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("inputs[2].amplitude = 20"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("inputs[2].amplitude = 20"), std::string::npos)
+        << e.what();
   }
 }
 
