@@ -288,7 +288,8 @@ void Engine::check_readbacks(std::span<const double> values) noexcept {
   }
   const std::uint64_t lag = config_.readback_lag_ticks;
   const bool after_arm = ticks_ + 1 > lag;
-  const std::uint64_t slot = after_arm ? (ticks_ + 1 - lag) % kMaxReadbackLag : 0;
+  // A ring index below kMaxReadbackLag: fits std::size_t on 32-bit targets too.
+  const auto slot = static_cast<std::size_t>(after_arm ? (ticks_ + 1 - lag) % kMaxReadbackLag : 0);
   bool all_at_baseline = true;
   for (std::uint32_t c = 0; c < config_.inputs; ++c) {
     const double written = after_arm ? written_[slot][c] : base_u_[c];
