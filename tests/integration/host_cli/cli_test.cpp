@@ -205,7 +205,8 @@ TEST_F(ExciteCli, IdentifyBoundsTheTimeConstantsByBetaTauHigh) {
             std::string::npos);
   const Result low = excite("identify --json --max-time-constant 15 " + path("wb.csv"));
   ASSERT_EQ(low.exit_code, 0) << low.out;
-  for (const auto& out : nlohmann::json::parse(low.out)["outputs"]) {
+  const nlohmann::json model = nlohmann::json::parse(low.out);  // outlives the loop (C++20)
+  for (const auto& out : model["outputs"]) {
     for (const auto& e : out["elements"]) EXPECT_LE(e["Tp1"].get<double>(), 15.0) << e;
   }
   const Result bad = excite("identify --max-time-constant -1 " + path("wb.csv"));
