@@ -263,6 +263,26 @@ void parse_signal(const toml::table& t, const std::string& w, hal::can::CanSigna
   if (auto v = number(t, w, "offset")) s.offset = *v;
 }
 
+// An entry's field-bus mapping, by transport: a CAN signal, or a Modbus register read or
+// written with `function_code` unless the entry names another.
+void add_field_entry(const toml::table& t, const std::string& w, const std::string& name,
+                     int function_code, Transport transport,
+                     std::vector<hal::can::CanSignal>& signals,
+                     std::vector<hal::modbus::RegisterEntry>& registers) {
+  if (transport == Transport::can) {
+    hal::can::CanSignal e;
+    e.name = name;
+    parse_signal(t, w, e);
+    signals.push_back(e);
+  } else {
+    hal::modbus::RegisterEntry e;
+    e.name = name;
+    e.function_code = function_code;
+    parse_register(t, w, e);
+    registers.push_back(e);
+  }
+}
+
 // The keys an entry may carry: its own plus the transport's mapping keys.
 std::set<std::string> entry_keys(std::set<std::string> own, Transport transport) {
   const auto& mapping = transport == Transport::can ? kCanKeys : kModbusKeys;
@@ -322,18 +342,7 @@ void parse_setpoints(const toml::table& root, GatewayConfig& c) {
     auto rb = text(t, w, "readback");
     if (!rb) throw ConfigError(w + ".readback", "(missing)", "the name of a readback value");
     s.readback = *rb;
-    if (c.transport == Transport::can) {
-      hal::can::CanSignal e;
-      e.name = s.name;
-      parse_signal(t, w, e);
-      c.can.map.setpoints.push_back(e);
-    } else {
-      hal::modbus::RegisterEntry e;
-      e.name = s.name;
-      e.function_code = 16;
-      parse_register(t, w, e);
-      c.modbus.map.setpoints.push_back(e);
-    }
+    add_field_entry(t, w, s.name, 16, c.transport, c.can.map.setpoints, c.modbus.map.setpoints);
     c.setpoints.push_back(s);
   }
   if (c.setpoints.empty() || c.setpoints.size() > engine::kMaxInputs) {
@@ -386,18 +395,7 @@ void parse_values(const toml::table& root, GatewayConfig& c) {
                         ">= 0 and 2 * hysteresis < test_high - test_low (with test_low < "
                         "test_high)");
     }
-    if (c.transport == Transport::can) {
-      hal::can::CanSignal e;
-      e.name = v.name;
-      parse_signal(t, w, e);
-      c.can.map.values.push_back(e);
-    } else {
-      hal::modbus::RegisterEntry e;
-      e.name = v.name;
-      e.function_code = 3;
-      parse_register(t, w, e);
-      c.modbus.map.values.push_back(e);
-    }
+    add_field_entry(t, w, v.name, 3, c.transport, c.can.map.values, c.modbus.map.values);
     c.values.push_back(v);
   }
   if (c.values.empty() || c.values.size() > engine::kMaxValues) {

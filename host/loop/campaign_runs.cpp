@@ -2,6 +2,7 @@
 #include "host/loop/campaign_runs.hpp"
 
 #include "host/design/plan_file.hpp"
+#include "host/identify/run_data.hpp"
 
 namespace excite::host {
 
@@ -26,22 +27,15 @@ MeasuredRun measured_runs_in_the_loop(const std::string& plant, const fs::path& 
     loop.programs = programs;
     const LoopResult streamed = stream_in_the_loop(loop);
     const runlog::RunLog& log = streamed.log;
+    const RunData data = run_data(log);
     SimulatedRun run;
     run.plant = log.plant;
     run.plan = log.plan;
-    run.sample_time_min = log.sample_time_min;
+    run.sample_time_min = data.sample_time_min;
     run.input_names = log.input_names;
     run.output_names = log.output_names;
-    const auto rows = static_cast<Eigen::Index>(log.rows());
-    run.du.resize(rows, static_cast<Eigen::Index>(log.du.size()));
-    run.dy.resize(rows, static_cast<Eigen::Index>(log.dy.size()));
-    for (Eigen::Index r = 0; r < rows; ++r) {
-      const auto k = static_cast<std::size_t>(r);
-      for (std::size_t i = 0; i < log.du.size(); ++i)
-        run.du(r, static_cast<Eigen::Index>(i)) = log.du[i][k];
-      for (std::size_t j = 0; j < log.dy.size(); ++j)
-        run.dy(r, static_cast<Eigen::Index>(j)) = log.dy[j][k];
-    }
+    run.du = data.U;
+    run.dy = data.Y;
     if (say)
       say(request.name + ": streamed through excite-gateway to excite-plant, " +
           std::to_string(log.rows()) + " ticks in " +

@@ -16,24 +16,22 @@ ServerRegisters default_registers(int inputs, int outputs,
         std::to_string(default_max_outputs) +
         " outputs for the default register map (write a --config for larger plants)");
   }
+  // Entry k of a block of float32 ABCD registers: its given name, or prefix + (k + 1).
+  const auto entry = [](const std::vector<std::string>& names, int k, const char* prefix,
+                        std::uint32_t base, int function_code) {
+    hal::modbus::RegisterEntry e;
+    const auto index = static_cast<std::size_t>(k);
+    e.name = index < names.size() ? names[index] : prefix + std::to_string(k + 1);
+    e.address = base + 2 * static_cast<std::uint32_t>(k);
+    e.function_code = function_code;
+    return e;
+  };
   ServerRegisters regs;
   for (int i = 0; i < inputs; ++i) {
-    hal::modbus::RegisterEntry e;
-    e.name = static_cast<std::size_t>(i) < input_names.size()
-                 ? input_names[static_cast<std::size_t>(i)]
-                 : "u" + std::to_string(i + 1);
-    e.address = default_setpoint_base + 2 * static_cast<std::uint32_t>(i);
-    e.function_code = 16;
-    regs.map.setpoints.push_back(e);
+    regs.map.setpoints.push_back(entry(input_names, i, "u", default_setpoint_base, 16));
   }
   for (int j = 0; j < outputs; ++j) {
-    hal::modbus::RegisterEntry e;
-    e.name = static_cast<std::size_t>(j) < output_names.size()
-                 ? output_names[static_cast<std::size_t>(j)]
-                 : "y" + std::to_string(j + 1);
-    e.address = default_value_base + 2 * static_cast<std::uint32_t>(j);
-    e.function_code = 4;
-    regs.map.values.push_back(e);
+    regs.map.values.push_back(entry(output_names, j, "y", default_value_base, 4));
   }
   regs.map.heartbeat_address = default_setpoint_base + 2 * static_cast<std::uint32_t>(inputs);
   regs.heartbeat_echo_address = default_echo_address;
