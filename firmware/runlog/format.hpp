@@ -25,6 +25,10 @@ enum Flag : std::uint32_t {
   kClamped = 1U << 2,      // at least one input was clamped to its absolute limit
   kRateLimited = 1U << 3,  // at least one input move was limited by its rate limit
   kStale = 1U << 4,        // a process value was older than one sample time
+  // Reserved for run-log format v2 (not in kKnownFlags until the writer writes v2):
+  kSkipped = 1U << 5,        // the clock skipped ticks before this row (wall-clock overrun)
+  kDiscontinuity = 1U << 6,  // the plant restarted or its time jumped: a new segment starts here
+  kBadValue = 1U << 7,       // a value is missing or bad at its source (historian gap, bad quality)
 };
 inline constexpr std::uint32_t kKnownFlags =
     kSuspended | kCommLost | kClamped | kRateLimited | kStale;
