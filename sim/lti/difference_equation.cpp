@@ -34,7 +34,7 @@ void run(const DiscreteTerm& d, const double* x, double* y, std::size_t count) {
 template <std::size_t... Orders>
 void dispatch(std::size_t order, const DiscreteTerm& d, const double* x, double* y,
               std::size_t count, std::index_sequence<Orders...>) {
-  ((order == Orders ? (run<Orders>(d, x, y, count), true) : false) || ...);
+  static_cast<void>(((order == Orders ? (run<Orders>(d, x, y, count), true) : false) || ...));
 }
 
 }  // namespace
