@@ -191,33 +191,16 @@ PlantServer::Outcome PlantServer::handle(std::uint8_t* query, int length, bool s
   if (!stall_done) ++requests_;
   const auto replied = [](int rc) { return rc == -1 ? Outcome::close : Outcome::replied; };
 
-  Request request;
-  request.function_code = query[header];
-  bool well_formed = false;
-  switch (request.function_code) {
-    case MODBUS_FC_READ_HOLDING_REGISTERS:
-    case MODBUS_FC_READ_INPUT_REGISTERS:
-    case MODBUS_FC_WRITE_SINGLE_REGISTER:
-      well_formed = length == header + 5 + crc;
-      break;
-    case MODBUS_FC_WRITE_MULTIPLE_REGISTERS:
-      well_formed = length >= header + 6 + crc && length == header + 6 + query[header + 5] + crc;
-      break;
-    default:  // not served: answered before any fault, counted, connection kept
-      ++illegal_functions_;
-      return replied(modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_FUNCTION));
+  const ParsedRequest parsed = parse_request(query, length, header, crc);
+  if (parsed.verdict == RequestVerdict::illegal_function) {
+    // not served: answered before any fault, counted, connection kept
+    ++illegal_functions_;
+    return replied(modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_FUNCTION));
   }
-  if (!well_formed) {
+  if (parsed.verdict == RequestVerdict::malformed) {
     return replied(modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE));
   }
-  request.address = static_cast<std::uint32_t>((query[header + 1] << 8) | query[header + 2]);
-  request.count = static_cast<std::uint32_t>((query[header + 3] << 8) | query[header + 4]);
-  if (request.function_code == MODBUS_FC_WRITE_SINGLE_REGISTER) {
-    request.count = 1;
-    request.write = true;
-  } else if (request.function_code == MODBUS_FC_WRITE_MULTIPLE_REGISTERS) {
-    request.write = true;
-  }
+  ModbusRequest request = parsed.request;
   const bool control = touches_control(request);
 
   if (!control && !stall_done && faults_armed()) {
@@ -334,7 +317,7 @@ void PlantServer::check_deadlines(Clock::time_point now) {
   }
 }
 
-bool PlantServer::touches_control(const Request& request) const {
+bool PlantServer::touches_control(const ModbusRequest& request) const {
   if (!image_.layout().control_address || request.function_code == 4) return false;
   const std::uint32_t start = *image_.layout().control_address;
   return request.address < start + control_block_size &&
@@ -402,7 +385,7 @@ void PlantServer::report_misfits(std::uint64_t k) {
   }
 }
 
-bool PlantServer::refuse_out_of_limits(const Request& request, const std::uint8_t* data) {
+bool PlantServer::refuse_out_of_limits(const ModbusRequest& request, const std::uint8_t* data) {
   const auto out = image_.check_write(request.address, request.count, data, options_.input_min,
                                       options_.input_max);
   if (!out) return false;

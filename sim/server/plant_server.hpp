@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "firmware/runlog/writer.hpp"
+#include "sim/server/modbus_request.hpp"
 #include "sim/server/plant_process.hpp"
 #include "sim/server/register_image.hpp"
 
@@ -99,13 +100,6 @@ class PlantServer {
   using Clock = std::chrono::steady_clock;
   static constexpr std::size_t kMaxAdu = 260;  // Modbus TCP: 7-byte MBAP + 253-byte PDU
 
-  struct Request {
-    int function_code = 0;
-    std::uint32_t address = 0;
-    std::uint32_t count = 0;
-    bool write = false;
-  };
-
   struct Client {
     int fd = -1;
     std::array<std::uint8_t, kMaxAdu> frame{};
@@ -130,10 +124,10 @@ class PlantServer {
   bool rtu() const { return !options_.rtu_device.empty(); }
   void serve_rtu(const std::function<bool()>& stop);
   void check_deadlines(Clock::time_point now);
-  bool touches_control(const Request& request) const;
+  bool touches_control(const ModbusRequest& request) const;
   void on_heartbeat_written();
   // A write of setpoints outside the limits: counted, reported, true (the caller refuses).
-  bool refuse_out_of_limits(const Request& request, const std::uint8_t* data);
+  bool refuse_out_of_limits(const ModbusRequest& request, const std::uint8_t* data);
   void check_watchdog(Clock::time_point now);
   void mirror_counters_to_control();
   void take_sample();
