@@ -29,13 +29,21 @@ ParsedRequest parse_request(const std::uint8_t* adu, int length, int header, int
   }
   request.address = static_cast<std::uint32_t>((adu[header + 1] << 8) | adu[header + 2]);
   request.count = static_cast<std::uint32_t>((adu[header + 3] << 8) | adu[header + 4]);
+  bool count_ok = true;
   if (request.function_code == MODBUS_FC_WRITE_SINGLE_REGISTER) {
     request.count = 1;
     request.write = true;
   } else if (request.function_code == MODBUS_FC_WRITE_MULTIPLE_REGISTERS) {
     request.write = true;
+    count_ok = request.count >= 1 && request.count <= MODBUS_MAX_WRITE_REGISTERS &&
+               adu[header + 5] == 2 * request.count;
+  } else {
+    count_ok = request.count >= 1 && request.count <= MODBUS_MAX_READ_REGISTERS;
   }
-  parsed.verdict = RequestVerdict::serve;
+  // Refused here, not by modbus_reply: libmodbus answers a count out of range only after
+  // sleeping its response timeout (0.5 s) and flushing the socket, which would stall the
+  // whole single-threaded server.
+  parsed.verdict = count_ok ? RequestVerdict::serve : RequestVerdict::malformed;
   return parsed;
 }
 

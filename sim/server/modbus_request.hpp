@@ -20,7 +20,8 @@ struct ModbusRequest {
 enum class RequestVerdict {
   serve,             // well formed, a served function code: `request` is set
   illegal_function,  // a function code not served: answer exception 1 (illegal function)
-  malformed,         // a served function code with the wrong length: exception 3
+  malformed,         // a served function code with the wrong length or register count
+                     // (exception 3)
 };
 
 struct ParsedRequest {
@@ -32,7 +33,10 @@ struct ParsedRequest {
 /// Modbus TCP MBAP header with the unit; 1, the RTU address) and `crc` bytes after the PDU
 /// (2 for RTU, 0 for TCP). Requires length ≥ header + 1 (the function code is present).
 /// Function codes 3, 4 and 6 are exactly 5 bytes of PDU after the code; 16 is 6 bytes plus
-/// the byte count it announces. Reads no byte at or beyond `length`.
+/// the byte count it announces. Counts: 1…125 registers read (3, 4), 1…123 written (16) with
+/// a byte count of twice that — the Modbus limits, checked here because libmodbus's
+/// modbus_reply answers a violation only after sleeping its response timeout. Reads no byte
+/// at or beyond `length`.
 ParsedRequest parse_request(const std::uint8_t* adu, int length, int header, int crc);
 
 }  // namespace excite::sim::server

@@ -238,6 +238,36 @@ TEST_F(Robust, StalledReplyOnOneConnectionDoesNotDelayAnother) {
   EXPECT_EQ(reply[1], 7);
 }
 
+// Found by tests/fuzz/modbus_request_fuzz: libmodbus answers a register count outside the
+// Modbus range only after sleeping its response timeout (0.5 s) and flushing the socket,
+// which stalled the whole server. Now refused at once with exception 3 (illegal data value).
+TEST_F(Robust, RegisterCountOutOfRangeIsRefusedAtOnceAndDelaysNobody) {
+  start();
+  RawClient raw(port_);
+  ASSERT_TRUE(raw.connected());
+  const std::vector<std::vector<std::uint8_t>> bad{
+      {0x04, 0x00, 200, 0x00, 0x00},                    // FC04, 0 registers
+      {0x03, 0x00, 100, 0x00, 126},                     // FC03, 126 registers
+      {0x10, 0x00, 100, 0x00, 0x02, 0x02, 0x00, 0x01},  // FC16, 2 registers, 2 bytes
+  };
+  std::uint16_t tid = 20;
+  for (const auto& pdu : bad) {
+    const auto t0 = Clock::now();
+    ASSERT_TRUE(raw.send_bytes(frame(tid, pdu)));
+    bool closed = false;
+    const auto reply = raw.receive(std::chrono::milliseconds(2000), closed);
+    const auto took = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0);
+    ASSERT_EQ(reply.size(), 9U) << "function code " << int{pdu[0]};
+    EXPECT_EQ(reply[1], tid);
+    EXPECT_EQ(reply[7], pdu[0] | 0x80);
+    EXPECT_EQ(reply[8], 3);  // illegal data value
+    EXPECT_LT(took.count(), 200) << "function code " << int{pdu[0]};
+    ++tid;
+  }
+  std::chrono::milliseconds slowest{};
+  EXPECT_EQ(poll_values(client(), 3, slowest), 3);  // the server serves on
+}
+
 TEST_F(Robust, UnservedFunctionCodesAreIllegalFunctionAndTouchNothing) {
   start();
   modbus_t* ctx = client();
