@@ -165,7 +165,11 @@ DesignSpec parse_design_spec(std::string_view toml_text, std::string_view source
   if (const toml::node* gain = prior->get("gain")) {
     p.gain = read_gain(reader, *gain, static_cast<int>(declared));
   } else if (!plant.empty()) {
-    p.gain = case_study(plant).gain;  // the library plant's G(0)
+    try {
+      p.gain = case_study(plant).gain;          // the library plant's G(0)
+    } catch (const std::invalid_argument& e) {  // an unknown plant: named with file and line
+      reader.fail(root.get("plant"), e.what());
+    }
     if (p.gain.cols() != static_cast<Eigen::Index>(declared)) {
       reader.fail(&root, "plant = \"" + plant + "\" has " + std::to_string(p.gain.cols()) +
                              " inputs, the spec " + std::to_string(declared));

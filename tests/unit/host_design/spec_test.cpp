@@ -62,6 +62,18 @@ TEST(DesignSpec, UnknownKeyIsNamedWithItsPosition) {
   EXPECT_NE(e.find("unknown key 'prior.gama'"), std::string::npos) << e;
 }
 
+// Found by tests/fuzz/design_spec_fuzz: an unknown library plant (whose G(0) the spec asks
+// for by leaving out the gain) was reported without the file and position.
+TEST(DesignSpec, UnknownPlantIsNamedWithTheFileAndPosition) {
+  const std::string text =
+      with(with(kValidSpec, "gain = [[87.8, -86.4], [108.2, -109.6]]\n", ""),
+           "design = \"prbsSimDir\"", "design = \"prbsSimDir\"\nplant = \"nosuch2x2\"");
+  const std::string e = error_of(text);
+  EXPECT_EQ(e.rfind("spec.toml:3:", 0), 0U) << e;
+  EXPECT_NE(e.find("plant = \"nosuch2x2\""), std::string::npos) << e;
+  EXPECT_NE(e.find("expected one of"), std::string::npos) << e;
+}
+
 TEST(DesignSpec, MissingFieldIsNamed) {
   const std::string e = error_of(with(kValidSpec, "tau_low_min = 15.0\n", ""));
   EXPECT_NE(e.find("missing 'prior.tau_low_min'"), std::string::npos) << e;
