@@ -149,6 +149,17 @@ DiscreteTerm discretise_zoh(std::span<const double> num, std::span<const double>
     }
     out.b[static_cast<std::size_t>(j)] = s;
   }
+  // A term whose matrix exponential overflows (poles far faster than the sample time, e.g.
+  // 1/(s+113)^6 at T = 1 min) is refused by name rather than simulated as NaN.
+  for (int j = 0; j < kMaxCoefficients; ++j) {
+    const auto uj = static_cast<std::size_t>(j);
+    if (!std::isfinite(out.b[uj]) || !std::isfinite(out.a[uj])) {
+      throw std::invalid_argument(
+          "discretisation at sample time " + std::to_string(T) +
+          " min gives non-finite coefficients (poles too fast for the sample time): expected "
+          "a shorter sample time or slower poles");
+    }
+  }
   // Leading exact zeros of b are whole-sample delays.
   while (out.nb > 1 && out.b[0] == 0.0) {
     for (int j = 1; j < out.nb; ++j) {

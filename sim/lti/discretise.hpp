@@ -53,7 +53,8 @@ inline constexpr int kMaxDelaySamples = 10'000'000;
 
 /// Discretises num(s)/den(s)·e^{−s·delay_min} (ascending coefficients, num including the
 /// gain, deg num ≤ deg den ≤ kMaxTermOrder) whose denominator roots are `poles`.
-/// Throws std::invalid_argument for a bad sample time, delay or degree.
+/// Throws std::invalid_argument for a bad sample time, delay or degree, and when the result
+/// is not finite (poles far faster than the sample time overflow the matrix exponential).
 DiscreteTerm discretise_zoh(std::span<const double> num, std::span<const double> den,
                             std::span<const std::complex<double>> poles, double delay_min,
                             double sample_time_min);

@@ -11,6 +11,7 @@
 #include <complex>
 #include <functional>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "sim/lti/parse_element.hpp"
@@ -83,6 +84,19 @@ TEST(Discretise, RepeatedPole) {
   expect_step_matches(
       "-0.05 e^-6s / (34.5s+1)^2", 1.0, 400,
       [](double t) { return -0.05 * (1 - (1 + t / 34.5) * std::exp(-t / 34.5)); }, 6.0);
+}
+
+// Found by tests/fuzz/element_fuzz: six poles at −113/min and T = 1 min overflow the
+// matrix exponential; the coefficients came back NaN and a plant simulated NaN. Refused now.
+TEST(Discretise, PolesFarFasterThanTheSampleTimeAreRefusedNotNaN) {
+  const Element e = parse_element("1 / (113+s)^6");
+  try {
+    discretise_zoh(e.terms().front(), 1.0);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("non-finite coefficients"), std::string::npos)
+        << error.what();
+  }
 }
 
 TEST(Discretise, NumeratorZero) {
