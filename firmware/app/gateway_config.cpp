@@ -593,9 +593,11 @@ ConfigResult load_gateway_config(const std::string& path) {
 
 engine::EngineConfig to_engine_config(const GatewayConfig& c,
                                       std::chrono::duration<double> period) {
+  // Seconds → ticks, rounded up; saturated at the counters' range (2^32 − 1 ticks outlasts
+  // any run; casting a larger double would be undefined).
   auto ticks = [period](double seconds) {
-    return static_cast<std::uint32_t>(
-        std::ceil(std::chrono::duration<double>(seconds) / period - 1e-9));
+    const double t = std::ceil(std::chrono::duration<double>(seconds) / period - 1e-9);
+    return static_cast<std::uint32_t>(std::min(t, 4294967295.0));
   };
   engine::EngineConfig e;
   e.inputs = static_cast<std::uint32_t>(c.setpoints.size());
