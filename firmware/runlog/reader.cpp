@@ -121,6 +121,12 @@ class Parser {
       if (colon == std::string_view::npos) continue;  // free comment
       const std::string_view key = trim(body.substr(0, colon));
       const std::string_view value = trim(body.substr(colon + 1));
+      // Free text is one line; a carriage return inside it is damage the writer never makes.
+      if ((key == "plant" || key == "plan" || key == "producer") &&
+          value.find('\r') != std::string_view::npos) {
+        return fail(0, "header key '" + std::string(key) +
+                           "' has a carriage return inside its text, expected one line");
+      }
       std::size_t which = 6;
       for (std::size_t i = 0; i < 6; ++i) {
         if (key == kKeys[i]) which = i;

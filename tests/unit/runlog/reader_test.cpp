@@ -49,6 +49,30 @@ TEST(RunLogReader, ReadsHeaderAndColumns) {
   EXPECT_EQ(r.log.dy[0][3], 0.03);
 }
 
+// Found by tests/fuzz/runlog_reader_fuzz: a CR inside the producer's text was read, and the
+// writer, which writes free text as one line without CR, could not write it back.
+TEST(RunLogReader, CarriageReturnInsideHeaderTextIsRefused) {
+  for (const std::string key : {"producer", "plant", "plan"}) {
+    std::string header = kHeader;
+    if (key == "producer") {
+      header.insert(20, "# producer: excite simul\rte 0.1.0\n");
+    } else {
+      const auto at = header.find("# " + key + ": ");
+      header.insert(at + key.size() + 4, "a\rb ");
+    }
+    const ReadError e = error_of(header + kColumns + rows(2));
+    EXPECT_EQ(e.message,
+              "header key '" + key + "' has a carriage return inside its text, expected one line")
+        << key;
+  }
+  // CR LF line ends stay accepted
+  std::string crlf = kHeader + kColumns + rows(2);
+  for (std::size_t at = crlf.find('\n'); at != std::string::npos; at = crlf.find('\n', at + 2)) {
+    crlf.insert(at, "\r");
+  }
+  EXPECT_TRUE(parse_run_log(crlf, "run.csv").ok());
+}
+
 TEST(RunLogReader, ALogWithoutProducerLineStillReads) {
   const ReadResult r = parse_run_log(kHeader + kColumns + rows(2), "run.csv");
   ASSERT_TRUE(r.ok()) << r.error->to_string();
