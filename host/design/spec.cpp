@@ -114,6 +114,11 @@ DesignSpec parse_design_spec(std::string_view toml_text, std::string_view source
   reader.only_keys(root, "", {"design", "plant", "prior", "input", "multisine"});
   DesignSpec spec;
   spec.design = reader.text(root, "", "design", true);
+  if (spec.design.empty()) {
+    reader.fail(root.get("design"),
+                "design = \"\": expected a preset acronym of Table 6.1 or "
+                "\"multisine\"");
+  }
   const bool plain = spec.design == "multisine";  // needs no dynamics, only its lines
   const std::string plant = reader.text(root, "", "plant", false);
 

@@ -74,6 +74,14 @@ TEST(DesignSpec, UnknownPlantIsNamedWithTheFileAndPosition) {
   EXPECT_NE(e.find("expected one of"), std::string::npos) << e;
 }
 
+// Found by tests/fuzz/design_spec_fuzz: design = "" was accepted, and failed only later,
+// in the design step, without the file and position.
+TEST(DesignSpec, EmptyDesignIsRefusedWithItsPosition) {
+  const std::string e = error_of(with(kValidSpec, "design = \"prbsSimDir\"", "design = \"\""));
+  EXPECT_EQ(e.rfind("spec.toml:2:", 0), 0U) << e;
+  EXPECT_NE(e.find("expected a preset acronym"), std::string::npos) << e;
+}
+
 TEST(DesignSpec, MissingFieldIsNamed) {
   const std::string e = error_of(with(kValidSpec, "tau_low_min = 15.0\n", ""));
   EXPECT_NE(e.find("missing 'prior.tau_low_min'"), std::string::npos) << e;
