@@ -124,20 +124,29 @@ class RowModel {
 // parameters (K of the same row: a weight ~1e-9), which must not make K undetermined.
 constexpr double kNullWeight = 1e-6;
 
+struct ParameterUncertainty {
+  Eigen::VectorXd se;   // 1σ per parameter
+  Eigen::MatrixXd cov;  // σ̂² (JᵀJ)⁻¹ over the determined directions; NaN rows/columns on a
+                        // bound, inf rows/columns for an undetermined parameter
+};
+
 // 1σ standard errors σ̂ √diag((JᵀJ)⁻¹) over the parameters not on a bound; inf for
 // parameters in a direction the data do not determine (a numerically zero eigenvalue,
 // weight above kNullWeight); the other parameters' variances over the determined directions.
-Eigen::VectorXd standard_errors(const Eigen::MatrixXd& J, double sse,
-                                const std::vector<bool>& on_bound) {
+// The covariance is the same pseudo-inverse, whole (its diagonal is se²).
+ParameterUncertainty standard_errors(const Eigen::MatrixXd& J, double sse,
+                                     const std::vector<bool>& on_bound) {
   const Eigen::Index P = J.cols();
-  Eigen::VectorXd se = Eigen::VectorXd::Constant(P, kNaN);
+  ParameterUncertainty out{Eigen::VectorXd::Constant(P, kNaN),
+                           Eigen::MatrixXd::Constant(P, P, kNaN)};
+  Eigen::VectorXd& se = out.se;
   std::vector<Eigen::Index> free;
   for (Eigen::Index m = 0; m < P; ++m) {
     if (!on_bound[static_cast<std::size_t>(m)]) free.push_back(m);
   }
   const auto F = static_cast<Eigen::Index>(free.size());
   const Eigen::Index dof = J.rows() - F;
-  if (F == 0 || dof <= 0) return se;
+  if (F == 0 || dof <= 0) return out;
   Eigen::MatrixXd Jf(J.rows(), F);
   for (Eigen::Index a = 0; a < F; ++a) Jf.col(a) = J.col(free[static_cast<std::size_t>(a)]);
   // Scale columns to unit norm so the eigen test is about directions, not units.
@@ -151,6 +160,17 @@ Eigen::VectorXd standard_errors(const Eigen::MatrixXd& J, double sse,
   const Eigen::MatrixXd& V = eig.eigenvectors();
   const double sigma2 = sse / static_cast<double>(dof);
   const double floor = 1e-13 * std::max(lam.maxCoeff(), 0.0);
+  Eigen::VectorXd inverse = Eigen::VectorXd::Zero(F);  // 1/λ on the determined directions
+  for (Eigen::Index k = 0; k < F; ++k) {
+    if (lam(k) > floor) inverse(k) = 1.0 / lam(k);
+  }
+  const Eigen::MatrixXd cov_scaled = V * inverse.asDiagonal() * V.transpose();
+  for (Eigen::Index a = 0; a < F; ++a) {
+    for (Eigen::Index b = 0; b < F; ++b) {
+      out.cov(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]) =
+          sigma2 * cov_scaled(a, b) / (norms(a) * norms(b));
+    }
+  }
   for (Eigen::Index a = 0; a < F; ++a) {
     double var = 0.0;
     for (Eigen::Index k = 0; k < F; ++k) {
@@ -162,8 +182,14 @@ Eigen::VectorXd standard_errors(const Eigen::MatrixXd& J, double sse,
       }
     }
     se(free[static_cast<std::size_t>(a)]) = std::sqrt(sigma2 * var) / norms(a);
+    if (std::isinf(var)) {
+      for (Eigen::Index b = 0; b < F; ++b) {
+        out.cov(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]) = kInf;
+        out.cov(free[static_cast<std::size_t>(b)], free[static_cast<std::size_t>(a)]) = kInf;
+      }
+    }
   }
-  return se;
+  return out;
 }
 
 }  // namespace
@@ -211,13 +237,15 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
     on_bound[static_cast<std::size_t>(k)] =
         lm.x(k) <= problem.lower(k) || lm.x(k) >= problem.upper(k);
   }
-  const Eigen::VectorXd se = standard_errors(J, lm.cost, on_bound);
+  const ParameterUncertainty uncertainty = standard_errors(J, lm.cost, on_bound);
+  const Eigen::VectorXd& se = uncertainty.se;
 
   for (Eigen::Index e = 0; e < m; ++e) {
     const Eigen::Index o = kPerElement * e;
     ElementEstimate est;
     est.value = TwoPoleDelay{lm.x(o), lm.x(o + 1), lm.x(o + 2), lm.x(o + 3)};
     est.std_error = TwoPoleDelay{se(o), se(o + 1), se(o + 2), se(o + 3)};
+    est.covariance = uncertainty.cov.block<kPerElement, kPerElement>(o, o);
     for (int k = 0; k < kPerElement; ++k)
       est.at_bound[static_cast<std::size_t>(k)] = on_bound[static_cast<std::size_t>(o + k)];
     // Report T_p1 ≥ T_p2 (the model is symmetric in them).
@@ -225,6 +253,8 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
       std::swap(est.value.tau1_min, est.value.tau2_min);
       std::swap(est.std_error.tau1_min, est.std_error.tau2_min);
       std::swap(est.at_bound[kTp1], est.at_bound[kTp2]);
+      est.covariance.row(kTp1).swap(est.covariance.row(kTp2));
+      est.covariance.col(kTp1).swap(est.covariance.col(kTp2));
     }
     const double k_se = est.std_error.gain;
     if (std::isfinite(k_se) ? std::abs(est.value.gain) < 2.0 * k_se : std::isinf(k_se)) {
