@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   excite::host::cli::add_balance_command(app);
   excite::host::cli::add_campaign_command(app);
   excite::host::cli::add_loop_config_command(app);
+  excite::host::cli::add_export_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

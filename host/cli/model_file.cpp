@@ -71,6 +71,10 @@ nlohmann::json model_json(const IdentificationResult& result,
 }
 
 IdentifiedModel read_model_file(const std::filesystem::path& path) {
+  return read_named_model_file(path).model;
+}
+
+NamedModel read_named_model_file(const std::filesystem::path& path) {
   const std::string where = path.string();
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(where + ": cannot be read");
@@ -84,7 +88,9 @@ IdentifiedModel read_model_file(const std::filesystem::path& path) {
     throw std::invalid_argument(where + ": format: expected \"" + kFormat +
                                 "\" (a file from excite identify -o)");
   }
-  IdentifiedModel m;
+  NamedModel named;
+  named.source = where;
+  IdentifiedModel& m = named.model;
   m.sample_time_min = number(j, "sample_time_min", where);
   if (!(m.sample_time_min > 0.0))
     throw std::invalid_argument(where + ": sample_time_min: expected > 0");
@@ -92,12 +98,20 @@ IdentifiedModel read_model_file(const std::filesystem::path& path) {
       !j["outputs"].is_array()) {
     throw std::invalid_argument(where + ": inputs, outputs: expected arrays");
   }
+  for (const nlohmann::json& name : j["inputs"]) {
+    if (!name.is_string())
+      throw std::invalid_argument(where + ": inputs: " + name.dump() + ", expected a name");
+    named.inputs.push_back(name.get<std::string>());
+  }
   m.inputs = static_cast<int>(j["inputs"].size());
   m.outputs = static_cast<int>(j["outputs"].size());
   m.elements.resize(static_cast<std::size_t>(m.inputs * m.outputs));
   for (int o = 0; o < m.outputs; ++o) {
     const nlohmann::json& out = j["outputs"][static_cast<std::size_t>(o)];
     const std::string at = where + ": outputs[" + std::to_string(o) + "]";
+    named.outputs.push_back(out.contains("name") && out["name"].is_string()
+                                ? out["name"].get<std::string>()
+                                : "y" + std::to_string(o + 1));
     if (!out.contains("elements") || !out["elements"].is_array() ||
         out["elements"].size() != static_cast<std::size_t>(m.inputs)) {
       throw std::invalid_argument(at + ".elements: expected " + std::to_string(m.inputs) +
@@ -116,10 +130,11 @@ IdentifiedModel read_model_file(const std::filesystem::path& path) {
         throw std::invalid_argument(el + ": Td, Tp1, Tp2: expected >= 0");
       }
       est.status = finite ? ElementStatus::identified : ElementStatus::input_not_moved;
+      if (finite && e.value("status", "") == "weak_gain") est.status = ElementStatus::weak_gain;
       if (!finite) est.reason = e.value("reason", "not estimated");
     }
   }
-  return m;
+  return named;
 }
 
 }  // namespace excite::host::cli

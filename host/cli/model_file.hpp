@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "host/export/formats.hpp"
 #include "host/identify/identify.hpp"
 
 namespace excite::host::cli {
@@ -22,5 +23,8 @@ nlohmann::json model_json(const IdentificationResult& result,
 
 /// Reads a model file. Throws std::invalid_argument "<path>: <field>: <what was expected>".
 IdentifiedModel read_model_file(const std::filesystem::path& path);
+
+/// The same with the names of the inputs and outputs (`source` is the path).
+NamedModel read_named_model_file(const std::filesystem::path& path);
 
 }  // namespace excite::host::cli
