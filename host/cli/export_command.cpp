@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <sstream>
 #include <stdexcept>
 
 #include "host/cli/commands.hpp"
@@ -50,8 +51,10 @@ void run(const ExportOptions& opt) {
     case ExportFormat::step_csv: {
       const int horizon = opt.horizon > 0 ? opt.horizon : settling_samples(m.model);
       text = step_csv(m, horizon);
-      what = "step coefficients, " + std::to_string(horizon) + " samples of " +
-             std::to_string(m.model.sample_time_min) + " min";
+      std::ostringstream text_of;
+      text_of << "step coefficients, " << horizon << " samples of " << m.model.sample_time_min
+              << " min";
+      what = text_of.str();
       break;
     }
     case ExportFormat::matlab:
