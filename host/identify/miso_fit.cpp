@@ -126,14 +126,16 @@ constexpr double kNullWeight = 1e-6;
 
 struct ParameterUncertainty {
   Eigen::VectorXd se;   // 1σ per parameter
-  Eigen::MatrixXd cov;  // σ̂² (JᵀJ)⁻¹ over the determined directions; NaN rows/columns on a
-                        // bound, inf rows/columns for an undetermined parameter
+  Eigen::MatrixXd cov;  // σ̂² (JᵀJ)⁺ over the determined directions; NaN rows/columns on a
+                        // bound
 };
 
 // 1σ standard errors σ̂ √diag((JᵀJ)⁻¹) over the parameters not on a bound; inf for
 // parameters in a direction the data do not determine (a numerically zero eigenvalue,
 // weight above kNullWeight); the other parameters' variances over the determined directions.
-// The covariance is the same pseudo-inverse, whole (its diagonal is se²).
+// The covariance is the same pseudo-inverse, whole: its diagonal is se² except for an
+// undetermined parameter (se inf), whose null direction it leaves out — the output does
+// not change along that direction, so what the output determines stays finite.
 ParameterUncertainty standard_errors(const Eigen::MatrixXd& J, double sse,
                                      const std::vector<bool>& on_bound) {
   const Eigen::Index P = J.cols();
@@ -182,12 +184,6 @@ ParameterUncertainty standard_errors(const Eigen::MatrixXd& J, double sse,
       }
     }
     se(free[static_cast<std::size_t>(a)]) = std::sqrt(sigma2 * var) / norms(a);
-    if (std::isinf(var)) {
-      for (Eigen::Index b = 0; b < F; ++b) {
-        out.cov(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]) = kInf;
-        out.cov(free[static_cast<std::size_t>(b)], free[static_cast<std::size_t>(a)]) = kInf;
-      }
-    }
   }
   return out;
 }

@@ -487,3 +487,32 @@ TEST_F(ExciteCli, ExportWritesEveryFormatOfAnIdentifiedModel) {
       << not_a_model.out;
   EXPECT_FALSE(std::filesystem::exists(path("y")));
 }
+
+// The in-process campaign keeps every run log and every model beside its report and links
+// them (as the --loop campaign keeps its runs).
+TEST_F(ExciteCli, CampaignKeepsEveryRunAndModelAndTheReportLinksThem) {
+  const Result r = excite("campaign --plant woodberry2x2 --threads 2 -o " + path("camp"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  std::ifstream html_file(path("camp/index.html"));
+  const std::string html((std::istreambuf_iterator<char>(html_file)),
+                         std::istreambuf_iterator<char>());
+  int runs = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(path("camp/runs"))) {
+    const std::string folder = entry.path().filename().string();
+    const auto run = entry.path() / "run.csv";
+    ASSERT_TRUE(std::filesystem::exists(run)) << run;
+    EXPECT_GT(output_columns(run.string()).size(), 700U) << run;
+    EXPECT_NE(html.find("href='runs/" + folder + "/run.csv'"), std::string::npos) << folder;
+    EXPECT_TRUE(std::filesystem::exists(path("camp/models") + "/" + folder + ".json")) << folder;
+    EXPECT_NE(html.find("href='models/" + folder + ".json'"), std::string::npos) << folder;
+    ++runs;
+  }
+  EXPECT_EQ(runs, 17);
+  // A kept run is a run log the other commands take: its model validates on it as reported.
+  const Result v = excite("validate --json " + path("camp/models/04-prbsUnc.json") + " " +
+                          path("camp/runs/04-prbsUnc/run.csv"));
+  ASSERT_EQ(v.exit_code, 0) << v.out;
+  const auto model = nlohmann::json::parse(std::ifstream(path("camp/models/04-prbsUnc.json")));
+  EXPECT_NEAR(nlohmann::json::parse(v.out)["outputs"][0]["fit"].get<double>(),
+              model["outputs"][0]["fit"].get<double>(), 1e-6);
+}
