@@ -39,6 +39,16 @@ std::string name_of(const std::vector<std::string>& names, int i) {
   return names.at(static_cast<std::size_t>(i));
 }
 
+// A tic step of 1, 2 or 5 × 10^k giving at most about five tics over `span`.
+double tic_step(double span) {
+  const double raw = span / 5.0;
+  const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+  for (const double m : {1.0, 2.0, 5.0}) {
+    if (m * decade >= raw) return m * decade;
+  }
+  return 10.0 * decade;
+}
+
 std::string axis_unit(const std::string& unit) {
   return unit == "-" ? "[–]" : "[" + unit + "]";
 }
@@ -95,7 +105,8 @@ void step_script(const Experiment& e, const CampaignResult& r, const Eigen::Matr
      << p << ',' << n << " title "
      << gnuplot_string(e.name + ": unit steps, model ±2σ (blue)" +
                        std::string(truth.size() ? ", true plant (black dashed)" : ""))
-     << "\nset grid\nunset key\nset xlabel " << gnuplot_string(time_label) << '\n';
+     << "\nset grid\nunset key\nset xlabel " << gnuplot_string(time_label) << "\nset xtics "
+     << tic_step(horizon * T / divisor) << '\n';
   const std::string file = gnuplot_string(data.string());
   for (int o = 0; o < p; ++o) {
     for (int i = 0; i < n; ++i) {
@@ -199,7 +210,8 @@ void residual_script(const Experiment& e, const CampaignResult& r, const Eigen::
                        ": residual autocorrelation (left) and cross-correlation with "
                        "each input; dashed: 99 % limits ±2.58/√N = ±" +
                        format("%.3g", limit))
-     << "\nset grid\nunset key\nset xlabel 'lag [min]'\nset yrange [-1:1]\n";
+     << "\nset grid\nunset key\nset xlabel 'lag [min]'\nset yrange [-1:1]\nset xtics "
+     << tic_step(2.0 * L * e.sample_time_min) << '\n';
   const std::string file = gnuplot_string(data.string());
   const int per_output = n + 1;
   for (int o = 0; o < p; ++o) {
