@@ -11,13 +11,16 @@
 #include <sstream>
 
 #include <atomic>
+#include <cmath>
 #include <cstring>
+#include <random>
 #include <stdexcept>
 #include <vector>
 
 #include "host/campaign/campaign.hpp"
 #include "host/campaign/parallel.hpp"
 #include "host/campaign/report.hpp"
+#include "host/campaign/residuals.hpp"
 
 namespace excite::host {
 namespace {
@@ -91,6 +94,35 @@ TEST_F(WoodBerryCampaign, StepTestGainOnOneThreadReproducesTheStepTest) {
   EXPECT_TRUE(a.Y == b.Y);
   EXPECT_EQ(std::memcmp(&a.fit_avg, &b.fit_avg, sizeof(double)), 0);
   EXPECT_TRUE(a.identified.gain->gain == b.identified.gain->gain);
+}
+
+// Residual tests (report): a residual that is the input delayed by 3 samples correlates with
+// it at lag +3 only; white noise stays inside ±2.58/√N at nearly every lag.
+TEST(ResidualCorrelation, FindsADelayedInputAndPassesWhiteNoise) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  const Eigen::Index N = 4000;
+  Eigen::MatrixXd U(N, 2);
+  for (Eigen::Index k = 0; k < N; ++k) U.row(k) << normal(rng), normal(rng);
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(N);
+  e.tail(N - 3) = U.col(0).head(N - 3);
+  const ResidualCorrelation delayed = residual_correlation(e, U, 10);
+  EXPECT_NEAR(delayed.limit_99, 2.58 / std::sqrt(4000.0), 1e-15);
+  EXPECT_NEAR(delayed.cross_correlation(10 + 3, 0), 1.0, 0.01);
+  EXPECT_LT(std::abs(delayed.cross_correlation(10, 0)), delayed.limit_99);
+  EXPECT_LT(std::abs(delayed.cross_correlation(10 + 3, 1)), delayed.limit_99);
+  Eigen::VectorXd white(N);
+  for (Eigen::Index k = 0; k < N; ++k) white(k) = normal(rng);
+  const ResidualCorrelation w = residual_correlation(white, U, 30);
+  EXPECT_EQ(w.auto_correlation(0), 1.0);
+  int outside = 0;
+  for (int tau = 1; tau <= 30; ++tau) outside += std::abs(w.auto_correlation(tau)) > w.limit_99;
+  for (Eigen::Index r = 0; r < w.cross_correlation.rows(); ++r)
+    for (Eigen::Index c = 0; c < 2; ++c)
+      outside += std::abs(w.cross_correlation(r, c)) > w.limit_99;
+  EXPECT_LE(outside, 3);  // 152 lags at 1 % each: ≈ 1.5 expected
+  EXPECT_THROW((void)residual_correlation(white, U.topRows(10), 5), std::invalid_argument);
+  EXPECT_THROW((void)residual_correlation(white, U, 0), std::invalid_argument);
 }
 
 TEST(ParallelFor, EveryTaskRunsOnceAndTheLowestFailureIsRethrown) {
