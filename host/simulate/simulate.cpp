@@ -109,8 +109,14 @@ void write_run_log(const SimulatedRun& run, const std::filesystem::path& path) {
       u[static_cast<std::size_t>(j)] = run.input_baseline(j) + run.du(k, j);
     }
     for (Eigen::Index i = 0; i < p; ++i) dy[static_cast<std::size_t>(i)] = run.dy(k, i);
-    const runlog::Row row{
-        static_cast<double>(k) * run.sample_time_min, static_cast<std::uint64_t>(k), du, u, dy, 0};
+    // No engine here: every row of the plan is applied as designed, so the state is running.
+    const runlog::Row row{static_cast<double>(k) * run.sample_time_min,
+                          static_cast<std::uint64_t>(k),
+                          du,
+                          u,
+                          dy,
+                          0,
+                          runlog::RunState::running};
     if (const auto s = writer.write_row(row); s != runlog::WriteStatus::ok) fail(s);
   }
   if (std::fflush(file.get()) != 0) fail(runlog::WriteStatus::io_error);
