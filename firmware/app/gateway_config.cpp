@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -22,6 +23,13 @@ struct ConfigError : std::runtime_error {
   ConfigError(const std::string& field, const std::string& value, const std::string& expected)
       : std::runtime_error(field + " = " + value + ": expected " + expected) {}
 };
+
+// A double as the file would spell it, shortest round-trip ("1e+300", "0.25").
+std::string shortest(double x) {
+  std::ostringstream out;
+  out << x;
+  return out.str();
+}
 
 std::string describe(const toml::node& node) {
   std::ostringstream out;
@@ -111,20 +119,28 @@ void parse_gateway(const toml::table& t, GatewayConfig& c) {
     }
     c.plant = *s;
   }
+  // Durations: finite (number()) and within their documented range, so that every one of
+  // them converts to ticks without overflow at any accepted period (README "Timing").
   if (auto v = number(t, w, "period_s")) {
-    if (*v <= 0.0) throw ConfigError(w + ".period_s", std::to_string(*v), "> 0 seconds");
+    if (!(*v >= kMinPeriodS && *v <= kMaxPeriodS)) {
+      throw ConfigError(w + ".period_s", shortest(*v),
+                        shortest(kMinPeriodS) + " … " + shortest(kMaxPeriodS) + " seconds");
+    }
     c.period_s = *v;
   }
-  auto non_negative = [&](const char* key, double& out) {
+  auto duration = [&](const char* key, double& out) {
     if (auto v = number(t, w, key)) {
-      if (*v < 0.0) throw ConfigError(w + "." + key, std::to_string(*v), ">= 0 seconds");
+      if (!(*v >= 0.0 && *v <= kMaxDurationS)) {
+        throw ConfigError(w + "." + key, shortest(*v),
+                          "0 … " + shortest(kMaxDurationS) + " seconds");
+      }
       out = *v;
     }
   };
-  non_negative("ramp_s", c.ramp_s);
-  non_negative("resume_dwell_s", c.resume_dwell_s);
-  non_negative("suspend_timeout_s", c.suspend_timeout_s);
-  non_negative("heartbeat_max_lag_s", c.heartbeat_max_lag_s);
+  duration("ramp_s", c.ramp_s);
+  duration("resume_dwell_s", c.resume_dwell_s);
+  duration("suspend_timeout_s", c.suspend_timeout_s);
+  duration("heartbeat_max_lag_s", c.heartbeat_max_lag_s);
   if (auto v = integer(t, w, "comm_fail_limit", 1, 1000000)) {
     c.comm_fail_limit = static_cast<std::uint32_t>(*v);
   }
@@ -183,7 +199,7 @@ void parse_device(const toml::table& t, GatewayConfig& c) {
   if (auto v = integer(t, w, "data_bits", 0, 64)) d.data_bits = static_cast<std::int32_t>(*v);
   if (auto v = integer(t, w, "stop_bits", 0, 64)) d.stop_bits = static_cast<std::int32_t>(*v);
   if (auto v = integer(t, w, "unit_id", -1, 1 << 16)) d.unit_id = static_cast<std::int32_t>(*v);
-  if (auto v = integer(t, w, "response_timeout_ms", 0, 1 << 30)) {
+  if (auto v = integer(t, w, "response_timeout_ms", 1, 60000)) {
     d.response_timeout_ms = static_cast<std::int32_t>(*v);
   }
 }
@@ -591,12 +607,55 @@ ConfigResult load_gateway_config(const std::string& path) {
   return parse_gateway_config(buffer.str(), path);
 }
 
+namespace {
+
+// Seconds → ticks of `period`, rounded up; NaN, negative → 0 and beyond uint32 → its maximum
+// (never an undefined conversion; check_timing() refuses such values before).
+std::uint32_t to_ticks(double seconds, std::chrono::duration<double> period) {
+  const double x = std::ceil(std::chrono::duration<double>(seconds) / period - 1e-9);
+  if (!(x > 0.0)) return 0;
+  if (!(x < 4294967295.0)) return std::numeric_limits<std::uint32_t>::max();
+  return static_cast<std::uint32_t>(x);
+}
+
+}  // namespace
+
+std::string check_timing(const GatewayConfig& c, std::chrono::duration<double> period) {
+  const double p = period.count();
+  if (!(p >= kMinPeriodS && p <= kMaxPeriodS)) {
+    const std::string field = c.period_s ? "gateway.period_s"
+                                         : "the plan's sample time (as the "
+                                           "tick period; gateway.period_s "
+                                           "unset)";
+    return c.source + ": " + field + " = " + shortest(p) + " s: expected " + shortest(kMinPeriodS) +
+           " … " + shortest(kMaxPeriodS) + " seconds";
+  }
+  const struct {
+    const char* key;
+    double seconds;
+    double max_ticks;
+  } durations[] = {
+      {"ramp_s", c.ramp_s, static_cast<double>(engine::kMaxDurationTicks)},
+      {"resume_dwell_s", c.resume_dwell_s, static_cast<double>(engine::kMaxDurationTicks)},
+      {"suspend_timeout_s", c.suspend_timeout_s, static_cast<double>(engine::kMaxDurationTicks)},
+      {"heartbeat_max_lag_s", c.heartbeat_max_lag_s,
+       static_cast<double>(engine::kMaxHeartbeatLagTicks)},
+  };
+  for (const auto& d : durations) {
+    const double ticks = std::ceil(d.seconds / p - 1e-9);
+    if (!std::isfinite(d.seconds) || d.seconds < 0.0 || !(ticks <= d.max_ticks)) {
+      return c.source + ": gateway." + d.key + " = " + shortest(d.seconds) + " (" +
+             shortest(ticks) + " ticks of " + shortest(p) + " s): expected 0 … " +
+             shortest(d.max_ticks * p) + " seconds (" + shortest(d.max_ticks) +
+             " ticks) at this period";
+    }
+  }
+  return {};
+}
+
 engine::EngineConfig to_engine_config(const GatewayConfig& c,
                                       std::chrono::duration<double> period) {
-  auto ticks = [period](double seconds) {
-    return static_cast<std::uint32_t>(
-        std::ceil(std::chrono::duration<double>(seconds) / period - 1e-9));
-  };
+  auto ticks = [period](double seconds) { return to_ticks(seconds, period); };
   engine::EngineConfig e;
   e.inputs = static_cast<std::uint32_t>(c.setpoints.size());
   e.values = static_cast<std::uint32_t>(c.values.size());
@@ -643,7 +702,8 @@ engine::EngineConfig to_engine_config(const GatewayConfig& c,
   }
   if (e.heartbeat_echo != engine::kNone) {
     e.heartbeat_max_lag = c.heartbeat_max_lag_s > 0.0
-                              ? std::clamp<std::uint32_t>(ticks(c.heartbeat_max_lag_s), 1, 30000)
+                              ? std::clamp<std::uint32_t>(ticks(c.heartbeat_max_lag_s), 1,
+                                                          engine::kMaxHeartbeatLagTicks)
                               : 3;
   }
   return e;

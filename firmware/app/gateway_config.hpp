@@ -89,8 +89,21 @@ struct ConfigResult {
 ConfigResult parse_gateway_config(std::string_view text, std::string_view source);
 ConfigResult load_gateway_config(const std::string& path);
 
+/// Accepted timing (README "Timing"): the tick period (gateway.period_s, or the plan's
+/// sample time) within [kMinPeriodS, kMaxPeriodS]; every other duration within
+/// [0, kMaxDurationS] and, converted to ticks of the period, within the engine's range.
+inline constexpr double kMinPeriodS = 1e-3;
+inline constexpr double kMaxPeriodS = 86400.0;
+inline constexpr double kMaxDurationS = 1e6;
+
+/// "" when every duration of `config` converts to ticks of `period` within the engine's
+/// ranges; otherwise "<source>: gateway.<key> = <value> (<n> ticks of <p> s): expected …".
+/// Call before to_engine_config().
+std::string check_timing(const GatewayConfig& config, std::chrono::duration<double> period);
+
 /// The engine's configuration for a tick period (the configuration's seconds → ticks,
-/// rounded up). Value indices follow the register-map order.
+/// rounded up, saturating: check_timing() first). Value indices follow the register-map
+/// order.
 engine::EngineConfig to_engine_config(const GatewayConfig& config,
                                       std::chrono::duration<double> period);
 

@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -277,6 +279,109 @@ TEST(GatewayConfigTest, UnknownCommLossActionIsRefused) {
   std::string text = example_text();
   text.replace(text.find("comm_loss = \"hold\""), 18, "comm_loss = \"stop\"");
   EXPECT_EQ(error_of(text), "gw.toml: gateway.comm_loss = \"stop\": expected \"hold\" or \"ramp\"");
+}
+
+// ---- Issue 11 item 2: absurd timing is refused before the gateway runs ----
+
+// The example with `key = value` put into [gateway] (replacing the key's line if present).
+std::string with_gateway_key(const std::string& key, const std::string& value) {
+  std::string text = example_text();
+  const std::size_t at = text.find("\n" + key + " = ");
+  if (at != std::string::npos) {
+    const std::size_t end = text.find('\n', at + 1);
+    text.erase(at + 1, end - at);  // the line and its newline
+  }
+  text.insert(text.find("[gateway]\n") + 10, key + " = " + value + "\n");
+  return text;
+}
+
+TEST(GatewayTiming, PeriodOutsideItsRangeIsRefused) {
+  EXPECT_EQ(error_of(with_gateway_key("period_s", "1e-9")),
+            "gw.toml: gateway.period_s = 1e-09: expected 0.001 … 86400 seconds");
+  EXPECT_EQ(error_of(with_gateway_key("period_s", "0")),
+            "gw.toml: gateway.period_s = 0: expected 0.001 … 86400 seconds");
+  EXPECT_EQ(error_of(with_gateway_key("period_s", "1e300")),
+            "gw.toml: gateway.period_s = 1e+300: expected 0.001 … 86400 seconds");
+  EXPECT_EQ(error_of(with_gateway_key("period_s", "nan")),
+            "gw.toml: gateway.period_s = nan: expected a finite number");
+  EXPECT_TRUE(parse_gateway_config(with_gateway_key("period_s", "0.001"), "gw.toml").config);
+}
+
+TEST(GatewayTiming, RampOutsideItsRangeIsRefused) {
+  EXPECT_EQ(error_of(with_gateway_key("ramp_s", "1e300")),
+            "gw.toml: gateway.ramp_s = 1e+300: expected 0 … 1e+06 seconds");
+  EXPECT_EQ(error_of(with_gateway_key("ramp_s", "-1")),
+            "gw.toml: gateway.ramp_s = -1: expected 0 … 1e+06 seconds");
+  EXPECT_EQ(error_of(with_gateway_key("ramp_s", "inf")),
+            "gw.toml: gateway.ramp_s = inf: expected a finite number");
+}
+
+TEST(GatewayTiming, ResumeDwellOutsideItsRangeIsRefused) {
+  EXPECT_EQ(error_of(with_gateway_key("resume_dwell_s", "2e6")),
+            "gw.toml: gateway.resume_dwell_s = 2e+06: expected 0 … 1e+06 seconds");
+}
+
+TEST(GatewayTiming, SuspendTimeoutOutsideItsRangeIsRefused) {
+  EXPECT_EQ(error_of(with_gateway_key("suspend_timeout_s", "-0.5")),
+            "gw.toml: gateway.suspend_timeout_s = -0.5: expected 0 … 1e+06 seconds");
+}
+
+TEST(GatewayTiming, HeartbeatLagOutsideItsRangeIsRefused) {
+  EXPECT_EQ(error_of(with_gateway_key("heartbeat_max_lag_s", "1e7")),
+            "gw.toml: gateway.heartbeat_max_lag_s = 1e+07: expected 0 … 1e+06 seconds");
+  // Within the seconds range but beyond the engine's 30000 ticks at this period: refused
+  // when the period is known (before, it was silently clamped).
+  const ConfigResult r =
+      parse_gateway_config(with_gateway_key("heartbeat_max_lag_s", "40000"), "gw.toml");
+  ASSERT_TRUE(r.config) << r.error;
+  EXPECT_EQ(check_timing(*r.config, std::chrono::seconds(1)),
+            "gw.toml: gateway.heartbeat_max_lag_s = 40000 (40000 ticks of 1 s): expected 0 … "
+            "30000 seconds (30000 ticks) at this period");
+  EXPECT_EQ(check_timing(*r.config, std::chrono::seconds(2)), "");
+}
+
+TEST(GatewayTiming, DurationsBeyondTheEngineTicksAtThePlansPeriodAreRefused) {
+  // No period_s: the plan's sample time is the period; 1e6 s at 1 ms = 1e9 ticks (the most).
+  const ConfigResult r = parse_gateway_config(with_gateway_key("ramp_s", "1e6"), "gw.toml");
+  ASSERT_TRUE(r.config) << r.error;
+  EXPECT_EQ(check_timing(*r.config, std::chrono::milliseconds(1)),
+            "gw.toml: gateway.heartbeat_max_lag_s = 180 (180000 ticks of 0.001 s): expected 0 … "
+            "30 seconds (30000 ticks) at this period");
+  GatewayConfig c = *r.config;
+  c.heartbeat_max_lag_s = 0;  // the default, 3 ticks
+  EXPECT_EQ(check_timing(c, std::chrono::milliseconds(1)), "");
+  EXPECT_EQ(to_engine_config(c, std::chrono::milliseconds(1)).ramp_ticks, 1'000'000'000U);
+  EXPECT_TRUE(engine::validate(to_engine_config(c, std::chrono::milliseconds(1))));
+  EXPECT_EQ(check_timing(c, std::chrono::duration<double>(1e-9 * 60)),
+            "gw.toml: the plan's sample time (as the tick period; gateway.period_s unset) = "
+            "6e-08 s: expected 0.001 … 86400 seconds");
+  EXPECT_EQ(check_timing(c, std::chrono::duration<double>(1e9)),
+            "gw.toml: the plan's sample time (as the tick period; gateway.period_s unset) = "
+            "1e+09 s: expected 0.001 … 86400 seconds");
+}
+
+TEST(GatewayTiming, ToEngineConfigSaturatesInsteadOfOverflowing) {
+  GatewayConfig c = *load_gateway_config(kExample).config;
+  c.ramp_s = 1e300;  // past check_timing: the conversion itself must stay defined (UBSan)
+  c.suspend_timeout_s = std::numeric_limits<double>::quiet_NaN();
+  const engine::EngineConfig e = to_engine_config(c, std::chrono::seconds(1));
+  EXPECT_EQ(e.ramp_ticks, std::numeric_limits<std::uint32_t>::max());
+  EXPECT_EQ(e.suspend_timeout_ticks, 0U);
+  EXPECT_FALSE(engine::validate(e));  // and the engine refuses it by name
+  EXPECT_NE(std::string(engine::validate(e).message()).find("ramp_ticks = 4294967295"),
+            std::string::npos);
+}
+
+TEST(GatewayTiming, CountsOutsideTheirRangeAreRefused) {
+  EXPECT_EQ(error_of(with_gateway_key("comm_fail_limit", "0")),
+            "gw.toml: gateway.comm_fail_limit = 0: expected an integer 1…1000000");
+  EXPECT_EQ(error_of(with_gateway_key("log_ring", "8")),
+            "gw.toml: gateway.log_ring = 8: expected an integer 16…1048576");
+  EXPECT_EQ(error_of(with_gateway_key("readback_mismatch_limit", "-1")),
+            "gw.toml: gateway.readback_mismatch_limit = -1: expected an integer 0…1000000");
+  std::string text = example_text();
+  text.replace(text.find("response_timeout_ms = 200"), 25, "response_timeout_ms = 0");
+  EXPECT_EQ(error_of(text), "gw.toml: device.response_timeout_ms = 0: expected an integer 1…60000");
 }
 
 }  // namespace
