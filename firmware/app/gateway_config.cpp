@@ -109,10 +109,11 @@ const toml::table* table_at(const toml::table& root, const std::string& key, boo
 
 void parse_gateway(const toml::table& t, GatewayConfig& c) {
   const std::string w = "gateway";
-  check_keys(t, w,
-             {"plant", "period_s", "ramp_s", "resume_dwell_s", "suspend_timeout_s",
-              "comm_fail_limit", "comm_loss", "heartbeat_max_lag_s", "log_ring",
-              "realtime_priority", "readback_lag_ticks", "readback_mismatch_limit"});
+  check_keys(
+      t, w,
+      {"plant", "period_s", "ramp_s", "resume_dwell_s", "suspend_timeout_s", "comm_fail_limit",
+       "comm_loss", "heartbeat_max_lag_s", "log_ring", "realtime_priority", "readback_lag_ticks",
+       "readback_mismatch_limit", "max_distortion"});
   if (auto s = text(t, w, "plant")) {
     if (s->find_first_of("\r\n") != std::string::npos) {
       throw ConfigError(w + ".plant", '"' + *s + '"', "one line of text");
@@ -141,6 +142,13 @@ void parse_gateway(const toml::table& t, GatewayConfig& c) {
   duration("resume_dwell_s", c.resume_dwell_s);
   duration("suspend_timeout_s", c.suspend_timeout_s);
   duration("heartbeat_max_lag_s", c.heartbeat_max_lag_s);
+  if (auto v = number(t, w, "max_distortion")) {
+    if (!(*v >= 0.0 && *v <= 1.0)) {
+      throw ConfigError(w + ".max_distortion", shortest(*v),
+                        "a fraction of the rows 0 … 1 (0: no row may be clamped or rate-limited)");
+    }
+    c.max_distortion = *v;
+  }
   if (auto v = integer(t, w, "comm_fail_limit", 1, 1000000)) {
     c.comm_fail_limit = static_cast<std::uint32_t>(*v);
   }

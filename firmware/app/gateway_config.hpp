@@ -71,6 +71,8 @@ struct GatewayConfig {
   engine::CommLossAction comm_loss = engine::CommLossAction::hold;
   double heartbeat_max_lag_s = 0.0;  // with a heartbeat_echo value; 0 → 3 ticks
   std::uint32_t log_ring = 4096;     // run-log ring records
+  double max_distortion = 0.0;       // largest fraction (0…1) of a channel's rows the engine
+                                     // may clamp or rate-limit; more → refused (exit 12)
   int realtime_priority = 80;        // SCHED_FIFO priority; 0 = leave the scheduler alone
   Transport transport = Transport::modbus_tcp;
   bool simulator = false;               // [device] simulator: the peer is a simulated plant
