@@ -212,7 +212,7 @@ TEST_F(Clock, DistortedPlanStreamsWithTheOverrideAndEveryMoveStaysWithinMaxMove)
 // The run completes; no replayed request leaves the plant excited (its own log ends at the
 // baseline) or moved a setpoint behind the gateway's back (no readback mismatch).
 TEST_F(Clock, StalledThenResumedPlantIsReadBeforeItIsWrittenAndEndsAtBaseline) {
-  start("", "0.02");
+  start("", "0.01");
   edit_gateway("comm_fail_limit = 3", "comm_fail_limit = 2\nresume_dwell_s = 0.1");
   auto gw = start_gateway(plan_, {"--start"});
   ASSERT_TRUE(wait_for_plant_samples(200)) << gw->err();
