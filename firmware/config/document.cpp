@@ -21,8 +21,8 @@ toml::table parse(std::string_view text, std::string_view source) {
 std::string read_file(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    throw Error::text(path.string(), {}, std::string("cannot be read (") +
-                                             std::strerror(errno) + ")");
+    throw Error::text(path.string(), {},
+                      std::string("cannot be read (") + std::strerror(errno) + ")");
   }
   std::ostringstream text;
   text << in.rdbuf();

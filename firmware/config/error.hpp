@@ -49,8 +49,8 @@ class Error : public std::invalid_argument {
   Error with_source(std::string_view source) const;
 
  private:
-  Error(const std::string& message, std::string_view source, Position at,
-        const std::string& field, const std::string& value, const std::string& expected);
+  Error(const std::string& message, std::string_view source, Position at, const std::string& field,
+        const std::string& value, const std::string& expected);
 
   std::string source_;
   Position at_;

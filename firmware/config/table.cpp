@@ -45,10 +45,14 @@ std::string Table::field(std::string_view key) const {
   return out.append(key);
 }
 
-const toml::node* Table::get(std::string_view key) const { return table_.get(key); }
+const toml::node* Table::get(std::string_view key) const {
+  return table_.get(key);
+}
 
 // A missing key is reported at its table's header; the root has none worth naming (1:1).
-Position Table::here() const { return prefix_.empty() ? Position{} : position_of(table_); }
+Position Table::here() const {
+  return prefix_.empty() ? Position{} : position_of(table_);
+}
 
 void Table::fail(std::string_view key, std::string value, std::string expected) const {
   const toml::node* node = get(key);
@@ -64,7 +68,9 @@ void Table::only_keys(std::initializer_list<std::string_view> known) const {
   check_keys(*this, known);
 }
 
-void Table::only_keys(const std::vector<std::string>& known) const { check_keys(*this, known); }
+void Table::only_keys(const std::vector<std::string>& known) const {
+  check_keys(*this, known);
+}
 
 std::optional<std::string> Table::text(std::string_view key) const {
   const toml::node* node = get(key);
@@ -206,7 +212,8 @@ std::vector<Table> Table::tables(std::string_view key) const {
     const toml::node& item = (*array)[i];
     const std::string item_field = field(key) + "[" + std::to_string(i) + "]";
     const toml::table* t = item.as_table();
-    if (t == nullptr) throw Error(source_, position_of(item), item_field, describe(item), "a table");
+    if (t == nullptr)
+      throw Error(source_, position_of(item), item_field, describe(item), "a table");
     out.emplace_back(*t, item_field, source_);
   }
   return out;

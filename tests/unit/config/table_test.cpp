@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The configuration room: every refusal reads "FILE:LINE:COL: FIELD = VALUE, expected …".
-#include "firmware/config/document.hpp"
 #include "firmware/config/table.hpp"
+#include "firmware/config/document.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -141,16 +141,17 @@ TEST(ConfigArrays, ElementsAreNamedByIndex) {
 }
 
 TEST(ConfigArrays, ArrayOfTablesNamesEachEntry) {
-  const std::string e =
-      error_of("[[s]]\naddress = 1\n[[s]]\nadress = 2\n", [](const Table& t) {
-        for (const Table& s : t.tables("s")) s.only_keys({"address"});
-      });
+  const std::string e = error_of("[[s]]\naddress = 1\n[[s]]\nadress = 2\n", [](const Table& t) {
+    for (const Table& s : t.tables("s")) s.only_keys({"address"});
+  });
   EXPECT_THAT(e, StartsWith("c.toml:4:10: s[1].adress = 2 (unknown key), expected one of"));
 }
 
 TEST(ConfigChoices, ListsTheChoices) {
   EXPECT_EQ(error_of("m = \"x\"\n",
-                     [](const Table& t) { (void)t.choice("m", {"hold", "ramp", "stop"}); }),
+                     [](const Table& t) {
+                       (void)t.choice("m", {"hold", "ramp", "stop"});
+                     }),
             "c.toml:1:5: m = \"x\", expected \"hold\", \"ramp\" or \"stop\"");
 }
 
