@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "firmware/config/document.hpp"
 
+#include <array>
 #include <cerrno>
+#include <charconv>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -41,6 +43,13 @@ std::string describe(const toml::node& node) {
     node.visit([&out](const auto& v) { out << v; });
   }
   return out.str();
+}
+
+std::string format_number(double x) {
+  std::array<char, 32> buf{};
+  const auto [end, ec] = std::to_chars(buf.data(), buf.data() + buf.size(), x);
+  if (ec != std::errc{}) return "?";
+  return std::string(buf.data(), end);
 }
 
 Position position_of(const toml::node& node) {

@@ -24,6 +24,10 @@ std::string read_file(const std::filesystem::path& path);
 /// "(a table)" and "(an array)" for containers.
 std::string describe(const toml::node& node);
 
+/// A number as messages show it: the shortest text that reads back to the same double
+/// ("0.1", "-2", "1e+300").
+std::string format_number(double x);
+
 /// Where a node starts in its text; line 0 when toml++ does not know (e.g. the root).
 Position position_of(const toml::node& node);
 

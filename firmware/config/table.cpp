@@ -55,7 +55,8 @@ Position Table::here() const {
 }
 
 void Table::fail(std::string_view key, std::string value, std::string expected) const {
-  const toml::node* node = get(key);
+  // "key[i]" names an element of the array at "key": report it at the array.
+  const toml::node* node = get(key.substr(0, key.find('[')));
   const Position at = node != nullptr ? position_of(*node) : here();
   throw Error(source_, at, field(key), std::move(value), std::move(expected));
 }
