@@ -735,7 +735,7 @@ TEST_F(GatewayHil, CanWithoutSocketCanExitsFourNamingTheReason) {
   write_config(can_config_text("vcan0"));
   auto gw = start({"--start"});
   ASSERT_EQ(gw->wait(20s).value_or(-1), 4);
-  EXPECT_NE(gw->err().find("can.interface = \"vcan0\": expected a usable SocketCAN interface"),
+  EXPECT_NE(gw->err().find("can.interface = \"vcan0\", expected a usable SocketCAN interface"),
             std::string::npos)
       << gw->err();
   EXPECT_FALSE(fs::exists(log_));
