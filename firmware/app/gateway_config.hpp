@@ -85,7 +85,7 @@ struct GatewayConfig {
 
 struct ConfigResult {
   std::optional<GatewayConfig> config;
-  std::string error;  // "<source>: <field> = <value>: expected <what>" when !config
+  std::string error;  // "<source>[:line:col]: <field> = <value>, expected <what>" when !config
 };
 
 ConfigResult parse_gateway_config(std::string_view text, std::string_view source);

@@ -17,6 +17,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "firmware/config/error.hpp"
 #include "sim/server/default_map.hpp"
 #include "sim/server/plant_process.hpp"
 #include "sim/server/plant_server.hpp"
@@ -47,7 +48,7 @@ void install_handlers() {
 
 [[noreturn]] void bad(const std::string& field, const std::string& value,
                       const std::string& expected) {
-  throw std::invalid_argument(field + " = " + value + ": expected " + expected);
+  throw excite::config::Error(field, value, expected);
 }
 
 std::string text_of(double x) {

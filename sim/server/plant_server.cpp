@@ -109,8 +109,7 @@ void PlantServer::open_log() {
                               producer_};
   log_writer_.emplace(log_, header, log_buffer_);
   if (const auto s = log_writer_->write_header(); s != runlog::WriteStatus::ok) {
-    throw std::runtime_error("--log " + options_.log_path + ": " +
-                             std::string(runlog::describe(s)));
+    throw std::runtime_error("--log " + options_.log_path + ": " + log_writer_->detail());
   }
 }
 

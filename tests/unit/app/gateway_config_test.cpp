@@ -65,7 +65,7 @@ TEST(GatewayConfigTest, TransportNamesOldAndNew) {
   std::string text = example_text();
   text.replace(text.find("\"modbus-tcp\""), 12, "\"udp\"");
   EXPECT_EQ(error_of(text),
-            "gw.toml: device.transport = \"udp\": expected \"modbus-tcp\", \"modbus-rtu\" or "
+            "gw.toml: device.transport = \"udp\", expected \"modbus-tcp\", \"modbus-rtu\" or "
             "\"can\" (\"tcp\" and \"rtu\" are still accepted)");
 }
 
@@ -76,7 +76,7 @@ TEST(GatewayConfigTest, SimulatorFlag) {
   ASSERT_TRUE(r.config) << r.error;
   EXPECT_TRUE(r.config->simulator);
   text.replace(text.find("simulator = true"), 16, "simulator = 1");
-  EXPECT_EQ(error_of(text), "gw.toml: device.simulator = 1: expected true or false");
+  EXPECT_EQ(error_of(text), "gw.toml: device.simulator = 1, expected true or false");
 }
 
 TEST(GatewayConfigTest, TheCanExampleMapsSetpointsAndValuesToFrames) {
@@ -109,26 +109,27 @@ TEST(GatewayConfigTest, CanFrameLayoutErrorsNameTheKeyOfTheFile) {
   std::string text = example_text(kCanExample);
   text.replace(text.find("byte_offset = 2"), 15, "byte_offset = 1");  // V over L's byte 1
   std::string e = error_of(text);
-  EXPECT_NE(e.find("gw.toml: setpoints[1].byte_offset = 1: expected no overlap with "
+  EXPECT_NE(e.find("gw.toml: setpoints[1].byte_offset = 1, expected no overlap with "
                    "setpoints[0] in frame 0x210"),
             std::string::npos)
       << e;
   text = example_text(kCanExample);
   text.replace(text.find("can_id = 0x310"), 14, "can_id = 0x800");
   EXPECT_EQ(error_of(text),
-            "gw.toml: values[0].can_id = 0x800: expected 0x0..0x7FF (11-bit identifier; set "
+            "gw.toml: values[0].can_id = 0x800, expected 0x0..0x7FF (11-bit identifier; set "
             "extended for 29-bit)");
   text = example_text(kCanExample);
   text.replace(text.find("heartbeat_type = \"uint16\""), 25, "heartbeat_type = \"int32\"");
   EXPECT_EQ(error_of(text),
-            "gw.toml: can.heartbeat_type = \"int32\": expected uint8 or uint16 (a counter)");
+            "gw.toml: can.heartbeat_type = \"int32\", expected uint8 or uint16 (a counter)");
 }
 
 TEST(GatewayConfigTest, TransportSpecificKeysAndSectionsAreChecked) {
   std::string text = example_text(kCanExample);  // a Modbus key under CAN
   text.replace(text.find("byte_offset = 0"), 15, "address = 100");
   std::string e = error_of(text);
-  EXPECT_NE(e.find("gw.toml: setpoints[0].address = 100: expected one of the known keys"),
+  EXPECT_NE(e.find("gw.toml:32:11: setpoints[0].address = 100 (unknown key), expected one of the "
+                   "known keys: byte_offset, byte_order, can_id"),
             std::string::npos)
       << e;
   text = example_text(kCanExample);
@@ -138,15 +139,15 @@ TEST(GatewayConfigTest, TransportSpecificKeysAndSectionsAreChecked) {
   text = example_text(kCanExample);
   text.replace(text.find("interface = \"can0\""), 18, "");
   EXPECT_EQ(error_of(text),
-            "gw.toml: can.interface = (missing): expected a SocketCAN interface, e.g. can0");
+            "gw.toml: can.interface = (missing), expected a SocketCAN interface, e.g. can0");
   text = example_text();
   text += "\n[can]\ninterface = \"can0\"\n";
   EXPECT_EQ(error_of(text),
-            "gw.toml: can = a table: expected no [can] section with transport = \"modbus-tcp\"");
+            "gw.toml: can = a table, expected no [can] section with transport = \"modbus-tcp\"");
   text = example_text(kCanExample);
   text.replace(text.find("can_id = 0x311\nbyte_offset = 6"), 14, "can_id = 0x210");
   e = error_of(text);
-  EXPECT_NE(e.find("values[5].can_id = 0x210: expected an identifier not also used for "
+  EXPECT_NE(e.find("values[5].can_id = 0x210, expected an identifier not also used for "
                    "setpoints"),
             std::string::npos)
       << e;
@@ -156,17 +157,17 @@ TEST(GatewayConfigTest, SetpointLimitsBeyondTheRegisterAreRefused) {
   std::string text = example_text();  // S: int16, eng 0..2 on raw 0..27648
   text.replace(text.find("max = 1.8"), 9, "max = 2.5");
   EXPECT_EQ(error_of(text),
-            "gw.toml: setpoints[2].max = 2.5: expected <= 2, the most register 104 int16 raw "
+            "gw.toml: setpoints[2].max = 2.5, expected <= 2, the most register 104 int16 raw "
             "0..27648 = 0..2 can carry");
   text = example_text();
   text.replace(text.find("min = 0.2"), 9, "min = -0.5");
   EXPECT_EQ(error_of(text),
-            "gw.toml: setpoints[2].min = -0.5: expected >= 0, the least register 104 int16 raw "
+            "gw.toml: setpoints[2].min = -0.5, expected >= 0, the least register 104 int16 raw "
             "0..27648 = 0..2 can carry");
   text = example_text(kCanExample);  // L: int16 at 0.001 kmol/min per count
   text.replace(text.find("max = 3.5"), 9, "max = 40.0");
   EXPECT_EQ(error_of(text),
-            "gw.toml: setpoints[0].max = 40: expected <= 32.767000000000003, the most CAN 0x210 "
+            "gw.toml: setpoints[0].max = 40, expected <= 32.767000000000003, the most CAN 0x210 "
             "int16 scale 0.001 offset 0 can carry");
 }
 
@@ -209,15 +210,28 @@ TEST(GatewayConfigTest, AReadbackOfTheSetpointRegisterMustUseItsEncoding) {
   const auto at = text.find("name = \"V_sp\"");
   text.replace(text.find("word_order = \"CDAB\"", at), 19, "word_order = \"ABCD\"");
   EXPECT_EQ(error_of(text),
-            "gw.toml: setpoints[1] (V) register 102 = float32 CDAB: expected the encoding its "
+            "gw.toml: setpoints[1] (V) register 102 = float32 CDAB, expected the encoding its "
             "readback V_sp reads the same register with (float32 ABCD)");
+}
+
+TEST(GatewayConfigTest, RegisterFieldsAreReadByTheSharedSchemaWithTheirPosition) {
+  // hal/modbus/register_entry_toml.hpp: the plant server reads the same keys, the same way.
+  std::string text = example_text();
+  const std::size_t at = text.find("address = ", text.find("[[values]]"));
+  text.replace(at, text.find('\n', at) - at, "address = 70000");
+  const std::string e = error_of(text);
+  EXPECT_EQ(e.rfind("gw.toml:", 0), 0u) << e;
+  EXPECT_NE(e.find(": values[0].address = 70000, expected a register address 0..65535"),
+            std::string::npos)
+      << e;
 }
 
 TEST(GatewayConfigTest, UnknownKeyIsRefusedWithTheKnownOnes) {
   std::string text = example_text();
   text.replace(text.find("ramp_s"), 6, "ramp_x");
   const std::string e = error_of(text);
-  EXPECT_NE(e.find("gw.toml: gateway.ramp_x = 300.0: expected one of the known keys"),
+  EXPECT_NE(e.find("gw.toml:7:10: gateway.ramp_x = 300.0 (unknown key), expected one of the known "
+                   "keys: comm_fail_limit"),
             std::string::npos)
       << e;
 }
@@ -226,7 +240,7 @@ TEST(GatewayConfigTest, OverlappingSetpointsAreRefused) {
   std::string text = example_text();
   text.replace(text.find("address = 102"), 13, "address = 101");
   EXPECT_EQ(error_of(text),
-            "gw.toml: setpoints[1].address = 101: expected no overlap with "
+            "gw.toml: setpoints[1].address = 101, expected no overlap with "
             "setpoints[0].address (registers 100..101)");
 }
 
@@ -234,7 +248,7 @@ TEST(GatewayConfigTest, AddressBeyondTheProtocolIsRefused) {
   std::string text = example_text();
   text.replace(text.find("address = 106"), 13, "address = 65535");
   const std::string e = error_of(text);
-  EXPECT_NE(e.find("setpoints[3].address = 65535: expected address + 2 register(s) <= 65536"),
+  EXPECT_NE(e.find("setpoints[3].address = 65535, expected address + 2 register(s) <= 65536"),
             std::string::npos)
       << e;
 }
@@ -243,7 +257,7 @@ TEST(GatewayConfigTest, UnknownWordOrderIsRefused) {
   std::string text = example_text();
   text.replace(text.find("word_order = \"CDAB\""), 19, "word_order = \"BACD\"");
   const std::string e = error_of(text);
-  EXPECT_NE(e.find("setpoints[0].word_order = \"BACD\": expected ABCD, CDAB, BADC or DCBA"),
+  EXPECT_NE(e.find("setpoints[0].word_order = \"BACD\", expected ABCD, CDAB, BADC or DCBA"),
             std::string::npos)
       << e;
 }
@@ -252,7 +266,7 @@ TEST(GatewayConfigTest, ReadbackMustNameAReadbackValue) {
   std::string text = example_text();
   text.replace(text.find("readback = \"L_sp\""), 17, "readback = \"xD\"");
   EXPECT_EQ(error_of(text),
-            "gw.toml: setpoints[0].readback = \"xD\": expected the name of a value with role = "
+            "gw.toml: setpoints[0].readback = \"xD\", expected the name of a value with role = "
             "\"readback\"");
 }
 
@@ -260,7 +274,7 @@ TEST(GatewayConfigTest, InvalidChannelNameIsRefused) {
   std::string text = example_text();
   text.replace(text.find("name = \"xS\""), 11, "name = \"x S\"");
   const std::string e = error_of(text);
-  EXPECT_NE(e.find("values[1].name = \"x S\": expected letters, digits"), std::string::npos) << e;
+  EXPECT_NE(e.find("values[1].name = \"x S\", expected letters, digits"), std::string::npos) << e;
 }
 
 TEST(GatewayConfigTest, HysteresisLeavingNoBandIsRefused) {
@@ -278,7 +292,7 @@ TEST(GatewayConfigTest, TomlSyntaxErrorNamesLineAndColumn) {
 TEST(GatewayConfigTest, UnknownCommLossActionIsRefused) {
   std::string text = example_text();
   text.replace(text.find("comm_loss = \"hold\""), 18, "comm_loss = \"stop\"");
-  EXPECT_EQ(error_of(text), "gw.toml: gateway.comm_loss = \"stop\": expected \"hold\" or \"ramp\"");
+  EXPECT_EQ(error_of(text), "gw.toml: gateway.comm_loss = \"stop\", expected \"hold\" or \"ramp\"");
 }
 
 // ---- Issue 11 item 2: absurd timing is refused before the gateway runs ----
@@ -335,7 +349,7 @@ TEST(GatewayTiming, HeartbeatLagOutsideItsRangeIsRefused) {
       parse_gateway_config(with_gateway_key("heartbeat_max_lag_s", "40000"), "gw.toml");
   ASSERT_TRUE(r.config) << r.error;
   EXPECT_EQ(check_timing(*r.config, std::chrono::seconds(1)),
-            "gw.toml: gateway.heartbeat_max_lag_s = 40000 (40000 ticks of 1 s): expected 0 … "
+            "gw.toml: gateway.heartbeat_max_lag_s = 40000 (40000 ticks of 1 s), expected 0 … "
             "30000 seconds (30000 ticks) at this period");
   EXPECT_EQ(check_timing(*r.config, std::chrono::seconds(2)), "");
 }
@@ -345,7 +359,7 @@ TEST(GatewayTiming, DurationsBeyondTheEngineTicksAtThePlansPeriodAreRefused) {
   const ConfigResult r = parse_gateway_config(with_gateway_key("ramp_s", "1e6"), "gw.toml");
   ASSERT_TRUE(r.config) << r.error;
   EXPECT_EQ(check_timing(*r.config, std::chrono::milliseconds(1)),
-            "gw.toml: gateway.heartbeat_max_lag_s = 180 (180000 ticks of 0.001 s): expected 0 … "
+            "gw.toml: gateway.heartbeat_max_lag_s = 180 (180000 ticks of 0.001 s), expected 0 … "
             "30 seconds (30000 ticks) at this period");
   GatewayConfig c = *r.config;
   c.heartbeat_max_lag_s = 0;  // the default, 3 ticks
@@ -354,10 +368,10 @@ TEST(GatewayTiming, DurationsBeyondTheEngineTicksAtThePlansPeriodAreRefused) {
   EXPECT_TRUE(engine::validate(to_engine_config(c, std::chrono::milliseconds(1))));
   EXPECT_EQ(check_timing(c, std::chrono::duration<double>(1e-9 * 60)),
             "gw.toml: the plan's sample time (as the tick period; gateway.period_s unset) = "
-            "6e-08 s: expected 0.001 … 86400 seconds");
+            "6e-08 s, expected 0.001 … 86400 seconds");
   EXPECT_EQ(check_timing(c, std::chrono::duration<double>(1e9)),
             "gw.toml: the plan's sample time (as the tick period; gateway.period_s unset) = "
-            "1e+09 s: expected 0.001 … 86400 seconds");
+            "1e+09 s, expected 0.001 … 86400 seconds");
 }
 
 TEST(GatewayTiming, ToEngineConfigSaturatesInsteadOfOverflowing) {

@@ -80,7 +80,7 @@ TEST(RunLogWriter, ProducerLineNamesTheProgramAndReadsBack) {
   ASSERT_TRUE(back.ok()) << back.error->to_string();
   EXPECT_EQ(back.log.producer, "excite-gateway 0.1.0");
   h.producer = "two\nlines";
-  EXPECT_EQ(format_header(h, buf).status, WriteStatus::bad_text);
+  EXPECT_EQ(format_header(h, buf).status, WriteStatus::invalid_field);
   EXPECT_FALSE(kVersion.empty());  // CMake's project version reaches the code
 }
 
@@ -121,7 +121,7 @@ TEST(RunLogWriter, ReportsBufferTooSmallInsteadOfTruncating) {
   ASSERT_EQ(full.status, WriteStatus::ok);
   std::array<char, 64> small{};
   const WriteResult r = format_row(two_by_one(), row, std::span(small).first(full.length - 1));
-  EXPECT_EQ(r.status, WriteStatus::buffer_too_small);
+  EXPECT_EQ(r.status, WriteStatus::capacity_exceeded);
   EXPECT_EQ(r.length, 0U);
 }
 
@@ -143,36 +143,51 @@ TEST(RunLogWriter, RejectsNonFiniteWidthAndFlags) {
   const std::array<double, 2> ok2 = {0.0, 0.0};
   const std::array<double, 1> dy = {0.0};
   EXPECT_EQ(format_row(two_by_one(), Row{0, 0, du, ok2, dy, 0}, buf).status,
-            WriteStatus::non_finite);
+            WriteStatus::bad_argument);
   EXPECT_EQ(format_row(two_by_one(), Row{0, 0, dy, ok2, dy, 0}, buf).status,
-            WriteStatus::width_mismatch);
+            WriteStatus::bad_argument);
   EXPECT_EQ(format_row(two_by_one(), Row{0, 0, ok2, ok2, dy, 1U << 8}, buf).status,
-            WriteStatus::unknown_flags);
+            WriteStatus::bad_argument);
   EXPECT_EQ(
       format_row(two_by_one(), Row{0, 0, ok2, ok2, dy, kSkipped | kDiscontinuity | kBadValue}, buf)
           .status,
       WriteStatus::ok);
   EXPECT_EQ(
       format_row(two_by_one(), Row{0, 0, ok2, ok2, dy, 0, static_cast<RunState>(10)}, buf).status,
-      WriteStatus::bad_state);
+      WriteStatus::bad_argument);
+}
+
+TEST(RunLogWriter, RefusalsNameTheFieldInTheOneMessageForm) {
+  std::array<char, 1024> buf{};
+  const std::array<double, 2> ok2 = {0.0, 0.0};
+  const std::array<double, 1> dy = {0.0};
+  const WriteResult flags = format_row(two_by_one(), Row{0, 0, ok2, ok2, dy, 1U << 8}, buf);
+  EXPECT_STREQ(flags.message, "row.flags = (unknown bits), expected bits of Flag only");
+  const WriteResult width = format_row(two_by_one(), Row{0, 0, dy, ok2, dy, 0}, buf);
+  EXPECT_STREQ(width.message, "row du/u/dy = (wrong width), expected the header's channel counts");
+  Header h = two_by_one();
+  h.sample_time_min = 0.0;
+  EXPECT_STREQ(format_header(h, buf).message,
+               "header.sample_time_min = (not finite or <= 0), expected a finite number > 0");
+  EXPECT_STREQ(format_row(two_by_one(), Row{0, 0, ok2, ok2, dy, 0}, buf).message, "");
 }
 
 TEST(RunLogWriter, RejectsBadHeaders) {
   std::array<char, 1024> buf{};
   Header h = two_by_one();
   h.plant = "two\nlines";
-  EXPECT_EQ(format_header(h, buf).status, WriteStatus::bad_text);
+  EXPECT_EQ(format_header(h, buf).status, WriteStatus::invalid_field);
   h = two_by_one();
   h.sample_time_min = 0.0;
-  EXPECT_EQ(format_header(h, buf).status, WriteStatus::bad_sample_time);
+  EXPECT_EQ(format_header(h, buf).status, WriteStatus::invalid_field);
   const std::array<Channel, 2> dup = {{{"L", "-"}, {"L", "-"}}};
   h = two_by_one();
   h.inputs = dup;
-  EXPECT_EQ(format_header(h, buf).status, WriteStatus::bad_channel);
+  EXPECT_EQ(format_header(h, buf).status, WriteStatus::invalid_field);
   const std::array<Channel, 1> comma = {{{"x,D", "-"}}};
   h = two_by_one();
   h.outputs = comma;
-  EXPECT_EQ(format_header(h, buf).status, WriteStatus::bad_channel);
+  EXPECT_EQ(format_header(h, buf).status, WriteStatus::invalid_field);
 }
 
 // Writes a log through a real file and reads it back: every double comes back bit-exact.
