@@ -7,12 +7,13 @@
 // make_loop_config from sim/server's default register map.
 
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <stdexcept>
 
 #include "host/cli/commands.hpp"
+#include "host/cli/number_checks.hpp"
 #include "host/loop/loop_config.hpp"
+#include "host/output/whole_file.hpp"
 
 namespace excite::host::cli {
 namespace {
@@ -22,21 +23,18 @@ struct LoopConfigCommand {
   std::string output_dir;
 };
 
-void write_file(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << text;
-  out.close();
-  if (!out) throw std::runtime_error(path.string() + ": cannot write");
-}
-
 void run(const LoopConfigCommand& cmd) {
   const LoopConfigPair pair = make_loop_config(cmd.config);
   const std::filesystem::path dir(cmd.output_dir);
   std::filesystem::create_directories(dir);
   const auto plant_path = dir / "plant.toml";
   const auto gateway_path = dir / "gateway.toml";
-  write_file(plant_path, pair.plant_toml);
-  write_file(gateway_path, pair.gateway_toml);
+  // The pair is one register map: both written before either is renamed into place.
+  WholeFile plant(plant_path), gateway(gateway_path);
+  plant.write(pair.plant_toml);
+  gateway.write(pair.gateway_toml);
+  plant.commit();
+  gateway.commit();
   const auto& c = cmd.config;
   std::cout << "wrote " << plant_path.string() << " and " << gateway_path.string() << "\n"
             << "  excite-plant --config " << plant_path.string() << " --modbus-tcp " << c.host

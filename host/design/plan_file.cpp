@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "firmware/plan/codec.hpp"
+#include "host/output/whole_file.hpp"
 
 namespace excite::host {
 
@@ -16,21 +17,8 @@ void write_plan_file(const plan::Plan& plan, const std::filesystem::path& path) 
   if (!encoded.status) throw std::runtime_error(path.string() + ": " + encoded.status.message());
   bytes.resize(encoded.size);
 
-  std::filesystem::path temporary = path;
-  temporary += ".partial";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(bytes.data()),
-              static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) throw std::runtime_error(temporary.string() + ": cannot be written");
-  }
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    std::filesystem::remove(temporary);
-    throw std::runtime_error(path.string() + ": cannot be written (" + ec.message() + ")");
-  }
+  write_whole_file(path,
+                   std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 std::unique_ptr<plan::Plan> read_plan_file(const std::filesystem::path& path) {

@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: MIT
 #include "host/simulate/simulate.hpp"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <stdexcept>
 
 #include "firmware/runlog/writer.hpp"
 #include "host/design/table.hpp"
+#include "host/output/whole_file.hpp"
 #include "sim/lti/noise.hpp"
 
 namespace excite::host {
@@ -85,17 +88,15 @@ void write_run_log(const SimulatedRun& run, const std::filesystem::path& path) {
   const runlog::Header header{run.plant, run.plan, run.sample_time_min,
                               inputs,    outputs,  run.producer};
 
-  std::filesystem::path partial = path;
-  partial += ".partial";
-  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(partial.c_str(), "w"),
-                                                             &std::fclose);
-  if (!file) throw std::runtime_error(partial.string() + ": cannot be written");
+  WholeFile file(path);
   std::vector<char> buffer(
       std::max<std::size_t>(runlog::max_row_chars(inputs.size(), outputs.size()), 1 << 16));
-  runlog::FileWriter writer(file.get(), header, buffer);
+  runlog::FileWriter writer(file.stream(), header, buffer);
   const auto fail = [&](runlog::WriteStatus status) {
-    std::filesystem::remove(partial);
-    throw std::runtime_error(path.string() + ": " + std::string(runlog::describe(status)));
+    const int error = errno;  // a stream error's reason: disk full, file too large
+    std::string reason(runlog::describe(status));
+    if (std::ferror(file.stream()) != 0 && error != 0) reason = std::strerror(error);
+    throw std::runtime_error(path.string() + ": cannot be written (" + reason + ")");
   };
   if (const auto s = writer.write_header(); s != runlog::WriteStatus::ok) fail(s);
 
@@ -113,13 +114,7 @@ void write_run_log(const SimulatedRun& run, const std::filesystem::path& path) {
         static_cast<double>(k) * run.sample_time_min, static_cast<std::uint64_t>(k), du, u, dy, 0};
     if (const auto s = writer.write_row(row); s != runlog::WriteStatus::ok) fail(s);
   }
-  if (std::fflush(file.get()) != 0) fail(runlog::WriteStatus::io_error);
-  std::error_code ec;
-  std::filesystem::rename(partial, path, ec);
-  if (ec) {
-    std::filesystem::remove(partial);
-    throw std::runtime_error(path.string() + ": cannot be written (" + ec.message() + ")");
-  }
+  file.commit();
 }
 
 }  // namespace excite::host
