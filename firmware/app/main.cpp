@@ -203,6 +203,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   cli.add_flag("--dry-run", dry_run, "validate everything and print what would be written");
   cli.add_flag("--start", auto_start, "start streaming right after arming (no start command)");
+  cli.set_version_flag("--version", "excite-gateway " + std::string(excite::runlog::kVersion));
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

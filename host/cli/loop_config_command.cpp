@@ -59,22 +59,29 @@ void add_loop_config_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--input-range", opt->config.input_range,
                   "setpoint limits: baseline +- this on every input (default: the case "
-                  "study's, 2 amplitudes)");
+                  "study's, 2 amplitudes)")
+      ->check(finite_non_negative());
   cmd->add_option("--max-move", opt->config.max_move,
-                  "largest setpoint change per tick (default: 2 x the input range)");
+                  "largest setpoint change per tick (default: 2 x the input range)")
+      ->check(finite_non_negative());
   cmd->add_option("--output-range", opt->config.output_range,
-                  "test limits on every output: baseline +- this (default: none)");
+                  "test limits on every output: baseline +- this (default: none)")
+      ->check(finite_non_negative());
   cmd->add_option("--sample-time-min", opt->config.sample_time_min,
-                  "plant sample time, minutes (default: the case study's)");
+                  "plant sample time, minutes (default: the case study's)")
+      ->check(finite_non_negative());
   cmd->add_option("--noise-var", opt->config.noise_var,
-                  "measurement noise variance (default: the case study's)");
+                  "measurement noise variance (default: the case study's)")
+      ->check(finite_non_negative());
   cmd->add_option("--seed", opt->config.seed, "noise seed")->capture_default_str();
   cmd->add_option("--period-s", opt->config.period_s,
                   "gateway tick period, seconds (default: the plan's sample time; shorter "
-                  "compresses time in tests)");
+                  "compresses time in tests)")
+      ->check(finite_non_negative());
   cmd->add_option("--watchdog-s", opt->config.watchdog_s,
                   "the plant's heartbeat watchdog, wall-clock seconds (0: off)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(finite_non_negative());
   cmd->add_option("-o,--output", opt->output_dir, "directory for plant.toml and gateway.toml")
       ->required();
   cmd->callback([opt] { run(*opt); });
