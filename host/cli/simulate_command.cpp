@@ -101,7 +101,7 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_option("--step", opt->step, "step response instead of a plan: INPUT=AMPLITUDE");
   cmd->add_option("--samples", opt->samples, "step response length")
       ->capture_default_str()
-      ->check(CLI::Range(2U, 1U << 22));
+      ->check(CLI::Range(std::uint32_t{2}, static_cast<std::uint32_t>(kMaxSimulatedRows)));
   cmd->add_option("--sample-time-min", opt->sample_time_min, "step response sample time")
       ->capture_default_str()
       ->check(finite_positive());

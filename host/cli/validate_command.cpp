@@ -23,12 +23,15 @@ struct ValidateOptions {
 };
 
 void validate_run(const ValidateOptions& opt) {
-  const IdentifiedModel model = read_model_file(opt.model_path);
+  ModelChannels channels;
+  const IdentifiedModel model = read_model_file(opt.model_path, &channels);
   const Run data = read_run(opt.run_path);
+  check_same_channels(channels, opt.model_path, data.log.input_names, data.log.output_names,
+                      opt.run_path);
   if (std::abs(model.sample_time_min - data.data.sample_time_min) > 1e-9 * model.sample_time_min) {
     throw std::invalid_argument(
-        opt.run_path + ": sample_time_min = " + std::to_string(data.data.sample_time_min) +
-        ", the model's is " + std::to_string(model.sample_time_min) + "; expected equal");
+        opt.run_path + ": sample_time_min = " + num(data.data.sample_time_min, 6) +
+        ", the model's is " + num(model.sample_time_min, 6) + "; expected equal");
   }
   const std::vector<double> fits = fit(model, data.data.U, data.data.Y);
   if (opt.json) {

@@ -48,6 +48,13 @@ SimulatedRun simulate_plan(const plan::Plan& plan, std::string plan_label, sim::
                                 std::to_string(plant.inputs()) + " inputs; expected equal");
   }
   if (options.periods == 0) throw std::invalid_argument("periods = 0, expected at least 1");
+  const std::uint64_t rows = std::uint64_t{options.periods} * plan.recipe.samples;
+  if (rows > kMaxSimulatedRows) {
+    throw std::invalid_argument("--periods x plan samples = " + std::to_string(options.periods) +
+                                " x " + std::to_string(plan.recipe.samples) + " = " +
+                                std::to_string(rows) + " rows, expected at most " +
+                                std::to_string(kMaxSimulatedRows) + " (host/README.md, Limits)");
+  }
   SimulatedRun run = describe(plant, plan.meta.sample_time_min);
   run.plan = std::move(plan_label);
   const Table table = make_table(plan.recipe);
@@ -68,8 +75,10 @@ SimulatedRun simulate_step(sim::Plant& plant, const std::string& input, double a
     for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
     throw std::invalid_argument("step input = \"" + input + "\", expected one of: " + known);
   }
-  if (samples < 2)
-    throw std::invalid_argument("samples = " + std::to_string(samples) + ", expected at least 2");
+  if (samples < 2 || samples > kMaxSimulatedRows) {
+    throw std::invalid_argument("samples = " + std::to_string(samples) + ", expected 2 to " +
+                                std::to_string(kMaxSimulatedRows));
+  }
   SimulatedRun run = describe(plant, sample_time_min);
   run.plan = "step " + input + "=" + std::to_string(amplitude);
   run.du = Eigen::MatrixXd::Zero(samples, plant.inputs());
