@@ -106,7 +106,8 @@ TEST_F(OutputFiles, FifoAndStandardOutputAreWrittenThrough) {
 }
 
 // `ulimit -f` in a child shell: the write fails with the system's reason, the old file is
-// intact and no temporary file is left (simulate streams its rows; identify writes JSON).
+// intact and no temporary file is left (simulate streams its rows; identify writes JSON;
+// design writes the encoded plan).
 TEST_F(OutputFiles, FileSizeLimitLeavesTheOldFileIntactAndNoTemporaryFile) {
   make_plan_and_run();
   std::ofstream(path("run.csv")) << "old run\n";
@@ -126,6 +127,17 @@ TEST_F(OutputFiles, FileSizeLimitLeavesTheOldFileIntactAndNoTemporaryFile) {
             std::string::npos)
       << id.out;
   EXPECT_EQ(bytes_of(path("model.json")), "{\"old\": true}\n");
+  // A multisine plan (2.5 KB) under `ulimit -f 1` (512 B in dash, 1 KiB in bash) used to leave a 1
+  // KiB PLAN.partial.
+  const std::string plan_before = bytes_of(path("wb.plan"));
+  const Result design =
+      shell("ulimit -f 1; " + std::string(EXCITE_CLI) +
+            " design -q --plant alatiqi4x4 --preset msSrdSim -o " + path("wb.plan"));
+  EXPECT_EQ(design.exit_code, 1) << design.out;
+  EXPECT_NE(design.out.find(path("wb.plan") + ": cannot be written (File too large)"),
+            std::string::npos)
+      << design.out;
+  EXPECT_EQ(bytes_of(path("wb.plan")), plan_before);
   EXPECT_EQ(listing(dir_), before);
 }
 
