@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "host/cli/commands.hpp"
+#include "host/cli/input_path.hpp"
 #include "host/cli/json_util.hpp"
 #include "host/cli/run_input.hpp"
 #include "host/cli/text_table.hpp"
@@ -30,6 +31,7 @@ constexpr double kMinSingularRatio = 1e-12;  // below: numerically singular
 // A gain matrix from JSON with a "gain" array of rows: what `excite gains --json` and
 // `excite identify -o` write.
 Eigen::MatrixXd read_gain_file(const std::string& path) {
+  refuse_directory(path, "a JSON file with \"gain\" (excite gains --json)");
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(path + ": cannot be read");
   nlohmann::json j;

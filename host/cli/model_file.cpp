@@ -8,6 +8,7 @@
 #include <tuple>
 #include <utility>
 
+#include "host/cli/input_path.hpp"
 #include "host/cli/json_util.hpp"
 
 namespace excite::host::cli {
@@ -74,6 +75,7 @@ nlohmann::json model_json(const IdentificationResult& result,
 
 IdentifiedModel read_model_file(const std::filesystem::path& path, ModelChannels* channels) {
   const std::string where = path.string();
+  refuse_directory(path, "a model file (excite identify -o)");
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(where + ": cannot be read");
   nlohmann::json j;

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "firmware/runlog/reader.hpp"
+#include "host/cli/input_path.hpp"
 #include "host/identify/run_data.hpp"
 
 namespace excite::host::cli {
@@ -66,6 +67,7 @@ inline void check_run_values(const std::string& path, const runlog::RunLog& log)
 }
 
 inline Run read_run(const std::string& path) {
+  refuse_directory(path, "a run log (CSV)");
   check_run_rows(path);
   runlog::ReadResult r = runlog::read_run_log(path);
   if (!r.ok()) throw std::invalid_argument(r.error->to_string());

@@ -59,8 +59,14 @@ void crossval(const CrossvalOptions& opt) {
   std::vector<IdentifiedModel> models;
   std::vector<Dataset> data;
   std::vector<std::string> names;
+  ModelChannels first;  // every run must have the first run's channels, in its order
   for (const std::string& path : opt.runs) {
     const Run r = read_run(path);
+    if (path == opt.runs.front()) {
+      first = {r.log.input_names, r.log.output_names};
+    } else {
+      check_same_channels(first, opt.runs.front(), r.log.input_names, r.log.output_names, path);
+    }
     IdentifyOptions options;
     options.threads = opt.threads;
     options.max_time_constant_min = time_constant_bound(opt.bound, r.log.plant).first;

@@ -205,6 +205,15 @@ TEST_F(Limits, ValidateRefusesAModelWithOtherChannels) {
   EXPECT_TRUE(contains(r.out, "inputs = [")) << r.out;
   EXPECT_TRUE(contains(r.out, "expected the same channels in the same order")) << r.out;
   EXPECT_EQ(excite("validate " + path("m.json") + " " + path("wb.csv")).exit_code, 0);
+  // crossval: every run must have the first run's channels (input u1 renamed w1 in the header).
+  std::string run = bytes_of(path("wb.csv"));
+  const std::size_t header_end = run.find('\n', run.find("t_min,"));
+  ASSERT_NE(header_end, std::string::npos);
+  for (std::size_t at = run.find("u1"); at < header_end; at = run.find("u1", at)) run[at] = 'w';
+  std::ofstream(path("other.csv"), std::ios::binary) << run;
+  const Result cv = excite("crossval " + path("wb.csv") + " " + path("other.csv"));
+  EXPECT_EQ(cv.exit_code, 1) << cv.out;
+  EXPECT_TRUE(contains(cv.out, path("other.csv") + ": inputs = [w1, u2]")) << cv.out;
 }
 
 // balance --gain with a 2×3, an all-zero or a singular matrix exited 0 and printed inf.
@@ -227,10 +236,14 @@ TEST_F(Limits, BalanceRefusesAGainOfTheWrongShapeOrRank) {
 }
 
 TEST_F(Limits, MessagesNameThePathAndPrintNumbersShort) {
-  const Result dir = excite("inspect " + dir_.string());
-  EXPECT_EQ(dir.exit_code, 1);
-  EXPECT_TRUE(contains(dir.out, dir_.string() + ": is a directory, expected a plan file"))
-      << dir.out;
+  for (const std::string& args : {"inspect " + dir_.string(), "identify " + dir_.string(),
+                                  "validate " + dir_.string() + " " + dir_.string(),
+                                  "balance --gain " + dir_.string() + " " + dir_.string()}) {
+    const Result dir = excite(args);
+    EXPECT_EQ(dir.exit_code, 1) << args;
+    EXPECT_TRUE(contains(dir.out, "excite: error: " + dir_.string() + ": is a directory, expected"))
+        << dir.out;
+  }
   std::ofstream(path("spec.toml")) << "design = \"multisine\"\n[prior]\ninputs = 1\n"
                                       "sample_time_min = 1.0\n[[input]]\nname = \"u\"\n"
                                       "amplitude = 1.5e308\nmin = -1e308\nmax = 1e308\n"
