@@ -32,13 +32,13 @@ inline void check_run_rows(const std::string& path) {
   if (!in) return;  // the reader names the error
   char buffer[1 << 16];
   std::size_t lines = 0;
-  bool at_line_start = true, counted = false;
+  bool at_line_start = true;
   while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
     for (std::streamsize i = 0; i < in.gcount(); ++i) {
       const char c = buffer[i];
-      if (at_line_start && c != '#' && c != '\n' && c != '\r') counted = true, ++lines;
+      if (at_line_start && c != '#' && c != '\n' && c != '\r') ++lines;
       at_line_start = c == '\n';
-      if (counted && lines > kMaxRunRows + 1) {
+      if (lines > kMaxRunRows + 1) {  // + 1: the column header row
         throw std::invalid_argument(path + ": more than " + std::to_string(kMaxRunRows) +
                                     " data rows, expected at most " + std::to_string(kMaxRunRows) +
                                     " (host/README.md, Limits)");
@@ -55,10 +55,12 @@ inline void check_run_values(const std::string& path, const runlog::RunLog& log)
       for (std::size_t r = 0; r < columns[c].size(); ++r) {
         const double v = columns[c][r];
         if (std::isfinite(v) && std::fabs(v) <= kMaxRunValue) continue;
-        char text[160];
-        std::snprintf(text, sizeof text, "data row %zu (k = %llu), column %s%s = %.6g", r + 1,
-                      static_cast<unsigned long long>(log.k[r]), prefix, names[c].c_str(), v);
-        throw std::invalid_argument(path + ": " + text + ", expected |value| <= 1e12");
+        char text[120];
+        std::snprintf(text, sizeof text, "data row %zu (k = %llu), column %s", r + 1,
+                      static_cast<unsigned long long>(log.k[r]), prefix);
+        char value[80];
+        std::snprintf(value, sizeof value, " = %.6g, expected |value| <= %g", v, kMaxRunValue);
+        throw std::invalid_argument(path + ": " + text + names[c] + value);
       }
     }
   };

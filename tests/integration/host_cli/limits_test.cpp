@@ -190,7 +190,7 @@ TEST_F(Limits, HugeValueInARunIsRefusedWithFileRowAndColumn) {
   const Result r = excite("identify " + path("bad.csv"));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_TRUE(contains(r.out, path("bad.csv") + ": data row 3 (k = 2), column dy_")) << r.out;
-  EXPECT_TRUE(contains(r.out, "= 1e+308, expected |value| <= 1e12")) << r.out;
+  EXPECT_TRUE(contains(r.out, "= 1e+308, expected |value| <= 1e+12")) << r.out;
 }
 
 // A model whose channels are not the run's used to give a fit anyway.
