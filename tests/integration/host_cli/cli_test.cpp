@@ -115,7 +115,10 @@ TEST_F(ExciteCli, BadSpecIsRefusedWithFieldAndWritesNothing) {
   EXPECT_EQ(d.exit_code, 1);
   EXPECT_NE(d.out.find("tau_low_min = -3"), std::string::npos) << d.out;
   EXPECT_FALSE(std::filesystem::exists(path("bad.plan")));
-  EXPECT_FALSE(std::filesystem::exists(path("bad.plan.partial")));
+  // Nothing else either (no temporary file): the folder holds the spec alone.
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir_),
+                          std::filesystem::directory_iterator()),
+            1);
 }
 
 TEST_F(ExciteCli, CorruptedPlanIsRefused) {
