@@ -208,6 +208,7 @@ int main(int argc, char** argv) {
   cli.add_flag("--allow-distortion", allow_distortion,
                "stream a plan even when more than gateway.max_distortion of a channel's rows "
                "would be clamped or rate-limited (reported either way)");
+  cli.set_version_flag("--version", "excite-gateway " + std::string(excite::runlog::kVersion));
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

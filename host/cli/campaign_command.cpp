@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -19,8 +18,10 @@
 #include "host/campaign/report.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/model_file.hpp"
+#include "host/cli/number_checks.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/loop/campaign_runs.hpp"
+#include "host/output/whole_file.hpp"
 
 namespace excite::host::cli {
 namespace {
@@ -37,12 +38,8 @@ void write_models(const CampaignResult& result, const fs::path& dir) {
   fs::create_directories(dir);
   for (const Experiment& e : result.experiments) {
     const fs::path path = dir / (experiment_folder(e.number, e.name) + ".json");
-    const fs::path partial = path.string() + ".partial";
-    std::ofstream out(partial);
-    out << model_json(e.identified, result.input_names, result.output_names).dump(2) << "\n";
-    out.close();
-    if (!out) throw std::runtime_error(partial.string() + ": cannot write");
-    fs::rename(partial, path);
+    write_whole_file(
+        path, model_json(e.identified, result.input_names, result.output_names).dump(2) + "\n");
   }
 }
 
@@ -96,7 +93,7 @@ void add_campaign_command(CLI::App& app) {
       ->transform(CLI::CheckedTransformer(gains, CLI::ignore_case));
   cmd->add_option("--noise-var", opt->campaign.noise_variance,
                   "measurement noise variance per output (default: the case study's)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_non_negative());
   cmd->add_option("--seed", opt->campaign.seed, "noise seed")->capture_default_str();
   opt->campaign.threads = static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
   cmd->add_option("--threads", opt->campaign.threads,

@@ -5,14 +5,15 @@
 // Time constants are bounded above by β·τ_H (SPEC §6): --max-time-constant if given, else
 // --beta·--tau-high, else the case study of the run log's plant, else the run's length.
 
-#include <fstream>
 #include <iostream>
 
 #include "host/cli/commands.hpp"
 #include "host/cli/model_file.hpp"
+#include "host/cli/number_checks.hpp"
 #include "host/cli/run_input.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/cli/time_constant_bound.hpp"
+#include "host/output/whole_file.hpp"
 
 namespace excite::host::cli {
 namespace {
@@ -64,9 +65,7 @@ void run(const IdentifyCommandOptions& opt) {
       identify(data.data.U, data.data.Y, data.data.sample_time_min, options);
   const nlohmann::json j = model_json(result, data.log.input_names, data.log.output_names);
   if (!opt.model_path.empty()) {
-    std::ofstream out(opt.model_path);
-    out << j.dump(2) << '\n';
-    if (!out) throw std::runtime_error(opt.model_path + ": cannot be written");
+    write_whole_file(opt.model_path, j.dump(2) + '\n');
   }
   if (opt.json) {
     std::cout << j.dump(2) << '\n';
@@ -89,7 +88,8 @@ void add_identify_command(CLI::App& app) {
   cmd->add_flag("--json", opt->json, "machine-readable output");
   cmd->add_option("--max-delay", opt->identify.max_delay_min, "upper bound of every delay, min")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(
+          finite_number(0.0, true, "a finite number of minutes > 0 (0 leaves no delay to fit)"));
   add_time_constant_bound_options(cmd, opt->bound);
   cmd->add_option("--threads", opt->identify.threads, "outputs fitted in parallel")
       ->capture_default_str()

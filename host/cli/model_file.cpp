@@ -5,7 +5,10 @@
 #include <fstream>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
+#include "host/cli/input_path.hpp"
 #include "host/cli/json_util.hpp"
 
 namespace excite::host::cli {
@@ -70,8 +73,9 @@ nlohmann::json model_json(const IdentificationResult& result,
   return j;
 }
 
-IdentifiedModel read_model_file(const std::filesystem::path& path) {
+IdentifiedModel read_model_file(const std::filesystem::path& path, ModelChannels* channels) {
   const std::string where = path.string();
+  refuse_directory(path, "a model file (excite identify -o)");
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(where + ": cannot be read");
   nlohmann::json j;
@@ -91,6 +95,19 @@ IdentifiedModel read_model_file(const std::filesystem::path& path) {
   if (!j.contains("inputs") || !j["inputs"].is_array() || !j.contains("outputs") ||
       !j["outputs"].is_array()) {
     throw std::invalid_argument(where + ": inputs, outputs: expected arrays");
+  }
+  for (const auto& [key, names] : {std::pair{"inputs", channels ? &channels->inputs : nullptr},
+                                   std::pair{"outputs", channels ? &channels->outputs : nullptr}}) {
+    for (std::size_t k = 0; k < j[key].size(); ++k) {
+      const nlohmann::json& e = j[key][k];
+      const nlohmann::json* name =
+          e.is_string() ? &e : (e.is_object() && e.contains("name") ? &e["name"] : nullptr);
+      if (name == nullptr || !name->is_string()) {
+        throw std::invalid_argument(where + ": " + key + "[" + std::to_string(k) +
+                                    "]: expected a channel name");
+      }
+      if (names != nullptr) names->push_back(name->get<std::string>());
+    }
   }
   m.inputs = static_cast<int>(j["inputs"].size());
   m.outputs = static_cast<int>(j["outputs"].size());
@@ -120,6 +137,27 @@ IdentifiedModel read_model_file(const std::filesystem::path& path) {
     }
   }
   return m;
+}
+
+namespace {
+std::string listed(const std::vector<std::string>& names) {
+  std::string s = "[";
+  for (const std::string& n : names) s += (s.size() > 1 ? ", " : "") + n;
+  return s + "]";
+}
+}  // namespace
+
+void check_same_channels(const ModelChannels& model, const std::string& model_path,
+                         const std::vector<std::string>& run_inputs,
+                         const std::vector<std::string>& run_outputs, const std::string& run_path) {
+  for (const auto& [kind, ours, theirs] : {std::tuple{"inputs", &model.inputs, &run_inputs},
+                                           std::tuple{"outputs", &model.outputs, &run_outputs}}) {
+    if (*ours != *theirs) {
+      throw std::invalid_argument(model_path + ": " + kind + " = " + listed(*ours) + ", " +
+                                  run_path + ": " + kind + " = " + listed(*theirs) +
+                                  "; expected the same channels in the same order");
+    }
+  }
 }
 
 }  // namespace excite::host::cli

@@ -18,6 +18,7 @@
 #include <stdexcept>
 
 #include "firmware/config/error.hpp"
+#include "firmware/runlog/format.hpp"
 #include "sim/server/default_map.hpp"
 #include "sim/server/plant_process.hpp"
 #include "sim/server/plant_server.hpp"
@@ -168,6 +169,7 @@ int main(int argc, char** argv) {
   app.add_option("--input-range", input_range,
                  "input limits: baseline ± R on every input, > 0; writes outside are refused "
                  "with exception 3 (overrides plant.input_min/input_max)");
+  app.set_version_flag("--version", "excite-plant " + std::string(excite::runlog::kVersion));
   app.add_option("--faults-after", faults_after,
                  "serve this many requests normally before the faults above apply");
   try {
