@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "host/identify/model.hpp"
+#include "host/identify/segments.hpp"
 #include "host/measures/gain_directions.hpp"
 
 namespace excite::host {
@@ -41,8 +42,8 @@ struct IdentifyOptions {
 
 /// Per-output diagnostics of the fit.
 struct OutputFit {
-  double fit_percent = 0.0;   // (5.5.1) on the estimation data; NaN when the output is constant
-  double residual_rms = 0.0;  // ‖ŷ − y‖ / √N, output units
+  double fit_percent = 0.0;   // (5.5.1) on the scored estimation rows; NaN when constant there
+  double residual_rms = 0.0;  // ‖ŷ − y‖ / √N over the N scored rows, output units
   int iterations = 0;         // Levenberg–Marquardt iterations used
   bool converged = false;     // stopped on a convergence test, not the iteration limit
 };
@@ -60,6 +61,13 @@ struct IdentificationResult {
 /// ⌈max_delay_min / T⌉ + 10·(4n) (the delay range plus ten samples per parameter).
 IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double T_min,
                               const IdentifyOptions& options = {});
+
+/// The same on the rows of `layout` (segments.hpp): the model simulated from rest at each
+/// segment's start, the output error, fit % and residual over the scored rows only; the
+/// sample-count check counts scored rows. Throws std::invalid_argument also when the layout
+/// does not describe U's rows (naming the segment or row).
+IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double T_min,
+                              const SampleLayout& layout, const IdentifyOptions& options = {});
 
 /// Smallest N that identify() accepts for n inputs.
 Eigen::Index minimum_samples(int inputs, double T_min, const IdentifyOptions& options = {});

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "host/identify/model.hpp"
+#include "host/identify/segments.hpp"
 
 namespace excite::host {
 
@@ -23,9 +24,11 @@ struct MisoResult {
   bool converged = false;
 };
 
-/// Fits y ≈ Σ_e G_e u_{inputs[e]} from `initial` (one element per input of `inputs`).
+/// Fits y ≈ Σ_e G_e u_{inputs[e]} from `initial` (one element per input of `inputs`) on the
+/// scored rows of `layout`, the model simulated from rest at each segment's start. y_hat is
+/// the simulation on every row (scored or not).
 MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                     const std::vector<int>& inputs, std::vector<TwoPoleDelay> initial, double T_min,
-                    const MisoBounds& bounds, int max_iterations);
+                    const MisoBounds& bounds, int max_iterations, const SampleLayout& layout);
 
 }  // namespace excite::host
