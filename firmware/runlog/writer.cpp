@@ -93,6 +93,43 @@ void column_names(Sink& s, std::string_view prefix, std::span<const Channel> cha
 
 }  // namespace
 
+std::string_view to_text(RunState state) noexcept {
+  switch (state) {
+    case RunState::unknown:
+      return "unknown";
+    case RunState::configured:
+      return "configured";
+    case RunState::armed:
+      return "armed";
+    case RunState::running:
+      return "running";
+    case RunState::suspended:
+      return "suspended";
+    case RunState::completed:
+      return "completed";
+    case RunState::aborted:
+      return "aborted";
+    case RunState::returning:
+      return "returning";
+    case RunState::safe:
+      return "safe";
+    case RunState::safe_unconfirmed:
+      return "safe_unconfirmed";
+  }
+  return "unknown";
+}
+
+bool run_state_from_text(std::string_view text, RunState& state) noexcept {
+  for (std::size_t i = 0; i < kRunStateCount; ++i) {
+    const auto candidate = static_cast<RunState>(i);
+    if (to_text(candidate) == text) {
+      state = candidate;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool valid_channel_name(std::string_view name) {
   if (name.empty()) return false;
   for (const char c : name) {
@@ -129,6 +166,8 @@ std::string_view describe(WriteStatus status) {
       return "row contains NaN or inf";
     case WriteStatus::unknown_flags:
       return "flags has bits outside the documented set";
+    case WriteStatus::bad_state:
+      return "state is not one of the documented run states";
     case WriteStatus::io_error:
       return "write to the log file failed";
   }
@@ -180,7 +219,7 @@ WriteResult format_header(const Header& header, std::span<char> out) {
   column_names(s, "du_", header.inputs);
   column_names(s, "u_", header.inputs);
   column_names(s, "dy_", header.outputs);
-  s.text(",flags\n");
+  s.text(",flags,state\n");
   return s.result();
 }
 
@@ -194,6 +233,7 @@ WriteResult format_row(const Header& header, const Row& row, std::span<char> out
     return {WriteStatus::non_finite, 0};
   }
   if ((row.flags & ~kKnownFlags) != 0U) return {WriteStatus::unknown_flags, 0};
+  if (static_cast<std::size_t>(row.state) >= kRunStateCount) return {WriteStatus::bad_state, 0};
 
   Sink s(out);
   s.number(row.t_min);
@@ -208,6 +248,8 @@ WriteResult format_row(const Header& header, const Row& row, std::span<char> out
   }
   s.ch(',');
   s.integer(row.flags);
+  s.ch(',');
+  s.text(to_text(row.state));
   s.ch('\n');
   return s.result();
 }

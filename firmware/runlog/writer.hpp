@@ -31,12 +31,13 @@ struct Header {
 /// One sample. du, u have one value per input, dy one per output; all finite.
 /// A producer without a fresh measurement repeats the last value and sets kCommLost/kStale.
 struct Row {
-  double t_min = 0.0;          // time since the start of the run, minutes
-  std::uint64_t k = 0;         // sample index
-  std::span<const double> du;  // input deviations from the baseline
-  std::span<const double> u;   // absolute inputs (baseline + du), engineering units
-  std::span<const double> dy;  // output deviations from the baseline
-  std::uint32_t flags = 0;     // bits of Flag only
+  double t_min = 0.0;                  // time since the start of the run, minutes
+  std::uint64_t k = 0;                 // sample index
+  std::span<const double> du;          // input deviations from the baseline
+  std::span<const double> u;           // absolute inputs (baseline + du), engineering units
+  std::span<const double> dy;          // output deviations from the baseline
+  std::uint32_t flags = 0;             // bits of Flag only (kKnownFlags)
+  RunState state = RunState::unknown;  // the engine's state at this row (v2 `state` column)
 };
 
 enum class WriteStatus : std::uint8_t {
@@ -48,6 +49,7 @@ enum class WriteStatus : std::uint8_t {
   width_mismatch,    // du/u/dy lengths differ from the header's channel counts
   non_finite,        // a number in the row is NaN or ±inf
   unknown_flags,     // flags has bits outside kKnownFlags
+  bad_state,         // state is not one of RunState's values
   io_error,          // fwrite to the FILE* failed
 };
 
