@@ -2,6 +2,7 @@
 // excite identify RUN.csv [RUN.csv…] [--json] [-o MODEL] [--max-delay MIN]
 //                 [--max-time-constant MIN] [--tau-high MIN] [--beta B] [--threads N]
 //                 [--keep-flagged] [--warm-up MIN] [--start-warm-up MIN]
+//                 [--trend none|offset|linear]
 // (6.1.1) models per output, fit % (5.5.1), identified G(0) and its directions. Several
 // runs are identified together; the logs' flags decide which rows are scored and where the
 // model restarts (host/identify/run_layout.hpp); what was excluded is warned on stderr.
@@ -30,6 +31,7 @@ struct IdentifyCommandOptions {
   IdentifyOptions identify;
   FlagRule rule;
   double warm_up_min = -1.0;  // < 0: the delay bound
+  std::string trend = "none";
 };
 
 // Writes `text` to `path` (to be switched to the shared atomic writer at merge).
@@ -133,6 +135,9 @@ void run(const IdentifyCommandOptions& opt) {
   const Run& first = runs.front();
 
   IdentifyOptions options = opt.identify;
+  options.trend = opt.trend == "offset"   ? Trend::offset
+                  : opt.trend == "linear" ? Trend::linear
+                                          : Trend::none;
   const auto [bound, source] = time_constant_bound(opt.bound, first.log.plant);
   options.max_time_constant_min = bound;
   const std::string summary = layout_summary(data.report, runs.size());
@@ -181,6 +186,11 @@ void add_identify_command(CLI::App& app) {
                   "minutes not scored at each run's start (data not starting at rest)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--trend", opt->trend,
+                  "per segment, each output's offset (offset) or offset and slope (linear) "
+                  "fitted with the model")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"none", "offset", "linear"}));
   cmd->callback([opt] { run(*opt); });
 }
 

@@ -98,7 +98,7 @@ constexpr int kAloneIterations = 30;
 // ‖y − ŷ‖² over the scored rows of the start elements (one per input of `inputs`).
 double start_cost(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                   const std::vector<int>& inputs, const std::vector<TwoPoleDelay>& start,
-                  double T_min, const SampleLayout& layout) {
+                  double T_min, const SampleLayout& layout, const Eigen::MatrixXd& trend) {
   Eigen::VectorXd r = y;
   Eigen::VectorXd z(y.size());
   for (std::size_t e = 0; e < inputs.size(); ++e) {
@@ -109,7 +109,9 @@ double start_cost(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                       {z.data(), static_cast<std::size_t>(z.size())}, layout.segments);
     r -= start[e].gain * z;
   }
-  return r.cwiseProduct(layout.weight).squaredNorm();
+  r = r.cwiseProduct(layout.weight);
+  if (trend.cols() > 0) r -= trend * (trend.transpose() * r);
+  return r.squaredNorm();
 }
 
 void mark_row(IdentifiedModel& model, int out, ElementStatus status, const std::string& why) {
@@ -153,10 +155,15 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
   const InputScreen screen = screen_inputs(U);
   const ResponseBank bank(U, screen.usable, T_min, GridSpec{options.max_delay_min, tp_max}, layout);
   const ArxBasis arx(U, screen.usable, T_min, options.max_delay_min, layout);
+  const Eigen::MatrixXd trend = trend_basis(layout, options.trend);
 
   // One output's fit; writes only its own row of the model and its own OutputFit.
   const auto fit_output = [&](int j) {
     const Eigen::VectorXd y = Y.col(j);
+    // The starts see the output with its least-squares trend removed (the model-free part);
+    // the fit itself estimates the trend with the model.
+    Eigen::VectorXd y_start = y;
+    if (trend.cols() > 0) y_start -= trend * (trend.transpose() * layout.weight.cwiseProduct(y));
     OutputFit& fit = result.fits[static_cast<std::size_t>(j)];
     const Eigen::VectorXd y_scored = layout.scored_rows(y);
     const double spread = (y_scored.array() - y_scored.mean()).matrix().norm();
@@ -185,7 +192,7 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
       // the better end is kept.
       const MisoBounds bounds{options.max_delay_min, tp_max};
       std::vector<std::vector<TwoPoleDelay>> starts;
-      if (const auto Z = arx.contributions(y)) {
+      if (const auto Z = arx.contributions(y_start)) {
         // Each element fitted alone to its own part of the output (a start: few iterations).
         std::vector<TwoPoleDelay> arx_start;
         for (std::size_t e = 0; e < screen.usable.size(); ++e) {
@@ -194,13 +201,13 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
           double gain = 0.0;
           TwoPoleDelay g = bank.grid()[static_cast<std::size_t>(bank.choose_one(col, z, gain))];
           g.gain = gain;
-          const MisoResult alone =
-              fit_miso(U, z, {screen.usable[e]}, {g}, T_min, bounds, kAloneIterations, layout);
+          const MisoResult alone = fit_miso(U, z, {screen.usable[e]}, {g}, T_min, bounds,
+                                            kAloneIterations, layout, Eigen::MatrixXd(y.size(), 0));
           arx_start.push_back(alone.elements.front().value);
         }
         starts.push_back(std::move(arx_start));
       }
-      const ResponseBank::Choice choice = bank.choose(y);
+      const ResponseBank::Choice choice = bank.choose(y_start);
       std::vector<TwoPoleDelay> grid_start;
       for (std::size_t e = 0; e < screen.usable.size(); ++e) {
         TwoPoleDelay g = bank.grid()[static_cast<std::size_t>(choice.grid_index[e])];
@@ -210,14 +217,14 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
       starts.push_back(std::move(grid_start));
       std::vector<double> cost;
       for (const auto& start : starts)
-        cost.push_back(start_cost(U, y, screen.usable, start, T_min, layout));
+        cost.push_back(start_cost(U, y, screen.usable, start, T_min, layout, trend));
       const std::size_t first = cost.size() > 1 && cost[1] < cost[0] ? 1 : 0;
       MisoResult miso = fit_miso(U, y, screen.usable, starts[first], T_min, bounds,
-                                 options.max_iterations, layout);
+                                 options.max_iterations, layout, trend);
       for (std::size_t s = 0; s < starts.size(); ++s) {
         if (s == first || !(cost[s] <= kAmbiguousStart * cost[first])) continue;
-        MisoResult other =
-            fit_miso(U, y, screen.usable, starts[s], T_min, bounds, options.max_iterations, layout);
+        MisoResult other = fit_miso(U, y, screen.usable, starts[s], T_min, bounds,
+                                    options.max_iterations, layout, trend);
         const auto sse = [&](const MisoResult& m) {
           return (m.y_hat - y).cwiseProduct(layout.weight).squaredNorm();
         };

@@ -38,6 +38,8 @@ struct IdentifyOptions {
                                        // knowledge; 0 = the experiment length N·T
   int max_iterations = 200;            // Levenberg–Marquardt iterations per output
   int threads = 1;                     // outputs are fitted in parallel on this many threads
+  Trend trend = Trend::none;           // per segment offset / line of each output fitted with
+                                       // the model (segments.hpp)
 };
 
 /// Per-output diagnostics of the fit.

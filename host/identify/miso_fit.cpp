@@ -176,7 +176,8 @@ Eigen::VectorXd standard_errors(const Eigen::MatrixXd& J, Eigen::Index scored_ro
 
 MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                     const std::vector<int>& inputs, std::vector<TwoPoleDelay> initial, double T_min,
-                    const MisoBounds& bounds, int max_iterations, const SampleLayout& layout) {
+                    const MisoBounds& bounds, int max_iterations, const SampleLayout& layout,
+                    const Eigen::MatrixXd& trend) {
   RowModel row(U, inputs, T_min, layout);
   const Eigen::Index m = row.elements();
   const Eigen::Index P = kPerElement * m;
@@ -197,10 +198,12 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
   }
   problem.residual = [&](const Eigen::VectorXd& x, Eigen::VectorXd& r) {
     r = layout.weight.cwiseProduct(y - row.output(x));
+    if (trend.cols() > 0) r -= trend * (trend.transpose() * r);
     return true;
   };
   problem.jacobian = [&](const Eigen::VectorXd& x, Eigen::MatrixXd& J) {
     row.jacobian(x, problem.lower, problem.upper, J);
+    if (trend.cols() > 0) J -= trend * (trend.transpose() * J);
   };
   LmOptions lm_options;
   lm_options.max_iterations = max_iterations;
@@ -210,14 +213,17 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
   out.iterations = lm.iterations;
   out.converged = lm.converged;
   out.y_hat = row.output(lm.x);
+  if (trend.cols() > 0) {
+    out.y_hat += trend * (trend.transpose() * layout.weight.cwiseProduct(y - out.y_hat));
+  }
   Eigen::MatrixXd J;
-  row.jacobian(lm.x, problem.lower, problem.upper, J);
+  problem.jacobian(lm.x, J);
   std::vector<bool> on_bound(static_cast<std::size_t>(P));
   for (Eigen::Index k = 0; k < P; ++k) {
     on_bound[static_cast<std::size_t>(k)] =
         lm.x(k) <= problem.lower(k) || lm.x(k) >= problem.upper(k);
   }
-  const Eigen::VectorXd se = standard_errors(J, layout.scored(), lm.cost, on_bound);
+  const Eigen::VectorXd se = standard_errors(J, layout.scored() - trend.cols(), lm.cost, on_bound);
 
   for (Eigen::Index e = 0; e < m; ++e) {
     const Eigen::Index o = kPerElement * e;

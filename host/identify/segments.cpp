@@ -52,6 +52,31 @@ Eigen::VectorXd SampleLayout::scored_rows(const Eigen::VectorXd& v) const {
   return out;
 }
 
+Eigen::MatrixXd trend_basis(const SampleLayout& layout, Trend trend) {
+  const Eigen::Index N = layout.rows();
+  if (trend == Trend::none) return Eigen::MatrixXd(N, 0);
+  std::vector<Eigen::VectorXd> columns;
+  for (const Segment& s : layout.segments) {
+    const Eigen::Index n = s.end - s.begin;
+    if (layout.weight.segment(s.begin, n).sum() == 0.0) continue;
+    Eigen::VectorXd one = Eigen::VectorXd::Zero(N);
+    one.segment(s.begin, n) = layout.weight.segment(s.begin, n);
+    columns.push_back(one);
+    if (trend == Trend::linear && layout.weight.segment(s.begin, n).sum() >= 2.0) {
+      Eigen::VectorXd ramp = Eigen::VectorXd::Zero(N);
+      for (Eigen::Index k = 0; k < n; ++k) {
+        ramp(s.begin + k) =
+            layout.weight(s.begin + k) * static_cast<double>(k) / static_cast<double>(n);
+      }
+      columns.push_back(ramp);
+    }
+  }
+  Eigen::MatrixXd B(N, static_cast<Eigen::Index>(columns.size()));
+  for (std::size_t c = 0; c < columns.size(); ++c) B.col(static_cast<Eigen::Index>(c)) = columns[c];
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(B);
+  return qr.householderQ() * Eigen::MatrixXd::Identity(N, B.cols());
+}
+
 void simulate_segments(const sim::DiscreteTerm& g, std::span<const double> u, std::span<double> y,
                        const std::vector<Segment>& segments) {
   for (const Segment& s : segments) {

@@ -43,6 +43,18 @@ struct SampleLayout {
   Eigen::VectorXd scored_rows(const Eigen::VectorXd& v) const;
 };
 
+/// A trend fitted with the model (issue 13 §1): per segment an offset, or an offset and a
+/// slope, of each output that the (6.1.1) model does not explain (an unmeasured disturbance,
+/// a drifting sensor). They are linear parameters: eliminated exactly by projecting the
+/// output error and its Jacobian on the orthogonal complement of their columns (variable
+/// projection; the columns do not depend on the model's parameters, so the projected
+/// Jacobian is exact).
+enum class Trend { none, offset, linear };
+
+/// Orthonormal columns (N × r) spanning the trend of every segment with scored rows, zero
+/// on rows that are not scored; N × 0 for Trend::none.
+Eigen::MatrixXd trend_basis(const SampleLayout& layout, Trend trend);
+
 /// y = G u per segment, each from rest.
 void simulate_segments(const sim::DiscreteTerm& g, std::span<const double> u, std::span<double> y,
                        const std::vector<Segment>& segments);

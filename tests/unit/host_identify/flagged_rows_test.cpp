@@ -197,5 +197,31 @@ TEST(FlaggedRows, CommLostSpanRestartsTheModelAfterIt) {
   EXPECT_EQ(d.report.warm_up, 40);
 }
 
+TEST(FittedTrend, OffsetAndDriftPerSegmentAreFittedWithTheModel) {
+  // Each segment's outputs carry an offset and a drift the model cannot explain; with the
+  // trend fitted (by projection) the plant comes back exactly, without it it does not.
+  const Eigen::MatrixXd U = testing::prbs_inputs(2, 6, 16, 31, 2016, 1.0);
+  Eigen::MatrixXd Y(2016, 2);
+  Y.topRows(1000) = testing::plant_outputs(kTruth, 2, 2, kT, U.topRows(1000));
+  Y.bottomRows(1016) = testing::plant_outputs(kTruth, 2, 2, kT, U.bottomRows(1016));
+  for (Eigen::Index k = 0; k < 2016; ++k) {
+    const double t = static_cast<double>(k) * kT;
+    Y(k, 0) += k < 1000 ? 0.5 + 0.002 * t : -0.3 - 0.001 * t;
+    Y(k, 1) += 0.2 + 0.0005 * t;
+  }
+  std::vector<std::uint32_t> flags(2016, 0);
+  flags[1000] = runlog::kDiscontinuity;
+  const StackedRuns d = one_run(make_log(U, Y, flags));
+  IdentifyOptions with_trend;
+  with_trend.trend = Trend::linear;
+  const IdentificationResult fitted = identify(d.U, d.Y, d.sample_time_min, d.layout, with_trend);
+  EXPECT_LT(gain_error(fitted), 1e-3);
+  EXPECT_GT(worst_fit(fitted), 99.9);
+  const IdentificationResult ignored = identify_runs(d);
+  EXPECT_GT(gain_error(ignored), 0.05);
+  EXPECT_EQ(trend_basis(d.layout, Trend::linear).cols(), 4);  // two segments × (offset, slope)
+  EXPECT_EQ(trend_basis(d.layout, Trend::none).cols(), 0);
+}
+
 }  // namespace
 }  // namespace excite::host
