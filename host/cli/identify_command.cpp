@@ -13,9 +13,9 @@
 #include <iostream>
 #include <sstream>
 
+#include "firmware/runlog/reader.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/model_file.hpp"
-#include "host/cli/run_input.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/cli/time_constant_bound.hpp"
 #include "host/identify/run_layout.hpp"
@@ -92,11 +92,19 @@ std::string with_unit(const std::string& name, const std::string& unit) {
   return unit.empty() || unit == "-" ? name : name + " [" + unit + "]";
 }
 
-void print(const IdentificationResult& r, const Run& run) {
+// The log as read, without run_data(): identify takes rows flagged skipped or discontinuity
+// (segments), which run_data() refuses for the commands that need one unbroken run.
+runlog::RunLog read_log(const std::string& path) {
+  runlog::ReadResult r = runlog::read_run_log(path);
+  if (!r.ok()) throw std::invalid_argument(r.error->to_string());
+  return std::move(r.log);
+}
+
+void print(const IdentificationResult& r, const runlog::RunLog& log) {
   const IdentifiedModel& m = r.model;
   for (int o = 0; o < m.outputs; ++o) {
     const auto oi = static_cast<std::size_t>(o);
-    std::cout << "output " << with_unit(run.log.output_names[oi], run.log.output_units[oi])
+    std::cout << "output " << with_unit(log.output_names[oi], log.output_units[oi])
               << ": fit = " << num(r.fits[oi].fit_percent) << " %\n";
     TextTable t(
         {"input", "K", "+-", "Td [min]", "+-", "Tp1 [min]", "+-", "Tp2 [min]", "+-", "status"});
@@ -105,7 +113,7 @@ void print(const IdentificationResult& r, const Run& run) {
       std::string status = to_string(e.status);
       if (!e.reason.empty()) status += ": " + e.reason;
       const auto ii = static_cast<std::size_t>(i);
-      t.add_row({with_unit(run.log.input_names[ii], run.log.input_units[ii]), num(e.value.gain),
+      t.add_row({with_unit(log.input_names[ii], log.input_units[ii]), num(e.value.gain),
                  num(e.std_error.gain), num(e.value.delay_min), num(e.std_error.delay_min),
                  num(e.value.tau1_min), num(e.std_error.tau1_min), num(e.value.tau2_min),
                  num(e.std_error.tau2_min), status});
@@ -125,26 +133,26 @@ void print(const IdentificationResult& r, const Run& run) {
 }
 
 void run(const IdentifyCommandOptions& opt) {
-  std::vector<Run> runs;
-  for (const auto& path : opt.run_paths) runs.push_back(read_run(path));
+  std::vector<runlog::RunLog> runs;
+  for (const auto& path : opt.run_paths) runs.push_back(read_log(path));
   std::vector<const runlog::RunLog*> logs;
-  for (const auto& r : runs) logs.push_back(&r.log);
+  for (const auto& r : runs) logs.push_back(&r);
   FlagRule rule = opt.rule;
   rule.warm_up_min = opt.warm_up_min >= 0.0 ? opt.warm_up_min : opt.identify.max_delay_min;
   const StackedRuns data = stack_runs(logs, opt.run_paths, rule);
-  const Run& first = runs.front();
+  const runlog::RunLog& first = runs.front();
 
   IdentifyOptions options = opt.identify;
   options.trend = opt.trend == "offset"   ? Trend::offset
                   : opt.trend == "linear" ? Trend::linear
                                           : Trend::none;
-  const auto [bound, source] = time_constant_bound(opt.bound, first.log.plant);
+  const auto [bound, source] = time_constant_bound(opt.bound, first.plant);
   options.max_time_constant_min = bound;
   const std::string summary = layout_summary(data.report, runs.size());
   if (needs_warning(data.report)) std::cerr << "excite: warning: " << summary << '\n';
   const IdentificationResult result =
       identify(data.U, data.Y, data.sample_time_min, data.layout, options);
-  nlohmann::json j = model_json(result, first.log.input_names, first.log.output_names);
+  nlohmann::json j = model_json(result, first.input_names, first.output_names);
   j["data"] = layout_json(data.report, opt.run_paths);
   if (!opt.model_path.empty()) write_file(opt.model_path, j.dump(2) + '\n');
   if (opt.json) {
