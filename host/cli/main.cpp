@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   excite::host::cli::add_inspect_command(app);
   excite::host::cli::add_case_study_command(app);
   excite::host::cli::add_simulate_command(app);
+  excite::host::cli::add_import_command(app);
   excite::host::cli::add_identify_command(app);
   excite::host::cli::add_validate_commands(app);
   excite::host::cli::add_balance_command(app);
