@@ -5,7 +5,6 @@
 
 #include <fstream>
 #include <map>
-#include <regex>
 #include <sstream>
 #include <string>
 
@@ -21,29 +20,48 @@ std::string slurp(const std::string& path) {
   return s.str();
 }
 
+std::string trim(const std::string& s) {
+  const std::size_t a = s.find_first_not_of(" \t");
+  const std::size_t b = s.find_last_not_of(" \t");
+  return a == std::string::npos ? "" : s.substr(a, b - a + 1);
+}
+
+bool all_digits(const std::string& s) {
+  return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;
+}
+
 // code → name from the README's "### Exit codes" table rows `| 12 | distorted | … |`.
 std::map<int, std::string> readme_table() {
   const std::string text = slurp(EXCITE_APP_README);
   const std::size_t start = text.find("### Exit codes");
   const std::size_t end = text.find("\n### ", start + 1);
-  const std::string section = text.substr(start, end - start);
+  std::istringstream section(text.substr(start, end - start));
   std::map<int, std::string> codes;
-  const std::regex row(R"(\n\|\s*(\d+)\s*\|\s*([a-z_]+)\s*\|)");
-  for (auto it = std::sregex_iterator(section.begin(), section.end(), row);
-       it != std::sregex_iterator(); ++it) {
-    codes[std::stoi((*it)[1])] = (*it)[2];
+  for (std::string line; std::getline(section, line);) {
+    if (line.rfind("|", 0) != 0) continue;
+    const std::size_t bar2 = line.find('|', 1);
+    const std::size_t bar3 = line.find('|', bar2 + 1);
+    if (bar2 == std::string::npos || bar3 == std::string::npos) continue;
+    const std::string code = trim(line.substr(1, bar2 - 1));
+    if (all_digits(code)) codes[std::stoi(code)] = trim(line.substr(bar2 + 1, bar3 - bar2 - 1));
   }
   return codes;
 }
 
 // code → name from the enum's lines `  distorted = 12,` in exit_codes.hpp.
 std::map<int, std::string> header_enum() {
-  const std::string text = slurp(EXCITE_EXIT_CODES_HPP);
+  std::istringstream text(slurp(EXCITE_EXIT_CODES_HPP));
   std::map<int, std::string> codes;
-  const std::regex entry(R"(\n\s+([a-z_]+)\s*=\s*(\d+),)");
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), entry);
-       it != std::sregex_iterator(); ++it) {
-    codes[std::stoi((*it)[2])] = (*it)[1];
+  for (std::string line; std::getline(text, line);) {
+    const std::size_t eq = line.find(" = ");
+    const std::size_t comma = line.find(',', eq == std::string::npos ? 0 : eq);
+    if (eq == std::string::npos || comma == std::string::npos) continue;
+    const std::string name = trim(line.substr(0, eq));
+    const std::string code = trim(line.substr(eq + 3, comma - eq - 3));
+    if (all_digits(code) &&
+        name.find_first_not_of("abcdefghijklmnopqrstuvwxyz_") == std::string::npos) {
+      codes[std::stoi(code)] = name;
+    }
   }
   return codes;
 }
