@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -21,8 +20,10 @@
 #include "host/campaign/report.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/model_file.hpp"
+#include "host/cli/number_checks.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/loop/campaign_runs.hpp"
+#include "host/output/whole_file.hpp"
 #include "host/simulate/simulate.hpp"
 
 namespace excite::host::cli {
@@ -36,27 +37,13 @@ struct CampaignCommandOptions {
   bool loop = false;
 };
 
-// The one place this command writes a whole file: PATH.partial renamed into place, so a
-// failed write leaves nothing behind. (To be switched to host/cli's shared atomic writer.)
-void write_file_atomically(const fs::path& path, const std::string& text) {
-  const fs::path partial = path.string() + ".partial";
-  std::ofstream out(partial);
-  out << text;
-  out.close();
-  if (!out) {
-    fs::remove(partial);
-    throw std::runtime_error(partial.string() + ": cannot write");
-  }
-  fs::rename(partial, path);
-}
-
 // DIR/models/NN-name.json, one per experiment; returns their paths relative to DIR.
 std::vector<std::string> write_models(const CampaignResult& result, const fs::path& dir) {
   fs::create_directories(dir / "models");
   std::vector<std::string> written;
   for (const Experiment& e : result.experiments) {
     const std::string relative = "models/" + experiment_folder(e.number, e.name) + ".json";
-    write_file_atomically(
+    write_whole_file(
         dir / relative,
         model_json(e.identified, result.input_names, result.output_names).dump(2) + "\n");
     written.push_back(relative);
@@ -147,7 +134,7 @@ void add_campaign_command(CLI::App& app) {
       ->transform(CLI::CheckedTransformer(gains, CLI::ignore_case));
   cmd->add_option("--noise-var", opt->campaign.noise_variance,
                   "measurement noise variance per output (default: the case study's)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_non_negative());
   cmd->add_option("--seed", opt->campaign.seed, "noise seed")->capture_default_str();
   opt->campaign.threads = static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
   cmd->add_option("--threads", opt->campaign.threads,

@@ -14,6 +14,7 @@
 #include "host/cli/model_file.hpp"
 #include "host/export/formats.hpp"
 #include "host/export/step_response.hpp"
+#include "host/output/whole_file.hpp"
 
 namespace excite::host::cli {
 namespace {
@@ -26,22 +27,6 @@ struct ExportOptions {
   int horizon = 0;  // samples; 0: until every element has settled (settling_samples)
   std::string output;
 };
-
-// The one place this command writes a file: PATH.partial renamed into place, so a failed
-// write leaves nothing behind. (To be switched to host/cli's shared atomic writer at merge.)
-void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path partial = path.string() + ".partial";
-  {
-    std::ofstream out(partial, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) {
-      std::filesystem::remove(partial);
-      throw std::runtime_error(path.string() + ": cannot be written");
-    }
-  }
-  std::filesystem::rename(partial, path);
-}
 
 void run(const ExportOptions& opt) {
   const NamedModel m = read_named_model_file(opt.model);
@@ -70,7 +55,7 @@ void run(const ExportOptions& opt) {
       what = "transfer-matrix JSON";
       break;
   }
-  write_file_atomically(opt.output, text);
+  write_whole_file(opt.output, text);
   std::cout << "wrote " << opt.output << ": " << what << ", " << m.outputs.size() << " CVs x "
             << m.inputs.size() << " MVs\n";
 }

@@ -5,7 +5,10 @@
 #include <fstream>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
+#include "host/cli/input_path.hpp"
 #include "host/cli/json_util.hpp"
 
 namespace excite::host::cli {
@@ -70,12 +73,18 @@ nlohmann::json model_json(const IdentificationResult& result,
   return j;
 }
 
-IdentifiedModel read_model_file(const std::filesystem::path& path) {
-  return read_named_model_file(path).model;
+IdentifiedModel read_model_file(const std::filesystem::path& path, ModelChannels* channels) {
+  NamedModel named = read_named_model_file(path);
+  if (channels != nullptr) {
+    channels->inputs = named.inputs;
+    channels->outputs = named.outputs;
+  }
+  return std::move(named.model);
 }
 
 NamedModel read_named_model_file(const std::filesystem::path& path) {
   const std::string where = path.string();
+  refuse_directory(path, "a model file (excite identify -o)");
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(where + ": cannot be read");
   nlohmann::json j;
@@ -98,10 +107,18 @@ NamedModel read_named_model_file(const std::filesystem::path& path) {
       !j["outputs"].is_array()) {
     throw std::invalid_argument(where + ": inputs, outputs: expected arrays");
   }
-  for (const nlohmann::json& name : j["inputs"]) {
-    if (!name.is_string())
-      throw std::invalid_argument(where + ": inputs: " + name.dump() + ", expected a name");
-    named.inputs.push_back(name.get<std::string>());
+  for (const auto& [key, names] :
+       {std::pair{"inputs", &named.inputs}, std::pair{"outputs", &named.outputs}}) {
+    for (std::size_t k = 0; k < j[key].size(); ++k) {
+      const nlohmann::json& e = j[key][k];
+      const nlohmann::json* name =
+          e.is_string() ? &e : (e.is_object() && e.contains("name") ? &e["name"] : nullptr);
+      if (name == nullptr || !name->is_string()) {
+        throw std::invalid_argument(where + ": " + key + "[" + std::to_string(k) +
+                                    "]: expected a channel name");
+      }
+      names->push_back(name->get<std::string>());
+    }
   }
   m.inputs = static_cast<int>(j["inputs"].size());
   m.outputs = static_cast<int>(j["outputs"].size());
@@ -109,9 +126,6 @@ NamedModel read_named_model_file(const std::filesystem::path& path) {
   for (int o = 0; o < m.outputs; ++o) {
     const nlohmann::json& out = j["outputs"][static_cast<std::size_t>(o)];
     const std::string at = where + ": outputs[" + std::to_string(o) + "]";
-    named.outputs.push_back(out.contains("name") && out["name"].is_string()
-                                ? out["name"].get<std::string>()
-                                : "y" + std::to_string(o + 1));
     if (!out.contains("elements") || !out["elements"].is_array() ||
         out["elements"].size() != static_cast<std::size_t>(m.inputs)) {
       throw std::invalid_argument(at + ".elements: expected " + std::to_string(m.inputs) +
@@ -135,6 +149,27 @@ NamedModel read_named_model_file(const std::filesystem::path& path) {
     }
   }
   return named;
+}
+
+namespace {
+std::string listed(const std::vector<std::string>& names) {
+  std::string s = "[";
+  for (const std::string& n : names) s += (s.size() > 1 ? ", " : "") + n;
+  return s + "]";
+}
+}  // namespace
+
+void check_same_channels(const ModelChannels& model, const std::string& model_path,
+                         const std::vector<std::string>& run_inputs,
+                         const std::vector<std::string>& run_outputs, const std::string& run_path) {
+  for (const auto& [kind, ours, theirs] : {std::tuple{"inputs", &model.inputs, &run_inputs},
+                                           std::tuple{"outputs", &model.outputs, &run_outputs}}) {
+    if (*ours != *theirs) {
+      throw std::invalid_argument(model_path + ": " + kind + " = " + listed(*ours) + ", " +
+                                  run_path + ": " + kind + " = " + listed(*theirs) +
+                                  "; expected the same channels in the same order");
+    }
+  }
 }
 
 }  // namespace excite::host::cli

@@ -10,6 +10,7 @@
 #include "firmware/runlog/format.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/model_file.hpp"
+#include "host/cli/number_checks.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/export/model_plant.hpp"
@@ -103,7 +104,7 @@ void add_simulate_command(CLI::App& app) {
       ->required();
   cmd->add_option("--noise-var", opt->sim.noise_variance, "measurement noise variance per output")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_non_negative());
   cmd->add_option("--seed", opt->sim.seed, "noise seed")->capture_default_str();
   cmd->add_option("--periods", opt->sim.periods, "play the table this many times")
       ->capture_default_str()
@@ -111,10 +112,10 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_option("--step", opt->step, "step response instead of a plan: INPUT=AMPLITUDE");
   cmd->add_option("--samples", opt->samples, "step response length")
       ->capture_default_str()
-      ->check(CLI::Range(2U, 1U << 22));
+      ->check(CLI::Range(std::uint32_t{2}, static_cast<std::uint32_t>(kMaxSimulatedRows)));
   cmd->add_option("--sample-time-min", opt->sample_time_min, "step response sample time")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   cmd->add_option("-o,--output", opt->output, "run log (CSV, firmware/runlog/README.md)");
   cmd->callback([opt] { run(*opt); });
 }
