@@ -226,7 +226,7 @@ int main(int argc, char** argv) {
   if (lockstep && !loaded.config->simulator) {
     return fail(ExitCode::usage,
                 "--clock lockstep refused: " + config_path +
-                    ": device.simulator = false: expected true (lockstep lets the peer set the "
+                    ": device.simulator = false, expected true (lockstep lets the peer set the "
                     "pace, which only a simulated plant may do; a real plant runs in real time)");
   }
   excite::app::Gateway gw(std::move(*loaded.config));

@@ -518,7 +518,7 @@ TEST_F(GatewayHil, LockstepIsRefusedUnlessTheDeviceIsMarkedAsASimulator) {
   auto gw = start({"--start", "--clock", "lockstep"});
   ASSERT_EQ(gw->wait(20s).value_or(-1), 1);
   EXPECT_NE(gw->err().find("--clock lockstep refused: " + config_ +
-                           ": device.simulator = false: expected true"),
+                           ": device.simulator = false, expected true"),
             std::string::npos)
       << gw->err();
   EXPECT_TRUE(server_->seen().empty());
