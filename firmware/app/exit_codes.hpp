@@ -25,6 +25,9 @@ enum class ExitCode : int {
                        // (link down, or readbacks disagreeing) — the field's state is unknown
   fault = 11,          // a fault stopped the excitation (verified writes: a readback disagreed
                        // with the setpoint written); the baseline was confirmed afterwards
+  distorted = 12,      // refused (dry run or arm, before any excitation): the plan would be
+                       // clamped or rate-limited on more than gateway.max_distortion of a
+                       // channel's rows (--allow-distortion overrides)
 };
 
 }  // namespace excite::app

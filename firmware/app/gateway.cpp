@@ -32,12 +32,10 @@ StageResult Gateway::load_plan(std::span<const std::uint8_t> plan_file, std::str
   const std::chrono::duration<double> period =
       config_.period_s ? std::chrono::duration<double>(*config_.period_s)
                        : std::chrono::duration<double>(sample_time_);
-  period_ = std::chrono::round<hal::Nanoseconds>(period);
-  if (period_.count() <= 0) {
-    return StageError{ExitCode::bad_config,
-                      config_.source + ": gateway.period_s = " + std::to_string(period.count()) +
-                          ": expected at least 1 ns"};
+  if (std::string e = check_timing(config_, period); !e.empty()) {
+    return StageError{ExitCode::bad_config, e};
   }
+  period_ = std::chrono::round<hal::Nanoseconds>(period);
   engine_config_ = to_engine_config(config_, period);
   engine_ = std::make_unique<engine::Engine>();
   if (auto s = engine_->configure(engine_config_, table_); !s) {

@@ -6,60 +6,35 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 
 #include "firmware/app/register_range.hpp"
+#include "firmware/config/document.hpp"
+#include "firmware/config/table.hpp"
 #include "firmware/runlog/format.hpp"
+#include "hal/modbus/register_entry_toml.hpp"
 
 namespace excite::app {
 
 namespace {
 
-// A configuration error: "<field> = <value>: expected <what>".
-struct ConfigError : std::runtime_error {
-  ConfigError(const std::string& field, const std::string& value, const std::string& expected)
-      : std::runtime_error(field + " = " + value + ": expected " + expected) {}
-};
-
-std::string describe(const toml::node& node) {
-  std::ostringstream out;
-  if (node.is_string()) {
-    out << '"' << node.value<std::string>().value_or("") << '"';
-  } else if (node.is_table()) {
-    out << "a table";
-  } else if (node.is_array()) {
-    out << "an array";
-  } else {
-    node.visit([&out](const auto& v) { out << v; });
-  }
-  return out.str();
-}
+// A configuration error in the one form of firmware/config, "FIELD = VALUE, expected …";
+// the readers below add the position, parse_gateway_config the file name.
+using ConfigError = config::Error;
+using config::describe;
 
 void check_keys(const toml::table& table, const std::string& where,
                 const std::set<std::string>& allowed) {
-  for (const auto& [key, node] : table) {
-    const std::string k(key.str());
-    if (allowed.count(k) == 0) {
-      std::string list;
-      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      throw ConfigError(where.empty() ? k : where + "." + k, describe(node),
-                        "one of the known keys (" + list + ")");
-    }
-  }
+  config::Table(table, where, {})
+      .only_keys(std::vector<std::string>(allowed.begin(), allowed.end()));
 }
 
 std::optional<double> number(const toml::table& t, const std::string& where,
                              const std::string& key) {
-  const toml::node* n = t.get(key);
-  if (n == nullptr) return std::nullopt;
-  if (auto i = n->value_exact<std::int64_t>()) return static_cast<double>(*i);
-  if (auto d = n->value_exact<double>()) {
-    if (!std::isfinite(*d)) throw ConfigError(where + "." + key, describe(*n), "a finite number");
-    return *d;
-  }
-  throw ConfigError(where + "." + key, describe(*n), "a number");
+  return config::Table(t, where, {}).number(key);
 }
 
 double required_number(const toml::table& t, const std::string& where, const std::string& key) {
@@ -70,23 +45,12 @@ double required_number(const toml::table& t, const std::string& where, const std
 
 std::optional<std::int64_t> integer(const toml::table& t, const std::string& where,
                                     const std::string& key, std::int64_t lo, std::int64_t hi) {
-  const toml::node* n = t.get(key);
-  if (n == nullptr) return std::nullopt;
-  auto i = n->value_exact<std::int64_t>();
-  if (!i || *i < lo || *i > hi) {
-    throw ConfigError(where + "." + key, describe(*n),
-                      "an integer " + std::to_string(lo) + "…" + std::to_string(hi));
-  }
-  return *i;
+  return config::Table(t, where, {}).integer(key, lo, hi);
 }
 
 std::optional<std::string> text(const toml::table& t, const std::string& where,
                                 const std::string& key) {
-  const toml::node* n = t.get(key);
-  if (n == nullptr) return std::nullopt;
-  auto s = n->value_exact<std::string>();
-  if (!s) throw ConfigError(where + "." + key, describe(*n), "a string");
-  return *s;
+  return config::Table(t, where, {}).text(key);
 }
 
 const toml::table* table_at(const toml::table& root, const std::string& key, bool required) {
@@ -101,30 +65,47 @@ const toml::table* table_at(const toml::table& root, const std::string& key, boo
 
 void parse_gateway(const toml::table& t, GatewayConfig& c) {
   const std::string w = "gateway";
-  check_keys(t, w,
-             {"plant", "period_s", "ramp_s", "resume_dwell_s", "suspend_timeout_s",
-              "comm_fail_limit", "comm_loss", "heartbeat_max_lag_s", "log_ring",
-              "realtime_priority", "readback_lag_ticks", "readback_mismatch_limit"});
+  check_keys(
+      t, w,
+      {"plant", "period_s", "ramp_s", "resume_dwell_s", "suspend_timeout_s", "comm_fail_limit",
+       "comm_loss", "heartbeat_max_lag_s", "log_ring", "realtime_priority", "readback_lag_ticks",
+       "readback_mismatch_limit", "max_distortion"});
   if (auto s = text(t, w, "plant")) {
     if (s->find_first_of("\r\n") != std::string::npos) {
       throw ConfigError(w + ".plant", '"' + *s + '"', "one line of text");
     }
     c.plant = *s;
   }
+  // Durations: finite (number()) and within their documented range, so that every one of
+  // them converts to ticks without overflow at any accepted period (README "Timing").
   if (auto v = number(t, w, "period_s")) {
-    if (*v <= 0.0) throw ConfigError(w + ".period_s", std::to_string(*v), "> 0 seconds");
+    if (!(*v >= kMinPeriodS && *v <= kMaxPeriodS)) {
+      throw ConfigError(w + ".period_s", config::format_number(*v),
+                        config::format_number(kMinPeriodS) + " … " +
+                            config::format_number(kMaxPeriodS) + " seconds");
+    }
     c.period_s = *v;
   }
-  auto non_negative = [&](const char* key, double& out) {
+  auto duration = [&](const char* key, double& out) {
     if (auto v = number(t, w, key)) {
-      if (*v < 0.0) throw ConfigError(w + "." + key, std::to_string(*v), ">= 0 seconds");
+      if (!(*v >= 0.0 && *v <= kMaxDurationS)) {
+        throw ConfigError(w + "." + key, config::format_number(*v),
+                          "0 … " + config::format_number(kMaxDurationS) + " seconds");
+      }
       out = *v;
     }
   };
-  non_negative("ramp_s", c.ramp_s);
-  non_negative("resume_dwell_s", c.resume_dwell_s);
-  non_negative("suspend_timeout_s", c.suspend_timeout_s);
-  non_negative("heartbeat_max_lag_s", c.heartbeat_max_lag_s);
+  duration("ramp_s", c.ramp_s);
+  duration("resume_dwell_s", c.resume_dwell_s);
+  duration("suspend_timeout_s", c.suspend_timeout_s);
+  duration("heartbeat_max_lag_s", c.heartbeat_max_lag_s);
+  if (auto v = number(t, w, "max_distortion")) {
+    if (!(*v >= 0.0 && *v <= 1.0)) {
+      throw ConfigError(w + ".max_distortion", config::format_number(*v),
+                        "a fraction of the rows 0 … 1 (0: no row may be clamped or rate-limited)");
+    }
+    c.max_distortion = *v;
+  }
   if (auto v = integer(t, w, "comm_fail_limit", 1, 1000000)) {
     c.comm_fail_limit = static_cast<std::uint32_t>(*v);
   }
@@ -183,17 +164,13 @@ void parse_device(const toml::table& t, GatewayConfig& c) {
   if (auto v = integer(t, w, "data_bits", 0, 64)) d.data_bits = static_cast<std::int32_t>(*v);
   if (auto v = integer(t, w, "stop_bits", 0, 64)) d.stop_bits = static_cast<std::int32_t>(*v);
   if (auto v = integer(t, w, "unit_id", -1, 1 << 16)) d.unit_id = static_cast<std::int32_t>(*v);
-  if (auto v = integer(t, w, "response_timeout_ms", 0, 1 << 30)) {
+  if (auto v = integer(t, w, "response_timeout_ms", 1, 60000)) {
     d.response_timeout_ms = static_cast<std::int32_t>(*v);
   }
 }
 
 bool flag(const toml::table& t, const std::string& where, const std::string& key) {
-  const toml::node* n = t.get(key);
-  if (n == nullptr) return false;
-  const auto b = n->value_exact<bool>();
-  if (!b) throw ConfigError(where + "." + key, describe(*n), "true or false");
-  return *b;
+  return config::Table(t, where, {}).flag(key).value_or(false);
 }
 
 // The [can] section: interface, timeouts and the heartbeat's place in a setpoint frame.
@@ -233,23 +210,11 @@ void parse_can(const toml::table& t, hal::can::CanConfig& c) {
 }
 
 // The register fields shared by setpoints and values (Modbus transports).
-const std::set<std::string> kModbusKeys = {"address", "function_code", "type",    "word_order",
-                                           "eng_min", "eng_max",       "raw_min", "raw_max"};
+const std::set<std::string> kModbusKeys(hal::modbus::register_entry_keys.begin(),
+                                        hal::modbus::register_entry_keys.end());
 // The frame layout shared by setpoints and values (transport can).
 const std::set<std::string> kCanKeys = {"can_id",     "extended", "byte_offset", "type",
                                         "byte_order", "scale",    "offset"};
-
-void parse_register(const toml::table& t, const std::string& w, hal::modbus::RegisterEntry& e) {
-  e.address = static_cast<std::uint32_t>(integer(t, w, "address", 0, 1 << 20).value_or(0));
-  if (t.get("address") == nullptr) throw ConfigError(w + ".address", "(missing)", "an address");
-  if (auto v = integer(t, w, "function_code", 0, 255)) e.function_code = static_cast<int>(*v);
-  if (auto s = text(t, w, "type")) e.type = *s;
-  if (auto s = text(t, w, "word_order")) e.word_order = *s;
-  if (auto v = number(t, w, "eng_min")) e.eng_min = *v;
-  if (auto v = number(t, w, "eng_max")) e.eng_max = *v;
-  if (auto v = integer(t, w, "raw_min", -32768, 65535)) e.raw_min = static_cast<std::int32_t>(*v);
-  if (auto v = integer(t, w, "raw_max", -32768, 65535)) e.raw_max = static_cast<std::int32_t>(*v);
-}
 
 void parse_signal(const toml::table& t, const std::string& w, hal::can::CanSignal& s) {
   auto id = integer(t, w, "can_id", 0, 0x1FFFFFFF);
@@ -275,10 +240,11 @@ void add_field_entry(const toml::table& t, const std::string& w, const std::stri
     parse_signal(t, w, e);
     signals.push_back(e);
   } else {
-    hal::modbus::RegisterEntry e;
+    // hal's register-map schema, the same the plant server reads (defaults included).
+    hal::modbus::RegisterEntry e = hal::modbus::read_register_entry(
+        config::Table(t, w, {}),
+        function_code == 16 ? hal::modbus::EntryKind::setpoint : hal::modbus::EntryKind::value);
     e.name = name;
-    e.function_code = function_code;
-    parse_register(t, w, e);
     registers.push_back(e);
   }
 }
@@ -532,7 +498,7 @@ const char* to_string(Transport transport) noexcept {
 ConfigResult parse_gateway_config(std::string_view text_in, std::string_view source) {
   ConfigResult result;
   try {
-    toml::table root = toml::parse(text_in, source);
+    toml::table root = config::parse(text_in, source);
     GatewayConfig c;
     c.source = std::string(source);
     check_keys(root, "", {"gateway", "device", "map", "can", "setpoints", "values"});
@@ -554,27 +520,14 @@ ConfigResult parse_gateway_config(std::string_view text_in, std::string_view sou
     }
     if (const toml::table* m = table_at(root, "map", false)) {
       check_keys(*m, "map", {"heartbeat_address", "write_chunk", "read_chunk"});
-      if (auto v = integer(*m, "map", "heartbeat_address", 0, 1 << 20)) {
-        c.modbus.map.heartbeat_address = static_cast<std::uint32_t>(*v);
-      }
-      if (auto v = integer(*m, "map", "write_chunk", 0, 1 << 20)) {
-        c.modbus.map.write_chunk = static_cast<std::uint32_t>(*v);
-      }
-      if (auto v = integer(*m, "map", "read_chunk", 0, 1 << 20)) {
-        c.modbus.map.read_chunk = static_cast<std::uint32_t>(*v);
-      }
+      hal::modbus::read_map_settings(config::Table(*m, "map", {}), c.modbus.map);
     }
     parse_setpoints(root, c);
     parse_values(root, c);
     cross_check(c);
     result.config = std::move(c);
-  } catch (const toml::parse_error& e) {
-    std::ostringstream out;
-    out << source << ":" << e.source().begin.line << ":" << e.source().begin.column << ": "
-        << e.description();
-    result.error = out.str();
-  } catch (const ConfigError& e) {
-    result.error = std::string(source) + ": " + e.what();
+  } catch (const config::Error& e) {
+    result.error = e.with_source(source).what();
   }
   return result;
 }
@@ -591,14 +544,56 @@ ConfigResult load_gateway_config(const std::string& path) {
   return parse_gateway_config(buffer.str(), path);
 }
 
+namespace {
+
+// Seconds → ticks of `period`, rounded up; NaN, negative → 0 and beyond uint32 → its maximum
+// (never an undefined conversion; check_timing() refuses such values before).
+std::uint32_t to_ticks(double seconds, std::chrono::duration<double> period) {
+  const double x = std::ceil(std::chrono::duration<double>(seconds) / period - 1e-9);
+  if (!(x > 0.0)) return 0;
+  if (!(x < 4294967295.0)) return std::numeric_limits<std::uint32_t>::max();
+  return static_cast<std::uint32_t>(x);
+}
+
+}  // namespace
+
+std::string check_timing(const GatewayConfig& c, std::chrono::duration<double> period) {
+  const double p = period.count();
+  if (!(p >= kMinPeriodS && p <= kMaxPeriodS)) {
+    const std::string field = c.period_s ? "gateway.period_s"
+                                         : "the plan's sample time (as the "
+                                           "tick period; gateway.period_s "
+                                           "unset)";
+    return c.source + ": " + field + " = " + config::format_number(p) + " s, expected " +
+           config::format_number(kMinPeriodS) + " … " + config::format_number(kMaxPeriodS) +
+           " seconds";
+  }
+  const struct {
+    const char* key;
+    double seconds;
+    double max_ticks;
+  } durations[] = {
+      {"ramp_s", c.ramp_s, static_cast<double>(engine::kMaxDurationTicks)},
+      {"resume_dwell_s", c.resume_dwell_s, static_cast<double>(engine::kMaxDurationTicks)},
+      {"suspend_timeout_s", c.suspend_timeout_s, static_cast<double>(engine::kMaxDurationTicks)},
+      {"heartbeat_max_lag_s", c.heartbeat_max_lag_s,
+       static_cast<double>(engine::kMaxHeartbeatLagTicks)},
+  };
+  for (const auto& d : durations) {
+    const double ticks = std::ceil(d.seconds / p - 1e-9);
+    if (!std::isfinite(d.seconds) || d.seconds < 0.0 || !(ticks <= d.max_ticks)) {
+      return c.source + ": gateway." + d.key + " = " + config::format_number(d.seconds) + " (" +
+             config::format_number(ticks) + " ticks of " + config::format_number(p) +
+             " s), expected 0 … " + config::format_number(d.max_ticks * p) + " seconds (" +
+             config::format_number(d.max_ticks) + " ticks) at this period";
+    }
+  }
+  return {};
+}
+
 engine::EngineConfig to_engine_config(const GatewayConfig& c,
                                       std::chrono::duration<double> period) {
-  // Seconds → ticks, rounded up; saturated at the counters' range (2^32 − 1 ticks outlasts
-  // any run; casting a larger double would be undefined).
-  auto ticks = [period](double seconds) {
-    const double t = std::ceil(std::chrono::duration<double>(seconds) / period - 1e-9);
-    return static_cast<std::uint32_t>(std::min(t, 4294967295.0));
-  };
+  auto ticks = [period](double seconds) { return to_ticks(seconds, period); };
   engine::EngineConfig e;
   e.inputs = static_cast<std::uint32_t>(c.setpoints.size());
   e.values = static_cast<std::uint32_t>(c.values.size());
@@ -645,7 +640,8 @@ engine::EngineConfig to_engine_config(const GatewayConfig& c,
   }
   if (e.heartbeat_echo != engine::kNone) {
     e.heartbeat_max_lag = c.heartbeat_max_lag_s > 0.0
-                              ? std::clamp<std::uint32_t>(ticks(c.heartbeat_max_lag_s), 1, 30000)
+                              ? std::clamp<std::uint32_t>(ticks(c.heartbeat_max_lag_s), 1,
+                                                          engine::kMaxHeartbeatLagTicks)
                               : 3;
   }
   return e;

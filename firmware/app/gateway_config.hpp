@@ -71,6 +71,8 @@ struct GatewayConfig {
   engine::CommLossAction comm_loss = engine::CommLossAction::hold;
   double heartbeat_max_lag_s = 0.0;  // with a heartbeat_echo value; 0 → 3 ticks
   std::uint32_t log_ring = 4096;     // run-log ring records
+  double max_distortion = 0.0;       // largest fraction (0…1) of a channel's rows the engine
+                                     // may clamp or rate-limit; more → refused (exit 12)
   int realtime_priority = 80;        // SCHED_FIFO priority; 0 = leave the scheduler alone
   Transport transport = Transport::modbus_tcp;
   bool simulator = false;               // [device] simulator: the peer is a simulated plant
@@ -83,14 +85,27 @@ struct GatewayConfig {
 
 struct ConfigResult {
   std::optional<GatewayConfig> config;
-  std::string error;  // "<source>: <field> = <value>: expected <what>" when !config
+  std::string error;  // "<source>[:line:col]: <field> = <value>, expected <what>" when !config
 };
 
 ConfigResult parse_gateway_config(std::string_view text, std::string_view source);
 ConfigResult load_gateway_config(const std::string& path);
 
+/// Accepted timing (README "Timing"): the tick period (gateway.period_s, or the plan's
+/// sample time) within [kMinPeriodS, kMaxPeriodS]; every other duration within
+/// [0, kMaxDurationS] and, converted to ticks of the period, within the engine's range.
+inline constexpr double kMinPeriodS = 1e-3;
+inline constexpr double kMaxPeriodS = 86400.0;
+inline constexpr double kMaxDurationS = 1e6;
+
+/// "" when every duration of `config` converts to ticks of `period` within the engine's
+/// ranges; otherwise "<source>: gateway.<key> = <value> (<n> ticks of <p> s): expected …".
+/// Call before to_engine_config().
+std::string check_timing(const GatewayConfig& config, std::chrono::duration<double> period);
+
 /// The engine's configuration for a tick period (the configuration's seconds → ticks,
-/// rounded up). Value indices follow the register-map order.
+/// rounded up, saturating: check_timing() first). Value indices follow the register-map
+/// order.
 engine::EngineConfig to_engine_config(const GatewayConfig& config,
                                       std::chrono::duration<double> period);
 

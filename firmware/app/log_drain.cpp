@@ -41,6 +41,7 @@ bool LogDrain::write(const engine::TickRecord& r) {
   row.u = std::span<const double>(r.u.data(), n);
   row.dy = std::span<const double>(dy_);
   row.flags = r.flags & runlog::kKnownFlags;
+  row.state = engine::to_run_state(r.state);
   const runlog::WriteStatus s = writer_.write_row(row);
   if (s != runlog::WriteStatus::ok) {
     error_ = s;

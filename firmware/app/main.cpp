@@ -17,6 +17,7 @@
 #include "excite/hal/virtual_clock.hpp"
 #include "firmware/app/bus_factory.hpp"
 #include "firmware/app/command_mailbox.hpp"
+#include "firmware/app/distortion_check.hpp"
 #include "firmware/app/exit_codes.hpp"
 #include "firmware/app/gateway.hpp"
 #include "firmware/app/gateway_config.hpp"
@@ -203,6 +204,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   cli.add_flag("--dry-run", dry_run, "validate everything and print what would be written");
   cli.add_flag("--start", auto_start, "start streaming right after arming (no start command)");
+  bool allow_distortion = false;
+  cli.add_flag("--allow-distortion", allow_distortion,
+               "stream a plan even when more than gateway.max_distortion of a channel's rows "
+               "would be clamped or rate-limited (reported either way)");
+  cli.set_version_flag("--version", "excite-gateway " + std::string(excite::runlog::kVersion));
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -220,7 +226,7 @@ int main(int argc, char** argv) {
   if (lockstep && !loaded.config->simulator) {
     return fail(ExitCode::usage,
                 "--clock lockstep refused: " + config_path +
-                    ": device.simulator = false: expected true (lockstep lets the peer set the "
+                    ": device.simulator = false, expected true (lockstep lets the peer set the "
                     "pace, which only a simulated plant may do; a real plant runs in real time)");
   }
   excite::app::Gateway gw(std::move(*loaded.config));
@@ -232,10 +238,20 @@ int main(int argc, char** argv) {
   const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(plan_in)),
                                         std::istreambuf_iterator<char>());
   if (auto e = gw.load_plan(bytes, plan_path)) return fail(e->code, e->message);
+  // Distortion before anything is opened: rate limiting is known from the plan alone.
+  const excite::app::DistortionVerdict planned =
+      excite::app::check_distortion(config, gw.engine_config(), gw.table(), {}, allow_distortion);
   if (dry_run) {
+    if (!planned.refusal.empty()) return fail(ExitCode::distorted, planned.refusal);
     print_dry_run(gw);
+    std::printf(
+        "distortion (rows the engine would clamp or rate-limit, per setpoint; at most "
+        "%g of the rows allowed%s):\n%s",
+        config.max_distortion, allow_distortion ? ", overridden by --allow-distortion" : "",
+        planned.report.c_str());
     return static_cast<int>(ExitCode::ok);
   }
+  if (!planned.refusal.empty()) return fail(ExitCode::distorted, planned.refusal);
 
   // Log file, then the bus (connects; nothing written), then arm (reads only).
   std::FILE* log = std::fopen(log_path.c_str(), "w");
@@ -255,6 +271,22 @@ int main(int argc, char** argv) {
     std::fclose(log);
     std::remove(log_path.c_str());
     return fail(e->code, e->message);
+  }
+
+  // Distortion again with the baseline read at arm: clamping is known now. Refused before
+  // anything but the baseline was written.
+  std::vector<double> baseline(gw.engine_config().inputs);
+  for (std::uint32_t c = 0; c < gw.engine_config().inputs; ++c)
+    baseline[c] = gw.engine().baseline(c);
+  const excite::app::DistortionVerdict armed = excite::app::check_distortion(
+      config, gw.engine_config(), gw.table(), baseline, allow_distortion);
+  std::fprintf(stderr, "excite-gateway: distortion at arm (at most %g of the rows%s):\n%s",
+               config.max_distortion, allow_distortion ? ", overridden by --allow-distortion" : "",
+               armed.report.c_str());
+  if (!armed.refusal.empty()) {
+    std::fclose(log);
+    std::remove(log_path.c_str());
+    return fail(ExitCode::distorted, armed.refusal);
   }
 
   // Run log header and thread.
@@ -305,6 +337,21 @@ int main(int argc, char** argv) {
       static_cast<unsigned long long>(eng.suspensions()),
       static_cast<unsigned long long>(eng.readback_mismatches()),
       static_cast<unsigned long long>(stats.schedule_overruns));
+  // Rows of the run log per condition (README "End-of-run summary"): what the log's flags
+  // say, counted by the engine as it set them.
+  std::fprintf(stderr,
+               "excite-gateway: rows: clamped %llu, rate-limited %llu, suspended %llu, "
+               "comm-lost %llu, stale %llu, skipped %llu (ticks skipped %llu), discontinuity "
+               "%llu; reads before writing again after a failed exchange %llu\n",
+               static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kClamped)),
+               static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kRateLimited)),
+               static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kSuspended)),
+               static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kCommLost)),
+               static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kStale)),
+               static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kSkipped)),
+               static_cast<unsigned long long>(eng.skipped_ticks()),
+               static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kDiscontinuity)),
+               static_cast<unsigned long long>(stats.reverified));
   if (eng.readback_fault().valid) {
     std::fprintf(stderr, "excite-gateway: fault: verified write failed: %s\n",
                  gw.readback_fault_report().c_str());

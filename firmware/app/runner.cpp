@@ -33,16 +33,23 @@ engine::Status Runner::arm() noexcept {
   return engine_.verify_arm(std::span<const double>(values_.data(), n));
 }
 
-void Runner::tick(std::int64_t time_ns, engine::Command command) noexcept {
+void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t skipped) noexcept {
   if (command != engine::Command::none) engine_.command(command);
-  const engine::TickOutput& out = engine_.compute();
+  const engine::TickOutput& out = engine_.compute(skipped);
   const std::uint32_t n = engine_.config().values;
   const std::span<double> values(values_.data(), n);
   bool ok = false;
   if (out.write) {
-    last_status_ = bus_.write(out.setpoints(), out.heartbeat);
+    last_status_ = hal::Status::ok;
+    if (reverify_) {  // after a failure: read the peer before writing anything to it again
+      ++reverified_;
+      last_status_ = bus_.read(values);
+      if (last_status_ == hal::Status::ok) engine_.check_peer_continuity(values);
+    }
+    if (last_status_ == hal::Status::ok) last_status_ = bus_.write(out.setpoints(), out.heartbeat);
     if (last_status_ == hal::Status::ok) last_status_ = bus_.read(values);
     ok = last_status_ == hal::Status::ok;
+    reverify_ = !ok;
   }
   if (ok) {
     for (std::size_t j = 0; j < range_ends_.size() && j < n; ++j) {
@@ -63,14 +70,16 @@ RunStats Runner::run(CommandMailbox& commands, const std::atomic<bool>* stop,
   while (true) {
     if (stop != nullptr && stop->load(std::memory_order_acquire)) break;
     if (max_ticks != 0 && ticks_ - first >= max_ticks) break;
+    const std::uint64_t overruns_before = schedule.overruns();
     const hal::Nanoseconds nominal = schedule.wait_next();
+    const std::uint64_t skipped = schedule.overruns() - overruns_before;
     if (!lateness_.empty()) {
       const auto late_us = (clock_.now() - nominal).count() / 1000;
       const auto last = lateness_.size() - 1;
       const auto bin = late_us < 0 ? 0U : static_cast<std::size_t>(late_us);
       ++lateness_[bin < last ? bin : last];
     }
-    tick(nominal.count(), commands.take());
+    tick(nominal.count(), commands.take(), skipped);
     if (observer_ != nullptr) observer_->after_tick(engine_, ticks_ - 1);
     if (engine::finished(engine_.state())) break;
   }
@@ -78,6 +87,7 @@ RunStats Runner::run(CommandMailbox& commands, const std::atomic<bool>* stop,
   stats.schedule_overruns = schedule.overruns();
   stats.failed_exchanges = engine_.failed_exchanges();
   stats.ring_overruns = ring_.overruns();
+  stats.reverified = reverified_;
   stats.final_state = engine_.state();
   stats.outcome = engine_.outcome();
   return stats;

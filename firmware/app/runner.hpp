@@ -6,6 +6,11 @@
 //                  take an operator command; compute; write + read on the bus;
 //                  observe; push the tick's record into the log ring
 //
+// Reconnect hygiene: after a failed exchange (the hal closed the link: a late reply is never
+// taken for a new one) the next tick first reads on the (re)connected link and writes only
+// when that read succeeded; the read checks the peer's heartbeat echo for a restart
+// (Engine::check_peer_continuity → kDiscontinuity).
+//
 // until the engine is finished (safe or safe_unconfirmed; that tick is logged), max_ticks
 // have run, or `stop` is raised (hard stop: no ramp-out; SIGTERM posts abort instead).
 // run() allocates nothing, throws nothing and blocks on nothing but the bus and the
@@ -26,9 +31,11 @@ namespace excite::app {
 
 struct RunStats {
   std::uint64_t ticks = 0;              // ticks executed
-  std::uint64_t schedule_overruns = 0;  // grid points skipped because a tick ran late
+  std::uint64_t schedule_overruns = 0;  // grid points skipped because a tick ran late (the
+                                        // log's k jumps over them; rows flagged skipped)
   std::uint64_t failed_exchanges = 0;
   std::uint64_t ring_overruns = 0;  // records dropped because the log ring was full
+  std::uint64_t reverified = 0;     // ticks after a failed exchange that read the peer first
   engine::State final_state = engine::State::configured;
   engine::Outcome outcome = engine::Outcome::none;
 };
@@ -80,8 +87,9 @@ class Runner {
   RunStats run(CommandMailbox& commands, const std::atomic<bool>* stop = nullptr,
                std::uint64_t max_ticks = 0) noexcept;
 
-  /// One tick at nominal time `time_ns` (run() calls it on the grid).
-  void tick(std::int64_t time_ns, engine::Command command) noexcept;
+  /// One tick at nominal time `time_ns` (run() calls it on the grid), `skipped` grid points
+  /// after the previous one was due (Engine::compute: time is counted on the clock).
+  void tick(std::int64_t time_ns, engine::Command command, std::uint64_t skipped = 0) noexcept;
 
   [[nodiscard]] hal::Status last_status() const noexcept { return last_status_; }
 
@@ -99,6 +107,8 @@ class Runner {
   hal::Status last_status_ = hal::Status::ok;
   std::uint64_t ticks_ = 0;
   bool verify_at_arm_ = true;
+  bool reverify_ = false;  // the last exchange failed: read before writing again
+  std::uint64_t reverified_ = 0;
 };
 
 }  // namespace excite::app

@@ -64,8 +64,18 @@ Status validate(const EngineConfig& config) {
                            j, t.hysteresis, t.high - t.low);
     }
   }
-  if (config.resume_dwell_ticks < 1) {
-    return Status::error(StatusCode::invalid_field, "resume_dwell_ticks = 0, expected >= 1");
+  if (config.resume_dwell_ticks < 1 || config.resume_dwell_ticks > kMaxDurationTicks) {
+    return Status::error(StatusCode::invalid_field, "resume_dwell_ticks = %u, expected 1…%u",
+                         config.resume_dwell_ticks, kMaxDurationTicks);
+  }
+  if (config.ramp_ticks > kMaxDurationTicks) {
+    return Status::error(StatusCode::invalid_field, "ramp_ticks = %u, expected 0…%u",
+                         config.ramp_ticks, kMaxDurationTicks);
+  }
+  if (config.suspend_timeout_ticks > kMaxDurationTicks) {
+    return Status::error(StatusCode::invalid_field,
+                         "suspend_timeout_ticks = %u, expected 0 (never) or 1…%u",
+                         config.suspend_timeout_ticks, kMaxDurationTicks);
   }
   if (config.comm_fail_limit < 1) {
     return Status::error(StatusCode::invalid_field, "comm_fail_limit = 0, expected >= 1");
@@ -76,9 +86,9 @@ Status validate(const EngineConfig& config) {
                          config.heartbeat_echo, config.values - 1);
   }
   if (config.heartbeat_echo != kNone &&
-      (config.heartbeat_max_lag < 1 || config.heartbeat_max_lag > 30000)) {
-    return Status::error(StatusCode::invalid_field, "heartbeat_max_lag = %u, expected 1…30000",
-                         config.heartbeat_max_lag);
+      (config.heartbeat_max_lag < 1 || config.heartbeat_max_lag > kMaxHeartbeatLagTicks)) {
+    return Status::error(StatusCode::invalid_field, "heartbeat_max_lag = %u, expected 1…%u",
+                         config.heartbeat_max_lag, kMaxHeartbeatLagTicks);
   }
   if (!valid_index(config.command_value, config.values)) {
     return Status::error(StatusCode::invalid_field,

@@ -20,6 +20,11 @@ inline constexpr std::uint32_t kMaxInputs = signal::kMaxChannels;  // setpoints 
 inline constexpr std::uint32_t kMaxValues = 32;                    // values read per tick
 inline constexpr std::int32_t kNone = -1;                          // "no value index"
 inline constexpr std::uint32_t kMaxReadbackLag = 16;               // readback_lag_ticks ≤ this
+/// Longest ramp, dwell or timeout in ticks (a day at 1 ms ticks ≈ 8.6e7; a gateway config
+/// range check keeps the seconds → ticks conversion well inside uint32).
+inline constexpr std::uint32_t kMaxDurationTicks = 1'000'000'000;
+/// Largest heartbeat_max_lag: well inside the 16-bit heartbeat's wrap (65536).
+inline constexpr std::uint32_t kMaxHeartbeatLagTicks = 30000;
 
 /// One setpoint (a plan channel), absolute engineering units.
 struct InputLimits {

@@ -151,8 +151,9 @@ void Engine::enter_returning() noexcept {
   confirm_ticks_ = 0;
 }
 
-const TickOutput& Engine::compute() noexcept {
+const TickOutput& Engine::compute(std::uint64_t skipped_ticks) noexcept {
   flags_ = 0;
+  elapsed_ = 1;
   if (state_ == State::completed || state_ == State::aborted) enter_returning();
   apply_command();
   if (state_ == State::running && reasons_ != 0) enter_suspended();
@@ -163,7 +164,14 @@ const TickOutput& Engine::compute() noexcept {
   }
   out_.write = true;
   out_.heartbeat = static_cast<std::uint16_t>(out_.heartbeat + 1U);
+  if (skipped_ticks != 0 && ticks_ != 0) {  // before the first tick there is nothing to skip
+    ticks_ += skipped_ticks;
+    skipped_total_ += skipped_ticks;
+    elapsed_ += skipped_ticks;
+    flags_ |= runlog::kSkipped;
+  }
   ++ticks_;
+  ++writes_;
 
   if (state_ == State::running) {
     if (row_started_) ++row_;
@@ -206,7 +214,7 @@ const TickOutput& Engine::compute() noexcept {
     }
     out_.setpoint[c] = target;
   }
-  written_[ticks_ % kMaxReadbackLag] = out_.setpoint;
+  written_[writes_ % kMaxReadbackLag] = out_.setpoint;
   return out_;
 }
 
@@ -218,7 +226,7 @@ void Engine::check_comm(bool exchange_ok, std::span<const double> values) noexce
     fail_streak_ = 0;
   }
   stale_ = false;
-  if (exchange_ok && config_.heartbeat_echo != kNone && ticks_ > config_.heartbeat_max_lag) {
+  if (exchange_ok && config_.heartbeat_echo != kNone && writes_ > config_.heartbeat_max_lag) {
     const double echo = values[static_cast<std::uint32_t>(config_.heartbeat_echo)];
     if (!(echo >= 0.0 && echo <= 65535.0)) {
       stale_ = true;
@@ -226,6 +234,8 @@ void Engine::check_comm(bool exchange_ok, std::span<const double> values) noexce
       const auto seen = static_cast<std::uint16_t>(std::lround(echo));
       const auto lag = static_cast<std::uint16_t>(out_.heartbeat - seen);
       stale_ = lag > config_.heartbeat_max_lag;
+      last_echo_ = seen;
+      have_echo_ = true;
     }
   }
   if (fail_streak_ >= config_.comm_fail_limit || stale_) {
@@ -237,6 +247,26 @@ void Engine::check_comm(bool exchange_ok, std::span<const double> values) noexce
       reasons_ &= static_cast<std::uint8_t>(~kReasonComm);
       comm_ok_streak_ = 0;
     }
+  }
+}
+
+void Engine::check_peer_continuity(std::span<const double> values) noexcept {
+  if (!armed_ || !have_echo_ || config_.heartbeat_echo == kNone || values.size() < config_.values) {
+    return;
+  }
+  const double echo = values[static_cast<std::uint32_t>(config_.heartbeat_echo)];
+  bool continuous = false;
+  if (echo >= 0.0 && echo <= 65535.0) {
+    const auto seen = static_cast<std::uint16_t>(std::lround(echo));
+    // Forward distance from the last echo seen, against the heartbeats sent since (this
+    // tick's included: computed, not yet written). Modulo 2^16, as the counter wraps.
+    const auto moved = static_cast<std::uint16_t>(seen - last_echo_);
+    const auto sent = static_cast<std::uint16_t>(out_.heartbeat - last_echo_);
+    continuous = moved <= sent;
+  }
+  if (!continuous) {
+    flags_ |= runlog::kDiscontinuity;
+    ++discontinuities_;
   }
 }
 
@@ -287,9 +317,9 @@ void Engine::check_readbacks(std::span<const double> values) noexcept {
     return;
   }
   const std::uint64_t lag = config_.readback_lag_ticks;
-  const bool after_arm = ticks_ + 1 > lag;
+  const bool after_arm = writes_ + 1 > lag;
   // A ring index below kMaxReadbackLag: fits std::size_t on 32-bit targets too.
-  const auto slot = static_cast<std::size_t>(after_arm ? (ticks_ + 1 - lag) % kMaxReadbackLag : 0);
+  const auto slot = static_cast<std::size_t>(after_arm ? (writes_ + 1 - lag) % kMaxReadbackLag : 0);
   bool all_at_baseline = true;
   for (std::uint32_t c = 0; c < config_.inputs; ++c) {
     const double written = after_arm ? written_[slot][c] : base_u_[c];
@@ -313,6 +343,19 @@ void Engine::check_readbacks(std::span<const double> values) noexcept {
   baseline_read_back_ = all_at_baseline;
 }
 
+void Engine::count_flags() noexcept {
+  for (std::size_t b = 0; b < flag_rows_.size(); ++b) {
+    if ((flags_ & (1U << b)) != 0U) ++flag_rows_[b];
+  }
+}
+
+std::uint64_t Engine::rows_flagged(std::uint32_t flag) const noexcept {
+  for (std::size_t b = 0; b < flag_rows_.size(); ++b) {
+    if (flag == (1U << b)) return flag_rows_[b];
+  }
+  return 0;
+}
+
 bool Engine::at_baseline() const noexcept {
   for (std::uint32_t c = 0; c < config_.inputs; ++c) {
     if (out_.setpoint[c] != base_u_[c]) return false;
@@ -332,6 +375,7 @@ void Engine::observe(bool exchange_ok, std::span<const double> values) noexcept 
   check_readbacks(values);
   if (!exchange_ok_ || (reasons_ & kReasonComm) != 0) flags_ |= runlog::kCommLost;
   if (stale_) flags_ |= runlog::kStale;
+  count_flags();
 
   switch (state_) {
     case State::running:
@@ -339,7 +383,7 @@ void Engine::observe(bool exchange_ok, std::span<const double> values) noexcept 
       break;
     case State::suspended:
       if ((reasons_ & (kReasonLimit | kReasonComm)) != 0) {
-        ++suspended_ticks_;
+        suspended_ticks_ += elapsed_;  // on the clock: skipped ticks count
         if (config_.suspend_timeout_ticks != 0 &&
             suspended_ticks_ >= config_.suspend_timeout_ticks) {
           state_ = State::aborted;
@@ -348,7 +392,7 @@ void Engine::observe(bool exchange_ok, std::span<const double> values) noexcept 
       }
       break;
     case State::returning: {
-      ++returning_ticks_;
+      returning_ticks_ += elapsed_;  // on the clock: skipped ticks count
       const bool out_at_baseline = ramp_ == 0.0 && at_baseline();
       if (out_at_baseline) ++confirm_ticks_;
       // Safe = the baseline was written and read back; otherwise, after the confirmation

@@ -72,12 +72,24 @@ class Engine {
   /// Phase 1 of a tick: applies the pending command and the transitions due, advances the
   /// table row while running and returns the setpoints (clamped to [min, max], slew
   /// limited to max_move per tick) with the next heartbeat.
-  const TickOutput& compute() noexcept;
+  /// `skipped_ticks`: grid points the clock passed without a tick since the last one (the
+  /// loop overran its deadlines). Time is counted on the clock: the tick index (the log's
+  /// k) jumps by them, the row is flagged kSkipped, and the suspension timeout and the
+  /// unconfirmed window count them as elapsed. The table, the ramp and max_move advance per
+  /// tick written (the field only changes when written).
+  const TickOutput& compute(std::uint64_t skipped_ticks = 0) noexcept;
 
   /// Phase 2: the exchange's result. `values` (config.values of them) is read only when
   /// exchange_ok. Checks the heartbeat echo, the test limits and the command register,
   /// and moves the state (suspend, resume after dwell, abort on timeout, safe).
   void observe(bool exchange_ok, std::span<const double> values) noexcept;
+
+  /// Between compute() and the write of a tick that follows a failed exchange: `values` were
+  /// read on the (re)connected link before anything was written on it. The heartbeat echo
+  /// must have moved forward from the last echo seen by at most the heartbeats sent since;
+  /// an echo that went backwards or jumped beyond them means the peer restarted or lost its
+  /// state: this tick's row is flagged kDiscontinuity (a new segment of plant data).
+  void check_peer_continuity(std::span<const double> values) noexcept;
 
   /// The tick just completed, for the run log.
   [[nodiscard]] TickRecord record(std::int64_t time_ns) const noexcept;
@@ -86,7 +98,9 @@ class Engine {
   [[nodiscard]] Outcome outcome() const noexcept { return outcome_; }
   [[nodiscard]] std::uint8_t suspend_reasons() const noexcept { return reasons_; }
   [[nodiscard]] std::uint32_t row() const noexcept { return row_; }
-  [[nodiscard]] std::uint64_t ticks() const noexcept { return ticks_; }  // since arm
+  [[nodiscard]] std::uint64_t ticks() const noexcept { return ticks_; }  // since arm, on the clock
+  [[nodiscard]] std::uint64_t skipped_ticks() const noexcept { return skipped_total_; }
+  [[nodiscard]] std::uint64_t discontinuities() const noexcept { return discontinuities_; }
   [[nodiscard]] std::uint32_t flags() const noexcept { return flags_; }
   [[nodiscard]] double ramp() const noexcept { return ramp_; }  // 0 … 1
   [[nodiscard]] double baseline(std::uint32_t input) const noexcept { return base_u_[input]; }
@@ -97,6 +111,8 @@ class Engine {
   [[nodiscard]] std::uint64_t failed_exchanges() const noexcept { return failed_total_; }
   [[nodiscard]] std::uint64_t comm_losses() const noexcept { return comm_losses_; }
   [[nodiscard]] std::uint64_t suspensions() const noexcept { return suspensions_; }
+  /// Ticks (rows of the run log) that carried `flag` (one runlog::Flag bit), since arm.
+  [[nodiscard]] std::uint64_t rows_flagged(std::uint32_t flag) const noexcept;
   [[nodiscard]] std::uint64_t readback_mismatches() const noexcept { return mismatches_total_; }
   [[nodiscard]] const ReadbackFault& readback_fault() const noexcept { return fault_; }
   /// Whether `read` agrees with `written` for input c (the tolerance of InputLimits).
@@ -111,6 +127,7 @@ class Engine {
   void read_command_register(bool exchange_ok, std::span<const double> values) noexcept;
   void check_readbacks(std::span<const double> values) noexcept;
   [[nodiscard]] bool at_baseline() const noexcept;
+  void count_flags() noexcept;
 
   EngineConfig config_{};
   signal::ConstTableView table_{};
@@ -126,11 +143,13 @@ class Engine {
   std::array<double, kMaxInputs> excitation_{};  // table row in use (frozen when suspended)
   std::array<double, kMaxValues> last_y_{};      // last good values
   TickOutput out_{};
-  double ramp_ = 0.0;         // excitation scale, 0 … 1, moves 1/ramp_ticks per tick
-  std::uint32_t row_ = 0;     // table row of the current excitation
-  bool row_started_ = false;  // row_ has been written at least once
-  std::uint64_t ticks_ = 0;   // ticks since arm
-  std::uint32_t flags_ = 0;   // this tick's runlog flags
+  double ramp_ = 0.0;          // excitation scale, 0 … 1, moves 1/ramp_ticks per tick
+  std::uint32_t row_ = 0;      // table row of the current excitation
+  bool row_started_ = false;   // row_ has been written at least once
+  std::uint64_t ticks_ = 0;    // ticks since arm: ticks written + ticks skipped
+  std::uint64_t writes_ = 0;   // ticks written since arm (the heartbeat and readback ring)
+  std::uint64_t elapsed_ = 1;  // ticks of the clock this tick stands for (1 + skipped)
+  std::uint32_t flags_ = 0;    // this tick's runlog flags
   bool exchange_ok_ = false;
 
   std::uint32_t fail_streak_ = 0;     // failed exchanges in a row
@@ -153,6 +172,11 @@ class Engine {
   std::uint64_t mismatches_total_ = 0;
 
   std::uint64_t failed_total_ = 0;
+  std::uint64_t skipped_total_ = 0;
+  std::uint64_t discontinuities_ = 0;
+  std::uint16_t last_echo_ = 0;  // the heartbeat echo of the last good exchange
+  bool have_echo_ = false;
+  std::array<std::uint64_t, 8> flag_rows_{};  // per runlog flag bit: rows that carried it
   std::uint64_t comm_losses_ = 0;
   std::uint64_t suspensions_ = 0;
 };

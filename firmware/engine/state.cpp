@@ -27,6 +27,30 @@ const char* to_string(State state) noexcept {
   return "unknown";
 }
 
+runlog::RunState to_run_state(State state) noexcept {
+  switch (state) {
+    case State::configured:
+      return runlog::RunState::configured;
+    case State::armed:
+      return runlog::RunState::armed;
+    case State::running:
+      return runlog::RunState::running;
+    case State::suspended:
+      return runlog::RunState::suspended;
+    case State::completed:
+      return runlog::RunState::completed;
+    case State::aborted:
+      return runlog::RunState::aborted;
+    case State::returning:
+      return runlog::RunState::returning;
+    case State::safe:
+      return runlog::RunState::safe;
+    case State::safe_unconfirmed:
+      return runlog::RunState::safe_unconfirmed;
+  }
+  return runlog::RunState::unknown;
+}
+
 const char* to_string(Command command) noexcept {
   switch (command) {
     case Command::none:

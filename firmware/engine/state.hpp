@@ -10,6 +10,8 @@
 
 #include <cstdint>
 
+#include "firmware/runlog/format.hpp"
+
 namespace excite::engine {
 
 enum class State : std::uint8_t {
@@ -50,6 +52,8 @@ enum class Outcome : std::uint8_t {
 };
 
 const char* to_string(State state) noexcept;
+/// The run log's `state` column value (format v2) for an engine state: one for one.
+runlog::RunState to_run_state(State state) noexcept;
 const char* to_string(Command command) noexcept;
 const char* to_string(Outcome outcome) noexcept;
 

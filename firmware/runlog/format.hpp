@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// The run log (CSV), version 1: the one format written by the gateway's log thread and by
-// `excite simulate`, and read by every downstream tool (identify, validate, balance).
-// The format is defined in firmware/runlog/README.md; this header holds its constants.
+// The run log (CSV), version 2: the one format written by the gateway's log thread, by
+// `excite simulate` and by `excite-plant`, and read by every downstream tool (identify,
+// validate, balance, import). The format is defined in firmware/runlog/README.md; this
+// header holds its constants. Writers write v2 only; the reader reads v1 and v2.
 
 #include <cstddef>
 #include <cstdint>
@@ -11,7 +12,9 @@
 
 namespace excite::runlog {
 
-inline constexpr std::string_view kMagicLine = "# excite run log v1";
+/// The first line of every log this code writes (v2), and of the logs written before v2.
+inline constexpr std::string_view kMagicLine = "# excite run log v2";
+inline constexpr std::string_view kMagicLineV1 = "# excite run log v1";
 
 /// The project's version, for the `# producer:` header line ("excite-gateway 0.1.0",
 /// "excite simulate 0.1.0"). The line is an optional v1 header key: readers that predate
@@ -25,13 +28,42 @@ enum Flag : std::uint32_t {
   kClamped = 1U << 2,      // at least one input was clamped to its absolute limit
   kRateLimited = 1U << 3,  // at least one input move was limited by its rate limit
   kStale = 1U << 4,        // a process value was older than one sample time
-  // Reserved for run-log format v2 (not in kKnownFlags until the writer writes v2):
-  kSkipped = 1U << 5,        // the clock skipped ticks before this row (wall-clock overrun)
+  // New in format v2 (a v1 log carrying them is rejected):
+  kSkipped = 1U << 5,        // the clock skipped ticks before this row (wall-clock overrun):
+                             // k and t_min jump by the number of ticks missed + 1
   kDiscontinuity = 1U << 6,  // the plant restarted or its time jumped: a new segment starts here
   kBadValue = 1U << 7,       // a value is missing or bad at its source (historian gap, bad quality)
 };
-inline constexpr std::uint32_t kKnownFlags =
+/// The flags a v1 log may carry, and those of v2 (what the writer accepts).
+inline constexpr std::uint32_t kKnownFlagsV1 =
     kSuspended | kCommLost | kClamped | kRateLimited | kStale;
+inline constexpr std::uint32_t kKnownFlags = kKnownFlagsV1 | kSkipped | kDiscontinuity | kBadValue;
+
+/// The `state` column (v2): the gateway engine's lifecycle state when the row was written
+/// (firmware/engine/state.hpp has the same states and their meaning). `unknown` when the
+/// producer does not know it (the plant's own log: the plant cannot see the gateway's
+/// state) and for every row of a v1 log, which has no state column.
+enum class RunState : std::uint8_t {
+  unknown,
+  configured,
+  armed,
+  running,
+  suspended,
+  completed,
+  aborted,
+  returning,
+  safe,
+  safe_unconfirmed,
+};
+inline constexpr std::size_t kRunStateCount = 10;
+
+/// The column text of a state ("running", "safe_unconfirmed", …); never empty.
+std::string_view to_text(RunState state) noexcept;
+/// The state whose text is `text`; false when `text` names none.
+bool run_state_from_text(std::string_view text, RunState& state) noexcept;
+
+/// Longest state text ("safe_unconfirmed").
+inline constexpr std::size_t kMaxStateChars = 16;
 
 /// A channel: name (letters, digits, `_`, `.`, `-`; unique over inputs and outputs) and its
 /// engineering unit (no white space, `-` for dimensionless), e.g. {"L", "kmol/min"}.
@@ -50,9 +82,9 @@ bool valid_channel_name(std::string_view name);
 inline constexpr std::size_t kMaxNumberChars = 24;
 
 /// Buffer size that always holds one formatted data row of n inputs and p outputs,
-/// newline included: t_min, k, 2n + p numbers, flags, separators.
+/// newline included: t_min, k, 2n + p numbers, flags, state, separators.
 constexpr std::size_t max_row_chars(std::size_t n_inputs, std::size_t n_outputs) {
-  return (3 + 2 * n_inputs + n_outputs) * (kMaxNumberChars + 1) + 1;
+  return (3 + 2 * n_inputs + n_outputs) * (kMaxNumberChars + 1) + (kMaxStateChars + 1) + 1;
 }
 
 }  // namespace excite::runlog

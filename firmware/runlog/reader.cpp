@@ -49,7 +49,7 @@ std::string quoted(std::string_view s) {
 }
 
 // Column roles of the data table.
-enum class Role : std::uint8_t { t_min, k, du, u, dy, flags };
+enum class Role : std::uint8_t { t_min, k, du, u, dy, flags, state };
 struct ColumnRole {
   Role role;
   std::size_t channel;  // for du, u, dy
@@ -94,13 +94,20 @@ class Parser {
 
   bool parse_header() {
     std::string_view line;
-    if (!next_line(line)) return fail(0, "empty file; expected the line '# excite run log v1'");
-    if (trim(line) != kMagicLine) {
+    if (!next_line(line)) {
+      return fail(0, "empty file; expected the line '# excite run log v2' (or v1)");
+    }
+    if (trim(line) == kMagicLine) {
+      log_.format_version = 2;
+    } else if (trim(line) == kMagicLineV1) {
+      log_.format_version = 1;
+    } else {
       if (line.rfind("# excite run log v", 0) == 0) {
-        return fail(0, "unsupported version " + quoted(trim(line)) + "; this reader reads v1");
+        return fail(0,
+                    "unsupported version " + quoted(trim(line)) + "; this reader reads v1 and v2");
       }
       return fail(0, "first line is " + quoted(trim(line)) +
-                         "; expected '# excite run log v1' (not an excite run log?)");
+                         "; expected '# excite run log v2' (or v1) (not an excite run log?)");
     }
     bool seen[6] = {};
     bool seen_producer = false;  // optional: logs written before it existed have none
@@ -257,6 +264,7 @@ class Parser {
       expected.push_back({"dy_" + log_.output_names[j], {Role::dy, j}});
     }
     expected.push_back({"flags", {Role::flags, 0}});
+    if (log_.format_version >= 2) expected.push_back({"state", {Role::state, 0}});
 
     std::vector<bool> found(expected.size(), false);
     for (std::size_t c = 0; c < names.size(); ++c) {
@@ -306,6 +314,7 @@ class Parser {
       for (std::size_t c = 0; c < fields.size(); ++c) {
         if (!parse_field(c, fields[c])) return false;
       }
+      if (log_.format_version == 1) log_.state.push_back(RunState::unknown);
       if (!check_time()) return false;
     }
     return true;
@@ -315,6 +324,16 @@ class Parser {
     const ColumnRole role = roles_[c];
     const char* first = f.data();
     const char* last = f.data() + f.size();
+    if (role.role == Role::state) {
+      RunState state = RunState::unknown;
+      if (!run_state_from_text(f, state)) {
+        return field_error(c, f,
+                           "is not a run state; expected unknown, configured, armed, running, "
+                           "suspended, completed, aborted, returning, safe or safe_unconfirmed");
+      }
+      log_.state.push_back(state);
+      return true;
+    }
     if (role.role == Role::k || role.role == Role::flags) {
       std::uint64_t v = 0;
       const auto r = std::from_chars(first, last, v);
@@ -324,10 +343,14 @@ class Parser {
       if (role.role == Role::k) {
         log_.k.push_back(v);
       } else {
-        if ((v & ~std::uint64_t{kKnownFlags}) != 0U) {
+        const bool v1 = log_.format_version == 1;
+        if ((v & ~std::uint64_t{v1 ? kKnownFlagsV1 : kKnownFlags}) != 0U) {
           return field_error(c, f,
-                             "has bits outside the documented flags (suspended=1, comm_lost=2, "
-                             "clamped=4, rate_limited=8, stale=16)");
+                             v1 ? "has bits outside the documented flags (v1: suspended=1, "
+                                  "comm_lost=2, clamped=4, rate_limited=8, stale=16)"
+                                : "has bits outside the documented flags (suspended=1, "
+                                  "comm_lost=2, clamped=4, rate_limited=8, stale=16, "
+                                  "skipped=32, discontinuity=64, bad_value=128)");
         }
         log_.flags.push_back(static_cast<std::uint32_t>(v));
       }
@@ -367,23 +390,36 @@ class Parser {
     return 0;
   }
 
+  // Uniform time (README "Rules the reader checks"): one tick per row, except after
+  // skipped ticks (v2, kSkipped), where k and t_min jump together by the ticks missed.
   bool check_time() {
     const std::size_t r = log_.t_min.size() - 1;
     if (r == 0) return true;
-    const double T = log_.sample_time_min;
-    const double dt = log_.t_min[r] - log_.t_min[r - 1];
-    if (std::abs(dt - T) > options_.time_tolerance * T) {
-      char buf[160];
-      std::snprintf(buf, sizeof buf,
-                    "t_min: step %.17g min from the previous row; expected the sample time "
-                    "%.17g min (tolerance %.3g of it)",
-                    dt, T, options_.time_tolerance);
-      return fail(column_of(Role::t_min), buf);
-    }
-    if (log_.k[r] != log_.k[r - 1] + 1) {
+    const bool skipped = log_.format_version >= 2 && (log_.flags[r] & kSkipped) != 0U;
+    if (skipped ? log_.k[r] <= log_.k[r - 1] + 1 : log_.k[r] != log_.k[r - 1] + 1) {
       return fail(column_of(Role::k), "k: " + std::to_string(log_.k[r]) + " follows " +
-                                          std::to_string(log_.k[r - 1]) + "; expected " +
-                                          std::to_string(log_.k[r - 1] + 1));
+                                          std::to_string(log_.k[r - 1]) +
+                                          (skipped ? "; expected more than " : "; expected ") +
+                                          std::to_string(log_.k[r - 1] + 1) +
+                                          (skipped ? " (the row is flagged skipped)" : ""));
+    }
+    const double T = log_.sample_time_min;
+    const auto ticks = static_cast<double>(log_.k[r] - log_.k[r - 1]);
+    const double dt = log_.t_min[r] - log_.t_min[r - 1];
+    if (std::abs(dt - ticks * T) > options_.time_tolerance * T) {
+      char buf[240];
+      if (ticks == 1.0) {
+        std::snprintf(buf, sizeof buf,
+                      "t_min: step %.17g min from the previous row; expected the sample time "
+                      "%.17g min (tolerance %.3g of it)",
+                      dt, T, options_.time_tolerance);
+      } else {
+        std::snprintf(buf, sizeof buf,
+                      "t_min: step %.17g min from the previous row; expected %.17g min (%.17g "
+                      "ticks of the sample time %.17g min, tolerance %.3g of it)",
+                      dt, ticks * T, ticks, T, options_.time_tolerance);
+      }
+      return fail(column_of(Role::t_min), buf);
     }
     return true;
   }

@@ -11,12 +11,15 @@
 #include <string_view>
 #include <vector>
 
+#include "firmware/runlog/format.hpp"
+
 namespace excite::runlog {
 
 /// A run log in columns. du[i], u[i] are input i's columns, dy[j] output j's, each with
-/// rows() values; t_min, k, flags likewise.
+/// rows() values; t_min, k, flags, state likewise.
 struct RunLog {
-  std::string producer;  // the `# producer:` line ("excite-gateway 0.1.0"); "" when absent
+  int format_version = 2;  // 1 or 2: the magic line's version
+  std::string producer;    // the `# producer:` line ("excite-gateway 0.1.0"); "" when absent
   std::string plant;
   std::string plan;
   double sample_time_min = 0.0;
@@ -27,6 +30,7 @@ struct RunLog {
   std::vector<std::uint64_t> k;
   std::vector<std::vector<double>> du, u, dy;
   std::vector<std::uint32_t> flags;
+  std::vector<RunState> state;  // v2: the `state` column; v1: RunState::unknown on every row
 
   std::size_t rows() const { return t_min.size(); }
 };
@@ -45,8 +49,9 @@ struct ReadError {
 
 struct ReadOptions {
   std::size_t min_rows = 2;  // fewer data rows is an error
-  // Time stamps must be uniform: |t_min[r] − t_min[r−1] − T| ≤ time_tolerance · T
-  // (T = sample_time_min of the header), and k[r] = k[r−1] + 1.
+  // Time stamps must be uniform: k[r] = k[r−1] + 1 and |t_min[r] − t_min[r−1] − T| ≤
+  // time_tolerance · T (T = sample_time_min of the header). v2 only: a row flagged kSkipped
+  // has k[r] > k[r−1] + 1 and |t_min[r] − t_min[r−1] − (k[r] − k[r−1])·T| ≤ time_tolerance · T.
   double time_tolerance = 1e-6;
 };
 

@@ -44,7 +44,10 @@ class Sink {
   }
 
   WriteResult result() const {
-    if (overflow_) return {WriteStatus::buffer_too_small, 0};
+    if (overflow_) {
+      return {WriteStatus::capacity_exceeded, 0,
+              "buffer = (too small), expected max_row_chars() or more characters"};
+    }
     return {WriteStatus::ok, used_};
   }
 
@@ -93,6 +96,43 @@ void column_names(Sink& s, std::string_view prefix, std::span<const Channel> cha
 
 }  // namespace
 
+std::string_view to_text(RunState state) noexcept {
+  switch (state) {
+    case RunState::unknown:
+      return "unknown";
+    case RunState::configured:
+      return "configured";
+    case RunState::armed:
+      return "armed";
+    case RunState::running:
+      return "running";
+    case RunState::suspended:
+      return "suspended";
+    case RunState::completed:
+      return "completed";
+    case RunState::aborted:
+      return "aborted";
+    case RunState::returning:
+      return "returning";
+    case RunState::safe:
+      return "safe";
+    case RunState::safe_unconfirmed:
+      return "safe_unconfirmed";
+  }
+  return "unknown";
+}
+
+bool run_state_from_text(std::string_view text, RunState& state) noexcept {
+  for (std::size_t i = 0; i < kRunStateCount; ++i) {
+    const auto candidate = static_cast<RunState>(i);
+    if (to_text(candidate) == text) {
+      state = candidate;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool valid_channel_name(std::string_view name) {
   if (name.empty()) return false;
   for (const char c : name) {
@@ -115,34 +155,35 @@ std::string_view describe(WriteStatus status) {
   switch (status) {
     case WriteStatus::ok:
       return "ok";
-    case WriteStatus::buffer_too_small:
+    case WriteStatus::capacity_exceeded:
       return "buffer too small for the formatted text";
-    case WriteStatus::bad_text:
-      return "plant or plan text contains a line break";
-    case WriteStatus::bad_channel:
-      return "channel name or unit invalid or repeated (names: letters, digits, _ . -)";
-    case WriteStatus::bad_sample_time:
-      return "sample_time_min must be finite and > 0";
-    case WriteStatus::width_mismatch:
-      return "row width differs from the header's channels";
-    case WriteStatus::non_finite:
-      return "row contains NaN or inf";
-    case WriteStatus::unknown_flags:
-      return "flags has bits outside the documented set";
+    case WriteStatus::invalid_field:
+      return "header field invalid (plant/plan text with a line break, a channel name or unit "
+             "invalid or repeated, or sample_time_min not finite and > 0)";
+    case WriteStatus::bad_argument:
+      return "row invalid (width differs from the header's channels, NaN or inf, or unknown "
+             "flag bits)";
     case WriteStatus::io_error:
       return "write to the log file failed";
+    default:
+      return excite::to_string(status);
   }
-  return "unknown status";
 }
 
 WriteResult format_header(const Header& header, std::span<char> out) {
   if (!one_line(header.plant) || !one_line(header.plan) || !one_line(header.producer)) {
-    return {WriteStatus::bad_text, 0};
+    return {WriteStatus::invalid_field, 0,
+            "header.plant/plan/producer = (a line break), expected one line of text"};
   }
   if (!std::isfinite(header.sample_time_min) || header.sample_time_min <= 0.0) {
-    return {WriteStatus::bad_sample_time, 0};
+    return {WriteStatus::invalid_field, 0,
+            "header.sample_time_min = (not finite or <= 0), expected a finite number > 0"};
   }
-  if (!channels_valid(header)) return {WriteStatus::bad_channel, 0};
+  if (!channels_valid(header)) {
+    return {WriteStatus::invalid_field, 0,
+            "header channel = (invalid or repeated), expected a unique name of letters, "
+            "digits, _ . - and a unit without spaces, ',' or '='"};
+  }
 
   Sink s(out);
   s.text(kMagicLine);
@@ -180,20 +221,26 @@ WriteResult format_header(const Header& header, std::span<char> out) {
   column_names(s, "du_", header.inputs);
   column_names(s, "u_", header.inputs);
   column_names(s, "dy_", header.outputs);
-  s.text(",flags\n");
+  s.text(",flags,state\n");
   return s.result();
 }
 
 WriteResult format_row(const Header& header, const Row& row, std::span<char> out) {
   if (row.du.size() != header.inputs.size() || row.u.size() != header.inputs.size() ||
       row.dy.size() != header.outputs.size()) {
-    return {WriteStatus::width_mismatch, 0};
+    return {WriteStatus::bad_argument, 0,
+            "row du/u/dy = (wrong width), expected the header's channel counts"};
   }
   if (!std::isfinite(row.t_min) || !all_finite(row.du) || !all_finite(row.u) ||
       !all_finite(row.dy)) {
-    return {WriteStatus::non_finite, 0};
+    return {WriteStatus::bad_argument, 0, "row = (NaN or inf), expected finite numbers"};
   }
-  if ((row.flags & ~kKnownFlags) != 0U) return {WriteStatus::unknown_flags, 0};
+  if ((row.flags & ~kKnownFlags) != 0U) {
+    return {WriteStatus::bad_argument, 0, "row.flags = (unknown bits), expected bits of Flag only"};
+  }
+  if (static_cast<std::size_t>(row.state) >= kRunStateCount) {
+    return {WriteStatus::bad_argument, 0, "row.state = (out of range), expected a RunState value"};
+  }
 
   Sink s(out);
   s.number(row.t_min);
@@ -208,13 +255,17 @@ WriteResult format_row(const Header& header, const Row& row, std::span<char> out
   }
   s.ch(',');
   s.integer(row.flags);
+  s.ch(',');
+  s.text(to_text(row.state));
   s.ch('\n');
   return s.result();
 }
 
 WriteStatus FileWriter::emit(WriteResult result) {
+  detail_ = result.message;
   if (result.status != WriteStatus::ok) return result.status;
   if (std::fwrite(buffer_.data(), 1, result.length, file_) != result.length) {
+    detail_ = "log file = (fwrite failed), expected every character written";
     return WriteStatus::io_error;
   }
   return WriteStatus::ok;

@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "firmware/runlog/format.hpp"
+#include "firmware/status/status.hpp"
 
 namespace excite::runlog {
 
@@ -31,32 +32,33 @@ struct Header {
 /// One sample. du, u have one value per input, dy one per output; all finite.
 /// A producer without a fresh measurement repeats the last value and sets kCommLost/kStale.
 struct Row {
-  double t_min = 0.0;          // time since the start of the run, minutes
-  std::uint64_t k = 0;         // sample index
-  std::span<const double> du;  // input deviations from the baseline
-  std::span<const double> u;   // absolute inputs (baseline + du), engineering units
-  std::span<const double> dy;  // output deviations from the baseline
-  std::uint32_t flags = 0;     // bits of Flag only
+  double t_min = 0.0;                  // time since the start of the run, minutes
+  std::uint64_t k = 0;                 // sample index
+  std::span<const double> du;          // input deviations from the baseline
+  std::span<const double> u;           // absolute inputs (baseline + du), engineering units
+  std::span<const double> dy;          // output deviations from the baseline
+  std::uint32_t flags = 0;             // bits of Flag only (kKnownFlags)
+  RunState state = RunState::unknown;  // the engine's state at this row (v2 `state` column)
 };
 
-enum class WriteStatus : std::uint8_t {
-  ok,
-  buffer_too_small,  // nothing usable was written; retry with a larger buffer
-  bad_text,          // plant or plan contains CR or LF
-  bad_channel,       // a channel name or unit is invalid, or a name is repeated
-  bad_sample_time,   // sample_time_min not finite or ≤ 0
-  width_mismatch,    // du/u/dy lengths differ from the header's channel counts
-  non_finite,        // a number in the row is NaN or ±inf
-  unknown_flags,     // flags has bits outside kKnownFlags
-  io_error,          // fwrite to the FILE* failed
-};
+/// The writer's status is the project's one vocabulary (firmware/status/status.hpp):
+///   ok                 written
+///   capacity_exceeded  the buffer is too small; nothing usable was written
+///   invalid_field      a header field: plant/plan/producer text with CR or LF, a channel
+///                      name or unit invalid or repeated, sample_time_min not finite or <= 0
+///   bad_argument       a row: du/u/dy widths differ from the header's channel counts, a
+///                      number is NaN or inf, or flags has bits outside kKnownFlags
+///   io_error           fwrite to the FILE* failed
+/// WriteResult::message says which, in the one form "FIELD = VALUE, expected WHAT".
+using WriteStatus = excite::StatusCode;
 
 /// Short English description of a status, for log messages.
 std::string_view describe(WriteStatus status);
 
 struct WriteResult {
   WriteStatus status = WriteStatus::ok;
-  std::size_t length = 0;  // characters written to the buffer (no terminating NUL), if ok
+  std::size_t length = 0;    // characters written to the buffer (no terminating NUL), if ok
+  const char* message = "";  // static text naming the field at fault, "" if ok
 };
 
 /// Formats the comment header and the column header row into `out`.
@@ -76,10 +78,13 @@ class FileWriter {
 
   WriteStatus write_header();
   WriteStatus write_row(const Row& row);
+  /// What the last non-ok call refused, in the one message form ("" after ok).
+  const char* detail() const { return detail_; }
 
  private:
   WriteStatus emit(WriteResult result);
 
+  const char* detail_ = "";
   std::FILE* file_;
   Header header_;
   std::span<char> buffer_;

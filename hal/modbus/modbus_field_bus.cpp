@@ -205,7 +205,7 @@ Status ModbusFieldBus::write(std::span<const double> setpoints, std::uint16_t he
     if (!std::isfinite(value) ||
         (codec.type == RegisterType::float32 && std::fabs(value) > FLT_MAX)) {
       std::snprintf(detail_, sizeof detail_,
-                    "write: setpoints[%zu] = %g: expected a finite value%s", i, value,
+                    "write: setpoints[%zu] = %g, expected a finite value%s", i, value,
                     codec.type == RegisterType::float32 ? " within float32 range" : "");
       return Status::bad_argument;
     }

@@ -150,6 +150,8 @@ CampaignResult run_campaign(const CampaignOptions& options,
   result.plant = options.plant;
   result.input_names = plant->input_names();
   result.output_names = plant->output_names();
+  result.input_units = plant->input_units();
+  result.output_units = plant->output_units();
   result.noise_variance = options.noise_variance >= 0.0 ? options.noise_variance
                                                         : case_study_noise_variance(options.plant);
   result.sized_by_static_output = true_prior.sized_by_static_output();

@@ -80,7 +80,8 @@ struct Experiment {
 struct CampaignResult {
   std::string plant;
   std::vector<std::string> input_names, output_names;
-  double noise_variance = 0.0;  // what the runs used
+  std::vector<std::string> input_units, output_units;  // "-" when dimensionless
+  double noise_variance = 0.0;                         // what the runs used
   bool sized_by_static_output = false;
   GainAnalysis true_gain;
   GainAnalysis design_gain;               // what the designs used

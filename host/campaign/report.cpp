@@ -4,12 +4,18 @@
 #include <Eigen/SVD>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
+
+#include "host/campaign/gnuplot.hpp"
+#include "host/campaign/model_views.hpp"
+#include "host/campaign/parallel.hpp"
 
 namespace excite::host {
 namespace {
@@ -42,6 +48,19 @@ bool directional(const std::string& name) {
   return name.ends_with("Dir") || name.find("Corr") != std::string::npos || name == "msGlmZipm";
 }
 
+// "[unit]" when every channel has the same unit, "[–]" when dimensionless, else "[mixed]".
+std::string common_unit_token(const std::vector<std::string>& units) {
+  if (units.empty()) return "-";
+  for (const std::string& u : units) {
+    if (u != units.front()) return "mixed units";
+  }
+  return units.front();
+}
+std::string common_unit(const std::vector<std::string>& units) {
+  const std::string u = common_unit_token(units);
+  return u == "-" ? "[–]" : "[" + u + "]";
+}
+
 // The identified model's G(jω) from its (6.1.1) elements.
 Eigen::MatrixXcd model_response(const IdentifiedModel& m, double omega) {
   Eigen::MatrixXcd g(m.outputs, m.inputs);
@@ -56,25 +75,15 @@ Eigen::MatrixXcd model_response(const IdentifiedModel& m, double omega) {
   return g;
 }
 
-void run_gnuplot(const std::filesystem::path& script) {
-  const std::string command = "gnuplot " + script.string() + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) throw std::runtime_error("gnuplot: cannot be started");
-  std::string output;
-  char buffer[512];
-  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
-  if (pclose(pipe) != 0)
-    throw std::runtime_error("gnuplot " + script.string() + " failed: " + output);
-}
-
 // Inputs and outputs of one experiment over time, two panels.
 void plot_experiment(const Experiment& e, const CampaignResult& r,
                      const std::filesystem::path& figures) {
   const auto data = figures / (e.name + ".dat");
+  const auto [time_label, divisor] = time_axis(static_cast<double>(e.U.rows()) * e.sample_time_min);
   {
     std::ofstream out(data);
     for (Eigen::Index k = 0; k < e.U.rows(); ++k) {
-      out << static_cast<double>(k) * e.sample_time_min;
+      out << static_cast<double>(k) * e.sample_time_min / divisor;
       for (Eigen::Index j = 0; j < e.U.cols(); ++j) out << ' ' << e.U(k, j);
       for (Eigen::Index j = 0; j < e.Y.cols(); ++j) out << ' ' << e.Y(k, j);
       out << '\n';
@@ -84,13 +93,14 @@ void plot_experiment(const Experiment& e, const CampaignResult& r,
   gp << "set terminal svg size 900,520 dynamic font 'sans,11'\nset output '"
      << (figures / (e.name + ".svg")).string() << "'\nset multiplot layout 2,1 title '" << e.name
      << ": inputs (top) and outputs (bottom)'\n"
-     << "set xlabel 't [min]'\nset grid\nset key outside right\n";
+     << "set xlabel " << gnuplot_string(time_label) << "\nset grid\nset key outside right\n"
+     << "set ylabel " << gnuplot_string("Δu " + common_unit(r.input_units)) << '\n';
   gp << "plot";
   for (Eigen::Index j = 0; j < e.U.cols(); ++j) {
     gp << (j ? ", " : " ") << "'" << data.string() << "' using 1:" << j + 2 << " with steps title '"
        << r.input_names[static_cast<std::size_t>(j)] << "'";
   }
-  gp << "\nplot";
+  gp << "\nset ylabel " << gnuplot_string("Δy " + common_unit(r.output_units)) << "\nplot";
   for (Eigen::Index j = 0; j < e.Y.cols(); ++j) {
     gp << (j ? ", " : " ") << "'" << data.string() << "' using 1:" << e.U.cols() + j + 2
        << " with lines title '" << r.output_names[static_cast<std::size_t>(j)] << "'";
@@ -98,29 +108,33 @@ void plot_experiment(const Experiment& e, const CampaignResult& r,
   gp << "\nunset multiplot\n";
 }
 
-// Projections of the outputs on the strongest and weakest output directions, per experiment.
+// Projections of the noise-free outputs on the strongest and weakest output directions, per
+// experiment, each panel on its own scale (the designs differ by orders of magnitude).
 void plot_projections(const CampaignResult& r, const std::filesystem::path& figures) {
   const Eigen::Index last = r.true_gain.output_directions.cols() - 1;
+  const std::string unit = common_unit(r.output_units);
+  const auto rows = static_cast<int>((r.experiments.size() + 3) / 4);
   std::ofstream gp(figures / "projections.gp");
-  gp << "set terminal svg size 1100,900 dynamic font 'sans,10'\nset output '"
-     << (figures / "projections.svg").string()
-     << "'\nset multiplot layout 5,4 title 'noise-free outputs: w_1^T y (x) against w_" << last + 1
-     << "^T y (y) per experiment, same scale'\nunset key\nset grid\n";
-  double extent = 0.0;
+  gp << "set encoding utf8\nset terminal svg size 1150," << 250 * rows + 60
+     << " dynamic font 'sans,9'\nset output "
+     << gnuplot_string((figures / "projections.svg").string()) << "\nset multiplot layout " << rows
+     << ",4 title "
+     << gnuplot_string(
+            "noise-free outputs projected on the true output directions: w_1ᵀy "
+            "(strongest) against w_" +
+            std::to_string(last + 1) + "ᵀy (weakest); each panel on its own scale")
+     << "\nunset key\nset grid\nset xlabel " << gnuplot_string("w_1ᵀy " + unit) << "\nset ylabel "
+     << gnuplot_string("w_" + std::to_string(last + 1) + "ᵀy " + unit)
+     << "\nset format x '%.2g'\nset format y '%.2g'\nset xtics rotate by -30\n";
   for (const Experiment& e : r.experiments) {
     const Eigen::MatrixXd p = e.Y_clean * r.true_gain.output_directions;
-    extent = std::max({extent, p.col(0).cwiseAbs().maxCoeff(), p.col(last).cwiseAbs().maxCoeff()});
     const auto data = figures / (e.name + ".proj");
     std::ofstream out(data);
     for (Eigen::Index k = 0; k < p.rows(); k += std::max<Eigen::Index>(1, p.rows() / 1500)) {
       out << p(k, 0) << ' ' << p(k, last) << '\n';
     }
-  }
-  gp << "set xrange [" << -extent << ":" << extent << "]\nset yrange [" << -extent << ":" << extent
-     << "]\n";
-  for (const Experiment& e : r.experiments) {
-    gp << "set title '" << e.name << "'\nplot '" << (figures / (e.name + ".proj")).string()
-       << "' with dots lc rgb '#1f4e9c'\n";
+    gp << "set title " << gnuplot_string(std::to_string(e.number) + " " + e.name) << "\nplot "
+       << gnuplot_string(data.string()) << " with dots lc rgb '#1f4e9c'\n";
   }
   gp << "unset multiplot\n";
 }
@@ -141,48 +155,74 @@ void plot_frequency(const CampaignResult& r, const sim::Plant& plant,
         Eigen::JacobiSVD<Eigen::MatrixXcd> model(model_response(e.identified.model, omega));
         const Eigen::VectorXd sv = model.singularValues();
         for (Eigen::Index i = 0; i < sv.size(); ++i)
-          out << ' ' << (std::isfinite(sv(i)) ? sv(i) : 0.0);
+          out << ' ' << (std::isfinite(sv(i)) && sv(i) > 0.0 ? sv(i) : NAN);
       }
       out << '\n';
     }
   }
+  // Small multiples: one panel per design, its model's σ_i (colour) over the plant's (black).
   const Eigen::Index n = r.true_gain.singular_values.size();
+  const auto rows = static_cast<int>((r.experiments.size() + 3) / 4);
   std::ofstream gp(figures / "sigma.gp");
-  gp << "set terminal svg size 1000,600 dynamic font 'sans,11'\nset output '"
-     << (figures / "sigma.svg").string()
-     << "'\nset logscale xy\nset grid\nset xlabel 'omega [rad/min]'\nset ylabel 'sigma_i(G(j "
-        "omega))'\n"
-     << "set title 'true plant (black) and identified models (colour: directional designs blue, "
-        "others orange)'\n"
-     << "unset key\nplot";
-  bool first = true;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    gp << (first ? " " : ", ") << "'" << data.string() << "' using 1:" << i + 2
-       << " with lines lw 3 lc rgb 'black'";
-    first = false;
-  }
+  gp << "set encoding utf8\nset terminal svg size 1150," << 240 * rows + 60
+     << " dynamic font 'sans,9'\nset output " << gnuplot_string((figures / "sigma.svg").string())
+     << "\nset multiplot layout " << rows << ",4 title "
+     << gnuplot_string(
+            "singular values σ_i(G(jω)): true plant (black dashed) over the model of each "
+            "design (blue: directional designs, orange: the others)")
+     << "\nset logscale xy\nset grid\nunset key\nset format x '10^{%L}'\nset format y "
+        "'10^{%L}'\nset xlabel 'ω [rad/min]'\nset ylabel "
+     << gnuplot_string(
+            "σ_i " + gain_unit(common_unit_token(r.output_units), common_unit_token(r.input_units)))
+     << '\n';
+  const std::string file = gnuplot_string(data.string());
   for (std::size_t e = 0; e < r.experiments.size(); ++e) {
     const char* colour = directional(r.experiments[e].name) ? "#3060c0" : "#e08020";
+    gp << "set title "
+       << gnuplot_string(std::to_string(r.experiments[e].number) + " " + r.experiments[e].name)
+       << "\nplot";
     for (Eigen::Index i = 0; i < n; ++i) {
-      gp << ", '" << data.string() << "' using 1:" << 2 + n + static_cast<Eigen::Index>(e) * n + i
-         << " with lines lw 1 lc rgb '" << colour << "'";
+      gp << (i ? ", " : " ") << file << " using 1:" << 2 + n + static_cast<Eigen::Index>(e) * n + i
+         << " with lines lw 3 lc rgb '" << colour << "'";
     }
+    for (Eigen::Index i = 0; i < n; ++i)
+      gp << ", " << file << " using 1:" << i + 2 << " with lines lw 1.2 dt 2 lc rgb 'black'";
+    gp << '\n';
   }
-  gp << '\n';
+  gp << "unset multiplot\n";
 }
 
+// A metric over one group of designs (directional or not): every statistic, so that no
+// single average decides (an outlier moves the mean, not the median).
+struct GroupStats {
+  double median = std::nan(""), mean = std::nan(""), min = std::nan(""), max = std::nan("");
+  int count = 0, missing = 0;
+};
+
 template <typename Field>
-double average_over(const CampaignResult& r, bool dir, Field field) {
-  double sum = 0.0;
-  int n = 0;
+GroupStats stats_over(const CampaignResult& r, bool dir, Field field) {
+  std::vector<double> v;
+  GroupStats g;
   for (const Experiment& e : r.experiments) {
-    const double v = field(e);
-    if (directional(e.name) == dir && std::isfinite(v)) {
-      sum += v;
-      ++n;
+    if (directional(e.name) != dir) continue;
+    const double x = field(e);
+    if (std::isfinite(x)) {
+      v.push_back(x);
+    } else {
+      ++g.missing;
     }
   }
-  return n ? sum / n : std::nan("");
+  g.count = static_cast<int>(v.size());
+  if (v.empty()) return g;
+  std::sort(v.begin(), v.end());
+  const std::size_t m = v.size() / 2;
+  g.median = v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+  double sum = 0.0;
+  for (const double x : v) sum += x;
+  g.mean = sum / static_cast<double>(v.size());
+  g.min = v.front();
+  g.max = v.back();
+  return g;
 }
 
 // The conventions a reader needs to compare the figures with the thesis's (SPEC §3, §4).
@@ -267,16 +307,23 @@ void write_summary(const CampaignResult& r, const std::filesystem::path& dir) {
 }
 
 void write_report(const CampaignResult& r, const sim::Plant& plant,
-                  const std::filesystem::path& dir) {
+                  const std::filesystem::path& dir, const ReportArtifacts& artifacts, int threads) {
   const auto figures = dir / "figures";
   std::filesystem::create_directories(figures);
   for (const Experiment& e : r.experiments) plot_experiment(e, r, figures);
   plot_projections(r, figures);
   plot_frequency(r, plant, figures);
-  for (const auto& entry : std::filesystem::directory_iterator(figures)) {
-    if (entry.path().extension() == ".gp") run_gnuplot(entry.path());
-  }
+  const int horizon = report_step_horizon(r);
+  const double T = r.experiments.empty() ? 1.0 : r.experiments.front().sample_time_min;
+  const Eigen::MatrixXd truth = true_unit_steps(*sim::make_plant(r.plant), horizon, T);
+  parallel_for(static_cast<int>(r.experiments.size()), threads, [&](int k) {
+    write_model_view_scripts(r.experiments[static_cast<std::size_t>(k)], r, truth, horizon,
+                             figures);
+  });
+  run_gnuplot_scripts(figures, threads);
 
+  const std::string out_unit = common_unit_token(r.output_units);
+  const std::string in_unit = common_unit_token(r.input_units);
   std::ostringstream h;
   h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>excite campaign: "
     << r.plant
@@ -285,8 +332,10 @@ void write_report(const CampaignResult& r, const sim::Plant& plant,
        "8px;text-align:right}"
        "th{background:#eef}td:first-child,th:first-child{text-align:left}tr.dir "
        "td{background:#eef5ff}"
-       "img{max-width:100%;border:1px solid #ddd;margin:.5em "
-       "0}.note{color:#555}</style></head><body>";
+       "img{max-width:100%;border:1px solid #ddd;margin:.5em 0}.note{color:#555}"
+       "details{border:1px solid #ccd;margin:.4em 0;padding:.3em .6em}"
+       "summary{cursor:pointer;font-weight:bold}table.params td{text-align:left}"
+       "</style></head><body>";
   h << "<h1>Identification campaign: " << r.plant << "</h1>";
   h << "<p>The study of thesis chapter 6 on <b>" << r.plant
     << "</b>: every design of Table 6.1 simulated with "
@@ -294,7 +343,7 @@ void write_report(const CampaignResult& r, const sim::Plant& plant,
        "model validated "
     << "on every other experiment. Directional designs used the gain directions of the <b>"
     << r.design_gain_source << "</b>. Rows of directional designs are shaded.</p>";
-  h << "<p>True singular values of G(0):";
+  h << "<p>True singular values of G(0) " << gain_unit(out_unit, in_unit) << ":";
   for (Eigen::Index i = 0; i < r.true_gain.singular_values.size(); ++i)
     h << ' ' << general(r.true_gain.singular_values(i));
   h << " (κ = " << general(r.true_gain.condition_number) << "); used for the designs:";
@@ -312,55 +361,96 @@ void write_report(const CampaignResult& r, const sim::Plant& plant,
   for (const std::string& line : convention_lines(r)) h << "<li>" << line << "</li>";
   h << "</ul>";
 
-  // What the data show.
-  const auto ratio = [](const Experiment& e) { return e.balance_clean.ratio; };
-  const auto worst = [](const Experiment& e) { return e.crossfit_worst; };
-  const double ratio_dir = average_over(r, true, ratio);
-  const double ratio_other = average_over(r, false, ratio);
-  const double worst_dir = average_over(r, true, worst);
-  const double worst_other = average_over(r, false, worst);
-  h << "<h2>What the data show</h2><ul>";
-  h << "<li>Output balance on the noise-free outputs (ratio min/max of the projection standard "
-       "deviations, 1 = balanced): directional designs "
-    << fixed(ratio_dir) << " on average, the others " << fixed(ratio_other) << ". "
-    << (ratio_dir > ratio_other
-            ? "The directional designs give better balanced outputs on this plant."
-            : "The directional designs do <b>not</b> give better balanced outputs on this plant.")
-    << "</li>";
-  h << "<li>Worst-case cross-fit: directional designs " << fixed(worst_dir, 1)
-    << " % on average, the others " << fixed(worst_other, 1) << " %. "
-    << (worst_dir > worst_other
-            ? "Models from directional designs hold up better on other experiments' data."
-            : "Models from directional designs do <b>not</b> hold up better on other experiments' "
-              "data.")
-    << "</li></ul>";
+  // What the data show: every metric, median first, for both groups.
+  struct Metric {
+    const char* name;
+    const char* unit;
+    bool higher_is_better;
+    double (*field)(const Experiment&);
+    int digits;
+  };
+  const Metric metrics[] = {
+      {"output balance, noise-free (ratio min/max of the projection std, 1 = balanced)", "–", true,
+       [](const Experiment& e) { return e.balance_clean.ratio; }, 3},
+      {"Υ = det(corr(Y)), noise-free (1 = uncorrelated outputs)", "–", true,
+       [](const Experiment& e) { return e.balance_clean.upsilon; }, 3},
+      {"own fit", "%", true, [](const Experiment& e) { return e.fit_avg; }, 1},
+      {"cross-fit, average over the other runs", "%", true,
+       [](const Experiment& e) { return e.crossfit_avg; }, 1},
+      {"cross-fit, worst", "%", true, [](const Experiment& e) { return e.crossfit_worst; }, 1},
+      {"crest factor over the experiment", "–", false, [](const Experiment& e) { return e.cf_avg; },
+       3},
+  };
+  h << "<h2>What the data show</h2><p class='note'>Each metric over the directional designs "
+       "and over the others: median (which one outlier cannot move), mean, range and count. "
+       "The verdict compares medians.</p><table><tr><th>metric</th><th>unit</th><th>group</th>"
+       "<th>median</th><th>mean</th><th>min</th><th>max</th><th>designs</th><th>verdict (by "
+       "median)</th></tr>";
+  for (const Metric& m : metrics) {
+    const GroupStats directional_stats = stats_over(r, true, m.field);
+    const GroupStats other = stats_over(r, false, m.field);
+    const bool dir_better = m.higher_is_better ? directional_stats.median > other.median
+                                               : directional_stats.median < other.median;
+    const std::string verdict =
+        !(std::isfinite(directional_stats.median) && std::isfinite(other.median)) ? "–"
+        : directional_stats.median == other.median                                ? "equal"
+        : dir_better ? "directional better"
+                     : "directional <b>not</b> better";
+    int row = 0;
+    for (const auto& [group, g] :
+         {std::pair<const char*, GroupStats>{"directional", directional_stats},
+          std::pair<const char*, GroupStats>{"others", other}}) {
+      h << "<tr" << (row == 0 ? " class='dir'" : "") << ">";
+      if (row == 0)
+        h << "<td rowspan='2'>" << m.name << "</td><td rowspan='2'>" << m.unit << "</td>";
+      h << "<td>" << group << "</td><td><b>" << fixed(g.median, m.digits) << "</b></td><td>"
+        << fixed(g.mean, m.digits) << "</td><td>" << fixed(g.min, m.digits) << "</td><td>"
+        << fixed(g.max, m.digits) << "</td><td>" << g.count
+        << (g.missing ? " (+" + std::to_string(g.missing) + " without a value)" : "") << "</td>";
+      if (row == 0) h << "<td rowspan='2'>" << verdict << "</td>";
+      h << "</tr>";
+      ++row;
+    }
+  }
+  h << "</table>";
 
-  h << "<h2>Inputs: plant-friendliness (SPEC "
-       "§5)</h2><table><tr><th>#</th><th>design</th><th>samples</th>"
-       "<th>CF period</th><th>CF experiment</th><th>PIPS avg %</th><th>limit scale</th></tr>";
+  h << "<h2>Inputs: plant-friendliness (SPEC §5)</h2><table><tr><th>#</th><th>design</th>"
+       "<th>samples</th><th>duration [h min]</th><th>CF period [–]</th><th>CF experiment "
+       "[–]</th><th>PIPS avg [%]</th><th>limit scale [–]</th></tr>";
   for (const Experiment& e : r.experiments) {
     h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.number << ' '
       << e.name << "</td><td>" << (directional(e.name) ? "directional" : "inputs") << "</td><td>"
-      << e.U.rows() << "</td><td>" << fixed(e.cf_period_avg) << "</td><td>" << fixed(e.cf_avg)
-      << "</td><td>" << fixed(e.pips_avg, 1) << "</td><td>" << fixed(e.limit_scale, 4)
-      << "</td></tr>";
+      << e.U.rows() << "</td><td>"
+      << duration_text(static_cast<double>(e.U.rows()) * e.sample_time_min) << "</td><td>"
+      << fixed(e.cf_period_avg) << "</td><td>" << fixed(e.cf_avg) << "</td><td>"
+      << fixed(e.pips_avg, 1) << "</td><td>" << fixed(e.limit_scale, 4) << "</td></tr>";
   }
   h << "</table>";
 
   h << "<h2>Models: fit and cross-fit (5.5.1, SPEC §6)</h2><table><tr><th>model from</th><th>own "
-       "fit %</th>"
-       "<th>cross-fit avg %</th><th>best %</th><th>worst %</th></tr>";
-  for (const Experiment& e : r.experiments) {
+       "fit [%]</th><th>cross-fit avg [%]</th><th>best [%]</th><th>worst [%]</th><th>run "
+       "log</th><th>model file</th></tr>";
+  const auto link = [&](const std::vector<std::string>& paths, std::size_t k, const char* text) {
+    return k < paths.size() && !paths[k].empty()
+               ? "<a href='" + paths[k] + "'>" + std::string(text) + "</a>"
+               : std::string("–");
+  };
+  for (std::size_t k = 0; k < r.experiments.size(); ++k) {
+    const Experiment& e = r.experiments[k];
     h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.name << "</td><td>"
       << fixed(e.fit_avg, 1) << "</td><td>" << fixed(e.crossfit_avg, 1) << "</td><td>"
-      << fixed(e.crossfit_best, 1) << "</td><td>" << fixed(e.crossfit_worst, 1) << "</td></tr>";
+      << fixed(e.crossfit_best, 1) << "</td><td>" << fixed(e.crossfit_worst, 1) << "</td><td>"
+      << link(artifacts.run_logs, k, "run.csv") << "</td><td>"
+      << link(artifacts.models, k, "model.json") << "</td></tr>";
   }
   h << "</table>";
 
   const Eigen::Index n = r.true_gain.singular_values.size();
-  h << "<h2>Identified gain directions</h2><table><tr><th>model from</th>";
+  h << "<h2>Identified gain directions</h2><p class='note'>Singular values of the identified "
+       "G(0) in "
+    << gain_unit(out_unit, in_unit) << "; κ = σ₁/σₙ [–].</p><table><tr><th>model from</th>";
   for (Eigen::Index i = 0; i < n; ++i) h << "<th>σ" << i + 1 << "</th>";
-  h << "<th>κ</th></tr><tr><td><b>true</b></td>";
+  h << "<th>κ [–]</th></tr><tr><td><b>true</b></td>";
   for (Eigen::Index i = 0; i < n; ++i)
     h << "<td><b>" << general(r.true_gain.singular_values(i)) << "</b></td>";
   h << "<td><b>" << general(r.true_gain.condition_number) << "</b></td></tr>";
@@ -376,9 +466,11 @@ void write_report(const CampaignResult& r, const sim::Plant& plant,
   h << "</table>";
 
   h << "<h2>Output balance (5.5.2, 6.2.1)</h2><p class='note'>Standard deviation of the "
-       "projections w_iᵀy on the true output gain directions, their ratio min/max, and Υ = "
-       "det(corr(Y)): on the noise-free outputs (a property of the excitation), and on the "
-       "noisy outputs beside them.</p><table><tr><th>design</th>";
+       "projections w_iᵀy on the true output gain directions "
+    << common_unit(r.output_units)
+    << ", their ratio min/max [–], and Υ = det(corr(Y)) [–]: on the noise-free outputs (a "
+       "property of the excitation), and on the noisy outputs beside them.</p><table><tr><th>"
+       "design</th>";
   for (Eigen::Index i = 0; i < n; ++i) h << "<th>std w" << i + 1 << "ᵀy (noise-free)</th>";
   h << "<th>ratio noise-free</th><th>ratio noisy</th><th>Υ noise-free</th><th>Υ noisy</th></tr>";
   for (const Experiment& e : r.experiments) {
@@ -394,8 +486,34 @@ void write_report(const CampaignResult& r, const sim::Plant& plant,
   h << "<h2>Figures</h2><h3>Output projections, strongest against weakest direction</h3>"
        "<img src='figures/projections.svg' alt='projections'>"
        "<h3>Singular values of G(jω): true plant and identified models</h3><img "
-       "src='figures/sigma.svg' alt='sigma'>"
-       "<h3>Inputs and outputs of each experiment</h3>";
+       "src='figures/sigma.svg' alt='sigma'>";
+
+  h << "<h2>Model quality, per design</h2><p class='note'>For each model: its parameters with "
+       "1σ standard errors (σ̂√diag((JᵀJ)⁻¹), SSE/(N−P), host/identify/README.md); its "
+       "unit-step responses with a ±2σ band obtained by <b>linearised propagation</b> of the "
+       "element's 4 × 4 parameter covariance (σ_s(t)² = gᵀCg, g = ∂s/∂θ; a parameter on its "
+       "bound counts as exact, the covariance between elements of a row is left out) over "
+       "the first "
+    << duration_text(horizon * T)
+    << " (the median settling time of the models), against the true plant's unit step "
+       "(dashed); measured against predicted outputs; and the residual autocorrelation and "
+       "cross-correlation with every input for lags up to "
+    << kResidualLags
+    << " samples, with the 99 % limits ±2.58/√N of a white residual independent of the "
+       "inputs. The standard errors assume the model structure is right.</p>";
+  for (std::size_t k = 0; k < r.experiments.size(); ++k) {
+    const Experiment& e = r.experiments[k];
+    h << "<details><summary>" << e.number << ' ' << e.name << ": own fit " << fixed(e.fit_avg, 1)
+      << " %, worst cross-fit " << fixed(e.crossfit_worst, 1)
+      << " %</summary><p>Run log: " << link(artifacts.run_logs, k, "run.csv")
+      << ", model: " << link(artifacts.models, k, "model.json") << "</p>"
+      << parameter_table_html(e, r) << "<img src='figures/" << e.name << "-steps.svg' alt='"
+      << e.name << " step responses'><img src='figures/" << e.name << "-fit.svg' alt='" << e.name
+      << " measured and predicted'><img src='figures/" << e.name << "-residuals.svg' alt='"
+      << e.name << " residual correlations'></details>";
+  }
+
+  h << "<h2>Inputs and outputs of each experiment</h2>";
   for (const Experiment& e : r.experiments)
     h << "<img src='figures/" << e.name << ".svg' alt='" << e.name << "'>";
   h << "</body></html>\n";

@@ -5,6 +5,8 @@
 // by gnuplot as SVG in figures/.
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "host/campaign/campaign.hpp"
 #include "sim/plants/plant.hpp"
@@ -16,8 +18,18 @@ namespace excite::host {
 /// {"plant", "design_gain_source", "true_singular_values", "experiments": […]}.
 void write_summary(const CampaignResult& result, const std::filesystem::path& dir);
 
-/// DIR/index.html and DIR/figures/*.svg. Throws std::runtime_error when gnuplot fails.
+/// What the campaign kept beside its report, per experiment (paths relative to DIR, in the
+/// order of CampaignResult::experiments; empty: not kept, not linked).
+struct ReportArtifacts {
+  std::vector<std::string> run_logs;  // runs/NN-name/run.csv
+  std::vector<std::string> models;    // models/NN-name.json
+};
+
+/// DIR/index.html and DIR/figures/*.svg: the tables, the balance and σ(G(jω)) figures, and
+/// per model its quality views (model_views.hpp) with links to `artifacts`. gnuplot runs on
+/// `threads` threads. Throws std::runtime_error when gnuplot fails.
 void write_report(const CampaignResult& result, const sim::Plant& plant,
-                  const std::filesystem::path& dir);
+                  const std::filesystem::path& dir, const ReportArtifacts& artifacts = {},
+                  int threads = 2);
 
 }  // namespace excite::host

@@ -2,10 +2,13 @@
 // excite balance RUN.csv (--plant NAME | --gain FILE) [--json]: how evenly the outputs of
 // an experiment spread over the output gain directions (5.5.2) and Υ (6.2.1).
 
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 
 #include "host/cli/commands.hpp"
+#include "host/cli/input_path.hpp"
 #include "host/cli/json_util.hpp"
 #include "host/cli/run_input.hpp"
 #include "host/cli/text_table.hpp"
@@ -23,9 +26,12 @@ struct BalanceOptions {
   bool json = false;
 };
 
+constexpr double kMinSingularRatio = 1e-12;  // below: numerically singular
+
 // A gain matrix from JSON with a "gain" array of rows: what `excite gains --json` and
 // `excite identify -o` write.
 Eigen::MatrixXd read_gain_file(const std::string& path) {
+  refuse_directory(path, "a JSON file with \"gain\" (excite gains --json)");
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(path + ": cannot be read");
   nlohmann::json j;
@@ -51,7 +57,12 @@ Eigen::MatrixXd read_gain_file(const std::string& path) {
         throw std::invalid_argument(path + ": gain[" + std::to_string(r) + "][" +
                                     std::to_string(c) + "]: expected a number");
       }
-      g(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = rows[r][c].get<double>();
+      const double v = rows[r][c].get<double>();
+      if (!std::isfinite(v)) {
+        throw std::invalid_argument(path + ": gain[" + std::to_string(r) + "][" +
+                                    std::to_string(c) + "]: expected a finite number");
+      }
+      g(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = v;
     }
   }
   return g;
@@ -63,13 +74,25 @@ void run(const BalanceOptions& opt) {
   const Run data = read_run(opt.run_path);
   const Eigen::MatrixXd gain =
       opt.plant.empty() ? read_gain_file(opt.gain_path) : plant_gain(opt.plant);
-  if (gain.rows() != data.data.Y.cols()) {
-    throw std::invalid_argument((opt.plant.empty() ? opt.gain_path : "plant " + opt.plant) +
-                                ": gain has " + std::to_string(gain.rows()) + " outputs, " +
-                                opt.run_path + " has " + std::to_string(data.data.Y.cols()) +
-                                "; expected equal");
+  const std::string source = opt.plant.empty() ? opt.gain_path : "plant " + opt.plant;
+  if (gain.rows() != data.data.Y.cols() || gain.cols() != data.data.U.cols()) {
+    throw std::invalid_argument(
+        source + ": gain is " + std::to_string(gain.rows()) + " x " + std::to_string(gain.cols()) +
+        ", " + opt.run_path + " has " + std::to_string(data.data.Y.cols()) + " outputs x " +
+        std::to_string(data.data.U.cols()) + " inputs; expected outputs x inputs of the run");
   }
   const GainAnalysis a = analyse_gain(gain);
+  // A zero singular value leaves its output direction arbitrary: the projections, the ratio
+  // and the condition number would mean nothing (or be inf).
+  const double sigma_max = a.singular_values.maxCoeff(), sigma_min = a.singular_values.minCoeff();
+  if (!(sigma_min > kMinSingularRatio * sigma_max)) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  ": gain is singular (smallest singular value %.3g, largest %.3g), expected "
+                  "full rank: smallest / largest > %.0e",
+                  sigma_min, sigma_max, kMinSingularRatio);
+    throw std::invalid_argument(source + text);
+  }
   const DirectionalBalance b = directional_balance(data.data.Y, a.output_directions);
   const double upsilon = output_correlation_determinant(data.data.Y);
   if (opt.json) {

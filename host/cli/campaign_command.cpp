@@ -1,26 +1,30 @@
 // SPDX-License-Identifier: MIT
 // excite campaign --plant NAME -o DIR [--design-gain true|step-test] [--noise-var V] [--seed S]
 //                 [--threads N] [--loop]
-// The chapter-6 study: DIR/summary.json, the report DIR/index.html and every identified
-// model in DIR/models/. With --loop every plan is streamed through the real excite-gateway
-// to the real excite-plant (host/loop), and DIR/runs/ keeps each plan, configuration pair
-// and both sides' run logs.
+// The chapter-6 study: DIR/summary.json, the report DIR/index.html, every identified model
+// in DIR/models/NN-name.json and every measured run's log in DIR/runs/NN-name/run.csv, both
+// linked from the report. With --loop every plan is streamed through the real
+// excite-gateway to the real excite-plant (host/loop), and DIR/runs/NN-name/ also keeps the
+// plan, the configuration pair and the plant's log.
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <mutex>
 #include <thread>
 
+#include "firmware/runlog/format.hpp"
 #include "host/campaign/campaign.hpp"
 #include "host/campaign/report.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/model_file.hpp"
+#include "host/cli/number_checks.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/loop/campaign_runs.hpp"
+#include "host/output/whole_file.hpp"
+#include "host/simulate/simulate.hpp"
 
 namespace excite::host::cli {
 namespace {
@@ -33,17 +37,47 @@ struct CampaignCommandOptions {
   bool loop = false;
 };
 
-void write_models(const CampaignResult& result, const fs::path& dir) {
-  fs::create_directories(dir);
+// DIR/models/NN-name.json, one per experiment; returns their paths relative to DIR.
+std::vector<std::string> write_models(const CampaignResult& result, const fs::path& dir) {
+  fs::create_directories(dir / "models");
+  std::vector<std::string> written;
   for (const Experiment& e : result.experiments) {
-    const fs::path path = dir / (experiment_folder(e.number, e.name) + ".json");
-    const fs::path partial = path.string() + ".partial";
-    std::ofstream out(partial);
-    out << model_json(e.identified, result.input_names, result.output_names).dump(2) << "\n";
-    out.close();
-    if (!out) throw std::runtime_error(partial.string() + ": cannot write");
-    fs::rename(partial, path);
+    const std::string relative = "models/" + experiment_folder(e.number, e.name) + ".json";
+    write_whole_file(
+        dir / relative,
+        model_json(e.identified, result.input_names, result.output_names).dump(2) + "\n");
+    written.push_back(relative);
   }
+  return written;
+}
+
+// DIR/runs/NN-name/run.csv, the measured (noisy) run the model was identified from, as a
+// run log (firmware/runlog/README.md). In the loop the gateway's log is already there.
+std::vector<std::string> write_runs(const CampaignResult& result, const fs::path& dir,
+                                    bool in_the_loop) {
+  const auto plant = sim::make_plant(result.plant);
+  std::vector<std::string> written;
+  for (const Experiment& e : result.experiments) {
+    const std::string relative = "runs/" + experiment_folder(e.number, e.name) + "/run.csv";
+    if (!in_the_loop) {
+      fs::create_directories((dir / relative).parent_path());
+      SimulatedRun run;
+      run.plant = result.plant;
+      run.plan = e.name;
+      run.producer = "excite campaign " + std::string(runlog::kVersion);
+      run.sample_time_min = e.sample_time_min;
+      run.input_names = result.input_names;
+      run.output_names = result.output_names;
+      run.input_units = result.input_units;
+      run.output_units = result.output_units;
+      run.input_baseline = plant->input_baseline();
+      run.du = e.U;
+      run.dy = e.Y;
+      write_run_log(run, dir / relative);
+    }
+    written.push_back(fs::exists(dir / relative) ? relative : std::string());
+  }
+  return written;
 }
 
 void run(CampaignCommandOptions opt) {
@@ -70,12 +104,16 @@ void run(CampaignCommandOptions opt) {
   }
   const CampaignResult result = run_campaign(opt.campaign, say);
   write_summary(result, opt.output_dir);
-  write_report(result, *sim::make_plant(opt.campaign.plant), opt.output_dir);
-  write_models(result, out / "models");
+  ReportArtifacts artifacts;
+  artifacts.models = write_models(result, out);
+  artifacts.run_logs = write_runs(result, out, opt.loop);
+  const double before_report = elapsed();
+  write_report(result, *sim::make_plant(opt.campaign.plant), opt.output_dir, artifacts,
+               opt.campaign.threads);
+  say("report and figures in " + std::to_string(elapsed() - before_report) + " s");
   std::cout << "wrote " << (out / "index.html").string() << " (report), "
-            << (out / "summary.json").string() << " and " << (out / "models").string() << "/"
-            << (opt.loop ? ", run logs in " + (out / "runs").string() + "/" : std::string())
-            << " in " << elapsed() << " s\n";
+            << (out / "summary.json").string() << ", " << (out / "models").string()
+            << "/ and run logs in " << (out / "runs").string() << "/ in " << elapsed() << " s\n";
 }
 
 }  // namespace
@@ -96,7 +134,7 @@ void add_campaign_command(CLI::App& app) {
       ->transform(CLI::CheckedTransformer(gains, CLI::ignore_case));
   cmd->add_option("--noise-var", opt->campaign.noise_variance,
                   "measurement noise variance per output (default: the case study's)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_non_negative());
   cmd->add_option("--seed", opt->campaign.seed, "noise seed")->capture_default_str();
   opt->campaign.threads = static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
   cmd->add_option("--threads", opt->campaign.threads,

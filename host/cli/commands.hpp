@@ -13,9 +13,12 @@ void add_inspect_command(CLI::App& app);
 void add_case_study_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);
 void add_identify_command(CLI::App& app);
+void add_import_command(CLI::App& app);  // historian CSV -> run log
 void add_validate_commands(CLI::App& app);  // validate, crossval
 void add_balance_command(CLI::App& app);
 void add_campaign_command(CLI::App& app);
-void add_loop_config_command(CLI::App& app);  // loop-config (excite-plant + gateway pair)
+void add_loop_config_command(CLI::App& app);
+void add_export_command(
+    CLI::App& app);  // export MODEL --format …  // loop-config (excite-plant + gateway pair)
 
 }  // namespace excite::host::cli

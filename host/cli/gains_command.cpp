@@ -5,6 +5,7 @@
 
 #include "host/cli/commands.hpp"
 #include "host/cli/json_util.hpp"
+#include "host/cli/number_checks.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/measures/gain_directions.hpp"
@@ -78,7 +79,8 @@ void add_gains_command(CLI::App& app) {
   cmd->add_option("--plant", opt->plant, "library plant name")->required();
   cmd->add_flag("--json", opt->json, "machine-readable output");
   cmd->add_option("--xi-threshold", opt->xi_threshold, "xi from which a direction needs excitation")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(finite_number(1.0, false, "a finite number >= 1 (xi_1 = 1)"));
   cmd->callback([opt] { run(*opt); });
 }
 

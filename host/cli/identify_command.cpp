@@ -1,42 +1,118 @@
 // SPDX-License-Identifier: MIT
-// excite identify RUN.csv [--json] [-o MODEL] [--max-delay MIN] [--max-time-constant MIN]
-//                         [--tau-high MIN] [--beta B] [--threads N]
-// (6.1.1) models per output, fit % (5.5.1), identified G(0) and its directions.
+// excite identify RUN.csv [RUN.csv…] [--json] [-o MODEL] [--max-delay MIN]
+//                 [--max-time-constant MIN] [--tau-high MIN] [--beta B] [--threads N]
+//                 [--keep-flagged] [--warm-up MIN] [--start-warm-up MIN]
+//                 [--trend none|offset|linear]
+// (6.1.1) models per output, fit % (5.5.1), identified G(0) and its directions. Several
+// runs are identified together; the logs' flags decide which rows are scored and where the
+// model restarts (host/identify/run_layout.hpp); what was excluded is warned on stderr.
 // Time constants are bounded above by β·τ_H (SPEC §6): --max-time-constant if given, else
 // --beta·--tau-high, else the case study of the run log's plant, else the run's length.
 
-#include <fstream>
 #include <iostream>
+#include <sstream>
 
+#include "firmware/runlog/reader.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/model_file.hpp"
+#include "host/cli/number_checks.hpp"
 #include "host/cli/run_input.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/cli/time_constant_bound.hpp"
+#include "host/identify/run_layout.hpp"
+#include "host/output/whole_file.hpp"
 
 namespace excite::host::cli {
 namespace {
 
 struct IdentifyCommandOptions {
-  std::string run_path;
+  std::vector<std::string> run_paths;
   std::string model_path;
   bool json = false;
   TimeConstantBoundOptions bound;
   IdentifyOptions identify;
+  FlagRule rule;
+  double warm_up_min = -1.0;  // < 0: the delay bound
+  std::string trend = "none";
 };
 
-void print(const IdentificationResult& r, const Run& run) {
+/// One line: what the flags rule did. Empty when every row was scored in one segment per run.
+std::string layout_summary(const LayoutReport& r, std::size_t runs) {
+  std::ostringstream s;
+  s << r.scored << " of " << r.rows << " rows scored in " << r.segments << " segment"
+    << (r.segments == 1 ? "" : "s") << " (" << runs << " run" << (runs == 1 ? "" : "s") << ")";
+  if (r.flagged_excluded > 0) {
+    s << "; " << r.flagged_excluded << " flagged rows excluded (";
+    bool first = true;
+    for (int b = 0; b < 8; ++b) {
+      const Eigen::Index c = r.rows_with_flag[static_cast<std::size_t>(b)];
+      if (c == 0) continue;
+      s << (first ? "" : ", ") << flag_name(b) << ' ' << c;
+      first = false;
+    }
+    s << ')';
+  }
+  if (r.discontinuities > 0) s << "; " << r.discontinuities << " discontinuities (plant restart)";
+  if (r.skips > 0) s << "; " << r.skips << " skipped-tick rows";
+  if (r.warm_up > 0) s << "; " << r.warm_up << " warm-up rows not scored";
+  if (r.dropped_segments > 0) {
+    s << "; " << r.dropped_segments << " short segments dropped (" << r.dropped_segment_rows
+      << " rows)";
+  }
+  return s.str();
+}
+
+bool needs_warning(const LayoutReport& r) {
+  Eigen::Index flagged = 0;
+  for (const Eigen::Index c : r.rows_with_flag) flagged += c;
+  return flagged > 0 || r.dropped_segments > 0 || r.warm_up > 0;
+}
+
+nlohmann::json layout_json(const LayoutReport& r, const std::vector<std::string>& runs) {
+  nlohmann::json flags = nlohmann::json::object();
+  for (int b = 0; b < 8; ++b) flags[flag_name(b)] = r.rows_with_flag[static_cast<std::size_t>(b)];
+  return {{"runs", runs},
+          {"rows", r.rows},
+          {"scored_rows", r.scored},
+          {"flagged_rows_excluded", r.flagged_excluded},
+          {"warm_up_rows", r.warm_up},
+          {"segments", r.segments},
+          {"dropped_segments", r.dropped_segments},
+          {"dropped_segment_rows", r.dropped_segment_rows},
+          {"discontinuities", r.discontinuities},
+          {"rows_with_flag", flags}};
+}
+
+std::string with_unit(const std::string& name, const std::string& unit) {
+  return unit.empty() || unit == "-" ? name : name + " [" + unit + "]";
+}
+
+// The log as read, without run_data(): identify takes rows flagged skipped or discontinuity
+// (segments), which run_data() refuses for the commands that need one unbroken run.
+// The size and value checks of read_run() (run_input.hpp) apply.
+runlog::RunLog read_log(const std::string& path) {
+  refuse_directory(path, "a run log (CSV)");
+  check_run_rows(path);
+  runlog::ReadResult r = runlog::read_run_log(path);
+  if (!r.ok()) throw std::invalid_argument(r.error->to_string());
+  check_run_values(path, r.log);
+  return std::move(r.log);
+}
+
+void print(const IdentificationResult& r, const runlog::RunLog& log) {
   const IdentifiedModel& m = r.model;
   for (int o = 0; o < m.outputs; ++o) {
-    std::cout << "output " << run.log.output_names[static_cast<std::size_t>(o)]
-              << ": fit = " << num(r.fits[static_cast<std::size_t>(o)].fit_percent) << " %\n";
+    const auto oi = static_cast<std::size_t>(o);
+    std::cout << "output " << with_unit(log.output_names[oi], log.output_units[oi])
+              << ": fit = " << num(r.fits[oi].fit_percent) << " %\n";
     TextTable t(
         {"input", "K", "+-", "Td [min]", "+-", "Tp1 [min]", "+-", "Tp2 [min]", "+-", "status"});
     for (int i = 0; i < m.inputs; ++i) {
       const ElementEstimate& e = m.element(o, i);
       std::string status = to_string(e.status);
       if (!e.reason.empty()) status += ": " + e.reason;
-      t.add_row({run.log.input_names[static_cast<std::size_t>(i)], num(e.value.gain),
+      const auto ii = static_cast<std::size_t>(i);
+      t.add_row({with_unit(log.input_names[ii], log.input_units[ii]), num(e.value.gain),
                  num(e.std_error.gain), num(e.value.delay_min), num(e.std_error.delay_min),
                  num(e.value.tau1_min), num(e.std_error.tau1_min), num(e.value.tau2_min),
                  num(e.std_error.tau2_min), status});
@@ -56,25 +132,36 @@ void print(const IdentificationResult& r, const Run& run) {
 }
 
 void run(const IdentifyCommandOptions& opt) {
-  const Run data = read_run(opt.run_path);
+  std::vector<runlog::RunLog> runs;
+  for (const auto& path : opt.run_paths) runs.push_back(read_log(path));
+  std::vector<const runlog::RunLog*> logs;
+  for (const auto& r : runs) logs.push_back(&r);
+  FlagRule rule = opt.rule;
+  rule.warm_up_min = opt.warm_up_min >= 0.0 ? opt.warm_up_min : opt.identify.max_delay_min;
+  const StackedRuns data = stack_runs(logs, opt.run_paths, rule);
+  const runlog::RunLog& first = runs.front();
+
   IdentifyOptions options = opt.identify;
-  const auto [bound, source] = time_constant_bound(opt.bound, data.log.plant);
+  options.trend = opt.trend == "offset"   ? Trend::offset
+                  : opt.trend == "linear" ? Trend::linear
+                                          : Trend::none;
+  const auto [bound, source] = time_constant_bound(opt.bound, first.plant);
   options.max_time_constant_min = bound;
+  const std::string summary = layout_summary(data.report, runs.size());
+  if (needs_warning(data.report)) std::cerr << "excite: warning: " << summary << '\n';
   const IdentificationResult result =
-      identify(data.data.U, data.data.Y, data.data.sample_time_min, options);
-  const nlohmann::json j = model_json(result, data.log.input_names, data.log.output_names);
-  if (!opt.model_path.empty()) {
-    std::ofstream out(opt.model_path);
-    out << j.dump(2) << '\n';
-    if (!out) throw std::runtime_error(opt.model_path + ": cannot be written");
-  }
+      identify(data.U, data.Y, data.sample_time_min, data.layout, options);
+  nlohmann::json j = model_json(result, first.input_names, first.output_names);
+  j["data"] = layout_json(data.report, opt.run_paths);
+  if (!opt.model_path.empty()) write_whole_file(opt.model_path, j.dump(2) + '\n');
   if (opt.json) {
     std::cout << j.dump(2) << '\n';
   } else {
     const double shown =
-        bound > 0.0 ? bound : static_cast<double>(data.data.U.rows()) * data.data.sample_time_min;
-    std::cout << "time constants bounded by " << num(shown) << " min (" << source << ")\n\n";
-    print(result, data);
+        bound > 0.0 ? bound : static_cast<double>(data.U.rows()) * data.sample_time_min;
+    std::cout << "time constants bounded by " << num(shown) << " min (" << source << ")\n";
+    std::cout << "data: " << summary << "\n\n";
+    print(result, first);
   }
 }
 
@@ -84,16 +171,34 @@ void add_identify_command(CLI::App& app) {
   auto opt = std::make_shared<IdentifyCommandOptions>();
   CLI::App* cmd =
       app.add_subcommand("identify", "Identify two-pole-plus-delay models (6.1.1) from a run log");
-  cmd->add_option("run", opt->run_path, "run log (CSV)")->required();
+  cmd->add_option("runs", opt->run_paths, "run logs (CSV), identified together")
+      ->required()
+      ->expected(1, 1 << 16);
   cmd->add_option("-o,--output", opt->model_path, "write the model file (JSON)");
   cmd->add_flag("--json", opt->json, "machine-readable output");
   cmd->add_option("--max-delay", opt->identify.max_delay_min, "upper bound of every delay, min")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(
+          finite_number(0.0, true, "a finite number of minutes > 0 (0 leaves no delay to fit)"));
   add_time_constant_bound_options(cmd, opt->bound);
   cmd->add_option("--threads", opt->identify.threads, "outputs fitted in parallel")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
+  cmd->add_flag(
+      "--keep-flagged", opt->rule.keep_flagged,
+      "score rows flagged suspended, comm_lost, clamped, stale or bad_value as good data");
+  cmd->add_option("--warm-up", opt->warm_up_min,
+                  "minutes not scored after a restart inside a run (default: --max-delay)")
+      ->check(finite_non_negative());
+  cmd->add_option("--start-warm-up", opt->rule.start_warm_up_min,
+                  "minutes not scored at each run's start (data not starting at rest)")
+      ->capture_default_str()
+      ->check(finite_non_negative());
+  cmd->add_option("--trend", opt->trend,
+                  "per segment, each output's offset (offset) or offset and slope (linear) "
+                  "fitted with the model")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"none", "offset", "linear"}));
   cmd->callback([opt] { run(*opt); });
 }
 

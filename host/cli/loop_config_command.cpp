@@ -7,12 +7,13 @@
 // make_loop_config from sim/server's default register map.
 
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <stdexcept>
 
 #include "host/cli/commands.hpp"
+#include "host/cli/number_checks.hpp"
 #include "host/loop/loop_config.hpp"
+#include "host/output/whole_file.hpp"
 
 namespace excite::host::cli {
 namespace {
@@ -22,21 +23,18 @@ struct LoopConfigCommand {
   std::string output_dir;
 };
 
-void write_file(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << text;
-  out.close();
-  if (!out) throw std::runtime_error(path.string() + ": cannot write");
-}
-
 void run(const LoopConfigCommand& cmd) {
   const LoopConfigPair pair = make_loop_config(cmd.config);
   const std::filesystem::path dir(cmd.output_dir);
   std::filesystem::create_directories(dir);
   const auto plant_path = dir / "plant.toml";
   const auto gateway_path = dir / "gateway.toml";
-  write_file(plant_path, pair.plant_toml);
-  write_file(gateway_path, pair.gateway_toml);
+  // The pair is one register map: both written before either is renamed into place.
+  WholeFile plant(plant_path), gateway(gateway_path);
+  plant.write(pair.plant_toml);
+  gateway.write(pair.gateway_toml);
+  plant.commit();
+  gateway.commit();
   const auto& c = cmd.config;
   std::cout << "wrote " << plant_path.string() << " and " << gateway_path.string() << "\n"
             << "  excite-plant --config " << plant_path.string() << " --modbus-tcp " << c.host
@@ -61,22 +59,29 @@ void add_loop_config_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--input-range", opt->config.input_range,
                   "setpoint limits: baseline +- this on every input (default: the case "
-                  "study's, 2 amplitudes)");
+                  "study's, 2 amplitudes)")
+      ->check(finite_non_negative());
   cmd->add_option("--max-move", opt->config.max_move,
-                  "largest setpoint change per tick (default: 2 x the input range)");
+                  "largest setpoint change per tick (default: 2 x the input range)")
+      ->check(finite_non_negative());
   cmd->add_option("--output-range", opt->config.output_range,
-                  "test limits on every output: baseline +- this (default: none)");
+                  "test limits on every output: baseline +- this (default: none)")
+      ->check(finite_non_negative());
   cmd->add_option("--sample-time-min", opt->config.sample_time_min,
-                  "plant sample time, minutes (default: the case study's)");
+                  "plant sample time, minutes (default: the case study's)")
+      ->check(finite_non_negative());
   cmd->add_option("--noise-var", opt->config.noise_var,
-                  "measurement noise variance (default: the case study's)");
+                  "measurement noise variance (default: the case study's)")
+      ->check(finite_non_negative());
   cmd->add_option("--seed", opt->config.seed, "noise seed")->capture_default_str();
   cmd->add_option("--period-s", opt->config.period_s,
                   "gateway tick period, seconds (default: the plan's sample time; shorter "
-                  "compresses time in tests)");
+                  "compresses time in tests)")
+      ->check(finite_non_negative());
   cmd->add_option("--watchdog-s", opt->config.watchdog_s,
                   "the plant's heartbeat watchdog, wall-clock seconds (0: off)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(finite_non_negative());
   cmd->add_option("-o,--output", opt->output_dir, "directory for plant.toml and gateway.toml")
       ->required();
   cmd->callback([opt] { run(*opt); });

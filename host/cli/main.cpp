@@ -4,22 +4,28 @@
 
 #include <cstdio>
 #include <exception>
+#include <string>
+
+#include "firmware/runlog/format.hpp"
 
 #include "host/cli/commands.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"excite: input design and identification for ill-conditioned multivariable plants"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", "excite " + std::string(excite::runlog::kVersion));
   excite::host::cli::add_gains_command(app);
   excite::host::cli::add_design_command(app);
   excite::host::cli::add_inspect_command(app);
   excite::host::cli::add_case_study_command(app);
   excite::host::cli::add_simulate_command(app);
+  excite::host::cli::add_import_command(app);
   excite::host::cli::add_identify_command(app);
   excite::host::cli::add_validate_commands(app);
   excite::host::cli::add_balance_command(app);
   excite::host::cli::add_campaign_command(app);
   excite::host::cli::add_loop_config_command(app);
+  excite::host::cli::add_export_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -27,8 +33,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
-    return 2;
+    return app.exit(e) == 0 ? 0 : 2;  // --version: 0
   } catch (const std::exception& e) {
     std::fprintf(stderr, "excite: error: %s\n", e.what());
     return 1;

@@ -5,7 +5,10 @@
 #include <fstream>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
+#include "host/cli/input_path.hpp"
 #include "host/cli/json_util.hpp"
 
 namespace excite::host::cli {
@@ -70,8 +73,18 @@ nlohmann::json model_json(const IdentificationResult& result,
   return j;
 }
 
-IdentifiedModel read_model_file(const std::filesystem::path& path) {
+IdentifiedModel read_model_file(const std::filesystem::path& path, ModelChannels* channels) {
+  NamedModel named = read_named_model_file(path);
+  if (channels != nullptr) {
+    channels->inputs = named.inputs;
+    channels->outputs = named.outputs;
+  }
+  return std::move(named.model);
+}
+
+NamedModel read_named_model_file(const std::filesystem::path& path) {
   const std::string where = path.string();
+  refuse_directory(path, "a model file (excite identify -o)");
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(where + ": cannot be read");
   nlohmann::json j;
@@ -84,13 +97,28 @@ IdentifiedModel read_model_file(const std::filesystem::path& path) {
     throw std::invalid_argument(where + ": format: expected \"" + kFormat +
                                 "\" (a file from excite identify -o)");
   }
-  IdentifiedModel m;
+  NamedModel named;
+  named.source = where;
+  IdentifiedModel& m = named.model;
   m.sample_time_min = number(j, "sample_time_min", where);
   if (!(m.sample_time_min > 0.0))
     throw std::invalid_argument(where + ": sample_time_min: expected > 0");
   if (!j.contains("inputs") || !j["inputs"].is_array() || !j.contains("outputs") ||
       !j["outputs"].is_array()) {
     throw std::invalid_argument(where + ": inputs, outputs: expected arrays");
+  }
+  for (const auto& [key, names] :
+       {std::pair{"inputs", &named.inputs}, std::pair{"outputs", &named.outputs}}) {
+    for (std::size_t k = 0; k < j[key].size(); ++k) {
+      const nlohmann::json& e = j[key][k];
+      const nlohmann::json* name =
+          e.is_string() ? &e : (e.is_object() && e.contains("name") ? &e["name"] : nullptr);
+      if (name == nullptr || !name->is_string()) {
+        throw std::invalid_argument(where + ": " + key + "[" + std::to_string(k) +
+                                    "]: expected a channel name");
+      }
+      names->push_back(name->get<std::string>());
+    }
   }
   m.inputs = static_cast<int>(j["inputs"].size());
   m.outputs = static_cast<int>(j["outputs"].size());
@@ -116,10 +144,32 @@ IdentifiedModel read_model_file(const std::filesystem::path& path) {
         throw std::invalid_argument(el + ": Td, Tp1, Tp2: expected >= 0");
       }
       est.status = finite ? ElementStatus::identified : ElementStatus::input_not_moved;
+      if (finite && e.value("status", "") == "weak_gain") est.status = ElementStatus::weak_gain;
       if (!finite) est.reason = e.value("reason", "not estimated");
     }
   }
-  return m;
+  return named;
+}
+
+namespace {
+std::string listed(const std::vector<std::string>& names) {
+  std::string s = "[";
+  for (const std::string& n : names) s += (s.size() > 1 ? ", " : "") + n;
+  return s + "]";
+}
+}  // namespace
+
+void check_same_channels(const ModelChannels& model, const std::string& model_path,
+                         const std::vector<std::string>& run_inputs,
+                         const std::vector<std::string>& run_outputs, const std::string& run_path) {
+  for (const auto& [kind, ours, theirs] : {std::tuple{"inputs", &model.inputs, &run_inputs},
+                                           std::tuple{"outputs", &model.outputs, &run_outputs}}) {
+    if (*ours != *theirs) {
+      throw std::invalid_argument(model_path + ": " + kind + " = " + listed(*ours) + ", " +
+                                  run_path + ": " + kind + " = " + listed(*theirs) +
+                                  "; expected the same channels in the same order");
+    }
+  }
 }
 
 }  // namespace excite::host::cli

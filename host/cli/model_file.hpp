@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "host/export/formats.hpp"
 #include "host/identify/identify.hpp"
 
 namespace excite::host::cli {
@@ -20,7 +21,23 @@ nlohmann::json model_json(const IdentificationResult& result,
                           const std::vector<std::string>& input_names,
                           const std::vector<std::string>& output_names);
 
-/// Reads a model file. Throws std::invalid_argument "<path>: <field>: <what was expected>".
-IdentifiedModel read_model_file(const std::filesystem::path& path);
+/// A model's channel names, in its order.
+struct ModelChannels {
+  std::vector<std::string> inputs, outputs;
+};
+
+/// Reads a model file (and its channel names into `channels` when given). Throws
+/// std::invalid_argument "<path>: <field>: <what was expected>".
+IdentifiedModel read_model_file(const std::filesystem::path& path,
+                                ModelChannels* channels = nullptr);
+
+/// The model's channels must be the run's, same names in the same order; otherwise
+/// std::invalid_argument naming both files and both lists.
+void check_same_channels(const ModelChannels& model, const std::string& model_path,
+                         const std::vector<std::string>& run_inputs,
+                         const std::vector<std::string>& run_outputs, const std::string& run_path);
+
+/// The same with the names of the inputs and outputs (`source` is the path).
+NamedModel read_named_model_file(const std::filesystem::path& path);
 
 }  // namespace excite::host::cli

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // excite simulate PLAN --plant NAME [--noise-var V] [--seed S] [--periods K] -o RUN.csv
 // excite simulate --plant NAME --step INPUT=AMPL [--samples N] [--sample-time-min T] [-o RUN.csv]
+// --plant MODEL.json: an identified model (excite identify -o) stands in for the plant.
 
 #include <cmath>
 #include <iostream>
@@ -8,8 +9,11 @@
 
 #include "firmware/runlog/format.hpp"
 #include "host/cli/commands.hpp"
+#include "host/cli/model_file.hpp"
+#include "host/cli/number_checks.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/plan_file.hpp"
+#include "host/export/model_plant.hpp"
 #include "host/simulate/simulate.hpp"
 
 namespace excite::host::cli {
@@ -40,8 +44,14 @@ void print_step(const SimulatedRun& run) {
   table.print(std::cout);
 }
 
+// A library plant, a plant file NAME.toml, or an identified model MODEL.json.
+std::unique_ptr<sim::Plant> plant_named(const std::string& name) {
+  if (name.ends_with(".json")) return plant_from_model(read_named_model_file(name));
+  return sim::make_plant(name);
+}
+
 void run(const SimulateOptions& opt) {
-  const auto plant = sim::make_plant(opt.plant);
+  const auto plant = plant_named(opt.plant);
   SimulatedRun result;
   if (!opt.step.empty()) {
     if (!opt.plan_path.empty())
@@ -88,11 +98,13 @@ void add_simulate_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "simulate", "Run a plan (or a step) open loop on a simulated plant; write the run log");
   cmd->add_option("plan", opt->plan_path, "plan file")->check(CLI::ExistingFile);
-  cmd->add_option("--plant", opt->plant, "library plant, colaA, pilot15, or a plant file NAME.toml")
+  cmd->add_option("--plant", opt->plant,
+                  "library plant, colaA, pilot15, a plant file NAME.toml, or an identified model "
+                  "MODEL.json (excite identify -o)")
       ->required();
   cmd->add_option("--noise-var", opt->sim.noise_variance, "measurement noise variance per output")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_non_negative());
   cmd->add_option("--seed", opt->sim.seed, "noise seed")->capture_default_str();
   cmd->add_option("--periods", opt->sim.periods, "play the table this many times")
       ->capture_default_str()
@@ -100,10 +112,10 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_option("--step", opt->step, "step response instead of a plan: INPUT=AMPLITUDE");
   cmd->add_option("--samples", opt->samples, "step response length")
       ->capture_default_str()
-      ->check(CLI::Range(2U, 1U << 22));
+      ->check(CLI::Range(std::uint32_t{2}, static_cast<std::uint32_t>(kMaxSimulatedRows)));
   cmd->add_option("--sample-time-min", opt->sample_time_min, "step response sample time")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   cmd->add_option("-o,--output", opt->output, "run log (CSV, firmware/runlog/README.md)");
   cmd->callback([opt] { run(*opt); });
 }

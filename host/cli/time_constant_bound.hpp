@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "host/cli/number_checks.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/case_studies.hpp"
 
@@ -25,14 +26,14 @@ inline void add_time_constant_bound_options(CLI::App* cmd, TimeConstantBoundOpti
   cmd->add_option("--max-time-constant", o.max_time_constant_min,
                   "upper bound of every time constant, min (0: the run's length); default "
                   "beta x tau_H")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_non_negative());
   cmd->add_option("--tau-high", o.tau_high_min,
                   "tau_H, the plant's high dominating time constant, min (default: the case "
                   "study of the run log's plant)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   cmd->add_option("--beta", o.beta, "settling time in units of tau_H")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
 }
 
 /// The bound in minutes (0: identify()'s default, the run's length) and where it came from.

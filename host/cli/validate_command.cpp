@@ -23,12 +23,15 @@ struct ValidateOptions {
 };
 
 void validate_run(const ValidateOptions& opt) {
-  const IdentifiedModel model = read_model_file(opt.model_path);
+  ModelChannels channels;
+  const IdentifiedModel model = read_model_file(opt.model_path, &channels);
   const Run data = read_run(opt.run_path);
+  check_same_channels(channels, opt.model_path, data.log.input_names, data.log.output_names,
+                      opt.run_path);
   if (std::abs(model.sample_time_min - data.data.sample_time_min) > 1e-9 * model.sample_time_min) {
     throw std::invalid_argument(
-        opt.run_path + ": sample_time_min = " + std::to_string(data.data.sample_time_min) +
-        ", the model's is " + std::to_string(model.sample_time_min) + "; expected equal");
+        opt.run_path + ": sample_time_min = " + num(data.data.sample_time_min, 6) +
+        ", the model's is " + num(model.sample_time_min, 6) + "; expected equal");
   }
   const std::vector<double> fits = fit(model, data.data.U, data.data.Y);
   if (opt.json) {
@@ -56,8 +59,14 @@ void crossval(const CrossvalOptions& opt) {
   std::vector<IdentifiedModel> models;
   std::vector<Dataset> data;
   std::vector<std::string> names;
+  ModelChannels first;  // every run must have the first run's channels, in its order
   for (const std::string& path : opt.runs) {
     const Run r = read_run(path);
+    if (path == opt.runs.front()) {
+      first = {r.log.input_names, r.log.output_names};
+    } else {
+      check_same_channels(first, opt.runs.front(), r.log.input_names, r.log.output_names, path);
+    }
     IdentifyOptions options;
     options.threads = opt.threads;
     options.max_time_constant_min = time_constant_bound(opt.bound, r.log.plant).first;

@@ -242,6 +242,23 @@ Composition compose_plain_multisine(const PriorKnowledge& prior, const PlainMult
   }
   if (spec.periods == 0)
     throw std::invalid_argument("multisine.periods = 0, expected at least one whole period");
+  // Sizes first: synthesis and the crest-factor optimisation cost lines x period.
+  const std::uint64_t line_count = std::uint64_t{spec.last_line} - spec.first_line + 1;
+  if (line_count > signal::kMaxLines) {
+    throw std::invalid_argument(
+        format("multisine: last_line - first_line + 1 = %llu lines, expected at most %u (the "
+               "plan's line table, firmware/signal/recipe.hpp kMaxLines)",
+               static_cast<unsigned long long>(line_count), signal::kMaxLines));
+  }
+  const std::uint64_t samples = std::uint64_t{spec.period} * spec.periods;
+  const auto values = samples * static_cast<std::uint64_t>(prior.input_count());
+  if (values > signal::kTableCapacity) {
+    throw std::invalid_argument(format(
+        "multisine: periods x period = %u x %u samples on %zu inputs = %llu values, expected at "
+        "most %zu (the gateway's table, firmware/signal/recipe.hpp kTableCapacity)",
+        spec.periods, spec.period, static_cast<std::size_t>(prior.input_count()),
+        static_cast<unsigned long long>(values), signal::kTableCapacity));
+  }
   std::vector<std::uint32_t> indices;
   for (std::uint32_t i = spec.first_line; i <= spec.last_line; ++i) indices.push_back(i);
   const std::vector<double> amplitudes(indices.size(), 1.0);
@@ -266,12 +283,6 @@ Composition compose_plain_multisine(const PriorKnowledge& prior, const PlainMult
       lines.size(), spec.first_line, spec.last_line, spec.period, spec.phases.c_str(),
       multisine::cf_sampled(lines, spec.period), multisine::cf_continuous(lines, spec.period)));
   normalise_peak(lines, spec.period);
-  const std::uint64_t samples = std::uint64_t{spec.period} * spec.periods;
-  if (samples > signal::kTableCapacity) {
-    throw std::invalid_argument(
-        format("multisine: %u periods of %u samples exceed the table capacity of %zu values",
-               spec.periods, spec.period, signal::kTableCapacity));
-  }
   comp.samples = static_cast<std::uint32_t>(samples);
   const std::uint32_t first = append_lines(comp, lines);
   comp.sources.push_back(multisine_source(0, comp.samples, spec.period, first,

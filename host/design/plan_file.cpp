@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "firmware/plan/codec.hpp"
+#include "host/output/whole_file.hpp"
 
 namespace excite::host {
 
@@ -16,24 +17,15 @@ void write_plan_file(const plan::Plan& plan, const std::filesystem::path& path) 
   if (!encoded.status) throw std::runtime_error(path.string() + ": " + encoded.status.message());
   bytes.resize(encoded.size);
 
-  std::filesystem::path temporary = path;
-  temporary += ".partial";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(bytes.data()),
-              static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) throw std::runtime_error(temporary.string() + ": cannot be written");
-  }
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    std::filesystem::remove(temporary);
-    throw std::runtime_error(path.string() + ": cannot be written (" + ec.message() + ")");
-  }
+  write_whole_file(path,
+                   std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 std::unique_ptr<plan::Plan> read_plan_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw std::invalid_argument(path.string() + ": is a directory, expected a plan file");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::invalid_argument(path.string() + ": cannot be read");
   const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
@@ -41,6 +33,14 @@ std::unique_ptr<plan::Plan> read_plan_file(const std::filesystem::path& path) {
   auto result = std::make_unique<plan::Plan>();
   const plan::Status status = plan::decode(bytes, *result);
   if (!status) throw std::invalid_argument(path.string() + ": " + status.message());
+  const std::uint64_t values = std::uint64_t{result->recipe.channels} * result->recipe.samples;
+  if (values > signal::kTableCapacity) {  // what the gateway can play; bounds inspect's memory
+    throw std::invalid_argument(
+        path.string() + ": channels x samples = " + std::to_string(result->recipe.channels) +
+        " x " + std::to_string(result->recipe.samples) + " = " + std::to_string(values) +
+        " values, expected at most " + std::to_string(signal::kTableCapacity) +
+        " (the gateway's table, firmware/signal/recipe.hpp kTableCapacity)");
+  }
   return result;
 }
 

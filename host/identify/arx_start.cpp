@@ -29,21 +29,35 @@ double norm_or_one(double n) {
 }  // namespace
 
 ArxBasis::ArxBasis(const Eigen::MatrixXd& U, std::vector<int> inputs, double T_min,
-                   double max_delay_min)
+                   double max_delay_min, const SampleLayout& layout)
     : U_(U),
       inputs_(std::move(inputs)),
       N_(U.rows()),
+      segments_(layout.segments),
       m_(static_cast<Eigen::Index>(inputs_.size())),
       nb_(static_cast<Eigen::Index>(std::ceil(max_delay_min / T_min)) + 3) {
   const Eigen::Index ub = m_ * nb_;
-  if (m_ == 0 || N_ < 2 * (ub + 2 * m_ + 1)) return;
-  // Φ_u: input lags 0 … nb − 1 from rest, unit-norm columns.
+  const Eigen::Index na_max = 2 * m_;
+  // An equation row needs its own output and its output lags 1 … na_max (those inside its
+  // segment; before it the plant is at rest) to be scored.
+  use_ = layout.weight;
+  for (const Segment& s : segments_) {
+    for (Eigen::Index k = s.begin; k < s.end; ++k) {
+      for (Eigen::Index l = 1; l <= na_max && k - l >= s.begin; ++l) {
+        if (layout.weight(k - l) == 0.0) use_(k) = 0.0;
+      }
+    }
+  }
+  used_ = static_cast<Eigen::Index>(use_.sum());
+  if (m_ == 0 || used_ < 2 * (ub + na_max + 1)) return;
+  // Φ_u: input lags 0 … nb − 1 from rest in each segment, unit-norm columns.
   Eigen::MatrixXd phi = Eigen::MatrixXd::Zero(N_, ub);
   scale_.resize(ub);
   for (Eigen::Index e = 0; e < m_; ++e) {
-    const auto u = U_.col(inputs_[static_cast<std::size_t>(e)]);
+    const Eigen::VectorXd u = U_.col(inputs_[static_cast<std::size_t>(e)]);
     for (Eigen::Index lag = 0; lag < nb_; ++lag) {
-      phi.col(e * nb_ + lag).tail(N_ - lag) = u.head(N_ - lag);
+      add_lagged(phi.col(e * nb_ + lag), u, lag, 1.0, segments_);
+      phi.col(e * nb_ + lag).array() *= use_.array();
       scale_(e * nb_ + lag) = norm_or_one(phi.col(e * nb_ + lag).norm());
     }
   }
@@ -56,13 +70,16 @@ std::optional<Eigen::MatrixXd> ArxBasis::contributions(const Eigen::VectorXd& y)
   const Eigen::Index ub = m_ * nb_;
   const Eigen::Index na_max = 2 * m_;
   const Eigen::Index P = ub + na_max;
-  if (!usable_ || y.size() != N_ || y.squaredNorm() == 0.0) return std::nullopt;
+  if (!usable_ || y.size() != N_ || y.cwiseProduct(use_).squaredNorm() == 0.0) {
+    return std::nullopt;
+  }
 
   // The output's columns [−y(k − 1) … −y(k − na_max), y], unit norm, projected by Φ_u's Q:
   // R of [Φ_u Φ_y y] = [R_uu  (Qᵀ C)_top ; 0  R of (Qᵀ C)_rest].
   Eigen::MatrixXd C = Eigen::MatrixXd::Zero(N_, na_max + 1);
-  for (Eigen::Index l = 1; l <= na_max; ++l) C.col(l - 1).tail(N_ - l) = -y.head(N_ - l);
+  for (Eigen::Index l = 1; l <= na_max; ++l) add_lagged(C.col(l - 1), y, l, -1.0, segments_);
   C.col(na_max) = y;
+  C.array().colwise() *= use_.array();
   Eigen::VectorXd scale(P + 1);
   scale.head(ub) = scale_;
   for (Eigen::Index col = 0; col <= na_max; ++col) {
@@ -84,11 +101,11 @@ std::optional<Eigen::MatrixXd> ArxBasis::contributions(const Eigen::VectorXd& y)
   for (Eigen::Index l = P; l >= 0; --l) tail2(l) = tail2(l + 1) + R(l, P) * R(l, P);
   Eigen::Index na = 0;
   double best = std::numeric_limits<double>::infinity();
-  const double log_n = std::log(static_cast<double>(N_));
+  const double log_n = std::log(static_cast<double>(used_));
   for (Eigen::Index order = 0; order <= na_max; ++order) {
     const double rel = std::max(tail2(ub + order), kExactResidual);
     const double bic =
-        static_cast<double>(N_) * std::log(rel) + static_cast<double>(ub + order) * log_n;
+        static_cast<double>(used_) * std::log(rel) + static_cast<double>(ub + order) * log_n;
     if (bic < best) {
       best = bic;
       na = order;
@@ -106,7 +123,8 @@ std::optional<Eigen::MatrixXd> ArxBasis::contributions(const Eigen::VectorXd& y)
   const Eigen::BDCSVD<Eigen::MatrixXd> svd(R.topLeftCorner(c, c),
                                            Eigen::ComputeThinU | Eigen::ComputeThinV);
   const Eigen::VectorXd& sv = svd.singularValues();
-  const double sigma = std::sqrt(tail2(c) / static_cast<double>(std::max<Eigen::Index>(N_ - c, 1)));
+  const double sigma =
+      std::sqrt(tail2(c) / static_cast<double>(std::max<Eigen::Index>(used_ - c, 1)));
   const double floor_sv = std::max(kRankThreshold * sv(0), sigma / kMaxDirectionError);
   const Eigen::VectorXd proj = svd.matrixU().transpose() * R.col(P).head(c);
   Eigen::VectorXd theta_scaled = Eigen::VectorXd::Zero(c);
@@ -120,11 +138,14 @@ std::optional<Eigen::MatrixXd> ArxBasis::contributions(const Eigen::VectorXd& y)
   for (Eigen::Index e = 0; e < m_; ++e) {
     const auto u = U_.col(inputs_[static_cast<std::size_t>(e)]);
     const Eigen::VectorXd b = theta.segment(e * nb_, nb_);
-    for (Eigen::Index k = 0; k < N_; ++k) {
-      double v = 0.0;
-      for (Eigen::Index lag = 0; lag < nb_ && lag <= k; ++lag) v += b(lag) * u(k - lag);
-      for (Eigen::Index l = 1; l <= na && l <= k; ++l) v -= a(l - 1) * Z(k - l, e);
-      Z(k, e) = v;
+    for (const Segment& s : segments_) {  // each segment from rest
+      for (Eigen::Index k = s.begin; k < s.end; ++k) {
+        const Eigen::Index since = k - s.begin;
+        double v = 0.0;
+        for (Eigen::Index lag = 0; lag < nb_ && lag <= since; ++lag) v += b(lag) * u(k - lag);
+        for (Eigen::Index l = 1; l <= na && l <= since; ++l) v -= a(l - 1) * Z(k - l, e);
+        Z(k, e) = v;
+      }
     }
   }
   if (!Z.allFinite() || Z.cwiseAbs().maxCoeff() > 1e6 * y.cwiseAbs().maxCoeff()) {

@@ -27,6 +27,8 @@
 #include <optional>
 #include <vector>
 
+#include "host/identify/segments.hpp"
+
 namespace excite::host {
 
 /// The row's ARX models over the inputs `inputs` (columns of U), the input part shared by
@@ -34,9 +36,13 @@ namespace excite::host {
 /// then costs 4·N·P_u·(2n + 1) (its own columns projected) — linear in N.
 class ArxBasis {
  public:
-  /// Keeps a reference to U (which must outlive the basis). Unusable (every output gets
-  /// nullopt) when there are no inputs or fewer than 2·(P + 1) samples.
-  ArxBasis(const Eigen::MatrixXd& U, std::vector<int> inputs, double T_min, double max_delay_min);
+  /// Keeps a reference to U (which must outlive the basis). Lags never reach across a
+  /// segment's start (the plant at rest before it, as in the simulation); an equation row is
+  /// used only when its output and the output lags it needs are scored rows of `layout`.
+  /// Unusable (every output gets nullopt) when there are no inputs or fewer than 2·(P + 1)
+  /// usable rows.
+  ArxBasis(const Eigen::MatrixXd& U, std::vector<int> inputs, double T_min, double max_delay_min,
+           const SampleLayout& layout);
 
   /// The columns z_e (N × inputs.size()) of each element's part of y, from the row's ARX
   /// model; nullopt when the basis is unusable, y is zero, or the model's denominator is
@@ -47,6 +53,9 @@ class ArxBasis {
   const Eigen::MatrixXd& U_;
   std::vector<int> inputs_;
   Eigen::Index N_;
+  std::vector<Segment> segments_;
+  Eigen::VectorXd use_;    // 1 for an equation row in the least squares, else 0
+  Eigen::Index used_ = 0;  // rows with use_ = 1
   Eigen::Index m_;
   Eigen::Index nb_;                           // lags per input
   Eigen::VectorXd scale_;                     // norms of Φ_u's columns

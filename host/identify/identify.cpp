@@ -39,7 +39,7 @@ void check_finite(const Eigen::MatrixXd& M, const char* name) {
 }
 
 void check_arguments(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double T_min,
-                     const IdentifyOptions& o) {
+                     const SampleLayout& layout, const IdentifyOptions& o) {
   if (!std::isfinite(T_min) || T_min <= 0.0) {
     throw std::invalid_argument("identify: sample time T_min = " + number(T_min) +
                                 "; expected a finite number > 0 (minutes)");
@@ -71,10 +71,16 @@ void check_arguments(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double 
                                 " samples (rows) but Y has " + std::to_string(Y.rows()) +
                                 "; expected one row per sample in both");
   }
+  if (layout.rows() != U.rows()) {
+    throw std::invalid_argument("identify: the sample layout has " + std::to_string(layout.rows()) +
+                                " rows but the data " + std::to_string(U.rows()) +
+                                "; expected one weight per row");
+  }
+  layout.check();
   const Eigen::Index need = minimum_samples(static_cast<int>(U.cols()), T_min, o);
-  if (U.rows() < need) {
+  if (layout.scored() < need) {
     throw std::invalid_argument(
-        "identify: " + std::to_string(U.rows()) + " samples are too few for " +
+        "identify: " + std::to_string(layout.scored()) + " samples are too few for " +
         std::to_string(U.cols()) + " inputs with delays up to " + number(o.max_delay_min) +
         " min at T = " + number(T_min) + " min; expected at least " + std::to_string(need) +
         " (⌈max_delay/T⌉ + 10 per parameter, 4 parameters per input)");
@@ -89,20 +95,22 @@ constexpr double kAmbiguousStart = 4.0;
 // Iterations for one element fitted alone to its part of the output (a start only).
 constexpr int kAloneIterations = 30;
 
-// ‖y − ŷ‖² of the start elements (one per input of `inputs`).
+// ‖y − ŷ‖² over the scored rows of the start elements (one per input of `inputs`).
 double start_cost(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                   const std::vector<int>& inputs, const std::vector<TwoPoleDelay>& start,
-                  double T_min) {
+                  double T_min, const SampleLayout& layout, const Eigen::MatrixXd& trend) {
   Eigen::VectorXd r = y;
   Eigen::VectorXd z(y.size());
   for (std::size_t e = 0; e < inputs.size(); ++e) {
     TwoPoleDelay unit = start[e];
     unit.gain = 1.0;
     const auto u = U.col(inputs[e]);
-    simulate(discretise(unit, T_min), {u.data(), static_cast<std::size_t>(u.size())},
-             {z.data(), static_cast<std::size_t>(z.size())});
+    simulate_segments(discretise(unit, T_min), {u.data(), static_cast<std::size_t>(u.size())},
+                      {z.data(), static_cast<std::size_t>(z.size())}, layout.segments);
     r -= start[e].gain * z;
   }
+  r = r.cwiseProduct(layout.weight);
+  if (trend.cols() > 0) r -= trend * (trend.transpose() * r);
   return r.squaredNorm();
 }
 
@@ -125,7 +133,12 @@ Eigen::Index minimum_samples(int inputs, double T_min, const IdentifyOptions& op
 
 IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double T_min,
                               const IdentifyOptions& options) {
-  check_arguments(U, Y, T_min, options);
+  return identify(U, Y, T_min, SampleLayout::whole(U.rows()), options);
+}
+
+IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double T_min,
+                              const SampleLayout& layout, const IdentifyOptions& options) {
+  check_arguments(U, Y, T_min, layout, options);
   const auto n = static_cast<int>(U.cols());
   const auto p = static_cast<int>(Y.cols());
   const double tp_max = options.max_time_constant_min > 0.0 ? options.max_time_constant_min
@@ -140,17 +153,23 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
   result.fits.assign(static_cast<std::size_t>(p), OutputFit{});
 
   const InputScreen screen = screen_inputs(U);
-  const ResponseBank bank(U, screen.usable, T_min, GridSpec{options.max_delay_min, tp_max});
-  const ArxBasis arx(U, screen.usable, T_min, options.max_delay_min);
+  const ResponseBank bank(U, screen.usable, T_min, GridSpec{options.max_delay_min, tp_max}, layout);
+  const ArxBasis arx(U, screen.usable, T_min, options.max_delay_min, layout);
+  const Eigen::MatrixXd trend = trend_basis(layout, options.trend);
 
   // One output's fit; writes only its own row of the model and its own OutputFit.
   const auto fit_output = [&](int j) {
     const Eigen::VectorXd y = Y.col(j);
+    // The starts see the output with its least-squares trend removed (the model-free part);
+    // the fit itself estimates the trend with the model.
+    Eigen::VectorXd y_start = y;
+    if (trend.cols() > 0) y_start -= trend * (trend.transpose() * layout.weight.cwiseProduct(y));
     OutputFit& fit = result.fits[static_cast<std::size_t>(j)];
-    const double spread = (y.array() - y.mean()).matrix().norm();
+    const Eigen::VectorXd y_scored = layout.scored_rows(y);
+    const double spread = (y_scored.array() - y_scored.mean()).matrix().norm();
     if (spread == 0.0) {
       mark_row(model, j, ElementStatus::output_not_moved,
-               "output " + std::to_string(j + 1) + " is constant throughout the data");
+               "output " + std::to_string(j + 1) + " is constant throughout the scored data");
       fit.fit_percent = kNaN;
       fit.residual_rms = 0.0;
       fit.converged = true;
@@ -173,7 +192,7 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
       // the better end is kept.
       const MisoBounds bounds{options.max_delay_min, tp_max};
       std::vector<std::vector<TwoPoleDelay>> starts;
-      if (const auto Z = arx.contributions(y)) {
+      if (const auto Z = arx.contributions(y_start)) {
         // Each element fitted alone to its own part of the output (a start: few iterations).
         std::vector<TwoPoleDelay> arx_start;
         for (std::size_t e = 0; e < screen.usable.size(); ++e) {
@@ -182,13 +201,13 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
           double gain = 0.0;
           TwoPoleDelay g = bank.grid()[static_cast<std::size_t>(bank.choose_one(col, z, gain))];
           g.gain = gain;
-          const MisoResult alone =
-              fit_miso(U, z, {screen.usable[e]}, {g}, T_min, bounds, kAloneIterations);
+          const MisoResult alone = fit_miso(U, z, {screen.usable[e]}, {g}, T_min, bounds,
+                                            kAloneIterations, layout, Eigen::MatrixXd(y.size(), 0));
           arx_start.push_back(alone.elements.front().value);
         }
         starts.push_back(std::move(arx_start));
       }
-      const ResponseBank::Choice choice = bank.choose(y);
+      const ResponseBank::Choice choice = bank.choose(y_start);
       std::vector<TwoPoleDelay> grid_start;
       for (std::size_t e = 0; e < screen.usable.size(); ++e) {
         TwoPoleDelay g = bank.grid()[static_cast<std::size_t>(choice.grid_index[e])];
@@ -198,15 +217,18 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
       starts.push_back(std::move(grid_start));
       std::vector<double> cost;
       for (const auto& start : starts)
-        cost.push_back(start_cost(U, y, screen.usable, start, T_min));
+        cost.push_back(start_cost(U, y, screen.usable, start, T_min, layout, trend));
       const std::size_t first = cost.size() > 1 && cost[1] < cost[0] ? 1 : 0;
-      MisoResult miso =
-          fit_miso(U, y, screen.usable, starts[first], T_min, bounds, options.max_iterations);
+      MisoResult miso = fit_miso(U, y, screen.usable, starts[first], T_min, bounds,
+                                 options.max_iterations, layout, trend);
       for (std::size_t s = 0; s < starts.size(); ++s) {
         if (s == first || !(cost[s] <= kAmbiguousStart * cost[first])) continue;
-        MisoResult other =
-            fit_miso(U, y, screen.usable, starts[s], T_min, bounds, options.max_iterations);
-        if ((other.y_hat - y).squaredNorm() < (miso.y_hat - y).squaredNorm()) {
+        MisoResult other = fit_miso(U, y, screen.usable, starts[s], T_min, bounds,
+                                    options.max_iterations, layout, trend);
+        const auto sse = [&](const MisoResult& m) {
+          return (m.y_hat - y).cwiseProduct(layout.weight).squaredNorm();
+        };
+        if (sse(other) < sse(miso)) {
           std::swap(miso, other);
         }
         miso.iterations += other.iterations;
@@ -220,8 +242,10 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
     } else {
       fit.converged = true;
     }
-    fit.fit_percent = fit_percent(y, y_hat);
-    fit.residual_rms = (y_hat - y).norm() / std::sqrt(static_cast<double>(y.size()));
+    const Eigen::VectorXd y_hat_scored = layout.scored_rows(y_hat);
+    fit.fit_percent = fit_percent(y_scored, y_hat_scored);
+    fit.residual_rms =
+        (y_hat_scored - y_scored).norm() / std::sqrt(static_cast<double>(y_scored.size()));
   };
 
   const int workers = std::min(options.threads, p);

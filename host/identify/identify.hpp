@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "host/identify/model.hpp"
+#include "host/identify/segments.hpp"
 #include "host/measures/gain_directions.hpp"
 
 namespace excite::host {
@@ -37,12 +38,14 @@ struct IdentifyOptions {
                                        // knowledge; 0 = the experiment length N·T
   int max_iterations = 200;            // Levenberg–Marquardt iterations per output
   int threads = 1;                     // outputs are fitted in parallel on this many threads
+  Trend trend = Trend::none;           // per segment offset / line of each output fitted with
+                                       // the model (segments.hpp)
 };
 
 /// Per-output diagnostics of the fit.
 struct OutputFit {
-  double fit_percent = 0.0;   // (5.5.1) on the estimation data; NaN when the output is constant
-  double residual_rms = 0.0;  // ‖ŷ − y‖ / √N, output units
+  double fit_percent = 0.0;   // (5.5.1) on the scored estimation rows; NaN when constant there
+  double residual_rms = 0.0;  // ‖ŷ − y‖ / √N over the N scored rows, output units
   int iterations = 0;         // Levenberg–Marquardt iterations used
   bool converged = false;     // stopped on a convergence test, not the iteration limit
 };
@@ -60,6 +63,13 @@ struct IdentificationResult {
 /// ⌈max_delay_min / T⌉ + 10·(4n) (the delay range plus ten samples per parameter).
 IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double T_min,
                               const IdentifyOptions& options = {});
+
+/// The same on the rows of `layout` (segments.hpp): the model simulated from rest at each
+/// segment's start, the output error, fit % and residual over the scored rows only; the
+/// sample-count check counts scored rows. Throws std::invalid_argument also when the layout
+/// does not describe U's rows (naming the segment or row).
+IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double T_min,
+                              const SampleLayout& layout, const IdentifyOptions& options = {});
 
 /// Smallest N that identify() accepts for n inputs.
 Eigen::Index minimum_samples(int inputs, double T_min, const IdentifyOptions& options = {});

@@ -30,8 +30,9 @@ std::span<double> span_of(Eigen::VectorXd& v) {
 // Jacobian by sensitivity filters (see jacobian()).
 class RowModel {
  public:
-  RowModel(const Eigen::MatrixXd& U, const std::vector<int>& inputs, double T_min)
-      : U_(U), inputs_(inputs), T_(T_min), w_(U.rows()), v_(U.rows()) {}
+  RowModel(const Eigen::MatrixXd& U, const std::vector<int>& inputs, double T_min,
+           const SampleLayout& layout)
+      : U_(U), inputs_(inputs), T_(T_min), layout_(layout), w_(U.rows()), v_(U.rows()) {}
 
   std::span<const double> input(Eigen::Index e) const {
     const auto col = U_.col(inputs_[static_cast<std::size_t>(e)]);
@@ -42,7 +43,7 @@ class RowModel {
     Eigen::VectorXd y_hat = Eigen::VectorXd::Zero(U_.rows());
     Eigen::VectorXd z(U_.rows());
     for (Eigen::Index e = 0; e < elements(); ++e) {
-      simulate(discretise(unit_element(x, e), T_), input(e), span_of(z));
+      simulate_segments(discretise(unit_element(x, e), T_), input(e), span_of(z), layout_.segments);
       y_hat += x(kPerElement * e + kGain) * z;
     }
     return y_hat;
@@ -51,8 +52,9 @@ class RowModel {
   // ∂ŷ/∂x. With G = B(q)/D(q) (taps b_m by lag, D = 1 + a1 q⁻¹ + a2 q⁻²), w = u/D and v = z/D
   // for the unit response z = B w:
   //   ∂z/∂θ = Σ_m (∂b_m/∂θ) w(k − m) − (∂a1/∂θ) v(k − 1) − (∂a2/∂θ) v(k − 2),
-  // exact filters; only the scalar coefficient derivatives are taken by central differences
-  // (one-sided on a bound), over a tap window wide enough for d to change by one.
+  // exact filters, each segment from rest (segments.hpp); only the scalar coefficient derivatives
+  // are taken by central differences (one-sided on a bound), over a tap window wide enough for d to
+  // change by one.
   void jacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& lower,
                 const Eigen::VectorXd& upper, Eigen::MatrixXd& J) {
     const Eigen::Index N = U_.rows();
@@ -67,15 +69,16 @@ class RowModel {
       const LagTaps base = lag_taps(g, T_, m0);
       const std::span<const double> u = input(e);
       std::copy(u.begin(), u.end(), w_.data());
-      all_pole_filter(base.a1, base.a2, span_of(w_));
+      const std::vector<Segment>& segs = layout_.segments;
+      all_pole_filter_segments(base.a1, base.a2, span_of(w_), segs);
       auto z = J.col(o + kGain);
       z.setZero();
       for (std::size_t t = 0; t < kLagWindow; ++t) {
         const auto lag = static_cast<Eigen::Index>(m0 + t);
-        if (base.b[t] != 0.0 && lag < N) z.tail(N - lag) += base.b[t] * w_.head(N - lag);
+        if (base.b[t] != 0.0) add_lagged(z, w_, lag, base.b[t], segs);
       }
       v_ = z;
-      all_pole_filter(base.a1, base.a2, span_of(v_));
+      all_pole_filter_segments(base.a1, base.a2, span_of(v_), segs);
       const double K = x(o + kGain);
       for (const int m : {kDelay, kTp1, kTp2}) {
         const double val = x(o + m);
@@ -94,14 +97,16 @@ class RowModel {
         for (std::size_t t = 0; t < kLagWindow; ++t) {
           const auto lag = static_cast<Eigen::Index>(m0 + t);
           const double db = scale * (tp.b[t] - tm.b[t]);
-          if (db != 0.0 && lag < N) col.tail(N - lag) += db * w_.head(N - lag);
+          if (db != 0.0) add_lagged(col, w_, lag, db, segs);
         }
         const double da1 = scale * (tp.a1 - tm.a1);
         const double da2 = scale * (tp.a2 - tm.a2);
-        if (da1 != 0.0) col.tail(N - 1) -= da1 * v_.head(N - 1);
-        if (da2 != 0.0 && N > 2) col.tail(N - 2) -= da2 * v_.head(N - 2);
+        if (da1 != 0.0) add_lagged(col, v_, 1, -da1, segs);
+        if (da2 != 0.0) add_lagged(col, v_, 2, -da2, segs);
       }
     }
+    // Rows outside the cost have no residual, hence no sensitivity.
+    J.array().colwise() *= layout_.weight.array();
   }
 
   Eigen::Index elements() const { return static_cast<Eigen::Index>(inputs_.size()); }
@@ -114,6 +119,7 @@ class RowModel {
   const Eigen::MatrixXd& U_;
   const std::vector<int>& inputs_;
   double T_;
+  const SampleLayout& layout_;
   Eigen::VectorXd w_;  // scratch: u / D
   Eigen::VectorXd v_;  // scratch: z / D
 };
@@ -124,20 +130,31 @@ class RowModel {
 // parameters (K of the same row: a weight ~1e-9), which must not make K undetermined.
 constexpr double kNullWeight = 1e-6;
 
+struct ParameterUncertainty {
+  Eigen::VectorXd se;   // 1σ per parameter
+  Eigen::MatrixXd cov;  // σ̂² (JᵀJ)⁺ over the determined directions; NaN rows/columns on a
+                        // bound
+};
+
 // 1σ standard errors σ̂ √diag((JᵀJ)⁻¹) over the parameters not on a bound; inf for
 // parameters in a direction the data do not determine (a numerically zero eigenvalue,
 // weight above kNullWeight); the other parameters' variances over the determined directions.
-Eigen::VectorXd standard_errors(const Eigen::MatrixXd& J, double sse,
-                                const std::vector<bool>& on_bound) {
+// The covariance is the same pseudo-inverse, whole: its diagonal is se² except for an
+// undetermined parameter (se inf), whose null direction it leaves out — the output does
+// not change along that direction, so what the output determines stays finite.
+ParameterUncertainty standard_errors(const Eigen::MatrixXd& J, Eigen::Index scored_rows, double sse,
+                                     const std::vector<bool>& on_bound) {
   const Eigen::Index P = J.cols();
-  Eigen::VectorXd se = Eigen::VectorXd::Constant(P, kNaN);
+  ParameterUncertainty out{Eigen::VectorXd::Constant(P, kNaN),
+                           Eigen::MatrixXd::Constant(P, P, kNaN)};
+  Eigen::VectorXd& se = out.se;
   std::vector<Eigen::Index> free;
   for (Eigen::Index m = 0; m < P; ++m) {
     if (!on_bound[static_cast<std::size_t>(m)]) free.push_back(m);
   }
   const auto F = static_cast<Eigen::Index>(free.size());
-  const Eigen::Index dof = J.rows() - F;
-  if (F == 0 || dof <= 0) return se;
+  const Eigen::Index dof = scored_rows - F;
+  if (F == 0 || dof <= 0) return out;
   Eigen::MatrixXd Jf(J.rows(), F);
   for (Eigen::Index a = 0; a < F; ++a) Jf.col(a) = J.col(free[static_cast<std::size_t>(a)]);
   // Scale columns to unit norm so the eigen test is about directions, not units.
@@ -151,6 +168,17 @@ Eigen::VectorXd standard_errors(const Eigen::MatrixXd& J, double sse,
   const Eigen::MatrixXd& V = eig.eigenvectors();
   const double sigma2 = sse / static_cast<double>(dof);
   const double floor = 1e-13 * std::max(lam.maxCoeff(), 0.0);
+  Eigen::VectorXd inverse = Eigen::VectorXd::Zero(F);  // 1/λ on the determined directions
+  for (Eigen::Index k = 0; k < F; ++k) {
+    if (lam(k) > floor) inverse(k) = 1.0 / lam(k);
+  }
+  const Eigen::MatrixXd cov_scaled = V * inverse.asDiagonal() * V.transpose();
+  for (Eigen::Index a = 0; a < F; ++a) {
+    for (Eigen::Index b = 0; b < F; ++b) {
+      out.cov(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]) =
+          sigma2 * cov_scaled(a, b) / (norms(a) * norms(b));
+    }
+  }
   for (Eigen::Index a = 0; a < F; ++a) {
     double var = 0.0;
     for (Eigen::Index k = 0; k < F; ++k) {
@@ -163,15 +191,16 @@ Eigen::VectorXd standard_errors(const Eigen::MatrixXd& J, double sse,
     }
     se(free[static_cast<std::size_t>(a)]) = std::sqrt(sigma2 * var) / norms(a);
   }
-  return se;
+  return out;
 }
 
 }  // namespace
 
 MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                     const std::vector<int>& inputs, std::vector<TwoPoleDelay> initial, double T_min,
-                    const MisoBounds& bounds, int max_iterations) {
-  RowModel row(U, inputs, T_min);
+                    const MisoBounds& bounds, int max_iterations, const SampleLayout& layout,
+                    const Eigen::MatrixXd& trend) {
+  RowModel row(U, inputs, T_min, layout);
   const Eigen::Index m = row.elements();
   const Eigen::Index P = kPerElement * m;
 
@@ -190,11 +219,13 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
     problem.scale.segment<kPerElement>(o) << std::max(std::abs(g.gain), 1e-12), T_min, T_min, T_min;
   }
   problem.residual = [&](const Eigen::VectorXd& x, Eigen::VectorXd& r) {
-    r = y - row.output(x);
+    r = layout.weight.cwiseProduct(y - row.output(x));
+    if (trend.cols() > 0) r -= trend * (trend.transpose() * r);
     return true;
   };
   problem.jacobian = [&](const Eigen::VectorXd& x, Eigen::MatrixXd& J) {
     row.jacobian(x, problem.lower, problem.upper, J);
+    if (trend.cols() > 0) J -= trend * (trend.transpose() * J);
   };
   LmOptions lm_options;
   lm_options.max_iterations = max_iterations;
@@ -204,20 +235,26 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
   out.iterations = lm.iterations;
   out.converged = lm.converged;
   out.y_hat = row.output(lm.x);
+  if (trend.cols() > 0) {
+    out.y_hat += trend * (trend.transpose() * layout.weight.cwiseProduct(y - out.y_hat));
+  }
   Eigen::MatrixXd J;
-  row.jacobian(lm.x, problem.lower, problem.upper, J);
+  problem.jacobian(lm.x, J);
   std::vector<bool> on_bound(static_cast<std::size_t>(P));
   for (Eigen::Index k = 0; k < P; ++k) {
     on_bound[static_cast<std::size_t>(k)] =
         lm.x(k) <= problem.lower(k) || lm.x(k) >= problem.upper(k);
   }
-  const Eigen::VectorXd se = standard_errors(J, lm.cost, on_bound);
+  const ParameterUncertainty uncertainty =
+      standard_errors(J, layout.scored() - trend.cols(), lm.cost, on_bound);
+  const Eigen::VectorXd& se = uncertainty.se;
 
   for (Eigen::Index e = 0; e < m; ++e) {
     const Eigen::Index o = kPerElement * e;
     ElementEstimate est;
     est.value = TwoPoleDelay{lm.x(o), lm.x(o + 1), lm.x(o + 2), lm.x(o + 3)};
     est.std_error = TwoPoleDelay{se(o), se(o + 1), se(o + 2), se(o + 3)};
+    est.covariance = uncertainty.cov.block<kPerElement, kPerElement>(o, o);
     for (int k = 0; k < kPerElement; ++k)
       est.at_bound[static_cast<std::size_t>(k)] = on_bound[static_cast<std::size_t>(o + k)];
     // Report T_p1 ≥ T_p2 (the model is symmetric in them).
@@ -225,6 +262,8 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
       std::swap(est.value.tau1_min, est.value.tau2_min);
       std::swap(est.std_error.tau1_min, est.std_error.tau2_min);
       std::swap(est.at_bound[kTp1], est.at_bound[kTp2]);
+      est.covariance.row(kTp1).swap(est.covariance.row(kTp2));
+      est.covariance.col(kTp1).swap(est.covariance.col(kTp2));
     }
     const double k_se = est.std_error.gain;
     if (std::isfinite(k_se) ? std::abs(est.value.gain) < 2.0 * k_se : std::isinf(k_se)) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "host/identify/model.hpp"
+#include "host/identify/segments.hpp"
 
 namespace excite::host {
 
@@ -23,9 +24,13 @@ struct MisoResult {
   bool converged = false;
 };
 
-/// Fits y ≈ Σ_e G_e u_{inputs[e]} from `initial` (one element per input of `inputs`).
+/// Fits y ≈ Σ_e G_e u_{inputs[e]} from `initial` (one element per input of `inputs`) on the
+/// scored rows of `layout`, the model simulated from rest at each segment's start, and the
+/// trend spanned by the orthonormal columns `trend` (trend_basis(); N × 0 for none) fitted
+/// with it by projection. y_hat is the simulation on every row plus the fitted trend.
 MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                     const std::vector<int>& inputs, std::vector<TwoPoleDelay> initial, double T_min,
-                    const MisoBounds& bounds, int max_iterations);
+                    const MisoBounds& bounds, int max_iterations, const SampleLayout& layout,
+                    const Eigen::MatrixXd& trend);
 
 }  // namespace excite::host

@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,11 @@ struct ElementEstimate {
   TwoPoleDelay value;              // NaN fields when not estimated (see status)
   TwoPoleDelay std_error;          // 1σ; NaN when not available (not estimated, or at a bound)
   std::array<bool, 4> at_bound{};  // parameter ended on its bound (indexed by Parameter)
+  /// The element's 4 × 4 block of the row's parameter covariance σ̂² (JᵀJ)⁺ over the
+  /// directions the data determine (indexed by Parameter; its diagonal is std_error² except
+  /// where std_error is inf: a direction the output does not depend on is left out). NaN rows
+  /// and columns for a parameter on a bound or not estimated.
+  Eigen::Matrix4d covariance = Eigen::Matrix4d::Constant(std::numeric_limits<double>::quiet_NaN());
   ElementStatus status = ElementStatus::identified;
   std::string reason;  // why the status is not `identified`; "" otherwise
 

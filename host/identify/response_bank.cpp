@@ -7,7 +7,7 @@
 namespace excite::host {
 
 ResponseBank::ResponseBank(const Eigen::MatrixXd& U, const std::vector<int>& inputs, double T_min,
-                           const GridSpec& spec) {
+                           const GridSpec& spec, const SampleLayout& layout) {
   const Eigen::Index N = U.rows();
   const double delay_step = std::max(T_min, spec.max_delay_min / 10.0);
   const double tau_top =
@@ -26,10 +26,10 @@ ResponseBank::ResponseBank(const Eigen::MatrixXd& U, const std::vector<int>& inp
   for (const int i : inputs) {
     Eigen::MatrixXf R(N, G);
     for (Eigen::Index g = 0; g < G; ++g) {
-      simulate(discrete[static_cast<std::size_t>(g)],
-               {U.col(i).data(), static_cast<std::size_t>(N)},
-               {buffer.data(), static_cast<std::size_t>(N)});
-      R.col(g) = buffer.cast<float>();
+      simulate_segments(discrete[static_cast<std::size_t>(g)],
+                        {U.col(i).data(), static_cast<std::size_t>(N)},
+                        {buffer.data(), static_cast<std::size_t>(N)}, layout.segments);
+      R.col(g) = buffer.cwiseProduct(layout.weight).cast<float>();
     }
     norms2_.push_back(R.colwise().squaredNorm().transpose());
     responses_.push_back(std::move(R));

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "host/identify/element.hpp"
+#include "host/identify/segments.hpp"
 
 namespace excite::host {
 
@@ -18,11 +19,13 @@ struct GridSpec {
 
 class ResponseBank {
  public:
-  /// Simulates every grid element (gain 1) for each input in `inputs` (columns of U).
+  /// Simulates every grid element (gain 1) for each input in `inputs` (columns of U), each
+  /// segment of `layout` from rest; rows outside the cost are zero in every response (so
+  /// choose() and choose_one() must be given outputs with those rows zero too).
   /// Grid: delays 0 … max_delay in max(T, max_delay/10) steps; T_p1 geometric by 2 from
   /// T/2 to min(max_time_constant, N·T/8); T_p2 = T_p1/4.
   ResponseBank(const Eigen::MatrixXd& U, const std::vector<int>& inputs, double T_min,
-               const GridSpec& grid);
+               const GridSpec& grid, const SampleLayout& layout);
 
   /// Grid elements (gain 1), same for every input.
   const std::vector<TwoPoleDelay>& grid() const { return grid_; }

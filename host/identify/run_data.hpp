@@ -15,7 +15,9 @@ struct RunData {
   double sample_time_min = 0.0;
 };
 
-/// Copies the deviation columns of a log that read_run_log() accepted.
+/// Copies the deviation columns of a log that read_run_log() accepted. Throws
+/// std::invalid_argument (naming the row) when a row is flagged skipped or discontinuity
+/// (format v2): the samples are then not one equally spaced run.
 RunData run_data(const runlog::RunLog& log);
 
 }  // namespace excite::host

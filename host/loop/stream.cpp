@@ -8,19 +8,13 @@
 #include <stdexcept>
 
 #include "host/loop/child_process.hpp"
+#include "host/output/whole_file.hpp"
 
 namespace excite::host {
 namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
-
-void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << text;
-  out.close();
-  if (!out) throw std::runtime_error(path.string() + ": cannot write");
-}
 
 std::string last_line(const std::string& text) {
   const auto end = text.find_last_not_of('\n');
@@ -59,7 +53,7 @@ LoopResult stream_in_the_loop(const LoopRun& run) {
 
   // The plant side first: it picks its port; then the gateway side for that port.
   LoopConfigOptions config = run.config;
-  write_text(plant_toml, make_loop_config(config).plant_toml);
+  write_whole_file(plant_toml, make_loop_config(config).plant_toml);
   ChildProcess plant(run.programs.plant_server,
                      {"--config", plant_toml.string(), "--modbus-tcp", config.host + ":0",
                       "--clock", "lockstep", "--log", result.plant_log.string()},
@@ -69,7 +63,7 @@ LoopResult stream_in_the_loop(const LoopRun& run) {
   if (!listening || listening->rfind(prefix, 0) != 0) failed(plant, "did not start");
   config.port =
       static_cast<std::uint32_t>(std::stoul(listening->substr(listening->rfind(':') + 1)));
-  write_text(gateway_toml, make_loop_config(config).gateway_toml);
+  write_whole_file(gateway_toml, make_loop_config(config).gateway_toml);
 
   ChildProcess gateway(run.programs.gateway,
                        {"--config", gateway_toml.string(), "--plan", run.plan.string(), "--log",

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "host/multisine/phases.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -8,6 +9,13 @@
 #include <string>
 
 namespace excite::host::multisine {
+namespace {
+// The shortest text that reads back as `value` (1e+308, not 309 digits).
+std::string shortest(double value) {
+  char text[32];
+  return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
+}
+}  // namespace
 
 std::vector<double> schroeder_phases(std::span<const double> amplitudes) {
   if (amplitudes.empty()) {
@@ -17,7 +25,7 @@ std::vector<double> schroeder_phases(std::span<const double> amplitudes) {
   for (std::size_t k = 0; k < amplitudes.size(); ++k) {
     if (!(amplitudes[k] >= 0.0) || !std::isfinite(amplitudes[k])) {
       throw std::invalid_argument("schroeder_phases: amplitudes[" + std::to_string(k) + "] = " +
-                                  std::to_string(amplitudes[k]) + ", expected a finite value >= 0");
+                                  shortest(amplitudes[k]) + ", expected a finite value >= 0");
     }
     total_power += amplitudes[k] * amplitudes[k];
   }

@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: MIT
 #include "host/simulate/simulate.hpp"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <stdexcept>
 
 #include "firmware/runlog/writer.hpp"
 #include "host/design/table.hpp"
+#include "host/output/whole_file.hpp"
 #include "sim/lti/noise.hpp"
 
 namespace excite::host {
@@ -45,6 +48,13 @@ SimulatedRun simulate_plan(const plan::Plan& plan, std::string plan_label, sim::
                                 std::to_string(plant.inputs()) + " inputs; expected equal");
   }
   if (options.periods == 0) throw std::invalid_argument("periods = 0, expected at least 1");
+  const std::uint64_t rows = std::uint64_t{options.periods} * plan.recipe.samples;
+  if (rows > kMaxSimulatedRows) {
+    throw std::invalid_argument("--periods x plan samples = " + std::to_string(options.periods) +
+                                " x " + std::to_string(plan.recipe.samples) + " = " +
+                                std::to_string(rows) + " rows, expected at most " +
+                                std::to_string(kMaxSimulatedRows) + " (host/README.md, Limits)");
+  }
   SimulatedRun run = describe(plant, plan.meta.sample_time_min);
   run.plan = std::move(plan_label);
   const Table table = make_table(plan.recipe);
@@ -65,8 +75,10 @@ SimulatedRun simulate_step(sim::Plant& plant, const std::string& input, double a
     for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
     throw std::invalid_argument("step input = \"" + input + "\", expected one of: " + known);
   }
-  if (samples < 2)
-    throw std::invalid_argument("samples = " + std::to_string(samples) + ", expected at least 2");
+  if (samples < 2 || samples > kMaxSimulatedRows) {
+    throw std::invalid_argument("samples = " + std::to_string(samples) + ", expected 2 to " +
+                                std::to_string(kMaxSimulatedRows));
+  }
   SimulatedRun run = describe(plant, sample_time_min);
   run.plan = "step " + input + "=" + std::to_string(amplitude);
   run.du = Eigen::MatrixXd::Zero(samples, plant.inputs());
@@ -85,17 +97,15 @@ void write_run_log(const SimulatedRun& run, const std::filesystem::path& path) {
   const runlog::Header header{run.plant, run.plan, run.sample_time_min,
                               inputs,    outputs,  run.producer};
 
-  std::filesystem::path partial = path;
-  partial += ".partial";
-  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(partial.c_str(), "w"),
-                                                             &std::fclose);
-  if (!file) throw std::runtime_error(partial.string() + ": cannot be written");
+  WholeFile file(path);
   std::vector<char> buffer(
       std::max<std::size_t>(runlog::max_row_chars(inputs.size(), outputs.size()), 1 << 16));
-  runlog::FileWriter writer(file.get(), header, buffer);
+  runlog::FileWriter writer(file.stream(), header, buffer);
   const auto fail = [&](runlog::WriteStatus status) {
-    std::filesystem::remove(partial);
-    throw std::runtime_error(path.string() + ": " + std::string(runlog::describe(status)));
+    const int error = errno;  // a stream error's reason: disk full, file too large
+    std::string reason(runlog::describe(status));
+    if (std::ferror(file.stream()) != 0 && error != 0) reason = std::strerror(error);
+    throw std::runtime_error(path.string() + ": cannot be written (" + reason + ")");
   };
   if (const auto s = writer.write_header(); s != runlog::WriteStatus::ok) fail(s);
 
@@ -109,17 +119,17 @@ void write_run_log(const SimulatedRun& run, const std::filesystem::path& path) {
       u[static_cast<std::size_t>(j)] = run.input_baseline(j) + run.du(k, j);
     }
     for (Eigen::Index i = 0; i < p; ++i) dy[static_cast<std::size_t>(i)] = run.dy(k, i);
-    const runlog::Row row{
-        static_cast<double>(k) * run.sample_time_min, static_cast<std::uint64_t>(k), du, u, dy, 0};
+    // No engine here: every row of the plan is applied as designed, so the state is running.
+    const runlog::Row row{static_cast<double>(k) * run.sample_time_min,
+                          static_cast<std::uint64_t>(k),
+                          du,
+                          u,
+                          dy,
+                          0,
+                          runlog::RunState::running};
     if (const auto s = writer.write_row(row); s != runlog::WriteStatus::ok) fail(s);
   }
-  if (std::fflush(file.get()) != 0) fail(runlog::WriteStatus::io_error);
-  std::error_code ec;
-  std::filesystem::rename(partial, path, ec);
-  if (ec) {
-    std::filesystem::remove(partial);
-    throw std::runtime_error(path.string() + ": cannot be written (" + ec.message() + ")");
-  }
+  file.commit();
 }
 
 }  // namespace excite::host

@@ -15,6 +15,10 @@
 
 namespace excite::host {
 
+/// The most rows one simulation writes (periods × plan samples, or a step's samples): what
+/// the identification reads (host/README.md, "Limits"). Checked before any work.
+inline constexpr std::uint64_t kMaxSimulatedRows = 100'000;
+
 struct SimulationOptions {
   double noise_variance = 0.0;  // per output, Gaussian (case study: 0.03)
   std::uint64_t seed = 1;       // of the noise
@@ -44,8 +48,9 @@ SimulatedRun simulate_step(sim::Plant& plant, const std::string& input, double a
                            std::uint32_t samples, double sample_time_min,
                            const SimulationOptions& options);
 
-/// Writes the run log (through PATH.partial renamed into place: a failed write leaves no
-/// file). Throws std::runtime_error naming the path and the writer's reason.
+/// Writes the run log whole or not at all (host/output/whole_file.hpp: a failed write
+/// leaves the old file, if any, untouched). Throws std::runtime_error naming the path and the
+/// writer's reason.
 void write_run_log(const SimulatedRun& run, const std::filesystem::path& path);
 
 }  // namespace excite::host

@@ -18,7 +18,9 @@ struct PlantDefinition {
 };
 
 /// Parses a plant from TOML text; `source` names it in error messages (a path or a plant
-/// name). Throws std::invalid_argument naming the key, the value and what was expected.
+/// name). Throws std::invalid_argument (a config::Error) in the one form of
+/// firmware/config: "SOURCE:LINE:COL: FIELD = VALUE, expected …"; an element the grammar
+/// refuses reads "SOURCE:LINE:COL: <the grammar's message>" at the line of G.
 PlantDefinition plant_from_toml(std::string_view toml_text, std::string_view source = "plant");
 
 /// Reads and parses a plant file. Throws std::invalid_argument (also when unreadable).

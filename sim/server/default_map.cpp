@@ -12,7 +12,7 @@ ServerRegisters default_registers(int inputs, int outputs,
   if (inputs < 1 || inputs > default_max_inputs || outputs < 1 || outputs > default_max_outputs) {
     throw std::invalid_argument(
         "plant = " + std::to_string(inputs) + " inputs, " + std::to_string(outputs) +
-        " outputs: expected 1.." + std::to_string(default_max_inputs) + " inputs and 1.." +
+        " outputs, expected 1.." + std::to_string(default_max_inputs) + " inputs and 1.." +
         std::to_string(default_max_outputs) +
         " outputs for the default register map (write a --config for larger plants)");
   }

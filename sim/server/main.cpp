@@ -17,6 +17,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "firmware/config/error.hpp"
+#include "firmware/runlog/format.hpp"
 #include "sim/server/default_map.hpp"
 #include "sim/server/plant_process.hpp"
 #include "sim/server/plant_server.hpp"
@@ -47,7 +49,7 @@ void install_handlers() {
 
 [[noreturn]] void bad(const std::string& field, const std::string& value,
                       const std::string& expected) {
-  throw std::invalid_argument(field + " = " + value + ": expected " + expected);
+  throw excite::config::Error(field, value, expected);
 }
 
 std::string text_of(double x) {
@@ -167,6 +169,7 @@ int main(int argc, char** argv) {
   app.add_option("--input-range", input_range,
                  "input limits: baseline ± R on every input, > 0; writes outside are refused "
                  "with exception 3 (overrides plant.input_min/input_max)");
+  app.set_version_flag("--version", "excite-plant " + std::string(excite::runlog::kVersion));
   app.add_option("--faults-after", faults_after,
                  "serve this many requests normally before the faults above apply");
   try {

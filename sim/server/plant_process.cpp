@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "firmware/config/error.hpp"
+
 namespace excite::sim::server {
 namespace {
 
@@ -21,22 +23,21 @@ std::unique_ptr<Plant> load_plant(const PlantSettings& settings,
     std::filesystem::path path(settings.file);
     if (path.is_relative()) path = base_directory / path;
     if (path.extension() != ".toml") {
-      throw std::invalid_argument(std::string(source) + ": plant.file = \"" + settings.file +
-                                  "\": expected a plant file ending in .toml (sim/lti format)");
+      throw config::Error(source, {}, "plant.file", "\"" + settings.file + "\"",
+                          "a plant file ending in .toml (sim/lti format)");
     }
     return make_plant(path.string());
   }
   if (settings.library.empty()) {
-    throw std::invalid_argument(std::string(source) +
-                                ": plant = (none): expected plant.library or plant.file in the "
-                                "configuration, or --plant");
+    throw config::Error(source, {}, "plant", "(none)",
+                        "plant.library or plant.file in the configuration, or --plant");
   }
   const std::vector<std::string> names = plant_names();
   if (std::find(names.begin(), names.end(), settings.library) == names.end()) {
     std::string list;
     for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw std::invalid_argument(std::string(source) + ": plant.library = \"" + settings.library +
-                                "\": expected one of " + list + ", or a plant file NAME.toml");
+    throw config::Error(source, {}, "plant.library", "\"" + settings.library + "\"",
+                        "one of " + list + ", or a plant file NAME.toml");
   }
   return make_plant(settings.library);
 }

@@ -109,8 +109,7 @@ void PlantServer::open_log() {
                               producer_};
   log_writer_.emplace(log_, header, log_buffer_);
   if (const auto s = log_writer_->write_header(); s != runlog::WriteStatus::ok) {
-    throw std::runtime_error("--log " + options_.log_path + ": " +
-                             std::string(runlog::describe(s)));
+    throw std::runtime_error("--log " + options_.log_path + ": " + log_writer_->detail());
   }
 }
 
@@ -349,12 +348,10 @@ void PlantServer::take_sample() {
   image_.write_values(y_.data());
   report_misfits(k);
   if (log_writer_) {
-    const runlog::Row row{static_cast<double>(k) * process_.sample_time_min(),
-                          k,
-                          process_.last_du(),
-                          u_,
-                          process_.last_dy(),
-                          0};
+    const runlog::Row row{static_cast<double>(k) * process_.sample_time_min(), k,
+                          process_.last_du(), u_, process_.last_dy(), 0,
+                          // The plant cannot see the gateway's engine state.
+                          runlog::RunState::unknown};
     if (const auto s = log_writer_->write_row(row); s != runlog::WriteStatus::ok) {
       throw std::runtime_error("--log " + options_.log_path + ": sample " + std::to_string(k) +
                                ": " + std::string(runlog::describe(s)));

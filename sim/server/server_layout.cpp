@@ -5,13 +5,14 @@
 #include <stdexcept>
 #include <string>
 
+#include "firmware/config/error.hpp"
+
 namespace excite::sim::server {
 namespace {
 
 [[noreturn]] void fail(std::string_view source, const std::string& field, const std::string& value,
                        const std::string& expected) {
-  throw std::invalid_argument(std::string(source) + ": " + field + " = " + value + ": expected " +
-                              expected);
+  throw config::Error(source, {}, field, value, expected);
 }
 
 // One block of registers in one table, named by its configuration field.

@@ -262,7 +262,7 @@ TEST_F(Watchdog, LimitsThatMissTheBaselineOrThePlantAreRefusedByName) {
     std::string line, message;
   } cases[] = {
       {"input_min = [1.0, -2.0]", "plant.input_min/input_max[0] = [1, "},
-      {"input_min = [-2.0, -2.0, -2.0]", "plant.input_max = (2 values): expected as many"},
+      {"input_min = [-2.0, -2.0, -2.0]", "plant.input_max = (2 values), expected as many"},
   };
   for (const auto& c : cases) {
     std::ofstream(path("bad.toml")) << good.substr(0, at) + c.line + good.substr(end);

@@ -394,13 +394,13 @@ TEST(ExcitePlantBadInput, SetpointCountDifferentFromThePlantInputsIsRefused) {
   const Refused r = run_refused({"--config", "@" + text, "--port", "0"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.first_line, "");
-  EXPECT_THAT(r.stderr_text, HasSubstr("registers.setpoints = 3 entries: expected 4"));
+  EXPECT_THAT(r.stderr_text, HasSubstr("registers.setpoints = 3 entries, expected 4"));
 }
 
 TEST(ExcitePlantBadInput, UnknownPlantIsRefused) {
   const Refused r = run_refused({"--config", "@" + std::string(kConfig), "--plant", "nosuch"});
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_THAT(r.stderr_text, HasSubstr("plant.library = \"nosuch\": expected one of alatiqi4x4"));
+  EXPECT_THAT(r.stderr_text, HasSubstr("plant.library = \"nosuch\", expected one of alatiqi4x4"));
 }
 
 TEST(ExcitePlantBadInput, UnknownWordOrderIsRefused) {

@@ -109,6 +109,10 @@ std::optional<int> PlantRunner::stop(int signal, std::chrono::milliseconds timeo
   return wait_exit(timeout);
 }
 
+void PlantRunner::signal(int signo) const {
+  if (pid_ > 0 && !exit_code_) kill(pid_, signo);
+}
+
 std::string PlantRunner::stderr_text() const {
   std::ifstream in(stderr_file_);
   std::ostringstream text;

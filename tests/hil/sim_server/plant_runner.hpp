@@ -53,6 +53,9 @@ class PlantRunner {
   /// Waits for the process to exit by itself; as stop().
   std::optional<int> wait_exit(std::chrono::milliseconds timeout = std::chrono::milliseconds(5000));
 
+  /// Sends `signal` without waiting (SIGSTOP / SIGCONT: a stalled peer).
+  void signal(int signo) const;
+
   /// Everything the process wrote to stderr so far.
   std::string stderr_text() const;
   /// The first stdout line, as read by wait_listening ("" if none).

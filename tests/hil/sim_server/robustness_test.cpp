@@ -465,19 +465,19 @@ Refused refused(const std::vector<std::string>& args) {
 
 TEST(RobustBadInput, NanAndNegativeNumbersAreRefusedByName) {
   const std::vector<std::pair<std::vector<std::string>, std::string>> cases{
-      {{"--plant", "alatiqi4x4", "--noise-var", "nan"}, "--noise-var = nan: expected"},
+      {{"--plant", "alatiqi4x4", "--noise-var", "nan"}, "--noise-var = nan, expected"},
       {{"--plant", "alatiqi4x4", "--noise-var", "-1"},
-       "--noise-var = -1: expected a variance >= 0"},
+       "--noise-var = -1, expected a variance >= 0"},
       {{"--plant", "alatiqi4x4", "--clock", "realtime", "--speedup", "-2"},
-       "--speedup = -2: expected a factor > 0"},
+       "--speedup = -2, expected a factor > 0"},
       {{"--plant", "alatiqi4x4", "--clock", "lockstep", "--speedup", "2"},
-       "--speedup = 2: expected only with --clock realtime"},
-      {{"--plant", "alatiqi4x4", "--sample-time-min", "0"}, "--sample-time-min = 0: expected"},
+       "--speedup = 2, expected only with --clock realtime"},
+      {{"--plant", "alatiqi4x4", "--sample-time-min", "0"}, "--sample-time-min = 0, expected"},
       {{"--plant", "alatiqi4x4", "--modbus-tcp", "127.0.0.1:70000"},
-       "--modbus-tcp = \"127.0.0.1:70000\": expected ADDR:PORT"},
+       "--modbus-tcp = \"127.0.0.1:70000\", expected ADDR:PORT"},
       {{"--plant", "alatiqi4x4", "--modbus-tcp", "localhost"}, "--modbus-tcp = \"localhost\""},
-      {{"--noise-var", "0.1"}, "--plant = (none): expected a plant"},
-      {{"--plant", "nosuch"}, "plant.library = \"nosuch\": expected one of"},
+      {{"--noise-var", "0.1"}, "--plant = (none), expected a plant"},
+      {{"--plant", "nosuch"}, "plant.library = \"nosuch\", expected one of"},
   };
   for (const auto& [args, message] : cases) {
     const Refused r = refused(args);

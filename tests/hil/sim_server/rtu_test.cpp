@@ -92,7 +92,7 @@ TEST(ExcitePlantCan, CanServingIsRefusedByNameUntilImplemented) {
   PlantRunner plant({"--plant", "woodberry2x2", "--can", "vcan0"}, dir.path() / "plant.txt");
   EXPECT_FALSE(plant.wait_listening());
   EXPECT_EQ(plant.wait_exit(), 2);
-  EXPECT_THAT(plant.stderr_text(), HasSubstr("--can = \"vcan0\": expected --modbus-tcp"));
+  EXPECT_THAT(plant.stderr_text(), HasSubstr("--can = \"vcan0\", expected --modbus-tcp"));
 }
 
 }  // namespace

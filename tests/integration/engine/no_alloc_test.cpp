@@ -2,8 +2,10 @@
 // The cyclic path allocates nothing (STYLE.md practice 5): operator new replaced and the
 // malloc family interposed, counted over 10 000+ ticks of the gateway component's run()
 // (Runner: engine + simlink plant + log ring + range-end watch) through excursions, comm
-// loss, stale echo and operator commands. The ring is drained on this thread between
+// loss (then reads before writing again), stale echo, skipped ticks (the clock jumps past
+// deadlines) and operator commands. The ring is drained on this thread between
 // batches (no log thread), so only the cyclic path runs while counting.
+#include "firmware/runlog/format.hpp"
 #include "tests/integration/engine/counting_malloc.hpp"
 #include "tests/integration/engine/gateway_fixture.hpp"
 #include "tests/support/counting_new.hpp"
@@ -12,8 +14,9 @@ namespace excite::testing {
 
 class Faults final : public app::TickObserver {
  public:
-  explicit Faults(sim::simlink::SimLinkFieldBus& bus, app::CommandMailbox& commands)
-      : bus_(bus), commands_(commands) {}
+  Faults(sim::simlink::SimLinkFieldBus& bus, app::CommandMailbox& commands,
+         hal::VirtualClock& clock, hal::Nanoseconds period)
+      : bus_(bus), commands_(commands), clock_(clock), period_(period) {}
   void after_tick(const engine::Engine&, std::uint64_t tick) noexcept override {
     switch (tick % 500) {
       case 100:
@@ -31,6 +34,9 @@ class Faults final : public app::TickObserver {
       case 310:
         bus_.freeze_echo(false);
         break;
+      case 350:
+        clock_.advance(period_ * 7);  // this tick ran long: 7 grid points are skipped
+        break;
       case 400:
         commands_.post(engine::Command::suspend);
         break;
@@ -45,6 +51,8 @@ class Faults final : public app::TickObserver {
  private:
   sim::simlink::SimLinkFieldBus& bus_;
   app::CommandMailbox& commands_;
+  hal::VirtualClock& clock_;
+  hal::Nanoseconds period_;
 };
 
 TEST_F(GatewayLoop, TenThousandTicksOfTheCyclicPathAllocateNothing) {
@@ -52,8 +60,8 @@ TEST_F(GatewayLoop, TenThousandTicksOfTheCyclicPathAllocateNothing) {
   // The plan lengthened to 12 000 rows so the run outlasts the measurement (set-up may
   // allocate); the gateway component is built exactly as excite-gateway builds it.
   plan_file_ = example_plan_file(12000);
-  Faults faults(*bus_, commands_);
   ASSERT_TRUE(start_up());
+  Faults faults(*bus_, commands_, clock_, gateway_->period());
   gateway_->set_observer(&faults);
   commands_.post(engine::Command::start);
   engine::LogRingBase& ring = gateway_->log_ring();
@@ -63,10 +71,13 @@ TEST_F(GatewayLoop, TenThousandTicksOfTheCyclicPathAllocateNothing) {
   long new_count = 0;
   long malloc_count = 0;
   std::uint64_t ticks = 0;
+  std::uint64_t reverified = 0;
   for (int batch = 0; batch < 25; ++batch) {
     const long n0 = excite::test::allocations();
     const long m0 = excite::test::mallocs();
-    ticks += gateway_->run(commands_, nullptr, 500).ticks;
+    const app::RunStats stats = gateway_->run(commands_, nullptr, 500);
+    ticks += stats.ticks;
+    reverified += stats.reverified;
     new_count += excite::test::allocations() - n0;
     malloc_count += excite::test::mallocs() - m0;
     while (ring.pop(sink)) {
@@ -77,6 +88,9 @@ TEST_F(GatewayLoop, TenThousandTicksOfTheCyclicPathAllocateNothing) {
   EXPECT_EQ(malloc_count, 0) << "(malloc interposed: " << excite::test::malloc_interposed() << ")";
   EXPECT_GT(engine().suspensions(), 40U);  // the fault paths were taken
   EXPECT_GT(bus_->dropped(), 50U);
+  EXPECT_GT(reverified, 20U);                               // read before writing again
+  EXPECT_GE(engine().rows_flagged(runlog::kSkipped), 20U);  // the skipped-tick path
+  EXPECT_GE(engine().skipped_ticks(), 7U * 20U);
   EXPECT_EQ(ring.overruns(), 0U);
 }
 

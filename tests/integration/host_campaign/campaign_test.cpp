@@ -8,15 +8,19 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <atomic>
+#include <cmath>
 #include <cstring>
+#include <random>
 #include <stdexcept>
 #include <vector>
 
 #include "host/campaign/campaign.hpp"
 #include "host/campaign/parallel.hpp"
 #include "host/campaign/report.hpp"
+#include "host/campaign/residuals.hpp"
 
 namespace excite::host {
 namespace {
@@ -92,6 +96,35 @@ TEST_F(WoodBerryCampaign, StepTestGainOnOneThreadReproducesTheStepTest) {
   EXPECT_TRUE(a.identified.gain->gain == b.identified.gain->gain);
 }
 
+// Residual tests (report): a residual that is the input delayed by 3 samples correlates with
+// it at lag +3 only; white noise stays inside ±2.58/√N at nearly every lag.
+TEST(ResidualCorrelation, FindsADelayedInputAndPassesWhiteNoise) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  const Eigen::Index N = 4000;
+  Eigen::MatrixXd U(N, 2);
+  for (Eigen::Index k = 0; k < N; ++k) U.row(k) << normal(rng), normal(rng);
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(N);
+  e.tail(N - 3) = U.col(0).head(N - 3);
+  const ResidualCorrelation delayed = residual_correlation(e, U, 10);
+  EXPECT_NEAR(delayed.limit_99, 2.58 / std::sqrt(4000.0), 1e-15);
+  EXPECT_NEAR(delayed.cross_correlation(10 + 3, 0), 1.0, 0.01);
+  EXPECT_LT(std::abs(delayed.cross_correlation(10, 0)), delayed.limit_99);
+  EXPECT_LT(std::abs(delayed.cross_correlation(10 + 3, 1)), delayed.limit_99);
+  Eigen::VectorXd white(N);
+  for (Eigen::Index k = 0; k < N; ++k) white(k) = normal(rng);
+  const ResidualCorrelation w = residual_correlation(white, U, 30);
+  EXPECT_EQ(w.auto_correlation(0), 1.0);
+  int outside = 0;
+  for (int tau = 1; tau <= 30; ++tau) outside += std::abs(w.auto_correlation(tau)) > w.limit_99;
+  for (Eigen::Index r = 0; r < w.cross_correlation.rows(); ++r)
+    for (Eigen::Index c = 0; c < 2; ++c)
+      outside += std::abs(w.cross_correlation(r, c)) > w.limit_99;
+  EXPECT_LE(outside, 3);  // 152 lags at 1 % each: ≈ 1.5 expected
+  EXPECT_THROW((void)residual_correlation(white, U.topRows(10), 5), std::invalid_argument);
+  EXPECT_THROW((void)residual_correlation(white, U, 0), std::invalid_argument);
+}
+
 TEST(ParallelFor, EveryTaskRunsOnceAndTheLowestFailureIsRethrown) {
   std::vector<std::atomic<int>> runs(50);
   parallel_for(50, 3, [&](int i) { ++runs[static_cast<std::size_t>(i)]; });
@@ -130,6 +163,53 @@ TEST_F(WoodBerryCampaign, WritesTheSummaryAndTheReportWithFigures) {
   for (const char* figure : {"sigma.svg", "projections.svg", "prbsUnc.svg", "msGlmZipm.svg"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / "figures" / figure)) << figure;
   }
+  std::filesystem::remove_all(dir);
+}
+
+// The views of model quality (issue 13 §3): per model a step-response matrix with bands, the
+// measured against predicted outputs and the residual correlations, drawn and referenced;
+// the parameter table with standard errors; medians in the summary; links to what the
+// campaign kept.
+TEST_F(WoodBerryCampaign, ReportShowsEveryModelsQualityAndLinksItsRunAndModel) {
+  const auto dir = std::filesystem::temp_directory_path() / "excite_campaign_views_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  ReportArtifacts artifacts;
+  for (const Experiment& e : result_->experiments) {
+    artifacts.run_logs.push_back("runs/" + e.name + "/run.csv");
+    artifacts.models.push_back("models/" + e.name + ".json");
+  }
+  write_report(*result_, *sim::make_plant("woodberry2x2"), dir, artifacts, 2);
+  std::ifstream html_file(dir / "index.html");
+  const std::string html((std::istreambuf_iterator<char>(html_file)),
+                         std::istreambuf_iterator<char>());
+  for (const Experiment& e : result_->experiments) {
+    for (const char* view : {"-steps.svg", "-fit.svg", "-residuals.svg"}) {
+      const std::string file = e.name + view;
+      EXPECT_TRUE(std::filesystem::exists(dir / "figures" / file)) << file;
+      EXPECT_GT(std::filesystem::file_size(dir / "figures" / file), 5000U) << file;
+      EXPECT_NE(html.find("src='figures/" + file + "'"), std::string::npos) << file;
+    }
+    EXPECT_NE(html.find("href='runs/" + e.name + "/run.csv'"), std::string::npos) << e.name;
+    EXPECT_NE(html.find("href='models/" + e.name + ".json'"), std::string::npos) << e.name;
+  }
+  for (const char* text : {"linearised propagation", "±2.58/√N", "median", "K [CV unit per MV",
+                           "T<sub>d</sub> [min]", "duration [h min]", "15 h 45 min"}) {
+    EXPECT_NE(html.find(text), std::string::npos) << text;
+  }
+  // Every parameter with its standard error: "12.8 ± 0.02"-like cells for every element.
+  const Experiment& unc = result_->experiments[3];
+  const std::string gain = std::to_string(unc.identified.model.element(0, 0).value.gain);
+  EXPECT_NE(html.find(gain.substr(0, 4)), std::string::npos) << gain;
+  EXPECT_NE(html.find(" ± "), std::string::npos);
+  // The true plant's step is drawn where known (a column of the step data beyond the model's).
+  std::ifstream steps(dir / "figures" / "prbsUnc-steps.dat");
+  std::string first;
+  std::getline(steps, first);
+  std::istringstream fields(first);
+  int columns = 0;
+  for (std::string f; fields >> f;) ++columns;
+  EXPECT_EQ(columns, 1 + 3 * 4 + 4);  // t, (s, lo, hi) per element, the true steps
   std::filesystem::remove_all(dir);
 }
 

@@ -3,7 +3,6 @@
 // formats, exit codes and refusals are a contract (host/README.md).
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <nlohmann/json.hpp>
 
 #include <array>
@@ -12,41 +11,18 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <tuple>
+#include <vector>
+
+#include "cli_process.hpp"
 
 namespace {
 
-struct Result {
-  int exit_code = -1;
-  std::string out;  // stdout and stderr together
-};
-
-Result excite(const std::string& args) {
-  const std::string command = std::string(EXCITE_CLI) + " " + args + " 2>&1";
-  Result r;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return r;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) r.out += buffer.data();
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-class ExciteCli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("excite_cli_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::string path(const char* name) const { return (dir_ / name).string(); }
-  std::filesystem::path dir_;
-};
+using excite_cli_test::excite;
+using excite_cli_test::ExciteCli;
+using excite_cli_test::Result;
 
 TEST_F(ExciteCli, GainsJsonHasTheContractKeysAndTheSpecSingularValues) {
   const Result r = excite("gains --plant alatiqi4x4 --json");
@@ -141,7 +117,10 @@ TEST_F(ExciteCli, BadSpecIsRefusedWithFieldAndWritesNothing) {
   EXPECT_EQ(d.exit_code, 1);
   EXPECT_NE(d.out.find("tau_low_min = -3"), std::string::npos) << d.out;
   EXPECT_FALSE(std::filesystem::exists(path("bad.plan")));
-  EXPECT_FALSE(std::filesystem::exists(path("bad.plan.partial")));
+  // Nothing else either (no temporary file): the folder holds the spec alone.
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir_),
+                          std::filesystem::directory_iterator()),
+            1);
 }
 
 TEST_F(ExciteCli, CorruptedPlanIsRefused) {
@@ -349,3 +328,168 @@ max = 0.01
 }
 
 }  // namespace
+
+namespace {
+
+// The dy_* columns of a run log (firmware/runlog/README.md), row by row.
+std::vector<std::vector<double>> output_columns(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::vector<double>> rows;
+  std::vector<std::size_t> dy;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> fields;
+    std::stringstream split(line);
+    for (std::string f; std::getline(split, f, ',');) fields.push_back(f);
+    if (dy.empty()) {
+      for (std::size_t c = 0; c < fields.size(); ++c) {
+        if (fields[c].rfind("dy_", 0) == 0) dy.push_back(c);
+      }
+      continue;
+    }
+    std::vector<double> row;
+    for (const std::size_t c : dy) row.push_back(std::stod(fields.at(c)));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// An excite model v1 file of the Wood–Berry column's own elements (all first order with a
+// delay: exactly of form (6.1.1)).
+void write_woodberry_model(const std::string& path) {
+  const auto element = [](const char* input, double K, double Td, double Tp1) {
+    return nlohmann::json{
+        {"input", input},        {"K", K}, {"Td", Td}, {"Tp1", Tp1}, {"Tp2", 0.0}, {"se", nullptr},
+        {"status", "identified"}};
+  };
+  const nlohmann::json model = {
+      {"format", "excite model v1"},
+      {"sample_time_min", 1.0},
+      {"inputs", {"u1", "u2"}},
+      {"outputs",
+       {{{"name", "y1"},
+         {"elements", {element("u1", 12.8, 1.0, 16.7), element("u2", -18.9, 3.0, 21.0)}}},
+        {{"name", "y2"},
+         {"elements", {element("u1", 6.6, 7.0, 10.9), element("u2", -19.4, 3.0, 14.4)}}}}}};
+  std::ofstream(path) << model.dump(2);
+}
+
+}  // namespace
+
+// simulate --plant MODEL.json: a model of the plant's own elements gives the plant's run.
+TEST_F(ExciteCli, SimulateWithAModelFileReproducesThePlantTheModelEquals) {
+  ASSERT_EQ(
+      excite("design -q --plant woodberry2x2 --preset prbsUnc -o " + path("wb.plan")).exit_code, 0);
+  write_woodberry_model(path("wb-model.json"));
+  const Result plant =
+      excite("simulate " + path("wb.plan") + " --plant woodberry2x2 -o " + path("plant.csv"));
+  ASSERT_EQ(plant.exit_code, 0) << plant.out;
+  const Result model = excite("simulate " + path("wb.plan") + " --plant " + path("wb-model.json") +
+                              " -o " + path("model.csv"));
+  ASSERT_EQ(model.exit_code, 0) << model.out;
+  const auto expected = output_columns(path("plant.csv"));
+  const auto got = output_columns(path("model.csv"));
+  ASSERT_EQ(got.size(), expected.size());
+  ASSERT_GT(got.size(), 900U);
+  double largest = 0.0, error = 0.0;
+  for (std::size_t k = 0; k < got.size(); ++k) {
+    ASSERT_EQ(got[k].size(), 2U);
+    for (std::size_t o = 0; o < 2; ++o) {
+      largest = std::max(largest, std::abs(expected[k][o]));
+      error = std::max(error, std::abs(got[k][o] - expected[k][o]));
+    }
+  }
+  EXPECT_GT(largest, 0.1);
+  EXPECT_LT(error, 1e-9 * largest);
+  // A model with an element the data did not identify cannot stand in for a plant.
+  auto broken = nlohmann::json::parse(std::ifstream(path("wb-model.json")));
+  broken["outputs"][1]["elements"][0]["K"] = nullptr;
+  broken["outputs"][1]["elements"][0]["reason"] = "u1 not moved";
+  std::ofstream(path("broken.json")) << broken.dump();
+  const Result refused = excite("simulate " + path("wb.plan") + " --plant " + path("broken.json") +
+                                " -o " + path("never.csv"));
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_NE(refused.out.find("outputs[1].elements[0] (y2 <- u1)"), std::string::npos)
+      << refused.out;
+  EXPECT_FALSE(std::filesystem::exists(path("never.csv")));
+}
+
+// excite export: every format from an identified model file, written whole or not at all.
+TEST_F(ExciteCli, ExportWritesEveryFormatOfAnIdentifiedModel) {
+  write_woodberry_model(path("wb-model.json"));
+  const Result csv = excite("export " + path("wb-model.json") +
+                            " --format step-csv --horizon 60 -o " + path("steps.csv"));
+  ASSERT_EQ(csv.exit_code, 0) << csv.out;
+  std::ifstream in(path("steps.csv"));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 66U);
+  EXPECT_EQ(lines[3], "# horizon: 60 samples (60 min)");
+  EXPECT_EQ(lines[5], "k,t_min,y1 <- u1,y1 <- u2,y2 <- u1,y2 <- u2");
+  // k = 20: y1 <- u1 = 12.8 (1 − e^{−19/16.7}).
+  std::stringstream row(lines[5 + 20]);
+  std::vector<double> values;
+  for (std::string f; std::getline(row, f, ',');) values.push_back(std::stod(f));
+  ASSERT_EQ(values.size(), 6U);
+  EXPECT_NEAR(values[2], 12.8 * (1.0 - std::exp(-19.0 / 16.7)), 1e-9);
+  EXPECT_NEAR(values[4], 6.6 * (1.0 - std::exp(-13.0 / 10.9)), 1e-9);
+
+  const Result csv_default =
+      excite("export " + path("wb-model.json") + " --format step-csv -o " + path("settled.csv"));
+  ASSERT_EQ(csv_default.exit_code, 0) << csv_default.out;
+  EXPECT_NE(csv_default.out.find("150 samples of 1 min"), std::string::npos)  // 3 + 7·21 = 150 min
+      << csv_default.out;
+
+  for (const char* format : {"matlab", "python-control", "json"}) {
+    const Result r =
+        excite("export " + path("wb-model.json") + " --format " + format + " -o " + path(format));
+    ASSERT_EQ(r.exit_code, 0) << format << ": " << r.out;
+  }
+  std::ifstream m(path("matlab"));
+  const std::string matlab((std::istreambuf_iterator<char>(m)), std::istreambuf_iterator<char>());
+  EXPECT_NE(matlab.find("input_delay_min = [1 3];"), std::string::npos) << matlab;
+  EXPECT_NE(matlab.find("io_delay_min = [0 0; 6 0];"), std::string::npos) << matlab;
+  const auto json = nlohmann::json::parse(std::ifstream(path("json")));
+  EXPECT_EQ(json["format"], "excite transfer matrix v1");
+  EXPECT_EQ(json["elements"][1][1]["den"], nlohmann::json({14.4, 1.0}));
+
+  const Result bad_format =
+      excite("export " + path("wb-model.json") + " --format csv -o " + path("x"));
+  EXPECT_EQ(bad_format.exit_code, 2) << bad_format.out;
+  std::ofstream(path("not-a-model.json")) << "{\"format\":\"excite plan\"}";
+  const Result not_a_model =
+      excite("export " + path("not-a-model.json") + " --format json -o " + path("y"));
+  EXPECT_EQ(not_a_model.exit_code, 1);
+  EXPECT_NE(not_a_model.out.find("format: expected \"excite model v1\""), std::string::npos)
+      << not_a_model.out;
+  EXPECT_FALSE(std::filesystem::exists(path("y")));
+}
+
+// The in-process campaign keeps every run log and every model beside its report and links
+// them (as the --loop campaign keeps its runs).
+TEST_F(ExciteCli, CampaignKeepsEveryRunAndModelAndTheReportLinksThem) {
+  const Result r = excite("campaign --plant woodberry2x2 --threads 2 -o " + path("camp"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  std::ifstream html_file(path("camp/index.html"));
+  const std::string html((std::istreambuf_iterator<char>(html_file)),
+                         std::istreambuf_iterator<char>());
+  int runs = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(path("camp/runs"))) {
+    const std::string folder = entry.path().filename().string();
+    const auto run = entry.path() / "run.csv";
+    ASSERT_TRUE(std::filesystem::exists(run)) << run;
+    EXPECT_GT(output_columns(run.string()).size(), 700U) << run;
+    EXPECT_NE(html.find("href='runs/" + folder + "/run.csv'"), std::string::npos) << folder;
+    EXPECT_TRUE(std::filesystem::exists(path("camp/models") + "/" + folder + ".json")) << folder;
+    EXPECT_NE(html.find("href='models/" + folder + ".json'"), std::string::npos) << folder;
+    ++runs;
+  }
+  EXPECT_EQ(runs, 17);
+  // A kept run is a run log the other commands take: its model validates on it as reported.
+  const Result v = excite("validate --json " + path("camp/models/04-prbsUnc.json") + " " +
+                          path("camp/runs/04-prbsUnc/run.csv"));
+  ASSERT_EQ(v.exit_code, 0) << v.out;
+  const auto model = nlohmann::json::parse(std::ifstream(path("camp/models/04-prbsUnc.json")));
+  EXPECT_NEAR(nlohmann::json::parse(v.out)["outputs"][0]["fit"].get<double>(),
+              model["outputs"][0]["fit"].get<double>(), 1e-6);
+}

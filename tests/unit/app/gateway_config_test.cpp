@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -63,7 +65,7 @@ TEST(GatewayConfigTest, TransportNamesOldAndNew) {
   std::string text = example_text();
   text.replace(text.find("\"modbus-tcp\""), 12, "\"udp\"");
   EXPECT_EQ(error_of(text),
-            "gw.toml: device.transport = \"udp\": expected \"modbus-tcp\", \"modbus-rtu\" or "
+            "gw.toml: device.transport = \"udp\", expected \"modbus-tcp\", \"modbus-rtu\" or "
             "\"can\" (\"tcp\" and \"rtu\" are still accepted)");
 }
 
@@ -74,7 +76,7 @@ TEST(GatewayConfigTest, SimulatorFlag) {
   ASSERT_TRUE(r.config) << r.error;
   EXPECT_TRUE(r.config->simulator);
   text.replace(text.find("simulator = true"), 16, "simulator = 1");
-  EXPECT_EQ(error_of(text), "gw.toml: device.simulator = 1: expected true or false");
+  EXPECT_EQ(error_of(text), "gw.toml: device.simulator = 1, expected true or false");
 }
 
 TEST(GatewayConfigTest, TheCanExampleMapsSetpointsAndValuesToFrames) {
@@ -107,26 +109,27 @@ TEST(GatewayConfigTest, CanFrameLayoutErrorsNameTheKeyOfTheFile) {
   std::string text = example_text(kCanExample);
   text.replace(text.find("byte_offset = 2"), 15, "byte_offset = 1");  // V over L's byte 1
   std::string e = error_of(text);
-  EXPECT_NE(e.find("gw.toml: setpoints[1].byte_offset = 1: expected no overlap with "
+  EXPECT_NE(e.find("gw.toml: setpoints[1].byte_offset = 1, expected no overlap with "
                    "setpoints[0] in frame 0x210"),
             std::string::npos)
       << e;
   text = example_text(kCanExample);
   text.replace(text.find("can_id = 0x310"), 14, "can_id = 0x800");
   EXPECT_EQ(error_of(text),
-            "gw.toml: values[0].can_id = 0x800: expected 0x0..0x7FF (11-bit identifier; set "
+            "gw.toml: values[0].can_id = 0x800, expected 0x0..0x7FF (11-bit identifier; set "
             "extended for 29-bit)");
   text = example_text(kCanExample);
   text.replace(text.find("heartbeat_type = \"uint16\""), 25, "heartbeat_type = \"int32\"");
   EXPECT_EQ(error_of(text),
-            "gw.toml: can.heartbeat_type = \"int32\": expected uint8 or uint16 (a counter)");
+            "gw.toml: can.heartbeat_type = \"int32\", expected uint8 or uint16 (a counter)");
 }
 
 TEST(GatewayConfigTest, TransportSpecificKeysAndSectionsAreChecked) {
   std::string text = example_text(kCanExample);  // a Modbus key under CAN
   text.replace(text.find("byte_offset = 0"), 15, "address = 100");
   std::string e = error_of(text);
-  EXPECT_NE(e.find("gw.toml: setpoints[0].address = 100: expected one of the known keys"),
+  EXPECT_NE(e.find("gw.toml:32:11: setpoints[0].address = 100 (unknown key), expected one of the "
+                   "known keys: byte_offset, byte_order, can_id"),
             std::string::npos)
       << e;
   text = example_text(kCanExample);
@@ -136,15 +139,15 @@ TEST(GatewayConfigTest, TransportSpecificKeysAndSectionsAreChecked) {
   text = example_text(kCanExample);
   text.replace(text.find("interface = \"can0\""), 18, "");
   EXPECT_EQ(error_of(text),
-            "gw.toml: can.interface = (missing): expected a SocketCAN interface, e.g. can0");
+            "gw.toml: can.interface = (missing), expected a SocketCAN interface, e.g. can0");
   text = example_text();
   text += "\n[can]\ninterface = \"can0\"\n";
   EXPECT_EQ(error_of(text),
-            "gw.toml: can = a table: expected no [can] section with transport = \"modbus-tcp\"");
+            "gw.toml: can = a table, expected no [can] section with transport = \"modbus-tcp\"");
   text = example_text(kCanExample);
   text.replace(text.find("can_id = 0x311\nbyte_offset = 6"), 14, "can_id = 0x210");
   e = error_of(text);
-  EXPECT_NE(e.find("values[5].can_id = 0x210: expected an identifier not also used for "
+  EXPECT_NE(e.find("values[5].can_id = 0x210, expected an identifier not also used for "
                    "setpoints"),
             std::string::npos)
       << e;
@@ -154,17 +157,17 @@ TEST(GatewayConfigTest, SetpointLimitsBeyondTheRegisterAreRefused) {
   std::string text = example_text();  // S: int16, eng 0..2 on raw 0..27648
   text.replace(text.find("max = 1.8"), 9, "max = 2.5");
   EXPECT_EQ(error_of(text),
-            "gw.toml: setpoints[2].max = 2.5: expected <= 2, the most register 104 int16 raw "
+            "gw.toml: setpoints[2].max = 2.5, expected <= 2, the most register 104 int16 raw "
             "0..27648 = 0..2 can carry");
   text = example_text();
   text.replace(text.find("min = 0.2"), 9, "min = -0.5");
   EXPECT_EQ(error_of(text),
-            "gw.toml: setpoints[2].min = -0.5: expected >= 0, the least register 104 int16 raw "
+            "gw.toml: setpoints[2].min = -0.5, expected >= 0, the least register 104 int16 raw "
             "0..27648 = 0..2 can carry");
   text = example_text(kCanExample);  // L: int16 at 0.001 kmol/min per count
   text.replace(text.find("max = 3.5"), 9, "max = 40.0");
   EXPECT_EQ(error_of(text),
-            "gw.toml: setpoints[0].max = 40: expected <= 32.767000000000003, the most CAN 0x210 "
+            "gw.toml: setpoints[0].max = 40, expected <= 32.767000000000003, the most CAN 0x210 "
             "int16 scale 0.001 offset 0 can carry");
 }
 
@@ -222,15 +225,28 @@ TEST(GatewayConfigTest, AReadbackOfTheSetpointRegisterMustUseItsEncoding) {
   const auto at = text.find("name = \"V_sp\"");
   text.replace(text.find("word_order = \"CDAB\"", at), 19, "word_order = \"ABCD\"");
   EXPECT_EQ(error_of(text),
-            "gw.toml: setpoints[1] (V) register 102 = float32 CDAB: expected the encoding its "
+            "gw.toml: setpoints[1] (V) register 102 = float32 CDAB, expected the encoding its "
             "readback V_sp reads the same register with (float32 ABCD)");
+}
+
+TEST(GatewayConfigTest, RegisterFieldsAreReadByTheSharedSchemaWithTheirPosition) {
+  // hal/modbus/register_entry_toml.hpp: the plant server reads the same keys, the same way.
+  std::string text = example_text();
+  const std::size_t at = text.find("address = ", text.find("[[values]]"));
+  text.replace(at, text.find('\n', at) - at, "address = 70000");
+  const std::string e = error_of(text);
+  EXPECT_EQ(e.rfind("gw.toml:", 0), 0u) << e;
+  EXPECT_NE(e.find(": values[0].address = 70000, expected a register address 0..65535"),
+            std::string::npos)
+      << e;
 }
 
 TEST(GatewayConfigTest, UnknownKeyIsRefusedWithTheKnownOnes) {
   std::string text = example_text();
   text.replace(text.find("ramp_s"), 6, "ramp_x");
   const std::string e = error_of(text);
-  EXPECT_NE(e.find("gw.toml: gateway.ramp_x = 300.0: expected one of the known keys"),
+  EXPECT_NE(e.find("gw.toml:7:10: gateway.ramp_x = 300.0 (unknown key), expected one of the known "
+                   "keys: comm_fail_limit"),
             std::string::npos)
       << e;
 }
@@ -239,7 +255,7 @@ TEST(GatewayConfigTest, OverlappingSetpointsAreRefused) {
   std::string text = example_text();
   text.replace(text.find("address = 102"), 13, "address = 101");
   EXPECT_EQ(error_of(text),
-            "gw.toml: setpoints[1].address = 101: expected no overlap with "
+            "gw.toml: setpoints[1].address = 101, expected no overlap with "
             "setpoints[0].address (registers 100..101)");
 }
 
@@ -247,7 +263,7 @@ TEST(GatewayConfigTest, AddressBeyondTheProtocolIsRefused) {
   std::string text = example_text();
   text.replace(text.find("address = 106"), 13, "address = 65535");
   const std::string e = error_of(text);
-  EXPECT_NE(e.find("setpoints[3].address = 65535: expected address + 2 register(s) <= 65536"),
+  EXPECT_NE(e.find("setpoints[3].address = 65535, expected address + 2 register(s) <= 65536"),
             std::string::npos)
       << e;
 }
@@ -256,7 +272,7 @@ TEST(GatewayConfigTest, UnknownWordOrderIsRefused) {
   std::string text = example_text();
   text.replace(text.find("word_order = \"CDAB\""), 19, "word_order = \"BACD\"");
   const std::string e = error_of(text);
-  EXPECT_NE(e.find("setpoints[0].word_order = \"BACD\": expected ABCD, CDAB, BADC or DCBA"),
+  EXPECT_NE(e.find("setpoints[0].word_order = \"BACD\", expected ABCD, CDAB, BADC or DCBA"),
             std::string::npos)
       << e;
 }
@@ -265,7 +281,7 @@ TEST(GatewayConfigTest, ReadbackMustNameAReadbackValue) {
   std::string text = example_text();
   text.replace(text.find("readback = \"L_sp\""), 17, "readback = \"xD\"");
   EXPECT_EQ(error_of(text),
-            "gw.toml: setpoints[0].readback = \"xD\": expected the name of a value with role = "
+            "gw.toml: setpoints[0].readback = \"xD\", expected the name of a value with role = "
             "\"readback\"");
 }
 
@@ -273,7 +289,7 @@ TEST(GatewayConfigTest, InvalidChannelNameIsRefused) {
   std::string text = example_text();
   text.replace(text.find("name = \"xS\""), 11, "name = \"x S\"");
   const std::string e = error_of(text);
-  EXPECT_NE(e.find("values[1].name = \"x S\": expected letters, digits"), std::string::npos) << e;
+  EXPECT_NE(e.find("values[1].name = \"x S\", expected letters, digits"), std::string::npos) << e;
 }
 
 TEST(GatewayConfigTest, HysteresisLeavingNoBandIsRefused) {
@@ -291,7 +307,111 @@ TEST(GatewayConfigTest, TomlSyntaxErrorNamesLineAndColumn) {
 TEST(GatewayConfigTest, UnknownCommLossActionIsRefused) {
   std::string text = example_text();
   text.replace(text.find("comm_loss = \"hold\""), 18, "comm_loss = \"stop\"");
-  EXPECT_EQ(error_of(text), "gw.toml: gateway.comm_loss = \"stop\": expected \"hold\" or \"ramp\"");
+  EXPECT_EQ(error_of(text), "gw.toml: gateway.comm_loss = \"stop\", expected \"hold\" or \"ramp\"");
+}
+
+// ---- Issue 11 item 2: absurd timing is refused before the gateway runs ----
+
+// The example with `key = value` put into [gateway] (replacing the key's line if present).
+std::string with_gateway_key(const std::string& key, const std::string& value) {
+  std::string text = example_text();
+  const std::size_t at = text.find("\n" + key + " = ");
+  if (at != std::string::npos) {
+    const std::size_t end = text.find('\n', at + 1);
+    text.erase(at + 1, end - at);  // the line and its newline
+  }
+  text.insert(text.find("[gateway]\n") + 10, key + " = " + value + "\n");
+  return text;
+}
+
+TEST(GatewayTiming, PeriodOutsideItsRangeIsRefused) {
+  EXPECT_EQ(error_of(with_gateway_key("period_s", "1e-9")),
+            "gw.toml: gateway.period_s = 1e-09, expected 0.001 … 86400 seconds");
+  EXPECT_EQ(error_of(with_gateway_key("period_s", "0")),
+            "gw.toml: gateway.period_s = 0, expected 0.001 … 86400 seconds");
+  EXPECT_EQ(error_of(with_gateway_key("period_s", "1e300")),
+            "gw.toml: gateway.period_s = 1e+300, expected 0.001 … 86400 seconds");
+  EXPECT_EQ(error_of(with_gateway_key("period_s", "nan")),
+            "gw.toml:5:12: gateway.period_s = nan, expected a finite number");
+  EXPECT_TRUE(parse_gateway_config(with_gateway_key("period_s", "0.001"), "gw.toml").config);
+}
+
+TEST(GatewayTiming, RampOutsideItsRangeIsRefused) {
+  EXPECT_EQ(error_of(with_gateway_key("ramp_s", "1e300")),
+            "gw.toml: gateway.ramp_s = 1e+300, expected 0 … 1e+06 seconds");
+  EXPECT_EQ(error_of(with_gateway_key("ramp_s", "-1")),
+            "gw.toml: gateway.ramp_s = -1, expected 0 … 1e+06 seconds");
+  EXPECT_EQ(error_of(with_gateway_key("ramp_s", "inf")),
+            "gw.toml:5:10: gateway.ramp_s = inf, expected a finite number");
+}
+
+TEST(GatewayTiming, ResumeDwellOutsideItsRangeIsRefused) {
+  EXPECT_EQ(error_of(with_gateway_key("resume_dwell_s", "2e6")),
+            "gw.toml: gateway.resume_dwell_s = 2e+06, expected 0 … 1e+06 seconds");
+}
+
+TEST(GatewayTiming, SuspendTimeoutOutsideItsRangeIsRefused) {
+  EXPECT_EQ(error_of(with_gateway_key("suspend_timeout_s", "-0.5")),
+            "gw.toml: gateway.suspend_timeout_s = -0.5, expected 0 … 1e+06 seconds");
+}
+
+TEST(GatewayTiming, HeartbeatLagOutsideItsRangeIsRefused) {
+  EXPECT_EQ(error_of(with_gateway_key("heartbeat_max_lag_s", "1e7")),
+            "gw.toml: gateway.heartbeat_max_lag_s = 1e+07, expected 0 … 1e+06 seconds");
+  // Within the seconds range but beyond the engine's 30000 ticks at this period: refused
+  // when the period is known (before, it was silently clamped).
+  const ConfigResult r =
+      parse_gateway_config(with_gateway_key("heartbeat_max_lag_s", "40000"), "gw.toml");
+  ASSERT_TRUE(r.config) << r.error;
+  EXPECT_EQ(check_timing(*r.config, std::chrono::seconds(1)),
+            "gw.toml: gateway.heartbeat_max_lag_s = 40000 (40000 ticks of 1 s), expected 0 … "
+            "30000 seconds (30000 ticks) at this period");
+  EXPECT_EQ(check_timing(*r.config, std::chrono::seconds(2)), "");
+}
+
+TEST(GatewayTiming, DurationsBeyondTheEngineTicksAtThePlansPeriodAreRefused) {
+  // No period_s: the plan's sample time is the period; 1e6 s at 1 ms = 1e9 ticks (the most).
+  const ConfigResult r = parse_gateway_config(with_gateway_key("ramp_s", "1e6"), "gw.toml");
+  ASSERT_TRUE(r.config) << r.error;
+  EXPECT_EQ(check_timing(*r.config, std::chrono::milliseconds(1)),
+            "gw.toml: gateway.heartbeat_max_lag_s = 180 (180000 ticks of 0.001 s), expected 0 … "
+            "30 seconds (30000 ticks) at this period");
+  GatewayConfig c = *r.config;
+  c.heartbeat_max_lag_s = 0;  // the default, 3 ticks
+  EXPECT_EQ(check_timing(c, std::chrono::milliseconds(1)), "");
+  EXPECT_EQ(to_engine_config(c, std::chrono::milliseconds(1)).ramp_ticks, 1'000'000'000U);
+  EXPECT_TRUE(engine::validate(to_engine_config(c, std::chrono::milliseconds(1))));
+  EXPECT_EQ(check_timing(c, std::chrono::duration<double>(1e-9 * 60)),
+            "gw.toml: the plan's sample time (as the tick period; gateway.period_s unset) = "
+            "6.000000000000001e-08 s, expected 0.001 … 86400 seconds");
+  EXPECT_EQ(check_timing(c, std::chrono::duration<double>(1e9)),
+            "gw.toml: the plan's sample time (as the tick period; gateway.period_s unset) = "
+            "1e+09 s, expected 0.001 … 86400 seconds");
+}
+
+TEST(GatewayTiming, ToEngineConfigSaturatesInsteadOfOverflowing) {
+  GatewayConfig c = *load_gateway_config(kExample).config;
+  c.ramp_s = 1e300;  // past check_timing: the conversion itself must stay defined (UBSan)
+  c.suspend_timeout_s = std::numeric_limits<double>::quiet_NaN();
+  const engine::EngineConfig e = to_engine_config(c, std::chrono::seconds(1));
+  EXPECT_EQ(e.ramp_ticks, std::numeric_limits<std::uint32_t>::max());
+  EXPECT_EQ(e.suspend_timeout_ticks, 0U);
+  EXPECT_FALSE(engine::validate(e));  // and the engine refuses it by name
+  EXPECT_NE(std::string(engine::validate(e).message()).find("ramp_ticks = 4294967295"),
+            std::string::npos);
+}
+
+TEST(GatewayTiming, CountsOutsideTheirRangeAreRefused) {
+  EXPECT_EQ(error_of(with_gateway_key("comm_fail_limit", "0")),
+            "gw.toml:5:19: gateway.comm_fail_limit = 0, expected an integer 1..1000000");
+  EXPECT_EQ(error_of(with_gateway_key("log_ring", "8")),
+            "gw.toml:5:12: gateway.log_ring = 8, expected an integer 16..1048576");
+  EXPECT_EQ(error_of(with_gateway_key("readback_mismatch_limit", "-1")),
+            "gw.toml:5:27: gateway.readback_mismatch_limit = -1, expected an integer 0..1000000");
+  std::string text = example_text();
+  text.replace(text.find("response_timeout_ms = 200"), 25, "response_timeout_ms = 0");
+  EXPECT_EQ(error_of(text),
+            "gw.toml:25:23: device.response_timeout_ms = 0, expected an integer 1..60000");
 }
 
 }  // namespace

@@ -68,8 +68,9 @@ class EngineTest : public ::testing::Test {
   }
 
   // One tick: compute, the field takes the setpoints (readback) and echoes the heartbeat.
-  const TickOutput& tick() {
-    const TickOutput& out = engine_.compute();
+  // `skipped`: grid points the clock passed before this tick (a loop overrun).
+  const TickOutput& tick(std::uint64_t skipped = 0) {
+    const TickOutput& out = engine_.compute(skipped);
     last_ = out;
     if (out.write && field_.ok) {
       field_.values[kRb0] = out.setpoint[0];

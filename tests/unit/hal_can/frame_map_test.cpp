@@ -159,7 +159,7 @@ TEST(CanFrameMap, RejectsOverlappingBytesNamingTheOtherSignal) {
   CanPlan plan;
   const auto v = compile_frame_map(map, plan);
   EXPECT_EQ(v.message(),
-            "setpoints[1].byte_offset = 3: expected no overlap with setpoints[0] in frame 0x200");
+            "setpoints[1].byte_offset = 3, expected no overlap with setpoints[0] in frame 0x200");
   EXPECT_TRUE(plan.tx.empty());
 }
 
@@ -168,7 +168,7 @@ TEST(CanFrameMap, RejectsASignalPastTheEightBytePayload) {
   map.values = {signal(0x300, 6, "float32")};
   CanPlan plan;
   EXPECT_EQ(compile_frame_map(map, plan).message(),
-            "values[0].byte_offset = 6: expected byte_offset + 4 byte(s) of float32 <= 8 (classic "
+            "values[0].byte_offset = 6, expected byte_offset + 4 byte(s) of float32 <= 8 (classic "
             "CAN payload)");
 }
 

@@ -27,7 +27,7 @@ TEST(ModbusConfig, AValidRtuConfigurationPasses) {
 TEST(ModbusConfig, RejectsAnUnknownTransport) {
   ModbusConfig config = rtu_config();
   config.device.transport = "udp";
-  EXPECT_EQ(validate(config).message(), "device.transport = \"udp\": expected \"tcp\" or \"rtu\"");
+  EXPECT_EQ(validate(config).message(), "device.transport = \"udp\", expected \"tcp\" or \"rtu\"");
 }
 
 TEST(ModbusConfig, RtuRejectsBadParityDataBitsStopBitsAndBroadcastSlave) {
@@ -51,7 +51,7 @@ TEST(ModbusConfig, RtuRejectsBadParityDataBitsStopBitsAndBroadcastSlave) {
 TEST(ModbusConfig, RejectsAResponseTimeoutOutOfRange) {
   ModbusConfig config = rtu_config();
   config.device.response_timeout_ms = 0;
-  EXPECT_EQ(validate(config).message(), "device.response_timeout_ms = 0: expected 1..60000 ms");
+  EXPECT_EQ(validate(config).message(), "device.response_timeout_ms = 0, expected 1..60000 ms");
 }
 
 TEST(ModbusConfig, TcpRejectsPortZeroAndUnitIdAbove255) {

@@ -150,7 +150,7 @@ TEST(RegisterMap, RejectsAFloatPastTheEndOfTheAddressSpace) {
   RegisterPlan plan;
   const auto v = compile_register_map(map, plan);
   ASSERT_FALSE(v.ok());
-  EXPECT_EQ(v.message(), "values[0].address = 65535: expected address + 2 register(s) <= 65536");
+  EXPECT_EQ(v.message(), "values[0].address = 65535, expected address + 2 register(s) <= 65536");
   map.values = {uint16_at(65535, 3)};
   EXPECT_TRUE(compile_register_map(map, plan).ok());
 }
@@ -174,7 +174,7 @@ TEST(RegisterMap, RejectsAnUnknownWordOrder) {
   map.values[0].word_order = "BACD";
   RegisterPlan plan;
   const auto v = compile_register_map(map, plan);
-  EXPECT_EQ(v.message(), "values[0].word_order = \"BACD\": expected ABCD, CDAB, BADC or DCBA");
+  EXPECT_EQ(v.message(), "values[0].word_order = \"BACD\", expected ABCD, CDAB, BADC or DCBA");
 }
 
 TEST(RegisterMap, RejectsWrongFunctionCodes) {
@@ -195,7 +195,7 @@ TEST(RegisterMap, RejectsAnUnknownType) {
   map.values[0].type = "float64";
   RegisterPlan plan;
   EXPECT_EQ(compile_register_map(map, plan).message(),
-            "values[0].type = \"float64\": expected float32, int16 or uint16");
+            "values[0].type = \"float64\", expected float32, int16 or uint16");
 }
 
 TEST(RegisterMap, RejectsAnEmptyEngineeringRangeAndRawRangesOutsideTheType) {

@@ -6,6 +6,8 @@
 #include <array>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "firmware/runlog/writer.hpp"
@@ -62,6 +64,33 @@ TEST(RunLogToIdentify, ALoggedNoiseFreeRunGivesBackThePlant) {
       EXPECT_NEAR(e.tau2_min, t.tau2_min, 1e-3 * t.tau2_min);
     }
   }
+}
+
+// Format v2: rows after skipped ticks or a plant restart are not one equally spaced run;
+// run_data() names the row instead of fitting the gap as dynamics.
+TEST(RunLogToIdentify, SkippedOrDiscontinuousRowsAreRefusedByName) {
+  const std::string head =
+      "# excite run log v2\n# plant: p\n# plan: q\n# sample_time_min: 1\n# inputs: u\n"
+      "# outputs: y\n# units: u=- y=-\nt_min,k,du_u,u_u,dy_y,flags,state\n"
+      "0,0,0,0,0,0,running\n1,1,0,0,0,0,running\n";
+  const runlog::ReadResult skipped =
+      runlog::parse_run_log(head + "4,4,0,0,0,32,running\n", "skipped.csv");
+  ASSERT_TRUE(skipped.ok()) << skipped.error->to_string();
+  try {
+    (void)run_data(skipped.log);
+    FAIL() << "a skipped row was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("row 3 (k = 4) is flagged skipped"), std::string::npos)
+        << e.what();
+  }
+  const runlog::ReadResult restarted =
+      runlog::parse_run_log(head + "2,2,0,0,0,64,running\n", "restart.csv");
+  ASSERT_TRUE(restarted.ok()) << restarted.error->to_string();
+  EXPECT_THROW((void)run_data(restarted.log), std::invalid_argument);
+  const runlog::ReadResult clean =
+      runlog::parse_run_log(head + "2,2,0,0,0,0,running\n", "clean.csv");
+  ASSERT_TRUE(clean.ok());
+  EXPECT_EQ(run_data(clean.log).U.rows(), 3);
 }
 
 }  // namespace

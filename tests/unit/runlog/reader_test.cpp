@@ -163,9 +163,10 @@ TEST(RunLogReader, UnknownFlagBitsAreRejected) {
 }
 
 TEST(RunLogReader, HeaderProblemsAreExplained) {
-  EXPECT_NE(error_of("a,b\n").message.find("expected '# excite run log v1'"), std::string::npos);
-  EXPECT_NE(error_of("# excite run log v2\n").message.find("unsupported version"),
+  EXPECT_NE(error_of("a,b\n").message.find("expected '# excite run log v2' (or v1)"),
             std::string::npos);
+  EXPECT_EQ(error_of("# excite run log v3\n").message,
+            "unsupported version '# excite run log v3'; this reader reads v1 and v2");
   std::string no_units = kHeader.substr(0, kHeader.find("# units")) + kColumns;
   EXPECT_NE(error_of(no_units).message.find("no '# units:' line"), std::string::npos);
   std::string missing_unit = kHeader;
@@ -176,6 +177,85 @@ TEST(RunLogReader, HeaderProblemsAreExplained) {
   std::string bad_t = kHeader;
   bad_t.replace(bad_t.find("0.5"), 3, "-1");
   EXPECT_NE(error_of(bad_t + kColumns).message.find("sample_time_min is '-1'"), std::string::npos);
+}
+
+// ---- format v2: the state column and the v2 flags ----
+
+const std::string kHeaderV2 = "# excite run log v2\n" + kHeader.substr(kHeader.find('\n') + 1);
+const std::string kColumnsV2 = "t_min,k,du_L,du_V,u_L,u_V,dy_xD,flags,state\n";
+
+TEST(RunLogReader, V1LogsReadWithUnknownState) {
+  const ReadResult r = parse_run_log(kHeader + kColumns + rows(3), "run.csv");
+  ASSERT_TRUE(r.ok()) << r.error->to_string();
+  EXPECT_EQ(r.log.format_version, 1);
+  ASSERT_EQ(r.log.state.size(), 3U);
+  for (const RunState s : r.log.state) EXPECT_EQ(s, RunState::unknown);
+  // A v1 log has no state column: one is an unexpected column there.
+  const ReadError e = error_of(kHeader + kColumnsV2);
+  EXPECT_NE(e.message.find("unexpected column 'state'"), std::string::npos) << e.message;
+}
+
+TEST(RunLogReader, V2ReadsTheStateOfEveryRow) {
+  const std::string text = kHeaderV2 + kColumnsV2 + "0,0,0,0,2.8,3.1,0,0,armed\n" +
+                           "0.5,1,0.1,0,2.9,3.1,0,4,running\n" + "1,2,0,0,2.8,3.1,0,1,suspended\n" +
+                           "1.5,3,0,0,2.8,3.1,0,0,safe_unconfirmed\n";
+  const ReadResult r = parse_run_log(text, "run.csv");
+  ASSERT_TRUE(r.ok()) << r.error->to_string();
+  EXPECT_EQ(r.log.format_version, 2);
+  ASSERT_EQ(r.log.state.size(), 4U);
+  EXPECT_EQ(r.log.state[0], RunState::armed);
+  EXPECT_EQ(r.log.state[1], RunState::running);
+  EXPECT_EQ(r.log.state[2], RunState::suspended);
+  EXPECT_EQ(r.log.state[3], RunState::safe_unconfirmed);
+}
+
+TEST(RunLogReader, V2RequiresAKnownStateInItsColumn) {
+  const ReadError missing = error_of(kHeaderV2 + kColumns);
+  EXPECT_NE(missing.message.find("missing column 'state'"), std::string::npos) << missing.message;
+  const ReadError bad =
+      error_of(kHeaderV2 + kColumnsV2 + "0,0,0,0,2.8,3.1,0,0,armed\n0.5,1,0,0,2.8,3.1,0,0,go\n");
+  EXPECT_EQ(bad.line, 10U);
+  EXPECT_EQ(bad.column, 9U);
+  EXPECT_NE(bad.message.find("state: 'go' is not a run state; expected unknown, configured"),
+            std::string::npos)
+      << bad.message;
+}
+
+TEST(RunLogReader, V2FlagBitsAreKnownInV2OnlyAndBit8IsNot) {
+  const std::string v2 = kHeaderV2 + kColumnsV2 + "0,0,0,0,0,0,0,0,running\n" +
+                         "0.5,1,0,0,0,0,0,192,running\n";  // discontinuity | bad_value
+  const ReadResult r = parse_run_log(v2, "run.csv");
+  ASSERT_TRUE(r.ok()) << r.error->to_string();
+  EXPECT_EQ(r.log.flags[1], kDiscontinuity | kBadValue);
+  const ReadError v1 = error_of(kHeader + kColumns + "0,0,0,0,0,0,0,0\n0.5,1,0,0,0,0,0,64\n");
+  EXPECT_NE(v1.message.find("outside the documented flags (v1: suspended=1"), std::string::npos)
+      << v1.message;
+  const ReadError bit8 =
+      error_of(kHeaderV2 + kColumnsV2 + "0,0,0,0,0,0,0,256,running\n0.5,1,0,0,0,0,0,0,running\n");
+  EXPECT_NE(bit8.message.find("skipped=32, discontinuity=64, bad_value=128"), std::string::npos)
+      << bit8.message;
+}
+
+TEST(RunLogReader, V2SkippedRowJumpsKAndTimeTogether) {
+  // Ticks 2 and 3 were missed: the row after them is k = 4, t = 2 min, flagged skipped (32).
+  const std::string head =
+      kHeaderV2 + kColumnsV2 + "0,0,0,0,0,0,0,0,running\n" + "0.5,1,0,0,0,0,0,0,running\n";
+  const ReadResult r = parse_run_log(head + "2,4,0,0,0,0,0,32,running\n", "run.csv");
+  ASSERT_TRUE(r.ok()) << r.error->to_string();
+  EXPECT_EQ(r.log.k[2], 4U);
+  // The same jump without the flag is an error, as in v1.
+  const ReadError unflagged = error_of(head + "2,4,0,0,0,0,0,0,running\n");
+  EXPECT_NE(unflagged.message.find("k: 4 follows 1; expected 2"), std::string::npos)
+      << unflagged.message;
+  // Flagged skipped, k and t_min must still agree.
+  const ReadError time = error_of(head + "1.5,4,0,0,0,0,0,32,running\n");
+  EXPECT_EQ(time.column, 1U);
+  EXPECT_NE(time.message.find("expected 1.5 min (3 ticks"), std::string::npos) << time.message;
+  // A skipped flag with no tick skipped says something that is not so.
+  const ReadError none = error_of(head + "1,2,0,0,0,0,0,32,running\n");
+  EXPECT_NE(none.message.find("expected more than 2 (the row is flagged skipped)"),
+            std::string::npos)
+      << none.message;
 }
 
 TEST(RunLogReader, MissingFileIsAnError) {

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
@@ -55,14 +56,14 @@ TEST(RunLogWriter, HeaderListsMagicKeysUnitsAndColumns) {
   const WriteResult r = format_header(two_by_one(), buf);
   ASSERT_EQ(r.status, WriteStatus::ok);
   EXPECT_EQ(text_of(r, buf),
-            "# excite run log v1\n"
+            "# excite run log v2\n"
             "# plant: column A\n"
             "# plan: plans/prbs.toml\n"
             "# sample_time_min: 1\n"
             "# inputs: L V\n"
             "# outputs: xD\n"
             "# units: L=kmol/min V=kmol/min xD=mol/mol\n"
-            "t_min,k,du_L,du_V,u_L,u_V,dy_xD,flags\n");
+            "t_min,k,du_L,du_V,u_L,u_V,dy_xD,flags,state\n");
 }
 
 TEST(RunLogWriter, ProducerLineNamesTheProgramAndReadsBack) {
@@ -72,13 +73,14 @@ TEST(RunLogWriter, ProducerLineNamesTheProgramAndReadsBack) {
   const WriteResult r = format_header(h, buf);
   ASSERT_EQ(r.status, WriteStatus::ok);
   const std::string text = text_of(r, buf);
-  EXPECT_EQ(text.rfind("# excite run log v1\n# producer: excite-gateway 0.1.0\n# plant:", 0), 0U)
+  EXPECT_EQ(text.rfind("# excite run log v2\n# producer: excite-gateway 0.1.0\n# plant:", 0), 0U)
       << text;
-  const ReadResult back = parse_run_log(text + "0,0,0,0,1,1,0,0\n1,1,0,0,1,1,0,0\n", "run.csv");
+  const ReadResult back =
+      parse_run_log(text + "0,0,0,0,1,1,0,0,armed\n1,1,0,0,1,1,0,0,running\n", "run.csv");
   ASSERT_TRUE(back.ok()) << back.error->to_string();
   EXPECT_EQ(back.log.producer, "excite-gateway 0.1.0");
   h.producer = "two\nlines";
-  EXPECT_EQ(format_header(h, buf).status, WriteStatus::bad_text);
+  EXPECT_EQ(format_header(h, buf).status, WriteStatus::invalid_field);
   EXPECT_FALSE(kVersion.empty());  // CMake's project version reaches the code
 }
 
@@ -87,9 +89,27 @@ TEST(RunLogWriter, RowUsesShortestRoundTripNumbers) {
   const std::array<double, 2> du = {0.1, -0.25};
   const std::array<double, 2> u = {2.806, 3.206};
   const std::array<double, 1> dy = {1.0 / 3.0};
-  const WriteResult r = format_row(two_by_one(), Row{12.0, 12, du, u, dy, kClamped | kStale}, buf);
+  const WriteResult r = format_row(
+      two_by_one(), Row{12.0, 12, du, u, dy, kClamped | kStale, RunState::suspended}, buf);
   ASSERT_EQ(r.status, WriteStatus::ok);
-  EXPECT_EQ(text_of(r, buf), "12,12,0.1,-0.25,2.806,3.206,0.3333333333333333,20\n");
+  EXPECT_EQ(text_of(r, buf), "12,12,0.1,-0.25,2.806,3.206,0.3333333333333333,20,suspended\n");
+}
+
+TEST(RunLogWriter, EveryStateHasItsOwnTextThatReadsBack) {
+  std::size_t longest = 0;
+  for (std::size_t i = 0; i < kRunStateCount; ++i) {
+    const auto state = static_cast<RunState>(i);
+    const std::string_view text = to_text(state);
+    longest = std::max(longest, text.size());
+    RunState back = RunState::unknown;
+    ASSERT_TRUE(run_state_from_text(text, back)) << text;
+    EXPECT_EQ(back, state) << text;
+  }
+  EXPECT_EQ(longest, kMaxStateChars);
+  RunState s = RunState::running;
+  EXPECT_FALSE(run_state_from_text("Running", s));
+  EXPECT_FALSE(run_state_from_text("", s));
+  EXPECT_EQ(s, RunState::running);
 }
 
 TEST(RunLogWriter, ReportsBufferTooSmallInsteadOfTruncating) {
@@ -101,7 +121,7 @@ TEST(RunLogWriter, ReportsBufferTooSmallInsteadOfTruncating) {
   ASSERT_EQ(full.status, WriteStatus::ok);
   std::array<char, 64> small{};
   const WriteResult r = format_row(two_by_one(), row, std::span(small).first(full.length - 1));
-  EXPECT_EQ(r.status, WriteStatus::buffer_too_small);
+  EXPECT_EQ(r.status, WriteStatus::capacity_exceeded);
   EXPECT_EQ(r.length, 0U);
 }
 
@@ -112,7 +132,7 @@ TEST(RunLogWriter, MaxRowCharsHoldsTheWidestNumbers) {
   const WriteResult r =
       format_row(two_by_one(),
                  Row{-1.2345678901234567e-300, std::numeric_limits<std::uint64_t>::max(), du, du,
-                     dy, kKnownFlags},
+                     dy, kKnownFlags, RunState::safe_unconfirmed},
                  buf);
   EXPECT_EQ(r.status, WriteStatus::ok);
 }
@@ -123,29 +143,51 @@ TEST(RunLogWriter, RejectsNonFiniteWidthAndFlags) {
   const std::array<double, 2> ok2 = {0.0, 0.0};
   const std::array<double, 1> dy = {0.0};
   EXPECT_EQ(format_row(two_by_one(), Row{0, 0, du, ok2, dy, 0}, buf).status,
-            WriteStatus::non_finite);
+            WriteStatus::bad_argument);
   EXPECT_EQ(format_row(two_by_one(), Row{0, 0, dy, ok2, dy, 0}, buf).status,
-            WriteStatus::width_mismatch);
-  EXPECT_EQ(format_row(two_by_one(), Row{0, 0, ok2, ok2, dy, 1U << 7}, buf).status,
-            WriteStatus::unknown_flags);
+            WriteStatus::bad_argument);
+  EXPECT_EQ(format_row(two_by_one(), Row{0, 0, ok2, ok2, dy, 1U << 8}, buf).status,
+            WriteStatus::bad_argument);
+  EXPECT_EQ(
+      format_row(two_by_one(), Row{0, 0, ok2, ok2, dy, kSkipped | kDiscontinuity | kBadValue}, buf)
+          .status,
+      WriteStatus::ok);
+  EXPECT_EQ(
+      format_row(two_by_one(), Row{0, 0, ok2, ok2, dy, 0, static_cast<RunState>(10)}, buf).status,
+      WriteStatus::bad_argument);
+}
+
+TEST(RunLogWriter, RefusalsNameTheFieldInTheOneMessageForm) {
+  std::array<char, 1024> buf{};
+  const std::array<double, 2> ok2 = {0.0, 0.0};
+  const std::array<double, 1> dy = {0.0};
+  const WriteResult flags = format_row(two_by_one(), Row{0, 0, ok2, ok2, dy, 1U << 8}, buf);
+  EXPECT_STREQ(flags.message, "row.flags = (unknown bits), expected bits of Flag only");
+  const WriteResult width = format_row(two_by_one(), Row{0, 0, dy, ok2, dy, 0}, buf);
+  EXPECT_STREQ(width.message, "row du/u/dy = (wrong width), expected the header's channel counts");
+  Header h = two_by_one();
+  h.sample_time_min = 0.0;
+  EXPECT_STREQ(format_header(h, buf).message,
+               "header.sample_time_min = (not finite or <= 0), expected a finite number > 0");
+  EXPECT_STREQ(format_row(two_by_one(), Row{0, 0, ok2, ok2, dy, 0}, buf).message, "");
 }
 
 TEST(RunLogWriter, RejectsBadHeaders) {
   std::array<char, 1024> buf{};
   Header h = two_by_one();
   h.plant = "two\nlines";
-  EXPECT_EQ(format_header(h, buf).status, WriteStatus::bad_text);
+  EXPECT_EQ(format_header(h, buf).status, WriteStatus::invalid_field);
   h = two_by_one();
   h.sample_time_min = 0.0;
-  EXPECT_EQ(format_header(h, buf).status, WriteStatus::bad_sample_time);
+  EXPECT_EQ(format_header(h, buf).status, WriteStatus::invalid_field);
   const std::array<Channel, 2> dup = {{{"L", "-"}, {"L", "-"}}};
   h = two_by_one();
   h.inputs = dup;
-  EXPECT_EQ(format_header(h, buf).status, WriteStatus::bad_channel);
+  EXPECT_EQ(format_header(h, buf).status, WriteStatus::invalid_field);
   const std::array<Channel, 1> comma = {{{"x,D", "-"}}};
   h = two_by_one();
   h.outputs = comma;
-  EXPECT_EQ(format_header(h, buf).status, WriteStatus::bad_channel);
+  EXPECT_EQ(format_header(h, buf).status, WriteStatus::invalid_field);
 }
 
 // Writes a log through a real file and reads it back: every double comes back bit-exact.
@@ -164,7 +206,8 @@ TEST(RunLogWriter, FileRoundTripIsExact) {
     const std::array<double, 2> du = {x, x * 1e-9};
     const std::array<double, 2> u = {2.706 + x, 3.206 + x * 1e-9};
     const std::array<double, 1> dy = {std::exp(x) * 1e5};
-    ASSERT_EQ(w.write_row(Row{static_cast<double>(k), k, du, u, dy, 0}), WriteStatus::ok);
+    const RunState state = k < 40 ? RunState::running : RunState::returning;
+    ASSERT_EQ(w.write_row(Row{static_cast<double>(k), k, du, u, dy, 0, state}), WriteStatus::ok);
     written.push_back(x);
   }
   std::fclose(f);
@@ -178,6 +221,10 @@ TEST(RunLogWriter, FileRoundTripIsExact) {
     EXPECT_EQ(r.log.u[0][k], 2.706 + written[k]);
     EXPECT_EQ(r.log.dy[0][k], std::exp(written[k]) * 1e5);
   }
+  EXPECT_EQ(r.log.format_version, 2);
+  ASSERT_EQ(r.log.state.size(), 50U);
+  EXPECT_EQ(r.log.state[39], RunState::running);
+  EXPECT_EQ(r.log.state[40], RunState::returning);
   EXPECT_EQ(r.log.input_units[1], "kmol/min");
   EXPECT_EQ(r.log.output_names[0], "xD");
 }
@@ -192,8 +239,11 @@ TEST(RunLogWriter, FormattingAndWritingDoNotAllocate) {
   const long before = g_allocations.load();
   EXPECT_EQ(format_header(two_by_one(), buf).status, WriteStatus::ok);
   for (std::uint64_t k = 0; k < 100; ++k) {
-    EXPECT_EQ(format_row(two_by_one(), Row{static_cast<double>(k), k, du, du, dy, 0}, buf).status,
-              WriteStatus::ok);
+    EXPECT_EQ(
+        format_row(two_by_one(),
+                   Row{static_cast<double>(k), k, du, du, dy, kSkipped, RunState::suspended}, buf)
+            .status,
+        WriteStatus::ok);
     EXPECT_EQ(w.write_row(Row{static_cast<double>(k), k, du, du, dy, 0}), WriteStatus::ok);
   }
   EXPECT_EQ(g_allocations.load() - before, 0);

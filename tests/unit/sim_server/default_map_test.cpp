@@ -43,7 +43,7 @@ TEST(DefaultMap, LargestPlantsFitAndBeyondIsRefusedByName) {
     default_registers(default_max_inputs + 1, 2);
     FAIL() << "100 inputs accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_THAT(e.what(), HasSubstr("plant = 100 inputs, 2 outputs: expected 1..99 inputs"));
+    EXPECT_THAT(e.what(), HasSubstr("plant = 100 inputs, 2 outputs, expected 1..99 inputs"));
   }
 }
 

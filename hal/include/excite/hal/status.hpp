@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <cstdint>
+#include "firmware/status/status.hpp"
 
 namespace excite::hal {
 
@@ -20,24 +20,11 @@ namespace excite::hal {
 //   bad_argument  caller error (wrong span size, NaN setpoint); nothing was sent.
 // A write that fails after some of its requests went out leaves those written: the
 // protocol has no transaction; the status reports the failure.
-enum class Status : std::uint8_t { ok, timeout, link_lost, peer_error, unavailable, bad_argument };
-
-constexpr const char* to_string(Status status) noexcept {
-  switch (status) {
-    case Status::ok:
-      return "ok";
-    case Status::timeout:
-      return "timeout";
-    case Status::link_lost:
-      return "link_lost";
-    case Status::peer_error:
-      return "peer_error";
-    case Status::unavailable:
-      return "unavailable";
-    case Status::bad_argument:
-      return "bad_argument";
-  }
-  return "unknown";
-}
+//
+// The codes are the project's one vocabulary (firmware/status/status.hpp, StatusCode); a hal
+// call returns only the six above. Messages (detail(), Validation) use the one form
+// "FIELD = VALUE, expected WHAT".
+using Status = excite::StatusCode;
+using excite::to_string;
 
 }  // namespace excite::hal

@@ -22,12 +22,13 @@ struct Validation {
 
   [[nodiscard]] bool ok() const noexcept { return field.empty(); }
 
-  // "<field> = <value>: expected <expected>", or "ok".
+  // "<field> = <value>, expected <expected>" (the one message form,
+  // firmware/status/status.hpp), or "ok".
   [[nodiscard]] std::string message() const {
     if (ok()) {
       return "ok";
     }
-    return field + " = " + value + ": expected " + expected;
+    return field + " = " + value + ", expected " + expected;
   }
 };
 

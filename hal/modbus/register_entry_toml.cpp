@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: MIT
+#include "hal/modbus/register_entry_toml.hpp"
+
+namespace excite::hal::modbus {
+
+RegisterEntry read_register_entry(const config::Table& entry, EntryKind kind) {
+  RegisterEntry e;
+  e.address = static_cast<std::uint32_t>(
+      entry.required_integer("address", 0, address_space - 1, "a register address 0..65535"));
+  e.function_code = static_cast<int>(
+      entry.integer("function_code", 0, 255, "a Modbus function code (16; values 3 or 4)")
+          .value_or(default_function_code(kind)));
+  e.type = entry.text("type").value_or(e.type);
+  e.word_order = entry.text("word_order").value_or(e.word_order);
+  e.eng_min = entry.number("eng_min").value_or(e.eng_min);
+  e.eng_max = entry.number("eng_max").value_or(e.eng_max);
+  if (const auto v = entry.integer("raw_min", -32768, 65535)) {
+    e.raw_min = static_cast<std::int32_t>(*v);
+  }
+  if (const auto v = entry.integer("raw_max", -32768, 65535)) {
+    e.raw_max = static_cast<std::int32_t>(*v);
+  }
+  return e;
+}
+
+void read_map_settings(const config::Table& table, RegisterMap& map) {
+  if (const auto v =
+          table.integer("heartbeat_address", 0, address_space - 1, "a register address 0..65535")) {
+    map.heartbeat_address = static_cast<std::uint32_t>(*v);
+  }
+  if (const auto v = table.integer("write_chunk", 2, max_write_registers)) {
+    map.write_chunk = static_cast<std::uint32_t>(*v);
+  }
+  if (const auto v = table.integer("read_chunk", 2, max_read_registers)) {
+    map.read_chunk = static_cast<std::uint32_t>(*v);
+  }
+}
+
+}  // namespace excite::hal::modbus

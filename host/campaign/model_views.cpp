@@ -1,0 +1,313 @@
+// SPDX-License-Identifier: MIT
+#include "host/campaign/model_views.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "host/campaign/gnuplot.hpp"
+#include "host/campaign/residuals.hpp"
+#include "host/export/step_response.hpp"
+#include "host/identify/validate.hpp"
+
+namespace excite::host {
+namespace {
+
+std::string format(const char* pattern, double v) {
+  if (std::isnan(v)) return "–";
+  if (std::isinf(v)) return "∞";
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, pattern, v);
+  return buffer;
+}
+
+std::string with_error(double value, double se, bool at_bound) {
+  if (std::isnan(value)) return "–";
+  std::string s = format("%.4g", value);
+  if (at_bound) return s + " (on its bound)";
+  if (std::isnan(se)) return s;
+  return s + " ± " + format("%.2g", se);
+}
+
+std::string unit_of(const std::vector<std::string>& units, int i) {
+  return i < static_cast<int>(units.size()) ? units[static_cast<std::size_t>(i)] : "-";
+}
+
+std::string name_of(const std::vector<std::string>& names, int i) {
+  return names.at(static_cast<std::size_t>(i));
+}
+
+// A tic step of 1, 2 or 5 × 10^k giving at most about five tics over `span`.
+double tic_step(double span) {
+  const double raw = span / 5.0;
+  const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+  for (const double m : {1.0, 2.0, 5.0}) {
+    if (m * decade >= raw) return m * decade;
+  }
+  return 10.0 * decade;
+}
+
+std::string axis_unit(const std::string& unit) {
+  return unit == "-" ? "[–]" : "[" + unit + "]";
+}
+
+// The step-response matrix: one panel per CV × MV, model with its ±2σ band, truth dashed.
+void step_script(const Experiment& e, const CampaignResult& r, const Eigen::MatrixXd& truth,
+                 int horizon, const std::filesystem::path& figures) {
+  const IdentifiedModel& m = e.identified.model;
+  const double T = e.sample_time_min;
+  std::vector<double> t;
+  for (int k = 0; k <= horizon; ++k) t.push_back(k * T);
+  const auto [time_label, divisor] = time_axis(horizon * T);
+  const auto data = figures / (e.name + "-steps.dat");
+  std::vector<std::vector<double>> columns;  // per element: s, lo, hi
+  std::vector<bool> band_known;
+  for (int o = 0; o < m.outputs; ++o) {
+    for (int i = 0; i < m.inputs; ++i) {
+      const ElementEstimate& est = m.element(o, i);
+      std::vector<double> s(t.size(), std::nan("")), lo = s, hi = s;
+      bool known = false;
+      if (est.estimated()) {
+        const StepBand band = step_band(est, t);
+        known = true;
+        for (std::size_t k = 0; k < t.size(); ++k) {
+          s[k] = band.response[k];
+          const double w = 2.0 * band.sigma[k];
+          if (!std::isfinite(w)) known = false;
+          lo[k] = std::isfinite(w) ? s[k] - w : s[k];
+          hi[k] = std::isfinite(w) ? s[k] + w : s[k];
+        }
+      }
+      columns.push_back(s);
+      columns.push_back(lo);
+      columns.push_back(hi);
+      band_known.push_back(known);
+    }
+  }
+  {
+    std::ofstream out(data);
+    for (std::size_t k = 0; k < t.size(); ++k) {
+      out << t[k] / divisor;
+      for (const auto& c : columns) out << ' ' << (std::isfinite(c[k]) ? c[k] : NAN);
+      const auto kk = static_cast<Eigen::Index>(k);
+      for (Eigen::Index c = 0; c < truth.cols(); ++c)
+        out << ' ' << (kk < truth.rows() ? truth(kk, c) : NAN);
+      out << '\n';
+    }
+  }
+  const int p = m.outputs, n = m.inputs;
+  std::ofstream gp(figures / (e.name + "-steps.gp"));
+  gp << "set encoding utf8\nset terminal svg size " << std::max(700, 260 * n) << ','
+     << std::max(420, 210 * p + 60) << " dynamic font 'sans,10'\nset output "
+     << gnuplot_string((figures / (e.name + "-steps.svg")).string()) << "\nset multiplot layout "
+     << p << ',' << n << " title "
+     << gnuplot_string(e.name + ": unit steps, model ±2σ (blue)" +
+                       std::string(truth.size() ? ", true plant (black dashed)" : ""))
+     << "\nset grid\nunset key\nset xlabel " << gnuplot_string(time_label) << "\nset xtics "
+     << tic_step(horizon * T / divisor) << '\n';
+  const std::string file = gnuplot_string(data.string());
+  for (int o = 0; o < p; ++o) {
+    for (int i = 0; i < n; ++i) {
+      const int el = o * n + i;
+      const int col = 2 + 3 * el;
+      gp << "set title "
+         << gnuplot_string(
+                name_of(r.output_names, o) + " ← " + name_of(r.input_names, i) +
+                (band_known[static_cast<std::size_t>(el)] ? "" : " (band not determined)"))
+         << "\nset ylabel "
+         << gnuplot_string(
+                i == 0 ? "s(t) " + gain_unit(unit_of(r.output_units, o), unit_of(r.input_units, i))
+                       : "")
+         << "\nplot " << file << " using 1:" << col + 1 << ':' << col + 2
+         << " with filledcurves lc rgb '#a8c4f0' notitle, " << file << " using 1:" << col
+         << " with lines lw 2 lc rgb '#1f4e9c' notitle";
+      if (truth.size() != 0) {
+        gp << ", " << file << " using 1:" << 2 + 3 * p * n + el
+           << " with lines lw 1.5 dt 2 lc rgb 'black' notitle";
+      }
+      gp << '\n';
+    }
+  }
+  gp << "unset multiplot\n";
+}
+
+// Measured against predicted, one panel per output (at most 2500 points drawn per curve).
+void fit_script(const Experiment& e, const CampaignResult& r, const Eigen::MatrixXd& Y_hat,
+                const std::filesystem::path& figures) {
+  const Eigen::Index N = e.Y.rows();
+  const Eigen::Index every = std::max<Eigen::Index>(1, N / 2500);
+  const auto [time_label, divisor] = time_axis(static_cast<double>(N) * e.sample_time_min);
+  const auto data = figures / (e.name + "-fit.dat");
+  {
+    std::ofstream out(data);
+    for (Eigen::Index k = 0; k < N; k += every) {
+      out << static_cast<double>(k) * e.sample_time_min / divisor;
+      for (Eigen::Index o = 0; o < e.Y.cols(); ++o) out << ' ' << e.Y(k, o) << ' ' << Y_hat(k, o);
+      out << '\n';
+    }
+  }
+  const auto p = static_cast<int>(e.Y.cols());
+  std::ofstream gp(figures / (e.name + "-fit.gp"));
+  gp << "set encoding utf8\nset terminal svg size 1000," << 180 * p + 80
+     << " dynamic font 'sans,10'\nset output "
+     << gnuplot_string((figures / (e.name + "-fit.svg")).string()) << "\nset multiplot layout " << p
+     << ",1 title "
+     << gnuplot_string(e.name + ": measured outputs (grey) and the model's simulation (blue)" +
+                       (every > 1 ? ", every " + std::to_string(every) + "th sample drawn" : ""))
+     << "\nset grid\nset key outside right top\nset xlabel " << gnuplot_string(time_label) << '\n';
+  const std::string file = gnuplot_string(data.string());
+  for (int o = 0; o < p; ++o) {
+    const double fit = e.identified.fits.at(static_cast<std::size_t>(o)).fit_percent;
+    gp << "set ylabel "
+       << gnuplot_string("Δ" + name_of(r.output_names, o) + " " +
+                         axis_unit(unit_of(r.output_units, o)))
+       << "\nset title "
+       << gnuplot_string(name_of(r.output_names, o) + ": fit " + format("%.1f", fit) + " % (5.5.1)")
+       << "\nplot " << file << " using 1:" << 2 + 2 * o
+       << " with lines lc rgb '#999999' title 'measured', " << file << " using 1:" << 3 + 2 * o
+       << " with lines lw 1.5 lc rgb '#1f4e9c' title 'model'\n";
+  }
+  gp << "unset multiplot\n";
+}
+
+// Residual autocorrelation and cross-correlation with every input, 99 % limits dashed red.
+void residual_script(const Experiment& e, const CampaignResult& r, const Eigen::MatrixXd& Y_hat,
+                     const std::filesystem::path& figures) {
+  const auto p = static_cast<int>(e.Y.cols());
+  const auto n = static_cast<int>(e.U.cols());
+  const int L = std::min<int>(kResidualLags, static_cast<int>(e.Y.rows()) - 1);
+  const auto data = figures / (e.name + "-residuals.dat");
+  double limit = 0.0;
+  {
+    std::vector<ResidualCorrelation> rc;
+    for (int o = 0; o < p; ++o) {
+      const Eigen::VectorXd residual = e.Y.col(o) - Y_hat.col(o);
+      rc.push_back(residual.allFinite()
+                       ? residual_correlation(residual, e.U, L)
+                       : ResidualCorrelation{L, Eigen::VectorXd::Zero(L + 1),
+                                             Eigen::MatrixXd::Zero(2 * L + 1, n), 0.0});
+      limit = std::max(limit, rc.back().limit_99);
+    }
+    std::ofstream out(data);  // lag, then per output: auto (NaN for τ < 0), cross × n
+    for (int tau = -L; tau <= L; ++tau) {
+      out << tau * e.sample_time_min;
+      for (int o = 0; o < p; ++o) {
+        const ResidualCorrelation& c = rc[static_cast<std::size_t>(o)];
+        out << ' ' << (tau >= 0 ? c.auto_correlation(tau) : NAN);
+        for (int i = 0; i < n; ++i) out << ' ' << c.cross_correlation(tau + L, i);
+      }
+      out << '\n';
+    }
+  }
+  std::ofstream gp(figures / (e.name + "-residuals.gp"));
+  gp << "set encoding utf8\nset terminal svg size " << 230 * (n + 1) + 40 << ',' << 190 * p + 80
+     << " dynamic font 'sans,9'\nset output "
+     << gnuplot_string((figures / (e.name + "-residuals.svg")).string())
+     << "\nset multiplot layout " << p << ',' << n + 1 << " title "
+     << gnuplot_string(e.name +
+                       ": residual autocorrelation (left) and cross-correlation with "
+                       "each input; dashed: 99 % limits ±2.58/√N = ±" +
+                       format("%.3g", limit))
+     << "\nset grid\nunset key\nset xlabel 'lag [min]'\nset yrange [-1:1]\nset xtics "
+     << tic_step(2.0 * L * e.sample_time_min) << '\n';
+  const std::string file = gnuplot_string(data.string());
+  const int per_output = n + 1;
+  for (int o = 0; o < p; ++o) {
+    for (int c = 0; c <= n; ++c) {
+      const std::string what = c == 0 ? "r_{ee}, e = residual of " + name_of(r.output_names, o)
+                                      : "r_{ue}: " + name_of(r.input_names, c - 1) + " × e(" +
+                                            name_of(r.output_names, o) + ")";
+      gp << "set title " << gnuplot_string(what) << "\nset ylabel "
+         << gnuplot_string(c == 0 ? "correlation [–]" : "") << "\nset xrange ["
+         << (c == 0 ? 0.0 : -L * e.sample_time_min) << ':' << L * e.sample_time_min << "]\nplot "
+         << file << " using 1:" << 2 + o * per_output + c
+         << " with impulses lw 2 lc rgb '#1f4e9c', " << limit
+         << " with lines dt 2 lc rgb '#c03030', " << -limit
+         << " with lines dt 2 lc rgb '#c03030'\n";
+    }
+  }
+  gp << "unset multiplot\n";
+}
+
+}  // namespace
+
+std::string gain_unit(const std::string& output_unit, const std::string& input_unit) {
+  if (output_unit == "-" && input_unit == "-") return "[–]";
+  return "[" + output_unit + " per " + input_unit + "]";
+}
+
+std::pair<std::string, double> time_axis(double longest_min) {
+  if (longest_min > 600.0) return {"t [h]", 60.0};
+  return {"t [min]", 1.0};
+}
+
+std::string duration_text(double minutes) {
+  if (minutes < 120.0) return format("%.0f", minutes) + " min";
+  const auto whole = static_cast<long>(std::lround(minutes));
+  return std::to_string(whole / 60) + " h " + std::to_string(whole % 60) + " min";
+}
+
+Eigen::MatrixXd true_unit_steps(sim::Plant& plant, int samples, double sample_time_min) {
+  const int n = plant.inputs(), p = plant.outputs();
+  Eigen::MatrixXd steps(samples + 1, p * n);
+  const Eigen::VectorXd baseline = plant.input_baseline();
+  for (int i = 0; i < n; ++i) {
+    const double size = 1e-3 * std::max(1.0, std::abs(baseline(i)));
+    Eigen::MatrixXd du = Eigen::MatrixXd::Zero(samples + 1, n);
+    du.col(i).setConstant(size);
+    const Eigen::MatrixXd dy = plant.simulate(du, sample_time_min);
+    for (int o = 0; o < p; ++o) steps.col(o * n + i) = dy.col(o) / size;
+  }
+  return steps;
+}
+
+int report_step_horizon(const CampaignResult& r) {
+  std::vector<int> horizons;
+  Eigen::Index shortest = std::numeric_limits<Eigen::Index>::max();
+  for (const Experiment& e : r.experiments) {
+    horizons.push_back(settling_samples(e.identified.model));
+    shortest = std::min(shortest, e.U.rows());
+  }
+  if (horizons.empty()) return 1;
+  std::nth_element(horizons.begin(), horizons.begin() + static_cast<long>(horizons.size() / 2),
+                   horizons.end());
+  const int median = horizons[horizons.size() / 2];
+  return static_cast<int>(
+      std::clamp<Eigen::Index>(median, 1, std::max<Eigen::Index>(1, shortest - 1)));
+}
+
+void write_model_view_scripts(const Experiment& e, const CampaignResult& r,
+                              const Eigen::MatrixXd& truth, int horizon_samples,
+                              const std::filesystem::path& figures) {
+  const Eigen::MatrixXd Y_hat = simulate(e.identified.model, e.U);
+  step_script(e, r, truth, horizon_samples, figures);
+  fit_script(e, r, Y_hat, figures);
+  residual_script(e, r, Y_hat, figures);
+}
+
+std::string parameter_table_html(const Experiment& e, const CampaignResult& r) {
+  const IdentifiedModel& m = e.identified.model;
+  std::ostringstream h;
+  h << "<table class='params'><tr><th>CV ← MV</th><th>status</th><th>K [CV unit per MV "
+       "unit]</th><th>T<sub>d</sub> [min]</th><th>T<sub>p1</sub> [min]</th><th>T<sub>p2</sub> "
+       "[min]</th></tr>";
+  for (int o = 0; o < m.outputs; ++o) {
+    for (int i = 0; i < m.inputs; ++i) {
+      const ElementEstimate& est = m.element(o, i);
+      const auto bound = [&](int k) { return est.at_bound[static_cast<std::size_t>(k)]; };
+      h << "<tr><td>" << name_of(r.output_names, o) << " ← " << name_of(r.input_names, i)
+        << "</td><td>" << to_string(est.status) << "</td><td>"
+        << with_error(est.value.gain, est.std_error.gain, bound(kGain)) << "</td><td>"
+        << with_error(est.value.delay_min, est.std_error.delay_min, bound(kDelay)) << "</td><td>"
+        << with_error(est.value.tau1_min, est.std_error.tau1_min, bound(kTp1)) << "</td><td>"
+        << with_error(est.value.tau2_min, est.std_error.tau2_min, bound(kTp2)) << "</td></tr>";
+    }
+  }
+  h << "</table>";
+  return h.str();
+}
+
+}  // namespace excite::host

@@ -1,0 +1,281 @@
+// SPDX-License-Identifier: MIT
+#include "host/export/formats.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "host/export/step_response.hpp"
+
+namespace excite::host {
+namespace {
+
+constexpr const char* kTransferFormat = "excite transfer matrix v1";
+
+// Shortest text that reads back as the same double.
+std::string exact(double v) {
+  char buffer[32];
+  for (int digits = 15; digits <= 17; ++digits) {
+    std::snprintf(buffer, sizeof buffer, "%.*g", digits, v);
+    if (std::strtod(buffer, nullptr) == v) break;
+  }
+  return buffer;
+}
+
+// Denominator (T_p1 s + 1)(T_p2 s + 1) in descending powers of s, without leading zeros.
+std::vector<double> denominator(const TwoPoleDelay& p) {
+  const double a = p.tau1_min, b = p.tau2_min;
+  if (a == 0.0 && b == 0.0) return {1.0};
+  if (a == 0.0 || b == 0.0) return {a + b, 1.0};
+  return {a * b, a + b, 1.0};
+}
+
+std::string list(const std::vector<double>& v, const char* separator) {
+  std::string out;
+  for (std::size_t i = 0; i < v.size(); ++i) out += (i ? separator : "") + exact(v[i]);
+  return out;
+}
+
+// 'it''s' for MATLAB; the names come from run logs, but quote them properly anyway.
+std::string matlab_string(const std::string& s) {
+  std::string out = "'";
+  for (const char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
+std::string matlab_cell(const std::vector<std::string>& names) {
+  std::string out = "{";
+  for (std::size_t i = 0; i < names.size(); ++i) out += (i ? ", " : "") + matlab_string(names[i]);
+  return out + "}";
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (const char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+double input_delay(const NamedModel& m, int in) {
+  double d = std::numeric_limits<double>::infinity();
+  for (int o = 0; o < m.model.outputs; ++o) d = std::min(d, m.model.element(o, in).value.delay_min);
+  return d;
+}
+
+nlohmann::json transfer(const NamedModel& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int o = 0; o < m.model.outputs; ++o) {
+    nlohmann::json row = nlohmann::json::array();
+    for (int i = 0; i < m.model.inputs; ++i) {
+      const ElementEstimate& e = m.model.element(o, i);
+      row.push_back({{"K", e.value.gain},
+                     {"Td", e.value.delay_min},
+                     {"Tp1", e.value.tau1_min},
+                     {"Tp2", e.value.tau2_min},
+                     {"num", {e.value.gain}},
+                     {"den", denominator(e.value)},
+                     {"status", to_string(e.status)}});
+    }
+    rows.push_back(row);
+  }
+  return {{"format", kTransferFormat},
+          {"source", m.source},
+          {"time_unit", "min"},
+          {"sample_time_min", m.model.sample_time_min},
+          {"inputs", m.inputs},
+          {"outputs", m.outputs},
+          {"element", "K e^(-Td s) / ((Tp1 s + 1)(Tp2 s + 1)); num, den: descending powers of s"},
+          {"elements", rows}};
+}
+
+double number_at(const nlohmann::json& j, const char* key, const std::string& where) {
+  if (!j.contains(key) || !j.at(key).is_number()) {
+    throw std::invalid_argument(where + "." + key + ": " +
+                                (j.contains(key) ? j.at(key).dump() : std::string("missing")) +
+                                ", expected a number");
+  }
+  return j.at(key).get<double>();
+}
+
+}  // namespace
+
+void require_every_element(const NamedModel& m) {
+  for (int o = 0; o < m.model.outputs; ++o) {
+    for (int i = 0; i < m.model.inputs; ++i) {
+      const ElementEstimate& e = m.model.element(o, i);
+      if (e.estimated()) continue;
+      throw std::invalid_argument(
+          m.source + ": outputs[" + std::to_string(o) + "].elements[" + std::to_string(i) + "] (" +
+          m.outputs.at(static_cast<std::size_t>(o)) + " <- " +
+          m.inputs.at(static_cast<std::size_t>(i)) + "): not estimated (" + to_string(e.status) +
+          (e.reason.empty() ? "" : ": " + e.reason) +
+          "); expected every element to have parameters before it is exported");
+    }
+  }
+}
+
+std::string step_csv(const NamedModel& m, int horizon_samples) {
+  if (horizon_samples < 1) {
+    throw std::invalid_argument("horizon: " + std::to_string(horizon_samples) +
+                                " samples, expected at least 1");
+  }
+  require_every_element(m);
+  const double T = m.model.sample_time_min;
+  std::ostringstream out;
+  out << "# excite step response v1\n# source: " << m.source << "\n# sample_time_min: " << exact(T)
+      << "\n# horizon: " << horizon_samples << " samples (" << exact(horizon_samples * T)
+      << " min)\n"
+      << "# s_k = y(kT) after a unit step of the MV at t = 0, k = 1 ... horizon (CV units per "
+         "MV unit); element K e^(-Td s)/((Tp1 s + 1)(Tp2 s + 1))\n";
+  out << "k,t_min";
+  for (int o = 0; o < m.model.outputs; ++o) {
+    for (int i = 0; i < m.model.inputs; ++i) {
+      out << ','
+          << csv_field(m.outputs[static_cast<std::size_t>(o)] + " <- " +
+                       m.inputs[static_cast<std::size_t>(i)]);
+    }
+  }
+  out << '\n';
+  for (int k = 1; k <= horizon_samples; ++k) {
+    const double t = k * T;
+    out << k << ',' << exact(t);
+    for (int o = 0; o < m.model.outputs; ++o) {
+      for (int i = 0; i < m.model.inputs; ++i)
+        out << ',' << exact(step_response(m.model.element(o, i).value, t));
+    }
+    out << '\n';
+  }
+  return out.str();
+}
+
+std::string matlab_script(const NamedModel& m) {
+  require_every_element(m);
+  const int p = m.model.outputs, n = m.model.inputs;
+  std::ostringstream s;
+  s << "% excite model export (MATLAB Control System Toolbox; Octave control package)\n"
+    << "% source: " << m.source << "\n"
+    << "% G(s) per CV x MV: K e^(-Td s) / ((Tp1 s + 1)(Tp2 s + 1)), time in minutes\n"
+    << "% identified at sample time " << exact(m.model.sample_time_min) << " min\n";
+  s << "num = {";
+  for (int o = 0; o < p; ++o) {
+    for (int i = 0; i < n; ++i) s << (i ? ", " : "") << exact(m.model.element(o, i).value.gain);
+    s << (o + 1 < p ? "; " : "");
+  }
+  s << "};\nden = {";
+  for (int o = 0; o < p; ++o) {
+    for (int i = 0; i < n; ++i)
+      s << (i ? ", " : "") << '[' << list(denominator(m.model.element(o, i).value), " ") << ']';
+    s << (o + 1 < p ? "; " : "");
+  }
+  s << "};\ninput_delay_min = [";
+  for (int i = 0; i < n; ++i) s << (i ? " " : "") << exact(input_delay(m, i));
+  s << "];\nio_delay_min = [";
+  for (int o = 0; o < p; ++o) {
+    for (int i = 0; i < n; ++i) {
+      s << (i ? " " : "") << exact(m.model.element(o, i).value.delay_min - input_delay(m, i));
+    }
+    s << (o + 1 < p ? "; " : "");
+  }
+  s << "];\ninput_names = " << matlab_cell(m.inputs)
+    << ";\noutput_names = " << matlab_cell(m.outputs) << ";\n"
+    << "if exist('OCTAVE_VERSION', 'builtin')\n"
+    << "  pkg load control\n"
+    << "  % The control package has no delay properties: G holds the rational part; the\n"
+    << "  % delays are input_delay_min (per MV) + io_delay_min (per CV x MV).\n"
+    << "  G = tf(num, den, 'inname', input_names, 'outname', output_names);\n"
+    << "else\n"
+    << "  G = tf(num, den, 'InputDelay', input_delay_min', 'IODelay', io_delay_min, ...\n"
+    << "         'InputName', input_names, 'OutputName', output_names, 'TimeUnit', 'minutes');\n"
+    << "end\n";
+  return s.str();
+}
+
+std::string python_control_script(const NamedModel& m) {
+  require_every_element(m);
+  std::ostringstream s;
+  s << "#!/usr/bin/env python3\n"
+    << "\"\"\"excite model export for python-control; source: " << m.source << ".\n\n"
+    << "G(s) per CV x MV: K e^(-Td s) / ((Tp1 s + 1)(Tp2 s + 1)), time in minutes.\n"
+    << "G is the rational part (python-control's tf has no delay); DELAYS_MIN holds the\n"
+    << "delays, with_pade(order) gives G with every delay by a Pade approximation.\n\"\"\"\n"
+    << "import json\n\nimport control\n\n"
+    << "MODEL = json.loads(r'''" << transfer(m).dump(1) << "''')\n\n"
+    << "INPUTS = MODEL['inputs']\nOUTPUTS = MODEL['outputs']\n"
+    << "ELEMENTS = MODEL['elements']  # rows = CVs, columns = MVs\n"
+    << "DELAYS_MIN = [[e['Td'] for e in row] for row in ELEMENTS]\n\n"
+    << "G = control.tf([[e['num'] for e in row] for row in ELEMENTS],\n"
+    << "               [[e['den'] for e in row] for row in ELEMENTS],\n"
+    << "               inputs=INPUTS, outputs=OUTPUTS, name='excite_model')\n\n\n"
+    << "def with_pade(order=3):\n"
+    << "    \"\"\"G with each element's delay replaced by a Pade approximation of `order`.\"\"\"\n"
+    << "    nums, dens = [], []\n"
+    << "    for row in ELEMENTS:\n"
+    << "        nums.append([])\n"
+    << "        dens.append([])\n"
+    << "        for e in row:\n"
+    << "            element = control.tf(e['num'], e['den'])\n"
+    << "            if e['Td'] > 0:\n"
+    << "                element = element * control.tf(*control.pade(e['Td'], order))\n"
+    << "            nums[-1].append(list(element.num[0][0]))\n"
+    << "            dens[-1].append(list(element.den[0][0]))\n"
+    << "    return control.tf(nums, dens, inputs=INPUTS, outputs=OUTPUTS)\n\n\n"
+    << "if __name__ == '__main__':\n"
+    << "    print(G)\n"
+    << "    print('delays [min]:', DELAYS_MIN)\n";
+  return s.str();
+}
+
+std::string transfer_json(const NamedModel& m) {
+  require_every_element(m);
+  return transfer(m).dump(2) + "\n";
+}
+
+NamedModel read_transfer_json(const std::string& text, const std::string& source) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw std::invalid_argument(source + ": not JSON (" + e.what() + ")");
+  }
+  if (!j.is_object() || j.value("format", "") != kTransferFormat) {
+    throw std::invalid_argument(source + ": format: expected \"" + kTransferFormat + "\"");
+  }
+  NamedModel m;
+  m.source = source;
+  m.model.sample_time_min = number_at(j, "sample_time_min", source);
+  m.inputs = j.at("inputs").get<std::vector<std::string>>();
+  m.outputs = j.at("outputs").get<std::vector<std::string>>();
+  m.model.inputs = static_cast<int>(m.inputs.size());
+  m.model.outputs = static_cast<int>(m.outputs.size());
+  const nlohmann::json& rows = j.at("elements");
+  if (!rows.is_array() || rows.size() != m.outputs.size()) {
+    throw std::invalid_argument(source + ": elements: expected " +
+                                std::to_string(m.outputs.size()) + " rows");
+  }
+  for (int o = 0; o < m.model.outputs; ++o) {
+    const nlohmann::json& row = rows[static_cast<std::size_t>(o)];
+    if (!row.is_array() || row.size() != m.inputs.size()) {
+      throw std::invalid_argument(source + ": elements[" + std::to_string(o) + "]: expected " +
+                                  std::to_string(m.inputs.size()) + " elements");
+    }
+    for (int i = 0; i < m.model.inputs; ++i) {
+      const std::string where =
+          source + ": elements[" + std::to_string(o) + "][" + std::to_string(i) + "]";
+      const nlohmann::json& e = row[static_cast<std::size_t>(i)];
+      ElementEstimate est;
+      est.value = {number_at(e, "K", where), number_at(e, "Td", where), number_at(e, "Tp1", where),
+                   number_at(e, "Tp2", where)};
+      est.status = e.value("status", "identified") == "weak_gain" ? ElementStatus::weak_gain
+                                                                  : ElementStatus::identified;
+      m.model.elements.push_back(est);
+    }
+  }
+  return m;
+}
+
+}  // namespace excite::host

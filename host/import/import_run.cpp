@@ -1,0 +1,242 @@
+// SPDX-License-Identifier: MIT
+#include "host/import/import_run.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "firmware/runlog/format.hpp"
+#include "firmware/runlog/writer.hpp"
+
+namespace excite::host::historian {
+namespace {
+
+std::string number(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+// A uniform grid from the first timestamp to the last.
+std::vector<double> grid_of(const HistorianData& d, double T_s) {
+  std::vector<double> g;
+  const double t0 = d.time_s.front();
+  const double span = d.time_s.back() - t0;
+  const auto n = static_cast<std::size_t>(std::floor(span / T_s + 1e-9)) + 1;
+  for (std::size_t k = 0; k < n; ++k) g.push_back(t0 + static_cast<double>(k) * T_s);
+  return g;
+}
+
+double baseline_of(const std::vector<double>& v, std::size_t from, std::size_t to,
+                   const TagSpec& tag, const std::string& file, const ImportOptions& o) {
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t k = from; k <= to && k < v.size(); ++k) {
+    if (!std::isnan(v[k])) {
+      sum += v[k];
+      ++n;
+    }
+  }
+  if (n == 0) {
+    throw std::invalid_argument(file + ": tag '" + tag.tag +
+                                "' has no good value in the baseline "
+                                "window " +
+                                number(o.baseline_from_min) + " … " + number(o.baseline_to_min) +
+                                " min from the data's start; expected at least one (give "
+                                "--baseline FROM:TO)");
+  }
+  return sum / static_cast<double>(n);
+}
+
+// The offset or line removed from the good rows of dy (NaN rows ignored).
+void detrend(std::vector<double>& dy, Detrend mode, double T_min, double& offset, double& slope) {
+  offset = 0.0;
+  slope = 0.0;
+  if (mode == Detrend::none) return;
+  std::vector<Eigen::Index> good;
+  for (std::size_t k = 0; k < dy.size(); ++k) {
+    if (!std::isnan(dy[k])) good.push_back(static_cast<Eigen::Index>(k));
+  }
+  if (good.empty()) return;
+  const auto m = static_cast<Eigen::Index>(good.size());
+  Eigen::MatrixXd A(m, mode == Detrend::linear ? 2 : 1);
+  Eigen::VectorXd b(m);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    A(i, 0) = 1.0;
+    if (A.cols() > 1) A(i, 1) = static_cast<double>(good[static_cast<std::size_t>(i)]) * T_min;
+    b(i) = dy[static_cast<std::size_t>(good[static_cast<std::size_t>(i)])];
+  }
+  const Eigen::VectorXd c = A.colPivHouseholderQr().solve(b);
+  offset = c(0);
+  slope = A.cols() > 1 ? c(1) : 0.0;
+  for (std::size_t k = 0; k < dy.size(); ++k) {
+    dy[k] -= offset + slope * static_cast<double>(k) * T_min;
+  }
+}
+
+}  // namespace
+
+ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) {
+  if (o.mvs.empty() || o.cvs.empty()) {
+    throw std::invalid_argument(data.file + ": " + std::to_string(o.mvs.size()) + " MVs and " +
+                                std::to_string(o.cvs.size()) +
+                                " CVs; expected at least one of each (--mv, --cv or --map)");
+  }
+  std::vector<TagSpec> all = o.mvs;
+  all.insert(all.end(), o.cvs.begin(), o.cvs.end());
+  if (all.size() != data.values.size()) {
+    throw std::invalid_argument(data.file + ": read " + std::to_string(data.values.size()) +
+                                " tags; expected " + std::to_string(all.size()));
+  }
+  for (std::size_t a = 0; a < all.size(); ++a) {
+    if (!runlog::valid_channel_name(all[a].name)) {
+      throw std::invalid_argument("tag '" + all[a].tag + "': channel name '" + all[a].name +
+                                  "' is not valid; expected letters, digits, _ . - (give a name "
+                                  "in the --map file)");
+    }
+    if (!runlog::valid_unit(all[a].unit)) {
+      throw std::invalid_argument("tag '" + all[a].tag + "': unit '" + all[a].unit +
+                                  "' is not valid; expected no spaces, commas or '=' ('-' when "
+                                  "dimensionless)");
+    }
+    for (std::size_t b = 0; b < a; ++b) {
+      if (all[b].name == all[a].name) {
+        throw std::invalid_argument("tags '" + all[b].tag + "' and '" + all[a].tag +
+                                    "' both become channel '" + all[a].name +
+                                    "'; expected unique names");
+      }
+    }
+  }
+  const double spacing_s = median_spacing(data.time_s);
+  double T_min = o.sample_time_min;
+  if (T_min == 0.0) T_min = spacing_s / 60.0;
+  if (!(T_min > 0.0) || !std::isfinite(T_min)) {
+    throw std::invalid_argument(data.file + ": sample time " + number(T_min) +
+                                " min; expected > 0 (give --sample-time-min; the data have " +
+                                std::to_string(data.time_s.size()) + " rows)");
+  }
+  const double T_s = T_min * 60.0;
+  const std::vector<double> grid = grid_of(data, T_s);
+  if (grid.size() < 2) {
+    throw std::invalid_argument(data.file + ": the data span " +
+                                number(data.time_s.back() - data.time_s.front()) +
+                                " s, less than two samples of " + number(T_min) +
+                                " min; expected a longer record or a shorter --sample-time-min");
+  }
+  if (!(o.max_gap_min >= 0.0) || !std::isfinite(o.max_gap_min)) {
+    throw std::invalid_argument("--max-gap-min " + number(o.max_gap_min) +
+                                "; expected a finite number ≥ 0 (0: 1.5 sample times)");
+  }
+  const double gap_limit =
+      o.max_gap_min > 0.0 ? 60.0 * o.max_gap_min : 1.5 * std::max(T_s, spacing_s);
+  if (!(o.baseline_from_min >= 0.0) || !(o.baseline_to_min >= o.baseline_from_min)) {
+    throw std::invalid_argument("--baseline " + number(o.baseline_from_min) + ":" +
+                                number(o.baseline_to_min) +
+                                "; expected 0 ≤ FROM ≤ TO minutes from the data's start");
+  }
+  const auto b_from = static_cast<std::size_t>(std::ceil(o.baseline_from_min / T_min - 1e-9));
+  const auto b_to = static_cast<std::size_t>(std::floor(o.baseline_to_min / T_min + 1e-9));
+
+  ImportedRun run;
+  run.sample_time_min = T_min;
+  run.inputs = o.mvs;
+  run.outputs = o.cvs;
+  const std::size_t N = grid.size();
+  run.flags.assign(N, 0U);
+  std::vector<bool> mv_bad(N, false);
+  std::vector<std::vector<double>> dev(all.size());
+  std::vector<double> base(all.size());
+  for (std::size_t a = 0; a < all.size(); ++a) {
+    const std::vector<double> v =
+        resample(data.time_s, data.values[a], grid, o.resample, gap_limit);
+    base[a] = baseline_of(v, b_from, b_to, all[a], data.file, o);
+    dev[a].resize(N);
+    for (std::size_t k = 0; k < N; ++k) dev[a][k] = v[k] - base[a];  // NaN stays NaN
+  }
+  for (std::size_t j = 0; j < o.cvs.size(); ++j) {
+    double offset = 0.0, slope = 0.0;
+    detrend(dev[o.mvs.size() + j], o.detrend, T_min, offset, slope);
+    run.removed_offset.push_back(offset);
+    run.removed_slope_per_min.push_back(slope);
+  }
+  // Bad points: flagged, the last good deviation held (0 before the first good one).
+  run.bad_points.assign(all.size(), 0);
+  for (std::size_t a = 0; a < all.size(); ++a) {
+    double last = 0.0;
+    for (std::size_t k = 0; k < N; ++k) {
+      if (std::isnan(dev[a][k])) {
+        run.flags[k] |= runlog::kBadValue;
+        if (a < o.mvs.size()) mv_bad[k] = true;
+        ++run.bad_points[a];
+        dev[a][k] = last;
+      } else {
+        last = dev[a][k];
+      }
+    }
+  }
+  for (std::size_t k = 1; k < N; ++k) {
+    if (mv_bad[k - 1] && !mv_bad[k]) {
+      run.flags[k] |= runlog::kDiscontinuity;
+      ++run.discontinuities;
+    }
+  }
+  for (const std::uint32_t f : run.flags) run.bad_rows += (f & runlog::kBadValue) != 0U ? 1U : 0U;
+  for (std::size_t i = 0; i < o.mvs.size(); ++i) {
+    run.input_baseline.push_back(base[i]);
+    run.du.push_back(dev[i]);
+    std::vector<double> u(N);
+    for (std::size_t k = 0; k < N; ++k) u[k] = base[i] + dev[i][k];
+    run.u.push_back(std::move(u));
+  }
+  for (std::size_t j = 0; j < o.cvs.size(); ++j) {
+    run.output_baseline.push_back(base[o.mvs.size() + j]);
+    run.dy.push_back(dev[o.mvs.size() + j]);
+  }
+  return run;
+}
+
+std::string run_log_text(const ImportedRun& run, const std::string& source) {
+  std::vector<runlog::Channel> inputs, outputs;
+  for (const auto& t : run.inputs) inputs.push_back({t.name, t.unit});
+  for (const auto& t : run.outputs) outputs.push_back({t.name, t.unit});
+  const std::string plant = "historian " + source;
+  const std::string producer = "excite import " + std::string(runlog::kVersion);
+  runlog::Header header{plant, "excite import", run.sample_time_min, inputs, outputs};
+  header.producer = producer;
+  std::string text;
+  std::vector<char> buffer(64 * 1024 + 64 * (inputs.size() + outputs.size()));
+  const runlog::WriteResult h = runlog::format_header(header, buffer);
+  if (h.status != runlog::WriteStatus::ok) {
+    throw std::invalid_argument("run log header: " + std::string(runlog::describe(h.status)));
+  }
+  text.append(buffer.data(), h.length);
+  const std::size_t n = inputs.size();
+  const std::size_t p = outputs.size();
+  std::vector<double> du(n), u(n), dy(p);
+  std::vector<char> row_buffer(runlog::max_row_chars(n, p));
+  for (std::size_t k = 0; k < run.rows(); ++k) {
+    for (std::size_t i = 0; i < n; ++i) {
+      du[i] = run.du[i][k];
+      u[i] = run.u[i][k];
+    }
+    for (std::size_t j = 0; j < p; ++j) dy[j] = run.dy[j][k];
+    runlog::Row row;
+    row.t_min = static_cast<double>(k) * run.sample_time_min;
+    row.k = k;
+    row.du = du;
+    row.u = u;
+    row.dy = dy;
+    row.flags = run.flags[k];
+    const runlog::WriteResult r = runlog::format_row(header, row, row_buffer);
+    if (r.status != runlog::WriteStatus::ok) {
+      throw std::invalid_argument("run log row " + std::to_string(k) + ": " +
+                                  std::string(runlog::describe(r.status)));
+    }
+    text.append(row_buffer.data(), r.length);
+  }
+  return text;
+}
+
+}  // namespace excite::host::historian

@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// A historian export → a run log (issue 13 §1, host/import/README.md):
+//   1. the tags' samples resampled onto t_k = t_0 + k·T (resample.hpp; T given or the
+//      median spacing of the timestamps; gap limit given or 1.5·max(T, median spacing));
+//   2. the baseline (operating point) of each tag: the mean of its good values in the
+//      window [from, to] minutes from the data's start (default: the first grid point);
+//   3. deviations du = u − u₀, dy = y − y₀; for CVs optionally the offset (mean) or the
+//      least-squares line over the good rows removed (detrend; only sound for zero-mean
+//      excitation such as PRBS or multisine: a step test's response has a trend of its own);
+//   4. flags: a row where any tag is bad gets kBadValue and holds that tag's last good
+//      deviation (0 before the first); the first good row after a span where an MV was bad
+//      also gets kDiscontinuity — the inputs the plant saw there are unknown, so identify
+//      restarts its model (host/identify/run_layout.hpp).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "host/import/historian_csv.hpp"
+#include "host/import/resample.hpp"
+
+namespace excite::host::historian {
+
+enum class Detrend { none, offset, linear };
+
+/// One tag and the channel it becomes: the run log's name and unit.
+struct TagSpec {
+  std::string tag;
+  std::string name;
+  std::string unit = "-";
+};
+
+struct ImportOptions {
+  std::vector<TagSpec> mvs;      // inputs
+  std::vector<TagSpec> cvs;      // outputs
+  double sample_time_min = 0.0;  // 0: the median spacing of the timestamps
+  Resample resample = Resample::hold;
+  double max_gap_min = 0.0;  // the gap limit of resample(); 0: 1.5·max(T, median spacing)
+  Detrend detrend = Detrend::none;
+  double baseline_from_min = 0.0;  // baseline window, minutes from the data's start
+  double baseline_to_min = 0.0;
+};
+
+struct ImportedRun {
+  double sample_time_min = 0.0;
+  std::vector<TagSpec> inputs, outputs;
+  std::vector<double> input_baseline, output_baseline;        // absolute, engineering units
+  std::vector<std::vector<double>> du, u, dy;                 // per channel, per row
+  std::vector<std::uint32_t> flags;                           // per row
+  std::size_t bad_rows = 0;                                   // rows flagged kBadValue
+  std::size_t discontinuities = 0;                            // rows flagged kDiscontinuity
+  std::vector<std::size_t> bad_points;                        // per channel (inputs, then outputs)
+  std::vector<double> removed_offset, removed_slope_per_min;  // per output (detrend)
+  std::size_t rows() const { return flags.size(); }
+};
+
+/// Throws std::invalid_argument naming the file, the tag or option, the value and what was
+/// expected (a channel name that is not valid, a tag with no good value in the baseline
+/// window, fewer than two grid rows, …).
+ImportedRun import_historian(const HistorianData& data, const ImportOptions& options);
+
+/// The run log text (format v2, firmware/runlog/README.md): plant `historian <source>`,
+/// plan `excite import`, producer `excite import <version>`.
+std::string run_log_text(const ImportedRun& run, const std::string& source);
+
+}  // namespace excite::host::historian

@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: MIT
+// The register-map schema both configuration files use: defaults and refusals in one place.
+#include "hal/modbus/register_entry_toml.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "firmware/config/document.hpp"
+
+namespace excite::hal::modbus {
+namespace {
+
+RegisterEntry entry(std::string_view text, EntryKind kind) {
+  const toml::table doc = config::parse(text, "m.toml");
+  return read_register_entry(config::Table(doc, "values[0]", "m.toml"), kind);
+}
+
+std::string error_of(std::string_view text) {
+  try {
+    (void)entry(text, EntryKind::value);
+  } catch (const config::Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(RegisterEntryToml, DefaultsAreTheSameForEveryReader) {
+  const RegisterEntry s = entry("address = 10\n", EntryKind::setpoint);
+  EXPECT_EQ(s.address, 10u);
+  EXPECT_EQ(s.function_code, 16);
+  EXPECT_EQ(s.type, "float32");
+  EXPECT_EQ(s.word_order, "ABCD");
+  EXPECT_FALSE(s.raw_min.has_value());
+  const RegisterEntry v = entry("address = 0\n", EntryKind::value);
+  EXPECT_EQ(v.function_code, 3);  // holding registers, where a setpoint's readback is
+}
+
+TEST(RegisterEntryToml, ReadsEveryField) {
+  const RegisterEntry v = entry(
+      "address = 7\nfunction_code = 4\ntype = \"int16\"\nword_order = \"CDAB\"\n"
+      "eng_min = -5\neng_max = 5.5\nraw_min = -32768\nraw_max = 32767\n",
+      EntryKind::value);
+  EXPECT_EQ(v.address, 7u);
+  EXPECT_EQ(v.function_code, 4);
+  EXPECT_EQ(v.type, "int16");
+  EXPECT_EQ(v.word_order, "CDAB");
+  EXPECT_EQ(v.eng_min, -5.0);
+  EXPECT_EQ(v.eng_max, 5.5);
+  EXPECT_EQ(v.raw_min, -32768);
+  EXPECT_EQ(v.raw_max, 32767);
+}
+
+TEST(RegisterEntryToml, RefusalsNameFieldValueAndPosition) {
+  EXPECT_EQ(error_of("type = \"int16\"\n"),
+            "m.toml:1:1: values[0].address = (missing), expected a register address 0..65535");
+  EXPECT_EQ(error_of("address = 65536\n"),
+            "m.toml:1:11: values[0].address = 65536, expected a register address 0..65535");
+  EXPECT_EQ(error_of("address = 1\nraw_max = 70000\n"),
+            "m.toml:2:11: values[0].raw_max = 70000, expected an integer -32768..65535");
+  EXPECT_EQ(error_of("address = 1\neng_min = nan\n"),
+            "m.toml:2:11: values[0].eng_min = nan, expected a finite number");
+}
+
+TEST(RegisterEntryToml, MapSettingsKeepWhatIsAbsent) {
+  const toml::table doc = config::parse("write_chunk = 60\n", "m.toml");
+  RegisterMap map;
+  read_map_settings(config::Table(doc, "map", "m.toml"), map);
+  EXPECT_EQ(map.write_chunk, 60u);
+  EXPECT_EQ(map.read_chunk, max_read_registers);
+  EXPECT_FALSE(map.heartbeat_address.has_value());
+  const toml::table bad = config::parse("read_chunk = 126\n", "m.toml");
+  EXPECT_THROW(read_map_settings(config::Table(bad, "map", "m.toml"), map), config::Error);
+}
+
+}  // namespace
+}  // namespace excite::hal::modbus
