@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -71,6 +72,11 @@ TEST_F(OutputFiles, DevFullStaysADeviceAndEveryWriterFailsClearly) {
 
 // A symbolic link is followed: its target is replaced whole, the link stays a link.
 TEST_F(OutputFiles, SymlinkIsFollowedAndItsTargetReplacedWhole) {
+  // Byte-identical plans whatever the second they are made in (only for this test).
+  struct FixedCreationTime {
+    FixedCreationTime() { ::setenv("SOURCE_DATE_EPOCH", "1700000000", 1); }
+    ~FixedCreationTime() { ::unsetenv("SOURCE_DATE_EPOCH"); }
+  } fixed_creation_time;
   ASSERT_EQ(
       excite("design -q --plant alatiqi4x4 --preset prbsUnc -o " + path("target.plan")).exit_code,
       0);
