@@ -16,6 +16,7 @@
 #include "host/campaign/gnuplot.hpp"
 #include "host/campaign/model_views.hpp"
 #include "host/campaign/parallel.hpp"
+#include "host/output/whole_file.hpp"
 
 namespace excite::host {
 namespace {
@@ -301,9 +302,7 @@ void write_summary(const CampaignResult& r, const std::filesystem::path& dir) {
       {"step_test_singular_values",
        r.step_gain ? vector(r.step_gain->singular_values) : nlohmann::json(nullptr)},
       {"experiments", experiments}};
-  std::ofstream out(dir / "summary.json");
-  out << j.dump(2) << '\n';
-  if (!out) throw std::runtime_error((dir / "summary.json").string() + ": cannot be written");
+  write_whole_file(dir / "summary.json", j.dump(2) + '\n');
 }
 
 void write_report(const CampaignResult& r, const sim::Plant& plant,
@@ -517,9 +516,7 @@ void write_report(const CampaignResult& r, const sim::Plant& plant,
   for (const Experiment& e : r.experiments)
     h << "<img src='figures/" << e.name << ".svg' alt='" << e.name << "'>";
   h << "</body></html>\n";
-  std::ofstream out(dir / "index.html");
-  out << h.str();
-  if (!out) throw std::runtime_error((dir / "index.html").string() + ": cannot be written");
+  write_whole_file(dir / "index.html", h.str());
 }
 
 }  // namespace excite::host

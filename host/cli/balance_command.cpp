@@ -116,8 +116,10 @@ void run(const BalanceOptions& opt) {
 
 void add_balance_command(CLI::App& app) {
   auto opt = std::make_shared<BalanceOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "balance", "Output balance over the gain directions (5.5.2) and Upsilon (6.2.1)");
+  CLI::App* cmd =
+      app.add_subcommand("balance",
+                         "Whether a run moved the outputs as much along the plant's weak gain "
+                         "directions as along the strong ones (output balance)");
   cmd->add_option("run", opt->run_path, "run log (CSV)")->required();
   cmd->add_option("--plant", opt->plant, "take the directions from this plant's G(0)");
   cmd->add_option("--gain", opt->gain_path,

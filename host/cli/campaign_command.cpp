@@ -120,9 +120,9 @@ void run(CampaignCommandOptions opt) {
 
 void add_campaign_command(CLI::App& app) {
   auto opt = std::make_shared<CampaignCommandOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "campaign",
-      "The chapter-6 study on a plant: 17 designs, identified, cross-validated, reported");
+  CLI::App* cmd = app.add_subcommand("campaign",
+                                     "Design the 17 standard experiments for a plant, run, "
+                                     "identify and cross-validate them, and write an HTML report");
   cmd->add_option("--plant", opt->campaign.plant, "plant with a case study")->required();
   cmd->add_option("-o,--output-dir", opt->output_dir,
                   "folder for summary.json, index.html, figures/")

@@ -66,7 +66,9 @@ void add_design_command(CLI::App& app) {
   cmd->add_option("spec", opt->spec, "design spec (TOML); see host/README.md")
       ->check(CLI::ExistingFile);
   cmd->add_option("--plant", opt->plant, "library plant whose case-study prior knowledge to use");
-  cmd->add_option("--preset", opt->preset, "design of Table 6.1, e.g. prbsSimDir");
+  cmd->add_option(
+      "--preset", opt->preset,
+      "a named design, e.g. prbsSimDir (steps, PRBS or multisines; host/README.md lists them)");
   cmd->add_option("-o,--output", opt->output, "plan file to write")->required();
   cmd->add_flag("-q,--quiet", opt->quiet, "print nothing on success");
   cmd->callback([opt] { run(*opt); });

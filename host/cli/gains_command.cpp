@@ -74,8 +74,9 @@ void run(const GainsOptions& opt) {
 
 void add_gains_command(CLI::App& app) {
   auto opt = std::make_shared<GainsOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "gains", "Gain-direction analysis of a plant: SVD, xi, condition number, RGA");
+  CLI::App* cmd = app.add_subcommand("gains",
+                                     "How differently the plant responds in its input directions: "
+                                     "principal gains, condition number, RGA");
   cmd->add_option("--plant", opt->plant, "library plant name")->required();
   cmd->add_flag("--json", opt->json, "machine-readable output");
   cmd->add_option("--xi-threshold", opt->xi_threshold, "xi from which a direction needs excitation")

@@ -169,8 +169,9 @@ void run(const IdentifyCommandOptions& opt) {
 
 void add_identify_command(CLI::App& app) {
   auto opt = std::make_shared<IdentifyCommandOptions>();
-  CLI::App* cmd =
-      app.add_subcommand("identify", "Identify two-pole-plus-delay models (6.1.1) from a run log");
+  CLI::App* cmd = app.add_subcommand(
+      "identify",
+      "Fit a gain, two time constants and a delay for every input-output pair from run logs");
   cmd->add_option("runs", opt->run_paths, "run logs (CSV), identified together")
       ->required()
       ->expected(1, 1 << 16);

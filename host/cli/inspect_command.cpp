@@ -114,8 +114,9 @@ void run(const InspectOptions& opt) {
 
 void add_inspect_command(CLI::App& app) {
   auto opt = std::make_shared<InspectOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "inspect", "Plant-friendliness of a plan's table (thesis Table 6.2 style)");
+  CLI::App* cmd = app.add_subcommand("inspect",
+                                     "How gentle a plan is on the plant: move sizes, amplitudes "
+                                     "and the static output swing it causes");
   cmd->add_option("plan", opt->plan_paths, "plan file(s)")->required();
   cmd->add_option("--plant", opt->plant,
                   "library plant: also predict the static output excursions");

@@ -49,7 +49,7 @@ void add_loop_config_command(CLI::App& app) {
   auto opt = std::make_shared<LoopConfigCommand>();
   CLI::App* cmd = app.add_subcommand(
       "loop-config",
-      "write a matching excite-plant and excite-gateway configuration (one register map)");
+      "Write a matching excite-plant and excite-gateway configuration (one register map)");
   cmd->add_option("--plant", opt->config.plant,
                   "plant: library name, colaA, pilot15, or a plant file (.toml)")
       ->required();

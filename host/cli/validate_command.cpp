@@ -102,7 +102,8 @@ void crossval(const CrossvalOptions& opt) {
 
 void add_validate_commands(CLI::App& app) {
   auto v = std::make_shared<ValidateOptions>();
-  CLI::App* cmd = app.add_subcommand("validate", "Fit of a model on a run log (5.5.1)");
+  CLI::App* cmd =
+      app.add_subcommand("validate", "How well a model predicts a run log (fit % per output)");
   cmd->add_option("model", v->model_path, "model file from excite identify -o")->required();
   cmd->add_option("run", v->run_path, "run log (CSV)")->required();
   cmd->add_flag("--json", v->json, "machine-readable output");
