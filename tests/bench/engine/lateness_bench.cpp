@@ -115,6 +115,7 @@ int main(int argc, char** argv) {
   options.test_limits = false;
   options.ramp_ticks = 10;
   options.period_s = period_us * 1e-6;
+  options.tick_s = *options.period_s;  // durations in ticks of the compressed period
   app::Gateway gw(testing::simlink_config(options));
   if (auto e = gw.load_plan(testing::example_plan_file(rows), "example plan")) {
     std::fprintf(stderr, "%s\n", e->message.c_str());

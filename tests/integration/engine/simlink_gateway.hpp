@@ -48,7 +48,8 @@ struct SimlinkGatewayOptions {
   double limit = 20.0;      // setpoint limits u0 ± limit
   double max_move = 5.0;    // per tick
   bool test_limits = true;  // outputs: y0 ± kTestBand, hysteresis 10
-  double tick_s = 60.0;     // the plan's T; the durations below are in ticks of it
+  double tick_s =
+      60.0;  // the tick period (the plan's T, or period_s); durations are in ticks of it
   std::uint32_t ramp_ticks = 5;
   std::optional<double> period_s;  // gateway.period_s (compressed time), if set
 };
