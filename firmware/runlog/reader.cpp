@@ -297,7 +297,8 @@ class Parser {
   bool field_error(std::size_t c, std::string_view text, std::string_view expected) {
     error_.line = line_no_;
     error_.column = c + 1;
-    error_.message = column_names_[c] + ": " + quoted(text) + " " + std::string(expected);
+    error_.message =
+        column_names_[c] + " = " + quoted(text) + ", expected " + std::string(expected);
     return false;
   }
 
@@ -328,8 +329,8 @@ class Parser {
       RunState state = RunState::unknown;
       if (!run_state_from_text(f, state)) {
         return field_error(c, f,
-                           "is not a run state; expected unknown, configured, armed, running, "
-                           "suspended, completed, aborted, returning, safe or safe_unconfirmed");
+                           "a run state: unknown, configured, armed, running, suspended, "
+                           "completed, aborted, returning, safe or safe_unconfirmed");
       }
       log_.state.push_back(state);
       return true;
@@ -338,7 +339,7 @@ class Parser {
       std::uint64_t v = 0;
       const auto r = std::from_chars(first, last, v);
       if (f.empty() || r.ec != std::errc{} || r.ptr != last) {
-        return field_error(c, f, "is not a non-negative integer");
+        return field_error(c, f, "a non-negative integer");
       }
       if (role.role == Role::k) {
         log_.k.push_back(v);
@@ -346,9 +347,9 @@ class Parser {
         const bool v1 = log_.format_version == 1;
         if ((v & ~std::uint64_t{v1 ? kKnownFlagsV1 : kKnownFlags}) != 0U) {
           return field_error(c, f,
-                             v1 ? "has bits outside the documented flags (v1: suspended=1, "
+                             v1 ? "only the documented flag bits (v1: suspended=1, "
                                   "comm_lost=2, clamped=4, rate_limited=8, stale=16)"
-                                : "has bits outside the documented flags (suspended=1, "
+                                : "only the documented flag bits (suspended=1, "
                                   "comm_lost=2, clamped=4, rate_limited=8, stale=16, "
                                   "skipped=32, discontinuity=64, bad_value=128)");
         }
@@ -359,10 +360,10 @@ class Parser {
     double v = 0.0;
     const auto r = std::from_chars(first, last, v);
     if (f.empty() || r.ec == std::errc::invalid_argument || r.ptr != last) {
-      return field_error(c, f, "is not a number");
+      return field_error(c, f, "a number");
     }
     if (r.ec == std::errc::result_out_of_range || !std::isfinite(v)) {
-      return field_error(c, f, "is not finite; NaN and inf are not allowed in a run log");
+      return field_error(c, f, "a finite number (no NaN or inf in a run log)");
     }
     switch (role.role) {
       case Role::t_min:
