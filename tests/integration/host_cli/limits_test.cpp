@@ -19,16 +19,12 @@
 
 namespace {
 
+using excite_cli_test::bytes_of;
 using excite_cli_test::excite;
 using excite_cli_test::ExciteCli;
 using excite_cli_test::Result;
 using excite_cli_test::shell;
 namespace fs = std::filesystem;
-
-std::string bytes_of(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
