@@ -13,7 +13,7 @@ void add_inspect_command(CLI::App& app);
 void add_case_study_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);
 void add_identify_command(CLI::App& app);
-void add_import_command(CLI::App& app);  // historian CSV -> run log
+void add_import_command(CLI::App& app);     // historian CSV -> run log
 void add_validate_commands(CLI::App& app);  // validate, crossval
 void add_balance_command(CLI::App& app);
 void add_campaign_command(CLI::App& app);

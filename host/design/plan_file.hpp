@@ -9,7 +9,8 @@
 
 namespace excite::host {
 
-/// Encodes and writes `plan` to `path` whole or not at all (host/output/whole_file.hpp). Throws std::runtime_error naming the path.
+/// Encodes and writes `plan` to `path` whole or not at all (host/output/whole_file.hpp). Throws
+/// std::runtime_error naming the path.
 void write_plan_file(const plan::Plan& plan, const std::filesystem::path& path);
 
 /// Reads and decodes `path`. Throws std::invalid_argument "<path>: <why>" for a missing,
