@@ -90,6 +90,8 @@ StageResult Gateway::start_log(std::FILE* file, std::string producer) {
   layout.header.plant = config_.plant;
   layout.header.plan = plan_name_;
   layout.header.sample_time_min = sample_time_.count();  // the plan's T, minutes
+  layout.header.time_scales = {plan_->meta.tau_high_min, plan_->meta.beta,
+                               plan_->meta.switch_time_min};  // the design's, for identify
   layout.header.inputs = inputs_;
   layout.header.outputs = outputs_;
   drain_ = std::make_unique<LogDrain>(*ring_, file, std::move(layout));

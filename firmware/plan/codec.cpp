@@ -21,14 +21,14 @@ using signal::SourceKind;
 using U64 = unsigned long long;
 
 // Sizes of the pieces of version 1 (README.md "Format, version 1").
-constexpr std::size_t kMetaFixedSize = 8 + 8;         // created, sample time
-constexpr std::size_t kCountsSize = 4 * 4;            // channels, samples, sources, lines
-constexpr std::size_t kChannelFixedSize = 8 + 8;      // min, max (+ name)
-constexpr std::size_t kSourceHeaderSize = 1 + 4 + 4;  // kind, start, length
-constexpr std::size_t kSegmentSize = 8 + 4;           // level, length
-constexpr std::size_t kPrbsSize = 1 + 8 + 4 + 4;      // n_r, amplitude, hold, shift
-constexpr std::size_t kMultisineSize = 4 + 4 + 4;     // period, first line, line count
-constexpr std::size_t kLineSize = 4 + 8 + 8;          // index, amplitude, phase
+constexpr std::size_t kMetaFixedSize = 8 + 8 + 3 * 8;  // created, T, τ_H, β, T_sw (v3)
+constexpr std::size_t kCountsSize = 4 * 4;             // channels, samples, sources, lines
+constexpr std::size_t kChannelFixedSize = 8 + 8;       // min, max (+ name)
+constexpr std::size_t kSourceHeaderSize = 1 + 4 + 4;   // kind, start, length
+constexpr std::size_t kSegmentSize = 8 + 4;            // level, length
+constexpr std::size_t kPrbsSize = 1 + 8 + 4 + 4;       // n_r, amplitude, hold, shift
+constexpr std::size_t kMultisineSize = 4 + 4 + 4;      // period, first line, line count
+constexpr std::size_t kLineSize = 4 + 8 + 8;           // index, amplitude, phase
 
 template <std::size_t N>
 std::size_t text_size(const Text<N>& text) {
@@ -159,6 +159,11 @@ Status read_payload(ByteReader& r, Plan& plan) {
   // T: minutes since version 2; version 1 stored seconds (the one conversion, here).
   const double sample_time = r.f64();
   meta.sample_time_min = meta.format_version == 1 ? sample_time / 60.0 : sample_time;
+  if (meta.format_version >= 3) {  // the design's time scales; older files: 0, not known
+    meta.tau_high_min = r.f64();
+    meta.beta = r.f64();
+    meta.switch_time_min = r.f64();
+  }
   if (!r.ok()) return truncated_in(r, "the metadata");
   if (Status s = read_text(r, meta.design_name, "meta.design_name"); !s) return s;
   if (Status s = read_text(r, meta.provenance, "meta.provenance"); !s) return s;
@@ -308,6 +313,9 @@ EncodeResult encode(const Plan& plan, std::span<std::uint8_t> out) {
 
   w.u64(plan.meta.created_unix_s);
   w.f64(plan.meta.sample_time_min);
+  w.f64(plan.meta.tau_high_min);
+  w.f64(plan.meta.beta);
+  w.f64(plan.meta.switch_time_min);
   write_text(w, plan.meta.design_name);
   write_text(w, plan.meta.provenance);
   w.u32(recipe.channels);

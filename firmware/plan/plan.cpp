@@ -41,6 +41,19 @@ Status validate(const Plan& plan) {
                          "meta.sample_time_min = %g, expected a finite number > 0",
                          meta.sample_time_min);
   }
+  const struct {
+    const char* name;
+    double value;
+  } time_scales[] = {{"tau_high_min", meta.tau_high_min},
+                     {"beta", meta.beta},
+                     {"switch_time_min", meta.switch_time_min}};
+  for (const auto& t : time_scales) {
+    if (!(std::isfinite(t.value) && t.value >= 0.0)) {
+      return Status::error(StatusCode::invalid_field,
+                           "meta.%s = %g, expected a finite number ≥ 0 (0: not known)", t.name,
+                           t.value);
+    }
+  }
   for (std::uint32_t c = 0; c < plan.recipe.channels; ++c) {
     const ChannelMeta& ch = meta.channels[c];
     if (!terminated(ch.name)) {

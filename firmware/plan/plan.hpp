@@ -18,7 +18,7 @@ using signal::Status;
 using signal::StatusCode;
 
 /// Format version this build writes, and the newest it reads.
-inline constexpr std::uint16_t kFormatVersion = 2;
+inline constexpr std::uint16_t kFormatVersion = 3;
 
 inline constexpr std::size_t kNameCapacity = 32;         // 31 bytes + NUL
 inline constexpr std::size_t kProvenanceCapacity = 128;  // 127 bytes + NUL
@@ -60,6 +60,12 @@ struct Metadata {
   double sample_time_min = 0.0;  // T, minutes per table row, > 0: the project's one unit of
                                  // time from the design to the run log (version 1 files
                                  // stored seconds; decode() converts them once)
+  // The design's time scales (version 3; 0 = not known, and every field of a version 1 or 2
+  // file): they travel with the plan into the run log's header, so identification takes
+  // its time-constant bound β·τ_H (SPEC §6) from the data, not from a plant name.
+  double tau_high_min = 0.0;     // τ_H, the high dominating time constant, minutes
+  double beta = 0.0;             // β, settling time in units of τ_H
+  double switch_time_min = 0.0;  // T_sw of the plan's PRBS (4.2.3), minutes; 0 without PRBS
   std::array<ChannelMeta, signal::kMaxChannels> channels{};  // [0, recipe.channels) used
 };
 
@@ -69,7 +75,8 @@ struct Plan {
 };
 
 /// Ok when the recipe is valid (signal::validate) and the metadata keeps its contract:
-/// 1 ≤ format_version ≤ kFormatVersion, sample_time_min finite and > 0, texts NUL-terminated,
+/// 1 ≤ format_version ≤ kFormatVersion, sample_time_min finite and > 0, tau_high_min, beta and
+/// switch_time_min finite and ≥ 0 (0: not known), texts NUL-terminated,
 /// every used channel's min and max finite with min ≤ max. The first broken rule
 /// otherwise, naming the field ("meta.channels[1].min = 3, expected ≤ max = 2").
 Status validate(const Plan& plan);

@@ -62,6 +62,16 @@ std::string_view to_text(RunState state) noexcept;
 /// The state whose text is `text`; false when `text` names none.
 bool run_state_from_text(std::string_view text, RunState& state) noexcept;
 
+/// The design's time scales, from the plan (firmware/plan, version 3) or given at import:
+/// optional header keys `# tau_high_min:`, `# beta:`, `# switch_time_min:`, written when
+/// > 0. identify takes its time-constant bound β·τ_H (SPEC §6) from them. 0 = not known.
+/// They need no new format version: older readers ignore them like any unknown key.
+struct TimeScales {
+  double tau_high_min = 0.0;     // τ_H, minutes
+  double beta = 0.0;             // β, settling time in units of τ_H
+  double switch_time_min = 0.0;  // T_sw of the design's PRBS, minutes
+};
+
 /// Longest state text ("safe_unconfirmed").
 inline constexpr std::size_t kMaxStateChars = 16;
 

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "firmware/runlog/reader.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <utility>
 
 #include "firmware/runlog/format.hpp"
@@ -111,6 +113,14 @@ class Parser {
     }
     bool seen[6] = {};
     bool seen_producer = false;  // optional: logs written before it existed have none
+    struct OptionalNumber {      // the optional time scales (TimeScales)
+      std::string_view key;
+      double* value;
+      bool seen;
+    };
+    OptionalNumber scales[3] = {{"tau_high_min", &log_.time_scales.tau_high_min, false},
+                                {"beta", &log_.time_scales.beta, false},
+                                {"switch_time_min", &log_.time_scales.switch_time_min, false}};
     static constexpr std::string_view kKeys[6] = {"plant",  "plan",    "sample_time_min",
                                                   "inputs", "outputs", "units"};
     std::string_view units_value;
@@ -139,6 +149,20 @@ class Parser {
         if (key == kKeys[i]) which = i;
       }
       if (which == 6) {
+        auto* scale = std::find_if(std::begin(scales), std::end(scales),
+                                   [&](const OptionalNumber& o) { return o.key == key; });
+        if (scale != std::end(scales)) {
+          if (scale->seen) return fail(0, "header key '" + std::string(key) + "' given twice");
+          scale->seen = true;
+          double& v = *scale->value;
+          const auto r = std::from_chars(value.data(), value.data() + value.size(), v);
+          if (r.ec != std::errc{} || r.ptr != value.data() + value.size() || !std::isfinite(v) ||
+              v < 0.0) {
+            return fail(0, std::string(key) + " = " + quoted(value) +
+                               ", expected a finite number ≥ 0 (0: not known)");
+          }
+          continue;
+        }
         if (key == "producer") {
           if (seen_producer) return fail(0, "header key 'producer' given twice");
           seen_producer = true;

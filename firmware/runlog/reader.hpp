@@ -23,6 +23,8 @@ struct RunLog {
   std::string plant;
   std::string plan;
   double sample_time_min = 0.0;
+  TimeScales time_scales;  // the optional `# tau_high_min:`, `# beta:`, `# switch_time_min:`
+                           // lines; 0 where absent (not known)
   std::vector<std::string> input_names, input_units;
   std::vector<std::string> output_names, output_units;
 

@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 namespace excite::runlog {
 namespace {
@@ -179,6 +180,14 @@ WriteResult format_header(const Header& header, std::span<char> out) {
     return {WriteStatus::invalid_field, 0,
             "header.sample_time_min = (not finite or <= 0), expected a finite number > 0"};
   }
+  const TimeScales& ts = header.time_scales;
+  for (const double v : {ts.tau_high_min, ts.beta, ts.switch_time_min}) {
+    if (!(std::isfinite(v) && v >= 0.0)) {
+      return {WriteStatus::invalid_field, 0,
+              "header.time_scales = (not finite or < 0), expected finite numbers ≥ 0 (0: not "
+              "known)"};
+    }
+  }
   if (!channels_valid(header)) {
     return {WriteStatus::invalid_field, 0,
             "header channel = (invalid or repeated), expected a unique name of letters, "
@@ -197,6 +206,16 @@ WriteResult format_header(const Header& header, std::span<char> out) {
   s.text(header.plan);
   s.text("\n# sample_time_min: ");
   s.number(header.sample_time_min);
+  const std::pair<std::string_view, double> scales[] = {
+      {"\n# tau_high_min: ", ts.tau_high_min},
+      {"\n# beta: ", ts.beta},
+      {"\n# switch_time_min: ", ts.switch_time_min}};
+  for (const auto& [key, value] : scales) {
+    if (value > 0.0) {
+      s.text(key);
+      s.number(value);
+    }
+  }
   s.text("\n# inputs:");
   for (const Channel& c : header.inputs) {
     s.ch(' ');

@@ -27,6 +27,7 @@ struct Header {
   std::string_view producer = {};  // program and version, one line, e.g. "excite-gateway 0.1.0";
                                    // written as `# producer:` when not empty (every excite
                                    // producer sets it)
+  TimeScales time_scales = {};     // each written when > 0 (finite and ≥ 0)
 };
 
 /// One sample. du, u have one value per input, dy one per output; all finite.

@@ -9,8 +9,8 @@
 #include <sstream>
 
 #include "host/campaign/gnuplot.hpp"
-#include "host/campaign/residuals.hpp"
 #include "host/export/step_response.hpp"
+#include "host/identify/residuals.hpp"
 #include "host/identify/validate.hpp"
 
 namespace excite::host {
@@ -291,15 +291,21 @@ void write_model_view_scripts(const Experiment& e, const CampaignResult& r,
 std::string parameter_table_html(const Experiment& e, const CampaignResult& r) {
   const IdentifiedModel& m = e.identified.model;
   std::ostringstream h;
-  h << "<table class='params'><tr><th>CV ← MV</th><th>status</th><th>K [CV unit per MV "
-       "unit]</th><th>T<sub>d</sub> [min]</th><th>T<sub>p1</sub> [min]</th><th>T<sub>p2</sub> "
+  h << "<table class='params'><tr><th>CV ← MV</th><th>grade</th><th>status</th><th>K [CV unit "
+       "per MV unit]</th><th>T<sub>d</sub> [min]</th><th>T<sub>p1</sub> "
+       "[min]</th><th>T<sub>p2</sub> "
        "[min]</th></tr>";
   for (int o = 0; o < m.outputs; ++o) {
     for (int i = 0; i < m.inputs; ++i) {
       const ElementEstimate& est = m.element(o, i);
       const auto bound = [&](int k) { return est.at_bound[static_cast<std::size_t>(k)]; };
+      // The grade (host/identify/grade.hpp), what kept it from A as the cell's tooltip.
+      std::string why;
+      for (const char c : est.grade_reason)
+        why += c == '\'' ? std::string("&#39;") : std::string(1, c);
       h << "<tr><td>" << name_of(r.output_names, o) << " ← " << name_of(r.input_names, i)
-        << "</td><td>" << to_string(est.status) << "</td><td>"
+        << "</td><td title='" << why << "'>" << to_string(est.grade) << "</td><td>"
+        << to_string(est.status) << "</td><td>"
         << with_error(est.value.gain, est.std_error.gain, bound(kGain)) << "</td><td>"
         << with_error(est.value.delay_min, est.std_error.delay_min, bound(kDelay)) << "</td><td>"
         << with_error(est.value.tau1_min, est.std_error.tau1_min, bound(kTp1)) << "</td><td>"
@@ -307,6 +313,28 @@ std::string parameter_table_html(const Experiment& e, const CampaignResult& r) {
     }
   }
   h << "</table>";
+  if (const auto& u = e.identified.gain_uncertainty) {
+    // How well G(0)'s gain directions are known (host/identify/gain_uncertainty.hpp).
+    h << "<table class='params'><tr><th>direction i</th><th>σ<sub>i</sub> ± SE</th><th>input "
+         "direction v<sub>i</sub>: angle ± [°]</th><th>output direction w<sub>i</sub>: angle ± "
+         "[°]</th></tr>";
+    for (Eigen::Index i = 0; i < u->singular_values.size(); ++i) {
+      h << "<tr><td>" << i + 1 << "</td><td>"
+        << with_error(u->singular_values(i), u->singular_value_se(i), false) << "</td><td>"
+        << format("%.2g", u->input_angle_se_deg(i)) << "</td><td>"
+        << format("%.2g", u->output_angle_se_deg(i)) << "</td></tr>";
+    }
+    h << "</table>";
+    if (!u->principal_minors.empty()) {
+      const PrincipalMinor& det = u->principal_minors.back();
+      h << "<p>Principal minors of G(0): " << u->sign_uncertain_minors << " of "
+        << u->principal_minors.size()
+        << " could change sign within their 95 % interval; det G(0) = "
+        << with_error(det.value, det.std_error, false)
+        << (det.sign_uncertain ? " — its sign is not known: integral controllability at risk" : "")
+        << ".</p>";
+    }
+  }
   return h.str();
 }
 

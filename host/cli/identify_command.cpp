@@ -7,7 +7,8 @@
 // runs are identified together; the logs' flags decide which rows are scored and where the
 // model restarts (host/identify/run_layout.hpp); what was excluded is warned on stderr.
 // Time constants are bounded above by β·τ_H (SPEC §6): --max-time-constant if given, else
-// --beta·--tau-high, else the case study of the run log's plant, else the run's length.
+// --tau-high, else the run logs' own design time scales, else the case study of the run
+// log's plant; without any, it refuses (host/cli/time_constant_bound.hpp).
 
 #include <iostream>
 #include <sstream>
@@ -99,25 +100,61 @@ runlog::RunLog read_log(const std::string& path) {
   return std::move(r.log);
 }
 
+// σ_i ± SE, the direction angles' uncertainty and the principal minors at risk.
+void print_uncertainty(const GainUncertainty& u) {
+  TextTable t({"direction", "sigma", "+-", "v angle +- [deg]", "w angle +- [deg]"});
+  for (Eigen::Index i = 0; i < u.singular_values.size(); ++i) {
+    t.add_row({std::to_string(i + 1), num(u.singular_values(i), 5), num(u.singular_value_se(i), 3),
+               num(u.input_angle_se_deg(i), 3), num(u.output_angle_se_deg(i), 3)});
+  }
+  t.print(std::cout);
+  if (u.principal_minors.empty()) return;
+  std::cout << "principal minors: " << u.principal_minors.size() << ", " << u.sign_uncertain_minors
+            << " whose sign a gain error within its 95 % interval can flip";
+  const PrincipalMinor& det = u.principal_minors.back();
+  std::cout << "; det G(0) = " << num(det.value, 4) << " +- " << num(det.std_error, 3)
+            << (det.sign_uncertain ? " (sign NOT known: integral controllability at risk)" : "")
+            << '\n';
+  for (const PrincipalMinor& pm : u.principal_minors) {
+    if (!pm.sign_uncertain || &pm == &det) continue;
+    std::cout << "  minor of rows/columns";
+    for (const int k : pm.rows) std::cout << ' ' << k + 1;
+    std::cout << " = " << num(pm.value, 4) << " +- " << num(pm.std_error, 3) << '\n';
+  }
+}
+
 void print(const IdentificationResult& r, const runlog::RunLog& log) {
   const IdentifiedModel& m = r.model;
   for (int o = 0; o < m.outputs; ++o) {
     const auto oi = static_cast<std::size_t>(o);
     std::cout << "output " << with_unit(log.output_names[oi], log.output_units[oi])
               << ": fit = " << num(r.fits[oi].fit_percent) << " %\n";
-    TextTable t(
-        {"input", "K", "+-", "Td [min]", "+-", "Tp1 [min]", "+-", "Tp2 [min]", "+-", "status"});
+    const ResidualTests& tests = r.fits[oi].residual_tests;
+    if (tests.lags > 0) {
+      std::cout << "  residual " << (tests.white() ? "white" : "NOT white")
+                << " (Q = " << num(tests.whiteness, 3) << ", 99 % limit "
+                << num(tests.whiteness_limit, 3) << ", " << tests.lags << " lags)\n";
+    }
+    TextTable t({"input", "grade", "K", "+-", "Td [min]", "+-", "Tp1 [min]", "+-", "Tp2 [min]",
+                 "+-", "status"});
     for (int i = 0; i < m.inputs; ++i) {
       const ElementEstimate& e = m.element(o, i);
       std::string status = to_string(e.status);
       if (!e.reason.empty()) status += ": " + e.reason;
+      for (const std::string& b : e.on_bound()) status += "; " + b;
       const auto ii = static_cast<std::size_t>(i);
-      t.add_row({with_unit(log.input_names[ii], log.input_units[ii]), num(e.value.gain),
-                 num(e.std_error.gain), num(e.value.delay_min), num(e.std_error.delay_min),
-                 num(e.value.tau1_min), num(e.std_error.tau1_min), num(e.value.tau2_min),
-                 num(e.std_error.tau2_min), status});
+      t.add_row({with_unit(log.input_names[ii], log.input_units[ii]), to_string(e.grade),
+                 num(e.value.gain), num(e.std_error.gain), num(e.value.delay_min),
+                 num(e.std_error.delay_min), num(e.value.tau1_min), num(e.std_error.tau1_min),
+                 num(e.value.tau2_min), num(e.std_error.tau2_min), status});
     }
     t.print(std::cout);
+    for (int i = 0; i < m.inputs; ++i) {  // what kept each element from grade A
+      const ElementEstimate& e = m.element(o, i);
+      if (e.grade_reason.empty()) continue;
+      std::cout << "  " << log.input_names[static_cast<std::size_t>(i)] << ": "
+                << to_string(e.grade) << ", " << e.grade_reason << '\n';
+    }
     std::cout << '\n';
   }
   if (r.gain) {
@@ -126,6 +163,7 @@ void print(const IdentificationResult& r, const runlog::RunLog& log) {
       std::cout << ' ' << num(r.gain->singular_values(i), 5);
     }
     std::cout << ", condition number " << num(r.gain->condition_number, 5) << '\n';
+    if (const auto& u = r.gain_uncertainty) print_uncertainty(*u);
   } else {
     std::cout << "identified G(0): " << r.gain_unavailable_reason << '\n';
   }
@@ -145,7 +183,11 @@ void run(const IdentifyCommandOptions& opt) {
   options.trend = opt.trend == "offset"   ? Trend::offset
                   : opt.trend == "linear" ? Trend::linear
                                           : Trend::none;
-  const auto [bound, source] = time_constant_bound(opt.bound, first.plant);
+  std::vector<RunTimeScales> scales;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    scales.push_back({opt.run_paths[r], runs[r].plant, runs[r].time_scales});
+  }
+  const auto [bound, source] = time_constant_bound(opt.bound, scales);
   options.max_time_constant_min = bound;
   const std::string summary = layout_summary(data.report, runs.size());
   if (needs_warning(data.report)) std::cerr << "excite: warning: " << summary << '\n';

@@ -49,6 +49,7 @@ void parse_baseline(const std::string& text, historian::ImportOptions& o) {
 
 void run(ImportCommandOptions opt) {
   historian::ImportOptions& o = opt.import;
+  if (o.time_scales.tau_high_min > 0.0 && o.time_scales.beta == 0.0) o.time_scales.beta = 3.0;
   if (!opt.map_path.empty()) {
     if (!opt.mv_tags.empty() || !opt.cv_tags.empty()) {
       throw std::invalid_argument("--map " + opt.map_path +
@@ -131,6 +132,13 @@ void add_import_command(CLI::App& app) {
   cmd->add_option("--baseline", opt->baseline,
                   "baseline window FROM:TO, min from the data's start (default: first sample)");
   cmd->add_option("--time-column", opt->time_column, "timestamp column (default: the first)");
+  cmd->add_option("--tau-high", opt->import.time_scales.tau_high_min,
+                  "tau_H of the test's design, min: written to the run log, where identify takes "
+                  "its time-constant bound beta x tau_H from")
+      ->check(finite_positive());
+  cmd->add_option("--beta", opt->import.time_scales.beta,
+                  "settling time in units of tau_H (default 3 with --tau-high)")
+      ->check(finite_positive());
   cmd->callback([opt] { run(*opt); });
 }
 

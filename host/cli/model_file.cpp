@@ -49,11 +49,27 @@ nlohmann::json model_json(const IdentificationResult& result,
       j["se"] = parameters(e.std_error);
       j["status"] = to_string(e.status);
       j["reason"] = e.reason;
+      j["on_bound"] = e.on_bound();
+      j["grade"] = to_string(e.grade);
+      j["grade_reason"] = e.grade_reason;
       elements.push_back(j);
     }
-    outputs.push_back({{"name", output_names.at(static_cast<std::size_t>(o))},
-                       {"fit", to_json(result.fits.at(static_cast<std::size_t>(o)).fit_percent)},
-                       {"elements", elements}});
+    const OutputFit& fit = result.fits.at(static_cast<std::size_t>(o));
+    const ResidualTests& t = fit.residual_tests;
+    nlohmann::json out = {{"name", output_names.at(static_cast<std::size_t>(o))},
+                          {"fit", to_json(fit.fit_percent)},
+                          {"elements", elements}};
+    if (t.lags > 0) {
+      out["residual_tests"] = {{"lags", t.lags},
+                               {"whiteness", to_json(t.whiteness)},
+                               {"whiteness_limit_99", to_json(t.whiteness_limit)},
+                               {"independence", to_json(t.independence)},
+                               {"independence_limit_99", to_json(t.independence_limit)}};
+    }
+    if (static_cast<std::size_t>(o) < m.gain_covariance.size()) {
+      out["gain_covariance"] = rows_to_json(m.gain_covariance[static_cast<std::size_t>(o)]);
+    }
+    outputs.push_back(out);
   }
   nlohmann::json j = {{"format", kFormat},
                       {"sample_time_min", m.sample_time_min},
@@ -65,6 +81,20 @@ nlohmann::json model_json(const IdentificationResult& result,
     j["condition_number"] = to_json(result.gain->condition_number);
     j["xi"] = to_json(result.gain->xi);
     j["rga"] = rows_to_json(result.gain->rga);
+    if (const auto& u = result.gain_uncertainty) {
+      nlohmann::json minors = nlohmann::json::array();
+      for (const PrincipalMinor& pm : u->principal_minors) {
+        minors.push_back({{"rows", pm.rows},
+                          {"value", to_json(pm.value)},
+                          {"se", to_json(pm.std_error)},
+                          {"sign_uncertain", pm.sign_uncertain}});
+      }
+      j["gain_uncertainty"] = {{"singular_value_se", to_json(u->singular_value_se)},
+                               {"input_angle_se_deg", to_json(u->input_angle_se_deg)},
+                               {"output_angle_se_deg", to_json(u->output_angle_se_deg)},
+                               {"principal_minors", minors},
+                               {"sign_uncertain_minors", u->sign_uncertain_minors}};
+    }
   } else {
     j["singular_values"] = nullptr;
     j["condition_number"] = nullptr;

@@ -69,7 +69,8 @@ void crossval(const CrossvalOptions& opt) {
     }
     IdentifyOptions options;
     options.threads = opt.threads;
-    options.max_time_constant_min = time_constant_bound(opt.bound, r.log.plant).first;
+    options.max_time_constant_min =
+        time_constant_bound(opt.bound, {{path, r.log.plant, r.log.time_scales}}).first;
     models.push_back(identify(r.data.U, r.data.Y, r.data.sample_time_min, options).model);
     names.push_back(std::filesystem::path(path).stem().string());
     data.push_back({names.back(), r.data.U, r.data.Y});

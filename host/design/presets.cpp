@@ -14,6 +14,16 @@
 namespace excite::host {
 namespace {
 
+// T_sw of the recipe's first PRBS source (its hold × T), 0 when it has none.
+double prbs_switch_time_min(const signal::Recipe& r, double sample_time_min) {
+  for (std::uint32_t i = 0; i < r.source_count; ++i) {
+    if (r.sources[i].kind == signal::SourceKind::prbs) {
+      return r.sources[i].prbs.hold_samples * sample_time_min;
+    }
+  }
+  return 0.0;
+}
+
 std::unique_ptr<plan::Plan> make_plan(const PriorKnowledge& prior, const PresetInfo& preset,
                                       const Composition& comp, std::uint64_t created_unix_s) {
   auto p = std::make_unique<plan::Plan>();
@@ -44,6 +54,9 @@ std::unique_ptr<plan::Plan> make_plan(const PriorKnowledge& prior, const PresetI
   plan::set_text(m.provenance, provenance);
   m.created_unix_s = created_unix_s;
   m.sample_time_min = prior.sample_time_min;
+  m.tau_high_min = prior.tau_high_min;
+  m.beta = prior.beta;
+  m.switch_time_min = prbs_switch_time_min(r, prior.sample_time_min);
   for (std::size_t j = 0; j < prior.inputs.size(); ++j) {
     const InputSpec& in = prior.inputs[j];
     if (!plan::set_text(m.channels[j].name, in.name)) {

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "host/identify/arx_start.hpp"
+#include "host/identify/grade.hpp"
 #include "host/identify/input_screen.hpp"
 #include "host/identify/miso_fit.hpp"
 #include "host/identify/response_bank.hpp"
@@ -150,12 +151,15 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
   model.outputs = p;
   model.sample_time_min = T_min;
   model.elements.assign(static_cast<std::size_t>(n * p), ElementEstimate{});
+  model.gain_covariance.assign(static_cast<std::size_t>(p), Eigen::MatrixXd::Constant(n, n, kNaN));
   result.fits.assign(static_cast<std::size_t>(p), OutputFit{});
 
   const InputScreen screen = screen_inputs(U);
   const ResponseBank bank(U, screen.usable, T_min, GridSpec{options.max_delay_min, tp_max}, layout);
   const ArxBasis arx(U, screen.usable, T_min, options.max_delay_min, layout);
   const Eigen::MatrixXd trend = trend_basis(layout, options.trend);
+  Eigen::MatrixXd U_scored(layout.scored(), n);  // the inputs on the scored rows
+  for (int i = 0; i < n; ++i) U_scored.col(i) = layout.scored_rows(U.col(i));
 
   // One output's fit; writes only its own row of the model and its own OutputFit.
   const auto fit_output = [&](int j) {
@@ -233,8 +237,13 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
         }
         miso.iterations += other.iterations;
       }
+      Eigen::MatrixXd& cov = model.gain_covariance[static_cast<std::size_t>(j)];
       for (std::size_t e = 0; e < screen.usable.size(); ++e) {
         model.element(j, screen.usable[e]) = miso.elements[e];
+        for (std::size_t f = 0; f < screen.usable.size(); ++f) {
+          cov(screen.usable[e], screen.usable[f]) =
+              miso.gain_covariance(static_cast<Eigen::Index>(e), static_cast<Eigen::Index>(f));
+        }
       }
       y_hat = miso.y_hat;
       fit.iterations = miso.iterations;
@@ -246,6 +255,13 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
     fit.fit_percent = fit_percent(y_scored, y_hat_scored);
     fit.residual_rms =
         (y_hat_scored - y_scored).norm() / std::sqrt(static_cast<double>(y_scored.size()));
+    const Eigen::VectorXd residual = y_scored - y_hat_scored;
+    std::vector<ElementEstimate*> row;
+    for (int i = 0; i < n; ++i) row.push_back(&model.element(j, i));
+    if (residual.allFinite() && 2 * kResidualTestLags < residual.size()) {
+      fit.residual_tests = residual_tests(residual, U_scored, kResidualTestLags);
+    }
+    grade_row(row, fit.residual_tests);
   };
 
   const int workers = std::min(options.threads, p);
@@ -283,6 +299,11 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
   }
   if (missing.empty()) {
     result.gain = analyse_gain(model.static_gain());
+    bool covariance_known = true;
+    for (const Eigen::MatrixXd& c : model.gain_covariance) covariance_known &= c.allFinite();
+    if (covariance_known) {
+      result.gain_uncertainty = gain_uncertainty(model.static_gain(), model.gain_covariance);
+    }
   } else {
     result.gain_unavailable_reason = "G(0) is incomplete: " + missing;
   }

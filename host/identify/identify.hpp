@@ -18,15 +18,18 @@
 //      (gain, delay, two time constants), 0 ≤ T_d ≤ max_delay_min, 0 ≤ T_p ≤
 //      max_time_constant_min; Jacobian by central differences per element.
 //   4. Standard errors from σ̂² (JᵀJ)⁻¹ over the parameters not on a bound, σ̂² = SSE/(N − P).
-// The result also carries the fit % per output (5.5.1) and the analysis of the identified
-// G(0) (singular values, ξ_i, κ, RGA).
+//   5. Per output, Ljung's residual tests; per element, a grade A–D (grade.hpp).
+// The result also carries the fit % per output (5.5.1), the analysis of the identified
+// G(0) (singular values, ξ_i, κ, RGA) and how well it is known (gain_uncertainty.hpp).
 
 #include <Eigen/Dense>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "host/identify/gain_uncertainty.hpp"
 #include "host/identify/model.hpp"
+#include "host/identify/residuals.hpp"
 #include "host/identify/segments.hpp"
 #include "host/measures/gain_directions.hpp"
 
@@ -44,17 +47,20 @@ struct IdentifyOptions {
 
 /// Per-output diagnostics of the fit.
 struct OutputFit {
-  double fit_percent = 0.0;   // (5.5.1) on the scored estimation rows; NaN when constant there
-  double residual_rms = 0.0;  // ‖ŷ − y‖ / √N over the N scored rows, output units
-  int iterations = 0;         // Levenberg–Marquardt iterations used
-  bool converged = false;     // stopped on a convergence test, not the iteration limit
+  double fit_percent = 0.0;      // (5.5.1) on the scored estimation rows; NaN when constant there
+  double residual_rms = 0.0;     // ‖ŷ − y‖ / √N over the N scored rows, output units
+  int iterations = 0;            // Levenberg–Marquardt iterations used
+  bool converged = false;        // stopped on a convergence test, not the iteration limit
+  ResidualTests residual_tests;  // Ljung's whiteness and independence tests on the scored
+                                 // rows (residuals.hpp); they grade the row's elements
 };
 
 struct IdentificationResult {
   IdentifiedModel model;
-  std::vector<OutputFit> fits;          // one per output
-  std::optional<GainAnalysis> gain;     // of the identified G(0), when every K is estimated
-  std::string gain_unavailable_reason;  // why `gain` is empty
+  std::vector<OutputFit> fits;       // one per output
+  std::optional<GainAnalysis> gain;  // of the identified G(0), when every K is estimated
+  std::optional<GainUncertainty> gain_uncertainty;  // σ_i ±, direction angles, minors; with gain
+  std::string gain_unavailable_reason;              // why `gain` is empty
 };
 
 /// Identifies the model from U (N × n inputs) and Y (N × p outputs) sampled every T_min

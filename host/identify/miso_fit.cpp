@@ -248,6 +248,12 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
   const ParameterUncertainty uncertainty =
       standard_errors(J, layout.scored() - trend.cols(), lm.cost, on_bound);
   const Eigen::VectorXd& se = uncertainty.se;
+  out.gain_covariance.resize(m, m);
+  for (Eigen::Index a = 0; a < m; ++a) {
+    for (Eigen::Index b = 0; b < m; ++b) {
+      out.gain_covariance(a, b) = uncertainty.cov(kPerElement * a, kPerElement * b);
+    }
+  }
 
   for (Eigen::Index e = 0; e < m; ++e) {
     const Eigen::Index o = kPerElement * e;

@@ -19,6 +19,8 @@ struct MisoBounds {
 
 struct MisoResult {
   std::vector<ElementEstimate> elements;  // one per entry of `inputs`
+  Eigen::MatrixXd gain_covariance;        // m × m: covariance of the elements' gains (the
+                                          // row's σ̂²(JᵀJ)⁺); NaN rows/columns on a bound
   Eigen::VectorXd y_hat;                  // simulated output with the estimates
   int iterations = 0;
   bool converged = false;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "host/identify/model.hpp"
 
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -21,6 +22,53 @@ const char* to_string(ElementStatus status) {
       return "output_not_moved";
   }
   return "unknown";
+}
+
+const char* to_string(Grade grade) {
+  switch (grade) {
+    case Grade::A:
+      return "A";
+    case Grade::B:
+      return "B";
+    case Grade::C:
+      return "C";
+    case Grade::D:
+      return "D";
+  }
+  return "?";
+}
+
+const char* parameter_name(Parameter p) {
+  switch (p) {
+    case kGain:
+      return "K";
+    case kDelay:
+      return "Td";
+    case kTp1:
+      return "Tp1";
+    case kTp2:
+      return "Tp2";
+  }
+  return "?";
+}
+
+std::vector<std::string> ElementEstimate::on_bound() const {
+  const double values[4] = {value.gain, value.delay_min, value.tau1_min, value.tau2_min};
+  std::vector<std::string> out;
+  for (int k = 0; k < 4; ++k) {
+    if (!at_bound[static_cast<std::size_t>(k)]) continue;
+    const double v = values[k];
+    char text[96];
+    std::snprintf(text, sizeof text, "%s = %.4g (%s bound)",
+                  parameter_name(static_cast<Parameter>(k)), v, v == 0.0 ? "lower" : "upper");
+    out.emplace_back(text);
+  }
+  return out;
+}
+
+bool ElementEstimate::on_upper_bound() const {
+  return (at_bound[kDelay] && value.delay_min > 0.0) || (at_bound[kTp1] && value.tau1_min > 0.0) ||
+         (at_bound[kTp2] && value.tau2_min > 0.0);
 }
 
 Eigen::MatrixXd IdentifiedModel::static_gain() const {

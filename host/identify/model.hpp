@@ -27,8 +27,18 @@ enum class ElementStatus {
 /// Short name: "identified", "weak_gain", "input_not_moved", …
 const char* to_string(ElementStatus status);
 
+/// How far an element can be trusted (grade.hpp states the rule): A good for control, B
+/// usable, C doubtful, D not usable.
+enum class Grade { A, B, C, D };
+
+/// "A", "B", "C" or "D".
+const char* to_string(Grade grade);
+
 /// Parameter order used for `at_bound` and in covariance matrices.
 enum Parameter : int { kGain = 0, kDelay = 1, kTp1 = 2, kTp2 = 3 };
+
+/// Short name of a parameter: "K", "Td", "Tp1", "Tp2".
+const char* parameter_name(Parameter p);
 
 struct ElementEstimate {
   TwoPoleDelay value;              // NaN fields when not estimated (see status)
@@ -40,7 +50,15 @@ struct ElementEstimate {
   /// and columns for a parameter on a bound or not estimated.
   Eigen::Matrix4d covariance = Eigen::Matrix4d::Constant(std::numeric_limits<double>::quiet_NaN());
   ElementStatus status = ElementStatus::identified;
-  std::string reason;  // why the status is not `identified`; "" otherwise
+  std::string reason;        // why the status is not `identified`; "" otherwise
+  Grade grade = Grade::D;    // set by identify() (grade.hpp)
+  std::string grade_reason;  // what kept it from A; "" for A
+
+  /// The parameters that ended on a bound, each as "Tp1 = 150 (upper bound)" or
+  /// "Td = 0 (lower bound)" (the lower bounds of T_d and T_p are 0; K has none).
+  std::vector<std::string> on_bound() const;
+  /// True when T_d or a T_p ended on its upper bound (not 0).
+  bool on_upper_bound() const;
 
   /// True when value can be simulated (identified or weak_gain).
   bool estimated() const {
@@ -54,6 +72,11 @@ struct IdentifiedModel {
   int outputs = 0;
   double sample_time_min = 0.0;
   std::vector<ElementEstimate> elements;  // row-major: elements[out * inputs + in]
+  /// Per output j, the n × n covariance of that row's gains K_j1 … K_jn (one MISO fit, so
+  /// gains of one row are correlated; rows are fitted apart and taken as independent).
+  /// NaN rows/columns for an element not estimated or with K on a bound; empty when unknown
+  /// (a model read from a file without it).
+  std::vector<Eigen::MatrixXd> gain_covariance;
 
   const ElementEstimate& element(int out, int in) const {
     return elements[static_cast<std::size_t>(out * inputs + in)];

@@ -140,6 +140,7 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
   const auto b_to = static_cast<std::size_t>(std::floor(o.baseline_to_min / T_min + 1e-9));
 
   ImportedRun run;
+  run.time_scales = o.time_scales;
   run.sample_time_min = T_min;
   run.inputs = o.mvs;
   run.outputs = o.cvs;
@@ -205,6 +206,7 @@ std::string run_log_text(const ImportedRun& run, const std::string& source) {
   const std::string producer = "excite import " + std::string(runlog::kVersion);
   runlog::Header header{plant, "excite import", run.sample_time_min, inputs, outputs};
   header.producer = producer;
+  header.time_scales = run.time_scales;
   std::string text;
   std::vector<char> buffer(64 * 1024 + 64 * (inputs.size() + outputs.size()));
   const runlog::WriteResult h = runlog::format_header(header, buffer);

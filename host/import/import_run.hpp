@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "firmware/runlog/format.hpp"
 #include "host/import/historian_csv.hpp"
 #include "host/import/resample.hpp"
 
@@ -40,10 +41,12 @@ struct ImportOptions {
   Detrend detrend = Detrend::none;
   double baseline_from_min = 0.0;  // baseline window, minutes from the data's start
   double baseline_to_min = 0.0;
+  runlog::TimeScales time_scales;  // --tau-high, --beta: into the run log's header (0: not known)
 };
 
 struct ImportedRun {
   double sample_time_min = 0.0;
+  runlog::TimeScales time_scales;  // as given in ImportOptions
   std::vector<TagSpec> inputs, outputs;
   std::vector<double> input_baseline, output_baseline;        // absolute, engineering units
   std::vector<std::vector<double>> du, u, dy;                 // per channel, per row

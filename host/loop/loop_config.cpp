@@ -111,8 +111,8 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
   double noise = opt.noise_var;
   const auto studies = case_study_plants();
   const bool has_study = std::find(studies.begin(), studies.end(), opt.plant) != studies.end();
+  const PriorKnowledge prior = has_study ? case_study(opt.plant) : PriorKnowledge{};
   if (has_study) {
-    const PriorKnowledge prior = case_study(opt.plant);
     if (range == 0.0) {
       for (const InputSpec& in : prior.inputs) range = std::max({range, -in.min, in.max});
     }
@@ -127,6 +127,8 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
   if (noise < 0.0) noise = 0.0;
 
   sim::server::ServerConfig server;
+  server.plant.tau_high_min = prior.tau_high_min;    // the design's time scales (0 without a
+  server.plant.beta = has_study ? prior.beta : 0.0;  // case study), for the plant's run log
   const bool file = opt.plant.size() > 5 && opt.plant.ends_with(".toml");
   if (file) {
     server.plant.file = std::filesystem::absolute(opt.plant).string();

@@ -57,6 +57,7 @@ SimulatedRun simulate_plan(const plan::Plan& plan, std::string plan_label, sim::
   }
   SimulatedRun run = describe(plant, plan.meta.sample_time_min);
   run.plan = std::move(plan_label);
+  run.time_scales = {plan.meta.tau_high_min, plan.meta.beta, plan.meta.switch_time_min};
   const Table table = make_table(plan.recipe);
   run.du.resize(table.rows() * options.periods, table.cols());
   for (std::uint32_t p = 0; p < options.periods; ++p)
@@ -94,8 +95,8 @@ void write_run_log(const SimulatedRun& run, const std::filesystem::path& path) {
   for (std::size_t i = 0; i < run.output_names.size(); ++i) {
     outputs.push_back({run.output_names[i], run.output_units[i]});
   }
-  const runlog::Header header{run.plant, run.plan, run.sample_time_min,
-                              inputs,    outputs,  run.producer};
+  const runlog::Header header{run.plant, run.plan,     run.sample_time_min, inputs,
+                              outputs,   run.producer, run.time_scales};
 
   WholeFile file(path);
   std::vector<char> buffer(

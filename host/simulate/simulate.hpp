@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "firmware/plan/plan.hpp"
+#include "firmware/runlog/format.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::host {
@@ -31,6 +32,7 @@ struct SimulatedRun {
   std::string plan;
   std::string producer;  // the run log's `# producer:` line, set by the command
   double sample_time_min = 0.0;
+  runlog::TimeScales time_scales;  // the plan's τ_H, β, T_sw (0: not known), into the header
   std::vector<std::string> input_names, input_units, output_names, output_units;
   Eigen::VectorXd input_baseline;  // absolute inputs at the operating point
   Eigen::MatrixXd du;              // N × inputs, deviations

@@ -67,6 +67,8 @@ std::string format_server_config(const ServerConfig& config, const std::string& 
   }
   if (!p.noise_variance.empty()) os << "noise_variance = " << numbers(p.noise_variance) << "\n";
   os << "noise_seed = " << p.noise_seed << "\n";
+  if (p.tau_high_min > 0.0) os << "tau_high_min = " << toml_number(p.tau_high_min) << "\n";
+  if (p.beta > 0.0) os << "beta = " << toml_number(p.beta) << "\n";
   if (p.watchdog_s > 0.0) os << "watchdog_s = " << toml_number(p.watchdog_s) << "\n";
   if (!p.input_min.empty()) {
     os << "input_min = " << numbers(p.input_min) << "\ninput_max = " << numbers(p.input_max)

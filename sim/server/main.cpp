@@ -288,6 +288,8 @@ int main(int argc, char** argv) {
           sample_time_s > 0.0 ? sample_time_s : 60.0 * process.sample_time_min();
     }
     options.plant_description = plant.name() + " (excite-plant)";
+    options.time_scales.tau_high_min = config.plant.tau_high_min;
+    options.time_scales.beta = config.plant.beta;
     options.input_names = plant.input_names();
     options.output_names = plant.output_names();
     options.input_units = plant.input_units();

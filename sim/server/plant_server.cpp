@@ -106,7 +106,8 @@ void PlantServer::open_log() {
                               process_.sample_time_min(),
                               log_inputs_,
                               log_outputs_,
-                              producer_};
+                              producer_,
+                              options_.time_scales};
   log_writer_.emplace(log_, header, log_buffer_);
   if (const auto s = log_writer_->write_header(); s != runlog::WriteStatus::ok) {
     throw std::runtime_error("--log " + options_.log_path + ": " + log_writer_->detail());

@@ -52,6 +52,7 @@ struct ServeOptions {
   std::uint64_t faults_after = 0;  // ordinary requests served normally before faults apply
   std::string log_path;            // run log of every plant sample; empty: none
   std::string plant_description;   // the run log's `plant:` line
+  runlog::TimeScales time_scales;  // the run log's τ_H, β (0: not known)
   std::vector<std::string> input_names;
   std::vector<std::string> output_names;
   std::vector<std::string> input_units;  // run-log units; empty: "-"

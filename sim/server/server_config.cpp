@@ -20,7 +20,8 @@ std::string g(double x) {
 
 PlantSettings read_plant(const Table& t) {
   t.only_keys({"library", "file", "sample_time_min", "input_baseline", "output_baseline",
-               "noise_variance", "noise_seed", "watchdog_s", "input_min", "input_max"});
+               "noise_variance", "noise_seed", "watchdog_s", "input_min", "input_max",
+               "tau_high_min", "beta"});
   PlantSettings plant;
   plant.library = t.text("library").value_or("");
   plant.file = t.text("file").value_or("");
@@ -41,6 +42,8 @@ PlantSettings read_plant(const Table& t) {
           t.integer("noise_seed", 0, std::numeric_limits<std::int64_t>::max(), "a seed >= 0")) {
     plant.noise_seed = static_cast<std::uint64_t>(*seed);
   }
+  plant.tau_high_min = t.non_negative("tau_high_min", "minutes (0: not known)").value_or(0.0);
+  plant.beta = t.non_negative("beta", "settling time in units of tau_high_min").value_or(0.0);
   plant.watchdog_s = t.non_negative("watchdog_s", "wall-clock seconds (0: off)").value_or(0.0);
   plant.input_min = t.numbers("input_min");
   plant.input_max = t.numbers("input_max");

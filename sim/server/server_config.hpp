@@ -30,6 +30,8 @@ struct PlantSettings {
   std::vector<double> noise_variance;   // per output (squared output units); empty → no
                                         // noise; one value → the same on every output
   std::uint64_t noise_seed = 1;
+  double tau_high_min = 0.0;  // the design's τ_H and β for the run log's header (firmware/
+  double beta = 0.0;          // runlog, TimeScales), minutes and a ratio, ≥ 0; 0: not known
   // What the plant's own controller enforces (README, "Watchdog and input limits"):
   double watchdog_s = 0.0;        // heartbeat watchdog, wall-clock seconds >= 0; 0: off
   std::vector<double> input_min;  // absolute limits per input (engineering units); empty:

@@ -20,7 +20,7 @@
 #include "host/campaign/campaign.hpp"
 #include "host/campaign/parallel.hpp"
 #include "host/campaign/report.hpp"
-#include "host/campaign/residuals.hpp"
+#include "host/identify/residuals.hpp"
 
 namespace excite::host {
 namespace {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -165,9 +166,9 @@ TEST_F(ExciteCli, SimulatedRunIsIdentifiedValidatedAndBalanced) {
   EXPECT_GT(balance["upsilon"].get<double>(), 0.0);
 }
 
-// The time constants' upper bound (SPEC §6): β·τ_H of the run's case study by default
-// (woodberry2x2: 3 × 21 = 63 min), --max-time-constant or --tau-high to override; the text
-// output says which. A bound below the plant's 21-min lag shows in the estimates.
+// The time constants' upper bound (SPEC §6): β·τ_H of the design the run log carries in its
+// header (woodberry2x2: 3 × 21 = 63 min), --max-time-constant or --tau-high to override; the
+// text output says which. A bound below the plant's 21-min lag shows in the estimates.
 TEST_F(ExciteCli, IdentifyBoundsTheTimeConstantsByBetaTauHigh) {
   ASSERT_EQ(
       excite("design -q --plant woodberry2x2 --preset prbsUnc -o " + path("wb.plan")).exit_code, 0);
@@ -176,21 +177,72 @@ TEST_F(ExciteCli, IdentifyBoundsTheTimeConstantsByBetaTauHigh) {
             0);
   const Result def = excite("identify " + path("wb.csv"));
   ASSERT_EQ(def.exit_code, 0) << def.out;
-  EXPECT_NE(def.out.find("time constants bounded by 63 min (beta x tau_H of the woodberry2x2"),
+  EXPECT_NE(def.out.find("time constants bounded by 63 min (beta x tau_H of the run log " +
+                         path("wb.csv") + ", beta = 3, tau_H = 21 min)"),
             std::string::npos)
       << def.out;
   EXPECT_NE(excite("identify --tau-high 10 --beta 2 " + path("wb.csv"))
-                .out.find("bounded by 20 min (--beta x --tau-high)"),
+                .out.find("bounded by 20 min (beta 2 x --tau-high)"),
             std::string::npos);
   const Result low = excite("identify --json --max-time-constant 15 " + path("wb.csv"));
   ASSERT_EQ(low.exit_code, 0) << low.out;
   const nlohmann::json model = nlohmann::json::parse(low.out);  // outlives the loop (C++20)
+  int on_upper_bound = 0;  // a parameter ending on a bound is listed, per element
   for (const auto& out : model["outputs"]) {
-    for (const auto& e : out["elements"]) EXPECT_LE(e["Tp1"].get<double>(), 15.0) << e;
+    for (const auto& e : out["elements"]) {
+      EXPECT_LE(e["Tp1"].get<double>(), 15.0) << e;
+      const auto listed = e["on_bound"].get<std::vector<std::string>>();
+      const bool tp1_listed =
+          std::find(listed.begin(), listed.end(), "Tp1 = 15 (upper bound)") != listed.end();
+      EXPECT_EQ(tp1_listed, e["Tp1"].get<double>() == 15.0) << e;
+      on_upper_bound += tp1_listed ? 1 : 0;
+    }
   }
+  EXPECT_GT(on_upper_bound, 0);  // the plant's 21-min lags cannot fit under 15 min
+  EXPECT_NE(excite("identify --max-time-constant 15 " + path("wb.csv"))
+                .out.find("; Tp1 = 15 (upper bound)"),
+            std::string::npos);
   const Result bad = excite("identify --max-time-constant -1 " + path("wb.csv"));
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.out.find("--max-time-constant"), std::string::npos) << bad.out;
+}
+
+// A run log that carries no time scales (written before they existed, or by hand) from a
+// plant with no case study: identify refuses rather than bound the time constants by the
+// run's length, and names the ways out; each of them works.
+TEST_F(ExciteCli, IdentifyRefusesWhenNoTimeConstantBoundIsKnownAndNamesTheOptions) {
+  ASSERT_EQ(
+      excite("design -q --plant woodberry2x2 --preset prbsUnc -o " + path("wb.plan")).exit_code, 0);
+  ASSERT_EQ(excite("simulate " + path("wb.plan") + " --plant woodberry2x2 -o " + path("wb.csv"))
+                .exit_code,
+            0);
+  std::ifstream in(path("wb.csv"));
+  std::ofstream out(path("unit7.csv"));
+  int dropped = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("# tau_high_min:", 0) == 0 || line.rfind("# beta:", 0) == 0 ||
+        line.rfind("# switch_time_min:", 0) == 0) {
+      ++dropped;
+      continue;
+    }
+    out << (line.rfind("# plant:", 0) == 0 ? "# plant: unit 7 column" : line) << '\n';
+  }
+  out.close();
+  ASSERT_EQ(dropped, 3);  // the simulated log carried τ_H, β and T_sw from the plan
+
+  const Result refused = excite("identify " + path("unit7.csv"));
+  EXPECT_NE(refused.exit_code, 0) << refused.out;
+  for (const char* named : {"tau_high_min", "unit 7 column", "--tau-high", "--max-time-constant",
+                            "--max-time-constant 0"}) {
+    EXPECT_NE(refused.out.find(named), std::string::npos) << named << " in " << refused.out;
+  }
+  const Result length = excite("identify --max-time-constant 0 " + path("unit7.csv"));
+  ASSERT_EQ(length.exit_code, 0) << length.out;
+  EXPECT_NE(length.out.find("(the run's length, --max-time-constant 0)"), std::string::npos)
+      << length.out;
+  const Result tau = excite("identify --tau-high 21 " + path("unit7.csv"));
+  ASSERT_EQ(tau.exit_code, 0) << tau.out;
+  EXPECT_NE(tau.out.find("bounded by 63 min (beta 3 x --tau-high)"), std::string::npos) << tau.out;
 }
 
 // crossval takes the same bound: noise-free Wood–Berry runs are fitted exactly under the

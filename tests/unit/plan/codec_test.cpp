@@ -50,9 +50,10 @@ void reseal(Bytes& b) {
 }
 
 // Offset of the recipe's counts in the example plan's file (README.md, "Format"):
-// header 16, created 8, sample time 8, two texts of 1 + length bytes.
+// header 16, created 8, sample time 8, time scales 3 × 8 (v3), two texts of 1 + length bytes.
 std::size_t counts_offset() {
-  return 16 + 8 + 8 + 1 + std::strlen(testing::kDesignName) + 1 + std::strlen(testing::kProvenance);
+  return 16 + 8 + 8 + 24 + 1 + std::strlen(testing::kDesignName) + 1 +
+         std::strlen(testing::kProvenance);
 }
 
 // Offset of sources[0] (a PRBS): after the counts, the 4 channels' name and limits, and
@@ -101,7 +102,7 @@ TEST(PlanCodec, DecodedPlanKeepsTheMetadata) {
 TEST(PlanCodec, WritesTheHeaderAndChecksumOfTheDocumentedLayout) {
   const Bytes file = encoded(*example_plan());
   const Bytes header(file.begin(), file.begin() + 12);
-  EXPECT_EQ(header, (Bytes{0x89, 'E', 'X', 'P', 'L', 'A', 'N', '\n', 2, 0, 0, 0}));
+  EXPECT_EQ(header, (Bytes{0x89, 'E', 'X', 'P', 'L', 'A', 'N', '\n', 3, 0, 0, 0}));
   const std::uint32_t payload = u32_at(file, 12);
   EXPECT_EQ(payload, file.size() - 20);
   const std::uint32_t stored = u32_at(file, file.size() - 4);
@@ -122,9 +123,9 @@ TEST(PlanCodec, WritesOnlyTheUsedSourcesLinesSegmentsAndChannels) {
   const Bytes file = encoded(*plan);
   EXPECT_EQ(encoded(*cluttered), file);
   EXPECT_EQ(file.size(), encoded_size(*plan));
-  // 20 header+CRC, 16 meta, 2 + texts, 16 counts, 4 channels, 4 × 5 mix, 2 PRBS,
-  // 2 multisines, 1 step source of 3 segments, 120 lines.
-  const std::size_t expected = 20 + 16 + 2 + std::strlen(testing::kDesignName) +
+  // 20 header+CRC, 16 meta + 24 time scales (v3), 2 + texts, 16 counts, 4 channels, 4 × 5 mix, 2
+  // PRBS, 2 multisines, 1 step source of 3 segments, 120 lines.
+  const std::size_t expected = 20 + 16 + 24 + 2 + std::strlen(testing::kDesignName) +
                                std::strlen(testing::kProvenance) + 16 + (4 * 17 + 8 + 7 + 11 + 6) +
                                4 * 5 * 8 + 2 * (9 + 17) + 2 * (9 + 12) + (9 + 4 + 3 * 12) +
                                120 * 20;
@@ -184,17 +185,17 @@ TEST(PlanCodec, LeavesADefaultPlanWhenItRefuses) {
 
 TEST(PlanCodec, RefusesANewerVersionNamingTheFilesAndTheBuildsVersion) {
   Bytes file = encoded(*example_plan());
-  file[8] = 3;
+  file[8] = 4;
   reseal(file);
   auto out = std::make_unique<Plan>();
   const Status status = decode(file, *out);
   EXPECT_EQ(status.code(), StatusCode::unsupported_version);
   EXPECT_EQ(std::string(status.message()),
-            "plan file has format version 3, this build reads versions 1…2");
+            "plan file has format version 4, this build reads versions 1…3");
 }
 
 // Version 2 stores T in minutes (the project's unit); version 1 stored seconds and is still
-// read, converted once in decode().
+// read, converted once in decode(). Version 3 adds the design's time scales after T.
 double f64_at(const Bytes& b, std::size_t at) {
   std::uint64_t bits = 0;
   for (std::size_t i = 0; i < 8; ++i) bits |= std::uint64_t{b[at + i]} << (8U * i);
@@ -211,24 +212,59 @@ void put_f64(Bytes& b, std::size_t at, double v) {
 
 constexpr std::size_t kSampleTimeOffset = 16 + 8;  // header, created_unix_s
 
-TEST(PlanCodec, Version2WritesTheSampleTimeInMinutes) {
+constexpr std::size_t kTimeScalesOffset = kSampleTimeOffset + 8;  // v3: τ_H, β, T_sw
+
+// The same plan as a file of an older version: version `v`, without the v3 time scales.
+Bytes as_version(Bytes file, std::uint8_t v) {
+  file[8] = v;
+  file.erase(file.begin() + kTimeScalesOffset, file.begin() + kTimeScalesOffset + 24);
+  put_u32(file, 12, static_cast<std::uint32_t>(file.size() - 20));
+  reseal(file);
+  return file;
+}
+
+TEST(PlanCodec, Version3WritesTheSampleTimeInMinutesAndTheDesignsTimeScales) {
   auto plan = example_plan();
   plan->meta.sample_time_min = 0.5;
+  plan->meta.tau_high_min = 50.0;
+  plan->meta.beta = 3.0;
+  plan->meta.switch_time_min = 16.0;
   const Bytes file = encoded(*plan);
-  EXPECT_EQ(file[8] | file[9] << 8U, 2);
+  EXPECT_EQ(file[8] | file[9] << 8U, 3);
   EXPECT_EQ(f64_at(file, kSampleTimeOffset), 0.5);
+  EXPECT_EQ(f64_at(file, kTimeScalesOffset), 50.0);
+  EXPECT_EQ(f64_at(file, kTimeScalesOffset + 8), 3.0);
+  EXPECT_EQ(f64_at(file, kTimeScalesOffset + 16), 16.0);
   auto out = std::make_unique<Plan>();
   ASSERT_TRUE(decode(file, *out));
+  EXPECT_EQ(out->meta.format_version, 3U);
+  EXPECT_EQ(out->meta.sample_time_min, 0.5);
+  EXPECT_EQ(out->meta.tau_high_min, 50.0);
+  EXPECT_EQ(out->meta.beta, 3.0);
+  EXPECT_EQ(out->meta.switch_time_min, 16.0);
+}
+
+TEST(PlanCodec, ReadsVersion2WithTheTimeScalesNotKnown) {
+  auto plan = example_plan();
+  plan->meta.sample_time_min = 0.5;
+  const Bytes v3 = encoded(*plan);
+  auto out = std::make_unique<Plan>();
+  const Status status = decode(as_version(v3, 2), *out);
+  ASSERT_TRUE(status) << status.message();
   EXPECT_EQ(out->meta.format_version, 2U);
   EXPECT_EQ(out->meta.sample_time_min, 0.5);
+  EXPECT_EQ(out->meta.tau_high_min, 0.0);
+  EXPECT_EQ(out->meta.beta, 0.0);
+  EXPECT_EQ(out->meta.switch_time_min, 0.0);
+  out->meta.format_version = kFormatVersion;
+  EXPECT_EQ(encoded(*out), v3);  // re-encoded, it is the version-3 file
 }
 
 TEST(PlanCodec, ReadsVersion1WhoseSampleTimeIsInSeconds) {
   auto plan = example_plan();
   plan->meta.sample_time_min = 0.5;
-  const Bytes v2 = encoded(*plan);
-  Bytes v1 = v2;  // the same plan as a version-1 file: version 1, T = 30 s
-  v1[8] = 1;
+  const Bytes v3 = encoded(*plan);
+  Bytes v1 = as_version(v3, 1);  // the same plan as a version-1 file: version 1, T = 30 s
   put_f64(v1, kSampleTimeOffset, 30.0);
   reseal(v1);
   auto out = std::make_unique<Plan>();
@@ -238,7 +274,16 @@ TEST(PlanCodec, ReadsVersion1WhoseSampleTimeIsInSeconds) {
   EXPECT_EQ(out->meta.sample_time_min, 0.5);
   EXPECT_EQ(out->recipe.samples, plan->recipe.samples);
   out->meta.format_version = kFormatVersion;
-  EXPECT_EQ(encoded(*out), v2);  // re-encoded, it is the version-2 file
+  EXPECT_EQ(encoded(*out), v3);  // re-encoded, it is the version-3 file
+}
+
+TEST(PlanCodec, RefusesANegativeOrNonFiniteTimeScaleNamingIt) {
+  auto plan = example_plan();
+  plan->meta.beta = -1.0;
+  const Status status = validate(*plan);
+  EXPECT_EQ(status.code(), StatusCode::invalid_field);
+  EXPECT_EQ(std::string(status.message()),
+            "meta.beta = -1, expected a finite number ≥ 0 (0: not known)");
 }
 
 TEST(PlanCodec, RefusesBadMagic) {
@@ -325,7 +370,7 @@ TEST(PlanCodec, RefusesAnUnknownSourceKind) {
 
 TEST(PlanCodec, RefusesATextLongerThanItsField) {
   Bytes file = encoded(*example_plan());
-  file[32] = 32;  // length byte of meta.design_name
+  file[56] = 32;  // length byte of meta.design_name (after T and the v3 time scales)
   reseal(file);
   auto out = std::make_unique<Plan>();
   const Status status = decode(file, *out);

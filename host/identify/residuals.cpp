@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: MIT
-#include "host/campaign/residuals.hpp"
+#include "host/identify/residuals.hpp"
+
+#include <Eigen/Dense>
+#include <boost/math/distributions/chi_squared.hpp>
 
 #include <cmath>
 #include <stdexcept>
@@ -51,6 +54,42 @@ ResidualCorrelation residual_correlation(const Eigen::VectorXd& e, const Eigen::
       r.cross_correlation(tau + max_lag, i) = lagged_product(u, ec, tau) / scale;
   }
   return r;
+}
+
+ResidualTests residual_tests(const Eigen::VectorXd& e, const Eigen::MatrixXd& U, int lags) {
+  const Eigen::Index N = e.size();
+  if (lags < 1 || 2 * static_cast<Eigen::Index>(lags) >= N) {
+    throw std::invalid_argument("residual_tests: lags " + std::to_string(lags) + ", expected 1 … " +
+                                std::to_string((N - 1) / 2) + " for " + std::to_string(N) +
+                                " residuals");
+  }
+  const ResidualCorrelation r = residual_correlation(e, U, lags);
+  ResidualTests t;
+  t.lags = lags;
+  const auto n_rows = static_cast<double>(N);
+  for (int tau = 1; tau <= lags; ++tau) {
+    const double rho = r.auto_correlation(tau);
+    t.whiteness += rho * rho / (n_rows - tau);
+  }
+  t.whiteness *= n_rows * (n_rows + 2.0);
+  const boost::math::chi_squared chi_l(lags), chi_l1(lags + 1);
+  t.whiteness_limit = boost::math::quantile(chi_l, 0.99);
+  t.independence_limit = boost::math::quantile(chi_l1, 0.99);
+  t.independence = Eigen::VectorXd::Zero(U.cols());
+  for (Eigen::Index i = 0; i < U.cols(); ++i) {
+    const Eigen::VectorXd u = U.col(i).array() - U.col(i).mean();
+    const double ruu0 = u.squaredNorm() / n_rows;
+    if (!(ruu0 > 0.0)) continue;
+    Eigen::MatrixXd R(lags + 1, lags + 1);  // Toeplitz: R(a, b) = r_uu(|a − b|)/r_uu(0)
+    for (int a = 0; a <= lags; ++a) {
+      const double rho = lagged_product(u, u, a) / ruu0;
+      for (int b = 0; b + a <= lags; ++b) R(b, b + a) = R(b + a, b) = rho;
+    }
+    const Eigen::VectorXd rue = r.cross_correlation.col(i).tail(lags + 1);  // τ = 0 … L
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(R);
+    t.independence(i) = n_rows * rue.dot(ldlt.solve(rue));
+  }
+  return t;
 }
 
 }  // namespace excite::host
