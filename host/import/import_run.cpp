@@ -51,12 +51,12 @@ void check_grid_rows(const HistorianData& d, double first, double last, double T
   const double rows = std::floor((last - first) / T_s + 1e-9) + 1.0;
   if (rows <= static_cast<double>(max_rows)) return;
   const TagSeries& s0 = d.series.front();
-  const double middle = s0.time_s[s0.time_s.size() / 2];
+  const double middle = s0.time_s[(s0.time_s.size() - 1) / 2];
   double far = s0.time_s.front();
   std::size_t far_line = s0.line.front();
   for (const TagSeries& s : d.series) {
     for (const std::size_t i : {std::size_t{0}, s.time_s.size() - 1}) {
-      if (std::fabs(s.time_s[i] - middle) > std::fabs(far - middle)) {
+      if (std::fabs(s.time_s[i] - middle) >= std::fabs(far - middle)) {  // a tie: the end
         far = s.time_s[i];
         far_line = s.line[i];
       }
