@@ -150,7 +150,7 @@ void run(ImportCommandOptions opt) {
     if (!data.bad_examples[a].empty()) {
       std::cout << "; " << data.bad_cells[a] << " bad cells, not numbers:";
       for (const auto& b : data.bad_examples[a]) {
-        std::cout << " line " << b.line << " " << historian::quoted(b.text);
+        std::cout << " line " << b.line << " " << historian::quote_cell(b.text);
       }
     }
     if (!is_input && o.detrend != historian::Detrend::none) {

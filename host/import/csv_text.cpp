@@ -80,7 +80,7 @@ std::vector<std::string> split(std::string_view line, char delimiter) {
   return out;
 }
 
-std::string quoted(std::string_view cell) {
+std::string quote_cell(std::string_view cell) {
   constexpr std::size_t kShown = 40;
   std::string out = "'";
   for (std::size_t i = 0; i < cell.size() && i < kShown; ++i) {
@@ -94,7 +94,7 @@ std::string quoted(std::string_view cell) {
 std::string column_list(const std::vector<std::string>& header, std::size_t shown) {
   std::string out;
   for (std::size_t i = 0; i < header.size() && i < shown; ++i) {
-    out += (i == 0 ? "" : ", ") + quoted(header[i]);
+    out += (i == 0 ? "" : ", ") + quote_cell(header[i]);
   }
   if (header.size() > shown) out += ", …";
   return out + " (" + std::to_string(header.size()) + " columns)";

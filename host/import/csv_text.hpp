@@ -7,7 +7,7 @@
 //     than its limit (a binary file, /dev/zero) is an error naming the file and line.
 //   - split() separates fields by one delimiter character; a field may be quoted ("…", ""
 //     for a quote inside), and unquoted fields lose surrounding blanks.
-//   - quoted() renders a cell for a message: in quotes, at most 40 characters (then "…").
+//   - quote_cell() renders a cell for a message: in quotes, at most 40 characters (then "…").
 
 #include <cstddef>
 #include <istream>
@@ -36,7 +36,7 @@ class LineReader {
 std::vector<std::string> split(std::string_view line, char delimiter);
 std::string trim(std::string_view s);
 std::string lower(std::string_view s);
-std::string quoted(std::string_view cell);
+std::string quote_cell(std::string_view cell);
 
 /// "a, b, c … (N columns)": at most `shown` names of a header, and the count.
 std::string column_list(const std::vector<std::string>& header, std::size_t shown = 20);

@@ -88,7 +88,7 @@ class Reader {
     if (!o.time_format.empty()) {
       const std::string problem = check_time_format(o.time_format);
       if (!problem.empty()) {
-        throw std::invalid_argument("--time-format = " + quoted(o.time_format) + ", expected " +
+        throw std::invalid_argument("--time-format = " + quote_cell(o.time_format) + ", expected " +
                                     "a strftime-style format (host/import/README.md): " + problem);
       }
     }
@@ -158,8 +158,8 @@ std::size_t Reader::resolve_tag(const std::string& tag) const {
     for (std::size_t i = 0; i < cols.size() && i < 20; ++i) {
       list += (i == 0 ? "" : ", ") + std::to_string(cols[i] + 1);
     }
-    throw std::invalid_argument(at(header_line_) + "tag = " + quoted(tag) + " (columns " + list +
-                                "), expected a unique column name; address one as '" + tag +
+    throw std::invalid_argument(at(header_line_) + "tag = " + quote_cell(tag) + " (columns " +
+                                list + "), expected a unique column name; address one as '" + tag +
                                 "#1' … '" + tag + "#" + std::to_string(cols.size()) +
                                 "' (the n-th column of that name) in --mv, --cv or --map");
   }
@@ -175,7 +175,7 @@ std::size_t Reader::resolve_tag(const std::string& tag) const {
       if (n >= 1 && n <= cols.size()) return cols[n - 1];
     }
   }
-  throw std::invalid_argument(at(header_line_) + "tag = " + quoted(tag) +
+  throw std::invalid_argument(at(header_line_) + "tag = " + quote_cell(tag) +
                               ", expected a column of the header: " + column_list(header_));
 }
 
@@ -205,7 +205,7 @@ void Reader::resolve_wide() {
     if (header_[c] == time_name) time_cols.push_back(c);
   }
   if (time_cols.empty()) {
-    throw std::invalid_argument(at(header_line_) + "--time-column = " + quoted(time_name) +
+    throw std::invalid_argument(at(header_line_) + "--time-column = " + quote_cell(time_name) +
                                 ", expected a column of the header: " + column_list(header_));
   }
   per_tag_ = time_cols.size() > 1 || o_.time_column_per_tag;
@@ -214,7 +214,7 @@ void Reader::resolve_wide() {
     tc.value = resolve_tag(tag);
     if (o_.time_column_per_tag) {
       if (tc.value % 2 == 0) {
-        throw std::invalid_argument(at(header_line_) + "tag = " + quoted(tag) + " (column " +
+        throw std::invalid_argument(at(header_line_) + "tag = " + quote_cell(tag) + " (column " +
                                     std::to_string(tc.value + 1) +
                                     "), expected a value column: with --time-column-per-tag the "
                                     "columns are TIME,VALUE pairs, values in columns 2, 4, …");
@@ -229,9 +229,10 @@ void Reader::resolve_wide() {
         }
       }
       if (!found) {
-        throw std::invalid_argument(
-            at(header_line_) + "tag = " + quoted(tag) + " (column " + std::to_string(tc.value + 1) +
-            "), expected a value column after a time column " + quoted(time_name));
+        throw std::invalid_argument(at(header_line_) + "tag = " + quote_cell(tag) + " (column " +
+                                    std::to_string(tc.value + 1) +
+                                    "), expected a value column after a time column " +
+                                    quote_cell(time_name));
       }
     }
     tc.quality = quality_column(tc.value);
@@ -239,7 +240,7 @@ void Reader::resolve_wide() {
       const std::string& qname = header_[static_cast<std::size_t>(tc.quality)];
       tc.confidence = lower(qname).find("confidence") != std::string::npos;
       if (tc.confidence && std::isnan(o_.good_confidence)) {
-        throw std::invalid_argument(at(header_line_) + "column " + quoted(qname) +
+        throw std::invalid_argument(at(header_line_) + "column " + quote_cell(qname) +
                                     " = a 0–100 confidence, expected --good-confidence N (the "
                                     "least confidence that is good)");
       }
@@ -269,14 +270,14 @@ std::optional<double> Reader::window_bound(const std::string& text, const char* 
   if (text.empty()) return std::nullopt;
   const std::optional<Timestamp> t = parse_iso_or_epoch(text);
   if (!t) {
-    throw std::invalid_argument(std::string(option) + " = " + quoted(text) +
+    throw std::invalid_argument(std::string(option) + " = " + quote_cell(text) +
                                 ", expected ISO 8601 (2026-03-01T08:00:00, optional Z or "
                                 "±HH:MM) or epoch seconds");
   }
   if (t->zoned || !zone_) return t->seconds;
   const TimeZone::Result r = zone_->to_utc(t->seconds);
   if (r.status == TimeZone::Local::skipped) {
-    throw std::invalid_argument(std::string(option) + " = " + quoted(text) +
+    throw std::invalid_argument(std::string(option) + " = " + quote_cell(text) +
                                 ", expected a local time of " + zone_->name() +
                                 " (this one is skipped by a daylight-saving change)");
   }
@@ -284,7 +285,7 @@ std::optional<double> Reader::window_bound(const std::string& text, const char* 
 }
 
 double Reader::time_of(const std::string& text, std::size_t line, const std::string& field) {
-  const std::string here = at(line) + field + " = " + quoted(text) + ", expected ";
+  const std::string here = at(line) + field + " = " + quote_cell(text) + ", expected ";
   std::optional<Timestamp> ts;
   bool numeric = false;
   if (!o_.time_format.empty()) {
@@ -347,8 +348,8 @@ double Reader::time_of(const std::string& text, std::size_t line, const std::str
 void Reader::add(std::size_t g, double t, const std::string& time_text, const std::string& value,
                  const std::string* quality, std::size_t line, const std::string& time_field) {
   if (!last_text_[g].empty() && !(t > last_time_[g])) {
-    throw std::invalid_argument(at(line) + time_field + " = " + quoted(time_text) +
-                                ", expected a time after " + quoted(last_text_[g]) + " (line " +
+    throw std::invalid_argument(at(line) + time_field + " = " + quote_cell(time_text) +
+                                ", expected a time after " + quote_cell(last_text_[g]) + " (line " +
                                 std::to_string(last_line_[g]) + ") of tag '" + tags_[g] +
                                 "': timestamps strictly increasing");
   }
@@ -366,7 +367,7 @@ void Reader::add(std::size_t g, double t, const std::string& time_text, const st
   const std::optional<double> parsed = parse_number(value, o_.decimal_comma);
   double v = parsed ? *parsed : kNaN;
   if (parsed && std::fabs(v) > o_.max_value) {
-    throw std::invalid_argument(at(line) + tags_[g] + " = " + quoted(value) +
+    throw std::invalid_argument(at(line) + tags_[g] + " = " + quote_cell(value) +
                                 ", expected |value| <= " + number(o_.max_value) +
                                 " (so that the run log's values and deviations stay within its "
                                 "limit)");
@@ -410,7 +411,7 @@ void Reader::finish() {
     if (quality_bad_[g] == s.time_s.size() && std::isnan(o_.good_confidence)) {
       throw std::invalid_argument(
           at(first_quality_bad_[g].line) + "quality of " + tags_[g] + " = " +
-          quoted(first_quality_bad_[g].text) +
+          quote_cell(first_quality_bad_[g].text) +
           ", expected 'good' or an OPC quality code 192–255: it makes every value of the tag "
           "bad; a 0–100 confidence (PHD)? give --good-confidence N");
     }
@@ -441,7 +442,7 @@ HistorianData Reader::read() {
     if (header_.size() == 4) {
       const bool confidence = lower(header_[3]).find("confidence") != std::string::npos;
       if (confidence && std::isnan(o_.good_confidence)) {
-        throw std::invalid_argument(at(header_line_) + "column " + quoted(header_[3]) +
+        throw std::invalid_argument(at(header_line_) + "column " + quote_cell(header_[3]) +
                                     " = a 0–100 confidence, expected --good-confidence N");
       }
       d_.has_quality.assign(n_tags, true);
