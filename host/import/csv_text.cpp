@@ -80,15 +80,19 @@ std::vector<std::string> split(std::string_view line, char delimiter) {
   return out;
 }
 
-std::string quote_cell(std::string_view cell) {
+std::string short_text(std::string_view cell) {
   constexpr std::size_t kShown = 40;
-  std::string out = "'";
+  std::string out;
   for (std::size_t i = 0; i < cell.size() && i < kShown; ++i) {
     const auto c = static_cast<unsigned char>(cell[i]);
     out += c < 0x20 || c == 0x7F ? '?' : static_cast<char>(c);
   }
   if (cell.size() > kShown) out += "…";
-  return out + "'";
+  return out;
+}
+
+std::string quote_cell(std::string_view cell) {
+  return "'" + short_text(cell) + "'";
 }
 
 std::string column_list(const std::vector<std::string>& header, std::size_t shown) {

@@ -37,6 +37,8 @@ std::vector<std::string> split(std::string_view line, char delimiter);
 std::string trim(std::string_view s);
 std::string lower(std::string_view s);
 std::string quote_cell(std::string_view cell);
+/// The same without the quotes (a column name in a message).
+std::string short_text(std::string_view cell);
 
 /// "a, b, c … (N columns)": at most `shown` names of a header, and the count.
 std::string column_list(const std::vector<std::string>& header, std::size_t shown = 20);

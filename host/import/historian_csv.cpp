@@ -455,6 +455,8 @@ HistorianData Reader::read() {
   from_s_ = window_bound(o_.from, "--from");
   to_s_ = window_bound(o_.to, "--to");
 
+  std::vector<std::string> time_names;  // for messages, cut short
+  for (const TagColumns& c : cols_) time_names.push_back(short_text(header_[c.time]));
   std::string line;
   std::size_t data_rows = 0;
   std::vector<std::optional<double>> row_time(header_.size());
@@ -471,8 +473,9 @@ HistorianData Reader::read() {
     if (o_.long_format) {
       const auto it = long_tag.find(f[0]);
       if (it == long_tag.end()) continue;
-      const double t = time_of(f[1], n, header_[1]);
-      add(it->second, t, f[1], f[2], f.size() == 4 ? &f[3] : nullptr, n, header_[1]);
+      const std::string field = short_text(header_[1]);
+      const double t = time_of(f[1], n, field);
+      add(it->second, t, f[1], f[2], f.size() == 4 ? &f[3] : nullptr, n, field);
       continue;
     }
     std::fill(row_time.begin(), row_time.end(), std::nullopt);
@@ -482,8 +485,8 @@ HistorianData Reader::read() {
       const std::string* q = c.quality >= 0 ? &f[static_cast<std::size_t>(c.quality)] : nullptr;
       // Per-tag time columns: a tag without a sample in this row leaves its cells empty.
       if (per_tag_ && tt.empty() && f[c.value].empty() && (q == nullptr || q->empty())) continue;
-      if (!row_time[c.time]) row_time[c.time] = time_of(tt, n, header_[c.time]);
-      add(g, *row_time[c.time], tt, f[c.value], q, n, header_[c.time]);
+      if (!row_time[c.time]) row_time[c.time] = time_of(tt, n, time_names[g]);
+      add(g, *row_time[c.time], tt, f[c.value], q, n, time_names[g]);
     }
   }
   if (data_rows == 0) {

@@ -198,6 +198,13 @@ TEST_F(ImportMisread, AMissingTagNamesItAndAtMostTwentyColumns) {
   EXPECT_HAS(r.out, "h.csv:1: tag = 'nowhere', expected a column of the header: 'Time', 'tag_0'");
   EXPECT_HAS(r.out, "'tag_18', … (100001 columns)");
   EXPECT_LT(r.out.size(), 600U) << r.out.size();
+  // A huge column name and a huge cell are cut in a message too.
+  const std::string name(100'000, 'T');
+  const Result cell =
+      import(name + ",A,B\n" + std::string(100'000, '7') + "x,1,2\n", "--mv A --cv B");
+  EXPECT_EQ(cell.exit_code, 1);
+  EXPECT_HAS(cell.out, "h.csv:2: " + std::string(40, 'T') + "… = '" + std::string(40, '7') + "…'");
+  EXPECT_LT(cell.out.size(), 600U) << cell.out.size();
 }
 
 }  // namespace
