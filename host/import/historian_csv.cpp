@@ -133,6 +133,8 @@ class Reader {
 void Reader::read_header() {
   std::string line;
   while (lines_.next(line)) {
+    // Excel's "CSV UTF-8" starts the file with a byte order mark.
+    if (lines_.line_number() == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     const std::string t = trim(line);
     if (t.empty() || t.front() == '#') continue;
     header_ = split(t, o_.delimiter);
@@ -478,7 +480,7 @@ HistorianData Reader::read() {
       add(it->second, t, f[1], f[2], f.size() == 4 ? &f[3] : nullptr, n, field);
       continue;
     }
-    std::fill(row_time.begin(), row_time.end(), std::nullopt);
+    for (const TagColumns& c : cols_) row_time[c.time].reset();
     for (std::size_t g = 0; g < n_tags; ++g) {
       const TagColumns& c = cols_[g];
       const std::string& tt = f[c.time];

@@ -175,8 +175,9 @@ std::vector<Shape> corpus() {
     }
     shapes.push_back({"ip21_units_rows", s, "--header-rows 2 --time-format '%d-%b-%y %H:%M:%S'"});
   }
-  {  // A German Excel export: semicolons, decimal comma, thousands points.
-    std::string s = "Zeitstempel;A;B\n";
+  {  // A German Excel export ("CSV UTF-8": a byte order mark first): semicolons, decimal
+     // comma, thousands points.
+    std::string s = "\xEF\xBB\xBFZeitstempel;A;B\n";
     for (int k = 0; k < kRows; ++k) {
       std::string b = b_text(k);
       b[b.find('.')] = ',';
@@ -185,7 +186,9 @@ std::vector<Shape> corpus() {
            (k == kBadB ? "Fehler" : b) + "\n";
     }
     shapes.push_back(
-        {"excel_de", s, "--delimiter ';' --decimal-comma --time-format '%d.%m.%Y %H:%M'"});
+        {"excel_de", s,
+         "--delimiter ';' --decimal-comma --time-format '%d.%m.%Y %H:%M' --time-column "
+         "Zeitstempel"});
   }
   {  // PHD: a 0–100 confidence column per tag; the bad samples carry numbers, confidence 0.
     std::string s = "Time,A,A.Confidence,B,B.Confidence\n";
