@@ -117,6 +117,11 @@ void run(ImportCommandOptions opt) {
         "--decimal-comma with --delimiter ','; expected another delimiter (';' in most "
         "European exports)");
   }
+  if (csv.long_format && (csv.time_column_per_tag || !opt.time_column.empty())) {
+    throw std::invalid_argument(
+        "--long with --time-column or --time-column-per-tag; expected one layout (--long: "
+        "TAG,TIME,VALUE[,QUALITY] by position)");
+  }
   csv.time_column = opt.time_column;
   csv.epoch = opt.epoch == "s"    ? historian::Epoch::s
               : opt.epoch == "ms" ? historian::Epoch::ms
@@ -215,6 +220,9 @@ void add_import_command(CLI::App& app) {
   cmd->add_option("--from", opt->csv.from,
                   "first time to read (ISO 8601 or epoch s; local with --time-zone)");
   cmd->add_option("--to", opt->csv.to, "last time to read");
+  cmd->footer(
+      "Exports as PI, IP.21, PHD, DeltaV/Experion and European Excel write them, and the "
+      "options for each: host/import/README.md, \"Your historian -> the options\".");
   cmd->callback([opt] { run(*opt); });
 }
 
