@@ -1,15 +1,20 @@
 // SPDX-License-Identifier: MIT
 // excite import HISTORIAN.csv (--mv TAG… --cv TAG… | --map TAGS.toml) [--sample-time-min T]
 //               [--resample hold|linear] [--max-gap-min G] [--detrend none|offset|linear]
-//               [--baseline FROM:TO]
-//               [--time-column NAME] -o RUN.csv
+//               [--baseline FROM:TO] [--time-column NAME | --time-column-per-tag | --long]
+//               [--delimiter C] [--decimal-comma] [--time-format FMT] [--time-zone ZONE]
+//               [--epoch s|ms|us] [--header-rows N] [--good-confidence C]
+//               [--from TIME] [--to TIME] -o RUN.csv
 // A historian export → a run log (host/import/README.md): resampled, bad values and gaps
 // flagged (never interpolated across), deviations from the baseline, optional detrend.
 
 #include <iostream>
 
+#include "firmware/runlog/format.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/number_checks.hpp"
+#include "host/cli/run_input.hpp"
+#include "host/import/csv_text.hpp"
 #include "host/import/historian_csv.hpp"
 #include "host/import/import_run.hpp"
 #include "host/import/tag_map.hpp"
@@ -27,8 +32,39 @@ struct ImportCommandOptions {
   std::string resample = "hold";
   std::string detrend = "none";
   std::string baseline;
+  std::string delimiter = ",";
+  std::string epoch;
+  historian::CsvOptions csv;
   historian::ImportOptions import;
 };
+
+// "," ";" "tab" "\t" "|" …: one character.
+char delimiter_of(const std::string& text) {
+  if (text == "tab" || text == "\\t" || text == "\t") return '\t';
+  if (text == "semicolon") return ';';
+  if (text == "comma") return ',';
+  if (text.size() != 1 || text == "\"" || text == "\n" || text == "\r") {
+    throw std::invalid_argument("--delimiter = '" + text +
+                                "', expected one character (',', ';', '|') or tab");
+  }
+  return text[0];
+}
+
+// A tag's unit from the export's units row when the tag map names none.
+void take_units(const historian::HistorianData& data, std::vector<historian::TagSpec>& specs,
+                std::size_t first) {
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    const std::string& unit = data.units[first + i];
+    if (unit.empty() || specs[i].unit != "-") continue;
+    if (!runlog::valid_unit(unit)) {
+      throw std::invalid_argument(data.file + ":" + std::to_string(data.units_line) + ": unit of " +
+                                  specs[i].tag + " = '" + unit +
+                                  "', expected no spaces, commas or '=' (give the tag's unit "
+                                  "in a --map file)");
+    }
+    specs[i].unit = unit;
+  }
+}
 
 // "FROM:TO" minutes, or "" for the first grid point.
 void parse_baseline(const std::string& text, historian::ImportOptions& o) {
@@ -75,8 +111,31 @@ void run(ImportCommandOptions opt) {
   std::vector<std::string> tags;
   for (const auto& t : o.mvs) tags.push_back(t.tag);
   for (const auto& t : o.cvs) tags.push_back(t.tag);
-  const historian::HistorianData data =
-      historian::read_historian(opt.historian_path, opt.time_column, tags);
+  historian::CsvOptions& csv = opt.csv;
+  csv.delimiter = delimiter_of(opt.delimiter);
+  if (csv.decimal_comma && csv.delimiter == ',') {
+    throw std::invalid_argument(
+        "--decimal-comma with --delimiter ','; expected another delimiter (';' in most "
+        "European exports)");
+  }
+  if (csv.long_format && (csv.time_column_per_tag || !opt.time_column.empty())) {
+    throw std::invalid_argument(
+        "--long with --time-column or --time-column-per-tag; expected one layout (--long: "
+        "TAG,TIME,VALUE[,QUALITY] by position)");
+  }
+  csv.time_column = opt.time_column;
+  csv.epoch = opt.epoch == "s"    ? historian::Epoch::s
+              : opt.epoch == "ms" ? historian::Epoch::ms
+              : opt.epoch == "us" ? historian::Epoch::us
+                                  : historian::Epoch::automatic;
+  // Absolute values within half the limit keep their deviations within it.
+  csv.max_value = kMaxRunValue / 2.0;
+  csv.max_samples = 20 * kMaxRunRows;
+  o.max_rows = kMaxRunRows;
+  refuse_directory(opt.historian_path, "a historian export (CSV)");
+  const historian::HistorianData data = historian::read_historian(opt.historian_path, tags, csv);
+  take_units(data, o.mvs, 0);
+  take_units(data, o.cvs, o.mvs.size());
   const historian::ImportedRun run = historian::import_historian(data, o);
   const std::string source = std::filesystem::path(opt.historian_path).filename().string();
   write_whole_file(opt.output_path, historian::run_log_text(run, source));
@@ -94,6 +153,12 @@ void run(ImportCommandOptions opt) {
     std::cout << "  " << (is_input ? "MV " : "CV ") << all[a].tag << " -> " << all[a].name << " ["
               << all[a].unit << "]: baseline " << base << ", " << run.bad_points[a] << " bad points"
               << (data.has_quality[a] ? " (quality column used)" : "");
+    if (!data.bad_examples[a].empty()) {
+      std::cout << "; " << data.bad_cells[a] << " bad cells, not numbers:";
+      for (const auto& b : data.bad_examples[a]) {
+        std::cout << " line " << b.line << " " << historian::quote_cell(b.text);
+      }
+    }
     if (!is_input && o.detrend != historian::Detrend::none) {
       const std::size_t j = a - run.inputs.size();
       std::cout << ", removed offset " << run.removed_offset[j];
@@ -139,6 +204,33 @@ void add_import_command(CLI::App& app) {
   cmd->add_option("--beta", opt->import.time_scales.beta,
                   "settling time in units of tau_H (default 3 with --tau-high)")
       ->check(finite_positive());
+  cmd->add_flag("--time-column-per-tag", opt->csv.time_column_per_tag,
+                "columns in TIME,VALUE pairs, one time column per tag (PI archive dumps; a "
+                "repeated time column name is detected without it)");
+  cmd->add_flag("--long", opt->csv.long_format,
+                "long format: columns TAG,TIME,VALUE[,QUALITY], one sample per row");
+  cmd->add_option("--delimiter", opt->delimiter, "field separator: ',', ';', '|' or tab")
+      ->capture_default_str();
+  cmd->add_flag("--decimal-comma", opt->csv.decimal_comma,
+                "numbers written 1.234,5 (European locale; use with --delimiter ';')");
+  cmd->add_option("--time-format", opt->csv.time_format,
+                  "strftime-style timestamp form, e.g. '%m/%d/%Y %I:%M:%S %p' "
+                  "(default: ISO 8601 or epoch)");
+  cmd->add_option("--time-zone", opt->csv.time_zone,
+                  "IANA zone of local (naive) timestamps, e.g. Europe/Berlin (default: as UTC)");
+  cmd->add_option("--epoch", opt->epoch, "unit of epoch timestamps (default: s, checked)")
+      ->check(CLI::IsMember({"s", "ms", "us"}));
+  cmd->add_option("--header-rows", opt->csv.header_rows,
+                  "rows after the header to skip (units, descriptions; a 'Units' row is read)");
+  cmd->add_option("--good-confidence", opt->csv.good_confidence,
+                  "a 0-100 confidence/quality column: good at or above this")
+      ->check(CLI::Range(0.0, 100.0));
+  cmd->add_option("--from", opt->csv.from,
+                  "first time to read (ISO 8601 or epoch s; local with --time-zone)");
+  cmd->add_option("--to", opt->csv.to, "last time to read");
+  cmd->footer(
+      "Exports as PI, IP.21, PHD, DeltaV/Experion and European Excel write them, and the "
+      "options for each: host/import/README.md, \"Your historian -> the options\".");
   cmd->callback([opt] { run(*opt); });
 }
 

@@ -9,6 +9,7 @@
 
 #include "firmware/runlog/format.hpp"
 #include "firmware/runlog/writer.hpp"
+#include "host/import/timestamp.hpp"
 
 namespace excite::host::historian {
 namespace {
@@ -19,13 +20,64 @@ std::string number(double v) {
   return buf;
 }
 
+// The first and last sample over all tags (each tag's times increase).
+void span_of(const HistorianData& d, double& first, double& last) {
+  first = d.series.front().time_s.front();
+  last = d.series.front().time_s.back();
+  for (const TagSeries& s : d.series) {
+    first = std::min(first, s.time_s.front());
+    last = std::max(last, s.time_s.back());
+  }
+}
+
+// The spacing of the samples: the median over every tag's consecutive times.
+double spacing_of(const HistorianData& d) {
+  std::vector<double> pooled;
+  for (const TagSeries& s : d.series) {
+    for (std::size_t i = 1; i < s.time_s.size(); ++i) {
+      pooled.push_back(s.time_s[i] - s.time_s[i - 1]);
+    }
+  }
+  if (pooled.empty()) return 0.0;
+  const auto mid = pooled.begin() + static_cast<std::ptrdiff_t>(pooled.size() / 2);
+  std::nth_element(pooled.begin(), mid, pooled.end());
+  return *mid;
+}
+
+// Refuses a grid of more than max_rows rows before it is allocated, naming the line of the
+// timestamp farthest from the middle of the record (a mistyped year, a year of data).
+void check_grid_rows(const HistorianData& d, double first, double last, double T_s, double T_min,
+                     std::size_t max_rows) {
+  const double rows = std::floor((last - first) / T_s + 1e-9) + 1.0;
+  if (rows <= static_cast<double>(max_rows)) return;
+  const TagSeries& s0 = d.series.front();
+  const double middle = s0.time_s[(s0.time_s.size() - 1) / 2];
+  double far = s0.time_s.front();
+  std::size_t far_line = s0.line.front();
+  for (const TagSeries& s : d.series) {
+    for (const std::size_t i : {std::size_t{0}, s.time_s.size() - 1}) {
+      if (std::fabs(s.time_s[i] - middle) >= std::fabs(far - middle)) {  // a tie: the end
+        far = s.time_s[i];
+        far_line = s.line[i];
+      }
+    }
+  }
+  char count[32];
+  std::snprintf(count, sizeof count, "%.0f", rows);
+  throw std::invalid_argument(
+      d.file + ":" + std::to_string(far_line) + ": time = " + format_utc(far) +
+      ", expected a record of at most " + std::to_string(max_rows) + " rows of " + number(T_min) +
+      " min (the run log's limit): from " + format_utc(first) + " to " + format_utc(last) + " is " +
+      count + " rows; give --from/--to (a time window) or a longer --sample-time-min");
+}
+
 // A uniform grid from the first timestamp to the last.
-std::vector<double> grid_of(const HistorianData& d, double T_s) {
+std::vector<double> grid_of(double first, double last, double T_s) {
   std::vector<double> g;
-  const double t0 = d.time_s.front();
-  const double span = d.time_s.back() - t0;
+  const double span = last - first;
   const auto n = static_cast<std::size_t>(std::floor(span / T_s + 1e-9)) + 1;
-  for (std::size_t k = 0; k < n; ++k) g.push_back(t0 + static_cast<double>(k) * T_s);
+  g.reserve(n);
+  for (std::size_t k = 0; k < n; ++k) g.push_back(first + static_cast<double>(k) * T_s);
   return g;
 }
 
@@ -86,8 +138,8 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
   }
   std::vector<TagSpec> all = o.mvs;
   all.insert(all.end(), o.cvs.begin(), o.cvs.end());
-  if (all.size() != data.values.size()) {
-    throw std::invalid_argument(data.file + ": read " + std::to_string(data.values.size()) +
+  if (all.size() != data.series.size()) {
+    throw std::invalid_argument(data.file + ": read " + std::to_string(data.series.size()) +
                                 " tags; expected " + std::to_string(all.size()));
   }
   for (std::size_t a = 0; a < all.size(); ++a) {
@@ -109,19 +161,27 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
       }
     }
   }
-  const double spacing_s = median_spacing(data.time_s);
+  for (std::size_t a = 0; a < all.size(); ++a) {
+    if (data.series[a].time_s.empty()) {
+      throw std::invalid_argument(data.file + ": tag '" + all[a].tag +
+                                  "' has no samples; expected at least one");
+    }
+  }
+  double t_first = 0.0, t_last = 0.0;
+  span_of(data, t_first, t_last);
+  const double spacing_s = spacing_of(data);
   double T_min = o.sample_time_min;
   if (T_min == 0.0) T_min = spacing_s / 60.0;
   if (!(T_min > 0.0) || !std::isfinite(T_min)) {
     throw std::invalid_argument(data.file + ": sample time " + number(T_min) +
                                 " min; expected > 0 (give --sample-time-min; the data have " +
-                                std::to_string(data.time_s.size()) + " rows)");
+                                std::to_string(data.series.front().time_s.size()) + " rows)");
   }
   const double T_s = T_min * 60.0;
-  const std::vector<double> grid = grid_of(data, T_s);
+  check_grid_rows(data, t_first, t_last, T_s, T_min, o.max_rows);
+  const std::vector<double> grid = grid_of(t_first, t_last, T_s);
   if (grid.size() < 2) {
-    throw std::invalid_argument(data.file + ": the data span " +
-                                number(data.time_s.back() - data.time_s.front()) +
+    throw std::invalid_argument(data.file + ": the data span " + number(t_last - t_first) +
                                 " s, less than two samples of " + number(T_min) +
                                 " min; expected a longer record or a shorter --sample-time-min");
   }
@@ -151,7 +211,7 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
   std::vector<double> base(all.size());
   for (std::size_t a = 0; a < all.size(); ++a) {
     const std::vector<double> v =
-        resample(data.time_s, data.values[a], grid, o.resample, gap_limit);
+        resample(data.series[a].time_s, data.series[a].values, grid, o.resample, gap_limit);
     base[a] = baseline_of(v, b_from, b_to, all[a], data.file, o);
     dev[a].resize(N);
     for (std::size_t k = 0; k < N; ++k) dev[a][k] = v[k] - base[a];  // NaN stays NaN

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // A historian export → a run log (issue 13 §1, host/import/README.md):
-//   1. the tags' samples resampled onto t_k = t_0 + k·T (resample.hpp; T given or the
-//      median spacing of the timestamps; gap limit given or 1.5·max(T, median spacing));
+//   1. the tags' samples resampled onto t_k = t_0 + k·T, t_0 the first sample of any tag
+//      (resample.hpp; T given or the median spacing of the tags' timestamps; gap limit given
+//      or 1.5·max(T, median spacing)); at most max_rows rows;
 //   2. the baseline (operating point) of each tag: the mean of its good values in the
 //      window [from, to] minutes from the data's start (default: the first grid point);
 //   3. deviations du = u − u₀, dy = y − y₀; for CVs optionally the offset (mean) or the
@@ -14,6 +15,7 @@
 //      restarts its model (host/identify/run_layout.hpp).
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -42,6 +44,9 @@ struct ImportOptions {
   double baseline_from_min = 0.0;  // baseline window, minutes from the data's start
   double baseline_to_min = 0.0;
   runlog::TimeScales time_scales;  // --tau-high, --beta: into the run log's header (0: not known)
+  // The run log's row limit: a longer grid is refused before it is allocated, naming the
+  // line of the timestamp farthest from the middle of the record.
+  std::size_t max_rows = std::numeric_limits<std::size_t>::max();
 };
 
 struct ImportedRun {

@@ -167,8 +167,10 @@ TEST_F(ExciteImport, HistorianExportOfASimulatedRunIdentifiesLikeTheCleanRun) {
         "[[cv]]\ntag = \"AI-201.PV\"\nname = \"y1\"\nunit = \"mol%\"\n"
         "[[cv]]\ntag = \"AI-202.PV\"\nname = \"y2\"\nunit = \"mol%\"\n");
 
+  // --tau-high: the test's design (woodberry2x2: τ_H = 21 min) travels in the run log's
+  // header, where identify takes its time-constant bound β·τ_H from.
   const Result imp = excite("import " + path("historian.csv") + " --map " + path("tags.toml") +
-                            " --detrend linear -o " + path("imported.csv"));
+                            " --detrend linear --tau-high 21 -o " + path("imported.csv"));
   ASSERT_EQ(imp.exit_code, 0) << imp.out;
   EXPECT_NE(imp.out.find("quality column used"), std::string::npos) << imp.out;
   const Columns imported = read_columns(path("imported.csv"));
@@ -177,6 +179,10 @@ TEST_F(ExciteImport, HistorianExportOfASimulatedRunIdentifiesLikeTheCleanRun) {
   for (const auto& l : imported.header_lines)
     units |= l == "# units: u1=kg/min u2=kg/min y1=mol% y2=mol%";
   EXPECT_TRUE(units) << "the tags' units are in the run log";
+  int time_scales = 0;
+  for (const auto& l : imported.header_lines)
+    time_scales += (l == "# tau_high_min: 21") + (l == "# beta: 3");
+  EXPECT_EQ(time_scales, 2) << "--tau-high and the default beta are in the run log";
   const std::size_t flags = imported.index("flags");
   std::size_t flagged_bad = 0, discontinuities = 0;
   for (const auto& r : imported.rows) {
@@ -242,20 +248,20 @@ TEST_F(ExciteImport, BadHistorianInputIsRefusedNamingFileLineAndColumnOrTag) {
       {"unknown tag",
        "time,A,B\n2026-03-01T08:00:00Z,1,2\n2026-03-01T08:01:00Z,1,2\n",
        "--mv A --cv C",
-       {"h.csv:1", "tag 'C'", "columns: time, A, B"}},
+       {"h.csv:1", "tag = 'C'", "'time', 'A', 'B' (3 columns)"}},
       {"timestamps going back",
        "time,A,B\n2026-03-01T08:00:00Z,1,2\n2026-03-01T08:02:00Z,1,2\n2026-03-01T08:01:00Z,1,2\n",
        "--mv A --cv B",
-       {"h.csv:4", "column 1 (time)", "2026-03-01T08:01:00Z", "line 3", "strictly increasing"}},
+       {"h.csv:4", "time = '2026-03-01T08:01:00Z'", "line 3", "strictly increasing"}},
       {"unparseable timestamp",
        "time,A,B\n2026-03-01T08:00:00Z,1,2\n01/03/2026 08:01,1,2\n",
        "--mv A --cv B",
-       {"h.csv:3", "column 1 (time)", "'01/03/2026 08:01'", "ISO 8601"}},
-      {"no data rows", "time,A,B\n", "--mv A --cv B", {"h.csv:1", "no data rows"}},
+       {"h.csv:3", "time = '01/03/2026 08:01'", "ISO 8601"}},
+      {"no data rows", "time,A,B\n", "--mv A --cv B", {"h.csv:1", "data rows = 0"}},
       {"ragged row",
        "time,A,B\n1700000000,1,2\n1700000060,1\n",
        "--mv A --cv B",
-       {"h.csv:3", "2 fields; expected 3"}},
+       {"h.csv:3", "fields = 2, expected 3"}},
   };
   for (const auto& c : cases) {
     write(path("h.csv"), c.csv);

@@ -46,14 +46,16 @@ TEST(HistorianCsv, BadValuesQualityAndQuotedFields) {
       "1060,Bad,Good,NaN\n"
       "1120,2.5,0,\n"
       "1180,3.5,192,#N/A\n",
-      "h.csv", "", {"B", "A"});
-  ASSERT_EQ(d.time_s.size(), 4U);
-  EXPECT_EQ(d.values[0][0], 2.0);
-  for (int k = 1; k < 4; ++k) EXPECT_TRUE(std::isnan(d.values[0][static_cast<std::size_t>(k)]));
-  EXPECT_EQ(d.values[1][0], 1.5);
-  EXPECT_TRUE(std::isnan(d.values[1][1]));  // text
-  EXPECT_TRUE(std::isnan(d.values[1][2]));  // bad quality
-  EXPECT_EQ(d.values[1][3], 3.5);           // OPC 192: good
+      "h.csv", {"B", "A"});
+  ASSERT_EQ(d.series[0].time_s.size(), 4U);
+  const std::vector<double>& b = d.series[0].values;
+  const std::vector<double>& a = d.series[1].values;
+  EXPECT_EQ(b[0], 2.0);
+  for (std::size_t k = 1; k < 4; ++k) EXPECT_TRUE(std::isnan(b[k]));
+  EXPECT_EQ(a[0], 1.5);
+  EXPECT_TRUE(std::isnan(a[1]));  // text
+  EXPECT_TRUE(std::isnan(a[2]));  // bad quality
+  EXPECT_EQ(a[3], 3.5);           // OPC 192: good
   EXPECT_EQ(d.bad_cells[0], 3U);
   EXPECT_EQ(d.bad_cells[1], 2U);
   EXPECT_FALSE(d.has_quality[0]);
@@ -85,11 +87,14 @@ TEST(Resample, HoldAndLinearNeverBridgeAGap) {
 HistorianData ramp_data(std::size_t n) {
   HistorianData d;
   d.file = "h.csv";
-  d.values.resize(2);
+  d.series.resize(2);
   for (std::size_t k = 0; k < n; ++k) {
-    d.time_s.push_back(60.0 * static_cast<double>(k));
-    d.values[0].push_back(k % 10 < 5 ? 3.0 : 4.0);                      // MV: a square wave
-    d.values[1].push_back(10.0 + 0.5 + 0.01 * static_cast<double>(k));  // CV: offset + drift
+    for (TagSeries& s : d.series) {
+      s.time_s.push_back(60.0 * static_cast<double>(k));
+      s.line.push_back(k + 2);
+    }
+    d.series[0].values.push_back(k % 10 < 5 ? 3.0 : 4.0);                      // MV: square
+    d.series[1].values.push_back(10.0 + 0.5 + 0.01 * static_cast<double>(k));  // CV: drift
   }
   d.bad_cells.assign(2, 0);
   d.has_quality.assign(2, false);
@@ -127,9 +132,9 @@ TEST(ImportRun, BaselineWindowIsTheMeanOfItsGoodValues) {
 
 TEST(ImportRun, BadCvValueIsFlaggedAndHeldAndBadMvEndsInADiscontinuity) {
   HistorianData d = ramp_data(40);
-  d.values[1][10] = kNaN;  // a bad CV sample
-  d.values[0][20] = kNaN;  // two bad MV samples
-  d.values[0][21] = kNaN;
+  d.series[1].values[10] = kNaN;  // a bad CV sample
+  d.series[0].values[20] = kNaN;  // two bad MV samples
+  d.series[0].values[21] = kNaN;
   const ImportedRun r = import_historian(d, two_tags());
   EXPECT_EQ(r.flags[10], static_cast<std::uint32_t>(runlog::kBadValue));
   EXPECT_EQ(r.dy[0][10], r.dy[0][9]);  // held, never interpolated
@@ -155,7 +160,7 @@ TEST(ImportRun, RefusalsNameTheTagAndWhatWasExpected) {
     EXPECT_NE(std::string(e.what()).find("tag 'AI'"), std::string::npos) << e.what();
   }
   HistorianData d = ramp_data(10);
-  d.values[1][0] = kNaN;  // no good CV value at the first grid point: no baseline
+  d.series[1].values[0] = kNaN;  // no good CV value at the first grid point: no baseline
   try {
     (void)import_historian(d, two_tags());
     FAIL();
