@@ -6,11 +6,15 @@
 
 namespace excite::app {
 
-BusResult make_field_bus(const GatewayConfig& config, const hal::Clock& clock) {
+BusResult make_field_bus(const GatewayConfig& config, const hal::Clock& clock, bool lockstep) {
   BusResult result;
   if (config.transport == Transport::can) {
     auto bus = std::make_unique<hal::can::CanFieldBus>(clock);
-    if (const hal::Validation v = bus->configure(config.can); !v.ok()) {
+    hal::can::CanConfig can = config.can;
+    for (std::size_t i = 0; lockstep && i < config.values.size(); ++i) {
+      if (config.values[i].role == ValueRole::heartbeat_echo) can.await_echo = i;
+    }
+    if (const hal::Validation v = bus->configure(can); !v.ok()) {
       result.error = v.message();
       return result;
     }

@@ -260,7 +260,7 @@ int main(int argc, char** argv) {
   excite::hal::VirtualClock lockstep_clock;  // sleep_until returns at once: the peer paces
   excite::hal::Clock& tick_clock =
       lockstep ? static_cast<excite::hal::Clock&>(lockstep_clock) : real_clock;
-  excite::app::BusResult made = excite::app::make_field_bus(config, real_clock);
+  excite::app::BusResult made = excite::app::make_field_bus(config, real_clock, lockstep);
   if (!made.bus) {
     std::fclose(log);
     std::remove(log_path.c_str());
