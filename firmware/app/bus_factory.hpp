@@ -24,6 +24,11 @@ struct BusResult {
 BusResult make_field_bus(const GatewayConfig& config, const hal::Clock& clock,
                          bool lockstep = false);
 
+/// CAN with a [can] bitrate: "" when one tick's frames fit the tick at their worst case
+/// (hal/can/bus_timing.hpp), else "can.bitrate = ...: expected ..." naming the load. Other
+/// transports and a virtual bus (no bitrate): "".
+std::string check_bus_timing(const GatewayConfig& config, double period_s);
+
 /// One line naming the peer, e.g. "modbus-tcp 10.0.0.5:502 unit 1, response timeout 200 ms".
 std::string describe_peer(const GatewayConfig& config);
 

@@ -23,6 +23,7 @@ struct CanConfig {
   CanFrameMap map;
   std::int32_t value_timeout_ms = 100;  // a value frame older than this is stale, 1..60000
   std::uint32_t enobufs_limit = 10;     // consecutive write() calls with ENOBUFS = link loss
+  std::uint32_t bitrate = 0;  // bit/s of a real bus (bus_timing.hpp); 0: virtual (vcan), unchecked
   // Lock-step with a simulated peer: index into map.values of the value carrying the peer's
   // heartbeat echo. read() after a write() then waits (poll, at most value_timeout_ms) until
   // that value equals the heartbeat written, so it returns the peer's answer to that write,

@@ -754,6 +754,30 @@ TEST_F(GatewayCan, DryRunPrintsTheFrameLayoutAndOpensNothing) {
   EXPECT_FALSE(fs::exists(log_));
 }
 
+// GIVEN a real bus's bit rate in [can]; WHEN one tick's frames (2 sent, 4 answered: 690
+// bits at worst, hal/can/bus_timing.hpp) need longer than the 2 ms tick at 125 kbit/s;
+// THEN the gateway refuses before opening anything (exit 2), and at 500 kbit/s (1.38 ms)
+// the dry run passes.
+TEST_F(GatewayCan, FramesThatCannotFitTheTickAtTheBitRateAreRefused) {
+  std::string text = can_config_text("vcan0");
+  const std::string key = "value_timeout_ms = 100\n";
+  text.insert(text.find(key) + key.size(), "bitrate = 125000\n");
+  write_config(text);
+  auto gw = start({"--start"});
+  ASSERT_EQ(gw->wait(20s).value_or(-1), 2) << gw->err();
+  EXPECT_NE(gw->err().find("can.bitrate = 125000, expected a rate whose frames fit the tick: 6 "
+                           "frames, 690 bits at worst per tick need 5.52 ms, the tick is 2 ms"),
+            std::string::npos)
+      << gw->err();
+  EXPECT_FALSE(fs::exists(log_));
+  text.replace(text.find("bitrate = 125000"), 16, "bitrate = 500000");
+  write_config(text);
+  GatewayProcess dry(EXCITE_GATEWAY, {"--config", config_, "--plan", plan_, "--dry-run"},
+                     (dir_ / "dry").string());
+  ASSERT_EQ(dry.wait(20s).value_or(-1), 0) << dry.err();
+  EXPECT_NE(dry.out().find("device: can vcan0 500000 bit/s"), std::string::npos) << dry.out();
+}
+
 TEST_F(GatewayHil, ExciteSimulateNamesItsProducerToo) {
   const std::string out = (dir_ / "sim.csv").string();
   const std::string cmd = std::string(EXCITE_TOOL) + " simulate " + plan_ +
