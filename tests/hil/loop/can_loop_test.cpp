@@ -24,6 +24,7 @@
 #include <thread>
 #include <vector>
 
+#include "firmware/runlog/format.hpp"
 #include "tests/hil/hal_can/vcan_required.hpp"
 #include "tests/hil/loop/loop_fixture.hpp"
 
@@ -109,6 +110,20 @@ std::string float_frame(unsigned id, std::initializer_list<float> values) {
 
 class CanLoop : public LoopTest {
  protected:
+  // Waits until the plant has logged more than `samples` samples.
+  bool wait_for_plant_samples(const std::string& log, std::size_t samples) {
+    for (const auto until = Clock::now() + 30s; Clock::now() < until;) {
+      std::size_t lines = 0;
+      std::ifstream in(path(log));
+      for (std::string line; std::getline(in, line);) {
+        lines += line.empty() || line[0] == '#' ? 0U : 1U;
+      }
+      if (lines > samples) return true;
+      std::this_thread::sleep_for(20ms);
+    }
+    return false;
+  }
+
   // loop-config --transport can, then excite-plant --config plant.toml --can vcan0 ARGS.
   void start_can_loop(const std::string& plant, const std::string& config_args,
                       const std::vector<std::string>& plant_args) {
@@ -208,6 +223,57 @@ TEST_F(CanLoop, GatewaySigkilledThePlantsWatchdogReturnsItsInputsToTheBaseline) 
   EXPECT_EQ(plant_->stop(SIGTERM).value_or(-1), 0);
   EXPECT_NE(plant_->stderr_text().find("1 watchdog trips"), std::string::npos)
       << plant_->stderr_text();
+}
+
+// GIVEN a run over vcan0 (gateway every 5 ms, value frames stale after 100 ms, readbacks
+// compared with the write 3 ticks back);
+// WHEN the plant is SIGKILLed mid-run (its frames stop) and restarted 0.6 s later;
+// THEN the gateway flags the stale frames as a comm loss, holds, resumes with the new plant
+// and finishes (exit 0); the restarted plant never sees an input outside its limits and
+// ends at the baseline.
+TEST_F(CanLoop, PlantKilledMidRunFramesGoStaleAndTheRunResumesWhenItIsBack) {
+  EXCITE_REQUIRE_SOCKETCAN(kBus);
+  const std::string plant = "woodberry2x2";
+  const fs::path plan = design(plant, "prbsUnc");
+  start_can_loop(plant, "--input-range 2 --period-s 0.005", {"--clock", "lockstep"});
+  {
+    std::ifstream in(path("gateway.toml"));
+    std::ostringstream text;
+    text << in.rdbuf();
+    std::string t = text.str();
+    t.replace(t.find("value_timeout_ms = 1000"), 23, "value_timeout_ms = 100");
+    // In real time the plant's readbacks answer a write a tick or more later (frames are
+    // not replies): compare them with the write 3 ticks back. A dead peer's last frames
+    // stay fresh for value_timeout_ms, its readbacks frozen meanwhile: the mismatch limit
+    // (100 ticks, 0.5 s) lets the frames go stale (100 ms) before the readbacks fault.
+    t.replace(t.find("[gateway]\n"), 10,
+              "[gateway]\nreadback_lag_ticks = 4\nreadback_mismatch_limit = 100\n");
+    std::ofstream(path("gateway.toml")) << t;
+  }
+  auto gw = start_gateway(plan, {"--start"});
+  ASSERT_TRUE(wait_for_plant_samples("plant.csv", 150)) << gw->err();
+  plant_->stop(SIGKILL);
+  std::this_thread::sleep_for(600ms);
+  plant_ = std::make_unique<PlantRunner>(
+      std::vector<std::string>{"--config", path("plant.toml").string(), "--can", kBus, "--log",
+                               path("plant2.csv").string(), "--clock", "lockstep"},
+      path("plant2.stderr"));
+  plant_->wait_listening();
+  ASSERT_EQ(plant_->first_line(), "listening can " + std::string(kBus));
+  const auto rc = gw->wait(300s);
+  ASSERT_TRUE(rc.has_value());
+  EXPECT_EQ(*rc, 0) << gw->err();
+  const runlog::RunLog log = read_log_or_fail(path("gw.csv"));
+  std::size_t lost = 0;
+  for (std::uint32_t f : log.flags) lost += (f & runlog::kCommLost) != 0 ? 1U : 0U;
+  EXPECT_GT(lost, 0U) << "the loss is not marked in the log";
+  EXPECT_NE(gw->err().find("stale"), std::string::npos) << gw->err();
+  const runlog::RunLog second = stop_plant_and_read_its_log("plant2.csv");
+  ASSERT_GT(second.rows(), 0U);
+  for (std::size_t i = 0; i < second.du.size(); ++i) {
+    EXPECT_LE(max_abs(second.du[i]), 2.0 * (1 + 1e-6)) << second.input_names[i];
+    EXPECT_EQ(second.du[i].back(), 0.0) << second.input_names[i] << " not back at baseline";
+  }
 }
 
 // GIVEN the plant on vcan0 in lock-step; WHEN cansend (can-utils) writes setpoint frames
