@@ -124,6 +124,22 @@ class CanLoop : public LoopTest {
     return false;
   }
 
+  // gateway.toml for a real-time gateway (5 ms ticks): the plant's readbacks answer a write
+  // a tick or more later (frames are not replies), so they are compared with the write 3
+  // ticks back; a dead peer's last frames stay fresh for value_timeout_ms (100 ms here),
+  // its readbacks frozen meanwhile: the mismatch limit (100 ticks, 0.5 s) lets the frames
+  // go stale first, and leaves room for qemu TCG on a loaded machine.
+  void real_time_gateway() {
+    std::ifstream in(path("gateway.toml"));
+    std::ostringstream text;
+    text << in.rdbuf();
+    std::string t = text.str();
+    t.replace(t.find("value_timeout_ms = 1000"), 23, "value_timeout_ms = 100");
+    t.replace(t.find("[gateway]\n"), 10,
+              "[gateway]\nreadback_lag_ticks = 4\nreadback_mismatch_limit = 100\n");
+    std::ofstream(path("gateway.toml")) << t;
+  }
+
   // loop-config --transport can, then excite-plant --config plant.toml --can vcan0 ARGS.
   void start_can_loop(const std::string& plant, const std::string& config_args,
                       const std::vector<std::string>& plant_args) {
@@ -187,6 +203,7 @@ TEST_F(CanLoop, GatewaySigkilledThePlantsWatchdogReturnsItsInputsToTheBaseline) 
   const fs::path plan = design(plant, "prbsUnc");
   start_can_loop(plant, "--input-range 2 --period-s 0.005",
                  {"--clock", "lockstep", "--watchdog-s", "0.5"});
+  real_time_gateway();
   BusObserver bus;
   ASSERT_TRUE(bus.ok());
   auto gw = start_gateway(plan, {"--start"});
@@ -236,20 +253,7 @@ TEST_F(CanLoop, PlantKilledMidRunFramesGoStaleAndTheRunResumesWhenItIsBack) {
   const std::string plant = "woodberry2x2";
   const fs::path plan = design(plant, "prbsUnc");
   start_can_loop(plant, "--input-range 2 --period-s 0.005", {"--clock", "lockstep"});
-  {
-    std::ifstream in(path("gateway.toml"));
-    std::ostringstream text;
-    text << in.rdbuf();
-    std::string t = text.str();
-    t.replace(t.find("value_timeout_ms = 1000"), 23, "value_timeout_ms = 100");
-    // In real time the plant's readbacks answer a write a tick or more later (frames are
-    // not replies): compare them with the write 3 ticks back. A dead peer's last frames
-    // stay fresh for value_timeout_ms, its readbacks frozen meanwhile: the mismatch limit
-    // (100 ticks, 0.5 s) lets the frames go stale (100 ms) before the readbacks fault.
-    t.replace(t.find("[gateway]\n"), 10,
-              "[gateway]\nreadback_lag_ticks = 4\nreadback_mismatch_limit = 100\n");
-    std::ofstream(path("gateway.toml")) << t;
-  }
+  real_time_gateway();
   auto gw = start_gateway(plan, {"--start"});
   ASSERT_TRUE(wait_for_plant_samples("plant.csv", 150)) << gw->err();
   plant_->stop(SIGKILL);
