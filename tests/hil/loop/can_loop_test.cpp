@@ -283,7 +283,8 @@ TEST_F(CanLoop, PlantKilledMidRunFramesGoStaleAndTheRunResumesWhenItIsBack) {
 // GIVEN the plant on vcan0 in lock-step; WHEN cansend (can-utils) writes setpoint frames
 // and heartbeats; THEN the plant's readback frames carry what was sent, its log has one
 // sample per heartbeat with those inputs, and a frame too short or with a setpoint beyond
-// the input limits is refused (the readbacks keep the last good value) and counted.
+// the input limits is refused (the readbacks keep the last good value) and counted, as is
+// (and ignored) a frame of an identifier the map does not have.
 TEST_F(CanLoop, CansendDrivesThePlantWhichRefusesShortFramesAndValuesBeyondItsLimits) {
   EXCITE_REQUIRE_SOCKETCAN(kBus);
   if (!fs::exists("/usr/bin/cansend")) GTEST_SKIP() << "cansend not installed (can-utils)";
@@ -300,8 +301,9 @@ TEST_F(CanLoop, CansendDrivesThePlantWhichRefusesShortFramesAndValuesBeyondItsLi
   ASSERT_TRUE(seen.count(0x380) && seen.count(0x3F0)) << plant_->stderr_text();
   EXPECT_EQ(float_at(seen.at(0x380), 0), 0.5F);
   EXPECT_EQ(float_at(seen.at(0x380), 4), -1.25F);
-  EXPECT_EQ(seen.at(0x3F0).data[0], 1);                    // the echo
-  ASSERT_TRUE(cansend("200#0000"));                        // DLC 2: two floats need 8 bytes
+  EXPECT_EQ(seen.at(0x3F0).data[0], 1);  // the echo
+  ASSERT_TRUE(cansend("123#0000803F"));  // an identifier the map does not have: ignored
+  ASSERT_TRUE(cansend("200#0000"));      // DLC 2: two floats need 8 bytes
   ASSERT_TRUE(cansend(float_frame(0x200, {3.0F, 0.0F})));  // u1 = 3 beyond 0 ± 2
   ASSERT_TRUE(cansend("201#0200"));                        // heartbeat 2
   seen = bus.collect(300ms);
@@ -317,7 +319,8 @@ TEST_F(CanLoop, CansendDrivesThePlantWhichRefusesShortFramesAndValuesBeyondItsLi
   EXPECT_NE(err.find("frame 0x200 refused: DLC 2, expected at least 8"), std::string::npos) << err;
   EXPECT_NE(err.find("frame 0x200 refused: input u1 = 3 outside its limits"), std::string::npos)
       << err;
-  EXPECT_NE(err.find("1 frames refused for their DLC, 1 frames refused for the input limits"),
+  EXPECT_NE(err.find("1 frames refused for their DLC, 1 frames refused for the input limits, 1 "
+                     "frames of other identifiers"),
             std::string::npos)
       << err;
 }
