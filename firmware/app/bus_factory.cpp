@@ -1,16 +1,21 @@
 // SPDX-License-Identifier: MIT
 #include "firmware/app/bus_factory.hpp"
 
+#include "hal/can/bus_timing.hpp"
 #include "hal/can/can_field_bus.hpp"
 #include "hal/modbus/modbus_field_bus.hpp"
 
 namespace excite::app {
 
-BusResult make_field_bus(const GatewayConfig& config, const hal::Clock& clock) {
+BusResult make_field_bus(const GatewayConfig& config, const hal::Clock& clock, bool lockstep) {
   BusResult result;
   if (config.transport == Transport::can) {
     auto bus = std::make_unique<hal::can::CanFieldBus>(clock);
-    if (const hal::Validation v = bus->configure(config.can); !v.ok()) {
+    hal::can::CanConfig can = config.can;
+    for (std::size_t i = 0; lockstep && i < config.values.size(); ++i) {
+      if (config.values[i].role == ValueRole::heartbeat_echo) can.await_echo = i;
+    }
+    if (const hal::Validation v = bus->configure(can); !v.ok()) {
       result.error = v.message();
       return result;
     }
@@ -26,10 +31,19 @@ BusResult make_field_bus(const GatewayConfig& config, const hal::Clock& clock) {
   return result;
 }
 
+std::string check_bus_timing(const GatewayConfig& config, double period_s) {
+  if (config.transport != Transport::can || config.can.bitrate == 0) return "";
+  hal::can::CanPlan plan;
+  if (!hal::can::compile_frame_map(config.can.map, plan).ok()) return "";  // checked at load
+  const hal::Validation v = hal::can::check_tick_fits(plan, config.can.bitrate, period_s);
+  return v.ok() ? "" : v.message();
+}
+
 std::string describe_peer(const GatewayConfig& config) {
   if (config.transport == Transport::can) {
-    return "can " + config.can.interface + ", value frames stale after " +
-           std::to_string(config.can.value_timeout_ms) + " ms";
+    return "can " + config.can.interface +
+           (config.can.bitrate > 0 ? " " + std::to_string(config.can.bitrate) + " bit/s" : "") +
+           ", value frames stale after " + std::to_string(config.can.value_timeout_ms) + " ms";
   }
   const auto& d = config.modbus.device;
   if (config.transport == Transport::modbus_tcp) {

@@ -18,8 +18,16 @@ struct BusResult {
 };
 
 /// `clock` is what the CAN bus measures the age of value frames with (a real clock even
-/// when the gateway ticks in lockstep); it must outlive the bus.
-BusResult make_field_bus(const GatewayConfig& config, const hal::Clock& clock);
+/// when the gateway ticks in lockstep); it must outlive the bus. `lockstep` (CAN with a
+/// heartbeat_echo value): each read waits for the peer's echo of the tick's heartbeat
+/// (hal::can::CanConfig::await_echo), so it sees the answer to that tick's write.
+BusResult make_field_bus(const GatewayConfig& config, const hal::Clock& clock,
+                         bool lockstep = false);
+
+/// CAN with a [can] bitrate: "" when one tick's frames fit the tick at their worst case
+/// (hal/can/bus_timing.hpp), else "can.bitrate = ...: expected ..." naming the load. Other
+/// transports and a virtual bus (no bitrate): "".
+std::string check_bus_timing(const GatewayConfig& config, double period_s);
 
 /// One line naming the peer, e.g. "modbus-tcp 10.0.0.5:502 unit 1, response timeout 200 ms".
 std::string describe_peer(const GatewayConfig& config);

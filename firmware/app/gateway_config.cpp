@@ -178,8 +178,8 @@ void parse_can(const toml::table& t, hal::can::CanConfig& c) {
   const std::string w = "can";
   check_keys(
       t, w,
-      {"interface", "value_timeout_ms", "enobufs_limit", "heartbeat_id", "heartbeat_extended",
-       "heartbeat_byte_offset", "heartbeat_type", "heartbeat_byte_order"});
+      {"interface", "value_timeout_ms", "enobufs_limit", "bitrate", "heartbeat_id",
+       "heartbeat_extended", "heartbeat_byte_offset", "heartbeat_type", "heartbeat_byte_order"});
   auto iface = text(t, w, "interface");
   if (!iface) throw ConfigError(w + ".interface", "(missing)", "a SocketCAN interface, e.g. can0");
   c.interface = *iface;
@@ -188,6 +188,9 @@ void parse_can(const toml::table& t, hal::can::CanConfig& c) {
   }
   if (auto v = integer(t, w, "enobufs_limit", 0, 1 << 30)) {
     c.enobufs_limit = static_cast<std::uint32_t>(*v);
+  }
+  if (auto v = integer(t, w, "bitrate", 10000, 1000000)) {  // classic CAN: up to 1 Mbit/s
+    c.bitrate = static_cast<std::uint32_t>(*v);
   }
   if (auto id = integer(t, w, "heartbeat_id", 0, 0x1FFFFFFF)) {
     hal::can::CanSignal hb;

@@ -238,6 +238,11 @@ int main(int argc, char** argv) {
   const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(plan_in)),
                                         std::istreambuf_iterator<char>());
   if (auto e = gw.load_plan(bytes, plan_path)) return fail(e->code, e->message);
+  if (const std::string e =
+          excite::app::check_bus_timing(config, std::chrono::duration<double>(gw.period()).count());
+      !e.empty()) {
+    return fail(ExitCode::bad_config, config_path + ": " + e);
+  }
   // Distortion before anything is opened: rate limiting is known from the plan alone.
   const excite::app::DistortionVerdict planned =
       excite::app::check_distortion(config, gw.engine_config(), gw.table(), {}, allow_distortion);
@@ -260,7 +265,7 @@ int main(int argc, char** argv) {
   excite::hal::VirtualClock lockstep_clock;  // sleep_until returns at once: the peer paces
   excite::hal::Clock& tick_clock =
       lockstep ? static_cast<excite::hal::Clock&>(lockstep_clock) : real_clock;
-  excite::app::BusResult made = excite::app::make_field_bus(config, real_clock);
+  excite::app::BusResult made = excite::app::make_field_bus(config, real_clock, lockstep);
   if (!made.bus) {
     std::fclose(log);
     std::remove(log_path.c_str());

@@ -4,6 +4,7 @@
 #include <linux/can/error.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
+#include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -71,6 +72,11 @@ Validation check_settings(const CanConfig& config) {
   if (config.enobufs_limit < 1) {
     return Validation::invalid("can.enobufs_limit", "0", "at least 1 write() call");
   }
+  if (config.await_echo && *config.await_echo >= config.map.values.size()) {
+    return Validation::invalid(
+        "can.await_echo", std::to_string(*config.await_echo),
+        "the index of a value (0.." + std::to_string(config.map.values.size()) + " - 1)");
+  }
   return Validation::valid();
 }
 
@@ -98,6 +104,9 @@ void CanFieldBus::adopt(const CanConfig& config, CanPlan&& plan, int fd) {
   latest_.assign(plan_.values.size(), 0.0);
   received_at_.assign(plan_.rx.size(), Nanoseconds{-1});
   value_timeout_ = std::chrono::milliseconds(config.value_timeout_ms);
+  await_echo_ = config.await_echo;
+  awaited_.reset();
+  had_values_ = false;
   interface_ = config.interface;
   clamped_ = short_frames_ = 0;
   detail_[0] = '\0';
@@ -181,6 +190,9 @@ Status CanFieldBus::write(std::span<const double> setpoints, std::uint16_t heart
     }
   }
   const Status status = link_.on_write(error);
+  if (await_echo_ && status == Status::ok) {
+    awaited_ = heartbeat;
+  }
   if (status == Status::ok) {
     detail_[0] = '\0';
   } else if (link_.bus_off()) {
@@ -201,6 +213,37 @@ Status CanFieldBus::read(std::span<double> values) noexcept {
                   values.size(), plan_.values.size());
     return Status::bad_argument;
   }
+  if (!drain()) {
+    return Status::link_lost;
+  }
+  if (awaited_) {
+    if (const Status s = await_echo(); s != Status::ok) {
+      return s;
+    }
+  }
+  if (!had_values_ && !all_received()) {
+    (void)wait_until([this] { return all_received(); });  // the check below names what is missing
+  }
+  if (link_.bus_off()) {
+    std::snprintf(detail_, sizeof detail_, "%s: controller is bus-off", interface_.c_str());
+    return Status::link_lost;
+  }
+  const Nanoseconds now = clock_.now();
+  for (std::size_t f = 0; f < plan_.rx.size(); ++f) {
+    if (received_at_[f].count() < 0 || now - received_at_[f] > value_timeout_) {
+      std::snprintf(detail_, sizeof detail_, "%s: value frame 0x%X %s", interface_.c_str(),
+                    plan_.rx[f].id & CAN_EFF_MASK,
+                    received_at_[f].count() < 0 ? "never received" : "stale");
+      return Status::timeout;
+    }
+  }
+  std::copy(latest_.begin(), latest_.end(), values.begin());
+  detail_[0] = '\0';
+  had_values_ = true;
+  return Status::ok;
+}
+
+bool CanFieldBus::drain() noexcept {
   can_frame frame{};
   while (recv(fd_, &frame, sizeof frame, MSG_DONTWAIT) == static_cast<ssize_t>(sizeof frame)) {
     if ((frame.can_id & CAN_ERR_FLAG) != 0) {
@@ -218,24 +261,47 @@ Status CanFieldBus::read(std::span<double> values) noexcept {
   if (errno != EAGAIN && errno != EWOULDBLOCK) {
     std::snprintf(detail_, sizeof detail_, "%s: recv: %s", interface_.c_str(),
                   std::strerror(errno));
-    return Status::link_lost;
+    return false;
   }
-  if (link_.bus_off()) {
-    std::snprintf(detail_, sizeof detail_, "%s: controller is bus-off", interface_.c_str());
-    return Status::link_lost;
-  }
-  const Nanoseconds now = clock_.now();
-  for (std::size_t f = 0; f < plan_.rx.size(); ++f) {
-    if (received_at_[f].count() < 0 || now - received_at_[f] > value_timeout_) {
-      std::snprintf(detail_, sizeof detail_, "%s: value frame 0x%X %s", interface_.c_str(),
-                    plan_.rx[f].id & CAN_EFF_MASK,
-                    received_at_[f].count() < 0 ? "never received" : "stale");
+  return true;
+}
+
+bool CanFieldBus::all_received() const noexcept {
+  return std::none_of(received_at_.begin(), received_at_.end(),
+                      [](Nanoseconds t) { return t.count() < 0; });
+}
+
+template <class Done>
+Status CanFieldBus::wait_until(Done done) noexcept {
+  const Nanoseconds deadline = clock_.now() + value_timeout_;
+  while (!done()) {
+    const Nanoseconds left = deadline - clock_.now();
+    const auto ms = std::chrono::ceil<std::chrono::milliseconds>(left).count();
+    pollfd p{fd_, POLLIN, 0};
+    if (ms <= 0 || poll(&p, 1, static_cast<int>(ms)) <= 0) {
       return Status::timeout;
     }
+    if (!drain()) {
+      return Status::link_lost;
+    }
   }
-  std::copy(latest_.begin(), latest_.end(), values.begin());
-  detail_[0] = '\0';
   return Status::ok;
+}
+
+// Frames arrive in the order the peer sent them, so the ones it sent before the echo (its
+// answer to that write) are in latest_ once the echo is.
+Status CanFieldBus::await_echo() noexcept {
+  const auto echoed = [this] { return latest_[*await_echo_] == static_cast<double>(*awaited_); };
+  const Status s = wait_until(echoed);
+  if (s == Status::timeout) {
+    std::snprintf(detail_, sizeof detail_, "%s: no echo of heartbeat %u within %lld ms",
+                  interface_.c_str(), static_cast<unsigned>(*awaited_),
+                  static_cast<long long>(value_timeout_.count() / 1000000));
+  }
+  if (s == Status::ok) {
+    awaited_.reset();
+  }
+  return s;
 }
 
 }  // namespace excite::hal::can

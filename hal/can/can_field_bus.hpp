@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -22,6 +23,12 @@ struct CanConfig {
   CanFrameMap map;
   std::int32_t value_timeout_ms = 100;  // a value frame older than this is stale, 1..60000
   std::uint32_t enobufs_limit = 10;     // consecutive write() calls with ENOBUFS = link loss
+  std::uint32_t bitrate = 0;  // bit/s of a real bus (bus_timing.hpp); 0: virtual (vcan), unchecked
+  // Lock-step with a simulated peer: index into map.values of the value carrying the peer's
+  // heartbeat echo. read() after a write() then waits (poll, at most value_timeout_ms) until
+  // that value equals the heartbeat written, so it returns the peer's answer to that write,
+  // as a Modbus exchange does. Unset (the default): read() takes what is queued, never waits.
+  std::optional<std::size_t> await_echo;
 };
 
 // Checks the interface name, the timeouts and the frame map without opening a socket
@@ -40,8 +47,12 @@ SocketCanSupport probe_socketcan() noexcept;
 // opens the socket: receive filters for the value identifiers, all error frames enabled.
 // write(): one frame per setpoint identifier, non-blocking. read(): drains what the
 // kernel queued, keeps the newest frame per identifier, and reports timeout (values
-// untouched) while a value frame is missing or older than value_timeout_ms. Bus-off and
-// persistent ENOBUFS are link_lost (see LinkState). On a kernel without AF_CAN,
+// untouched) while a value frame is missing or older than value_timeout_ms (with
+// await_echo: first waits for the echo of the last write's heartbeat, timeout if none).
+// Until a read has returned ok once (the gateway's read at arm), read() waits up to
+// value_timeout_ms for every value frame to arrive: a peer's cyclic frames come on its own
+// cycle, not in answer to a request as over Modbus. After that, a read never waits for them.
+// Bus-off and persistent ENOBUFS are link_lost (see LinkState). On a kernel without AF_CAN,
 // configure() fails naming the reason and every call returns unavailable.
 // Time for staleness comes from the Clock given (the simulator may own it).
 class CanFieldBus final : public FieldBus {
@@ -72,6 +83,12 @@ class CanFieldBus final : public FieldBus {
 
  private:
   void release() noexcept;
+  bool drain() noexcept;  // receives what is queued; false (detail_ set) on a socket error
+  Status await_echo() noexcept;
+  bool all_received() const noexcept;
+  // Polls the socket, draining it, until `done()` or value_timeout_ms have passed.
+  template <class Done>
+  Status wait_until(Done done) noexcept;
   Validation prepare(const CanConfig& config, CanPlan& plan);
   void adopt(const CanConfig& config, CanPlan&& plan, int fd);
 
@@ -82,6 +99,9 @@ class CanFieldBus final : public FieldBus {
   std::vector<can_frame> tx_;
   std::vector<double> latest_;            // newest decoded values
   std::vector<Nanoseconds> received_at_;  // per rx frame; negative: never
+  std::optional<std::size_t> await_echo_;
+  std::optional<std::uint16_t> awaited_;  // heartbeat of the last write, until echoed
+  bool had_values_ = false;               // a read has returned ok since configure
   Nanoseconds value_timeout_{0};
   std::string interface_;
   std::uint64_t clamped_ = 0;

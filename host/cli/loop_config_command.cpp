@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// excite loop-config --plant NAME [--host ADDR] [--port P] [--input-range R] [--max-move M]
+// excite loop-config --plant NAME [--transport modbus-tcp|can] [--interface IFACE]
+//                    [--host ADDR] [--port P] [--input-range R] [--max-move M]
 //                    [--output-range R] [--sample-time-min T] [--noise-var V] [--seed S] -o DIR
 //
 // One register map for both sides of the loop: writes DIR/plant.toml (excite-plant's
@@ -37,8 +38,10 @@ void run(const LoopConfigCommand& cmd) {
   gateway.commit();
   const auto& c = cmd.config;
   std::cout << "wrote " << plant_path.string() << " and " << gateway_path.string() << "\n"
-            << "  excite-plant --config " << plant_path.string() << " --modbus-tcp " << c.host
-            << ":" << c.port << " --clock lockstep\n"
+            << "  excite-plant --config " << plant_path.string()
+            << (c.transport == "can" ? " --can " + c.can_interface
+                                     : " --modbus-tcp " + c.host + ":" + std::to_string(c.port))
+            << " --clock lockstep\n"
             << "  excite-gateway --config " << gateway_path.string()
             << " --plan PLAN --log RUN.csv --start --clock lockstep\n";
 }
@@ -56,6 +59,14 @@ void add_loop_config_command(CLI::App& app) {
   cmd->add_option("--host", opt->config.host, "address the gateway connects to")
       ->capture_default_str();
   cmd->add_option("--port", opt->config.port, "TCP port of the plant server")
+      ->capture_default_str();
+  cmd->add_option("--transport", opt->config.transport,
+                  "modbus-tcp, or can: the gateway speaks the default CAN frame map "
+                  "(excite-plant --can)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"modbus-tcp", "can"}));
+  cmd->add_option("--interface", opt->config.can_interface,
+                  "SocketCAN interface for --transport can")
       ->capture_default_str();
   cmd->add_option("--input-range", opt->config.input_range,
                   "setpoint limits: baseline +- this on every input (default: the case "

@@ -9,6 +9,7 @@
 
 #include "host/design/case_studies.hpp"
 #include "sim/plants/plant.hpp"
+#include "sim/server/can_map.hpp"
 #include "sim/server/config_writer.hpp"
 #include "sim/server/default_map.hpp"
 
@@ -92,6 +93,73 @@ std::string gateway_toml(const LoopConfigOptions& opt, const sim::Plant& plant,
   return os.str();
 }
 
+std::string hex(std::uint32_t id) {
+  std::ostringstream os;
+  os << "0x" << std::hex << std::uppercase << id;
+  return os.str();
+}
+
+void can_layout(std::ostringstream& os, const hal::can::CanSignal& s) {
+  os << "can_id = " << hex(s.id) << "\nbyte_offset = " << s.byte_offset
+     << "\ntype = " << toml_string(s.type) << "\nbyte_order = " << toml_string(s.byte_order)
+     << "\n";
+}
+
+// The gateway over CAN: sim/server's default CAN frame map, the same limits as over Modbus.
+std::string gateway_can_toml(const LoopConfigOptions& opt, const sim::Plant& plant, double range,
+                             const std::vector<double>& u0, const std::vector<double>& y0) {
+  const sim::server::CanLoopMap loop = sim::server::default_can_map(
+      plant.inputs(), plant.outputs(), plant.input_names(), plant.output_names());
+  const auto& map = loop.gateway;
+  const auto in_units = plant.input_units();
+  const auto out_units = plant.output_units();
+  const auto n = map.setpoints.size();
+  std::ostringstream os;
+  os << "# excite-gateway configuration written by `excite loop-config --plant " << opt.plant
+     << " --transport can`,\n# the default CAN frame map excite-plant --can serves "
+        "(sim/server/README.md).\n# Keys: firmware/app/README.md; frames: hal/README.md.\n\n";
+  os << "[gateway]\nplant = " << toml_string(plant.name() + " (excite-plant)") << "\n";
+  if (opt.period_s > 0.0) os << "period_s = " << toml_number(opt.period_s) << "\n";
+  os << "comm_fail_limit = 3\ncomm_loss = \"hold\"\nrealtime_priority = 0\n\n";
+  os << "[device]\ntransport = \"can\"\nsimulator = true   # the peer is excite-plant: "
+        "--clock lockstep allowed\n\n";
+  os << "[can]\ninterface = " << toml_string(opt.can_interface)
+     << "\nvalue_timeout_ms = 1000\nheartbeat_id = " << hex(map.heartbeat->id)
+     << "\nheartbeat_byte_offset = " << map.heartbeat->byte_offset
+     << "\nheartbeat_type = " << toml_string(map.heartbeat->type) << "\n";
+  const double move = opt.max_move > 0.0 ? opt.max_move : 2.0 * range;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& s = map.setpoints[i];
+    const double slack = std::abs(u0[i]) * 0x1p-23;  // float32, as over Modbus
+    os << "\n[[setpoints]]\nname = " << toml_string(s.name)
+       << "\nunit = " << toml_string(in_units[i]) << "\n";
+    can_layout(os, s);
+    os << "min = " << toml_number(u0[i] - range - slack)
+       << "\nmax = " << toml_number(u0[i] + range + slack) << "\nmax_move = " << toml_number(move)
+       << "\nreadback = " << toml_string(s.name + "_sp") << "\n";
+  }
+  for (std::size_t k = 0; k < map.values.size(); ++k) {
+    const auto& s = map.values[k];
+    const bool output = k < y0.size();
+    const bool readback = !output && k < y0.size() + n;
+    os << "\n[[values]]\nname = " << toml_string(s.name) << "\n";
+    if (output) {
+      os << "unit = " << toml_string(out_units[k]) << "\n";
+    } else if (readback) {
+      os << "unit = " << toml_string(in_units[k - y0.size()]) << "\nrole = \"readback\"\n";
+    } else {
+      os << "role = \"heartbeat_echo\"\n";
+    }
+    can_layout(os, s);
+    if (output && opt.output_range > 0.0) {
+      os << "test_low = " << toml_number(y0[k] - opt.output_range)
+         << "\ntest_high = " << toml_number(y0[k] + opt.output_range)
+         << "\nhysteresis = " << toml_number(0.1 * opt.output_range) << "\n";
+    }
+  }
+  return os.str();
+}
+
 }  // namespace
 
 LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
@@ -103,6 +171,10 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
   check("--watchdog-s", opt.watchdog_s, true);
   if (opt.noise_var != -1.0) check("--noise-var", opt.noise_var, true);
   if (opt.port > 65535) bad("--port", opt.port, "a TCP port 0..65535");
+  if (opt.transport != "modbus-tcp" && opt.transport != "can") {
+    throw std::invalid_argument("--transport = \"" + opt.transport +
+                                "\": expected modbus-tcp or can");
+  }
   const auto plant = sim::make_plant(opt.plant);
 
   // The case study (when the plant has one) gives the defaults: T, noise, input range.
@@ -159,7 +231,8 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
   pair.plant_toml = sim::server::format_server_config(
       server, "excite-plant configuration written by `excite loop-config --plant " + opt.plant +
                   "`; its gateway side: gateway.toml");
-  pair.gateway_toml = gateway_toml(opt, *plant, server, range, u0v, y0v);
+  pair.gateway_toml = opt.transport == "can" ? gateway_can_toml(opt, *plant, range, u0v, y0v)
+                                             : gateway_toml(opt, *plant, server, range, u0v, y0v);
   return pair;
 }
 

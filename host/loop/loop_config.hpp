@@ -22,6 +22,8 @@ struct LoopConfigOptions {
   std::uint64_t seed = 1;
   double period_s = 0.0;    // gateway tick period; 0: the plan's sample time
   double watchdog_s = 3.0;  // the plant's heartbeat watchdog, wall-clock seconds; 0: off
+  std::string transport = "modbus-tcp";  // or "can": the default CAN frame map (can_map.hpp)
+  std::string can_interface = "vcan0";   // transport can: the SocketCAN interface
 };
 
 struct LoopConfigPair {
@@ -29,7 +31,10 @@ struct LoopConfigPair {
   std::string gateway_toml;  // excite-gateway --config
 };
 
-/// Both configurations as TOML text. Throws std::invalid_argument naming the option, its
+/// Both configurations as TOML text. With transport "can" the gateway side is the [can]
+/// section and frames of sim/server's default CAN frame map (the map excite-plant --can
+/// serves); plant.toml is the same (its watchdog and input limits apply over CAN too).
+/// Throws std::invalid_argument naming the option, its
 /// value and what was expected (NaN, negative, a port beyond 65535, a plant without a case
 /// study and no input range), or what sim::make_plant throws for an unknown plant.
 LoopConfigPair make_loop_config(const LoopConfigOptions& options);

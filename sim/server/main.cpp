@@ -6,6 +6,7 @@
 // write failed); 2 bad command line or configuration (nothing was served).
 
 #include <arpa/inet.h>
+#include <net/if.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -19,6 +20,7 @@
 
 #include "firmware/config/error.hpp"
 #include "firmware/runlog/format.hpp"
+#include "sim/server/can_plant_server.hpp"
 #include "sim/server/default_map.hpp"
 #include "sim/server/plant_process.hpp"
 #include "sim/server/plant_server.hpp"
@@ -128,7 +130,8 @@ int main(int argc, char** argv) {
   app.add_option("--baud", baud, "baud rate for --modbus-rtu (default 19200; 8N1, unit 1)")
       ->needs(rtu_opt);
   auto* can_opt =
-      app.add_option("--can", can_interface, "SocketCAN interface (not implemented yet: refused)");
+      app.add_option("--can", can_interface,
+                     "serve the default CAN frame map on a SocketCAN interface (e.g. vcan0)");
   tcp_opt->excludes(rtu_opt)->excludes(can_opt);
   rtu_opt->excludes(can_opt);
   auto* clock_opt = app.add_option("--clock", clock, "lockstep | realtime")
@@ -213,9 +216,9 @@ int main(int argc, char** argv) {
         options.rtu_baud = static_cast<int>(baud);
       }
     }
-    if (!can_interface.empty()) {
+    if (!can_interface.empty() && can_interface.size() >= IF_NAMESIZE) {
       bad("--can", "\"" + can_interface + "\"",
-          "--modbus-tcp: CAN serving is not implemented yet (sim/server/README.md)");
+          "an interface name of 1.." + std::to_string(IF_NAMESIZE - 1) + " characters");
     }
     if (!modbus_tcp.empty()) parse_endpoint(modbus_tcp, options.host, options.port);
     in_addr probe{};
@@ -295,6 +298,10 @@ int main(int argc, char** argv) {
     options.input_units = plant.input_units();
     options.output_units = plant.output_units();
 
+    if (!can_interface.empty()) {
+      return serve_can(process, options, can_interface, install_handlers,
+                       [] { return g_stop != 0; });
+    }
     std::unique_ptr<PlantServer> server;
     try {
       server = std::make_unique<PlantServer>(process, image, options);

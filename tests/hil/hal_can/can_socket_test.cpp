@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The CAN field bus on a real SocketCAN interface (vcan0), with a raw socket as the
-// peer. Skips with the reason on kernels without AF_CAN or without vcan0; the one test
-// that runs there checks the transport reports "unavailable" with that reason.
+// peer. Skips with the reason on kernels without AF_CAN or without vcan0 (fails instead
+// inside toolchain/can-vm); the one test that runs there checks the transport reports
+// "unavailable" with that reason.
 #include <gtest/gtest.h>
 #include <linux/can/raw.h>
 #include <net/if.h>
@@ -17,6 +18,7 @@
 
 #include "excite/hal/virtual_clock.hpp"
 #include "hal/can/can_field_bus.hpp"
+#include "tests/hil/hal_can/vcan_required.hpp"
 
 using namespace excite::hal;
 using namespace excite::hal::can;
@@ -24,18 +26,6 @@ using namespace excite::hal::can;
 namespace {
 
 constexpr const char* interface_name = "vcan0";
-
-// Empty when the SocketCAN tests can run here, else why not.
-std::string why_not_runnable() {
-  const SocketCanSupport support = probe_socketcan();
-  if (support.status != Status::ok) {
-    return support.reason;
-  }
-  if (if_nametoindex(interface_name) == 0) {
-    return "no vcan0 interface (modprobe vcan; ip link add vcan0 type vcan; ip link set vcan0 up)";
-  }
-  return {};
-}
 
 CanConfig tick_config() {
   CanConfig config;
@@ -98,9 +88,7 @@ TEST(CanSocket, AKernelWithoutSocketCanIsReportedUnavailableWithTheReason) {
 }
 
 TEST(CanSocket, WriteSendsTheSetpointFrameThePeerDecodes) {
-  if (const auto reason = why_not_runnable(); !reason.empty()) {
-    GTEST_SKIP() << reason;
-  }
+  EXCITE_REQUIRE_SOCKETCAN(interface_name);
   Peer peer;
   VirtualClock clock;
   CanFieldBus bus(clock);
@@ -119,9 +107,7 @@ TEST(CanSocket, WriteSendsTheSetpointFrameThePeerDecodes) {
 }
 
 TEST(CanSocket, ReadDecodesTheNewestValueFrame) {
-  if (const auto reason = why_not_runnable(); !reason.empty()) {
-    GTEST_SKIP() << reason;
-  }
+  EXCITE_REQUIRE_SOCKETCAN(interface_name);
   Peer peer;
   VirtualClock clock;
   CanFieldBus bus(clock);
@@ -137,9 +123,7 @@ TEST(CanSocket, ReadDecodesTheNewestValueFrame) {
 }
 
 TEST(CanSocket, AValueFrameOlderThanTheTimeoutIsStale) {
-  if (const auto reason = why_not_runnable(); !reason.empty()) {
-    GTEST_SKIP() << reason;
-  }
+  EXCITE_REQUIRE_SOCKETCAN(interface_name);
   Peer peer;
   VirtualClock clock;
   CanFieldBus bus(clock);
@@ -154,10 +138,7 @@ TEST(CanSocket, AValueFrameOlderThanTheTimeoutIsStale) {
 }
 
 TEST(CanSocket, AMissingInterfaceFailsConfigurationNamingIt) {
-  const SocketCanSupport support = probe_socketcan();
-  if (support.status != Status::ok) {
-    GTEST_SKIP() << support.reason;
-  }
+  EXCITE_REQUIRE_SOCKETCAN(nullptr);
   VirtualClock clock;
   CanFieldBus bus(clock);
   CanConfig config = tick_config();

@@ -14,6 +14,8 @@
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "excite/hal/virtual_clock.hpp"
 #include "hal/can/can_field_bus.hpp"
@@ -183,4 +185,97 @@ TEST_F(CanBus, AFullTransmitQueueIsATimeoutAndPersistentlyFullIsLinkLoss) {
   while (peer_receive(frame)) {
   }
   EXPECT_EQ(bus_.write(setpoints, 0), Status::ok) << bus_.detail();
+}
+
+// ---- waiting for the peer: the first read, and lock-step (CanConfig::await_echo) ----
+
+namespace {
+
+// A bus on one end of a socketpair with the map of config() plus a heartbeat echo value
+// (0x313, uint16) when `echo`; the other end is returned in `peer`.
+void open_pair(CanFieldBus& bus, int& peer, bool echo) {
+  int fds[2];
+  ASSERT_EQ(socketpair(AF_UNIX, SOCK_SEQPACKET, 0, fds), 0);
+  CanConfig c = config();
+  if (echo) {
+    c.map.values.push_back(CanSignal{"hb_echo", 0x313, false, 0, "uint16", "little", 1.0, 0.0});
+    c.await_echo = 2;
+  }
+  const auto v = bus.configure_on_socket(c, fds[0]);
+  ASSERT_TRUE(v.ok()) << v.message();
+  peer = fds[1];
+}
+
+// The peer's answer: T1 = t1, dP = 0.01, and (after them) the echo of `heartbeat`.
+void answer(int peer, float t1, std::uint16_t heartbeat) {
+  can_frame f{};
+  f.can_id = 0x310;
+  f.can_dlc = 4;
+  std::memcpy(f.data, &t1, 4);
+  ASSERT_EQ(send(peer, &f, sizeof f, 0), static_cast<ssize_t>(sizeof f));
+  f = can_frame{};
+  f.can_id = 0x311;
+  f.can_dlc = 2;
+  f.data[0] = 1;
+  ASSERT_EQ(send(peer, &f, sizeof f, 0), static_cast<ssize_t>(sizeof f));
+  f = can_frame{};
+  f.can_id = 0x313;
+  f.can_dlc = 2;
+  std::memcpy(f.data, &heartbeat, 2);
+  ASSERT_EQ(send(peer, &f, sizeof f, 0), static_cast<ssize_t>(sizeof f));
+}
+
+}  // namespace
+
+TEST(CanBusWaits, TheFirstReadWaitsForValueFramesSentOnThePeersOwnCycle) {
+  VirtualClock clock;
+  CanFieldBus bus(clock);
+  int peer = -1;
+  open_pair(bus, peer, false);
+  std::thread later([peer] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    answer(peer, 4.0F, 0);  // 0x313 is not mapped here: ignored
+  });
+  std::array<double, 2> values{};
+  EXPECT_EQ(bus.read(values), Status::ok) << bus.detail();
+  EXPECT_EQ(values[0], 4.0);
+  later.join();
+  close(peer);
+}
+
+TEST(CanBusWaits, WithAwaitEchoAReadReturnsThePeersAnswerToThatWrite) {
+  for (const bool echo : {false, true}) {
+    VirtualClock clock;
+    CanFieldBus bus(clock);
+    int peer = -1;
+    open_pair(bus, peer, echo);
+    answer(peer, 1.0F, 6);  // the answer to the previous tick
+    ASSERT_EQ(bus.write(setpoints, 7), Status::ok);
+    std::thread later([peer] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(30));
+      answer(peer, 2.0F, 7);  // the answer to this one, after a while
+    });
+    std::vector<double> values(echo ? 3 : 2);
+    EXPECT_EQ(bus.read(values), Status::ok) << bus.detail();
+    // Without the echo the read takes what is queued: the previous answer.
+    EXPECT_EQ(values[0], echo ? 2.0 : 1.0) << (echo ? "await_echo" : "no await");
+    later.join();
+    close(peer);
+  }
+}
+
+TEST(CanBusWaits, NoEchoOfTheHeartbeatWithinTheValueTimeoutIsATimeoutNamingIt) {
+  VirtualClock clock;
+  CanFieldBus bus(clock);
+  int peer = -1;
+  open_pair(bus, peer, true);
+  answer(peer, 1.0F, 6);
+  ASSERT_EQ(bus.write(setpoints, 8), Status::ok);
+  std::vector<double> values(3, -1.0);
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(bus.read(values), Status::timeout);
+  EXPECT_GE(std::chrono::steady_clock::now() - start, std::chrono::milliseconds(100));
+  EXPECT_STREQ(bus.detail(), "pair: no echo of heartbeat 8 within 100 ms");
+  EXPECT_EQ(values[0], -1.0) << "values untouched";
+  close(peer);
 }
