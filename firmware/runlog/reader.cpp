@@ -163,6 +163,17 @@ class Parser {
           }
           continue;
         }
+        if (key == "start_at_rest") {
+          if (value != "yes" && value != "no") {
+            return fail(0, "start_at_rest = " + quoted(value) + ", expected yes or no");
+          }
+          log_.start_at_rest = value == "yes";
+          continue;
+        }
+        if (key == "baseline") {
+          log_.baseline = std::string(value);
+          continue;
+        }
         if (key == "producer") {
           if (seen_producer) return fail(0, "header key 'producer' given twice");
           seen_producer = true;

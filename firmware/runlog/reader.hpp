@@ -23,8 +23,10 @@ struct RunLog {
   std::string plant;
   std::string plan;
   double sample_time_min = 0.0;
-  TimeScales time_scales;  // the optional `# tau_high_min:`, `# beta:`, `# switch_time_min:`
-                           // lines; 0 where absent (not known)
+  TimeScales time_scales;     // the optional `# tau_high_min:`, `# beta:`, `# switch_time_min:`
+                              // lines; 0 where absent (not known)
+  std::string baseline;       // the `# baseline:` line (how import took them); "" when absent
+  bool start_at_rest = true;  // false when the log says `# start_at_rest: no`
   std::vector<std::string> input_names, input_units;
   std::vector<std::string> output_names, output_units;
 

@@ -172,9 +172,10 @@ std::string_view describe(WriteStatus status) {
 }
 
 WriteResult format_header(const Header& header, std::span<char> out) {
-  if (!one_line(header.plant) || !one_line(header.plan) || !one_line(header.producer)) {
+  if (!one_line(header.plant) || !one_line(header.plan) || !one_line(header.producer) ||
+      !one_line(header.baseline)) {
     return {WriteStatus::invalid_field, 0,
-            "header.plant/plan/producer = (a line break), expected one line of text"};
+            "header.plant/plan/producer/baseline = (a line break), expected one line of text"};
   }
   if (!std::isfinite(header.sample_time_min) || header.sample_time_min <= 0.0) {
     return {WriteStatus::invalid_field, 0,
@@ -216,6 +217,11 @@ WriteResult format_header(const Header& header, std::span<char> out) {
       s.number(value);
     }
   }
+  if (!header.baseline.empty()) {
+    s.text("\n# baseline: ");
+    s.text(header.baseline);
+  }
+  if (!header.start_at_rest) s.text("\n# start_at_rest: no");
   s.text("\n# inputs:");
   for (const Channel& c : header.inputs) {
     s.ch(' ');

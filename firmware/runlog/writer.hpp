@@ -28,6 +28,10 @@ struct Header {
                                    // written as `# producer:` when not empty (every excite
                                    // producer sets it)
   TimeScales time_scales = {};     // each written when > 0 (finite and ≥ 0)
+  std::string_view baseline = {};  // how the baselines were taken, one line; `# baseline:`
+                                   // when not empty (excite import)
+  bool start_at_rest = true;       // false: `# start_at_rest: no` — the record starts
+                                   // mid-test, identify estimates the initial state
 };
 
 /// One sample. du, u have one value per input, dy one per output; all finite.

@@ -35,6 +35,7 @@ struct IdentifyCommandOptions {
   FlagRule rule;
   double warm_up_min = -1.0;  // < 0: the delay bound
   std::string trend = "none";
+  std::string initial_state = "auto";
 };
 
 /// One line: what the flags rule did. Empty when every row was scored in one segment per run.
@@ -183,6 +184,14 @@ void run(const IdentifyCommandOptions& opt) {
   options.trend = opt.trend == "offset"   ? Trend::offset
                   : opt.trend == "linear" ? Trend::linear
                                           : Trend::none;
+  bool moving_start = false;  // a log whose record starts mid-test (excite import)
+  for (const auto& r : runs) moving_start |= !r.start_at_rest;
+  options.estimate_initial_state =
+      opt.initial_state == "estimate" || (opt.initial_state == "auto" && moving_start);
+  if (options.estimate_initial_state && opt.initial_state == "auto") {
+    std::cerr << "excite: warning: a run log starts mid-test (start_at_rest: no): each "
+                 "segment's initial state is estimated (--initial-state zero to turn off)\n";
+  }
   std::vector<RunTimeScales> scales;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     scales.push_back({opt.run_paths[r], runs[r].plant, runs[r].time_scales});
@@ -242,6 +251,12 @@ void add_identify_command(CLI::App& app) {
                   "fitted with the model")
       ->capture_default_str()
       ->check(CLI::IsMember({"none", "offset", "linear"}));
+  cmd->add_option("--initial-state", opt->initial_state,
+                  "each segment's initial state: zero (at rest), estimate (a free response "
+                  "fitted with the model), auto (estimate when a log says its start is not at "
+                  "rest)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "estimate", "zero"}));
   cmd->callback([opt] { run(*opt); });
 }
 

@@ -66,9 +66,11 @@ void take_units(const historian::HistorianData& data, std::vector<historian::Tag
   }
 }
 
-// "FROM:TO" minutes, or "" for the first grid point.
+// "FROM:TO" minutes, or "auto" (the default, also "") for a steady window before the first MV
+// move, else the run's mean (import_run.hpp, auto_baseline).
 void parse_baseline(const std::string& text, historian::ImportOptions& o) {
-  if (text.empty()) return;
+  o.baseline_auto = text.empty() || text == "auto";
+  if (o.baseline_auto) return;
   const std::size_t colon = text.find(':');
   try {
     std::size_t used = 0;
@@ -78,8 +80,10 @@ void parse_baseline(const std::string& text, historian::ImportOptions& o) {
     o.baseline_to_min = std::stod(text.substr(colon + 1), &used);
     if (used != text.size() - colon - 1) throw std::invalid_argument("trailing text");
   } catch (const std::exception&) {
-    throw std::invalid_argument("--baseline '" + text +
-                                "'; expected FROM:TO in minutes from the data's start, e.g. 0:30");
+    throw std::invalid_argument(
+        "--baseline '" + text +
+        "'; expected auto or FROM:TO in minutes from the data's start, e.g. "
+        "0:30");
   }
 }
 
@@ -140,6 +144,7 @@ void run(ImportCommandOptions opt) {
   const std::string source = std::filesystem::path(opt.historian_path).filename().string();
   write_whole_file(opt.output_path, historian::run_log_text(run, source));
 
+  if (!run.start_at_rest) std::cerr << "excite: warning: " << run.baseline_note << '\n';
   std::cout << "wrote " << opt.output_path << ": " << run.rows() << " samples of "
             << run.sample_time_min << " min, " << run.inputs.size() << " inputs, "
             << run.outputs.size() << " outputs; " << run.bad_rows << " rows flagged bad_value, "
@@ -195,7 +200,9 @@ void add_import_command(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::IsMember({"none", "offset", "linear"}));
   cmd->add_option("--baseline", opt->baseline,
-                  "baseline window FROM:TO, min from the data's start (default: first sample)");
+                  "auto (default: a steady window before the first MV move, else the run's "
+                  "mean, the start then flagged not at rest) or a window FROM:TO, min from the "
+                  "data's start");
   cmd->add_option("--time-column", opt->time_column, "timestamp column (default: the first)");
   cmd->add_option("--tau-high", opt->import.time_scales.tau_high_min,
                   "tau_H of the test's design, min: written to the run log, where identify takes "

@@ -157,7 +157,12 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
   const InputScreen screen = screen_inputs(U);
   const ResponseBank bank(U, screen.usable, T_min, GridSpec{options.max_delay_min, tp_max}, layout);
   const ArxBasis arx(U, screen.usable, T_min, options.max_delay_min, layout);
-  const Eigen::MatrixXd trend = trend_basis(layout, options.trend);
+  std::vector<double> transients;  // in samples (IdentifyOptions::estimate_initial_state)
+  for (int k = 0; options.estimate_initial_state && k <= 5; ++k) {
+    const double tau = tp_max / T_min / std::pow(2.0, k);
+    if (tau >= 1.0) transients.push_back(tau);
+  }
+  const Eigen::MatrixXd trend = trend_basis(layout, options.trend, transients);
   Eigen::MatrixXd U_scored(layout.scored(), n);  // the inputs on the scored rows
   for (int i = 0; i < n; ++i) U_scored.col(i) = layout.scored_rows(U.col(i));
 

@@ -36,13 +36,17 @@
 namespace excite::host {
 
 struct IdentifyOptions {
-  double max_delay_min = 20.0;         // upper bound of T_d (thesis: 20 min)
-  double max_time_constant_min = 0.0;  // upper bound of T_p; SPEC §6: β·τ_H of the prior
-                                       // knowledge; 0 = the experiment length N·T
-  int max_iterations = 200;            // Levenberg–Marquardt iterations per output
-  int threads = 1;                     // outputs are fitted in parallel on this many threads
-  Trend trend = Trend::none;           // per segment offset / line of each output fitted with
-                                       // the model (segments.hpp)
+  double max_delay_min = 20.0;          // upper bound of T_d (thesis: 20 min)
+  double max_time_constant_min = 0.0;   // upper bound of T_p; SPEC §6: β·τ_H of the prior
+                                        // knowledge; 0 = the experiment length N·T
+  int max_iterations = 200;             // Levenberg–Marquardt iterations per output
+  int threads = 1;                      // outputs are fitted in parallel on this many threads
+  Trend trend = Trend::none;            // per segment offset / line of each output fitted with
+                                        // the model (segments.hpp)
+  bool estimate_initial_state = false;  // per segment, each output's free response from an
+                                        // unknown initial state (a record that starts
+                                        // mid-test): an offset and decays exp(−t/τ) for τ =
+                                        // T_p max / 2^k ≥ T, k = 0…5, fitted with the model
 };
 
 /// Per-output diagnostics of the fit.

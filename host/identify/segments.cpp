@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "host/identify/segments.hpp"
 
+#include <cmath>
+
 #include <stdexcept>
 #include <string>
 
@@ -52,9 +54,10 @@ Eigen::VectorXd SampleLayout::scored_rows(const Eigen::VectorXd& v) const {
   return out;
 }
 
-Eigen::MatrixXd trend_basis(const SampleLayout& layout, Trend trend) {
+Eigen::MatrixXd trend_basis(const SampleLayout& layout, Trend trend,
+                            const std::vector<double>& transient_samples) {
   const Eigen::Index N = layout.rows();
-  if (trend == Trend::none) return Eigen::MatrixXd(N, 0);
+  if (trend == Trend::none && transient_samples.empty()) return Eigen::MatrixXd(N, 0);
   std::vector<Eigen::VectorXd> columns;
   for (const Segment& s : layout.segments) {
     const Eigen::Index n = s.end - s.begin;
@@ -62,6 +65,14 @@ Eigen::MatrixXd trend_basis(const SampleLayout& layout, Trend trend) {
     Eigen::VectorXd one = Eigen::VectorXd::Zero(N);
     one.segment(s.begin, n) = layout.weight.segment(s.begin, n);
     columns.push_back(one);
+    for (const double tau : transient_samples) {
+      if (!(tau <= 0.5 * static_cast<double>(n))) continue;  // no decay to tell from the offset
+      Eigen::VectorXd decay = Eigen::VectorXd::Zero(N);
+      for (Eigen::Index k = 0; k < n; ++k) {
+        decay(s.begin + k) = layout.weight(s.begin + k) * std::exp(-static_cast<double>(k) / tau);
+      }
+      columns.push_back(decay);
+    }
     if (trend == Trend::linear && layout.weight.segment(s.begin, n).sum() >= 2.0) {
       Eigen::VectorXd ramp = Eigen::VectorXd::Zero(N);
       for (Eigen::Index k = 0; k < n; ++k) {

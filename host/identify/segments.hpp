@@ -52,8 +52,13 @@ struct SampleLayout {
 enum class Trend { none, offset, linear };
 
 /// Orthonormal columns (N × r) spanning the trend of every segment with scored rows, zero
-/// on rows that are not scored; N × 0 for Trend::none.
-Eigen::MatrixXd trend_basis(const SampleLayout& layout, Trend trend);
+/// on rows that are not scored; N × 0 for Trend::none without transients.
+/// `transient_samples`: the initial state of every segment (a record that starts mid-test,
+/// issue 18 §2): per segment an offset (the MV baselines' error settles to one) and the
+/// decays exp(−k/τ) for each τ given (in samples), which span the free response of the
+/// plant's modes from whatever state the segment starts in.
+Eigen::MatrixXd trend_basis(const SampleLayout& layout, Trend trend,
+                            const std::vector<double>& transient_samples = {});
 
 /// y = G u per segment, each from rest.
 void simulate_segments(const sim::DiscreteTerm& g, std::span<const double> u, std::span<double> y,

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 
 #include "firmware/runlog/format.hpp"
@@ -102,6 +103,17 @@ double baseline_of(const std::vector<double>& v, std::size_t from, std::size_t t
   return sum / static_cast<double>(n);
 }
 
+// Range (max − min) of the good values.
+double range_of(const std::vector<double>& v) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const double x : v) {
+    if (std::isnan(x)) continue;
+    lo = std::min(lo, x);
+    hi = std::max(hi, x);
+  }
+  return hi >= lo ? hi - lo : 0.0;
+}
+
 // The offset or line removed from the good rows of dy (NaN rows ignored).
 void detrend(std::vector<double>& dy, Detrend mode, double T_min, double& offset, double& slope) {
   offset = 0.0;
@@ -129,6 +141,65 @@ void detrend(std::vector<double>& dy, Detrend mode, double T_min, double& offset
 }
 
 }  // namespace
+
+AutoBaseline auto_baseline(const std::vector<std::vector<double>>& values, std::size_t mvs,
+                           double T_min, double tau_high_min) {
+  AutoBaseline out;
+  const std::size_t N = values.empty() ? 0 : values.front().size();
+  // The first MV move.
+  std::size_t first_move = N;
+  for (std::size_t i = 0; i < mvs && i < values.size(); ++i) {
+    const std::vector<double>& v = values[i];
+    const double tolerance = 1e-3 * range_of(v);
+    double first = std::nan("");
+    for (std::size_t k = 0; k < N && k < first_move; ++k) {
+      if (std::isnan(v[k])) continue;
+      if (std::isnan(first)) first = v[k];
+      if (std::abs(v[k] - first) > tolerance) first_move = k;
+    }
+  }
+  const std::size_t needed = std::max<std::size_t>(
+      2, tau_high_min > 0.0 ? static_cast<std::size_t>(std::ceil(tau_high_min / T_min))
+                            : std::min<std::size_t>(60, N / 10));
+  std::string why;
+  if (first_move < needed) {
+    why = "the MVs move " + number(static_cast<double>(first_move) * T_min) +
+          " min after the start, before a steady window of " +
+          number(static_cast<double>(needed) * T_min) + " min";
+  } else {
+    for (std::size_t c = mvs; c < values.size() && why.empty(); ++c) {
+      // The CV's least-squares line over the window: its rise over the window.
+      double sk = 0, sy = 0, skk = 0, sky = 0, n = 0;
+      for (std::size_t k = 0; k < first_move; ++k) {
+        const double y = values[c][k];
+        if (std::isnan(y)) continue;
+        const auto x = static_cast<double>(k);
+        sk += x;
+        sy += y;
+        skk += x * x;
+        sky += x * y;
+        n += 1;
+      }
+      const double denominator = n * skk - sk * sk;
+      const double slope = denominator > 0.0 ? (n * sky - sk * sy) / denominator : 0.0;
+      const double rise = std::abs(slope) * static_cast<double>(first_move);
+      if (rise > 0.1 * range_of(values[c])) {
+        why = "CV " + std::to_string(c - mvs + 1) + " drifts by " + number(rise) +
+              " before the first MV move";
+      }
+    }
+  }
+  if (why.empty()) {
+    out.at_rest = true;
+    out.steady_rows = first_move;
+    out.note = "steady window 0 … " + number(static_cast<double>(first_move) * T_min) +
+               " min before the first MV move";
+  } else {
+    out.note = "start not at rest (" + why +
+               "): baselines are the record's mean; identify estimates the initial state";
+  }
+  return out;
+}
 
 ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) {
   if (o.mvs.empty() || o.cvs.empty()) {
@@ -196,8 +267,8 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
                                 number(o.baseline_to_min) +
                                 "; expected 0 ≤ FROM ≤ TO minutes from the data's start");
   }
-  const auto b_from = static_cast<std::size_t>(std::ceil(o.baseline_from_min / T_min - 1e-9));
-  const auto b_to = static_cast<std::size_t>(std::floor(o.baseline_to_min / T_min + 1e-9));
+  auto b_from = static_cast<std::size_t>(std::ceil(o.baseline_from_min / T_min - 1e-9));
+  auto b_to = static_cast<std::size_t>(std::floor(o.baseline_to_min / T_min + 1e-9));
 
   ImportedRun run;
   run.time_scales = o.time_scales;
@@ -207,11 +278,24 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
   const std::size_t N = grid.size();
   run.flags.assign(N, 0U);
   std::vector<bool> mv_bad(N, false);
+  std::vector<std::vector<double>> values(all.size());
+  for (std::size_t a = 0; a < all.size(); ++a) {
+    values[a] = resample(data.series[a].time_s, data.series[a].values, grid, o.resample, gap_limit);
+  }
+  if (o.baseline_auto) {
+    const AutoBaseline ab = auto_baseline(values, o.mvs.size(), T_min, o.time_scales.tau_high_min);
+    run.start_at_rest = ab.at_rest;
+    run.baseline_note = ab.note;
+    b_from = 0;
+    b_to = ab.at_rest ? ab.steady_rows - 1 : N - 1;
+  } else {
+    run.baseline_note = "window " + number(o.baseline_from_min) + " … " +
+                        number(o.baseline_to_min) + " min (--baseline)";
+  }
   std::vector<std::vector<double>> dev(all.size());
   std::vector<double> base(all.size());
   for (std::size_t a = 0; a < all.size(); ++a) {
-    const std::vector<double> v =
-        resample(data.series[a].time_s, data.series[a].values, grid, o.resample, gap_limit);
+    const std::vector<double>& v = values[a];
     base[a] = baseline_of(v, b_from, b_to, all[a], data.file, o);
     dev[a].resize(N);
     for (std::size_t k = 0; k < N; ++k) dev[a][k] = v[k] - base[a];  // NaN stays NaN
@@ -267,6 +351,8 @@ std::string run_log_text(const ImportedRun& run, const std::string& source) {
   runlog::Header header{plant, "excite import", run.sample_time_min, inputs, outputs};
   header.producer = producer;
   header.time_scales = run.time_scales;
+  header.baseline = run.baseline_note;
+  header.start_at_rest = run.start_at_rest;
   std::string text;
   std::vector<char> buffer(64 * 1024 + 64 * (inputs.size() + outputs.size()));
   const runlog::WriteResult h = runlog::format_header(header, buffer);

@@ -41,6 +41,7 @@ struct ImportOptions {
   Resample resample = Resample::hold;
   double max_gap_min = 0.0;  // the gap limit of resample(); 0: 1.5·max(T, median spacing)
   Detrend detrend = Detrend::none;
+  bool baseline_auto = true;       // auto_baseline(); false: the window below
   double baseline_from_min = 0.0;  // baseline window, minutes from the data's start
   double baseline_to_min = 0.0;
   runlog::TimeScales time_scales;  // --tau-high, --beta: into the run log's header (0: not known)
@@ -60,8 +61,29 @@ struct ImportedRun {
   std::size_t discontinuities = 0;                            // rows flagged kDiscontinuity
   std::vector<std::size_t> bad_points;                        // per channel (inputs, then outputs)
   std::vector<double> removed_offset, removed_slope_per_min;  // per output (detrend)
+  bool start_at_rest = true;  // false: the record starts mid-test (auto_baseline)
+  std::string baseline_note;  // how the baselines were taken, for the run log's header
   std::size_t rows() const { return flags.size(); }
 };
+
+/// How `--baseline auto` takes the baselines (issue 18 §2): a historian record may start
+/// mid-test, the MVs already away from their operating point.
+///  - The first MV move: the first row where any MV leaves its first value by more than
+///    1e-3 of its range over the record. The window before it is steady when it lasts at
+///    least τ_H (or, τ_H unknown, min(60 rows, a tenth of the record)) and no CV drifts in
+///    it (its least-squares line moves by less than a tenth of the CV's range over the
+///    record). Then every baseline is the mean over that window: the start is at rest.
+///  - Otherwise every baseline is the record's mean (for a test whose excitation is
+///    symmetric about the operating point, the MVs' mean is their operating point), and the
+///    start is not at rest: the run log says so (`# start_at_rest: no`) and identify
+///    estimates each segment's initial state (`--initial-state auto`).
+struct AutoBaseline {
+  std::size_t steady_rows = 0;  // rows of the steady window; 0 when there is none
+  bool at_rest = false;
+  std::string note;  // "steady window 0 … 45 min" or "start not at rest: …"
+};
+AutoBaseline auto_baseline(const std::vector<std::vector<double>>& values, std::size_t mvs,
+                           double T_min, double tau_high_min);
 
 /// Throws std::invalid_argument naming the file, the tag or option, the value and what was
 /// expected (a channel name that is not valid, a tag with no good value in the baseline

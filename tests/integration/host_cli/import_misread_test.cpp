@@ -69,7 +69,7 @@ TEST_F(ImportMisread, RepeatedTimeColumnsGiveEachTagItsOwnTimes) {
     csv += (k == 0 ? t + ",5" : (k == 1 ? std::to_string(kStart + 540) + ",6" : ",")) + "," + t +
            "," + std::to_string(10 * k) + "\n";
   }
-  const Result r = import(csv, "--mv A --cv B --max-gap-min 10");
+  const Result r = import(csv, "--mv A --cv B --max-gap-min 10 --baseline 0:0");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_HAS(r.out, "10 samples of 1 min");
   const std::string log = bytes_of(path("out.csv"));
@@ -94,7 +94,7 @@ TEST_F(ImportMisread, DuplicateColumnNamesAreRefusedUnlessAddressed) {
 TEST_F(ImportMisread, ThousandsSeparatorsAreReadAndBadCellsQuotedWithTheirLine) {
   const std::string csv =
       "Time,A,B\n0,\"1,001.5\",1\n60,\"1,002.5\",1\n120,\"1,00.5\",1\n180,Bad,1\n240,1003,1\n";
-  const Result r = import(csv, "--mv A --cv B");
+  const Result r = import(csv, "--mv A --cv B --baseline 0:0");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_HAS(r.out, "baseline 1001.5, 2 bad points");
   EXPECT_HAS(r.out, "2 bad cells, not numbers: line 4 '1,00.5' line 5 'Bad'");

@@ -103,6 +103,7 @@ HistorianData ramp_data(std::size_t n) {
 
 ImportOptions two_tags() {
   ImportOptions o;
+  o.baseline_auto = false;  // the window 0 … 0: the first sample (the auto rule: below)
   o.mvs = {{"FIC", "L", "kmol/min"}};
   o.cvs = {{"AI", "xD", "mol/mol"}};
   return o;
@@ -185,6 +186,46 @@ TEST(TagMap, RolesNamesUnitsAndUnknownKeys) {
     EXPECT_NE(std::string(e.what()).find("tags.toml:3"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("mv[1].units"), std::string::npos) << e.what();
   }
+}
+
+// --baseline auto (issue 18 §2): a steady window before the first MV move gives the
+// baselines; a record whose MVs move (or whose CVs drift) before τ_H has no such window.
+std::vector<std::vector<double>> mv_cv(std::size_t rows, std::size_t first_move, double drift) {
+  std::vector<std::vector<double>> v(2, std::vector<double>(rows));
+  for (std::size_t k = 0; k < rows; ++k) {
+    v[0][k] = k < first_move ? 3.0 : (k / 7 % 2 == 0 ? 4.0 : 2.0);
+    v[1][k] = 10.0 + drift * static_cast<double>(k) + (k < first_move ? 0.0 : v[0][k] - 3.0);
+  }
+  return v;
+}
+
+TEST(AutoBaseline, ASteadyWindowOfTauHighBeforeTheFirstMoveIsTheBaseline) {
+  const AutoBaseline b = auto_baseline(mv_cv(500, 60, 0.0), 1, 1.0, 50.0);
+  EXPECT_TRUE(b.at_rest);
+  EXPECT_EQ(b.steady_rows, 60U);
+  EXPECT_EQ(b.note, "steady window 0 … 60 min before the first MV move");
+}
+
+TEST(AutoBaseline, MvsMovingBeforeTauHighOrACvDriftingMeanTheStartIsNotAtRest) {
+  const AutoBaseline early = auto_baseline(mv_cv(500, 20, 0.0), 1, 1.0, 50.0);
+  EXPECT_FALSE(early.at_rest);
+  EXPECT_NE(early.note.find("the MVs move 20 min after the start, before a steady window of 50"),
+            std::string::npos)
+      << early.note;
+  const AutoBaseline drifting = auto_baseline(mv_cv(500, 60, 0.02), 1, 1.0, 50.0);
+  EXPECT_FALSE(drifting.at_rest);
+  EXPECT_NE(drifting.note.find("CV 1 drifts"), std::string::npos) << drifting.note;
+}
+
+TEST(ImportRun, AutoBaselineOfAMidTestStartIsTheRecordsMeanAndTheLogSaysSo) {
+  ImportOptions o = two_tags();
+  o.baseline_auto = true;
+  const ImportedRun r = import_historian(ramp_data(100), o);  // a square wave from row 0
+  EXPECT_FALSE(r.start_at_rest);
+  EXPECT_DOUBLE_EQ(r.input_baseline[0], 3.5);  // the square wave's mean, not its first 3
+  const std::string text = run_log_text(r, "h.csv");
+  EXPECT_NE(text.find("\n# start_at_rest: no\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("\n# baseline: start not at rest ("), std::string::npos) << text;
 }
 
 }  // namespace
