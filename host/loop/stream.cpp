@@ -7,7 +7,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "host/loop/child_process.hpp"
+#include "host/process/child_process.hpp"
 #include "host/output/whole_file.hpp"
 
 namespace excite::host {
