@@ -51,12 +51,11 @@ void run_gnuplot(const fs::path& folder, const std::string& script) {
   const std::string output = gnuplot.read_all(std::chrono::minutes(10));
   const std::optional<int> code = gnuplot.wait(std::chrono::seconds(5));
   if (!code || *code != 0) {
-    throw std::runtime_error(
-        "gnuplot " + (folder / script).string() + " failed (" +
-        (!code ? std::string("still running after 10 min")
-               : *code > 128 ? "ended by signal " + std::to_string(*code - 128)
-                             : "exit code " + std::to_string(*code)) +
-        "): " + output);
+    throw std::runtime_error("gnuplot " + (folder / script).string() + " failed (" +
+                             (!code         ? std::string("still running after 10 min")
+                              : *code > 128 ? "ended by signal " + std::to_string(*code - 128)
+                                            : "exit code " + std::to_string(*code)) +
+                             "): " + output);
   }
   for (const std::string& svg : outputs_of(folder / script)) {
     if (!ends_whole(folder / svg)) {
@@ -85,9 +84,8 @@ std::string gnuplot_string(const std::string& text) {
 
 void run_gnuplot_scripts(const fs::path& folder, const std::vector<std::string>& scripts,
                          int threads) {
-  parallel_for(static_cast<int>(scripts.size()), std::max(1, threads), [&](int k) {
-    run_gnuplot(folder, scripts[static_cast<std::size_t>(k)]);
-  });
+  parallel_for(static_cast<int>(scripts.size()), std::max(1, threads),
+               [&](int k) { run_gnuplot(folder, scripts[static_cast<std::size_t>(k)]); });
 }
 
 }  // namespace excite::host

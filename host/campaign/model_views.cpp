@@ -56,14 +56,14 @@ std::string axis_unit(const std::string& unit) {
 
 // The step-response matrix: one panel per CV × MV, model with its ±2σ band, truth dashed.
 std::string step_script(const Experiment& e, const CampaignResult& r, const Eigen::MatrixXd& truth,
-                 int horizon, const std::filesystem::path& figures) {
+                        int horizon, const std::filesystem::path& figures) {
   const IdentifiedModel& m = e.identified.model;
   const double T = e.sample_time_min;
   std::vector<double> t;
   for (int k = 0; k <= horizon; ++k) t.push_back(k * T);
   const auto [time_label, divisor] = time_axis(horizon * T);
   const std::string data = e.name + "-steps.dat";  // in the figures folder
-  std::vector<std::vector<double>> columns;  // per element: s, lo, hi
+  std::vector<std::vector<double>> columns;        // per element: s, lo, hi
   std::vector<bool> band_known;
   for (int o = 0; o < m.outputs; ++o) {
     for (int i = 0; i < m.inputs; ++i) {
@@ -104,8 +104,8 @@ std::string step_script(const Experiment& e, const CampaignResult& r, const Eige
   std::ostringstream gp;
   gp << "set encoding utf8\nset terminal svg size " << std::max(700, 260 * n) << ','
      << std::max(420, 210 * p + 60) << " dynamic font 'sans,10'\nset output "
-     << gnuplot_string(e.name + "-steps.svg") << "\nset multiplot layout "
-     << p << ',' << n << " title "
+     << gnuplot_string(e.name + "-steps.svg") << "\nset multiplot layout " << p << ',' << n
+     << " title "
      << gnuplot_string(e.name + ": unit steps, model ±2σ (blue)" +
                        std::string(truth.size() ? ", true plant (black dashed)" : ""))
      << "\nset grid\nunset key\nset xlabel " << gnuplot_string(time_label) << "\nset xtics "
@@ -140,7 +140,7 @@ std::string step_script(const Experiment& e, const CampaignResult& r, const Eige
 
 // Measured against predicted, one panel per output (at most 2500 points drawn per curve).
 std::string fit_script(const Experiment& e, const CampaignResult& r, const Eigen::MatrixXd& Y_hat,
-                const std::filesystem::path& figures) {
+                       const std::filesystem::path& figures) {
   const Eigen::Index N = e.Y.rows();
   const Eigen::Index every = std::max<Eigen::Index>(1, N / 2500);
   const auto [time_label, divisor] = time_axis(static_cast<double>(N) * e.sample_time_min);
@@ -158,9 +158,8 @@ std::string fit_script(const Experiment& e, const CampaignResult& r, const Eigen
   const std::string script = e.name + "-fit.gp";
   std::ostringstream gp;
   gp << "set encoding utf8\nset terminal svg size 1000," << 180 * p + 80
-     << " dynamic font 'sans,10'\nset output "
-     << gnuplot_string(e.name + "-fit.svg") << "\nset multiplot layout " << p
-     << ",1 title "
+     << " dynamic font 'sans,10'\nset output " << gnuplot_string(e.name + "-fit.svg")
+     << "\nset multiplot layout " << p << ",1 title "
      << gnuplot_string(e.name + ": measured outputs (grey) and the model's simulation (blue)" +
                        (every > 1 ? ", every " + std::to_string(every) + "th sample drawn" : ""))
      << "\nset grid\nset key outside right top\nset xlabel " << gnuplot_string(time_label) << '\n';
@@ -182,8 +181,8 @@ std::string fit_script(const Experiment& e, const CampaignResult& r, const Eigen
 }
 
 // Residual autocorrelation and cross-correlation with every input, 99 % limits dashed red.
-std::string residual_script(const Experiment& e, const CampaignResult& r, const Eigen::MatrixXd& Y_hat,
-                     const std::filesystem::path& figures) {
+std::string residual_script(const Experiment& e, const CampaignResult& r,
+                            const Eigen::MatrixXd& Y_hat, const std::filesystem::path& figures) {
   const auto p = static_cast<int>(e.Y.cols());
   const auto n = static_cast<int>(e.U.cols());
   const int L = std::min<int>(kResidualLags, static_cast<int>(e.Y.rows()) - 1);
@@ -214,8 +213,7 @@ std::string residual_script(const Experiment& e, const CampaignResult& r, const 
   const std::string script = e.name + "-residuals.gp";
   std::ostringstream gp;
   gp << "set encoding utf8\nset terminal svg size " << 230 * (n + 1) + 40 << ',' << 190 * p + 80
-     << " dynamic font 'sans,9'\nset output "
-     << gnuplot_string(e.name + "-residuals.svg")
+     << " dynamic font 'sans,9'\nset output " << gnuplot_string(e.name + "-residuals.svg")
      << "\nset multiplot layout " << p << ',' << n + 1 << " title "
      << gnuplot_string(e.name +
                        ": residual autocorrelation (left) and cross-correlation with "
@@ -292,8 +290,7 @@ int report_step_horizon(const CampaignResult& r) {
 }
 
 std::vector<std::string> write_model_view_scripts(const Experiment& e, const CampaignResult& r,
-                                                  const Eigen::MatrixXd& truth,
-                                                  int horizon_samples,
+                                                  const Eigen::MatrixXd& truth, int horizon_samples,
                                                   const std::filesystem::path& figures) {
   const Eigen::MatrixXd Y_hat = simulate(e.identified.model, e.U);
   return {step_script(e, r, truth, horizon_samples, figures), fit_script(e, r, Y_hat, figures),

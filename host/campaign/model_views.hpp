@@ -35,8 +35,8 @@ int report_step_horizon(const CampaignResult& r);
 /// host/output); returns the scripts' names. `truth` as true_unit_steps gives it (empty:
 /// not known).
 std::vector<std::string> write_model_view_scripts(const Experiment& e, const CampaignResult& r,
-                              const Eigen::MatrixXd& truth, int horizon_samples,
-                              const std::filesystem::path& figures);
+                                                  const Eigen::MatrixXd& truth, int horizon_samples,
+                                                  const std::filesystem::path& figures);
 
 /// The element table: CV, MV, status, K, T_d, T_p1, T_p2 each ± 1σ with units.
 std::string parameter_table_html(const Experiment& e, const CampaignResult& r);

@@ -78,7 +78,7 @@ Eigen::MatrixXcd model_response(const IdentifiedModel& m, double omega) {
 
 // Inputs and outputs of one experiment over time, two panels.
 std::string plot_experiment(const Experiment& e, const CampaignResult& r,
-                     const std::filesystem::path& figures) {
+                            const std::filesystem::path& figures) {
   const std::string data = e.name + ".dat";  // in the figures folder
   const auto [time_label, divisor] = time_axis(static_cast<double>(e.U.rows()) * e.sample_time_min);
   {
@@ -100,8 +100,8 @@ std::string plot_experiment(const Experiment& e, const CampaignResult& r,
      << "set ylabel " << gnuplot_string("Δu " + common_unit(r.input_units)) << '\n';
   gp << "plot";
   for (Eigen::Index j = 0; j < e.U.cols(); ++j) {
-    gp << (j ? ", " : " ") << gnuplot_string(data) << " using 1:" << j + 2
-       << " with steps title " << gnuplot_string(r.input_names[static_cast<std::size_t>(j)]);
+    gp << (j ? ", " : " ") << gnuplot_string(data) << " using 1:" << j + 2 << " with steps title "
+       << gnuplot_string(r.input_names[static_cast<std::size_t>(j)]);
   }
   gp << "\nset ylabel " << gnuplot_string("Δy " + common_unit(r.output_units)) << "\nplot";
   for (Eigen::Index j = 0; j < e.Y.cols(); ++j) {
@@ -122,9 +122,8 @@ std::string plot_projections(const CampaignResult& r, const std::filesystem::pat
   const std::string script = "projections.gp";
   std::ostringstream gp;
   gp << "set encoding utf8\nset terminal svg size 1150," << 250 * rows + 60
-     << " dynamic font 'sans,9'\nset output "
-     << gnuplot_string("projections.svg") << "\nset multiplot layout " << rows
-     << ",4 title "
+     << " dynamic font 'sans,9'\nset output " << gnuplot_string("projections.svg")
+     << "\nset multiplot layout " << rows << ",4 title "
      << gnuplot_string(
             "noise-free outputs projected on the true output directions: w_1ᵀy "
             "(strongest) against w_" +
@@ -150,7 +149,7 @@ std::string plot_projections(const CampaignResult& r, const std::filesystem::pat
 
 // Singular values of G(jω): the true plant against every identified model.
 std::string plot_frequency(const CampaignResult& r, const sim::Plant& plant,
-                    const std::filesystem::path& figures) {
+                           const std::filesystem::path& figures) {
   const std::string data = "sigma.dat";  // in the figures folder
   {
     std::ostringstream out;

@@ -111,8 +111,7 @@ void run(CampaignCommandOptions opt) {
   artifacts.models = write_models(result, out);
   artifacts.run_logs = write_runs(result, out, opt.loop);
   const double before_report = elapsed();
-  write_report(result, *sim::make_plant(opt.campaign.plant), out, artifacts,
-               opt.campaign.threads);
+  write_report(result, *sim::make_plant(opt.campaign.plant), out, artifacts, opt.campaign.threads);
   say("report and figures in " + std::to_string(elapsed() - before_report) + " s");
   folder.commit();
   const fs::path done(opt.output_dir);

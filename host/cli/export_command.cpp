@@ -12,6 +12,7 @@
 
 #include "host/cli/commands.hpp"
 #include "host/cli/model_file.hpp"
+#include "host/cli/output_target.hpp"
 #include "host/export/formats.hpp"
 #include "host/export/step_response.hpp"
 #include "host/output/whole_file.hpp"
@@ -29,6 +30,8 @@ struct ExportOptions {
 };
 
 void run(const ExportOptions& opt) {
+  refuse_output_among_inputs(opt.output, {opt.model});
+  const HumanTextAside aside(opt.output);
   const NamedModel m = read_named_model_file(opt.model);
   std::string text;
   std::string what;

@@ -10,6 +10,7 @@
 
 #include "host/cli/commands.hpp"
 #include "host/cli/number_checks.hpp"
+#include "host/cli/output_target.hpp"
 #include "host/import/historian_csv.hpp"
 #include "host/import/import_run.hpp"
 #include "host/import/tag_map.hpp"
@@ -48,6 +49,8 @@ void parse_baseline(const std::string& text, historian::ImportOptions& o) {
 }
 
 void run(ImportCommandOptions opt) {
+  refuse_output_among_inputs(opt.output_path, {opt.historian_path, opt.map_path});
+  const HumanTextAside aside(opt.output_path);
   historian::ImportOptions& o = opt.import;
   if (!opt.map_path.empty()) {
     if (!opt.mv_tags.empty() || !opt.cv_tags.empty()) {

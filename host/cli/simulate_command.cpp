@@ -11,6 +11,7 @@
 #include "host/cli/commands.hpp"
 #include "host/cli/model_file.hpp"
 #include "host/cli/number_checks.hpp"
+#include "host/cli/output_target.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/export/model_plant.hpp"
@@ -51,6 +52,8 @@ std::unique_ptr<sim::Plant> plant_named(const std::string& name) {
 }
 
 void run(const SimulateOptions& opt) {
+  refuse_output_among_inputs(opt.output, {opt.plan_path, opt.plant});
+  const HumanTextAside aside(opt.output);
   const auto plant = plant_named(opt.plant);
   SimulatedRun result;
   if (!opt.step.empty()) {

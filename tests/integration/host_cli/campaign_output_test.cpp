@@ -44,8 +44,7 @@ class CampaignOutput : public ExciteCli {
 
 // A name with a quote and a `;` is only a name: no shell sees it, the report is complete.
 TEST_F(CampaignOutput, FolderNameWithShellSyntaxIsOnlyAName) {
-  const Result r =
-      excite_here(std::string(kCampaign) + " -o \"x'; touch INJECTED; echo '\"");
+  const Result r = excite_here(std::string(kCampaign) + " -o \"x'; touch INJECTED; echo '\"");
   EXPECT_EQ(r.exit_code, 0) << r.out;
   EXPECT_FALSE(fs::exists(path("INJECTED"))) << r.out;
   const fs::path out = dir_ / "x'; touch INJECTED; echo '";
@@ -67,10 +66,8 @@ TEST_F(CampaignOutput, FolderNameWithAnApostropheWorks) {
 TEST_F(CampaignOutput, PlantedGnuplotScriptIsNeverRun) {
   fs::create_directories(dir_ / "report/figures");
   std::ofstream(path("report/summary.json")) << R"({"plant": "x", "experiments": []})" << '\n';
-  std::ofstream(path("report/figures/aaa.gp"))
-      << "system(\"touch " << path("CANARY") << "\")\n";
-  std::ofstream(path("report/figures/zzz.gp"))
-      << "system(\"touch " << path("CANARY2") << "\")\n";
+  std::ofstream(path("report/figures/aaa.gp")) << "system(\"touch " << path("CANARY") << "\")\n";
+  std::ofstream(path("report/figures/zzz.gp")) << "system(\"touch " << path("CANARY2") << "\")\n";
   const Result r = excite_here(std::string(kCampaign) + " -o report");
   EXPECT_EQ(r.exit_code, 0) << r.out;
   EXPECT_FALSE(fs::exists(path("CANARY"))) << r.out;
