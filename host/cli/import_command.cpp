@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "host/cli/commands.hpp"
+#include "host/cli/input_path.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/output_target.hpp"
 #include "host/import/historian_csv.hpp"
@@ -49,6 +50,7 @@ void parse_baseline(const std::string& text, historian::ImportOptions& o) {
 }
 
 void run(ImportCommandOptions opt) {
+  refuse_directory(opt.historian_path, "a historian export (CSV)");
   refuse_output_among_inputs(opt.output_path, {opt.historian_path, opt.map_path});
   const HumanTextAside aside(opt.output_path);
   historian::ImportOptions& o = opt.import;

@@ -4,6 +4,7 @@
 // --plant MODEL.json: an identified model (excite identify -o) stands in for the plant.
 
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <stdexcept>
 
@@ -12,6 +13,7 @@
 #include "host/cli/model_file.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/output_target.hpp"
+#include "host/cli/run_input.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/export/model_plant.hpp"
@@ -74,6 +76,12 @@ void run(const SimulateOptions& opt) {
     if (used == 0 || eq + 1 + used != opt.step.size() || !std::isfinite(amplitude)) {
       throw std::invalid_argument("--step \"" + opt.step +
                                   "\": the amplitude is not a finite number");
+    }
+    if (std::fabs(amplitude) > kMaxRunValue) {  // the run log's value limit (run_input.hpp)
+      char text[160];
+      std::snprintf(text, sizeof text, "--step: amplitude = %g, expected |amplitude| <= %g",
+                    amplitude, kMaxRunValue);
+      throw std::invalid_argument(std::string(text) + " (a run's value limit, host/README.md)");
     }
     result = simulate_step(*plant, opt.step.substr(0, eq), amplitude, opt.samples,
                            opt.sample_time_min, opt.sim);

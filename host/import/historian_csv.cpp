@@ -5,6 +5,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -87,12 +88,44 @@ std::string where(const std::string& file, std::size_t line, std::size_t column,
          "): ";
 }
 
+// A column name as a message shows it: invisible characters made visible (a byte-order
+// mark, a no-break or zero-width space as <U+XXXX>, a control byte as \xNN), so "Time" and
+// "<U+FEFF>Time" do not look alike.
+std::string visible(const std::string& name) {
+  std::string out;
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    const auto byte = static_cast<unsigned char>(name[i]);
+    const auto next = [&](std::size_t k) {
+      return i + k < name.size() ? static_cast<unsigned char>(name[i + k]) : 0;
+    };
+    if (byte == 0xEF && next(1) == 0xBB && next(2) == 0xBF) {
+      out += "<U+FEFF>";
+      i += 2;
+    } else if (byte == 0xE2 && next(1) == 0x80 && next(2) == 0x8B) {
+      out += "<U+200B>";
+      i += 2;
+    } else if (byte == 0xC2 && next(1) == 0xA0) {
+      out += "<U+00A0>";
+      i += 1;
+    } else if (byte < 0x20 || byte == 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", byte);
+      out += hex;
+    } else {
+      out += name[i];
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 HistorianData parse_historian(const std::string& text, const std::string& file,
                               const std::string& time_column,
                               const std::vector<std::string>& tags) {
-  std::istringstream in(text);
+  // A UTF-8 byte-order mark (Excel's "CSV UTF-8") is encoding, not the first column's name.
+  const bool bom = text.rfind("\xEF\xBB\xBF", 0) == 0;
+  std::istringstream in(bom ? text.substr(3) : text);
   std::string line;
   std::size_t line_no = 0;
   std::vector<std::string> header;
@@ -115,13 +148,14 @@ HistorianData parse_historian(const std::string& text, const std::string& file,
     return it == header.end() ? -1 : it - header.begin();
   };
   std::string columns;
-  for (const auto& h : header) columns += (columns.empty() ? "" : ", ") + h;
+  for (const auto& h : header) columns += (columns.empty() ? "" : ", ") + visible(h);
   std::size_t time_col = 0;
   if (!time_column.empty()) {
     const std::ptrdiff_t c = column_of(time_column);
     if (c < 0) {
       throw std::invalid_argument(file + ":" + std::to_string(header_line) + ": time column '" +
-                                  time_column + "' is not in the header; columns: " + columns);
+                                  visible(time_column) +
+                                  "' is not in the header; columns: " + columns);
     }
     time_col = static_cast<std::size_t>(c);
   }
@@ -132,7 +166,8 @@ HistorianData parse_historian(const std::string& text, const std::string& file,
   for (const auto& tag : tags) {
     const std::ptrdiff_t c = column_of(tag);
     if (c < 0 || static_cast<std::size_t>(c) == time_col) {
-      throw std::invalid_argument(file + ":" + std::to_string(header_line) + ": tag '" + tag +
+      throw std::invalid_argument(file + ":" + std::to_string(header_line) + ": tag '" +
+                                  visible(tag) +
                                   "' is not a value column of the header; columns: " + columns);
     }
     value_col.push_back(static_cast<std::size_t>(c));
