@@ -15,6 +15,7 @@ namespace excite::host::cli {
 
 /// Before any run is read: at most kMaxRunRows data rows over all `paths` together.
 inline void check_pooled_rows(const std::vector<std::string>& paths) {
+  if (paths.size() == 1) return check_run_rows(paths.front());
   std::size_t total = 0;
   for (const std::string& path : paths) {
     total += count_run_rows(path, kMaxRunRows - total);
