@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "cli_process.hpp"
 
@@ -90,6 +91,22 @@ TEST_F(Bounds, ModelFileErrorsNameFileFieldAndValue) {
   EXPECT_TRUE(contains(o.out, path("overflow.json") + ":" + std::to_string(line) +
                                   ": number = 1e400, expected a number within"))
       << o.out;
+}
+
+// balance --gain: the same line for a number beyond double, and its size before allocating.
+TEST_F(Bounds, BalanceGainFileIsBoundedAndNamesTheLine) {
+  make_inputs();
+  std::ofstream(path("g.json")) << "{\n  \"gain\": [[1e400, 1], [0, 1]]\n}\n";
+  const Result o = excite("balance --gain " + path("g.json") + " " + path("run.csv"));
+  EXPECT_EQ(o.exit_code, 1) << o.out;
+  EXPECT_TRUE(contains(o.out, path("g.json") + ":2: number = 1e400, expected a number within"))
+      << o.out;
+  nlohmann::json wide = {{"gain", {std::vector<double>(70000, 0.0)}}};
+  write("wide.json", wide);
+  const Result w = excite("balance --gain " + path("wide.json") + " " + path("run.csv"));
+  EXPECT_EQ(w.exit_code, 1) << w.out;
+  EXPECT_TRUE(contains(w.out, path("wide.json") + ": gain = 1 rows of 70000, expected at most 64"))
+      << w.out;
 }
 
 // Tp = 1e9 min: the default horizon wrapped to a one-row table of zeros and exit 0; 1e6 made
