@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <sstream>
 
@@ -12,6 +11,7 @@
 #include "host/export/step_response.hpp"
 #include "host/identify/residuals.hpp"
 #include "host/identify/validate.hpp"
+#include "host/output/whole_file.hpp"
 
 namespace excite::host {
 namespace {
@@ -55,15 +55,15 @@ std::string axis_unit(const std::string& unit) {
 }
 
 // The step-response matrix: one panel per CV × MV, model with its ±2σ band, truth dashed.
-void step_script(const Experiment& e, const CampaignResult& r, const Eigen::MatrixXd& truth,
-                 int horizon, const std::filesystem::path& figures) {
+std::string step_script(const Experiment& e, const CampaignResult& r, const Eigen::MatrixXd& truth,
+                        int horizon, const std::filesystem::path& figures) {
   const IdentifiedModel& m = e.identified.model;
   const double T = e.sample_time_min;
   std::vector<double> t;
   for (int k = 0; k <= horizon; ++k) t.push_back(k * T);
   const auto [time_label, divisor] = time_axis(horizon * T);
-  const auto data = figures / (e.name + "-steps.dat");
-  std::vector<std::vector<double>> columns;  // per element: s, lo, hi
+  const std::string data = e.name + "-steps.dat";  // in the figures folder
+  std::vector<std::vector<double>> columns;        // per element: s, lo, hi
   std::vector<bool> band_known;
   for (int o = 0; o < m.outputs; ++o) {
     for (int i = 0; i < m.inputs; ++i) {
@@ -88,7 +88,7 @@ void step_script(const Experiment& e, const CampaignResult& r, const Eigen::Matr
     }
   }
   {
-    std::ofstream out(data);
+    std::ostringstream out;
     for (std::size_t k = 0; k < t.size(); ++k) {
       out << t[k] / divisor;
       for (const auto& c : columns) out << ' ' << (std::isfinite(c[k]) ? c[k] : NAN);
@@ -97,18 +97,20 @@ void step_script(const Experiment& e, const CampaignResult& r, const Eigen::Matr
         out << ' ' << (kk < truth.rows() ? truth(kk, c) : NAN);
       out << '\n';
     }
+    write_whole_file(figures / data, out.str());
   }
   const int p = m.outputs, n = m.inputs;
-  std::ofstream gp(figures / (e.name + "-steps.gp"));
+  const std::string script = e.name + "-steps.gp";
+  std::ostringstream gp;
   gp << "set encoding utf8\nset terminal svg size " << std::max(700, 260 * n) << ','
      << std::max(420, 210 * p + 60) << " dynamic font 'sans,10'\nset output "
-     << gnuplot_string((figures / (e.name + "-steps.svg")).string()) << "\nset multiplot layout "
-     << p << ',' << n << " title "
+     << gnuplot_string(e.name + "-steps.svg") << "\nset multiplot layout " << p << ',' << n
+     << " title "
      << gnuplot_string(e.name + ": unit steps, model ±2σ (blue)" +
                        std::string(truth.size() ? ", true plant (black dashed)" : ""))
      << "\nset grid\nunset key\nset xlabel " << gnuplot_string(time_label) << "\nset xtics "
      << tic_step(horizon * T / divisor) << '\n';
-  const std::string file = gnuplot_string(data.string());
+  const std::string file = gnuplot_string(data);
   for (int o = 0; o < p; ++o) {
     for (int i = 0; i < n; ++i) {
       const int el = o * n + i;
@@ -132,33 +134,36 @@ void step_script(const Experiment& e, const CampaignResult& r, const Eigen::Matr
     }
   }
   gp << "unset multiplot\n";
+  write_whole_file(figures / script, gp.str());
+  return script;
 }
 
 // Measured against predicted, one panel per output (at most 2500 points drawn per curve).
-void fit_script(const Experiment& e, const CampaignResult& r, const Eigen::MatrixXd& Y_hat,
-                const std::filesystem::path& figures) {
+std::string fit_script(const Experiment& e, const CampaignResult& r, const Eigen::MatrixXd& Y_hat,
+                       const std::filesystem::path& figures) {
   const Eigen::Index N = e.Y.rows();
   const Eigen::Index every = std::max<Eigen::Index>(1, N / 2500);
   const auto [time_label, divisor] = time_axis(static_cast<double>(N) * e.sample_time_min);
-  const auto data = figures / (e.name + "-fit.dat");
+  const std::string data = e.name + "-fit.dat";  // in the figures folder
   {
-    std::ofstream out(data);
+    std::ostringstream out;
     for (Eigen::Index k = 0; k < N; k += every) {
       out << static_cast<double>(k) * e.sample_time_min / divisor;
       for (Eigen::Index o = 0; o < e.Y.cols(); ++o) out << ' ' << e.Y(k, o) << ' ' << Y_hat(k, o);
       out << '\n';
     }
+    write_whole_file(figures / data, out.str());
   }
   const auto p = static_cast<int>(e.Y.cols());
-  std::ofstream gp(figures / (e.name + "-fit.gp"));
+  const std::string script = e.name + "-fit.gp";
+  std::ostringstream gp;
   gp << "set encoding utf8\nset terminal svg size 1000," << 180 * p + 80
-     << " dynamic font 'sans,10'\nset output "
-     << gnuplot_string((figures / (e.name + "-fit.svg")).string()) << "\nset multiplot layout " << p
-     << ",1 title "
+     << " dynamic font 'sans,10'\nset output " << gnuplot_string(e.name + "-fit.svg")
+     << "\nset multiplot layout " << p << ",1 title "
      << gnuplot_string(e.name + ": measured outputs (grey) and the model's simulation (blue)" +
                        (every > 1 ? ", every " + std::to_string(every) + "th sample drawn" : ""))
      << "\nset grid\nset key outside right top\nset xlabel " << gnuplot_string(time_label) << '\n';
-  const std::string file = gnuplot_string(data.string());
+  const std::string file = gnuplot_string(data);
   for (int o = 0; o < p; ++o) {
     const double fit = e.identified.fits.at(static_cast<std::size_t>(o)).fit_percent;
     gp << "set ylabel "
@@ -171,15 +176,17 @@ void fit_script(const Experiment& e, const CampaignResult& r, const Eigen::Matri
        << " with lines lw 1.5 lc rgb '#1f4e9c' title 'model'\n";
   }
   gp << "unset multiplot\n";
+  write_whole_file(figures / script, gp.str());
+  return script;
 }
 
 // Residual autocorrelation and cross-correlation with every input, 99 % limits dashed red.
-void residual_script(const Experiment& e, const CampaignResult& r, const Eigen::MatrixXd& Y_hat,
-                     const std::filesystem::path& figures) {
+std::string residual_script(const Experiment& e, const CampaignResult& r,
+                            const Eigen::MatrixXd& Y_hat, const std::filesystem::path& figures) {
   const auto p = static_cast<int>(e.Y.cols());
   const auto n = static_cast<int>(e.U.cols());
   const int L = std::min<int>(kResidualLags, static_cast<int>(e.Y.rows()) - 1);
-  const auto data = figures / (e.name + "-residuals.dat");
+  const std::string data = e.name + "-residuals.dat";  // in the figures folder
   double limit = 0.0;
   {
     std::vector<ResidualCorrelation> rc;
@@ -191,7 +198,7 @@ void residual_script(const Experiment& e, const CampaignResult& r, const Eigen::
                                              Eigen::MatrixXd::Zero(2 * L + 1, n), 0.0});
       limit = std::max(limit, rc.back().limit_99);
     }
-    std::ofstream out(data);  // lag, then per output: auto (NaN for τ < 0), cross × n
+    std::ostringstream out;  // lag, then per output: auto (NaN for τ < 0), cross × n
     for (int tau = -L; tau <= L; ++tau) {
       out << tau * e.sample_time_min;
       for (int o = 0; o < p; ++o) {
@@ -201,11 +208,12 @@ void residual_script(const Experiment& e, const CampaignResult& r, const Eigen::
       }
       out << '\n';
     }
+    write_whole_file(figures / data, out.str());
   }
-  std::ofstream gp(figures / (e.name + "-residuals.gp"));
+  const std::string script = e.name + "-residuals.gp";
+  std::ostringstream gp;
   gp << "set encoding utf8\nset terminal svg size " << 230 * (n + 1) + 40 << ',' << 190 * p + 80
-     << " dynamic font 'sans,9'\nset output "
-     << gnuplot_string((figures / (e.name + "-residuals.svg")).string())
+     << " dynamic font 'sans,9'\nset output " << gnuplot_string(e.name + "-residuals.svg")
      << "\nset multiplot layout " << p << ',' << n + 1 << " title "
      << gnuplot_string(e.name +
                        ": residual autocorrelation (left) and cross-correlation with "
@@ -213,7 +221,7 @@ void residual_script(const Experiment& e, const CampaignResult& r, const Eigen::
                        format("%.3g", limit))
      << "\nset grid\nunset key\nset xlabel 'lag [min]'\nset yrange [-1:1]\nset xtics "
      << tic_step(2.0 * L * e.sample_time_min) << '\n';
-  const std::string file = gnuplot_string(data.string());
+  const std::string file = gnuplot_string(data);
   const int per_output = n + 1;
   for (int o = 0; o < p; ++o) {
     for (int c = 0; c <= n; ++c) {
@@ -230,6 +238,8 @@ void residual_script(const Experiment& e, const CampaignResult& r, const Eigen::
     }
   }
   gp << "unset multiplot\n";
+  write_whole_file(figures / script, gp.str());
+  return script;
 }
 
 }  // namespace
@@ -279,13 +289,12 @@ int report_step_horizon(const CampaignResult& r) {
       std::clamp<Eigen::Index>(median, 1, std::max<Eigen::Index>(1, shortest - 1)));
 }
 
-void write_model_view_scripts(const Experiment& e, const CampaignResult& r,
-                              const Eigen::MatrixXd& truth, int horizon_samples,
-                              const std::filesystem::path& figures) {
+std::vector<std::string> write_model_view_scripts(const Experiment& e, const CampaignResult& r,
+                                                  const Eigen::MatrixXd& truth, int horizon_samples,
+                                                  const std::filesystem::path& figures) {
   const Eigen::MatrixXd Y_hat = simulate(e.identified.model, e.U);
-  step_script(e, r, truth, horizon_samples, figures);
-  fit_script(e, r, Y_hat, figures);
-  residual_script(e, r, Y_hat, figures);
+  return {step_script(e, r, truth, horizon_samples, figures), fit_script(e, r, Y_hat, figures),
+          residual_script(e, r, Y_hat, figures)};
 }
 
 std::string parameter_table_html(const Experiment& e, const CampaignResult& r) {

@@ -31,11 +31,12 @@ Eigen::MatrixXd true_unit_steps(sim::Plant& plant, int samples, double sample_ti
 /// bound does not squeeze every other plot; at most the shortest experiment.
 int report_step_horizon(const CampaignResult& r);
 
-/// Writes FIGURES/<name>-steps.gp, -fit.gp, -residuals.gp and their data. `truth` as
-/// true_unit_steps gives it (empty: not known).
-void write_model_view_scripts(const Experiment& e, const CampaignResult& r,
-                              const Eigen::MatrixXd& truth, int horizon_samples,
-                              const std::filesystem::path& figures);
+/// Writes FIGURES/<name>-steps.gp, -fit.gp, -residuals.gp and their data (each whole,
+/// host/output); returns the scripts' names. `truth` as true_unit_steps gives it (empty:
+/// not known).
+std::vector<std::string> write_model_view_scripts(const Experiment& e, const CampaignResult& r,
+                                                  const Eigen::MatrixXd& truth, int horizon_samples,
+                                                  const std::filesystem::path& figures);
 
 /// The element table: CV, MV, status, K, T_d, T_p1, T_p2 each ± 1σ with units.
 std::string parameter_table_html(const Experiment& e, const CampaignResult& r);

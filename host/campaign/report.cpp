@@ -77,49 +77,53 @@ Eigen::MatrixXcd model_response(const IdentifiedModel& m, double omega) {
 }
 
 // Inputs and outputs of one experiment over time, two panels.
-void plot_experiment(const Experiment& e, const CampaignResult& r,
-                     const std::filesystem::path& figures) {
-  const auto data = figures / (e.name + ".dat");
+std::string plot_experiment(const Experiment& e, const CampaignResult& r,
+                            const std::filesystem::path& figures) {
+  const std::string data = e.name + ".dat";  // in the figures folder
   const auto [time_label, divisor] = time_axis(static_cast<double>(e.U.rows()) * e.sample_time_min);
   {
-    std::ofstream out(data);
+    std::ostringstream out;
     for (Eigen::Index k = 0; k < e.U.rows(); ++k) {
       out << static_cast<double>(k) * e.sample_time_min / divisor;
       for (Eigen::Index j = 0; j < e.U.cols(); ++j) out << ' ' << e.U(k, j);
       for (Eigen::Index j = 0; j < e.Y.cols(); ++j) out << ' ' << e.Y(k, j);
       out << '\n';
     }
+    write_whole_file(figures / data, out.str());
   }
-  std::ofstream gp(figures / (e.name + ".gp"));
-  gp << "set terminal svg size 900,520 dynamic font 'sans,11'\nset output '"
-     << (figures / (e.name + ".svg")).string() << "'\nset multiplot layout 2,1 title '" << e.name
-     << ": inputs (top) and outputs (bottom)'\n"
+  const std::string script = e.name + ".gp";
+  std::ostringstream gp;
+  gp << "set terminal svg size 900,520 dynamic font 'sans,11'\nset output "
+     << gnuplot_string(e.name + ".svg") << "\nset multiplot layout 2,1 title "
+     << gnuplot_string(e.name + ": inputs (top) and outputs (bottom)") << '\n'
      << "set xlabel " << gnuplot_string(time_label) << "\nset grid\nset key outside right\n"
      << "set ylabel " << gnuplot_string("Δu " + common_unit(r.input_units)) << '\n';
   gp << "plot";
   for (Eigen::Index j = 0; j < e.U.cols(); ++j) {
-    gp << (j ? ", " : " ") << "'" << data.string() << "' using 1:" << j + 2 << " with steps title '"
-       << r.input_names[static_cast<std::size_t>(j)] << "'";
+    gp << (j ? ", " : " ") << gnuplot_string(data) << " using 1:" << j + 2 << " with steps title "
+       << gnuplot_string(r.input_names[static_cast<std::size_t>(j)]);
   }
   gp << "\nset ylabel " << gnuplot_string("Δy " + common_unit(r.output_units)) << "\nplot";
   for (Eigen::Index j = 0; j < e.Y.cols(); ++j) {
-    gp << (j ? ", " : " ") << "'" << data.string() << "' using 1:" << e.U.cols() + j + 2
-       << " with lines title '" << r.output_names[static_cast<std::size_t>(j)] << "'";
+    gp << (j ? ", " : " ") << gnuplot_string(data) << " using 1:" << e.U.cols() + j + 2
+       << " with lines title " << gnuplot_string(r.output_names[static_cast<std::size_t>(j)]);
   }
   gp << "\nunset multiplot\n";
+  write_whole_file(figures / script, gp.str());
+  return script;
 }
 
 // Projections of the noise-free outputs on the strongest and weakest output directions, per
 // experiment, each panel on its own scale (the designs differ by orders of magnitude).
-void plot_projections(const CampaignResult& r, const std::filesystem::path& figures) {
+std::string plot_projections(const CampaignResult& r, const std::filesystem::path& figures) {
   const Eigen::Index last = r.true_gain.output_directions.cols() - 1;
   const std::string unit = common_unit(r.output_units);
   const auto rows = static_cast<int>((r.experiments.size() + 3) / 4);
-  std::ofstream gp(figures / "projections.gp");
+  const std::string script = "projections.gp";
+  std::ostringstream gp;
   gp << "set encoding utf8\nset terminal svg size 1150," << 250 * rows + 60
-     << " dynamic font 'sans,9'\nset output "
-     << gnuplot_string((figures / "projections.svg").string()) << "\nset multiplot layout " << rows
-     << ",4 title "
+     << " dynamic font 'sans,9'\nset output " << gnuplot_string("projections.svg")
+     << "\nset multiplot layout " << rows << ",4 title "
      << gnuplot_string(
             "noise-free outputs projected on the true output directions: w_1ᵀy "
             "(strongest) against w_" +
@@ -129,23 +133,26 @@ void plot_projections(const CampaignResult& r, const std::filesystem::path& figu
      << "\nset format x '%.2g'\nset format y '%.2g'\nset xtics rotate by -30\n";
   for (const Experiment& e : r.experiments) {
     const Eigen::MatrixXd p = e.Y_clean * r.true_gain.output_directions;
-    const auto data = figures / (e.name + ".proj");
-    std::ofstream out(data);
+    const std::string data = e.name + ".proj";  // in the figures folder
+    std::ostringstream out;
     for (Eigen::Index k = 0; k < p.rows(); k += std::max<Eigen::Index>(1, p.rows() / 1500)) {
       out << p(k, 0) << ' ' << p(k, last) << '\n';
     }
+    write_whole_file(figures / data, out.str());
     gp << "set title " << gnuplot_string(std::to_string(e.number) + " " + e.name) << "\nplot "
-       << gnuplot_string(data.string()) << " with dots lc rgb '#1f4e9c'\n";
+       << gnuplot_string(data) << " with dots lc rgb '#1f4e9c'\n";
   }
   gp << "unset multiplot\n";
+  write_whole_file(figures / script, gp.str());
+  return script;
 }
 
 // Singular values of G(jω): the true plant against every identified model.
-void plot_frequency(const CampaignResult& r, const sim::Plant& plant,
-                    const std::filesystem::path& figures) {
-  const auto data = figures / "sigma.dat";
+std::string plot_frequency(const CampaignResult& r, const sim::Plant& plant,
+                           const std::filesystem::path& figures) {
+  const std::string data = "sigma.dat";  // in the figures folder
   {
-    std::ofstream out(data);
+    std::ostringstream out;
     for (int k = 0; k <= 120; ++k) {
       const double omega = std::pow(10.0, -4.0 + 4.0 * k / 120.0);
       out << omega;
@@ -160,13 +167,15 @@ void plot_frequency(const CampaignResult& r, const sim::Plant& plant,
       }
       out << '\n';
     }
+    write_whole_file(figures / data, out.str());
   }
   // Small multiples: one panel per design, its model's σ_i (colour) over the plant's (black).
   const Eigen::Index n = r.true_gain.singular_values.size();
   const auto rows = static_cast<int>((r.experiments.size() + 3) / 4);
-  std::ofstream gp(figures / "sigma.gp");
+  const std::string script = "sigma.gp";
+  std::ostringstream gp;
   gp << "set encoding utf8\nset terminal svg size 1150," << 240 * rows + 60
-     << " dynamic font 'sans,9'\nset output " << gnuplot_string((figures / "sigma.svg").string())
+     << " dynamic font 'sans,9'\nset output " << gnuplot_string("sigma.svg")
      << "\nset multiplot layout " << rows << ",4 title "
      << gnuplot_string(
             "singular values σ_i(G(jω)): true plant (black dashed) over the model of each "
@@ -176,7 +185,7 @@ void plot_frequency(const CampaignResult& r, const sim::Plant& plant,
      << gnuplot_string(
             "σ_i " + gain_unit(common_unit_token(r.output_units), common_unit_token(r.input_units)))
      << '\n';
-  const std::string file = gnuplot_string(data.string());
+  const std::string file = gnuplot_string(data);
   for (std::size_t e = 0; e < r.experiments.size(); ++e) {
     const char* colour = directional(r.experiments[e].name) ? "#3060c0" : "#e08020";
     gp << "set title "
@@ -191,6 +200,8 @@ void plot_frequency(const CampaignResult& r, const sim::Plant& plant,
     gp << '\n';
   }
   gp << "unset multiplot\n";
+  write_whole_file(figures / script, gp.str());
+  return script;
 }
 
 // A metric over one group of designs (directional or not): every statistic, so that no
@@ -305,21 +316,33 @@ void write_summary(const CampaignResult& r, const std::filesystem::path& dir) {
   write_whole_file(dir / "summary.json", j.dump(2) + '\n');
 }
 
+bool is_campaign_folder(const std::filesystem::path& dir) {
+  const auto summary = dir / "summary.json";
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(std::filesystem::symlink_status(summary, ec))) return false;
+  std::ifstream in(summary);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  return j.is_object() && j.contains("plant") && j.contains("experiments");
+}
+
 void write_report(const CampaignResult& r, const sim::Plant& plant,
                   const std::filesystem::path& dir, const ReportArtifacts& artifacts, int threads) {
   const auto figures = dir / "figures";
   std::filesystem::create_directories(figures);
-  for (const Experiment& e : r.experiments) plot_experiment(e, r, figures);
-  plot_projections(r, figures);
-  plot_frequency(r, plant, figures);
+  std::vector<std::string> scripts;  // the scripts this run wrote: only these are run
+  for (const Experiment& e : r.experiments) scripts.push_back(plot_experiment(e, r, figures));
+  scripts.push_back(plot_projections(r, figures));
+  scripts.push_back(plot_frequency(r, plant, figures));
   const int horizon = report_step_horizon(r);
   const double T = r.experiments.empty() ? 1.0 : r.experiments.front().sample_time_min;
   const Eigen::MatrixXd truth = true_unit_steps(*sim::make_plant(r.plant), horizon, T);
+  std::vector<std::vector<std::string>> views(r.experiments.size());
   parallel_for(static_cast<int>(r.experiments.size()), threads, [&](int k) {
-    write_model_view_scripts(r.experiments[static_cast<std::size_t>(k)], r, truth, horizon,
-                             figures);
+    views[static_cast<std::size_t>(k)] = write_model_view_scripts(
+        r.experiments[static_cast<std::size_t>(k)], r, truth, horizon, figures);
   });
-  run_gnuplot_scripts(figures, threads);
+  for (const auto& v : views) scripts.insert(scripts.end(), v.begin(), v.end());
+  run_gnuplot_scripts(figures, scripts, threads);
 
   const std::string out_unit = common_unit_token(r.output_units);
   const std::string in_unit = common_unit_token(r.input_units);

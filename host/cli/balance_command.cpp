@@ -9,7 +9,9 @@
 
 #include "host/cli/commands.hpp"
 #include "host/cli/input_path.hpp"
+#include "host/cli/json_file.hpp"
 #include "host/cli/json_util.hpp"
+#include "host/cli/model_file.hpp"
 #include "host/cli/run_input.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/case_studies.hpp"
@@ -32,19 +34,20 @@ constexpr double kMinSingularRatio = 1e-12;  // below: numerically singular
 // `excite identify -o` write.
 Eigen::MatrixXd read_gain_file(const std::string& path) {
   refuse_directory(path, "a JSON file with \"gain\" (excite gains --json)");
-  std::ifstream in(path);
-  if (!in) throw std::invalid_argument(path + ": cannot be read");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw std::invalid_argument(path + ": not JSON (" + e.what() + ")");
-  }
-  if (!j.contains("gain") || !j["gain"].is_array() || j["gain"].empty()) {
+  const nlohmann::json j = read_json_file(path, "a JSON file with \"gain\" (excite gains --json)");
+  if (!j.is_object() || !j.contains("gain") || !j["gain"].is_array() || j["gain"].empty()) {
     throw std::invalid_argument(path +
                                 ": gain: missing, expected an array of rows (excite gains --json)");
   }
   const auto& rows = j["gain"];
+  // Sizes before the allocation: rows × the first row's length, each within a model's limit.
+  if (rows.size() > kMaxModelChannels || !rows[0].is_array() ||
+      rows[0].size() > kMaxModelChannels) {
+    throw std::invalid_argument(path + ": gain = " + std::to_string(rows.size()) + " rows of " +
+                                std::to_string(rows[0].size()) + ", expected at most " +
+                                std::to_string(kMaxModelChannels) + " x " +
+                                std::to_string(kMaxModelChannels) + " (host/README.md, Limits)");
+  }
   Eigen::MatrixXd g(static_cast<Eigen::Index>(rows.size()),
                     static_cast<Eigen::Index>(rows[0].size()));
   for (std::size_t r = 0; r < rows.size(); ++r) {

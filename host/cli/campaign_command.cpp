@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: MIT
 // excite campaign --plant NAME -o DIR [--design-gain true|step-test] [--noise-var V] [--seed S]
-//                 [--threads N] [--loop]
+//                 [--threads N] [--loop] [--overwrite]
 // The chapter-6 study: DIR/summary.json, the report DIR/index.html, every identified model
 // in DIR/models/NN-name.json and every measured run's log in DIR/runs/NN-name/run.csv, both
 // linked from the report. With --loop every plan is streamed through the real
 // excite-gateway to the real excite-plant (host/loop), and DIR/runs/NN-name/ also keeps the
 // plan, the configuration pair and the plant's log.
+// DIR is written whole (host/output/whole_folder.hpp): checked before any work (a new or
+// empty folder, a previous campaign's, or --overwrite), filled as a temporary sibling and
+// renamed into place at the end, so a failed or interrupted run leaves the previous report.
 
 #include <algorithm>
 #include <chrono>
@@ -24,6 +27,7 @@
 #include "host/design/plan_file.hpp"
 #include "host/loop/campaign_runs.hpp"
 #include "host/output/whole_file.hpp"
+#include "host/output/whole_folder.hpp"
 #include "host/simulate/simulate.hpp"
 
 namespace excite::host::cli {
@@ -35,6 +39,7 @@ struct CampaignCommandOptions {
   CampaignOptions campaign;
   std::string output_dir;
   bool loop = false;
+  bool overwrite = false;
 };
 
 // DIR/models/NN-name.json, one per experiment; returns their paths relative to DIR.
@@ -90,11 +95,9 @@ void run(CampaignCommandOptions opt) {
     const std::lock_guard<std::mutex> lock(say_mutex);
     std::cerr << "[" << static_cast<int>(elapsed() * 10) / 10.0 << " s] " << line << std::endl;
   };
-  const fs::path out(opt.output_dir);
-  if (fs::exists(out) && !fs::is_directory(out)) {
-    throw std::invalid_argument("-o " + opt.output_dir + ": expected a folder (it is a file)");
-  }
-  fs::create_directories(out);
+  WholeFolder folder(opt.output_dir, opt.overwrite, is_campaign_folder,
+                     "a previous campaign's (no summary.json of one)");
+  const fs::path& out = folder.staging();
   if (opt.loop) {
     opt.campaign.measured_run = measured_runs_in_the_loop(opt.campaign.plant, out / "runs",
                                                           programs_beside_this_one(), say);
@@ -103,17 +106,18 @@ void run(CampaignCommandOptions opt) {
         (out / "runs").string());
   }
   const CampaignResult result = run_campaign(opt.campaign, say);
-  write_summary(result, opt.output_dir);
+  write_summary(result, out);
   ReportArtifacts artifacts;
   artifacts.models = write_models(result, out);
   artifacts.run_logs = write_runs(result, out, opt.loop);
   const double before_report = elapsed();
-  write_report(result, *sim::make_plant(opt.campaign.plant), opt.output_dir, artifacts,
-               opt.campaign.threads);
+  write_report(result, *sim::make_plant(opt.campaign.plant), out, artifacts, opt.campaign.threads);
   say("report and figures in " + std::to_string(elapsed() - before_report) + " s");
-  std::cout << "wrote " << (out / "index.html").string() << " (report), "
-            << (out / "summary.json").string() << ", " << (out / "models").string()
-            << "/ and run logs in " << (out / "runs").string() << "/ in " << elapsed() << " s\n";
+  folder.commit();
+  const fs::path done(opt.output_dir);
+  std::cout << "wrote " << (done / "index.html").string() << " (report), "
+            << (done / "summary.json").string() << ", " << (done / "models").string()
+            << "/ and run logs in " << (done / "runs").string() << "/ in " << elapsed() << " s\n";
 }
 
 }  // namespace
@@ -144,6 +148,8 @@ void add_campaign_command(CLI::App& app) {
   cmd->add_flag("--loop", opt->loop,
                 "stream every plan through the real excite-gateway to excite-plant (Modbus TCP "
                 "on 127.0.0.1, lock-step) instead of simulating it in this process");
+  cmd->add_flag("--overwrite", opt->overwrite,
+                "replace DIR whole even when it holds files that are not a previous campaign's");
   cmd->callback([opt] { run(*opt); });
 }
 

@@ -9,6 +9,7 @@
 
 #include "host/cli/commands.hpp"
 #include "host/cli/creation_time.hpp"
+#include "host/cli/output_target.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/design/presets.hpp"
@@ -26,6 +27,8 @@ struct DesignOptions {
 };
 
 void run(const DesignOptions& opt) {
+  refuse_output_among_inputs(opt.output, {opt.spec});
+  const HumanTextAside aside(opt.output);
   PriorKnowledge prior;
   std::string preset_name;
   Design design;

@@ -3,6 +3,7 @@
 // An identified model (excite identify -o) for other tools: the step table of a DMC-style
 // controller, a MATLAB/Octave or python-control script, a tool-neutral JSON (host/export).
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -12,6 +13,7 @@
 
 #include "host/cli/commands.hpp"
 #include "host/cli/model_file.hpp"
+#include "host/cli/output_target.hpp"
 #include "host/export/formats.hpp"
 #include "host/export/step_response.hpp"
 #include "host/output/whole_file.hpp"
@@ -28,13 +30,34 @@ struct ExportOptions {
   std::string output;
 };
 
+constexpr int kMaxHorizon = 1 << 20;  // the --horizon range's top
+
+// step-csv without --horizon: until the slowest element has settled, within the --horizon
+// range; beyond it the element is named (a Tp of 1e9 min once wrapped to a one-row table).
+int default_horizon(const NamedModel& m, const std::string& path) {
+  const Settling s = slowest_settling(m.model);
+  if (s.samples <= kMaxHorizon) return static_cast<int>(s.samples);
+  const ElementEstimate& e = m.model.element(s.output, s.input);
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "Td + 7 (Tp1 + Tp2) = %.6g min = %.6g samples of %g min, expected at most %d "
+                "samples (the --horizon range; give --horizon N)",
+                e.value.delay_min + 7.0 * (e.value.tau1_min + e.value.tau2_min), s.samples,
+                m.model.sample_time_min, kMaxHorizon);
+  throw std::invalid_argument(path + ": element " +
+                              m.outputs.at(static_cast<std::size_t>(s.output)) + " <- " +
+                              m.inputs.at(static_cast<std::size_t>(s.input)) + ": " + text);
+}
+
 void run(const ExportOptions& opt) {
+  refuse_output_among_inputs(opt.output, {opt.model});
+  const HumanTextAside aside(opt.output);
   const NamedModel m = read_named_model_file(opt.model);
   std::string text;
   std::string what;
   switch (opt.format) {
     case ExportFormat::step_csv: {
-      const int horizon = opt.horizon > 0 ? opt.horizon : settling_samples(m.model);
+      const int horizon = opt.horizon > 0 ? opt.horizon : default_horizon(m, opt.model);
       text = step_csv(m, horizon);
       std::ostringstream text_of;
       text_of << "step coefficients, " << horizon << " samples of " << m.model.sample_time_min
@@ -81,7 +104,7 @@ void add_export_command(CLI::App& app) {
   cmd->add_option("--horizon", opt->horizon,
                   "step-csv: coefficients (samples; default: until every element has settled "
                   "to 0.1 %)")
-      ->check(CLI::Range(1, 1 << 20));
+      ->check(CLI::Range(1, kMaxHorizon));
   cmd->add_option("-o,--output", opt->output, "file to write")->required();
   cmd->callback([opt] { run(*opt); });
 }

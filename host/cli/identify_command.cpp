@@ -17,6 +17,8 @@
 #include "host/cli/commands.hpp"
 #include "host/cli/model_file.hpp"
 #include "host/cli/number_checks.hpp"
+#include "host/cli/output_target.hpp"
+#include "host/cli/pooled_runs.hpp"
 #include "host/cli/run_input.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/cli/time_constant_bound.hpp"
@@ -36,6 +38,7 @@ struct IdentifyCommandOptions {
   double warm_up_min = -1.0;  // < 0: the delay bound
   std::string trend = "none";
   std::string initial_state = "auto";
+  bool allow_mixed = false;  // pool runs of other plants or units (issue 19)
 };
 
 /// One line: what the flags rule did. Empty when every row was scored in one segment per run.
@@ -171,8 +174,12 @@ void print(const IdentificationResult& r, const runlog::RunLog& log) {
 }
 
 void run(const IdentifyCommandOptions& opt) {
+  check_identify_output(opt.model_path, opt.run_paths, opt.json);
+  const HumanTextAside aside(opt.model_path);
+  check_pooled_rows(opt.run_paths);
   std::vector<runlog::RunLog> runs;
   for (const auto& path : opt.run_paths) runs.push_back(read_log(path));
+  check_pooled_headers(runs, opt.run_paths, opt.allow_mixed);
   std::vector<const runlog::RunLog*> logs;
   for (const auto& r : runs) logs.push_back(&r);
   FlagRule rule = opt.rule;
@@ -257,6 +264,8 @@ void add_identify_command(CLI::App& app) {
                   "rest)")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "estimate", "zero"}));
+  cmd->add_flag("--allow-mixed", opt->allow_mixed,
+                "identify runs together even when their plant or units differ");
   cmd->callback([opt] { run(*opt); });
 }
 

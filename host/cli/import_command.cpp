@@ -12,9 +12,11 @@
 
 #include "firmware/runlog/format.hpp"
 #include "host/cli/commands.hpp"
+#include "host/cli/input_path.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/run_input.hpp"
 #include "host/import/csv_text.hpp"
+#include "host/cli/output_target.hpp"
 #include "host/import/historian_csv.hpp"
 #include "host/import/import_run.hpp"
 #include "host/import/tag_map.hpp"
@@ -88,6 +90,9 @@ void parse_baseline(const std::string& text, historian::ImportOptions& o) {
 }
 
 void run(ImportCommandOptions opt) {
+  refuse_directory(opt.historian_path, "a historian export (CSV)");
+  refuse_output_among_inputs(opt.output_path, {opt.historian_path, opt.map_path});
+  const HumanTextAside aside(opt.output_path);
   historian::ImportOptions& o = opt.import;
   if (o.time_scales.tau_high_min > 0.0 && o.time_scales.beta == 0.0) o.time_scales.beta = 3.0;
   if (!opt.map_path.empty()) {

@@ -9,6 +9,7 @@
 #include "firmware/runlog/format.hpp"
 
 #include "host/cli/commands.hpp"
+#include "host/cli/short_numbers.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"excite: input design and identification for ill-conditioned multivariable plants"};
@@ -26,6 +27,9 @@ int main(int argc, char** argv) {
   excite::host::cli::add_campaign_command(app);
   excite::host::cli::add_loop_config_command(app);
   excite::host::cli::add_export_command(app);
+  app.failure_message([](const CLI::App* a, const CLI::Error& e) {
+    return excite::host::cli::short_numbers(CLI::FailureMessage::simple(a, e));
+  });
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -35,7 +39,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;  // --version: 0
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "excite: error: %s\n", e.what());
+    std::fprintf(stderr, "excite: error: %s\n", excite::host::cli::short_numbers(e.what()).c_str());
     return 1;
   }
   return 0;

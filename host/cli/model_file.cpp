@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "host/cli/input_path.hpp"
+#include "host/cli/json_file.hpp"
 #include "host/cli/json_util.hpp"
 
 namespace excite::host::cli {
@@ -23,14 +24,34 @@ nlohmann::json parameters(const TwoPoleDelay& p) {
           {"Td", to_json(p.delay_min)}};
 }
 
+// A value in short form for a message: at most 40 characters of its JSON text.
+std::string shown(const nlohmann::json& v) {
+  const std::string text = v.dump();
+  return text.size() > 40 ? text.substr(0, 40) + "…" : text;
+}
+
+// `where` is "FILE: outputs[0].elements[1]" (or "FILE:" at the top): the field's name.
+std::string field(const std::string& where, const char* key) {
+  return where.back() == ':' ? where + " " + key : where + "." + key;
+}
+
 double number(const nlohmann::json& j, const char* key, const std::string& where) {
-  if (!j.contains(key))
-    throw std::invalid_argument(where + "." + key + ": missing, expected a number");
+  if (!j.is_object() || !j.contains(key))
+    throw std::invalid_argument(field(where, key) + " = (missing), expected a number");
   const nlohmann::json& v = j.at(key);
   if (v.is_null()) return std::numeric_limits<double>::quiet_NaN();
   if (!v.is_number())
-    throw std::invalid_argument(where + "." + key + ": " + v.dump() + ", expected a number");
+    throw std::invalid_argument(field(where, key) + " = " + shown(v) + ", expected a number");
   return v.get<double>();
+}
+
+// An optional string field ("" when absent or null).
+std::string text(const nlohmann::json& j, const char* key, const std::string& where) {
+  if (!j.is_object() || !j.contains(key) || j.at(key).is_null()) return "";
+  const nlohmann::json& v = j.at(key);
+  if (!v.is_string())
+    throw std::invalid_argument(field(where, key) + " = " + shown(v) + ", expected a string");
+  return v.get<std::string>();
 }
 
 }  // namespace
@@ -115,27 +136,29 @@ IdentifiedModel read_model_file(const std::filesystem::path& path, ModelChannels
 NamedModel read_named_model_file(const std::filesystem::path& path) {
   const std::string where = path.string();
   refuse_directory(path, "a model file (excite identify -o)");
-  std::ifstream in(path);
-  if (!in) throw std::invalid_argument(where + ": cannot be read");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw std::invalid_argument(where + ": not JSON (" + e.what() + ")");
-  }
-  if (!j.is_object() || j.value("format", "") != kFormat) {
+  const nlohmann::json j = read_json_file(where, "a model file from excite identify -o");
+  if (!j.is_object() || !j.contains("format") || j["format"] != kFormat) {
     throw std::invalid_argument(where + ": format: expected \"" + kFormat +
                                 "\" (a file from excite identify -o)");
   }
   NamedModel named;
   named.source = where;
   IdentifiedModel& m = named.model;
-  m.sample_time_min = number(j, "sample_time_min", where);
+  m.sample_time_min = number(j, "sample_time_min", where + ":");
   if (!(m.sample_time_min > 0.0))
     throw std::invalid_argument(where + ": sample_time_min: expected > 0");
-  if (!j.contains("inputs") || !j["inputs"].is_array() || !j.contains("outputs") ||
-      !j["outputs"].is_array()) {
-    throw std::invalid_argument(where + ": inputs, outputs: expected arrays");
+  for (const char* key : {"inputs", "outputs"}) {
+    if (!j.contains(key) || !j[key].is_array()) {
+      throw std::invalid_argument(where + ": " + key + " = " +
+                                  (j.contains(key) ? shown(j[key]) : "(missing)") +
+                                  ", expected an array");
+    }
+    // Sizes before any allocation: a 256 KB file once asked for 36 M elements (8.8 GB).
+    if (j[key].empty() || j[key].size() > kMaxModelChannels) {
+      throw std::invalid_argument(where + ": " + key + " = " + std::to_string(j[key].size()) +
+                                  " channels, expected 1 to " + std::to_string(kMaxModelChannels) +
+                                  " (host/README.md, Limits)");
+    }
   }
   for (const auto& [key, names] :
        {std::pair{"inputs", &named.inputs}, std::pair{"outputs", &named.outputs}}) {
@@ -174,8 +197,10 @@ NamedModel read_named_model_file(const std::filesystem::path& path) {
         throw std::invalid_argument(el + ": Td, Tp1, Tp2: expected >= 0");
       }
       est.status = finite ? ElementStatus::identified : ElementStatus::input_not_moved;
-      if (finite && e.value("status", "") == "weak_gain") est.status = ElementStatus::weak_gain;
-      if (!finite) est.reason = e.value("reason", "not estimated");
+      const std::string status = text(e, "status", el);
+      const std::string reason = text(e, "reason", el);
+      if (finite && status == "weak_gain") est.status = ElementStatus::weak_gain;
+      if (!finite) est.reason = reason.empty() ? "not estimated" : reason;
     }
   }
   return named;

@@ -21,6 +21,10 @@ nlohmann::json model_json(const IdentificationResult& result,
                           const std::vector<std::string>& input_names,
                           const std::vector<std::string>& output_names);
 
+/// At most this many inputs and this many outputs in a model file, checked before anything
+/// is allocated for them (the identified elements are inputs × outputs).
+inline constexpr std::size_t kMaxModelChannels = 64;
+
 /// A model's channel names, in its order.
 struct ModelChannels {
   std::vector<std::string> inputs, outputs;

@@ -26,10 +26,10 @@ struct Run {
 };
 
 /// Data rows of a run log (lines neither blank nor `#` comments, less the column header),
-/// counted in fixed memory; throws once more than kMaxRunRows are seen.
-inline void check_run_rows(const std::string& path) {
+/// counted in fixed memory; returns as soon as more than `limit` are seen (then limit + 1).
+inline std::size_t count_run_rows(const std::string& path, std::size_t limit) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return;  // the reader names the error
+  if (!in) return 0;  // the reader names the error
   char buffer[1 << 16];
   std::size_t lines = 0;
   bool at_line_start = true;
@@ -38,12 +38,18 @@ inline void check_run_rows(const std::string& path) {
       const char c = buffer[i];
       if (at_line_start && c != '#' && c != '\n' && c != '\r') ++lines;
       at_line_start = c == '\n';
-      if (lines > kMaxRunRows + 1) {  // + 1: the column header row
-        throw std::invalid_argument(path + ": more than " + std::to_string(kMaxRunRows) +
-                                    " data rows, expected at most " + std::to_string(kMaxRunRows) +
-                                    " (host/README.md, Limits)");
-      }
+      if (lines > limit + 1) return limit + 1;  // + 1: the column header row
     }
+  }
+  return lines == 0 ? 0 : lines - 1;
+}
+
+/// Throws once more than kMaxRunRows data rows are seen in the run log.
+inline void check_run_rows(const std::string& path) {
+  if (count_run_rows(path, kMaxRunRows) > kMaxRunRows) {
+    throw std::invalid_argument(path + ": more than " + std::to_string(kMaxRunRows) +
+                                " data rows, expected at most " + std::to_string(kMaxRunRows) +
+                                " (host/README.md, Limits)");
   }
 }
 

@@ -4,6 +4,7 @@
 // --plant MODEL.json: an identified model (excite identify -o) stands in for the plant.
 
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <stdexcept>
 
@@ -11,6 +12,8 @@
 #include "host/cli/commands.hpp"
 #include "host/cli/model_file.hpp"
 #include "host/cli/number_checks.hpp"
+#include "host/cli/output_target.hpp"
+#include "host/cli/run_input.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/export/model_plant.hpp"
@@ -51,6 +54,8 @@ std::unique_ptr<sim::Plant> plant_named(const std::string& name) {
 }
 
 void run(const SimulateOptions& opt) {
+  refuse_output_among_inputs(opt.output, {opt.plan_path, opt.plant});
+  const HumanTextAside aside(opt.output);
   const auto plant = plant_named(opt.plant);
   SimulatedRun result;
   if (!opt.step.empty()) {
@@ -71,6 +76,12 @@ void run(const SimulateOptions& opt) {
     if (used == 0 || eq + 1 + used != opt.step.size() || !std::isfinite(amplitude)) {
       throw std::invalid_argument("--step \"" + opt.step +
                                   "\": the amplitude is not a finite number");
+    }
+    if (std::fabs(amplitude) > kMaxRunValue) {  // the run log's value limit (run_input.hpp)
+      char text[160];
+      std::snprintf(text, sizeof text, "--step: amplitude = %g, expected |amplitude| <= %g",
+                    amplitude, kMaxRunValue);
+      throw std::invalid_argument(std::string(text) + " (a run's value limit, host/README.md)");
     }
     result = simulate_step(*plant, opt.step.substr(0, eq), amplitude, opt.samples,
                            opt.sample_time_min, opt.sim);

@@ -57,13 +57,25 @@ double step_response(const TwoPoleDelay& p, double t_min) {
   return p.gain * (1.0 - (a * std::exp(-tau / a) - b * std::exp(-tau / b)) / (a - b));
 }
 
-int settling_samples(const IdentifiedModel& model) {
-  double longest = 0.0;
-  for (const ElementEstimate& e : model.elements) {
-    if (!e.estimated()) continue;
-    longest = std::max(longest, e.value.delay_min + 7.0 * (e.value.tau1_min + e.value.tau2_min));
+Settling slowest_settling(const IdentifiedModel& model) {
+  Settling s;
+  for (int o = 0; o < model.outputs; ++o) {
+    for (int i = 0; i < model.inputs; ++i) {
+      const ElementEstimate& e = model.element(o, i);
+      if (!e.estimated()) continue;
+      const double samples =
+          std::ceil((e.value.delay_min + 7.0 * (e.value.tau1_min + e.value.tau2_min)) /
+                    model.sample_time_min);
+      if (s.output < 0 || samples > s.samples) s = {std::max(1.0, samples), o, i};
+    }
   }
-  return std::max(1, static_cast<int>(std::ceil(longest / model.sample_time_min)));
+  return s;
+}
+
+int settling_samples(const IdentifiedModel& model) {
+  const double samples = slowest_settling(model).samples;
+  return std::isfinite(samples) && samples < kMaxSettlingSamples ? static_cast<int>(samples)
+                                                                 : kMaxSettlingSamples;
 }
 
 StepBand step_band(const ElementEstimate& estimate, const std::vector<double>& times_min) {

@@ -19,8 +19,18 @@ namespace excite::host {
 double step_response(const TwoPoleDelay& p, double t_min);
 
 /// Samples after which every estimated element of the model has settled to within 0.1 % of
-/// its gain: max over elements of ⌈(T_d + 7 (T_p1 + T_p2)) / T⌉, at least 1.
+/// its gain: max over elements of ⌈(T_d + 7 (T_p1 + T_p2)) / T⌉, at least 1, at most
+/// kMaxSettlingSamples (never a wrapped int).
 int settling_samples(const IdentifiedModel& model);
+inline constexpr int kMaxSettlingSamples = 1 << 30;
+
+/// The element that settles last and its settling time in samples (unbounded, as a double);
+/// output and input are -1 when no element is estimated.
+struct Settling {
+  double samples = 1.0;
+  int output = -1, input = -1;
+};
+Settling slowest_settling(const IdentifiedModel& model);
 
 /// The step response of an estimate at `times_min` with its 1σ band by linearised
 /// propagation: σ_s(t)² = g(t)ᵀ C g(t), C the element's parameter covariance

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <stdexcept>
 
 namespace excite::host::historian {
@@ -81,13 +82,34 @@ std::vector<std::string> split(std::string_view line, char delimiter) {
 }
 
 std::string short_text(std::string_view cell) {
+  // Invisible characters made visible (a byte-order mark, a no-break or zero-width space as
+  // <U+XXXX>, a control byte as \xNN), so "Time" and "<U+FEFF>Time" do not look alike.
   constexpr std::size_t kShown = 40;
   std::string out;
-  for (std::size_t i = 0; i < cell.size() && i < kShown; ++i) {
-    const auto c = static_cast<unsigned char>(cell[i]);
-    out += c < 0x20 || c == 0x7F ? '?' : static_cast<char>(c);
+  std::size_t i = 0;
+  for (; i < cell.size() && i < kShown; ++i) {
+    const auto byte = static_cast<unsigned char>(cell[i]);
+    const auto next = [&](std::size_t k) {
+      return i + k < cell.size() ? static_cast<unsigned char>(cell[i + k]) : 0;
+    };
+    if (byte == 0xEF && next(1) == 0xBB && next(2) == 0xBF) {
+      out += "<U+FEFF>";
+      i += 2;
+    } else if (byte == 0xE2 && next(1) == 0x80 && next(2) == 0x8B) {
+      out += "<U+200B>";
+      i += 2;
+    } else if (byte == 0xC2 && next(1) == 0xA0) {
+      out += "<U+00A0>";
+      i += 1;
+    } else if (byte < 0x20 || byte == 0x7F) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", byte);
+      out += hex;
+    } else {
+      out += static_cast<char>(byte);
+    }
   }
-  if (cell.size() > kShown) out += "…";
+  if (i < cell.size()) out += "…";
   return out;
 }
 

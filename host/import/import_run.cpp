@@ -267,8 +267,18 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
                                 number(o.baseline_to_min) +
                                 "; expected 0 ≤ FROM ≤ TO minutes from the data's start");
   }
+  // The window inside the data before any minutes become sample indices (1e300 once went
+  // through an out-of-range double → size_t conversion).
+  const double span_min = static_cast<double>(grid.size() - 1) * T_min;
+  if (!(o.baseline_from_min <= span_min)) {
+    throw std::invalid_argument(
+        "--baseline " + number(o.baseline_from_min) + ":" + number(o.baseline_to_min) +
+        "; FROM = " + number(o.baseline_from_min) + " min, expected at most " + number(span_min) +
+        " min (the data's span)");
+  }
+  const double to_min = std::min(o.baseline_to_min, span_min);
   auto b_from = static_cast<std::size_t>(std::ceil(o.baseline_from_min / T_min - 1e-9));
-  auto b_to = static_cast<std::size_t>(std::floor(o.baseline_to_min / T_min + 1e-9));
+  auto b_to = static_cast<std::size_t>(std::floor(to_min / T_min + 1e-9));
 
   ImportedRun run;
   run.time_scales = o.time_scales;

@@ -3,21 +3,78 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <sstream>
 #include <stdexcept>
 
+#include "firmware/app/gateway_config.hpp"
 #include "host/design/case_studies.hpp"
 #include "sim/plants/plant.hpp"
 #include "sim/server/can_map.hpp"
 #include "sim/server/config_writer.hpp"
 #include "sim/server/default_map.hpp"
+#include "sim/server/server_config.hpp"
 
 namespace excite::host {
 namespace {
 
 using sim::server::toml_number;
-using sim::server::toml_string;
+
+// A TOML basic string: quotes, backslashes and every control character escaped (a host
+// with a quote or a newline once made gateway.toml invalid TOML).
+std::string toml_string(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    switch (c) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      default:
+        if (byte < 0x20 || byte == 0x7f) {
+          char code[8];
+          std::snprintf(code, sizeof code, "\\u%04X", byte);
+          out += code;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+// Both files read back by the partners' own readers (excite-gateway's configuration with
+// hal/modbus's device checks, excite-plant's server configuration): what either refuses,
+// loop-config refuses before writing, naming the option that gave the value.
+void check_with_partners(const LoopConfigPair& pair) {
+  const app::ConfigResult gateway = app::parse_gateway_config(pair.gateway_toml, "gateway.toml");
+  if (!gateway.config) {
+    const std::string& e = gateway.error;
+    const char* option = e.find("device.host") != std::string::npos        ? "--host"
+                         : e.find("device.port") != std::string::npos      ? "--port"
+                         : e.find("gateway.period_s") != std::string::npos ? "--period-s"
+                                                                           : "options";
+    throw std::invalid_argument(std::string(option) + ": excite-gateway would refuse " + e);
+  }
+  try {
+    (void)sim::server::parse_server_config(pair.plant_toml, "plant.toml");
+  } catch (const std::exception& e) {
+    throw std::invalid_argument(std::string("excite-plant would refuse ") + e.what());
+  }
+}
 
 [[noreturn]] void bad(const std::string& field, double value, const std::string& expected) {
   std::ostringstream os;
@@ -233,6 +290,7 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
                   "`; its gateway side: gateway.toml");
   pair.gateway_toml = opt.transport == "can" ? gateway_can_toml(opt, *plant, range, u0v, y0v)
                                              : gateway_toml(opt, *plant, server, range, u0v, y0v);
+  check_with_partners(pair);
   return pair;
 }
 

@@ -7,8 +7,8 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "host/loop/child_process.hpp"
 #include "host/output/whole_file.hpp"
+#include "host/process/child_process.hpp"
 
 namespace excite::host {
 namespace {

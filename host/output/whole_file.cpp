@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <csignal>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -37,7 +38,51 @@ fs::path follow_links(const fs::path& path) {
                            ": cannot be written (too many levels of symbolic links)");
 }
 
+// The descriptor N when `p` names one of this process's own descriptors: /dev/stdin,
+// /dev/stdout, /dev/stderr, /dev/fd/N, /proc/self/fd/N, /proc/thread-self/fd/N or
+// /proc/PID/fd/N with this process's PID.
+std::optional<int> own_descriptor_name(const fs::path& p) {
+  const std::string s = p.lexically_normal().string();
+  if (s == "/dev/stdin") return 0;
+  if (s == "/dev/stdout") return 1;
+  if (s == "/dev/stderr") return 2;
+  const std::string self_pid = "/proc/" + std::to_string(::getpid()) + "/fd/";
+  for (const std::string& prefix : {std::string("/dev/fd/"), std::string("/proc/self/fd/"),
+                                    std::string("/proc/thread-self/fd/"), self_pid}) {
+    if (s.rfind(prefix, 0) != 0 || s.size() == prefix.size() || s.size() > prefix.size() + 9)
+      continue;
+    const std::string digits = s.substr(prefix.size());
+    if (digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    return std::stoi(digits);
+  }
+  return std::nullopt;
+}
+
+// The descriptor the name reaches through a chain of symbolic links, if one of the links
+// (or the name itself) is one of the names above.
+std::optional<int> own_descriptor(const fs::path& path) {
+  fs::path p = fs::absolute(path);
+  for (int hops = 0; hops < 40; ++hops) {
+    if (const auto fd = own_descriptor_name(p)) return fd;
+    std::error_code ec;
+    if (!fs::is_symlink(fs::symlink_status(p, ec))) return std::nullopt;
+    const fs::path link = fs::read_symlink(p, ec);
+    if (ec) return std::nullopt;
+    p = link.is_absolute() ? link : p.parent_path() / link;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
+
+bool writes_to_stdout(const fs::path& path) {
+  if (path == "-") return true;
+  if (own_descriptor(path) == 1) return true;
+  struct stat out {
+  }, named{};
+  return ::fstat(STDOUT_FILENO, &out) == 0 && ::stat(path.c_str(), &named) == 0 &&
+         out.st_dev == named.st_dev && out.st_ino == named.st_ino;
+}
 
 WholeFile::WholeFile(const fs::path& path) : path_(path) {
   std::signal(SIGXFSZ, SIG_IGN);
@@ -46,15 +91,29 @@ WholeFile::WholeFile(const fs::path& path) : path_(path) {
     stream_ = stdout;
     return;
   }
-  target_ = follow_links(path_);
+  // One of our own descriptors (/dev/stdout, /dev/fd/N, …): written through a copy of the
+  // descriptor, so `>> journal.log` appends, and a pipe or socket works.
+  if (const auto fd = own_descriptor(path_)) {
+    const int copy = ::fcntl(*fd, F_DUPFD_CLOEXEC, 3);
+    if (copy < 0) fail(std::strerror(errno));
+    stream_ = ::fdopen(copy, "w");
+    if (stream_ == nullptr) {
+      const int error = errno;
+      ::close(copy);
+      fail(std::strerror(error));
+    }
+    return;
+  }
+  // What the name is decides, as stat() sees it through any links.
   struct stat st {};
-  const bool exists = ::stat(target_.c_str(), &st) == 0;
+  const bool exists = ::stat(path_.c_str(), &st) == 0;
   if (exists && S_ISDIR(st.st_mode)) fail("it is a directory");
   if (exists && !S_ISREG(st.st_mode)) {  // device, FIFO, socket: write through, never replace
-    stream_ = std::fopen(target_.c_str(), "w");
+    stream_ = std::fopen(path_.c_str(), "w");
     if (stream_ == nullptr) fail(std::strerror(errno));
     return;
   }
+  target_ = follow_links(path_);
   const fs::path folder = target_.has_parent_path() ? target_.parent_path() : fs::path(".");
   const std::string pattern = (folder / ("." + target_.filename().string() + ".XXXXXX")).string();
   std::vector<char> name(pattern.begin(), pattern.end());

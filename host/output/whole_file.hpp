@@ -3,10 +3,14 @@
 // Every output file of `excite` goes through here, so each is written whole or not at all
 // and nothing the user did not name is replaced (host/README.md, "Output files"):
 //   - "-": standard output, written through;
-//   - an existing character or block device, FIFO or socket: written through, never
-//     replaced (/dev/null, /dev/stdout, a pipe); a write error is an error;
-//   - a symbolic link: followed (up to 40 links); its final target gets these rules, the link
-//     itself stays;
+//   - a name of one of this process's descriptors, or a link to one (/dev/stdout,
+//     /dev/stderr, /dev/fd/N, /proc/self/fd/N): written through that descriptor, as the
+//     shell opened it (`>> journal.log` appends, a pipe or a socket works);
+//   - what stat() of the name as given says (through any links) is an existing character
+//     or block device, FIFO or socket: written through, never replaced (/dev/null, a FIFO);
+//     a write error is an error;
+//   - a symbolic link to a regular file or to nothing: followed (up to 40 links); its final
+//     target gets the rules below, the link itself stays;
 //   - a directory: refused;
 //   - a regular file, or a name that does not exist yet: written to a temporary file
 //     `.NAME.XXXXXX` in the same folder, flushed and fsync'ed, then renamed over the name.
@@ -55,6 +59,11 @@ class WholeFile {
   std::FILE* stream_ = nullptr;
   bool is_stdout_ = false;
 };
+
+/// Whether writing `path` writes this process's standard output ("-", /dev/stdout, or the
+/// very file standard output is: same device and inode). Commands then print their human
+/// text on stderr.
+bool writes_to_stdout(const std::filesystem::path& path);
 
 /// Writes `bytes` to `path` whole or not at all (the rules above).
 void write_whole_file(const std::filesystem::path& path, std::string_view bytes);

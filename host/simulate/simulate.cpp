@@ -81,7 +81,9 @@ SimulatedRun simulate_step(sim::Plant& plant, const std::string& input, double a
                                 std::to_string(kMaxSimulatedRows));
   }
   SimulatedRun run = describe(plant, sample_time_min);
-  run.plan = "step " + input + "=" + std::to_string(amplitude);
+  char amplitude_text[32];
+  std::snprintf(amplitude_text, sizeof amplitude_text, "%g", amplitude);
+  run.plan = "step " + input + "=" + amplitude_text;
   run.du = Eigen::MatrixXd::Zero(samples, plant.inputs());
   run.du.col(at - names.begin()).setConstant(amplitude);
   respond(plant, run, options);

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
@@ -49,9 +50,12 @@ inline Result excite(const std::string& args) {
 class ExciteCli : public ::testing::Test {
  protected:
   void SetUp() override {
+    // The process id too: the same test run from another build tree at the same time must
+    // not remove this one's folder.
     dir_ = std::filesystem::temp_directory_path() /
            ("excite_cli_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+            std::to_string(::getpid()));
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_);
   }

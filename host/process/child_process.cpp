@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "host/loop/child_process.hpp"
+#include "host/process/child_process.hpp"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -21,7 +21,8 @@ namespace excite::host {
 
 ChildProcess::ChildProcess(const std::filesystem::path& program,
                            const std::vector<std::string>& args,
-                           const std::filesystem::path& stderr_file)
+                           const std::filesystem::path& stderr_file,
+                           const std::filesystem::path& working_dir)
     : name_(program.filename().string()), stderr_file_(stderr_file) {
   int out[2];
   if (pipe2(out, O_CLOEXEC) != 0) {
@@ -30,16 +31,31 @@ ChildProcess::ChildProcess(const std::filesystem::path& program,
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderr_file.c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (stderr_file.empty()) {
+    posix_spawn_file_actions_adddup2(&actions, out[1], STDERR_FILENO);
+  } else {
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderr_file.c_str(),
+                                     O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  }
   posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  if (!working_dir.empty()) {  // after the opens: a relative stderr_file is ours, not its
+    posix_spawn_file_actions_addchdir_np(&actions, working_dir.c_str());
+  }
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  sigset_t to_default;
+  sigemptyset(&to_default);
+  sigaddset(&to_default, SIGXFSZ);
+  posix_spawnattr_setsigdefault(&attributes, &to_default);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGDEF);
   std::vector<std::string> copies;
   copies.push_back(program.string());
   copies.insert(copies.end(), args.begin(), args.end());
   std::vector<char*> argv;
   for (std::string& a : copies) argv.push_back(a.data());
   argv.push_back(nullptr);
-  const int rc = posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), environ);
+  const int rc = posix_spawnp(&pid_, argv[0], &actions, &attributes, argv.data(), environ);
+  posix_spawnattr_destroy(&attributes);
   posix_spawn_file_actions_destroy(&actions);
   close(out[1]);
   if (rc != 0) {
@@ -75,6 +91,24 @@ std::optional<std::string> ChildProcess::read_line(std::chrono::milliseconds tim
     if (n <= 0) return std::nullopt;  // closed: the child exited or shut stdout
     pending_.append(buffer, static_cast<std::size_t>(n));
   }
+}
+
+std::string ChildProcess::read_all(std::chrono::milliseconds timeout) {
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  while (true) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        end - std::chrono::steady_clock::now());
+    if (left.count() <= 0) break;
+    pollfd fd{stdout_fd_, POLLIN, 0};
+    if (poll(&fd, 1, static_cast<int>(left.count())) <= 0) continue;
+    char buffer[512];
+    const ssize_t n = read(stdout_fd_, buffer, sizeof buffer);
+    if (n <= 0) break;
+    pending_.append(buffer, static_cast<std::size_t>(n));
+  }
+  std::string all;
+  all.swap(pending_);
+  return all;
 }
 
 std::optional<int> ChildProcess::wait(std::chrono::milliseconds timeout) {
