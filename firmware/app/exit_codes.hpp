@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // excite-gateway's exit codes (README.md, "Exit codes": one table). When several apply,
-// the field's state comes first: hard_stop, then unconfirmed, then fault, then the log's
-// codes (7, 8), then aborted, then ok.
+// the field's state comes first: hard_stop, then unconfirmed, then fault, then log_fault,
+// then the log's other codes (7, 8), then aborted, then ok.
 
 namespace excite::app {
 
@@ -28,6 +28,9 @@ enum class ExitCode : int {
   distorted = 12,      // refused (dry run or arm, before any excitation): the plan would be
                        // clamped or rate-limited on more than gateway.max_distortion of a
                        // channel's rows (--allow-distortion overrides)
+  log_fault = 13,      // a run-log write failed mid-run (disk full, file-size limit, I/O
+                       // error): the excitation stopped, ramped out, and the baseline was
+                       // confirmed; the log is whole up to its last full row
 };
 
 }  // namespace excite::app

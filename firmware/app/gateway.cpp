@@ -97,9 +97,9 @@ StageResult Gateway::start_log(std::FILE* file, std::string producer) {
   drain_->set_row_delay(row_delay_);
   if (!drain_->write_header()) {
     drain_->stop();  // done with the FILE: the caller closes it
-    return StageError{ExitCode::log_error, "cannot write the run log's header: " +
-                                               std::string(runlog::describe(drain_->last_error()))};
+    return StageError{ExitCode::log_error, drain_->failure()};
   }
+  runner_->watch_log(&drain_->failed());
   drain_->start();
   return std::nullopt;
 }
@@ -119,6 +119,10 @@ runlog::WriteStatus Gateway::finish_log() {
 
 std::uint64_t Gateway::rows_logged() const noexcept {
   return drain_ ? drain_->rows_written() : 0;
+}
+
+std::string Gateway::log_failure() const {
+  return drain_ ? drain_->failure() : std::string();
 }
 
 namespace {

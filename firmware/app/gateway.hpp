@@ -84,7 +84,7 @@ class Gateway {
   RunStats run(CommandMailbox& commands, const std::atomic<bool>* stop = nullptr,
                std::uint64_t max_ticks = 0) noexcept;
 
-  /// 7. Drains what is left, flushes, joins the log thread; the first write error, if any.
+  /// 7. Drains what is left, joins the log thread; the first write error, if any.
   runlog::WriteStatus finish_log();
 
   // ---- what start-up produced (valid after load_plan) ----
@@ -98,6 +98,9 @@ class Gateway {
   [[nodiscard]] hal::Nanoseconds period() const noexcept { return period_; }
   [[nodiscard]] const engine::Engine& engine() const noexcept { return *engine_; }
   [[nodiscard]] std::uint64_t rows_logged() const noexcept;
+  /// Why the run log could not be written (LogDrain::failure(), after finish_log()); "" if
+  /// every write succeeded. A failure mid-run stopped the excitation (Outcome::log_fault).
+  [[nodiscard]] std::string log_failure() const;
   /// The log ring (valid after arm), for a caller that drains it on its own thread instead
   /// of start_log() (the no-allocation proof, the benches).
   [[nodiscard]] engine::LogRingBase& log_ring() noexcept { return *ring_; }

@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "firmware/app/timing_range.hpp"
 #include "firmware/engine/config.hpp"
 #include "hal/can/can_field_bus.hpp"
 #include "hal/modbus/modbus_field_bus.hpp"
@@ -91,12 +92,8 @@ struct ConfigResult {
 ConfigResult parse_gateway_config(std::string_view text, std::string_view source);
 ConfigResult load_gateway_config(const std::string& path);
 
-/// Accepted timing (README "Timing"): the tick period (gateway.period_s, or the plan's
-/// sample time) within [kMinPeriodS, kMaxPeriodS]; every other duration within
-/// [0, kMaxDurationS] and, converted to ticks of the period, within the engine's range.
-inline constexpr double kMinPeriodS = 1e-3;
-inline constexpr double kMaxPeriodS = 86400.0;
-inline constexpr double kMaxDurationS = 1e6;
+// Accepted timing (README "Timing"): kMinPeriodS, kMaxPeriodS, kMaxDurationS
+// (timing_range.hpp); converted to ticks of the period, within the engine's range.
 
 /// "" when every duration of `config` converts to ticks of `period` within the engine's
 /// ranges; otherwise "<source>: gateway.<key> = <value> (<n> ticks of <p> s): expected …".

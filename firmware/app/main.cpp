@@ -72,6 +72,13 @@ void install_signals() {
   for (int signo : {SIGTERM, SIGINT, SIGUSR1, SIGUSR2, SIGHUP}) sigaction(signo, &action, nullptr);
 }
 
+// A file-size limit (ulimit -f) must not kill the gateway mid-run: with SIGXFSZ ignored a
+// write beyond it fails with EFBIG, which the log thread handles as a fault (ramp out).
+// Ignored first thing, before any file is written.
+void ignore_file_size_signal() {
+  std::signal(SIGXFSZ, SIG_IGN);
+}
+
 // Operator commands typed on stdin, one per line: start, suspend, resume, abort.
 void read_stdin_commands() {
   static excite::app::SmallThread reader;
@@ -187,6 +194,7 @@ void print_dry_run(const excite::app::Gateway& gw) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ignore_file_size_signal();
   CLI::App cli{"excite-gateway: streams an excite plan to the field bus (firmware/app/README.md)"};
   std::string config_path;
   std::string plan_path;
@@ -316,6 +324,7 @@ int main(int argc, char** argv) {
   if (auto_start) g_commands.post(engine::Command::start);
   const excite::app::RunStats stats = gw.run(g_commands, &g_hard_stop);
   const excite::runlog::WriteStatus log_status = gw.finish_log();
+  const std::string log_failure = gw.log_failure();
   const bool closed = std::fclose(log) == 0;
   std::fprintf(stderr, "excite-gateway: memory after the run: %s\n",
                excite::app::memory_status().c_str());
@@ -370,6 +379,13 @@ int main(int argc, char** argv) {
     return static_cast<int>(ExitCode::unconfirmed);
   }
   if (stats.outcome == engine::Outcome::readback_fault) return static_cast<int>(ExitCode::fault);
+  if (!log_failure.empty()) {
+    return fail(ExitCode::log_fault,
+                std::string("fault: ") + log_path + ": " + log_failure +
+                    (stats.outcome == engine::Outcome::log_fault
+                         ? "; the excitation was stopped and the baseline confirmed"
+                         : "; the baseline was confirmed"));
+  }
   if (!closed || log_status != excite::runlog::WriteStatus::ok) {
     return fail(ExitCode::log_error, log_path + ": writing the run log failed: " +
                                          std::string(excite::runlog::describe(log_status)));

@@ -58,6 +58,10 @@ void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t s
     }
   }
   engine_.observe(ok, values);
+  // After observe(), so this tick's row says `aborted`: the ramp-out starts next tick.
+  if (log_failed_ != nullptr && log_failed_->load(std::memory_order_acquire)) {
+    engine_.fault(engine::Outcome::log_fault);
+  }
   if (out.write) ring_.push(engine_.record(time_ns));
   ++ticks_;
 }

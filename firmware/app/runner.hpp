@@ -75,6 +75,11 @@ class Runner {
     range_counts_ = counts;
   }
 
+  /// A flag the log thread raises when the run log cannot be written (LogDrain::failed()):
+  /// the tick that sees it stops the excitation (Engine::fault(Outcome::log_fault): aborted,
+  /// ramp out, baseline confirmed). One atomic load per tick; null: not watched.
+  void watch_log(const std::atomic<bool>* failed) noexcept { log_failed_ = failed; }
+
   /// Whether arm() writes the baseline once and reads it back (default true). Off only for
   /// a lock-step simulated peer, where that write would be a plant sample of its own.
   void set_verify_at_arm(bool on) noexcept { verify_at_arm_ = on; }
@@ -100,6 +105,7 @@ class Runner {
   engine::LogRingBase& ring_;
   hal::Nanoseconds period_;
   TickObserver* observer_ = nullptr;
+  const std::atomic<bool>* log_failed_ = nullptr;
   std::span<std::uint64_t> lateness_{};
   std::span<const RangeEnd> range_ends_{};
   std::span<std::uint64_t> range_counts_{};

@@ -139,6 +139,13 @@ void Engine::apply_command() noexcept {
   }
 }
 
+void Engine::fault(Outcome why) noexcept {
+  if (state_ == State::armed || state_ == State::running || state_ == State::suspended) {
+    state_ = State::aborted;
+    outcome_ = why;
+  }
+}
+
 void Engine::enter_suspended() noexcept {
   state_ = State::suspended;
   suspended_ticks_ = 0;

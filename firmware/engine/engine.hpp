@@ -69,6 +69,13 @@ class Engine {
   /// Safe to call from the tick's thread only; the app funnels signals through an atomic.
   void command(Command c) noexcept { pending_ = c; }
 
+  /// A fault found outside the engine (the run log cannot be written, the device refused a
+  /// write) stops the excitation at once: armed, running or suspended → aborted (ramp out,
+  /// baseline confirmed by readback as after any abort) with outcome `why`. The first fault
+  /// names the outcome; later calls and calls in other states change nothing else (a run
+  /// already returning keeps returning). Cyclic path: no allocation.
+  void fault(Outcome why) noexcept;
+
   /// Phase 1 of a tick: applies the pending command and the transitions due, advances the
   /// table row while running and returns the setpoints (clamped to [min, max], slew
   /// limited to max_move per tick) with the next heartbeat.

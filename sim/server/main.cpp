@@ -2,8 +2,10 @@
 // excite-plant: a simulated plant behind a Modbus TCP (or RTU) server, so the gateway can be tested
 // in the loop unchanged. Usage and exit codes: sim/server/README.md and --help.
 //
-// Exit codes: 0 stopped by SIGTERM/SIGINT; 1 failed while serving (cannot listen, log
-// write failed); 2 bad command line or configuration (nothing was served).
+// Exit codes: 0 stopped by SIGTERM/SIGINT; 1 failed while serving (cannot listen, cannot
+// write the log's header); 2 bad command line or configuration (nothing was served); 3
+// stopped by SIGTERM/SIGINT after its run log could not be written (disk full, file-size
+// limit: logging stopped, the log is whole up to its last full row, serving went on).
 
 #include <arpa/inet.h>
 
@@ -14,9 +16,11 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
+#include "firmware/app/timing_range.hpp"
 #include "firmware/config/error.hpp"
 #include "firmware/runlog/format.hpp"
 #include "sim/server/default_map.hpp"
@@ -31,6 +35,7 @@ namespace {
 constexpr int kExitStopped = 0;
 constexpr int kExitServeFailed = 1;
 constexpr int kExitBadInput = 2;
+constexpr int kExitLogFailed = 3;
 
 volatile std::sig_atomic_t g_stop = 0;
 
@@ -47,6 +52,7 @@ void install_handlers() {
   std::signal(SIGPIPE, SIG_IGN);  // a vanished client is an error return, not a death
 }
 
+
 [[noreturn]] void bad(const std::string& field, const std::string& value,
                       const std::string& expected) {
   throw excite::config::Error(field, value, expected);
@@ -61,6 +67,17 @@ std::string text_of(double x) {
 // A finite number above (or at, when `zero_ok`) zero, or an error naming the option.
 void check_positive(const std::string& option, double x, bool zero_ok, const std::string& what) {
   if (!std::isfinite(x) || x < 0.0 || (!zero_ok && x == 0.0)) bad(option, text_of(x), what);
+}
+
+// The wall-clock seconds per plant sample, and the sample time as seconds, within the
+// gateway's tick periods (firmware/app/timing_range.hpp: the same numbers, not a copy).
+void check_period(const std::string& option, const std::string& value, double seconds,
+                  const std::string& what) {
+  if (!(seconds >= excite::app::kMinPeriodS && seconds <= excite::app::kMaxPeriodS)) {
+    bad(option, value,
+        what + " within the gateway's tick periods, " + text_of(excite::app::kMinPeriodS) +
+            " … " + text_of(excite::app::kMaxPeriodS) + " s (got " + text_of(seconds) + " s)");
+  }
 }
 
 // "ADDR:PORT" → host and port (ADDR an IPv4 address, PORT 0..65535).
@@ -83,10 +100,14 @@ void parse_endpoint(const std::string& text, std::string& host, std::uint16_t& p
 
 int main(int argc, char** argv) {
   using namespace excite::sim::server;
+  // A file-size limit (ulimit -f) must not kill the plant: a log write beyond it fails with
+  // EFBIG instead, and logging stops (PlantServer::log_failure()).
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{
       "excite-plant: a simulated plant served over Modbus TCP or RTU for testing excite-gateway "
       "in the loop.\nExit codes: 0 stopped by SIGTERM/SIGINT, 1 failed while serving, 2 bad "
-      "command line or configuration (nothing served)."};
+      "command line or configuration (nothing served), 3 stopped after its run log could not be "
+      "written (logging stopped, serving went on)."};
   std::string config_path;
   std::string plant_name;
   std::string plant_file;
@@ -248,6 +269,10 @@ int main(int argc, char** argv) {
     if (app.count("--noise-var") > 0) config.plant.noise_variance = {noise_var};
     if (seed_opt->count() > 0) config.plant.noise_seed = seed;
     if (app.count("--sample-time-min") > 0) config.plant.sample_time_min = sample_time_min;
+    check_period(app.count("--sample-time-min") > 0 ? "--sample-time-min"
+                                                    : source + ": plant.sample_time_min",
+                 text_of(config.plant.sample_time_min), 60.0 * config.plant.sample_time_min,
+                 "minutes whose seconds lie");
     PlantProcess process(load_plant(config.plant, config.base_directory, source), config.plant);
     const excite::sim::Plant& plant = process.plant();
     if (config_path.empty()) {
@@ -283,9 +308,32 @@ int main(int argc, char** argv) {
     }
     if (speedup > 0.0) {
       options.sample_time_s = 60.0 * process.sample_time_min() / speedup;
+      check_period("--speedup", text_of(speedup), options.sample_time_s,
+                   "a factor whose wall-clock seconds per sample (60 · T / X, T = " +
+                       text_of(process.sample_time_min()) + " min) lie");
     } else {
       options.sample_time_s =
           sample_time_s > 0.0 ? sample_time_s : 60.0 * process.sample_time_min();
+      if (sample_time_s > 0.0) {
+        check_period("--sample-time-s", text_of(sample_time_s), sample_time_s, "seconds");
+      }
+    }
+    // Noise whose standard deviation exceeds what an output's register carries (float32:
+    // ±FLT_MAX; a scaled int16/uint16: its engineering range) only clips: refused.
+    for (std::size_t j = 0; j < layout.values.size(); ++j) {
+      const excite::hal::modbus::Codec& c = layout.values[j].codec;
+      const double span = c.type == excite::hal::modbus::RegisterType::float32
+                              ? 2.0 * static_cast<double>(std::numeric_limits<float>::max())
+                              : c.eng_max - c.eng_min;
+      const std::vector<double>& v = config.plant.noise_variance;
+      if (v.empty()) break;
+      const double variance = v.size() == 1 ? v.front() : v[std::min(j, v.size() - 1)];
+      if (!(std::sqrt(variance) <= span)) {
+        bad(app.count("--noise-var") > 0 ? "--noise-var" : source + ": plant.noise_variance",
+            text_of(variance),
+            "a variance whose standard deviation fits output " + plant.output_names()[j] +
+                "'s register (at most " + text_of(span) + ", the range it carries)");
+      }
     }
     options.plant_description = plant.name() + " (excite-plant)";
     options.input_names = plant.input_names();
@@ -338,6 +386,10 @@ int main(int argc, char** argv) {
                 << " samples outside its register's range [" << p.codec.eng_min << ", "
                 << p.codec.eng_max << "] (lowest " << m.lowest << ", highest " << m.highest
                 << "); the register held the range's end\n";
+    }
+    if (!server->log_failure().empty()) {
+      std::cerr << "excite-plant: " << server->log_failure() << "\n";
+      if (code == kExitStopped) code = kExitLogFailed;
     }
     return code;
   } catch (const std::exception& e) {

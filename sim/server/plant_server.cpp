@@ -107,9 +107,16 @@ void PlantServer::open_log() {
                               log_inputs_,
                               log_outputs_,
                               producer_};
-  log_writer_.emplace(log_, header, log_buffer_);
-  if (const auto s = log_writer_->write_header(); s != runlog::WriteStatus::ok) {
-    throw std::runtime_error("--log " + options_.log_path + ": " + log_writer_->detail());
+  log_header_.emplace(header);
+  log_rows_.emplace(fileno(log_));
+  const runlog::WriteResult f = runlog::format_header(*log_header_, log_buffer_);
+  if (f.status != runlog::WriteStatus::ok) {
+    throw std::runtime_error("--log " + options_.log_path + ": " + f.message);
+  }
+  if (!log_rows_->append(std::span<const char>(log_buffer_.data(), f.length))) {
+    char why[192];
+    throw std::runtime_error("--log " + options_.log_path + ": cannot write the header: " +
+                             runlog::describe_errno(log_rows_->error(), why, sizeof why));
   }
 }
 
@@ -120,7 +127,8 @@ void PlantServer::release() {
   if (ctx_ != nullptr && rtu()) modbus_close(ctx_);
   if (ctx_ != nullptr) modbus_free(ctx_);
   ctx_ = nullptr;
-  log_writer_.reset();
+  log_header_.reset();
+  log_rows_.reset();
   if (log_ != nullptr) std::fclose(log_);
   log_ = nullptr;
 }
@@ -347,14 +355,26 @@ void PlantServer::take_sample() {
   process_.sample(u_.data(), y_.data());
   image_.write_values(y_.data());
   report_misfits(k);
-  if (log_writer_) {
+  if (log_header_ && log_failure_.empty()) {
     const runlog::Row row{static_cast<double>(k) * process_.sample_time_min(), k,
                           process_.last_du(), u_, process_.last_dy(), 0,
                           // The plant cannot see the gateway's engine state.
                           runlog::RunState::unknown};
-    if (const auto s = log_writer_->write_row(row); s != runlog::WriteStatus::ok) {
+    const runlog::WriteResult f = runlog::format_row(*log_header_, row, log_buffer_);
+    if (f.status != runlog::WriteStatus::ok) {
       throw std::runtime_error("--log " + options_.log_path + ": sample " + std::to_string(k) +
-                               ": " + std::string(runlog::describe(s)));
+                               ": " + f.message);
+    }
+    // One row in write(2) calls of its own: a failed write (disk full, file-size limit) cuts
+    // the file back to its last whole row; logging stops, serving goes on (issue 19).
+    if (!log_rows_->append(std::span<const char>(log_buffer_.data(), f.length))) {
+      char why[192];
+      log_failure_ = "--log " + options_.log_path + ": cannot write sample " + std::to_string(k) +
+                     ": " + runlog::describe_errno(log_rows_->error(), why, sizeof why) +
+                     "; logging stopped, the log is whole up to its last full row (" +
+                     std::to_string(k) + " samples); serving goes on";
+      std::fprintf(stderr, "excite-plant: %s\n", log_failure_.c_str());
+      std::fflush(stderr);
     }
   }
 }
@@ -499,9 +519,6 @@ void PlantServer::run(const std::function<bool()>& stop) {
     if ((fds[0].revents & POLLIN) != 0) accept_client();
   }
   while (!clients_.empty()) close_client(clients_.size() - 1);
-  if (log_ != nullptr && std::fflush(log_) != 0) {
-    throw std::runtime_error(system_error(("--log " + options_.log_path).c_str()));
-  }
 }
 
 }  // namespace excite::sim::server

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "firmware/runlog/row_file.hpp"
 #include "firmware/runlog/writer.hpp"
 #include "sim/server/modbus_request.hpp"
 #include "sim/server/plant_process.hpp"
@@ -80,8 +81,9 @@ class PlantServer {
   std::uint16_t port() const { return port_; }
 
   /// Serves until `stop()` returns true (checked at least every 50 ms), then closes every
-  /// connection and flushes the log. Throws std::runtime_error on a failed log write or
-  /// socket error it cannot recover from.
+  /// connection. Throws std::runtime_error on a socket error it cannot recover from. A failed
+  /// log write (disk full, file-size limit) is not one: the log is cut back to its last whole
+  /// row, logging stops, log_failure() says why, serving goes on.
   void run(const std::function<bool()>& stop);
 
   std::uint64_t requests() const { return requests_; }
@@ -95,6 +97,9 @@ class PlantServer {
   std::uint64_t watchdog_trips() const { return watchdog_trips_; }
   /// Setpoint writes refused for the input limits (exception 3; control block +7).
   std::uint64_t refused_writes() const { return refused_writes_; }
+  /// Why the run log stopped ("--log plant.csv: cannot write sample 412: No space left on
+  /// device (ENOSPC); …"); "" when every sample was logged.
+  const std::string& log_failure() const { return log_failure_; }
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -172,7 +177,9 @@ class PlantServer {
   std::vector<char> log_buffer_;
   std::string log_plan_ = "none (excite-plant)";
   std::string producer_;  // the log's `# producer:` line
-  std::optional<runlog::FileWriter> log_writer_;
+  std::optional<runlog::Header> log_header_;
+  std::optional<runlog::RowFile> log_rows_;  // the log's file descriptor, whole rows only
+  std::string log_failure_;                  // why logging stopped; "" while it goes on
 };
 
 }  // namespace excite::sim::server
