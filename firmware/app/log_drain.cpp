@@ -26,8 +26,10 @@ void LogDrain::fail(int error, runlog::WriteStatus status, std::uint64_t tick) {
   error_ = status;
   failed_.store(true, std::memory_order_release);
   if (events_ != nullptr) {
-    std::fprintf(events_, "excite-gateway: fault: %s; stopping the excitation (ramp out to the "
-                 "baseline, confirmed by readback)\n", failure().c_str());
+    std::fprintf(events_,
+                 "excite-gateway: fault: %s; stopping the excitation (ramp out to the "
+                 "baseline, confirmed by readback)\n",
+                 failure().c_str());
     std::fflush(events_);
   }
 }

@@ -90,10 +90,10 @@ class LogDrain {
   std::atomic<runlog::WriteStatus> error_{runlog::WriteStatus::ok};
   std::atomic<bool> failed_{false};
   std::atomic<std::uint64_t> lost_{0};
-  int errno_ = 0;                   // of the failed write (0: a formatting refusal)
-  bool failed_header_ = false;      // the header was what failed
-  std::uint64_t failed_tick_ = 0;   // the tick whose row could not be written
-  const char* detail_ = "";         // a formatting refusal's text
+  int errno_ = 0;                  // of the failed write (0: a formatting refusal)
+  bool failed_header_ = false;     // the header was what failed
+  std::uint64_t failed_tick_ = 0;  // the tick whose row could not be written
+  const char* detail_ = "";        // a formatting refusal's text
   SmallThread thread_;
 };
 

@@ -52,7 +52,6 @@ void install_handlers() {
   std::signal(SIGPIPE, SIG_IGN);  // a vanished client is an error return, not a death
 }
 
-
 [[noreturn]] void bad(const std::string& field, const std::string& value,
                       const std::string& expected) {
   throw excite::config::Error(field, value, expected);
@@ -75,8 +74,8 @@ void check_period(const std::string& option, const std::string& value, double se
                   const std::string& what) {
   if (!(seconds >= excite::app::kMinPeriodS && seconds <= excite::app::kMaxPeriodS)) {
     bad(option, value,
-        what + " within the gateway's tick periods, " + text_of(excite::app::kMinPeriodS) +
-            " … " + text_of(excite::app::kMaxPeriodS) + " s (got " + text_of(seconds) + " s)");
+        what + " within the gateway's tick periods, " + text_of(excite::app::kMinPeriodS) + " … " +
+            text_of(excite::app::kMaxPeriodS) + " s (got " + text_of(seconds) + " s)");
   }
 }
 
