@@ -111,6 +111,13 @@ class Gateway {
   }
   /// "xD 101 readings (register 200 uint16 raw 0..65535 = 0..1)"; "" when there were none.
   [[nodiscard]] std::string range_end_report() const;
+  /// The device's refusal in words (Runner::refusal()): "device refused setpoint u1 = 0.2165
+  /// (register 100 float32 ABCD) at tick 12: exception 3, illegal data value — the device's
+  /// own limits?"; several setpoints when one request carried them; "" when there was none.
+  [[nodiscard]] std::string refusal_report() const;
+  /// Exception replies by code: "3 (illegal data value) 1, 4 (server device failure) 5";
+  /// "none".
+  [[nodiscard]] std::string exception_report(const hal::FieldBus& bus) const;
   /// The engine's readback fault in words: "setpoint u1 (register 100 float32 CDAB): wrote
   /// 0.5, read back 3.2e-41 from u1_rb at tick 12"; "" when there was none.
   [[nodiscard]] std::string readback_fault_report() const;

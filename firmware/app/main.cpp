@@ -361,6 +361,10 @@ int main(int argc, char** argv) {
                static_cast<unsigned long long>(eng.skipped_ticks()),
                static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kDiscontinuity)),
                static_cast<unsigned long long>(stats.reverified));
+  std::fprintf(stderr, "excite-gateway: exception replies by code: %s\n",
+               gw.exception_report(*made.bus).c_str());
+  const std::string refused = gw.refusal_report();
+  if (!refused.empty()) std::fprintf(stderr, "excite-gateway: fault: %s\n", refused.c_str());
   if (eng.readback_fault().valid) {
     std::fprintf(stderr, "excite-gateway: fault: verified write failed: %s\n",
                  gw.readback_fault_report().c_str());
@@ -379,6 +383,9 @@ int main(int argc, char** argv) {
     return static_cast<int>(ExitCode::unconfirmed);
   }
   if (stats.outcome == engine::Outcome::readback_fault) return static_cast<int>(ExitCode::fault);
+  if (stats.outcome == engine::Outcome::device_refused) {
+    return static_cast<int>(ExitCode::device_refused);
+  }
   if (!log_failure.empty()) {
     return fail(ExitCode::log_fault,
                 std::string("fault: ") + log_path + ": " + log_failure +

@@ -39,6 +39,7 @@ void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t s
   const std::uint32_t n = engine_.config().values;
   const std::span<double> values(values_.data(), n);
   bool ok = false;
+  bool refused = false;
   if (out.write) {
     last_status_ = hal::Status::ok;
     if (reverify_) {  // after a failure: read the peer before writing anything to it again
@@ -50,6 +51,19 @@ void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t s
     if (last_status_ == hal::Status::ok) last_status_ = bus_.read(values);
     ok = last_status_ == hal::Status::ok;
     reverify_ = !ok;
+    // Exceptions 1, 2, 3: the device refused the request itself (it will again) — not a
+    // link fault. The first one is kept and stops the excitation below; 4, 6 and the rest
+    // stay with the comm guard.
+    if (last_status_ == hal::Status::peer_error && !refusal_.valid) {
+      const hal::PeerException e = bus_.last_exception();
+      if (hal::is_refusal(e.code)) {
+        refusal_.valid = true;
+        refusal_.exception = e;
+        refusal_.tick = engine_.ticks() == 0 ? 0 : engine_.ticks() - 1;
+        refusal_.setpoint = out.setpoint;
+        refused = true;
+      }
+    }
   }
   if (ok) {
     for (std::size_t j = 0; j < range_ends_.size() && j < n; ++j) {
@@ -59,6 +73,7 @@ void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t s
   }
   engine_.observe(ok, values);
   // After observe(), so this tick's row says `aborted`: the ramp-out starts next tick.
+  if (refused) engine_.fault(engine::Outcome::device_refused);
   if (log_failed_ != nullptr && log_failed_->load(std::memory_order_acquire)) {
     engine_.fault(engine::Outcome::log_fault);
   }

@@ -40,6 +40,15 @@ struct RunStats {
   engine::Outcome outcome = engine::Outcome::none;
 };
 
+/// The first request the device refused (a Modbus exception 1, 2 or 3, hal::is_refusal):
+/// what was being written, at which tick. Found on the cyclic path (fixed storage).
+struct Refusal {
+  bool valid = false;
+  hal::PeerException exception{};
+  std::uint64_t tick = 0;                             // the engine's tick of the refused exchange
+  std::array<double, engine::kMaxInputs> setpoint{};  // the setpoints written (a write)
+};
+
 /// A value's watched range end: a good reading ≤ low or ≥ high is counted (the reading may
 /// have been clipped by the register; register_range.hpp). Not watched: never counted.
 struct RangeEnd {
@@ -97,6 +106,9 @@ class Runner {
   void tick(std::int64_t time_ns, engine::Command command, std::uint64_t skipped = 0) noexcept;
 
   [[nodiscard]] hal::Status last_status() const noexcept { return last_status_; }
+  /// The first refusal (exception 1, 2 or 3) of the run; it stopped the excitation
+  /// (Engine::fault(Outcome::device_refused)). Not valid when there was none.
+  [[nodiscard]] const Refusal& refusal() const noexcept { return refusal_; }
 
  private:
   engine::Engine& engine_;
@@ -113,6 +125,7 @@ class Runner {
   hal::Status last_status_ = hal::Status::ok;
   std::uint64_t ticks_ = 0;
   bool verify_at_arm_ = true;
+  Refusal refusal_{};
   bool reverify_ = false;  // the last exchange failed: read before writing again
   std::uint64_t reverified_ = 0;
 };
