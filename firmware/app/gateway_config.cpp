@@ -147,14 +147,22 @@ void parse_device(const toml::table& t, GatewayConfig& c) {
     if (!b) throw ConfigError(w + ".simulator", describe(*n), "true or false");
     c.simulator = *b;
   }
+  if (auto v = number(t, w, "peer_watchdog_s")) {
+    if (!(*v >= 0.0 && *v <= kMaxDurationS)) {
+      throw ConfigError(w + ".peer_watchdog_s", config::format_number(*v),
+                        "0 … " + config::format_number(kMaxDurationS) + " seconds (0: none)");
+    }
+    c.peer_watchdog_s = *v;
+  }
   if (c.transport == Transport::can) {
-    check_keys(t, w, {"transport", "simulator"});  // the CAN device is the [can] section
+    // The CAN device is the [can] section.
+    check_keys(t, w, {"transport", "simulator", "peer_watchdog_s"});
     return;
   }
   hal::modbus::ModbusDevice& d = c.modbus.device;
   check_keys(t, w,
-             {"transport", "simulator", "host", "port", "serial_port", "baud", "parity",
-              "data_bits", "stop_bits", "unit_id", "response_timeout_ms"});
+             {"transport", "simulator", "peer_watchdog_s", "host", "port", "serial_port", "baud",
+              "parity", "data_bits", "stop_bits", "unit_id", "response_timeout_ms"});
   d.transport = c.transport == Transport::modbus_tcp ? "tcp" : "rtu";
   if (auto s = text(t, w, "host")) d.host = *s;
   if (auto v = integer(t, w, "port", 0, 1 << 30)) d.port = static_cast<std::uint32_t>(*v);
@@ -567,6 +575,16 @@ std::string check_timing(const GatewayConfig& c, std::chrono::duration<double> p
     return c.source + ": " + field + " = " + config::format_number(p) + " s, expected " +
            config::format_number(kMinPeriodS) + " … " + config::format_number(kMaxPeriodS) +
            " seconds";
+  }
+  // The peer's own watchdog, when the configuration declares one, must outlast two ticks: a
+  // shorter one trips between writes and holds the inputs at the baseline while the log
+  // shows the excitation (issue 28 item 3).
+  if (c.peer_watchdog_s && *c.peer_watchdog_s > 0.0 && *c.peer_watchdog_s < 2.0 * p) {
+    return c.source + ": device.peer_watchdog_s = " + config::format_number(*c.peer_watchdog_s) +
+           " s, expected at least two tick periods (" + config::format_number(2.0 * p) +
+           " s at a period of " + config::format_number(p) +
+           " s): a shorter watchdog returns the inputs to the baseline between the gateway's "
+           "writes";
   }
   const struct {
     const char* key;

@@ -76,12 +76,15 @@ struct GatewayConfig {
                                      // may clamp or rate-limit; more → refused (exit 12)
   int realtime_priority = 80;        // SCHED_FIFO priority; 0 = leave the scheduler alone
   Transport transport = Transport::modbus_tcp;
-  bool simulator = false;               // [device] simulator: the peer is a simulated plant
-                                        // (allows --clock lockstep)
-  hal::modbus::ModbusConfig modbus;     // transport modbus-*: device and register map
-  hal::can::CanConfig can;              // transport can: interface and frame map
-  std::vector<SetpointSpec> setpoints;  // in plan channel order
-  std::vector<ValueSpec> values;        // in register-map order
+  bool simulator = false;                 // [device] simulator: the peer is a simulated plant
+                                          // (allows --clock lockstep)
+  std::optional<double> peer_watchdog_s;  // [device] peer_watchdog_s: the peer's own heartbeat
+                                          // watchdog as declared (seconds; 0: none): refused
+                                          // when shorter than two tick periods (check_timing)
+  hal::modbus::ModbusConfig modbus;       // transport modbus-*: device and register map
+  hal::can::CanConfig can;                // transport can: interface and frame map
+  std::vector<SetpointSpec> setpoints;    // in plan channel order
+  std::vector<ValueSpec> values;          // in register-map order
 };
 
 struct ConfigResult {
