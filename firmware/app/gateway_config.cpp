@@ -67,9 +67,9 @@ void parse_gateway(const toml::table& t, GatewayConfig& c) {
   const std::string w = "gateway";
   check_keys(
       t, w,
-      {"plant", "period_s", "ramp_s", "resume_dwell_s", "suspend_timeout_s", "comm_fail_limit",
-       "comm_loss", "heartbeat_max_lag_s", "log_ring", "realtime_priority", "readback_lag_ticks",
-       "readback_mismatch_limit", "max_distortion"});
+      {"plant", "period_s", "ramp_s", "resume_dwell_s", "suspend_timeout_s", "confirm_timeout_s",
+       "comm_fail_limit", "comm_loss", "heartbeat_max_lag_s", "log_ring", "realtime_priority",
+       "readback_lag_ticks", "readback_mismatch_limit", "max_distortion"});
   if (auto s = text(t, w, "plant")) {
     if (s->find_first_of("\r\n") != std::string::npos) {
       throw ConfigError(w + ".plant", '"' + *s + '"', "one line of text");
@@ -98,6 +98,11 @@ void parse_gateway(const toml::table& t, GatewayConfig& c) {
   duration("ramp_s", c.ramp_s);
   duration("resume_dwell_s", c.resume_dwell_s);
   duration("suspend_timeout_s", c.suspend_timeout_s);
+  duration("confirm_timeout_s", c.confirm_timeout_s);
+  if (!(c.confirm_timeout_s > 0.0)) {
+    throw ConfigError(w + ".confirm_timeout_s", config::format_number(c.confirm_timeout_s),
+                      "> 0 seconds (how long the gateway keeps confirming the baseline)");
+  }
   duration("heartbeat_max_lag_s", c.heartbeat_max_lag_s);
   if (auto v = number(t, w, "max_distortion")) {
     if (!(*v >= 0.0 && *v <= 1.0)) {
@@ -594,6 +599,7 @@ std::string check_timing(const GatewayConfig& c, std::chrono::duration<double> p
       {"ramp_s", c.ramp_s, static_cast<double>(engine::kMaxDurationTicks)},
       {"resume_dwell_s", c.resume_dwell_s, static_cast<double>(engine::kMaxDurationTicks)},
       {"suspend_timeout_s", c.suspend_timeout_s, static_cast<double>(engine::kMaxDurationTicks)},
+      {"confirm_timeout_s", c.confirm_timeout_s, static_cast<double>(engine::kMaxDurationTicks)},
       {"heartbeat_max_lag_s", c.heartbeat_max_lag_s,
        static_cast<double>(engine::kMaxHeartbeatLagTicks)},
   };
@@ -635,6 +641,17 @@ engine::EngineConfig to_engine_config(const GatewayConfig& c,
   e.ramp_ticks = ticks(c.ramp_s);
   e.resume_dwell_ticks = std::max<std::uint32_t>(1, ticks(c.resume_dwell_s));
   e.suspend_timeout_ticks = ticks(c.suspend_timeout_s);
+  // Confirmation: two readbacks of the baseline at least one tick and twice the response
+  // timeout apart (a write in flight when the link broke has landed by then).
+  const double response_s = c.transport == Transport::can
+                                ? c.can.value_timeout_ms / 1000.0
+                                : c.modbus.device.response_timeout_ms / 1000.0;
+  e.confirm_hold_ticks = std::max<std::uint32_t>(1, ticks(2.0 * response_s));
+  // At least room for the two readbacks, and for a readback lag plus the mismatch limit (the
+  // older window): at long periods 60 s may be a single tick.
+  e.confirm_timeout_ticks =
+      std::max<std::uint32_t>({ticks(c.confirm_timeout_s), e.confirm_hold_ticks + 1,
+                               c.readback_lag_ticks + c.readback_mismatch_limit + 1});
   e.comm_fail_limit = c.comm_fail_limit;
   e.comm_loss = c.comm_loss;
   // Verified writes: the tolerance is the coarser of the two encodings' resolution — one

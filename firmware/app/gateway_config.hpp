@@ -57,12 +57,15 @@ struct ValueSpec {
 };
 
 struct GatewayConfig {
-  std::string source;              // file name, for messages
-  std::string plant = "unnamed";   // the run log's `plant:` line
-  std::optional<double> period_s;  // tick period; default the plan's sample time
-  double ramp_s = 0.0;             // excitation ramps in and out over this time
-  double resume_dwell_s = 0.0;     // back inside the limits this long → resume
-  double suspend_timeout_s = 0.0;  // suspended this long → abort; 0 = never
+  std::string source;               // file name, for messages
+  std::string plant = "unnamed";    // the run log's `plant:` line
+  std::optional<double> period_s;   // tick period; default the plan's sample time
+  double ramp_s = 0.0;              // excitation ramps in and out over this time
+  double resume_dwell_s = 0.0;      // back inside the limits this long → resume
+  double suspend_timeout_s = 0.0;   // suspended this long → abort; 0 = never
+  double confirm_timeout_s = 60.0;  // after an abort or the end: the baseline confirmed (read
+                                    // back twice, a hold interval apart) within this, else
+                                    // safe, unconfirmed (issue 28 item 2); > 0
   std::uint32_t comm_fail_limit = 3;
   // Verified writes (README.md): the reading of tick k reflects the write of tick
   // k − (readback_lag_ticks − 1) (1: the same exchange, the Runner writes then reads); more

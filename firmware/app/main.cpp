@@ -351,7 +351,8 @@ int main(int argc, char** argv) {
   std::fprintf(stderr,
                "excite-gateway: rows: clamped %llu, rate-limited %llu, suspended %llu, "
                "comm-lost %llu, stale %llu, skipped %llu (ticks skipped %llu), discontinuity "
-               "%llu; reads before writing again after a failed exchange %llu\n",
+               "%llu; reads before writing again after a failed exchange %llu; stale writes "
+               "undone %llu\n",
                static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kClamped)),
                static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kRateLimited)),
                static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kSuspended)),
@@ -360,7 +361,8 @@ int main(int argc, char** argv) {
                static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kSkipped)),
                static_cast<unsigned long long>(eng.skipped_ticks()),
                static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kDiscontinuity)),
-               static_cast<unsigned long long>(stats.reverified));
+               static_cast<unsigned long long>(stats.reverified),
+               static_cast<unsigned long long>(eng.stale_writes_undone()));
   std::fprintf(stderr, "excite-gateway: exception replies by code: %s\n",
                gw.exception_report(*made.bus).c_str());
   const std::string refused = gw.refusal_report();
@@ -372,7 +374,9 @@ int main(int argc, char** argv) {
   if (stats.final_state == engine::State::safe_unconfirmed) {
     std::fprintf(stderr,
                  "excite-gateway: safe, unconfirmed: the baseline was written but not read back "
-                 "(check the field)\n");
+                 "twice, a hold interval apart, within gateway.confirm_timeout_s = %g s (check "
+                 "the field)\n",
+                 config.confirm_timeout_s);
   }
   const std::string at_end = gw.range_end_report();
   std::fprintf(stderr, "excite-gateway: values at the end of their register's range: %s\n",

@@ -178,6 +178,11 @@ int main(int argc, char** argv) {
   app.add_option("--stall-ms", options.faults.stall_ms, "stall duration for --stall-requests");
   app.add_option("--stall-requests", options.faults.stall_requests,
                  "answer this many requests only after --stall-ms");
+  app.add_option("--freeze-ms", options.freeze_ms,
+                 "freeze this long (nothing read, answered or sampled, as a SIGSTOP) after "
+                 "--freeze-after requests");
+  app.add_option("--freeze-after", options.freeze_after,
+                 "requests served normally before the --freeze-ms freeze");
   app.add_option("--drop-requests", options.faults.drop_requests,
                  "answer this many requests by closing the connection");
   app.add_option("--exception-requests", options.faults.exception_requests,

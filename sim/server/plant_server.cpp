@@ -459,6 +459,22 @@ void PlantServer::on_heartbeat_written() {
   if (!(faults_armed() && faults_.freeze_echo)) image_.set_heartbeat_echo(heartbeat);
 }
 
+void PlantServer::freeze(const std::function<bool()>& stop) {
+  frozen_ = true;
+  std::fprintf(stderr,
+               "excite-plant: frozen for %u ms after %llu requests at sample %llu (nothing read, "
+               "answered or sampled)\n",
+               options_.freeze_ms, static_cast<unsigned long long>(requests_),
+               static_cast<unsigned long long>(process_.samples()));
+  std::fflush(stderr);
+  const auto until = Clock::now() + std::chrono::milliseconds(options_.freeze_ms);
+  while (Clock::now() < until && !stop()) {
+    std::this_thread::sleep_for(std::min<Clock::duration>(until - Clock::now(), kPollSlice));
+  }
+  std::fprintf(stderr, "excite-plant: running again after the freeze\n");
+  std::fflush(stderr);
+}
+
 void PlantServer::run(const std::function<bool()>& stop) {
   for (Client& c : clients_) c.last_activity = Clock::now();
   const auto period = std::chrono::duration_cast<Clock::duration>(
@@ -466,6 +482,7 @@ void PlantServer::run(const std::function<bool()>& stop) {
   auto next_sample = Clock::now();
   std::vector<pollfd> fds;
   while (!stop()) {
+    if (options_.freeze_ms > 0 && !frozen_ && requests_ >= options_.freeze_after) freeze(stop);
     check_watchdog(Clock::now());
     if (!options_.lockstep) {  // free-running: every sample whose time has come
       int taken = 0;

@@ -51,8 +51,13 @@ struct ServeOptions {
   double sample_time_s = 1.0;      // free-running: wall-clock seconds per plant sample
   FaultSettings faults;            // from the command line
   std::uint64_t faults_after = 0;  // ordinary requests served normally before faults apply
-  std::string log_path;            // run log of every plant sample; empty: none
-  std::string plant_description;   // the run log's `plant:` line
+  // Frozen on purpose (as a SIGSTOP of the process, without the signal): after freeze_after
+  // requests, nothing is read, answered or sampled for freeze_ms; then serving goes on with
+  // whatever arrived meanwhile. 0: never.
+  std::uint32_t freeze_ms = 0;
+  std::uint64_t freeze_after = 0;
+  std::string log_path;           // run log of every plant sample; empty: none
+  std::string plant_description;  // the run log's `plant:` line
   std::vector<std::string> input_names;
   std::vector<std::string> output_names;
   std::vector<std::string> input_units;  // run-log units; empty: "-"
@@ -134,6 +139,7 @@ class PlantServer {
   // A write of setpoints outside the limits: counted, reported, true (the caller refuses).
   bool refuse_out_of_limits(const ModbusRequest& request, const std::uint8_t* data);
   void check_watchdog(Clock::time_point now);
+  void freeze(const std::function<bool()>& stop);
   void mirror_counters_to_control();
   void take_sample();
   void report_misfits(std::uint64_t k);
@@ -165,6 +171,7 @@ class PlantServer {
   bool has_pending_ = false;                // the heartbeat moves again
   std::uint64_t watchdog_trips_ = 0;
   std::uint64_t refused_writes_ = 0;
+  bool frozen_ = false;  // the freeze on purpose has happened
 
   std::vector<double> u_;
   std::vector<double> y_;

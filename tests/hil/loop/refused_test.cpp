@@ -74,7 +74,13 @@ TEST_F(Refused, ADeviceThatRefusesAWriteStopsTheRunWithItsOwnExitCode) {
 
   const runlog::RunLog log = read_log_or_fail(path("gw.csv"));
   ASSERT_GT(log.rows(), 50U);
-  EXPECT_LT(log.rows(), 300U) << "the excitation went on after the refusal";
+  // The excitation stopped: the row that says `aborted` comes early (the confirmation that
+  // follows takes two readbacks a hold interval apart: 2 × the response timeout).
+  std::size_t aborted_row = log.rows();
+  for (std::size_t r = 0; r < log.rows() && aborted_row == log.rows(); ++r) {
+    if (log.state[r] == runlog::RunState::aborted) aborted_row = r;
+  }
+  EXPECT_LT(aborted_row, 300U) << "the excitation went on after the refusal";
   EXPECT_EQ(log.state.back(), runlog::RunState::safe);
 
   const runlog::RunLog plant = stop_plant_and_read_its_log();
