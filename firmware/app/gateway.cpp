@@ -107,6 +107,7 @@ StageResult Gateway::start_log(std::FILE* file, std::string producer) {
 RunStats Gateway::run(CommandMailbox& commands, const std::atomic<bool>* stop,
                       std::uint64_t max_ticks) noexcept {
   runner_->set_observer(observer_);
+  runner_->pace_retries(pacing_clock_, retry_interval_);
   runner_->set_lateness_histogram(lateness_);
   return runner_->run(commands, stop, max_ticks);
 }

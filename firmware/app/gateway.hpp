@@ -131,6 +131,12 @@ class Gateway {
   /// one sample per heartbeat, so that write would shift the run by one sample); the
   /// cyclic readback check still applies from the first tick.
   void set_verify_at_arm(bool on) noexcept { verify_at_arm_ = on; }
+  /// Before run(): Runner::pace_retries (lock-step: retries after a failure on `real`, at
+  /// most one per `interval`).
+  void pace_retries(hal::Clock* real, hal::Nanoseconds interval) noexcept {
+    pacing_clock_ = real;
+    retry_interval_ = interval;
+  }
 
  private:
   GatewayConfig config_;
@@ -158,6 +164,8 @@ class Gateway {
   std::FILE* events_ = nullptr;
   std::chrono::microseconds row_delay_{0};
   bool verify_at_arm_ = true;
+  hal::Clock* pacing_clock_ = nullptr;
+  hal::Nanoseconds retry_interval_{0};
 };
 
 }  // namespace excite::app

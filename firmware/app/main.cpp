@@ -275,6 +275,12 @@ int main(int argc, char** argv) {
     return fail(ExitCode::device, config_path + ": " + made.error);
   }
   gw.set_verify_at_arm(!lockstep);  // README: verified writes, lock-step
+  // Lock-step never sleeps out a period: after a failed exchange, retry at most 4 times a
+  // second (and never sooner than the period) on the real clock (README: paced retries).
+  if (lockstep) {
+    gw.pace_retries(&real_clock, std::max<excite::hal::Nanoseconds>(
+                                     gw.period(), std::chrono::milliseconds(250)));
+  }
   if (auto e = gw.arm(*made.bus, tick_clock)) {
     std::fclose(log);
     std::remove(log_path.c_str());
@@ -352,7 +358,7 @@ int main(int argc, char** argv) {
                "excite-gateway: rows: clamped %llu, rate-limited %llu, suspended %llu, "
                "comm-lost %llu, stale %llu, skipped %llu (ticks skipped %llu), discontinuity "
                "%llu; reads before writing again after a failed exchange %llu; stale writes "
-               "undone %llu\n",
+               "undone %llu; retries paced %llu\n",
                static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kClamped)),
                static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kRateLimited)),
                static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kSuspended)),
@@ -362,7 +368,8 @@ int main(int argc, char** argv) {
                static_cast<unsigned long long>(eng.skipped_ticks()),
                static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kDiscontinuity)),
                static_cast<unsigned long long>(stats.reverified),
-               static_cast<unsigned long long>(eng.stale_writes_undone()));
+               static_cast<unsigned long long>(eng.stale_writes_undone()),
+               static_cast<unsigned long long>(stats.paced));
   std::fprintf(stderr, "excite-gateway: exception replies by code: %s\n",
                gw.exception_report(*made.bus).c_str());
   const std::string refused = gw.refusal_report();

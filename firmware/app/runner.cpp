@@ -51,6 +51,7 @@ void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t s
     if (last_status_ == hal::Status::ok) last_status_ = bus_.read(values);
     ok = last_status_ == hal::Status::ok;
     reverify_ = !ok;
+    if (!ok && pacing_clock_ != nullptr) last_failed_at_ = pacing_clock_->now();
     // Exceptions 1, 2, 3: the device refused the request itself (it will again) — not a
     // link fault. The first one is kept and stops the excitation below; 4, 6 and the rest
     // stay with the comm guard.
@@ -98,6 +99,13 @@ RunStats Runner::run(CommandMailbox& commands, const std::atomic<bool>* stop,
       const auto bin = late_us < 0 ? 0U : static_cast<std::size_t>(late_us);
       ++lateness_[bin < last ? bin : last];
     }
+    if (pacing_clock_ != nullptr && reverify_) {  // the last exchange failed: pace the retry
+      const hal::Nanoseconds due = last_failed_at_ + retry_interval_;
+      if (pacing_clock_->now() < due) {
+        ++paced_;
+        pacing_clock_->sleep_until(due);
+      }
+    }
     tick(nominal.count(), commands.take(), skipped);
     if (observer_ != nullptr) observer_->after_tick(engine_, ticks_ - 1);
     if (engine::finished(engine_.state())) break;
@@ -107,6 +115,7 @@ RunStats Runner::run(CommandMailbox& commands, const std::atomic<bool>* stop,
   stats.failed_exchanges = engine_.failed_exchanges();
   stats.ring_overruns = ring_.overruns();
   stats.reverified = reverified_;
+  stats.paced = paced_;
   stats.final_state = engine_.state();
   stats.outcome = engine_.outcome();
   return stats;

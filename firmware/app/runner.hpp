@@ -36,6 +36,7 @@ struct RunStats {
   std::uint64_t failed_exchanges = 0;
   std::uint64_t ring_overruns = 0;  // records dropped because the log ring was full
   std::uint64_t reverified = 0;     // ticks after a failed exchange that read the peer first
+  std::uint64_t paced = 0;          // retries held back by the retry pacing (pace_retries)
   engine::State final_state = engine::State::configured;
   engine::Outcome outcome = engine::Outcome::none;
 };
@@ -89,6 +90,16 @@ class Runner {
   /// ramp out, baseline confirmed). One atomic load per tick; null: not watched.
   void watch_log(const std::atomic<bool>* failed) noexcept { log_failed_ = failed; }
 
+  /// Paced retries (issue 28): after a failed exchange the next tick waits, on `real`, until
+  /// `interval` after that failure. For lock-step, where the tick clock never sleeps: a
+  /// peer that answers every request at once with an error (a busy device, exception 4/6;
+  /// connection refused) is retried a few times a second, not thousands, and the log grows
+  /// by as few rows. null: no pacing (the tick clock's period paces in real time).
+  void pace_retries(hal::Clock* real, hal::Nanoseconds interval) noexcept {
+    pacing_clock_ = real;
+    retry_interval_ = interval;
+  }
+
   /// Whether arm() writes the baseline once and reads it back (default true). Off only for
   /// a lock-step simulated peer, where that write would be a plant sample of its own.
   void set_verify_at_arm(bool on) noexcept { verify_at_arm_ = on; }
@@ -126,6 +137,10 @@ class Runner {
   std::uint64_t ticks_ = 0;
   bool verify_at_arm_ = true;
   Refusal refusal_{};
+  hal::Clock* pacing_clock_ = nullptr;
+  hal::Nanoseconds retry_interval_{0};
+  hal::Nanoseconds last_failed_at_{0};
+  std::uint64_t paced_ = 0;
   bool reverify_ = false;  // the last exchange failed: read before writing again
   std::uint64_t reverified_ = 0;
 };

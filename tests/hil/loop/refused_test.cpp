@@ -10,8 +10,10 @@
 //  - exception 4 (server device failure) stays transient: the run completes.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "tests/hil/loop/loop_fixture.hpp"
 
@@ -118,6 +120,30 @@ TEST_F(Refused, ADeviceFailureExceptionStaysTransientAndTheRunCompletes) {
   EXPECT_NE(err.find("exception replies by code: 4 (server device failure) 3\n"), std::string::npos)
       << err;
   EXPECT_EQ(err.find("device refused"), std::string::npos) << err;
+}
+
+// Issue 28 item 1, second part: a lock-step gateway whose device answers every request with
+// exception 4 (busy, transient: the comm guard) retries a few times a second, not as fast as
+// the loopback answers; the log grows by as few rows. Stopped after 3 s by a double SIGTERM
+// (the baseline cannot be confirmed while every request fails): exit 9.
+TEST_F(Refused, ABusyDeviceIsRetriedAFewTimesASecondInLockstep) {
+  start({"--exception-requests", "65535", "--faults-after", "300"});
+  auto gw = start_gateway(plan_, {"--start", "--clock", "lockstep"});
+  std::this_thread::sleep_for(3s);
+  gw->signal(SIGTERM);
+  std::this_thread::sleep_for(300ms);
+  gw->signal(SIGTERM);
+  const auto rc = gw->wait(30s);
+  ASSERT_TRUE(rc.has_value()) << gw->err().substr(0, 2000);
+  const std::string err = gw->err();
+  EXPECT_EQ(*rc, 9) << err.substr(0, 2000);
+  const runlog::RunLog log = read_log_or_fail(path("gw.csv"));
+  std::size_t failing = 0;
+  for (std::uint32_t f : log.flags) failing += (f & runlog::kCommLost) != 0 ? 1U : 0U;
+  std::printf("[ measured ] %zu rows flagged comm_lost in about 3.3 s of a busy device\n", failing);
+  EXPECT_GE(failing, 5U) << "the gateway did not retry";
+  EXPECT_LE(failing, 30U) << "retries not paced (4 a second at most)";
+  EXPECT_EQ(err.find("retries paced 0\n"), std::string::npos) << err.substr(0, 3000);
 }
 
 }  // namespace
