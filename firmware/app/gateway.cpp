@@ -95,6 +95,7 @@ StageResult Gateway::start_log(std::FILE* file, std::string producer) {
   drain_ = std::make_unique<LogDrain>(*ring_, file, std::move(layout));
   drain_->set_event_stream(events_);
   drain_->set_row_delay(row_delay_);
+  drain_->set_max_bytes(static_cast<std::uint64_t>(config_.log_max_mb * 1e6), config_.log_max_mb);
   if (!drain_->write_header()) {
     drain_->stop();  // done with the FILE: the caller closes it
     return StageError{ExitCode::log_error, drain_->failure()};

@@ -69,7 +69,7 @@ void parse_gateway(const toml::table& t, GatewayConfig& c) {
       t, w,
       {"plant", "period_s", "ramp_s", "resume_dwell_s", "suspend_timeout_s", "confirm_timeout_s",
        "comm_fail_limit", "comm_loss", "heartbeat_max_lag_s", "log_ring", "realtime_priority",
-       "readback_lag_ticks", "readback_mismatch_limit", "max_distortion"});
+       "readback_lag_ticks", "readback_mismatch_limit", "max_distortion", "log_max_mb"});
   if (auto s = text(t, w, "plant")) {
     if (s->find_first_of("\r\n") != std::string::npos) {
       throw ConfigError(w + ".plant", '"' + *s + '"', "one line of text");
@@ -104,6 +104,12 @@ void parse_gateway(const toml::table& t, GatewayConfig& c) {
                       "> 0 seconds (how long the gateway keeps confirming the baseline)");
   }
   duration("heartbeat_max_lag_s", c.heartbeat_max_lag_s);
+  if (auto v = number(t, w, "log_max_mb")) {
+    if (!(*v >= 1e-3 && *v <= 1e6)) {
+      throw ConfigError(w + ".log_max_mb", config::format_number(*v), "0.001 … 1e6 MB");
+    }
+    c.log_max_mb = *v;
+  }
   if (auto v = number(t, w, "max_distortion")) {
     if (!(*v >= 0.0 && *v <= 1.0)) {
       throw ConfigError(w + ".max_distortion", config::format_number(*v),

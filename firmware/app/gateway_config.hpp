@@ -75,6 +75,9 @@ struct GatewayConfig {
   engine::CommLossAction comm_loss = engine::CommLossAction::hold;
   double heartbeat_max_lag_s = 0.0;  // with a heartbeat_echo value; 0 → 3 ticks
   std::uint32_t log_ring = 4096;     // run-log ring records
+  double log_max_mb = 1024.0;        // the run log's size limit (MB = 1e6 bytes): a row beyond
+                                     // it is a log fault (exit 13), so a run suspended for hours
+                                     // cannot fill a disk; 0.001 … 1e6
   double max_distortion = 0.0;       // largest fraction (0…1) of a channel's rows the engine
                                      // may clamp or rate-limit; more → refused (exit 12)
   int realtime_priority = 80;        // SCHED_FIFO priority; 0 = leave the scheduler alone

@@ -77,6 +77,12 @@ bool LogDrain::write(const engine::TickRecord& r) {
     lost_.fetch_add(1);
     return false;
   }
+  if (max_bytes_ != 0 && file_rows_.whole_bytes() + f.length > max_bytes_) {
+    limit_hit_ = true;
+    fail(0, runlog::WriteStatus::capacity_exceeded, r.tick);
+    lost_.fetch_add(1);
+    return false;
+  }
   // Every row goes to the file whole, in write(2) calls of its own: even a SIGKILL leaves a
   // log that ends on a complete row; a failed write leaves it cut back to one.
   if (!file_rows_.append(std::span<const char>(buffer_.data(), f.length))) {
@@ -91,7 +97,10 @@ bool LogDrain::write(const engine::TickRecord& r) {
 std::string LogDrain::failure() const {
   if (!failed_.load()) return "";
   char why[192];
-  if (errno_ != 0) {
+  if (limit_hit_) {
+    std::snprintf(why, sizeof why, "it would pass gateway.log_max_mb = %g MB (%llu bytes)", max_mb_,
+                  static_cast<unsigned long long>(max_bytes_));
+  } else if (errno_ != 0) {
     runlog::describe_errno(errno_, why, sizeof why);
   } else {
     std::snprintf(why, sizeof why, "%s (%s)", std::string(runlog::describe(error_.load())).c_str(),

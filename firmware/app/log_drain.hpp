@@ -53,6 +53,13 @@ class LogDrain {
   /// each, e.g. "tick 120 (t = 120 min): running -> suspended [limit]"); null: silent.
   void set_event_stream(std::FILE* events) { events_ = events; }
 
+  /// The log's size limit in bytes: a row that would pass it is a failed write (failure()
+  /// names the limit), as a full disk. 0: none.
+  void set_max_bytes(std::uint64_t bytes, double as_mb) {
+    max_bytes_ = bytes;
+    max_mb_ = as_mb;
+  }
+
   /// Test hook: sleep this long after each row (a slow disk).
   void set_row_delay(std::chrono::microseconds delay) { row_delay_ = delay; }
 
@@ -90,6 +97,9 @@ class LogDrain {
   std::atomic<runlog::WriteStatus> error_{runlog::WriteStatus::ok};
   std::atomic<bool> failed_{false};
   std::atomic<std::uint64_t> lost_{0};
+  std::uint64_t max_bytes_ = 0;
+  double max_mb_ = 0.0;
+  bool limit_hit_ = false;         // the failure is the size limit
   int errno_ = 0;                  // of the failed write (0: a formatting refusal)
   bool failed_header_ = false;     // the header was what failed
   std::uint64_t failed_tick_ = 0;  // the tick whose row could not be written

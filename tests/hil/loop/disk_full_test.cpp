@@ -257,6 +257,25 @@ TEST_F(DiskFull, ThePlantUnderAFileSizeLimitKeepsServingAndSaysWhy) {
   EXPECT_EQ(plant.rows(), std::stoul(err.substr(at + 20)));
 }
 
+// Issue 28 item 1: a size limit of the gateway's own (gateway.log_max_mb, default 1024 MB), so
+// a run suspended for hours cannot fill a disk: reached, it is a log fault like a full disk.
+TEST_F(DiskFull, ARunLogAtItsSizeLimitRampsOutAndExits13) {
+  start();
+  edit_gateway("comm_fail_limit = 3", "comm_fail_limit = 3\nlog_max_mb = 0.02");
+  auto gw = start_gateway(plan_, {"--start"});
+  const auto rc = gw->wait(60s);
+  ASSERT_TRUE(rc.has_value()) << gw->err();
+  const std::string err = gw->err();
+  EXPECT_EQ(*rc, 13) << err;
+  EXPECT_NE(err.find("it would pass gateway.log_max_mb = 0.02 MB (20000 bytes)"), std::string::npos)
+      << err;
+  EXPECT_LE(fs::file_size(path("gw.csv")), 20000U);
+  EXPECT_TRUE(ends_on_a_row(path("gw.csv")));
+  const runlog::RunLog written = read_log_or_fail(path("gw.csv"));
+  const runlog::RunLog plant = stop_plant_and_read_its_log();
+  expect_ramp_out_to_baseline(plant, written.rows());
+}
+
 // `--log /dev/full`: the header cannot be written; refused before any excitation, exit 7,
 // naming the reason (before: "cannot write the run log's header: ok").
 TEST_F(DiskFull, ALogThatCannotTakeItsHeaderIsRefusedWithTheReason) {
