@@ -97,11 +97,12 @@ StageResult Gateway::start_log(std::FILE* file, std::string producer) {
   drain_ = std::make_unique<LogDrain>(*ring_, file, std::move(layout));
   drain_->set_event_stream(events_);
   drain_->set_row_delay(row_delay_);
+  drain_->set_max_bytes(static_cast<std::uint64_t>(config_.log_max_mb * 1e6), config_.log_max_mb);
   if (!drain_->write_header()) {
     drain_->stop();  // done with the FILE: the caller closes it
-    return StageError{ExitCode::log_error, "cannot write the run log's header: " +
-                                               std::string(runlog::describe(drain_->last_error()))};
+    return StageError{ExitCode::log_error, drain_->failure()};
   }
+  runner_->watch_log(&drain_->failed());
   drain_->start();
   return std::nullopt;
 }
@@ -109,6 +110,7 @@ StageResult Gateway::start_log(std::FILE* file, std::string producer) {
 RunStats Gateway::run(CommandMailbox& commands, const std::atomic<bool>* stop,
                       std::uint64_t max_ticks) noexcept {
   runner_->set_observer(observer_);
+  runner_->pace_retries(pacing_clock_, retry_interval_);
   runner_->set_lateness_histogram(lateness_);
   return runner_->run(commands, stop, max_ticks);
 }
@@ -121,6 +123,10 @@ runlog::WriteStatus Gateway::finish_log() {
 
 std::uint64_t Gateway::rows_logged() const noexcept {
   return drain_ ? drain_->rows_written() : 0;
+}
+
+std::string Gateway::log_failure() const {
+  return drain_ ? drain_->failure() : std::string();
 }
 
 namespace {
@@ -156,6 +162,49 @@ std::string Gateway::readback_fault_report() const {
          (f.at_arm ? std::string(" at arm") : " at tick " + std::to_string(f.tick)) +
          " (tolerance " +
          number_text(in.readback_abs_tol + in.readback_rel_tol * std::abs(f.written)) + ")";
+}
+
+std::string Gateway::refusal_report() const {
+  if (!runner_ || !runner_->refusal().valid) return "";
+  const Refusal& r = runner_->refusal();
+  const hal::PeerException& e = r.exception;
+  const char* hint = e.code == 3   ? " — the device's own limits?"
+                     : e.code == 2 ? " — is the register map right?"
+                                   : " — does the device serve this function code?";
+  const std::string what =
+      "exception " + std::to_string(e.code) + ", " + hal::exception_name(e.code) + hint;
+  const std::string span = "FC" + std::string(e.function < 10 ? "0" : "") +
+                           std::to_string(e.function) + " registers " + std::to_string(e.address) +
+                           ".." + std::to_string(e.address + e.count - 1);
+  const std::string at = " at tick " + std::to_string(r.tick);
+  if (!e.write || config_.transport == Transport::can) {
+    return "device refused the read of " + span + at + ": " + what;
+  }
+  std::string named;
+  int n = 0;
+  for (std::size_t c = 0; c < config_.setpoints.size(); ++c) {
+    const auto& reg = config_.modbus.map.setpoints[c];
+    const unsigned width = reg.type == "float32" ? 2U : 1U;
+    if (reg.address + width <= e.address || reg.address >= e.address + e.count) continue;
+    named += (n++ == 0 ? "" : ", ") + config_.setpoints[c].name + " = " +
+             number_text(r.setpoint[c]) + " (register " + std::to_string(reg.address) + " " +
+             reg.type + (reg.type == "float32" ? " " + reg.word_order : std::string()) + ")";
+  }
+  if (n == 0) return "device refused the write of " + span + at + ": " + what;
+  if (n == 1) return "device refused setpoint " + named + at + ": " + what;
+  return "device refused setpoints " + named + ", written in one request (" + span + ")" + at +
+         ": " + what;
+}
+
+std::string Gateway::exception_report(const hal::FieldBus& bus) const {
+  std::string out;
+  const std::span<const std::uint64_t> counts = bus.exception_counts();
+  for (std::size_t code = 0; code < counts.size(); ++code) {
+    if (counts[code] == 0) continue;
+    out += (out.empty() ? "" : ", ") + std::to_string(code) + " (" +
+           hal::exception_name(static_cast<int>(code)) + ") " + std::to_string(counts[code]);
+  }
+  return out.empty() ? "none" : out;
 }
 
 std::string Gateway::range_end_report() const {

@@ -84,7 +84,7 @@ class Gateway {
   RunStats run(CommandMailbox& commands, const std::atomic<bool>* stop = nullptr,
                std::uint64_t max_ticks = 0) noexcept;
 
-  /// 7. Drains what is left, flushes, joins the log thread; the first write error, if any.
+  /// 7. Drains what is left, joins the log thread; the first write error, if any.
   runlog::WriteStatus finish_log();
 
   // ---- what start-up produced (valid after load_plan) ----
@@ -98,6 +98,9 @@ class Gateway {
   [[nodiscard]] hal::Nanoseconds period() const noexcept { return period_; }
   [[nodiscard]] const engine::Engine& engine() const noexcept { return *engine_; }
   [[nodiscard]] std::uint64_t rows_logged() const noexcept;
+  /// Why the run log could not be written (LogDrain::failure(), after finish_log()); "" if
+  /// every write succeeded. A failure mid-run stopped the excitation (Outcome::log_fault).
+  [[nodiscard]] std::string log_failure() const;
   /// The log ring (valid after arm), for a caller that drains it on its own thread instead
   /// of start_log() (the no-allocation proof, the benches).
   [[nodiscard]] engine::LogRingBase& log_ring() noexcept { return *ring_; }
@@ -108,6 +111,13 @@ class Gateway {
   }
   /// "xD 101 readings (register 200 uint16 raw 0..65535 = 0..1)"; "" when there were none.
   [[nodiscard]] std::string range_end_report() const;
+  /// The device's refusal in words (Runner::refusal()): "device refused setpoint u1 = 0.2165
+  /// (register 100 float32 ABCD) at tick 12: exception 3, illegal data value — the device's
+  /// own limits?"; several setpoints when one request carried them; "" when there was none.
+  [[nodiscard]] std::string refusal_report() const;
+  /// Exception replies by code: "3 (illegal data value) 1, 4 (server device failure) 5";
+  /// "none".
+  [[nodiscard]] std::string exception_report(const hal::FieldBus& bus) const;
   /// The engine's readback fault in words: "setpoint u1 (register 100 float32 CDAB): wrote
   /// 0.5, read back 3.2e-41 from u1_rb at tick 12"; "" when there was none.
   [[nodiscard]] std::string readback_fault_report() const;
@@ -121,6 +131,12 @@ class Gateway {
   /// one sample per heartbeat, so that write would shift the run by one sample); the
   /// cyclic readback check still applies from the first tick.
   void set_verify_at_arm(bool on) noexcept { verify_at_arm_ = on; }
+  /// Before run(): Runner::pace_retries (lock-step: retries after a failure on `real`, at
+  /// most one per `interval`).
+  void pace_retries(hal::Clock* real, hal::Nanoseconds interval) noexcept {
+    pacing_clock_ = real;
+    retry_interval_ = interval;
+  }
 
  private:
   GatewayConfig config_;
@@ -148,6 +164,8 @@ class Gateway {
   std::FILE* events_ = nullptr;
   std::chrono::microseconds row_delay_{0};
   bool verify_at_arm_ = true;
+  hal::Clock* pacing_clock_ = nullptr;
+  hal::Nanoseconds retry_interval_{0};
 };
 
 }  // namespace excite::app

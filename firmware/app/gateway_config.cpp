@@ -67,9 +67,9 @@ void parse_gateway(const toml::table& t, GatewayConfig& c) {
   const std::string w = "gateway";
   check_keys(
       t, w,
-      {"plant", "period_s", "ramp_s", "resume_dwell_s", "suspend_timeout_s", "comm_fail_limit",
-       "comm_loss", "heartbeat_max_lag_s", "log_ring", "realtime_priority", "readback_lag_ticks",
-       "readback_mismatch_limit", "max_distortion"});
+      {"plant", "period_s", "ramp_s", "resume_dwell_s", "suspend_timeout_s", "confirm_timeout_s",
+       "comm_fail_limit", "comm_loss", "heartbeat_max_lag_s", "log_ring", "realtime_priority",
+       "readback_lag_ticks", "readback_mismatch_limit", "max_distortion", "log_max_mb"});
   if (auto s = text(t, w, "plant")) {
     if (s->find_first_of("\r\n") != std::string::npos) {
       throw ConfigError(w + ".plant", '"' + *s + '"', "one line of text");
@@ -98,7 +98,18 @@ void parse_gateway(const toml::table& t, GatewayConfig& c) {
   duration("ramp_s", c.ramp_s);
   duration("resume_dwell_s", c.resume_dwell_s);
   duration("suspend_timeout_s", c.suspend_timeout_s);
+  duration("confirm_timeout_s", c.confirm_timeout_s);
+  if (!(c.confirm_timeout_s > 0.0)) {
+    throw ConfigError(w + ".confirm_timeout_s", config::format_number(c.confirm_timeout_s),
+                      "> 0 seconds (how long the gateway keeps confirming the baseline)");
+  }
   duration("heartbeat_max_lag_s", c.heartbeat_max_lag_s);
+  if (auto v = number(t, w, "log_max_mb")) {
+    if (!(*v >= 1e-3 && *v <= 1e6)) {
+      throw ConfigError(w + ".log_max_mb", config::format_number(*v), "0.001 … 1e6 MB");
+    }
+    c.log_max_mb = *v;
+  }
   if (auto v = number(t, w, "max_distortion")) {
     if (!(*v >= 0.0 && *v <= 1.0)) {
       throw ConfigError(w + ".max_distortion", config::format_number(*v),
@@ -147,14 +158,22 @@ void parse_device(const toml::table& t, GatewayConfig& c) {
     if (!b) throw ConfigError(w + ".simulator", describe(*n), "true or false");
     c.simulator = *b;
   }
+  if (auto v = number(t, w, "peer_watchdog_s")) {
+    if (!(*v >= 0.0 && *v <= kMaxDurationS)) {
+      throw ConfigError(w + ".peer_watchdog_s", config::format_number(*v),
+                        "0 … " + config::format_number(kMaxDurationS) + " seconds (0: none)");
+    }
+    c.peer_watchdog_s = *v;
+  }
   if (c.transport == Transport::can) {
-    check_keys(t, w, {"transport", "simulator"});  // the CAN device is the [can] section
+    // The CAN device is the [can] section.
+    check_keys(t, w, {"transport", "simulator", "peer_watchdog_s"});
     return;
   }
   hal::modbus::ModbusDevice& d = c.modbus.device;
   check_keys(t, w,
-             {"transport", "simulator", "host", "port", "serial_port", "baud", "parity",
-              "data_bits", "stop_bits", "unit_id", "response_timeout_ms"});
+             {"transport", "simulator", "peer_watchdog_s", "host", "port", "serial_port", "baud",
+              "parity", "data_bits", "stop_bits", "unit_id", "response_timeout_ms"});
   d.transport = c.transport == Transport::modbus_tcp ? "tcp" : "rtu";
   if (auto s = text(t, w, "host")) d.host = *s;
   if (auto v = integer(t, w, "port", 0, 1 << 30)) d.port = static_cast<std::uint32_t>(*v);
@@ -571,6 +590,16 @@ std::string check_timing(const GatewayConfig& c, std::chrono::duration<double> p
            config::format_number(kMinPeriodS) + " … " + config::format_number(kMaxPeriodS) +
            " seconds";
   }
+  // The peer's own watchdog, when the configuration declares one, must outlast two ticks: a
+  // shorter one trips between writes and holds the inputs at the baseline while the log
+  // shows the excitation (issue 28 item 3).
+  if (c.peer_watchdog_s && *c.peer_watchdog_s > 0.0 && *c.peer_watchdog_s < 2.0 * p) {
+    return c.source + ": device.peer_watchdog_s = " + config::format_number(*c.peer_watchdog_s) +
+           " s, expected at least two tick periods (" + config::format_number(2.0 * p) +
+           " s at a period of " + config::format_number(p) +
+           " s): a shorter watchdog returns the inputs to the baseline between the gateway's "
+           "writes";
+  }
   const struct {
     const char* key;
     double seconds;
@@ -579,6 +608,7 @@ std::string check_timing(const GatewayConfig& c, std::chrono::duration<double> p
       {"ramp_s", c.ramp_s, static_cast<double>(engine::kMaxDurationTicks)},
       {"resume_dwell_s", c.resume_dwell_s, static_cast<double>(engine::kMaxDurationTicks)},
       {"suspend_timeout_s", c.suspend_timeout_s, static_cast<double>(engine::kMaxDurationTicks)},
+      {"confirm_timeout_s", c.confirm_timeout_s, static_cast<double>(engine::kMaxDurationTicks)},
       {"heartbeat_max_lag_s", c.heartbeat_max_lag_s,
        static_cast<double>(engine::kMaxHeartbeatLagTicks)},
   };
@@ -620,6 +650,17 @@ engine::EngineConfig to_engine_config(const GatewayConfig& c,
   e.ramp_ticks = ticks(c.ramp_s);
   e.resume_dwell_ticks = std::max<std::uint32_t>(1, ticks(c.resume_dwell_s));
   e.suspend_timeout_ticks = ticks(c.suspend_timeout_s);
+  // Confirmation: two readbacks of the baseline at least one tick and twice the response
+  // timeout apart (a write in flight when the link broke has landed by then).
+  const double response_s = c.transport == Transport::can
+                                ? c.can.value_timeout_ms / 1000.0
+                                : c.modbus.device.response_timeout_ms / 1000.0;
+  e.confirm_hold_ticks = std::max<std::uint32_t>(1, ticks(2.0 * response_s));
+  // At least room for the two readbacks, and for a readback lag plus the mismatch limit (the
+  // older window): at long periods 60 s may be a single tick.
+  e.confirm_timeout_ticks =
+      std::max<std::uint32_t>({ticks(c.confirm_timeout_s), e.confirm_hold_ticks + 1,
+                               c.readback_lag_ticks + c.readback_mismatch_limit + 1});
   e.comm_fail_limit = c.comm_fail_limit;
   e.comm_loss = c.comm_loss;
   // Verified writes: the tolerance is the coarser of the two encodings' resolution — one

@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "firmware/app/timing_range.hpp"
 #include "firmware/engine/config.hpp"
 #include "hal/can/can_field_bus.hpp"
 #include "hal/modbus/modbus_field_bus.hpp"
@@ -56,12 +57,15 @@ struct ValueSpec {
 };
 
 struct GatewayConfig {
-  std::string source;              // file name, for messages
-  std::string plant = "unnamed";   // the run log's `plant:` line
-  std::optional<double> period_s;  // tick period; default the plan's sample time
-  double ramp_s = 0.0;             // excitation ramps in and out over this time
-  double resume_dwell_s = 0.0;     // back inside the limits this long → resume
-  double suspend_timeout_s = 0.0;  // suspended this long → abort; 0 = never
+  std::string source;               // file name, for messages
+  std::string plant = "unnamed";    // the run log's `plant:` line
+  std::optional<double> period_s;   // tick period; default the plan's sample time
+  double ramp_s = 0.0;              // excitation ramps in and out over this time
+  double resume_dwell_s = 0.0;      // back inside the limits this long → resume
+  double suspend_timeout_s = 0.0;   // suspended this long → abort; 0 = never
+  double confirm_timeout_s = 60.0;  // after an abort or the end: the baseline confirmed (read
+                                    // back twice, a hold interval apart) within this, else
+                                    // safe, unconfirmed (issue 28 item 2); > 0
   std::uint32_t comm_fail_limit = 3;
   // Verified writes (README.md): the reading of tick k reflects the write of tick
   // k − (readback_lag_ticks − 1) (1: the same exchange, the Runner writes then reads); more
@@ -71,16 +75,22 @@ struct GatewayConfig {
   engine::CommLossAction comm_loss = engine::CommLossAction::hold;
   double heartbeat_max_lag_s = 0.0;  // with a heartbeat_echo value; 0 → 3 ticks
   std::uint32_t log_ring = 4096;     // run-log ring records
+  double log_max_mb = 1024.0;        // the run log's size limit (MB = 1e6 bytes): a row beyond
+                                     // it is a log fault (exit 13), so a run suspended for hours
+                                     // cannot fill a disk; 0.001 … 1e6
   double max_distortion = 0.0;       // largest fraction (0…1) of a channel's rows the engine
                                      // may clamp or rate-limit; more → refused (exit 12)
   int realtime_priority = 80;        // SCHED_FIFO priority; 0 = leave the scheduler alone
   Transport transport = Transport::modbus_tcp;
-  bool simulator = false;               // [device] simulator: the peer is a simulated plant
-                                        // (allows --clock lockstep)
-  hal::modbus::ModbusConfig modbus;     // transport modbus-*: device and register map
-  hal::can::CanConfig can;              // transport can: interface and frame map
-  std::vector<SetpointSpec> setpoints;  // in plan channel order
-  std::vector<ValueSpec> values;        // in register-map order
+  bool simulator = false;                 // [device] simulator: the peer is a simulated plant
+                                          // (allows --clock lockstep)
+  std::optional<double> peer_watchdog_s;  // [device] peer_watchdog_s: the peer's own heartbeat
+                                          // watchdog as declared (seconds; 0: none): refused
+                                          // when shorter than two tick periods (check_timing)
+  hal::modbus::ModbusConfig modbus;       // transport modbus-*: device and register map
+  hal::can::CanConfig can;                // transport can: interface and frame map
+  std::vector<SetpointSpec> setpoints;    // in plan channel order
+  std::vector<ValueSpec> values;          // in register-map order
 };
 
 struct ConfigResult {
@@ -91,12 +101,8 @@ struct ConfigResult {
 ConfigResult parse_gateway_config(std::string_view text, std::string_view source);
 ConfigResult load_gateway_config(const std::string& path);
 
-/// Accepted timing (README "Timing"): the tick period (gateway.period_s, or the plan's
-/// sample time) within [kMinPeriodS, kMaxPeriodS]; every other duration within
-/// [0, kMaxDurationS] and, converted to ticks of the period, within the engine's range.
-inline constexpr double kMinPeriodS = 1e-3;
-inline constexpr double kMaxPeriodS = 86400.0;
-inline constexpr double kMaxDurationS = 1e6;
+// Accepted timing (README "Timing"): kMinPeriodS, kMaxPeriodS, kMaxDurationS
+// (timing_range.hpp); converted to ticks of the period, within the engine's range.
 
 /// "" when every duration of `config` converts to ticks of `period` within the engine's
 /// ranges; otherwise "<source>: gateway.<key> = <value> (<n> ticks of <p> s): expected …".

@@ -14,22 +14,50 @@ LogDrain::LogDrain(engine::LogRingBase& ring, std::FILE* file, LogLayout layout)
       buffer_(runlog::max_row_chars(layout_.header.inputs.size(), layout_.header.outputs.size()) +
               4096),
       dy_(layout_.output_values.size()),
-      writer_(file_, layout_.header, std::span<char>(buffer_)) {}
+      file_rows_(fileno(file)) {}
 
 LogDrain::~LogDrain() {
   stop();
 }
 
+void LogDrain::fail(int error, runlog::WriteStatus status, std::uint64_t tick) {
+  errno_ = error;
+  failed_tick_ = tick;
+  error_ = status;
+  failed_.store(true, std::memory_order_release);
+  if (events_ != nullptr) {
+    std::fprintf(events_,
+                 "excite-gateway: fault: %s; stopping the excitation (ramp out to the "
+                 "baseline, confirmed by readback)\n",
+                 failure().c_str());
+    std::fflush(events_);
+  }
+}
+
 bool LogDrain::write_header() {
-  const runlog::WriteStatus s = writer_.write_header();
-  if (s != runlog::WriteStatus::ok) {
-    error_ = s;
+  const runlog::WriteResult f = runlog::format_header(layout_.header, std::span<char>(buffer_));
+  if (f.status != runlog::WriteStatus::ok) {
+    detail_ = f.message;
+    failed_header_ = true;
+    error_ = f.status;
+    failed_.store(true);
     return false;
   }
-  return std::fflush(file_) == 0;
+  if (!file_rows_.append(std::span<const char>(buffer_.data(), f.length))) {
+    failed_header_ = true;
+    errno_ = file_rows_.error();
+    error_ = runlog::WriteStatus::io_error;
+    failed_.store(true);
+    return false;
+  }
+  return true;
 }
 
 bool LogDrain::write(const engine::TickRecord& r) {
+  if (failed_.load(std::memory_order_relaxed)) {
+    lost_.fetch_add(1);
+    return false;
+  }
   const std::size_t n = layout_.header.inputs.size();
   for (std::size_t i = 0; i < dy_.size(); ++i) {
     dy_[i] = r.dy[static_cast<std::size_t>(layout_.output_values[i])];
@@ -42,19 +70,52 @@ bool LogDrain::write(const engine::TickRecord& r) {
   row.dy = std::span<const double>(dy_);
   row.flags = r.flags & runlog::kKnownFlags;
   row.state = engine::to_run_state(r.state);
-  const runlog::WriteStatus s = writer_.write_row(row);
-  if (s != runlog::WriteStatus::ok) {
-    error_ = s;
+  const runlog::WriteResult f = runlog::format_row(layout_.header, row, std::span<char>(buffer_));
+  if (f.status != runlog::WriteStatus::ok) {
+    detail_ = f.message;
+    fail(0, f.status, r.tick);
+    lost_.fetch_add(1);
     return false;
   }
-  // Every row goes to the file whole: even a SIGKILL leaves a log that ends on a complete
-  // row (one write(2) of one row, never a stdio buffer cut mid-row).
-  if (std::fflush(file_) != 0) {
-    error_ = runlog::WriteStatus::io_error;
+  if (max_bytes_ != 0 && file_rows_.whole_bytes() + f.length > max_bytes_) {
+    limit_hit_ = true;
+    fail(0, runlog::WriteStatus::capacity_exceeded, r.tick);
+    lost_.fetch_add(1);
+    return false;
+  }
+  // Every row goes to the file whole, in write(2) calls of its own: even a SIGKILL leaves a
+  // log that ends on a complete row; a failed write leaves it cut back to one.
+  if (!file_rows_.append(std::span<const char>(buffer_.data(), f.length))) {
+    fail(file_rows_.error(), runlog::WriteStatus::io_error, r.tick);
+    lost_.fetch_add(1);
     return false;
   }
   rows_.fetch_add(1);
   return true;
+}
+
+std::string LogDrain::failure() const {
+  if (!failed_.load()) return "";
+  char why[192];
+  if (limit_hit_) {
+    std::snprintf(why, sizeof why, "it would pass gateway.log_max_mb = %g MB (%llu bytes)", max_mb_,
+                  static_cast<unsigned long long>(max_bytes_));
+  } else if (errno_ != 0) {
+    runlog::describe_errno(errno_, why, sizeof why);
+  } else {
+    std::snprintf(why, sizeof why, "%s (%s)", std::string(runlog::describe(error_.load())).c_str(),
+                  detail_);
+  }
+  if (failed_header_) return std::string("cannot write the run log's header: ") + why;
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "cannot write row %llu (tick %llu) of the run log: %s; the log is whole up to its "
+                "last full row (%llu rows, %llu bytes)",
+                static_cast<unsigned long long>(rows_.load() + 1),
+                static_cast<unsigned long long>(failed_tick_), why,
+                static_cast<unsigned long long>(rows_.load()),
+                static_cast<unsigned long long>(file_rows_.whole_bytes()));
+  return text;
 }
 
 void LogDrain::report(const engine::TickRecord& r) {
@@ -83,10 +144,7 @@ bool LogDrain::drain_once() {
     any = true;
     if (row_delay_.count() > 0) std::this_thread::sleep_for(row_delay_);
   }
-  if (any) {
-    std::fflush(file_);
-    if (events_ != nullptr) std::fflush(events_);
-  }
+  if (any && events_ != nullptr) std::fflush(events_);
   return any;
 }
 
@@ -108,7 +166,6 @@ void LogDrain::stop() {
     thread_.join();
   }
   drain_once();
-  std::fflush(file_);
 }
 
 }  // namespace excite::app

@@ -2,18 +2,27 @@
 #pragma once
 // The non-real-time side of the run log: a thread pops TickRecords from the ring and writes
 // them as run-log rows (firmware/runlog, the format `excite simulate` writes and
-// `excite identify` reads), flushing the FILE after every row so an interrupted run (even
-// SIGKILL) leaves a valid log up to its last drained tick. stop() drains what is left.
+// `excite identify` reads), each row in write(2) calls of its own (runlog::RowFile, no stdio
+// buffer) so an interrupted run (even SIGKILL) leaves a valid log up to its last drained
+// tick. stop() drains what is left.
+//
+// A failed or short write (disk full, file-size limit, I/O error) is a fault, not a death
+// (issue 19): the file is cut back to its last whole row, failed() is raised for the tick
+// loop (Runner::watch_log: the excitation stops, ramps out, the baseline is confirmed), the
+// reason is reported once on the event stream, and the thread keeps draining the ring
+// without writing, so state changes are still reported and the ring never overruns.
 
 #include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "firmware/app/small_thread.hpp"
 #include "firmware/engine/log_ring.hpp"
+#include "firmware/runlog/row_file.hpp"
 #include "firmware/runlog/writer.hpp"
 
 namespace excite::app {
@@ -32,7 +41,7 @@ class LogDrain {
   LogDrain(const LogDrain&) = delete;
   LogDrain& operator=(const LogDrain&) = delete;
 
-  /// Writes the comment header and the column row; false on a write error (described()).
+  /// Writes the comment header and the column row; false on a write error (failure()).
   bool write_header();
 
   void start();
@@ -44,23 +53,40 @@ class LogDrain {
   /// each, e.g. "tick 120 (t = 120 min): running -> suspended [limit]"); null: silent.
   void set_event_stream(std::FILE* events) { events_ = events; }
 
+  /// The log's size limit in bytes: a row that would pass it is a failed write (failure()
+  /// names the limit), as a full disk. 0: none.
+  void set_max_bytes(std::uint64_t bytes, double as_mb) {
+    max_bytes_ = bytes;
+    max_mb_ = as_mb;
+  }
+
   /// Test hook: sleep this long after each row (a slow disk).
   void set_row_delay(std::chrono::microseconds delay) { row_delay_ = delay; }
 
   [[nodiscard]] std::uint64_t rows_written() const { return rows_.load(); }
   [[nodiscard]] runlog::WriteStatus last_error() const { return error_.load(); }
 
+  /// Raised (once, never lowered) when a write failed: the tick loop polls it.
+  [[nodiscard]] const std::atomic<bool>& failed() const { return failed_; }
+  /// Why, after failed() (read it once the thread was stopped): "cannot write the header:
+  /// No space left on device (ENOSPC)" or "cannot write row 412 (tick 411): File too large
+  /// (EFBIG); the log is whole up to its last full row (411 rows, 52311 bytes)"; "" if none.
+  [[nodiscard]] std::string failure() const;
+  /// Records drained after the failure and not written (the log's missing ticks).
+  [[nodiscard]] std::uint64_t rows_lost() const { return lost_.load(); }
+
  private:
   bool drain_once();  // pops until empty; true if any row was written
   bool write(const engine::TickRecord& r);
   void report(const engine::TickRecord& r);
+  void fail(int error, runlog::WriteStatus status, std::uint64_t tick);
 
   engine::LogRingBase& ring_;
   std::FILE* file_;
   LogLayout layout_;
   std::vector<char> buffer_;
   std::vector<double> dy_;
-  runlog::FileWriter writer_;
+  runlog::RowFile file_rows_;
   std::chrono::microseconds row_delay_{0};
   std::FILE* events_ = nullptr;
   engine::State last_state_ = engine::State::configured;
@@ -69,6 +95,15 @@ class LogDrain {
   bool finished_ = false;  // stop() has run since start()
   std::atomic<std::uint64_t> rows_{0};
   std::atomic<runlog::WriteStatus> error_{runlog::WriteStatus::ok};
+  std::atomic<bool> failed_{false};
+  std::atomic<std::uint64_t> lost_{0};
+  std::uint64_t max_bytes_ = 0;
+  double max_mb_ = 0.0;
+  bool limit_hit_ = false;         // the failure is the size limit
+  int errno_ = 0;                  // of the failed write (0: a formatting refusal)
+  bool failed_header_ = false;     // the header was what failed
+  std::uint64_t failed_tick_ = 0;  // the tick whose row could not be written
+  const char* detail_ = "";        // a formatting refusal's text
   SmallThread thread_;
 };
 

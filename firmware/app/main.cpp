@@ -72,6 +72,13 @@ void install_signals() {
   for (int signo : {SIGTERM, SIGINT, SIGUSR1, SIGUSR2, SIGHUP}) sigaction(signo, &action, nullptr);
 }
 
+// A file-size limit (ulimit -f) must not kill the gateway mid-run: with SIGXFSZ ignored a
+// write beyond it fails with EFBIG, which the log thread handles as a fault (ramp out).
+// Ignored first thing, before any file is written.
+void ignore_file_size_signal() {
+  std::signal(SIGXFSZ, SIG_IGN);
+}
+
 // Operator commands typed on stdin, one per line: start, suspend, resume, abort.
 void read_stdin_commands() {
   static excite::app::SmallThread reader;
@@ -187,6 +194,7 @@ void print_dry_run(const excite::app::Gateway& gw) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ignore_file_size_signal();
   CLI::App cli{"excite-gateway: streams an excite plan to the field bus (firmware/app/README.md)"};
   std::string config_path;
   std::string plan_path;
@@ -272,6 +280,12 @@ int main(int argc, char** argv) {
     return fail(ExitCode::device, config_path + ": " + made.error);
   }
   gw.set_verify_at_arm(!lockstep);  // README: verified writes, lock-step
+  // Lock-step never sleeps out a period: after a failed exchange, retry at most 4 times a
+  // second (and never sooner than the period) on the real clock (README: paced retries).
+  if (lockstep) {
+    gw.pace_retries(&real_clock, std::max<excite::hal::Nanoseconds>(
+                                     gw.period(), std::chrono::milliseconds(250)));
+  }
   if (auto e = gw.arm(*made.bus, tick_clock)) {
     std::fclose(log);
     std::remove(log_path.c_str());
@@ -321,6 +335,7 @@ int main(int argc, char** argv) {
   if (auto_start) g_commands.post(engine::Command::start);
   const excite::app::RunStats stats = gw.run(g_commands, &g_hard_stop);
   const excite::runlog::WriteStatus log_status = gw.finish_log();
+  const std::string log_failure = gw.log_failure();
   const bool closed = std::fclose(log) == 0;
   std::fprintf(stderr, "excite-gateway: memory after the run: %s\n",
                excite::app::memory_status().c_str());
@@ -347,7 +362,8 @@ int main(int argc, char** argv) {
   std::fprintf(stderr,
                "excite-gateway: rows: clamped %llu, rate-limited %llu, suspended %llu, "
                "comm-lost %llu, stale %llu, skipped %llu (ticks skipped %llu), discontinuity "
-               "%llu; reads before writing again after a failed exchange %llu\n",
+               "%llu; reads before writing again after a failed exchange %llu; stale writes "
+               "undone %llu; retries paced %llu\n",
                static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kClamped)),
                static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kRateLimited)),
                static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kSuspended)),
@@ -356,7 +372,13 @@ int main(int argc, char** argv) {
                static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kSkipped)),
                static_cast<unsigned long long>(eng.skipped_ticks()),
                static_cast<unsigned long long>(eng.rows_flagged(excite::runlog::kDiscontinuity)),
-               static_cast<unsigned long long>(stats.reverified));
+               static_cast<unsigned long long>(stats.reverified),
+               static_cast<unsigned long long>(eng.stale_writes_undone()),
+               static_cast<unsigned long long>(stats.paced));
+  std::fprintf(stderr, "excite-gateway: exception replies by code: %s\n",
+               gw.exception_report(*made.bus).c_str());
+  const std::string refused = gw.refusal_report();
+  if (!refused.empty()) std::fprintf(stderr, "excite-gateway: fault: %s\n", refused.c_str());
   if (eng.readback_fault().valid) {
     std::fprintf(stderr, "excite-gateway: fault: verified write failed: %s\n",
                  gw.readback_fault_report().c_str());
@@ -364,7 +386,9 @@ int main(int argc, char** argv) {
   if (stats.final_state == engine::State::safe_unconfirmed) {
     std::fprintf(stderr,
                  "excite-gateway: safe, unconfirmed: the baseline was written but not read back "
-                 "(check the field)\n");
+                 "twice, a hold interval apart, within gateway.confirm_timeout_s = %g s (check "
+                 "the field)\n",
+                 config.confirm_timeout_s);
   }
   const std::string at_end = gw.range_end_report();
   std::fprintf(stderr, "excite-gateway: values at the end of their register's range: %s\n",
@@ -375,6 +399,16 @@ int main(int argc, char** argv) {
     return static_cast<int>(ExitCode::unconfirmed);
   }
   if (stats.outcome == engine::Outcome::readback_fault) return static_cast<int>(ExitCode::fault);
+  if (stats.outcome == engine::Outcome::device_refused) {
+    return static_cast<int>(ExitCode::device_refused);
+  }
+  if (!log_failure.empty()) {
+    return fail(ExitCode::log_fault,
+                std::string("fault: ") + log_path + ": " + log_failure +
+                    (stats.outcome == engine::Outcome::log_fault
+                         ? "; the excitation was stopped and the baseline confirmed"
+                         : "; the baseline was confirmed"));
+  }
   if (!closed || log_status != excite::runlog::WriteStatus::ok) {
     return fail(ExitCode::log_error, log_path + ": writing the run log failed: " +
                                          std::string(excite::runlog::describe(log_status)));

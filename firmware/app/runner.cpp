@@ -39,6 +39,7 @@ void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t s
   const std::uint32_t n = engine_.config().values;
   const std::span<double> values(values_.data(), n);
   bool ok = false;
+  bool refused = false;
   if (out.write) {
     last_status_ = hal::Status::ok;
     if (reverify_) {  // after a failure: read the peer before writing anything to it again
@@ -50,6 +51,20 @@ void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t s
     if (last_status_ == hal::Status::ok) last_status_ = bus_.read(values);
     ok = last_status_ == hal::Status::ok;
     reverify_ = !ok;
+    if (!ok && pacing_clock_ != nullptr) last_failed_at_ = pacing_clock_->now();
+    // Exceptions 1, 2, 3: the device refused the request itself (it will again) — not a
+    // link fault. The first one is kept and stops the excitation below; 4, 6 and the rest
+    // stay with the comm guard.
+    if (last_status_ == hal::Status::peer_error && !refusal_.valid) {
+      const hal::PeerException e = bus_.last_exception();
+      if (hal::is_refusal(e.code)) {
+        refusal_.valid = true;
+        refusal_.exception = e;
+        refusal_.tick = engine_.ticks() == 0 ? 0 : engine_.ticks() - 1;
+        refusal_.setpoint = out.setpoint;
+        refused = true;
+      }
+    }
   }
   if (ok) {
     for (std::size_t j = 0; j < range_ends_.size() && j < n; ++j) {
@@ -58,6 +73,11 @@ void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t s
     }
   }
   engine_.observe(ok, values);
+  // After observe(), so this tick's row says `aborted`: the ramp-out starts next tick.
+  if (refused) engine_.fault(engine::Outcome::device_refused);
+  if (log_failed_ != nullptr && log_failed_->load(std::memory_order_acquire)) {
+    engine_.fault(engine::Outcome::log_fault);
+  }
   if (out.write) ring_.push(engine_.record(time_ns));
   ++ticks_;
 }
@@ -79,6 +99,13 @@ RunStats Runner::run(CommandMailbox& commands, const std::atomic<bool>* stop,
       const auto bin = late_us < 0 ? 0U : static_cast<std::size_t>(late_us);
       ++lateness_[bin < last ? bin : last];
     }
+    if (pacing_clock_ != nullptr && reverify_) {  // the last exchange failed: pace the retry
+      const hal::Nanoseconds due = last_failed_at_ + retry_interval_;
+      if (pacing_clock_->now() < due) {
+        ++paced_;
+        pacing_clock_->sleep_until(due);
+      }
+    }
     tick(nominal.count(), commands.take(), skipped);
     if (observer_ != nullptr) observer_->after_tick(engine_, ticks_ - 1);
     if (engine::finished(engine_.state())) break;
@@ -88,6 +115,7 @@ RunStats Runner::run(CommandMailbox& commands, const std::atomic<bool>* stop,
   stats.failed_exchanges = engine_.failed_exchanges();
   stats.ring_overruns = ring_.overruns();
   stats.reverified = reverified_;
+  stats.paced = paced_;
   stats.final_state = engine_.state();
   stats.outcome = engine_.outcome();
   return stats;

@@ -36,8 +36,18 @@ struct RunStats {
   std::uint64_t failed_exchanges = 0;
   std::uint64_t ring_overruns = 0;  // records dropped because the log ring was full
   std::uint64_t reverified = 0;     // ticks after a failed exchange that read the peer first
+  std::uint64_t paced = 0;          // retries held back by the retry pacing (pace_retries)
   engine::State final_state = engine::State::configured;
   engine::Outcome outcome = engine::Outcome::none;
+};
+
+/// The first request the device refused (a Modbus exception 1, 2 or 3, hal::is_refusal):
+/// what was being written, at which tick. Found on the cyclic path (fixed storage).
+struct Refusal {
+  bool valid = false;
+  hal::PeerException exception{};
+  std::uint64_t tick = 0;                             // the engine's tick of the refused exchange
+  std::array<double, engine::kMaxInputs> setpoint{};  // the setpoints written (a write)
 };
 
 /// A value's watched range end: a good reading ≤ low or ≥ high is counted (the reading may
@@ -75,6 +85,21 @@ class Runner {
     range_counts_ = counts;
   }
 
+  /// A flag the log thread raises when the run log cannot be written (LogDrain::failed()):
+  /// the tick that sees it stops the excitation (Engine::fault(Outcome::log_fault): aborted,
+  /// ramp out, baseline confirmed). One atomic load per tick; null: not watched.
+  void watch_log(const std::atomic<bool>* failed) noexcept { log_failed_ = failed; }
+
+  /// Paced retries (issue 28): after a failed exchange the next tick waits, on `real`, until
+  /// `interval` after that failure. For lock-step, where the tick clock never sleeps: a
+  /// peer that answers every request at once with an error (a busy device, exception 4/6;
+  /// connection refused) is retried a few times a second, not thousands, and the log grows
+  /// by as few rows. null: no pacing (the tick clock's period paces in real time).
+  void pace_retries(hal::Clock* real, hal::Nanoseconds interval) noexcept {
+    pacing_clock_ = real;
+    retry_interval_ = interval;
+  }
+
   /// Whether arm() writes the baseline once and reads it back (default true). Off only for
   /// a lock-step simulated peer, where that write would be a plant sample of its own.
   void set_verify_at_arm(bool on) noexcept { verify_at_arm_ = on; }
@@ -92,6 +117,9 @@ class Runner {
   void tick(std::int64_t time_ns, engine::Command command, std::uint64_t skipped = 0) noexcept;
 
   [[nodiscard]] hal::Status last_status() const noexcept { return last_status_; }
+  /// The first refusal (exception 1, 2 or 3) of the run; it stopped the excitation
+  /// (Engine::fault(Outcome::device_refused)). Not valid when there was none.
+  [[nodiscard]] const Refusal& refusal() const noexcept { return refusal_; }
 
  private:
   engine::Engine& engine_;
@@ -100,6 +128,7 @@ class Runner {
   engine::LogRingBase& ring_;
   hal::Nanoseconds period_;
   TickObserver* observer_ = nullptr;
+  const std::atomic<bool>* log_failed_ = nullptr;
   std::span<std::uint64_t> lateness_{};
   std::span<const RangeEnd> range_ends_{};
   std::span<std::uint64_t> range_counts_{};
@@ -107,6 +136,11 @@ class Runner {
   hal::Status last_status_ = hal::Status::ok;
   std::uint64_t ticks_ = 0;
   bool verify_at_arm_ = true;
+  Refusal refusal_{};
+  hal::Clock* pacing_clock_ = nullptr;
+  hal::Nanoseconds retry_interval_{0};
+  hal::Nanoseconds last_failed_at_{0};
+  std::uint64_t paced_ = 0;
   bool reverify_ = false;  // the last exchange failed: read before writing again
   std::uint64_t reverified_ = 0;
 };

@@ -77,6 +77,15 @@ Status validate(const EngineConfig& config) {
                          "suspend_timeout_ticks = %u, expected 0 (never) or 1…%u",
                          config.suspend_timeout_ticks, kMaxDurationTicks);
   }
+  if (config.confirm_timeout_ticks > kMaxDurationTicks) {
+    return Status::error(StatusCode::invalid_field,
+                         "confirm_timeout_ticks = %u, expected 0 (the older window) or 1…%u",
+                         config.confirm_timeout_ticks, kMaxDurationTicks);
+  }
+  if (config.confirm_hold_ticks < 1 || config.confirm_hold_ticks > kMaxDurationTicks) {
+    return Status::error(StatusCode::invalid_field, "confirm_hold_ticks = %u, expected 1…%u",
+                         config.confirm_hold_ticks, kMaxDurationTicks);
+  }
   if (config.comm_fail_limit < 1) {
     return Status::error(StatusCode::invalid_field, "comm_fail_limit = 0, expected >= 1");
   }

@@ -72,6 +72,14 @@ struct EngineConfig {
   std::uint32_t readback_lag_ticks = 1;
   // More than this many consecutive mismatching ticks on one setpoint → readback fault.
   std::uint32_t readback_mismatch_limit = 3;
+  // Safe means confirmed and held (issue 28 item 2). 0: the older window (README). Else,
+  // from the tick the output reaches the baseline, the baseline must be read back on two
+  // exchanges at least confirm_hold_ticks apart with no failed exchange between them (a
+  // failure means a reconnect: confirmation starts afresh after it) within
+  // confirm_timeout_ticks; otherwise safe_unconfirmed. Mismatches while returning are then
+  // stale writes being undone (the baseline is written every tick), counted, not faults.
+  std::uint32_t confirm_timeout_ticks = 0;
+  std::uint32_t confirm_hold_ticks = 1;  // ≥ 1
 };
 
 /// Ok, or the first broken rule naming the field ("input[1].max_move = 0, expected > 0").

@@ -139,6 +139,13 @@ void Engine::apply_command() noexcept {
   }
 }
 
+void Engine::fault(Outcome why) noexcept {
+  if (state_ == State::armed || state_ == State::running || state_ == State::suspended) {
+    state_ = State::aborted;
+    outcome_ = why;
+  }
+}
+
 void Engine::enter_suspended() noexcept {
   state_ = State::suspended;
   suspended_ticks_ = 0;
@@ -149,6 +156,35 @@ void Engine::enter_returning() noexcept {
   state_ = State::returning;
   returning_ticks_ = 0;
   confirm_ticks_ = 0;
+  confirm_elapsed_ = 0;
+  confirmed_once_ = false;
+  stale_episode_ = false;
+}
+
+// Safe = the baseline read back on two exchanges at least confirm_hold_ticks apart, no
+// failed exchange between them, within confirm_timeout_ticks of the output reaching it.
+void Engine::confirm(bool out_at_baseline) noexcept {
+  if (!out_at_baseline) return;  // still ramping out: the confirmation time starts at the baseline
+  confirm_elapsed_ += elapsed_;  // on the clock: skipped ticks count
+  if (!exchange_ok_ || stale_) {
+    confirmed_once_ = false;  // a failure means a reconnect: confirm afresh after it
+  } else if (baseline_read_back_) {
+    stale_episode_ = false;
+    if (!confirmed_once_) {
+      confirmed_once_ = true;
+      first_confirm_tick_ = ticks_;
+    } else if (ticks_ - first_confirm_tick_ >= config_.confirm_hold_ticks) {
+      state_ = State::safe;
+      return;
+    }
+  } else if (mismatch_now_) {
+    // The device holds another value than the baseline written: a write applied late. The
+    // baseline goes out again every tick; counted once per episode.
+    if (!stale_episode_) ++stale_undone_;
+    stale_episode_ = true;
+    confirmed_once_ = false;
+  }
+  if (confirm_elapsed_ >= config_.confirm_timeout_ticks) state_ = State::safe_unconfirmed;
 }
 
 const TickOutput& Engine::compute(std::uint64_t skipped_ticks) noexcept {
@@ -311,6 +347,7 @@ void Engine::read_command_register(bool exchange_ok, std::span<const double> val
 // mismatches on one setpoint is a fault: excitation stops (aborted → returning).
 void Engine::check_readbacks(std::span<const double> values) noexcept {
   baseline_read_back_ = false;
+  mismatch_now_ = false;
   if (!exchange_ok_) return;
   if (!config_.verify_readbacks) {
     baseline_read_back_ = true;
@@ -331,8 +368,12 @@ void Engine::check_readbacks(std::span<const double> values) noexcept {
       continue;
     }
     all_at_baseline = false;
+    mismatch_now_ = true;
     ++mismatches_total_;
-    if (++mismatch_streak_[c] > config_.readback_mismatch_limit && !fault_.valid) {
+    // With confirmation on, a mismatch while returning is a stale write being undone
+    // (confirm()), not a fault.
+    const bool undoing = config_.confirm_timeout_ticks != 0 && state_ == State::returning;
+    if (++mismatch_streak_[c] > config_.readback_mismatch_limit && !fault_.valid && !undoing) {
       fault_ = {true, false, c, config_.input[c].readback, written, read, ticks_};
       outcome_ = Outcome::readback_fault;
       if (state_ == State::armed || state_ == State::running || state_ == State::suspended) {
@@ -394,6 +435,10 @@ void Engine::observe(bool exchange_ok, std::span<const double> values) noexcept 
     case State::returning: {
       returning_ticks_ += elapsed_;  // on the clock: skipped ticks count
       const bool out_at_baseline = ramp_ == 0.0 && at_baseline();
+      if (config_.confirm_timeout_ticks != 0) {
+        confirm(out_at_baseline);
+        break;
+      }
       if (out_at_baseline) ++confirm_ticks_;
       // Safe = the baseline was written and read back; otherwise, after the confirmation
       // window, safe_unconfirmed (the link stays down, or the readbacks disagree).

@@ -69,6 +69,13 @@ class Engine {
   /// Safe to call from the tick's thread only; the app funnels signals through an atomic.
   void command(Command c) noexcept { pending_ = c; }
 
+  /// A fault found outside the engine (the run log cannot be written, the device refused a
+  /// write) stops the excitation at once: armed, running or suspended → aborted (ramp out,
+  /// baseline confirmed by readback as after any abort) with outcome `why`. The first fault
+  /// names the outcome; later calls and calls in other states change nothing else (a run
+  /// already returning keeps returning). Cyclic path: no allocation.
+  void fault(Outcome why) noexcept;
+
   /// Phase 1 of a tick: applies the pending command and the transitions due, advances the
   /// table row while running and returns the setpoints (clamped to [min, max], slew
   /// limited to max_move per tick) with the next heartbeat.
@@ -115,6 +122,10 @@ class Engine {
   [[nodiscard]] std::uint64_t rows_flagged(std::uint32_t flag) const noexcept;
   [[nodiscard]] std::uint64_t readback_mismatches() const noexcept { return mismatches_total_; }
   [[nodiscard]] const ReadbackFault& readback_fault() const noexcept { return fault_; }
+  /// Confirmation (config.confirm_timeout_ticks ≠ 0): episodes in which the device held
+  /// another value than the baseline written after the output had reached it — a write
+  /// applied late — each undone by the baseline written again.
+  [[nodiscard]] std::uint64_t stale_writes_undone() const noexcept { return stale_undone_; }
   /// Whether `read` agrees with `written` for input c (the tolerance of InputLimits).
   [[nodiscard]] bool readback_agrees(std::uint32_t c, double written, double read) const noexcept;
 
@@ -128,6 +139,7 @@ class Engine {
   void check_readbacks(std::span<const double> values) noexcept;
   [[nodiscard]] bool at_baseline() const noexcept;
   void count_flags() noexcept;
+  void confirm(bool out_at_baseline) noexcept;
 
   EngineConfig config_{};
   signal::ConstTableView table_{};
@@ -170,6 +182,12 @@ class Engine {
   std::uint64_t confirm_ticks_ = 0;  // returning ticks with the output at baseline
   ReadbackFault fault_{};
   std::uint64_t mismatches_total_ = 0;
+  bool mismatch_now_ = false;             // this tick, a readback disagreed with what was written
+  std::uint64_t confirm_elapsed_ = 0;     // ticks of the clock with the output at the baseline
+  bool confirmed_once_ = false;           // the first of the two readbacks happened …
+  std::uint64_t first_confirm_tick_ = 0;  // … at this tick
+  bool stale_episode_ = false;
+  std::uint64_t stale_undone_ = 0;
 
   std::uint64_t failed_total_ = 0;
   std::uint64_t skipped_total_ = 0;

@@ -79,6 +79,10 @@ const char* to_string(Outcome outcome) noexcept {
       return "aborted on suspension timeout";
     case Outcome::readback_fault:
       return "fault: readback mismatch";
+    case Outcome::log_fault:
+      return "fault: the run log could not be written";
+    case Outcome::device_refused:
+      return "fault: the device refused a setpoint";
   }
   return "unknown";
 }

@@ -5,7 +5,8 @@
 //   configured ─arm→ armed ─start→ running ⇄ suspended
 //   running ─table done→ completed ─→ returning ─baseline written and read back→ safe
 //   returning ─baseline not confirmed in time→ safe_unconfirmed
-//   armed | running | suspended ─abort / suspend timeout / readback fault→ aborted ─→ returning
+//   armed | running | suspended ─abort / suspend timeout / readback fault / fault()→ aborted
+//   aborted ─→ returning
 //   configured ─abort→ safe (nothing was ever written)
 
 #include <cstdint>
@@ -49,6 +50,10 @@ enum class Outcome : std::uint8_t {
   aborted_by_operator,
   aborted_on_timeout,
   readback_fault,  // a readback disagreed with the setpoint written (Engine::readback_fault())
+  log_fault,       // the run log could not be written (disk full, file-size limit, I/O
+                   // error): the loop stopped the excitation (Engine::fault)
+  device_refused,  // the device answered a setpoint write with a refusal (Modbus exception
+                   // 1, 2 or 3): the loop stopped the excitation (Engine::fault)
 };
 
 const char* to_string(State state) noexcept;

@@ -138,6 +138,8 @@ Validation ModbusFieldBus::configure(const ModbusConfig& config) {
   write_image_.assign(plan_.write_image_size, 0);
   read_image_.assign(plan_.read_image_size, 0);
   requests_ = reconnects_ = clamped_ = 0;
+  exception_ = {};
+  exception_counts_.fill(0);
   set_detail("");
   return Validation::valid();
 }
@@ -166,6 +168,16 @@ Status ModbusFieldBus::fail(const char* operation, const Request* request, int e
   Status status = Status::link_lost;
   if (is_exception_reply(error)) {
     status = Status::peer_error;
+    const int code = error - MODBUS_ENOBASE;
+    exception_ = {code, operation[0] == 'w', 0, 0, 0};
+    if (request != nullptr) {
+      exception_.function = static_cast<std::uint8_t>(request->function_code);
+      exception_.address = request->address;
+      exception_.count = static_cast<std::uint16_t>(request->count);
+    }
+    if (code >= 0 && static_cast<std::size_t>(code) < exception_counts_.size()) {
+      ++exception_counts_[static_cast<std::size_t>(code)];
+    }
   } else if (is_malformed_reply(error)) {
     modbus_flush(ctx_);
     status = Status::peer_error;
@@ -188,6 +200,7 @@ Status ModbusFieldBus::fail(const char* operation, const Request* request, int e
 }
 
 Status ModbusFieldBus::write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept {
+  exception_ = {};
   if (ctx_ == nullptr) {
     set_detail("not configured");
     return Status::unavailable;
@@ -237,6 +250,7 @@ Status ModbusFieldBus::write(std::span<const double> setpoints, std::uint16_t he
 }
 
 Status ModbusFieldBus::read(std::span<double> values) noexcept {
+  exception_ = {};
   if (ctx_ == nullptr) {
     set_detail("not configured");
     return Status::unavailable;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -46,7 +47,9 @@ Validation validate(const ModbusConfig& config);
 // libmodbus's own error recovery is off; this class reconnects instead:
 //   ETIMEDOUT                  → timeout;   the link is closed, reconnected on the next call
 //   EPIPE, ECONNRESET, EBADF   → link_lost; likewise
-//   Modbus exception reply     → peer_error; link kept
+//   Modbus exception reply     → peer_error; link kept; last_exception() names the code and
+//                                the request, exception_counts() counts it (1, 2, 3: the
+//                                device refused the request; 4, 6: transient)
 //   malformed reply (CRC, …)   → peer_error; pending input flushed, link kept
 //   reconnect fails            → link_lost; tried again on the next call
 // One context per thread: an instance is not thread-safe; give each thread its own.
@@ -66,6 +69,10 @@ class ModbusFieldBus final : public FieldBus {
   }
   [[nodiscard]] std::size_t value_count() const noexcept override { return plan_.values.size(); }
   [[nodiscard]] const char* detail() const noexcept override { return detail_; }
+  [[nodiscard]] PeerException last_exception() const noexcept override { return exception_; }
+  [[nodiscard]] std::span<const std::uint64_t> exception_counts() const noexcept override {
+    return {exception_counts_.data(), exception_counts_.size()};
+  }
 
   [[nodiscard]] const RegisterPlan& plan() const noexcept { return plan_; }
   [[nodiscard]] std::uint64_t requests() const noexcept { return requests_; }      // sent
@@ -89,6 +96,8 @@ class ModbusFieldBus final : public FieldBus {
   std::uint64_t reconnects_ = 0;
   std::uint64_t clamped_ = 0;
   char detail_[256] = "not configured";
+  PeerException exception_{};
+  std::array<std::uint64_t, kExceptionCodes> exception_counts_{};
 };
 
 }  // namespace excite::hal::modbus

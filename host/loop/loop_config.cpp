@@ -105,6 +105,12 @@ std::string gateway_toml(const LoopConfigOptions& opt, const sim::Plant& plant,
         "--clock lockstep allowed\nhost = "
      << toml_string(opt.host) << "\nport = " << opt.port
      << "\nunit_id = 1\nresponse_timeout_ms = 1000\n\n";
+  // The plant's own watchdog (plant.toml), declared: the gateway refuses one shorter than
+  // two of its periods.
+  if (server.plant.watchdog_s > 0.0) {
+    os << "peer_watchdog_s = " << toml_number(server.plant.watchdog_s)
+       << "   # plant.toml's watchdog_s: at least two tick periods\n\n";
+  }
   os << "[map]\nheartbeat_address = " << *map.heartbeat_address << "\n";
   const double move = opt.max_move > 0.0 ? opt.max_move : 2.0 * range;
   for (std::size_t i = 0; i < map.setpoints.size(); ++i) {
@@ -275,7 +281,10 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
   server.plant.noise_seed = opt.seed;
   // The plant's own controller: a heartbeat watchdog and the gateway's input limits (the
   // same numbers as gateway.toml's min/max, float32 slack included).
-  server.plant.watchdog_s = opt.watchdog_s;
+  // The watchdog outlasts two gateway periods (the tick period, or the sample time without
+  // one): a shorter one would trip between writes (issue 28 item 3).
+  const double period_s = opt.period_s > 0.0 ? opt.period_s : 60.0 * sample_time;
+  server.plant.watchdog_s = opt.watchdog_s > 0.0 ? std::max(opt.watchdog_s, 2.0 * period_s) : 0.0;
   for (std::size_t i = 0; i < u0v.size(); ++i) {
     const double slack = std::abs(u0v[i]) * 0x1p-23;
     server.plant.input_min.push_back(u0v[i] - range - slack);

@@ -2,8 +2,10 @@
 // excite-plant: a simulated plant behind a Modbus TCP (or RTU) server, so the gateway can be tested
 // in the loop unchanged. Usage and exit codes: sim/server/README.md and --help.
 //
-// Exit codes: 0 stopped by SIGTERM/SIGINT; 1 failed while serving (cannot listen, log
-// write failed); 2 bad command line or configuration (nothing was served).
+// Exit codes: 0 stopped by SIGTERM/SIGINT; 1 failed while serving (cannot listen, cannot
+// write the log's header); 2 bad command line or configuration (nothing was served); 3
+// stopped by SIGTERM/SIGINT after its run log could not be written (disk full, file-size
+// limit: logging stopped, the log is whole up to its last full row, serving went on).
 
 #include <arpa/inet.h>
 #include <net/if.h>
@@ -15,9 +17,11 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
+#include "firmware/app/timing_range.hpp"
 #include "firmware/config/error.hpp"
 #include "firmware/runlog/format.hpp"
 #include "sim/server/can_plant_server.hpp"
@@ -33,6 +37,7 @@ namespace {
 constexpr int kExitStopped = 0;
 constexpr int kExitServeFailed = 1;
 constexpr int kExitBadInput = 2;
+constexpr int kExitLogFailed = 3;
 
 volatile std::sig_atomic_t g_stop = 0;
 
@@ -65,6 +70,17 @@ void check_positive(const std::string& option, double x, bool zero_ok, const std
   if (!std::isfinite(x) || x < 0.0 || (!zero_ok && x == 0.0)) bad(option, text_of(x), what);
 }
 
+// The wall-clock seconds per plant sample, and the sample time as seconds, within the
+// gateway's tick periods (firmware/app/timing_range.hpp: the same numbers, not a copy).
+void check_period(const std::string& option, const std::string& value, double seconds,
+                  const std::string& what) {
+  if (!(seconds >= excite::app::kMinPeriodS && seconds <= excite::app::kMaxPeriodS)) {
+    bad(option, value,
+        what + " within the gateway's tick periods, " + text_of(excite::app::kMinPeriodS) + " … " +
+            text_of(excite::app::kMaxPeriodS) + " s (got " + text_of(seconds) + " s)");
+  }
+}
+
 // "ADDR:PORT" → host and port (ADDR an IPv4 address, PORT 0..65535).
 void parse_endpoint(const std::string& text, std::string& host, std::uint16_t& port) {
   const auto colon = text.rfind(':');
@@ -85,10 +101,14 @@ void parse_endpoint(const std::string& text, std::string& host, std::uint16_t& p
 
 int main(int argc, char** argv) {
   using namespace excite::sim::server;
+  // A file-size limit (ulimit -f) must not kill the plant: a log write beyond it fails with
+  // EFBIG instead, and logging stops (PlantServer::log_failure()).
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{
       "excite-plant: a simulated plant served over Modbus TCP or RTU for testing excite-gateway "
       "in the loop.\nExit codes: 0 stopped by SIGTERM/SIGINT, 1 failed while serving, 2 bad "
-      "command line or configuration (nothing served)."};
+      "command line or configuration (nothing served), 3 stopped after its run log could not be "
+      "written (logging stopped, serving went on)."};
   std::string config_path;
   std::string plant_name;
   std::string plant_file;
@@ -161,6 +181,11 @@ int main(int argc, char** argv) {
   app.add_option("--stall-ms", options.faults.stall_ms, "stall duration for --stall-requests");
   app.add_option("--stall-requests", options.faults.stall_requests,
                  "answer this many requests only after --stall-ms");
+  app.add_option("--freeze-ms", options.freeze_ms,
+                 "freeze this long (nothing read, answered or sampled, as a SIGSTOP) after "
+                 "--freeze-after requests");
+  app.add_option("--freeze-after", options.freeze_after,
+                 "requests served normally before the --freeze-ms freeze");
   app.add_option("--drop-requests", options.faults.drop_requests,
                  "answer this many requests by closing the connection");
   app.add_option("--exception-requests", options.faults.exception_requests,
@@ -251,6 +276,10 @@ int main(int argc, char** argv) {
     if (app.count("--noise-var") > 0) config.plant.noise_variance = {noise_var};
     if (seed_opt->count() > 0) config.plant.noise_seed = seed;
     if (app.count("--sample-time-min") > 0) config.plant.sample_time_min = sample_time_min;
+    check_period(app.count("--sample-time-min") > 0 ? "--sample-time-min"
+                                                    : source + ": plant.sample_time_min",
+                 text_of(config.plant.sample_time_min), 60.0 * config.plant.sample_time_min,
+                 "minutes whose seconds lie");
     PlantProcess process(load_plant(config.plant, config.base_directory, source), config.plant);
     const excite::sim::Plant& plant = process.plant();
     if (config_path.empty()) {
@@ -286,9 +315,42 @@ int main(int argc, char** argv) {
     }
     if (speedup > 0.0) {
       options.sample_time_s = 60.0 * process.sample_time_min() / speedup;
+      check_period("--speedup", text_of(speedup), options.sample_time_s,
+                   "a factor whose wall-clock seconds per sample (60 · T / X, T = " +
+                       text_of(process.sample_time_min()) + " min) lie");
     } else {
       options.sample_time_s =
           sample_time_s > 0.0 ? sample_time_s : 60.0 * process.sample_time_min();
+      if (sample_time_s > 0.0) {
+        check_period("--sample-time-s", text_of(sample_time_s), sample_time_s, "seconds");
+      }
+    }
+    // Noise whose standard deviation exceeds what an output's register carries (float32:
+    // ±FLT_MAX; a scaled int16/uint16: its engineering range) only clips: refused.
+    for (std::size_t j = 0; j < layout.values.size(); ++j) {
+      const excite::hal::modbus::Codec& c = layout.values[j].codec;
+      const double span = c.type == excite::hal::modbus::RegisterType::float32
+                              ? 2.0 * static_cast<double>(std::numeric_limits<float>::max())
+                              : c.eng_max - c.eng_min;
+      const std::vector<double>& v = config.plant.noise_variance;
+      if (v.empty()) break;
+      const double variance = v.size() == 1 ? v.front() : v[std::min(j, v.size() - 1)];
+      if (!(std::sqrt(variance) <= span)) {
+        bad(app.count("--noise-var") > 0 ? "--noise-var" : source + ": plant.noise_variance",
+            text_of(variance),
+            "a variance whose standard deviation fits output " + plant.output_names()[j] +
+                "'s register (at most " + text_of(span) + ", the range it carries)");
+      }
+    }
+    // A free-running watchdog shorter than one sample trips between the gateway's writes:
+    // the inputs sit at the baseline part of every sample while the gateway logs the
+    // excitation (issue 28 item 3). Warned, and the trips are counted at the stop.
+    if (!options.lockstep && options.watchdog_s > 0.0 &&
+        options.watchdog_s < options.sample_time_s) {
+      std::cerr << "excite-plant: warning: watchdog " << text_of(options.watchdog_s)
+                << " s is shorter than one sample period (" << text_of(options.sample_time_s)
+                << " s): it trips between the gateway's writes and holds the inputs at the "
+                   "baseline; give it at least two periods\n";
     }
     options.plant_description = plant.name() + " (excite-plant)";
     options.time_scales.tau_high_min = config.plant.tau_high_min;
@@ -347,6 +409,10 @@ int main(int argc, char** argv) {
                 << " samples outside its register's range [" << p.codec.eng_min << ", "
                 << p.codec.eng_max << "] (lowest " << m.lowest << ", highest " << m.highest
                 << "); the register held the range's end\n";
+    }
+    if (!server->log_failure().empty()) {
+      std::cerr << "excite-plant: " << server->log_failure() << "\n";
+      if (code == kExitStopped) code = kExitLogFailed;
     }
     return code;
   } catch (const std::exception& e) {

@@ -108,9 +108,16 @@ void PlantServer::open_log() {
                               log_outputs_,
                               producer_,
                               options_.time_scales};
-  log_writer_.emplace(log_, header, log_buffer_);
-  if (const auto s = log_writer_->write_header(); s != runlog::WriteStatus::ok) {
-    throw std::runtime_error("--log " + options_.log_path + ": " + log_writer_->detail());
+  log_header_.emplace(header);
+  log_rows_.emplace(fileno(log_));
+  const runlog::WriteResult f = runlog::format_header(*log_header_, log_buffer_);
+  if (f.status != runlog::WriteStatus::ok) {
+    throw std::runtime_error("--log " + options_.log_path + ": " + f.message);
+  }
+  if (!log_rows_->append(std::span<const char>(log_buffer_.data(), f.length))) {
+    char why[192];
+    throw std::runtime_error("--log " + options_.log_path + ": cannot write the header: " +
+                             runlog::describe_errno(log_rows_->error(), why, sizeof why));
   }
 }
 
@@ -121,7 +128,8 @@ void PlantServer::release() {
   if (ctx_ != nullptr && rtu()) modbus_close(ctx_);
   if (ctx_ != nullptr) modbus_free(ctx_);
   ctx_ = nullptr;
-  log_writer_.reset();
+  log_header_.reset();
+  log_rows_.reset();
   if (log_ != nullptr) std::fclose(log_);
   log_ = nullptr;
 }
@@ -348,14 +356,26 @@ void PlantServer::take_sample() {
   process_.sample(u_.data(), y_.data());
   image_.write_values(y_.data());
   report_misfits(k);
-  if (log_writer_) {
+  if (log_header_ && log_failure_.empty()) {
     const runlog::Row row{static_cast<double>(k) * process_.sample_time_min(), k,
                           process_.last_du(), u_, process_.last_dy(), 0,
                           // The plant cannot see the gateway's engine state.
                           runlog::RunState::unknown};
-    if (const auto s = log_writer_->write_row(row); s != runlog::WriteStatus::ok) {
+    const runlog::WriteResult f = runlog::format_row(*log_header_, row, log_buffer_);
+    if (f.status != runlog::WriteStatus::ok) {
       throw std::runtime_error("--log " + options_.log_path + ": sample " + std::to_string(k) +
-                               ": " + std::string(runlog::describe(s)));
+                               ": " + f.message);
+    }
+    // One row in write(2) calls of its own: a failed write (disk full, file-size limit) cuts
+    // the file back to its last whole row; logging stops, serving goes on (issue 19).
+    if (!log_rows_->append(std::span<const char>(log_buffer_.data(), f.length))) {
+      char why[192];
+      log_failure_ = "--log " + options_.log_path + ": cannot write sample " + std::to_string(k) +
+                     ": " + runlog::describe_errno(log_rows_->error(), why, sizeof why) +
+                     "; logging stopped, the log is whole up to its last full row (" +
+                     std::to_string(k) + " samples); serving goes on";
+      std::fprintf(stderr, "excite-plant: %s\n", log_failure_.c_str());
+      std::fflush(stderr);
     }
   }
 }
@@ -440,6 +460,22 @@ void PlantServer::on_heartbeat_written() {
   if (!(faults_armed() && faults_.freeze_echo)) image_.set_heartbeat_echo(heartbeat);
 }
 
+void PlantServer::freeze(const std::function<bool()>& stop) {
+  frozen_ = true;
+  std::fprintf(stderr,
+               "excite-plant: frozen for %u ms after %llu requests at sample %llu (nothing read, "
+               "answered or sampled)\n",
+               options_.freeze_ms, static_cast<unsigned long long>(requests_),
+               static_cast<unsigned long long>(process_.samples()));
+  std::fflush(stderr);
+  const auto until = Clock::now() + std::chrono::milliseconds(options_.freeze_ms);
+  while (Clock::now() < until && !stop()) {
+    std::this_thread::sleep_for(std::min<Clock::duration>(until - Clock::now(), kPollSlice));
+  }
+  std::fprintf(stderr, "excite-plant: running again after the freeze\n");
+  std::fflush(stderr);
+}
+
 void PlantServer::run(const std::function<bool()>& stop) {
   for (Client& c : clients_) c.last_activity = Clock::now();
   const auto period = std::chrono::duration_cast<Clock::duration>(
@@ -447,6 +483,7 @@ void PlantServer::run(const std::function<bool()>& stop) {
   auto next_sample = Clock::now();
   std::vector<pollfd> fds;
   while (!stop()) {
+    if (options_.freeze_ms > 0 && !frozen_ && requests_ >= options_.freeze_after) freeze(stop);
     check_watchdog(Clock::now());
     if (!options_.lockstep) {  // free-running: every sample whose time has come
       int taken = 0;
@@ -500,9 +537,6 @@ void PlantServer::run(const std::function<bool()>& stop) {
     if ((fds[0].revents & POLLIN) != 0) accept_client();
   }
   while (!clients_.empty()) close_client(clients_.size() - 1);
-  if (log_ != nullptr && std::fflush(log_) != 0) {
-    throw std::runtime_error(system_error(("--log " + options_.log_path).c_str()));
-  }
 }
 
 }  // namespace excite::sim::server

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "firmware/runlog/row_file.hpp"
 #include "firmware/runlog/writer.hpp"
 #include "sim/server/modbus_request.hpp"
 #include "sim/server/plant_process.hpp"
@@ -50,8 +51,13 @@ struct ServeOptions {
   double sample_time_s = 1.0;      // free-running: wall-clock seconds per plant sample
   FaultSettings faults;            // from the command line
   std::uint64_t faults_after = 0;  // ordinary requests served normally before faults apply
-  std::string log_path;            // run log of every plant sample; empty: none
-  std::string plant_description;   // the run log's `plant:` line
+  // Frozen on purpose (as a SIGSTOP of the process, without the signal): after freeze_after
+  // requests, nothing is read, answered or sampled for freeze_ms; then serving goes on with
+  // whatever arrived meanwhile. 0: never.
+  std::uint32_t freeze_ms = 0;
+  std::uint64_t freeze_after = 0;
+  std::string log_path;           // run log of every plant sample; empty: none
+  std::string plant_description;  // the run log's `plant:` line
   runlog::TimeScales time_scales;  // the run log's τ_H, β (0: not known)
   std::vector<std::string> input_names;
   std::vector<std::string> output_names;
@@ -81,8 +87,9 @@ class PlantServer {
   std::uint16_t port() const { return port_; }
 
   /// Serves until `stop()` returns true (checked at least every 50 ms), then closes every
-  /// connection and flushes the log. Throws std::runtime_error on a failed log write or
-  /// socket error it cannot recover from.
+  /// connection. Throws std::runtime_error on a socket error it cannot recover from. A failed
+  /// log write (disk full, file-size limit) is not one: the log is cut back to its last whole
+  /// row, logging stops, log_failure() says why, serving goes on.
   void run(const std::function<bool()>& stop);
 
   std::uint64_t requests() const { return requests_; }
@@ -96,6 +103,9 @@ class PlantServer {
   std::uint64_t watchdog_trips() const { return watchdog_trips_; }
   /// Setpoint writes refused for the input limits (exception 3; control block +7).
   std::uint64_t refused_writes() const { return refused_writes_; }
+  /// Why the run log stopped ("--log plant.csv: cannot write sample 412: No space left on
+  /// device (ENOSPC); …"); "" when every sample was logged.
+  const std::string& log_failure() const { return log_failure_; }
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -130,6 +140,7 @@ class PlantServer {
   // A write of setpoints outside the limits: counted, reported, true (the caller refuses).
   bool refuse_out_of_limits(const ModbusRequest& request, const std::uint8_t* data);
   void check_watchdog(Clock::time_point now);
+  void freeze(const std::function<bool()>& stop);
   void mirror_counters_to_control();
   void take_sample();
   void report_misfits(std::uint64_t k);
@@ -161,6 +172,7 @@ class PlantServer {
   bool has_pending_ = false;                // the heartbeat moves again
   std::uint64_t watchdog_trips_ = 0;
   std::uint64_t refused_writes_ = 0;
+  bool frozen_ = false;  // the freeze on purpose has happened
 
   std::vector<double> u_;
   std::vector<double> y_;
@@ -173,7 +185,9 @@ class PlantServer {
   std::vector<char> log_buffer_;
   std::string log_plan_ = "none (excite-plant)";
   std::string producer_;  // the log's `# producer:` line
-  std::optional<runlog::FileWriter> log_writer_;
+  std::optional<runlog::Header> log_header_;
+  std::optional<runlog::RowFile> log_rows_;  // the log's file descriptor, whole rows only
+  std::string log_failure_;                  // why logging stopped; "" while it goes on
 };
 
 }  // namespace excite::sim::server

@@ -102,6 +102,9 @@ TEST_F(Verify, AReadbackThatDoesNotFollowTheWritesStopsTheRunAndSaysWhatCameBack
                "");
   edit_gateway("name = \"u1_sp\"", "address = 100", "address = 200");
   edit_gateway("name = \"u1_sp\"", "function_code = 3", "function_code = 4");
+  // A readback that never follows never confirms the baseline: give up as soon as allowed
+  // (the two readbacks' hold, 2 × the 1 s response timeout) instead of after the default 60 s.
+  edit_gateway("[gateway]", "comm_fail_limit = 3", "comm_fail_limit = 3\nconfirm_timeout_s = 0.1");
   auto gw = start_gateway(plan_, {"--start"});
   const auto rc = gw->wait(60s);
   ASSERT_TRUE(rc.has_value());
@@ -117,7 +120,13 @@ TEST_F(Verify, AReadbackThatDoesNotFollowTheWritesStopsTheRunAndSaysWhatCameBack
   EXPECT_NE(err.find("(fault: readback mismatch)"), std::string::npos) << err;
 
   const runlog::RunLog log = read_log_or_fail(path("gw.csv"));
-  EXPECT_LT(log.rows(), 40U) << "the run was not stopped";
+  // The excitation stopped: the row that says `aborted` comes early (the confirmation that
+  // follows takes two readbacks a hold interval apart: 2 × the response timeout).
+  std::size_t aborted_row = log.rows();
+  for (std::size_t r = 0; r < log.rows() && aborted_row == log.rows(); ++r) {
+    if (log.state[r] == runlog::RunState::aborted) aborted_row = r;
+  }
+  EXPECT_LT(aborted_row, 40U) << "the run was not stopped";
   const runlog::RunLog plant = stop_plant_and_read_its_log();
   expect_plant_inside_limits(plant);
   ASSERT_GT(plant.rows(), 0U);

@@ -139,8 +139,9 @@ TEST_F(LoopConfig, BadNumbersAreRefusedByName) {
   EXPECT_THAT(excite_output(), HasSubstr("nosuch"));
 }
 
-// The plant side carries the plant's own controller: a watchdog (3 s unless told) and input
-// limits equal to the gateway's min/max, number for number.
+// The plant side carries the plant's own controller: a watchdog (3 s unless told, and at
+// least two gateway periods: without period_s the sample time, 1 min here, so 120 s) and
+// input limits equal to the gateway's min/max, number for number.
 TEST_F(LoopConfig, PlantSideHasAWatchdogAndTheGatewaysLimits) {
   const auto out = dir_.path() / "wd";
   ASSERT_EQ(
@@ -148,7 +149,7 @@ TEST_F(LoopConfig, PlantSideHasAWatchdogAndTheGatewaysLimits) {
       0)
       << excite_output();
   const ServerConfig plant = load_server_config(out / "plant.toml");
-  EXPECT_EQ(plant.plant.watchdog_s, 3.0);
+  EXPECT_EQ(plant.plant.watchdog_s, 120.0);
   ASSERT_EQ(plant.plant.input_min.size(), 2U);
   const std::string gw = read_text(out / "gateway.toml");
   for (std::size_t i = 0; i < 2; ++i) {

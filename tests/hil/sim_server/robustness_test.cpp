@@ -22,9 +22,11 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <thread>
 #include <vector>
 
+#include "firmware/app/timing_range.hpp"
 #include "hal/modbus/modbus_field_bus.hpp"
 #include "sim/plants/plant.hpp"
 #include "sim/server/default_map.hpp"
@@ -484,6 +486,54 @@ TEST(RobustBadInput, NanAndNegativeNumbersAreRefusedByName) {
     EXPECT_EQ(r.exit_code, 2) << args.back();
     EXPECT_EQ(r.first_line, "") << args.back();
     EXPECT_THAT(r.stderr_text, HasSubstr(message));
+  }
+}
+
+// Issue 19 item 4: before, each of these was served (--speedup 1e300 wrote 630 MB of log in
+// 3 s). The wall-clock seconds per sample and the sample time in seconds lie within the
+// gateway's tick periods (firmware/app/timing_range.hpp); the noise's standard deviation
+// within what an output's register carries.
+std::string text_of(double x) {  // as excite-plant prints numbers (ostream)
+  std::ostringstream os;
+  os << x;
+  return os.str();
+}
+
+TEST(RobustBadInput, HugeTimingAndNoiseAreRefusedWithTheGatewaysRanges) {
+  const std::string periods = "within the gateway's tick periods, " +
+                              text_of(excite::app::kMinPeriodS) + " … " +
+                              text_of(excite::app::kMaxPeriodS) + " s";
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases{
+      {{"--plant", "woodberry2x2", "--clock", "realtime", "--speedup", "1e300"},
+       "--speedup = 1e+300, expected a factor whose wall-clock seconds per sample"},
+      {{"--plant", "woodberry2x2", "--clock", "realtime", "--speedup", "1e-300"},
+       "--speedup = 1e-300, expected"},
+      {{"--plant", "woodberry2x2", "--sample-time-min", "1e300"},
+       "--sample-time-min = 1e+300, expected minutes whose seconds lie"},
+      {{"--plant", "woodberry2x2", "--sample-time-s", "1e300"}, "--sample-time-s = 1e+300"},
+      {{"--plant", "woodberry2x2", "--noise-var", "1e300"},
+       "--noise-var = 1e+300, expected a variance whose standard deviation fits output y1's "
+       "register"},
+  };
+  for (const auto& [args, message] : cases) {
+    const Refused r = refused(args);
+    EXPECT_EQ(r.exit_code, 2) << args.back();
+    EXPECT_EQ(r.first_line, "") << args.back();
+    EXPECT_THAT(r.stderr_text, HasSubstr(message));
+    if (message.find("noise") == std::string::npos) {
+      EXPECT_THAT(r.stderr_text, HasSubstr(periods));
+    }
+  }
+  // The ends of the range are served: one sample a day, and a large but representable noise.
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"--plant", "woodberry2x2", "--sample-time-min", "1440"},
+        std::vector<std::string>{"--plant", "woodberry2x2", "--noise-var", "1e30"}}) {
+    TempDir dir;
+    std::vector<std::string> a = args;
+    a.insert(a.end(), {"--modbus-tcp", "127.0.0.1:0", "--clock", "lockstep"});
+    PlantRunner plant(a, dir.path() / "stderr.txt");
+    EXPECT_TRUE(plant.wait_listening()) << plant.stderr_text();
+    EXPECT_EQ(plant.stop(SIGTERM).value_or(-1), 0) << plant.stderr_text();
   }
 }
 

@@ -69,13 +69,15 @@ std::map<int, std::string> header_enum() {
 TEST(ExitCodes, TheReadmeTableAndTheHeaderAgree) {
   const auto readme = readme_table();
   const auto header = header_enum();
-  ASSERT_GE(header.size(), 13U);
+  ASSERT_GE(header.size(), 15U);
   EXPECT_EQ(readme, header);
   // The header text is the compiled enum (spot checks of both ends and the newest).
   EXPECT_EQ(static_cast<int>(ExitCode::ok), 0);
   EXPECT_EQ(header.at(static_cast<int>(ExitCode::unconfirmed)), "unconfirmed");
   EXPECT_EQ(header.at(static_cast<int>(ExitCode::distorted)), "distorted");
-  EXPECT_EQ(header.rbegin()->first, static_cast<int>(ExitCode::distorted));
+  EXPECT_EQ(header.at(static_cast<int>(ExitCode::log_fault)), "log_fault");
+  EXPECT_EQ(header.at(static_cast<int>(ExitCode::device_refused)), "device_refused");
+  EXPECT_EQ(header.rbegin()->first, static_cast<int>(ExitCode::device_refused));
 }
 
 }  // namespace

@@ -172,6 +172,50 @@ TEST_F(VerifyTest, ALagOfTwoComparesWithThePreviousWrite) {
   EXPECT_EQ(engine_.readback_mismatches(), 0U);
 }
 
+// Issue 28 item 2: with confirmation on, safe needs two readbacks of the baseline at least
+// confirm_hold_ticks apart; a stale value at the baseline is undone and counted, not a fault.
+TEST_F(VerifyTest, ConfirmationNeedsTwoReadbacksAHoldApartAndCountsAStaleWrite) {
+  EngineConfig c = verified_config();
+  c.confirm_timeout_ticks = 50;
+  c.confirm_hold_ticks = 3;
+  arm_verified(c);
+  engine_.command(Command::start);
+  field_ticks(2);
+  engine_.command(Command::abort);
+  field_tick();  // aborted
+  field_tick();  // returning, output at the baseline, first readback
+  EXPECT_EQ(engine_.state(), State::returning);
+  field_ticks(2);  // 2 ticks after the first: not yet the hold of 3
+  EXPECT_EQ(engine_.state(), State::returning);
+  // The device applies a stale excitation for 5 ticks (a write in flight when it froze).
+  corrupt0_ = [](double w) { return w + 0.5; };
+  field_ticks(5);
+  EXPECT_EQ(engine_.state(), State::returning);
+  EXPECT_EQ(engine_.stale_writes_undone(), 1U);
+  EXPECT_FALSE(engine_.readback_fault().valid) << "a stale write while returning is no fault";
+  corrupt0_ = nullptr;
+  field_ticks(3);  // first readback again, then 2 ticks
+  EXPECT_EQ(engine_.state(), State::returning);
+  field_tick();  // the hold of 3 after the first
+  EXPECT_EQ(engine_.state(), State::safe);
+  EXPECT_EQ(engine_.outcome(), Outcome::aborted_by_operator);
+}
+
+TEST_F(VerifyTest, ConfirmationGivesUpAfterItsTimeoutOnTheClock) {
+  EngineConfig c = verified_config();
+  c.confirm_timeout_ticks = 20;
+  c.confirm_hold_ticks = 2;
+  arm_verified(c);
+  engine_.command(Command::abort);
+  field_tick();
+  corrupt0_ = [](double w) { return w + 0.5; };  // never reads back the baseline
+  int guard = 0;
+  while (!finished(engine_.state()) && guard++ < 100) field_tick();
+  EXPECT_EQ(engine_.state(), State::safe_unconfirmed);
+  EXPECT_GE(guard, 19);
+  EXPECT_LE(guard, 21);
+}
+
 TEST_F(VerifyTest, ConfigRefusesALagOutOfRange) {
   EngineConfig c = verified_config();
   c.readback_lag_ticks = 0;

@@ -9,6 +9,51 @@
 
 namespace excite::hal {
 
+// A peer's exception reply (Modbus), kept by the bus for its caller. Codes 1 (illegal
+// function), 2 (illegal data address) and 3 (illegal data value) are the device's answer to
+// the request itself — it will refuse it again: a refusal, not a link fault. The others
+// (4 server device failure, 6 busy, …) are transient: the comm guard retries.
+struct PeerException {
+  int code = 0;               // the exception code; 0: none
+  bool write = false;         // the refused request was a write (else a read)
+  std::uint8_t function = 0;  // its function code
+  std::uint32_t address = 0;  // its first register
+  std::uint16_t count = 0;    // its register count
+};
+
+constexpr bool is_refusal(int exception_code) noexcept {
+  return exception_code >= 1 && exception_code <= 3;
+}
+
+/// "illegal data value" for 3, …; "exception" for a code without a name.
+constexpr const char* exception_name(int code) noexcept {
+  switch (code) {
+    case 1:
+      return "illegal function";
+    case 2:
+      return "illegal data address";
+    case 3:
+      return "illegal data value";
+    case 4:
+      return "server device failure";
+    case 5:
+      return "acknowledge";
+    case 6:
+      return "server device busy";
+    case 8:
+      return "memory parity error";
+    case 10:
+      return "gateway path unavailable";
+    case 11:
+      return "gateway target device failed to respond";
+    default:
+      return "exception";
+  }
+}
+
+/// Exception codes counted per code (index = code), 0 … kExceptionCodes − 1.
+inline constexpr std::size_t kExceptionCodes = 16;
+
 // A field bus as the gateway engine sees it: once per tick it writes the setpoints and a
 // heartbeat and reads the process values, all in engineering units in the order of the
 // configured map. Implementations (Modbus TCP/RTU, SocketCAN) are configured with their
@@ -36,6 +81,16 @@ class FieldBus {
   // A human-readable line about the last non-ok status (fixed buffer owned by the
   // instance, valid until the next call); "" after ok.
   [[nodiscard]] virtual const char* detail() const noexcept = 0;
+
+  // The exception reply that made the last call return peer_error (code 0 after any other
+  // outcome). Transports without exception replies: always none.
+  [[nodiscard]] virtual PeerException last_exception() const noexcept { return {}; }
+
+  // Exception replies since configuration, per code (kExceptionCodes entries; empty for
+  // transports without them).
+  [[nodiscard]] virtual std::span<const std::uint64_t> exception_counts() const noexcept {
+    return {};
+  }
 
   // One tick's exchange: write, then read. Returns the first non-ok status.
   Status exchange(std::span<const double> setpoints, std::uint16_t heartbeat,
