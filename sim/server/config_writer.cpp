@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "sim/server/config_writer.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -40,6 +41,11 @@ std::string toml_number(double x) {
     if (std::strtod(buffer, nullptr) == x) break;
   }
   std::string s(buffer);
+  // A whole number a person would write out ("120.0", not "1.2e+02"); exact below 2^53.
+  if (s.find_first_of("eE") != std::string::npos && std::abs(x) < 0x1p53 && x == std::trunc(x)) {
+    std::snprintf(buffer, sizeof buffer, "%.1f", x);
+    s = buffer;
+  }
   if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // "n": nan/inf never written
   return s;
 }

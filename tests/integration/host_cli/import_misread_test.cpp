@@ -203,7 +203,8 @@ TEST_F(ImportMisread, AMissingTagNamesItAndAtMostTwentyColumns) {
   const Result cell =
       import(name + ",A,B\n" + std::string(100'000, '7') + "x,1,2\n", "--mv A --cv B");
   EXPECT_EQ(cell.exit_code, 1);
-  EXPECT_HAS(cell.out, "h.csv:2: " + std::string(40, 'T') + "… = '" + std::string(40, '7') + "…'");
+  // (the 40 digits kept are shown short too, as every long number in a message: 7.77778e+39)
+  EXPECT_HAS(cell.out, "h.csv:2: " + std::string(40, 'T') + "… = '7.77778e+39…'");
   EXPECT_LT(cell.out.size(), 600U) << cell.out.size();
 }
 
