@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "firmware/runlog/format.hpp"
+#include "tests/hil/loop/limits.hpp"
 #include "tests/hil/loop/loop_fixture.hpp"
 
 namespace excite::test {
@@ -97,6 +98,13 @@ class Faults : public LoopTest {
       std::this_thread::sleep_for(20ms);
     }
     return false;
+  }
+
+  // Hides the free function of the same name in this fixture's tests: the same checks, and
+  // every u the plant received inside the [min, max] gateway.toml configures (limits.hpp).
+  void expect_plant_inside_limits_and_back_at_baseline(const runlog::RunLog& plant) {
+    test::expect_plant_inside_limits_and_back_at_baseline(plant);
+    expect_plant_inside_configured_limits(plant, configured_limits(path("gateway.toml")));
   }
 
   std::uint16_t port_ = 0;

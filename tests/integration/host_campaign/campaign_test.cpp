@@ -21,6 +21,7 @@
 #include "host/campaign/parallel.hpp"
 #include "host/campaign/report.hpp"
 #include "host/campaign/residuals.hpp"
+#include "tests/integration/host_campaign/true_gain_check.hpp"
 
 namespace excite::host {
 namespace {
@@ -48,6 +49,7 @@ TEST_F(WoodBerryCampaign, IdentifiesEveryDesignOfTable61) {
       EXPECT_LE(b->ratio, 1.0) << e.name;
     }
     EXPECT_EQ(e.Y_clean.rows(), e.Y.rows()) << e.name;
+    expect_gain_and_directions_of_the_plant(e, result_->true_gain);
   }
 }
 
