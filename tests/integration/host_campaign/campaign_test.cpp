@@ -4,6 +4,7 @@
 // results independent of the thread count, and the summary and report written.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -142,7 +143,8 @@ TEST(ParallelFor, EveryTaskRunsOnceAndTheLowestFailureIsRethrown) {
 }
 
 TEST_F(WoodBerryCampaign, WritesTheSummaryAndTheReportWithFigures) {
-  const auto dir = std::filesystem::temp_directory_path() / "excite_campaign_test";
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("excite_campaign_test_" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   write_summary(*result_, dir);
@@ -173,7 +175,8 @@ TEST_F(WoodBerryCampaign, WritesTheSummaryAndTheReportWithFigures) {
 // the parameter table with standard errors; medians in the summary; links to what the
 // campaign kept.
 TEST_F(WoodBerryCampaign, ReportShowsEveryModelsQualityAndLinksItsRunAndModel) {
-  const auto dir = std::filesystem::temp_directory_path() / "excite_campaign_views_test";
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("excite_campaign_views_test_" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   ReportArtifacts artifacts;
