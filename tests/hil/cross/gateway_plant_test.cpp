@@ -59,7 +59,8 @@ std::string gateway_config(std::uint16_t port, bool setpoint_limits = true) {
       "address = 200\nfunction_code = 4\ntype = \"float32\"\nword_order = \"CDAB\"\n",
       "address = 202\nfunction_code = 4\ntype = \"float32\"\nword_order = \"DCBA\"\n",
       "address = 204\nfunction_code = 3\ntype = \"float32\"\nword_order = \"ABCD\"\n",
-      "address = 206\nfunction_code = 4\ntype = \"uint16\"\neng_min = 0.0\neng_max = 2.0\n"};
+      // y4 as the plant serves it (sim/server/examples/alatiqi4x4.toml): int16 over [-40, 40]
+      "address = 206\nfunction_code = 4\ntype = \"int16\"\neng_min = -40.0\neng_max = 40.0\n"};
   for (int j = 0; j < 4; ++j) {
     t << "\n[[values]]\nname = \"y" << j + 1 << "\"\n" << outputs[j];
   }
@@ -172,23 +173,16 @@ class CrossGatewayPlant : public ::testing::Test {
   std::uint16_t port_ = 0;
 };
 
-// Largest |a[r] - b[r + shift]| over the overlap, for the shift in [-3, 3] that minimises it
-// (the plant samples on the heartbeat the gateway writes with the setpoints: the two logs
-// may start a tick apart).
-double aligned_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  double best = INFINITY;
-  for (int shift = -3; shift <= 3; ++shift) {
-    double worst = 0.0;
-    std::size_t compared = 0;
-    for (std::size_t r = 0; r < a.size(); ++r) {
-      const auto s = static_cast<std::ptrdiff_t>(r) + shift;
-      if (s < 0 || s >= static_cast<std::ptrdiff_t>(b.size())) continue;
-      worst = std::max(worst, std::abs(a[r] - b[static_cast<std::size_t>(s)]));
-      ++compared;
-    }
-    if (compared + 10 >= a.size()) best = std::min(best, worst);
+// Largest |gateway[r] - plant[r + 1]| over every gateway row, inf when the plant does not
+// have exactly one row more: no realignment. The plant's row 0 is its state before the first
+// write; each heartbeat write then makes one sample, so gateway row r is plant row r + 1.
+double row_difference(const std::vector<double>& gateway, const std::vector<double>& plant) {
+  if (plant.size() != gateway.size() + 1) return INFINITY;
+  double worst = 0.0;
+  for (std::size_t r = 0; r < gateway.size(); ++r) {
+    worst = std::max(worst, std::abs(gateway[r] - plant[r + 1]));
   }
-  return best;
+  return worst;
 }
 
 TEST_F(CrossGatewayPlant, StreamsThePlanAndThePlantReceivesEverySample) {
@@ -217,9 +211,9 @@ TEST_F(CrossGatewayPlant, StreamsThePlanAndThePlantReceivesEverySample) {
   const runlog::RunLog p = stop_plant_and_read_log();
   ASSERT_EQ(p.u.size(), 4U);
   ASSERT_EQ(g.log.u.size(), 4U);
-  // One plant sample per heartbeat change, i.e. per tick the gateway wrote.
-  EXPECT_GE(p.rows() + 3, g.log.rows());
-  EXPECT_LE(p.rows(), g.log.rows() + 3);
+  // One plant sample per heartbeat change, i.e. per tick the gateway wrote (a late tick's
+  // skipped grid points are no write), after the plant's row 0 (before the first write).
+  EXPECT_EQ(p.rows(), g.log.rows() + 1);
   for (std::size_t i = 0; i < 4; ++i) {
     const auto [lo, hi] = std::minmax_element(p.u[i].begin(), p.u[i].end());
     EXPECT_GT(*hi - *lo, 0.0) << "input " << i << ": the plant saw no excitation";
@@ -227,9 +221,21 @@ TEST_F(CrossGatewayPlant, StreamsThePlanAndThePlantReceivesEverySample) {
     // baseline at the end (completed -> returning -> safe writes the baseline).
     EXPECT_LE(std::max(*hi - kU0[i], kU0[i] - *lo), 5.0) << "input " << i;
     EXPECT_NEAR(p.u[i].back(), kU0[i], 0.01) << "input " << i << " did not end at baseline";
-    // float32 rounding, and u4's int16 scaling (100 / 27648 per count).
-    const double tolerance = i == 3 ? 100.0 / 27648.0 : 1e-4 * kU0[i];
-    EXPECT_LE(aligned_difference(g.log.u[i], p.u[i]), tolerance) << "input " << i;
+    // float32 rounding (2^-24 relative), and u4's int16 scaling (100 / 27648 per count).
+    const double tolerance = i == 3 ? 100.0 / 27648.0 : 0x1p-23 * (kU0[i] + 5.0);
+    EXPECT_LE(row_difference(g.log.u[i], p.u[i]), tolerance) << "input " << i;
+  }
+  // The outputs the gateway read are the plant's, row for row: float32 registers (y1..y3),
+  // and y4 an int16 over [-40, 40] (80 / 65535 per count).
+  ASSERT_EQ(p.dy.size(), 4U);
+  ASSERT_EQ(g.log.dy.size(), 4U);
+  for (std::size_t j = 0; j < 4; ++j) {
+    double scale = 0.0;
+    for (double v : p.dy[j]) scale = std::max(scale, std::abs(v));
+    const double tolerance = j == 3 ? 80.0 / 65535.0 : 0x1p-23 * (scale + 1.0);
+    const double d = row_difference(g.log.dy[j], p.dy[j]);
+    std::printf("output %zu: largest row difference %.3g (tolerance %.3g)\n", j, d, tolerance);
+    EXPECT_LE(d, tolerance) << "output " << j;
   }
 }
 

@@ -27,6 +27,7 @@
 #include "firmware/runlog/reader.hpp"
 #include "hal/can/can_field_bus.hpp"
 #include "tests/hil/gateway/gateway_process.hpp"
+#include "tests/hil/gateway/killed_log.hpp"
 #include "tests/hil/hal_can/vcan_required.hpp"
 #include "tests/hil/hal_modbus/fault_server.hpp"
 
@@ -362,6 +363,9 @@ TEST_F(GatewayHil, KilledRunLeavesAValidLogUpToItsLastTick) {
   std::uint64_t skipped = 0;
   for (std::size_t r = 1; r < log.rows(); ++r) skipped += log.k[r] - log.k[r - 1] - 1;
   EXPECT_EQ(log.k.back(), log.rows() - 1 + skipped);
+  // The last row whole, and no row logged that the server did not receive (one FC16 per row).
+  EXPECT_EQ(expect_last_row_whole(log_), log.rows());
+  EXPECT_LE(log.rows(), static_cast<std::size_t>(server_->count(16)));
 }
 
 TEST_F(GatewayHil, TestLimitExcursionSuspendsThenResumesWithHysteresisAndDwell) {

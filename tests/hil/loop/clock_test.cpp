@@ -15,6 +15,7 @@
 
 #include "firmware/runlog/format.hpp"
 #include "tests/hil/loop/loop_fixture.hpp"
+#include "tests/hil/loop/wire_order.hpp"
 
 namespace excite::test {
 namespace {
@@ -222,6 +223,8 @@ TEST_F(Clock, DistortedPlanStreamsWithTheOverrideAndEveryMoveStaysWithinMaxMove)
 TEST_F(Clock, StalledThenResumedPlantIsReadBeforeItIsWrittenAndEndsAtBaseline) {
   start("", "0.01");
   edit_gateway("comm_fail_limit = 3", "comm_fail_limit = 2\nresume_dwell_s = 0.1");
+  RecordingProxy wire(port_);  // the gateway talks to the plant through it
+  edit_gateway("port = " + std::to_string(port_), "port = " + std::to_string(wire.port()));
   auto gw = start_gateway(plan_, {"--start"});
   ASSERT_TRUE(wait_for_plant_samples(200)) << gw->err();
   plant_->signal(SIGSTOP);
@@ -231,6 +234,7 @@ TEST_F(Clock, StalledThenResumedPlantIsReadBeforeItIsWrittenAndEndsAtBaseline) {
   ASSERT_TRUE(rc.has_value()) << gw->err();
   const std::string err = gw->err();
   EXPECT_EQ(*rc, 0) << err;
+  expect_read_before_write_on_every_connection(wire.frames());
   const runlog::RunLog log = read_log_or_fail(path("gw.csv"));
   EXPECT_GT(rows_with(log, runlog::kCommLost), 0U);
   EXPECT_EQ(rows_with(log, runlog::kDiscontinuity), 0U) << "the same plant is not a restart";

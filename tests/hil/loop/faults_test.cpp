@@ -18,6 +18,8 @@
 #include <thread>
 
 #include "firmware/runlog/format.hpp"
+#include "tests/hil/gateway/killed_log.hpp"
+#include "tests/hil/loop/limits.hpp"
 #include "tests/hil/loop/loop_fixture.hpp"
 
 namespace excite::test {
@@ -97,6 +99,13 @@ class Faults : public LoopTest {
       std::this_thread::sleep_for(20ms);
     }
     return false;
+  }
+
+  // Hides the free function of the same name in this fixture's tests: the same checks, and
+  // every u the plant received inside the [min, max] gateway.toml configures (limits.hpp).
+  void expect_plant_inside_limits_and_back_at_baseline(const runlog::RunLog& plant) {
+    test::expect_plant_inside_limits_and_back_at_baseline(plant);
+    expect_plant_inside_configured_limits(plant, configured_limits(path("gateway.toml")));
   }
 
   std::uint16_t port_ = 0;
@@ -312,6 +321,9 @@ TEST_F(Faults, SigkillLeavesAValidLogAndNothingOutsideTheLimits) {
   // Within the plant's watchdog time it holds the last setpoint, which is inside the limits
   // (tests/hil/loop/watchdog_test checks what happens after it).
   const runlog::RunLog plant = stop_plant_and_read_its_log();
+  EXPECT_EQ(expect_last_row_whole(path("gw.csv")), log.rows());
+  expect_logged_rows_reached_the_plant(log, plant);
+  expect_plant_inside_configured_limits(plant, configured_limits(path("gateway.toml")));
   for (std::size_t i = 0; i < plant.du.size(); ++i) {
     EXPECT_LE(max_abs(plant.du[i]), kInputRange * (1 + 1e-6)) << plant.input_names[i];
   }

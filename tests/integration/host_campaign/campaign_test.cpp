@@ -4,6 +4,7 @@
 // results independent of the thread count, and the summary and report written.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -21,6 +22,7 @@
 #include "host/campaign/parallel.hpp"
 #include "host/campaign/report.hpp"
 #include "host/identify/residuals.hpp"
+#include "tests/integration/host_campaign/true_gain_check.hpp"
 
 namespace excite::host {
 namespace {
@@ -48,6 +50,7 @@ TEST_F(WoodBerryCampaign, IdentifiesEveryDesignOfTable61) {
       EXPECT_LE(b->ratio, 1.0) << e.name;
     }
     EXPECT_EQ(e.Y_clean.rows(), e.Y.rows()) << e.name;
+    expect_gain_and_directions_of_the_plant(e, result_->true_gain);
   }
 }
 
@@ -140,7 +143,8 @@ TEST(ParallelFor, EveryTaskRunsOnceAndTheLowestFailureIsRethrown) {
 }
 
 TEST_F(WoodBerryCampaign, WritesTheSummaryAndTheReportWithFigures) {
-  const auto dir = std::filesystem::temp_directory_path() / "excite_campaign_test";
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("excite_campaign_test_" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   write_summary(*result_, dir);
@@ -171,7 +175,8 @@ TEST_F(WoodBerryCampaign, WritesTheSummaryAndTheReportWithFigures) {
 // the parameter table with standard errors; medians in the summary; links to what the
 // campaign kept.
 TEST_F(WoodBerryCampaign, ReportShowsEveryModelsQualityAndLinksItsRunAndModel) {
-  const auto dir = std::filesystem::temp_directory_path() / "excite_campaign_views_test";
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("excite_campaign_views_test_" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   ReportArtifacts artifacts;

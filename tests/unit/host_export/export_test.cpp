@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -234,16 +235,63 @@ TEST(MatlabScript, ParsesBackToTheModel) {
   EXPECT_NE(script.find("'TimeUnit', 'minutes'"), std::string::npos);
 }
 
-// Run under Octave with the control package where it is installed (not a CI dependency:
-// host/README.md): G's static gain is the model's K and the names are set.
+// The step table (step_csv, what `excite export --format step-csv` writes) as numbers:
+// table[k - 1][e] = s_e(k T), e row-major over CV x MV, k = 1..horizon.
+std::vector<std::vector<double>> step_table(const NamedModel& m, int horizon) {
+  const std::vector<std::string> lines = lines_of(step_csv(m, horizon));
+  std::vector<std::vector<double>> table;
+  for (std::size_t l = 6; l < lines.size(); ++l) {
+    std::vector<double> row = numbers_in(lines[l]);
+    row.erase(row.begin(), row.begin() + 2);  // k, t_min
+    table.push_back(row);
+  }
+  return table;
+}
+
+// Compares the printed step responses ("NAME o i s(T) s(2T) …" lines, 1-based o, i) with the
+// step table to `tolerance`, every element once; returns the largest difference.
+double compare_steps(const std::string& out, const std::string& name, const NamedModel& m,
+                     const std::vector<std::vector<double>>& table, double tolerance) {
+  double largest = 0.0;
+  std::size_t elements = 0;
+  for (const std::string& line : lines_of(out)) {
+    if (line.rfind(name + " ", 0) != 0) continue;
+    const std::vector<double> v = numbers_in(line.substr(name.size()));
+    EXPECT_EQ(v.size(), 2 + table.size()) << line.substr(0, 80);
+    if (v.size() != 2 + table.size()) continue;
+    const auto e = static_cast<std::size_t>((v[0] - 1) * m.model.inputs + (v[1] - 1));
+    for (std::size_t k = 0; k < table.size(); ++k) {
+      EXPECT_NEAR(v[2 + k], table[k][e], tolerance) << name << " element " << e << " k " << k + 1;
+      largest = std::max(largest, std::abs(v[2 + k] - table[k][e]));
+    }
+    ++elements;
+  }
+  EXPECT_EQ(elements, m.model.elements.size()) << out.substr(0, 2000);
+  return largest;
+}
+
+// The MATLAB script run under Octave with the control package (toolchain/packages.txt:
+// octave, octave-control; a skip is unexpected, tests/skips): dcgain(G) is the model's K,
+// the names are Octave's inname/outname, the delays input_delay_min + io_delay_min are each
+// element's T_d, and Octave's own step response of G (step(), exact ZOH on a 0.05-min grid,
+// every delay here a multiple of it) delayed by those delays equals the step table to 1e-6.
 TEST(MatlabScript, RunsUnderOctaveWithTheControlPackage) {
   if (!std::filesystem::exists("/usr/bin/octave"))
     GTEST_SKIP() << "octave is not installed (apt-get install octave octave-control)";
+  const NamedModel m = known_model();
+  const int horizon = settling_samples(m.model);
   const auto path = temp_file("model.m");
-  std::ofstream(path) << matlab_script(known_model())
-                      << "printf('%.12g\\n', dcgain(G)');\nnames = G.inname;\n"
+  std::ofstream(path) << matlab_script(m) << "printf('%.12g\\n', dcgain(G)');\nnames = G.inname;\n"
                       << "printf('%s|', names{:});\nnames = G.outname;\n"
-                      << "printf('\\n'); printf('%s|', names{:});\n";
+                      << "printf('\\n'); printf('%s|', names{:}); printf('\\n');\n"
+                      << "dt = 0.05; H = " << horizon << "; [y, tt] = step(G, 0:dt:H);\n"
+                      << "for o = 1:rows(num)\n  for i = 1:columns(num)\n"
+                      << "    td = input_delay_min(i) + io_delay_min(o, i);\n"
+                      << "    printf('delay %d %d %.17g\\n', o, i, td);\n"
+                      << "    s = zeros(1, H);\n    for k = 1:H\n      at = (k - td) / dt;\n"
+                      << "      if at > 0, s(k) = y(round(at) + 1, o, i); end\n    end\n"
+                      << "    printf('octave %d %d', o, i); printf(' %.17g', s); printf('\\n');\n"
+                      << "  end\nend\n";
   const ProcessResult r = run("octave --no-gui --norc -q " + path.string());
   std::filesystem::remove(path);
   ASSERT_EQ(r.exit_code, 0) << r.out;
@@ -253,11 +301,28 @@ TEST(MatlabScript, RunsUnderOctaveWithTheControlPackage) {
   EXPECT_EQ(gains, (std::vector<double>{2.5, -1.5, 0.8, 1.2, -0.3, 4.09})) << r.out;
   EXPECT_NE(r.out.find("reflux L|boil-up V|feed F|"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("xD|xB|"), std::string::npos) << r.out;
+  std::size_t delays = 0;
+  for (const std::string& line : lines) {
+    if (line.rfind("delay ", 0) != 0) continue;
+    const std::vector<double> v = numbers_in(line.substr(6));
+    ASSERT_EQ(v.size(), 3U) << line;
+    const auto e = static_cast<std::size_t>((v[0] - 1) * 3 + (v[1] - 1));
+    EXPECT_NEAR(v[2], m.model.elements[e].value.delay_min, 1e-12) << line;
+    ++delays;
+  }
+  EXPECT_EQ(delays, 6U) << r.out;
+  const double largest = compare_steps(r.out, "octave", m, step_table(m, horizon), 1e-6);
+  std::printf("Octave step responses against the step table: largest difference %.3g\n", largest);
 }
 
-// The python-control script: valid Python (compiled by the system's python3), and the model
-// it embeds is transfer_json()'s. Run with python-control where it is installed.
-TEST(PythonControlScript, IsValidPythonEmbeddingTheModel) {
+// The python-control script, without python-control (Debian 12 does not package it, so the
+// script's `G = control.tf(…)` is never run: for that line this is a syntax check only).
+// What is checked for real: the script compiles (/usr/bin/python3, ast), its embedded model
+// is transfer_json()'s, and the script's own data (every top-level assignment that does not
+// use `control`, executed: MODEL, INPUTS, ELEMENTS, DELAYS_MIN) driven through scipy.signal's
+// step response of each num/den (python3-scipy), delayed by DELAYS_MIN, is the step table to
+// 1e-6.
+TEST(PythonControlScript, CompilesAndItsEmbeddedModelStepsAsTheStepTableUnderScipy) {
   const NamedModel m = known_model();
   const std::string script = python_control_script(m);
   const auto begin = script.find("json.loads(r'''");
@@ -273,17 +338,41 @@ TEST(PythonControlScript, IsValidPythonEmbeddingTheModel) {
     EXPECT_NE(script.find(needle), std::string::npos) << needle;
   }
   if (!std::filesystem::exists("/usr/bin/python3")) GTEST_SKIP() << "no /usr/bin/python3";
+  const int horizon = settling_samples(m.model);
   const auto path = temp_file("model.py");
+  const auto checker = temp_file("check_model.py");
   std::ofstream(path) << script;
-  const ProcessResult compiled =
-      run("/usr/bin/python3 -c \"import ast,sys; ast.parse(open(sys.argv[1]).read())\" " +
-          path.string());
-  EXPECT_EQ(compiled.exit_code, 0) << compiled.out;
-  if (run("/usr/bin/python3 -c 'import control'").exit_code == 0) {
-    const ProcessResult ran = run("/usr/bin/python3 " + path.string());
-    EXPECT_EQ(ran.exit_code, 0) << ran.out;
-  }
+  std::ofstream(checker)
+      << "import ast, sys\nimport numpy as np\nfrom scipy import signal\n"
+      << "tree = ast.parse(open(sys.argv[1]).read())\nspace = {}\n"
+      << "def uses_control(node):\n"
+      << "    return any(isinstance(n, ast.Name) and n.id == 'control' or\n"
+      << "               isinstance(n, ast.alias) and n.name == 'control' for n in "
+         "ast.walk(node))\n"
+      << "for node in tree.body:\n"
+      << "    if isinstance(node, (ast.Assign, ast.Import)) and not uses_control(node):\n"
+      << "        exec(compile(ast.Module([node], []), sys.argv[1], 'exec'), space)\n"
+      << "H = int(sys.argv[2])\n"
+      << "for o, row in enumerate(space['ELEMENTS']):\n"
+      << "    for i, e in enumerate(row):\n"
+      << "        t = np.arange(1, H + 1) - space['DELAYS_MIN'][o][i]\n"
+      << "        s = np.zeros(H)\n"
+      << "        on = t > 0\n"
+      << "        if len(e['den']) == 1:\n"
+      << "            s[on] = e['num'][0] / e['den'][0]\n"
+      << "        else:\n"
+      << "            T = np.concatenate(([0.0], t[on]))\n"
+      << "            s[on] = signal.step(signal.lti(e['num'], e['den']), T=T)[1][1:]\n"
+      << "        print('scipy', o + 1, i + 1, ' '.join(repr(float(x)) for x in s))\n"
+      << "print('inputs', '|'.join(space['INPUTS']))\n";
+  const ProcessResult ran = run("/usr/bin/python3 " + checker.string() + " " + path.string() + " " +
+                                std::to_string(horizon));
   std::filesystem::remove(path);
+  std::filesystem::remove(checker);
+  ASSERT_EQ(ran.exit_code, 0) << ran.out;
+  EXPECT_NE(ran.out.find("inputs reflux L|boil-up V|feed F"), std::string::npos) << ran.out;
+  const double largest = compare_steps(ran.out, "scipy", m, step_table(m, horizon), 1e-6);
+  std::printf("scipy step responses against the step table: largest difference %.3g\n", largest);
 }
 
 // A model as a plant: the library's Wood–Berry column (every element first order with a

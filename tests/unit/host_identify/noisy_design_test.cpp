@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "host/design/case_studies.hpp"
 #include "host/design/presets.hpp"
@@ -57,25 +58,32 @@ TEST_P(NoisyDesign, EveryRowReachesTheGlobalMinimumNearTheTruth) {
   std::printf("%s %s noise %g seed %llu: fit %%", c.plant, c.preset, c.noise_variance,
               static_cast<unsigned long long>(c.seed));
   for (const OutputFit& f : r.fits) std::printf(" %.3f", f.fit_percent);
-  // The true model's fit on the same data (the level of the global minimum).
+  // The true model's fit on the same data (the level of the global minimum): the identified
+  // model must reach it to within 0.5 points (a local minimum is several points below).
   const Eigen::MatrixXd Y_true = sim::DiscretePlant(g, run.sample_time_min).simulate(run.du);
   std::printf("; the true model fits");
+  std::vector<double> true_fit;
   for (Eigen::Index j = 0; j < run.dy.cols(); ++j) {
     const Eigen::VectorXd y = run.dy.col(j);
     const Eigen::VectorXd y_true = Y_true.col(j);
-    std::printf(" %.3f", fit_percent(y, y_true));
+    true_fit.push_back(fit_percent(y, y_true));
+    std::printf(" %.3f", true_fit.back());
   }
   std::printf("\n");
+  ASSERT_EQ(r.fits.size(), true_fit.size());
   for (std::size_t j = 0; j < r.fits.size(); ++j) {
-    EXPECT_GE(r.fits[j].fit_percent, 95.0) << "output " << j + 1;
+    EXPECT_GE(r.fits[j].fit_percent, true_fit[j] - 0.5) << "output " << j + 1;
   }
+  // Every gain within ±2σ of the truth (σ the identifier's own standard error).
   const Eigen::MatrixXd truth = g.static_gain();
   for (int j = 0; j < r.model.outputs; ++j) {
     for (int i = 0; i < r.model.inputs; ++i) {
       const ElementEstimate& e = r.model.element(j, i);
       EXPECT_EQ(e.status, ElementStatus::identified) << "element (" << j + 1 << "," << i + 1 << ")";
-      EXPECT_NEAR(e.value.gain, truth(j, i), 0.1 * std::abs(truth(j, i)))
-          << "element (" << j + 1 << "," << i + 1 << ")";
+      ASSERT_TRUE(std::isfinite(e.std_error.gain)) << "element (" << j + 1 << "," << i + 1 << ")";
+      EXPECT_LE(std::abs(e.value.gain - truth(j, i)), 2.0 * e.std_error.gain)
+          << "element (" << j + 1 << "," << i + 1 << "): K = " << e.value.gain << " ± "
+          << e.std_error.gain << ", true " << truth(j, i);
     }
   }
 }
