@@ -56,8 +56,8 @@ struct ServeOptions {
   // whatever arrived meanwhile. 0: never.
   std::uint32_t freeze_ms = 0;
   std::uint64_t freeze_after = 0;
-  std::string log_path;           // run log of every plant sample; empty: none
-  std::string plant_description;  // the run log's `plant:` line
+  std::string log_path;            // run log of every plant sample; empty: none
+  std::string plant_description;   // the run log's `plant:` line
   runlog::TimeScales time_scales;  // the run log's τ_H, β (0: not known)
   std::vector<std::string> input_names;
   std::vector<std::string> output_names;
