@@ -109,7 +109,8 @@ void CanPlantServer::open_log() {
                               process_.sample_time_min(),
                               log_inputs_,
                               log_outputs_,
-                              producer_};
+                              producer_,
+                              options_.time_scales};
   log_writer_.emplace(log_, header, log_buffer_);
   if (log_writer_->write_header() != runlog::WriteStatus::ok) {
     std::fclose(log_);
