@@ -9,7 +9,6 @@ namespace excite::app {
 
 LogDrain::LogDrain(engine::LogRingBase& ring, std::FILE* file, LogLayout layout)
     : ring_(ring),
-      file_(file),
       layout_(std::move(layout)),
       buffer_(runlog::max_row_chars(layout_.header.inputs.size(), layout_.header.outputs.size()) +
               4096),

@@ -82,7 +82,6 @@ class LogDrain {
   void fail(int error, runlog::WriteStatus status, std::uint64_t tick);
 
   engine::LogRingBase& ring_;
-  std::FILE* file_;
   LogLayout layout_;
   std::vector<char> buffer_;
   std::vector<double> dy_;
