@@ -84,40 +84,10 @@ CanPlantServer::CanPlantServer(PlantProcess& process, const hal::can::CanFrameMa
 
 CanPlantServer::~CanPlantServer() {
   if (fd_ >= 0) close(fd_);
-  if (log_ != nullptr) std::fclose(log_);
 }
 
 void CanPlantServer::open_log() {
-  if (options_.log_path.empty()) return;
-  log_ = std::fopen(options_.log_path.c_str(), "w");
-  if (log_ == nullptr) throw std::runtime_error(errno_text("--log " + options_.log_path));
-  const auto unit = [](const std::vector<std::string>& units, std::size_t i) {
-    return i < units.size() && !units[i].empty() ? std::string_view(units[i])
-                                                 : std::string_view("-");
-  };
-  for (std::size_t i = 0; i < options_.input_names.size(); ++i) {
-    log_inputs_.push_back({options_.input_names[i], unit(options_.input_units, i)});
-  }
-  for (std::size_t j = 0; j < options_.output_names.size(); ++j) {
-    log_outputs_.push_back({options_.output_names[j], unit(options_.output_units, j)});
-  }
-  log_buffer_.resize(
-      std::max<std::size_t>(runlog::max_row_chars(log_inputs_.size(), log_outputs_.size()), 4096));
-  producer_ = "excite-plant " + std::string(runlog::kVersion);
-  const runlog::Header header{options_.plant_description,
-                              log_plan_,
-                              process_.sample_time_min(),
-                              log_inputs_,
-                              log_outputs_,
-                              producer_,
-                              options_.time_scales};
-  log_writer_.emplace(log_, header, log_buffer_);
-  if (log_writer_->write_header() != runlog::WriteStatus::ok) {
-    std::fclose(log_);
-    log_ = nullptr;
-    std::remove(options_.log_path.c_str());
-    throw std::runtime_error("--log " + options_.log_path + ": " + log_writer_->detail());
-  }
+  log_.emplace(plant_log_spec(options_, process_.sample_time_min()));
 }
 
 void CanPlantServer::receive(const can_frame& frame) {
@@ -196,19 +166,7 @@ void CanPlantServer::check_watchdog(Clock::time_point now) {
 void CanPlantServer::take_sample() {
   const std::uint64_t k = process_.samples();
   process_.sample(applied_.data(), y_.data());
-  if (log_writer_) {
-    const runlog::Row row{static_cast<double>(k) * process_.sample_time_min(),
-                          k,
-                          process_.last_du(),
-                          applied_,
-                          process_.last_dy(),
-                          0,
-                          runlog::RunState::unknown};
-    if (const auto s = log_writer_->write_row(row); s != runlog::WriteStatus::ok) {
-      throw std::runtime_error("--log " + options_.log_path + ": sample " + std::to_string(k) +
-                               ": " + std::string(runlog::describe(s)));
-    }
-  }
+  if (log_) log_->write(k, process_.last_du(), applied_, process_.last_dy());
 }
 
 // Outputs, readbacks, then the echo (its own frame, last): a gateway that has the echo of
@@ -261,9 +219,6 @@ void CanPlantServer::run(const std::function<bool()>& stop) {
       throw std::runtime_error(errno_text("--can " + interface_ + ": recv"));
     }
   }
-  if (log_ != nullptr && std::fflush(log_) != 0) {
-    throw std::runtime_error(errno_text("--log " + options_.log_path));
-  }
 }
 
 int serve_can(PlantProcess& process, const ServeOptions& options, const std::string& interface,
@@ -303,6 +258,10 @@ int serve_can(PlantProcess& process, const ServeOptions& options, const std::str
             << server->refused_frames() << " frames refused for the input limits, "
             << server->foreign_frames() << " frames of other identifiers, "
             << server->watchdog_trips() << " watchdog trips\n";
+  if (!server->log_failure().empty()) {
+    std::cerr << "excite-plant: " << server->log_failure() << "\n";
+    if (code == 0) code = 3;
+  }
   return code;
 }
 

@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
-#include "firmware/runlog/writer.hpp"
 #include "hal/can/frame_map.hpp"
+#include "sim/server/plant_log.hpp"
 #include "sim/server/plant_process.hpp"
 #include "sim/server/plant_server.hpp"
 
@@ -41,8 +41,10 @@ class CanPlantServer {
   CanPlantServer(const CanPlantServer&) = delete;
   CanPlantServer& operator=(const CanPlantServer&) = delete;
 
-  /// Serves until `stop()` returns true (checked at least every 50 ms); flushes the log.
-  /// Throws std::runtime_error on a socket error or a failed log write.
+  /// Serves until `stop()` returns true (checked at least every 50 ms). Throws
+  /// std::runtime_error on a socket error. A failed log write (disk full, file-size limit)
+  /// is not one: the log is cut back to its last whole row, logging stops, log_failure()
+  /// says why, serving goes on.
   void run(const std::function<bool()>& stop);
 
   std::uint64_t frames_received() const { return frames_received_; }
@@ -51,6 +53,11 @@ class CanPlantServer {
   std::uint64_t foreign_frames() const { return foreign_frames_; }  // ids not in the map
   std::uint64_t watchdog_trips() const { return watchdog_trips_; }
   std::uint64_t refused_frames() const { return refused_frames_; }  // input limits
+  /// Why the run log stopped (PlantLog::failure()); "" when every sample was logged.
+  const std::string& log_failure() const {
+    static const std::string none;
+    return log_ ? log_->failure() : none;
+  }
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -89,13 +96,7 @@ class CanPlantServer {
   std::uint64_t refused_frames_ = 0;
   std::uint64_t clamped_ = 0;
 
-  std::FILE* log_ = nullptr;
-  std::vector<runlog::Channel> log_inputs_;
-  std::vector<runlog::Channel> log_outputs_;
-  std::vector<char> log_buffer_;
-  std::string log_plan_ = "none (excite-plant)";
-  std::string producer_;
-  std::optional<runlog::FileWriter> log_writer_;
+  std::optional<PlantLog> log_;  // the run log shared with the Modbus server (plant_log.hpp)
 };
 
 }  // namespace excite::sim::server
@@ -106,7 +107,9 @@ namespace excite::sim::server {
 /// process's plant, prints `listening can IFACE` on stdout (once frames can be received),
 /// calls `ready()` (signal handlers), serves until `stop()`, and prints the summary on
 /// stderr. Returns 0 when stopped, 1 when the interface or log could not be opened or
-/// serving failed (the reason on stderr).
+/// serving failed (the reason on stderr), 3 when stopped after its run log could not be
+/// written (disk full, file-size limit: logging stopped, serving went on; said at once and
+/// again at the stop), as excite-plant's exit codes.
 int serve_can(PlantProcess& process, const ServeOptions& options, const std::string& interface,
               const std::function<void()>& ready, const std::function<bool()>& stop);
 

@@ -102,7 +102,7 @@ void parse_endpoint(const std::string& text, std::string& host, std::uint16_t& p
 int main(int argc, char** argv) {
   using namespace excite::sim::server;
   // A file-size limit (ulimit -f) must not kill the plant: a log write beyond it fails with
-  // EFBIG instead, and logging stops (PlantServer::log_failure()).
+  // EFBIG instead, and logging stops (PlantLog::failure(), Modbus and CAN alike).
   std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{
       "excite-plant: a simulated plant served over Modbus TCP or RTU for testing excite-gateway "

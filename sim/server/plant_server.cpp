@@ -43,10 +43,9 @@ PlantServer::PlantServer(PlantProcess& process, RegisterImage& image, ServeOptio
   // socket, no header-only log).
   try {
     listen();
-    open_log();
+    open_log();  // on failure it leaves no file behind
   } catch (...) {
     release();
-    if (log_opened_) std::remove(options_.log_path.c_str());
     throw;
   }
   mirror_faults_to_control();
@@ -80,45 +79,15 @@ void PlantServer::listen() {
   port_ = ntohs(address.sin_port);
 }
 
+// ServeOptions' log settings as the shared run log's (plant_log.hpp).
+PlantLogSpec plant_log_spec(const ServeOptions& options, double sample_time_min) {
+  return PlantLogSpec{options.log_path,    options.plant_description, sample_time_min,
+                      options.time_scales, options.input_names,       options.output_names,
+                      options.input_units, options.output_units};
+}
+
 void PlantServer::open_log() {
-  if (options_.log_path.empty()) return;
-  log_ = std::fopen(options_.log_path.c_str(), "w");
-  if (log_ == nullptr) {
-    throw std::runtime_error(system_error(("--log " + options_.log_path).c_str()));
-  }
-  log_opened_ = true;
-  // Channels hold views: of options_ (alive as long as the server) or of a literal.
-  const auto unit = [](const std::vector<std::string>& units, std::size_t i) {
-    return i < units.size() && !units[i].empty() ? std::string_view(units[i])
-                                                 : std::string_view("-");
-  };
-  for (std::size_t i = 0; i < options_.input_names.size(); ++i) {
-    log_inputs_.push_back({options_.input_names[i], unit(options_.input_units, i)});
-  }
-  for (std::size_t j = 0; j < options_.output_names.size(); ++j) {
-    log_outputs_.push_back({options_.output_names[j], unit(options_.output_units, j)});
-  }
-  log_buffer_.resize(
-      std::max<std::size_t>(runlog::max_row_chars(log_inputs_.size(), log_outputs_.size()), 4096));
-  producer_ = "excite-plant " + std::string(runlog::kVersion);
-  const runlog::Header header{options_.plant_description,
-                              log_plan_,
-                              process_.sample_time_min(),
-                              log_inputs_,
-                              log_outputs_,
-                              producer_,
-                              options_.time_scales};
-  log_header_.emplace(header);
-  log_rows_.emplace(fileno(log_));
-  const runlog::WriteResult f = runlog::format_header(*log_header_, log_buffer_);
-  if (f.status != runlog::WriteStatus::ok) {
-    throw std::runtime_error("--log " + options_.log_path + ": " + f.message);
-  }
-  if (!log_rows_->append(std::span<const char>(log_buffer_.data(), f.length))) {
-    char why[192];
-    throw std::runtime_error("--log " + options_.log_path + ": cannot write the header: " +
-                             runlog::describe_errno(log_rows_->error(), why, sizeof why));
-  }
+  log_.emplace(plant_log_spec(options_, process_.sample_time_min()));
 }
 
 void PlantServer::release() {
@@ -128,10 +97,7 @@ void PlantServer::release() {
   if (ctx_ != nullptr && rtu()) modbus_close(ctx_);
   if (ctx_ != nullptr) modbus_free(ctx_);
   ctx_ = nullptr;
-  log_header_.reset();
-  log_rows_.reset();
-  if (log_ != nullptr) std::fclose(log_);
-  log_ = nullptr;
+  log_.reset();
 }
 
 PlantServer::~PlantServer() {
@@ -356,28 +322,7 @@ void PlantServer::take_sample() {
   process_.sample(u_.data(), y_.data());
   image_.write_values(y_.data());
   report_misfits(k);
-  if (log_header_ && log_failure_.empty()) {
-    const runlog::Row row{static_cast<double>(k) * process_.sample_time_min(), k,
-                          process_.last_du(), u_, process_.last_dy(), 0,
-                          // The plant cannot see the gateway's engine state.
-                          runlog::RunState::unknown};
-    const runlog::WriteResult f = runlog::format_row(*log_header_, row, log_buffer_);
-    if (f.status != runlog::WriteStatus::ok) {
-      throw std::runtime_error("--log " + options_.log_path + ": sample " + std::to_string(k) +
-                               ": " + f.message);
-    }
-    // One row in write(2) calls of its own: a failed write (disk full, file-size limit) cuts
-    // the file back to its last whole row; logging stops, serving goes on (issue 19).
-    if (!log_rows_->append(std::span<const char>(log_buffer_.data(), f.length))) {
-      char why[192];
-      log_failure_ = "--log " + options_.log_path + ": cannot write sample " + std::to_string(k) +
-                     ": " + runlog::describe_errno(log_rows_->error(), why, sizeof why) +
-                     "; logging stopped, the log is whole up to its last full row (" +
-                     std::to_string(k) + " samples); serving goes on";
-      std::fprintf(stderr, "excite-plant: %s\n", log_failure_.c_str());
-      std::fflush(stderr);
-    }
-  }
+  if (log_) log_->write(k, process_.last_du(), u_, process_.last_dy());
 }
 
 void PlantServer::report_misfits(std::uint64_t k) {

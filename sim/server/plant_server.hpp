@@ -23,9 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "firmware/runlog/row_file.hpp"
-#include "firmware/runlog/writer.hpp"
 #include "sim/server/modbus_request.hpp"
+#include "sim/server/plant_log.hpp"
 #include "sim/server/plant_process.hpp"
 #include "sim/server/register_image.hpp"
 
@@ -76,6 +75,10 @@ struct ServeOptions {
   std::vector<double> input_max;  // that would put a setpoint outside: exception 3, counted
 };
 
+/// The run log's settings in `options` (log_path, plant_description, time_scales, names and
+/// units) with the plant's sample time: what every transport's server opens its log with.
+PlantLogSpec plant_log_spec(const ServeOptions& options, double sample_time_min);
+
 class PlantServer {
  public:
   /// Opens the log (if any) and listens. Throws std::runtime_error naming what failed.
@@ -105,7 +108,10 @@ class PlantServer {
   std::uint64_t refused_writes() const { return refused_writes_; }
   /// Why the run log stopped ("--log plant.csv: cannot write sample 412: No space left on
   /// device (ENOSPC); …"); "" when every sample was logged.
-  const std::string& log_failure() const { return log_failure_; }
+  const std::string& log_failure() const {
+    static const std::string none;
+    return log_ ? log_->failure() : none;
+  }
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -177,17 +183,7 @@ class PlantServer {
   std::vector<double> u_;
   std::vector<double> y_;
 
-  // Run log: channel names and units must outlive the writer's header.
-  std::FILE* log_ = nullptr;
-  bool log_opened_ = false;
-  std::vector<runlog::Channel> log_inputs_;
-  std::vector<runlog::Channel> log_outputs_;
-  std::vector<char> log_buffer_;
-  std::string log_plan_ = "none (excite-plant)";
-  std::string producer_;  // the log's `# producer:` line
-  std::optional<runlog::Header> log_header_;
-  std::optional<runlog::RowFile> log_rows_;  // the log's file descriptor, whole rows only
-  std::string log_failure_;                  // why logging stopped; "" while it goes on
+  std::optional<PlantLog> log_;  // the run log (plant_log.hpp); empty until opened
 };
 
 }  // namespace excite::sim::server
