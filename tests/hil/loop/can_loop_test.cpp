@@ -7,76 +7,19 @@
 // tools we did not write, are the outside peer: cansend drives the plant (and its refusals
 // of a short frame and of a setpoint beyond its limits), candump reads the gateway's
 // setpoint frames, decoded as the default CAN frame map says (sim/server/README.md).
-#include <linux/can.h>
-#include <linux/can/raw.h>
-#include <net/if.h>
-#include <poll.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <map>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "firmware/runlog/format.hpp"
-#include "tests/hil/hal_can/vcan_required.hpp"
-#include "tests/hil/loop/loop_fixture.hpp"
+#include "tests/hil/loop/can_loop_fixture.hpp"
 
 namespace excite::test {
 namespace {
-
-using namespace std::chrono_literals;
-using Clock = std::chrono::steady_clock;
-
-constexpr const char* kBus = "vcan0";
-constexpr double kFloat32Epsilon = 0x1p-24;
-
-// A raw socket on the bus, beside the gateway and the plant: reads what they send.
-class BusObserver {
- public:
-  BusObserver() {
-    fd_ = socket(PF_CAN, SOCK_RAW, CAN_RAW);
-    sockaddr_can address{};
-    address.can_family = AF_CAN;
-    address.can_ifindex = static_cast<int>(if_nametoindex(kBus));
-    ok_ = fd_ >= 0 && bind(fd_, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0;
-  }
-  ~BusObserver() {
-    if (fd_ >= 0) close(fd_);
-  }
-  BusObserver(const BusObserver&) = delete;
-  BusObserver& operator=(const BusObserver&) = delete;
-  bool ok() const { return ok_; }
-
-  // The newest frame of each identifier received within `window`.
-  std::map<canid_t, can_frame> collect(std::chrono::milliseconds window) {
-    std::map<canid_t, can_frame> newest;
-    const auto end = Clock::now() + window;
-    while (Clock::now() < end) {
-      pollfd p{fd_, POLLIN, 0};
-      if (poll(&p, 1, 5) != 1) continue;
-      can_frame f{};
-      if (::read(fd_, &f, sizeof f) == static_cast<ssize_t>(sizeof f)) newest[f.can_id] = f;
-    }
-    return newest;
-  }
-
- private:
-  int fd_ = -1;
-  bool ok_ = false;
-};
-
-float float_at(const can_frame& f, int offset) {
-  float x = 0.0F;
-  std::memcpy(&x, f.data + offset, sizeof x);  // little-endian, as the host
-  return x;
-}
 
 double max_abs(const std::vector<double>& v) {
   double m = 0.0;
@@ -90,69 +33,6 @@ double max_abs_difference(const std::vector<double>& a, const std::vector<double
   for (std::size_t k = shift; k < rows; ++k) worst = std::max(worst, std::abs(a[k] - b[k - shift]));
   return worst;
 }
-
-// "200#0000803F00000040": a cansend frame of identifier `id` carrying `values` as float32.
-std::string float_frame(unsigned id, std::initializer_list<float> values) {
-  char head[16];
-  std::snprintf(head, sizeof head, "%03X#", id);
-  std::string text = head;
-  for (float v : values) {
-    unsigned char bytes[4];
-    std::memcpy(bytes, &v, 4);
-    for (unsigned char b : bytes) {
-      char hex[3];
-      std::snprintf(hex, sizeof hex, "%02X", b);
-      text += hex;
-    }
-  }
-  return text;
-}
-
-class CanLoop : public LoopTest {
- protected:
-  // Waits until the plant has logged more than `samples` samples.
-  bool wait_for_plant_samples(const std::string& log, std::size_t samples) {
-    for (const auto until = Clock::now() + 30s; Clock::now() < until;) {
-      std::size_t lines = 0;
-      std::ifstream in(path(log));
-      for (std::string line; std::getline(in, line);) {
-        lines += line.empty() || line[0] == '#' ? 0U : 1U;
-      }
-      if (lines > samples) return true;
-      std::this_thread::sleep_for(20ms);
-    }
-    return false;
-  }
-
-  // gateway.toml for a real-time gateway (5 ms ticks): the plant's readbacks answer a write
-  // a tick or more later (frames are not replies), so they are compared with the write 3
-  // ticks back; a dead peer's last frames stay fresh for value_timeout_ms (100 ms here),
-  // its readbacks frozen meanwhile: the mismatch limit (100 ticks, 0.5 s) lets the frames
-  // go stale first, and leaves room for qemu TCG on a loaded machine.
-  void real_time_gateway() {
-    std::ifstream in(path("gateway.toml"));
-    std::ostringstream text;
-    text << in.rdbuf();
-    std::string t = text.str();
-    t.replace(t.find("value_timeout_ms = 1000"), 23, "value_timeout_ms = 100");
-    t.replace(t.find("[gateway]\n"), 10,
-              "[gateway]\nreadback_lag_ticks = 4\nreadback_mismatch_limit = 100\n");
-    std::ofstream(path("gateway.toml")) << t;
-  }
-
-  // loop-config --transport can, then excite-plant --config plant.toml --can vcan0 ARGS.
-  void start_can_loop(const std::string& plant, const std::string& config_args,
-                      const std::vector<std::string>& plant_args) {
-    loop_config(plant, 1502,
-                "--transport can --interface " + std::string(kBus) + " " + config_args);
-    std::vector<std::string> args = {"--config", path("plant.toml").string(), "--can", kBus,
-                                     "--log",    path("plant.csv").string()};
-    args.insert(args.end(), plant_args.begin(), plant_args.end());
-    plant_ = std::make_unique<PlantRunner>(args, path("plant.stderr"));
-    plant_->wait_listening();
-    ASSERT_EQ(plant_->first_line(), "listening can " + std::string(kBus)) << plant_->stderr_text();
-  }
-};
 
 // GIVEN the case-study plan of alatiqi4x4 and the CAN pair from loop-config;
 // WHEN the real gateway streams it over vcan0 to the real plant in lock-step;
