@@ -377,6 +377,9 @@ int main(int argc, char** argv) {
                static_cast<unsigned long long>(stats.paced));
   std::fprintf(stderr, "excite-gateway: exception replies by code: %s\n",
                gw.exception_report(*made.bus).c_str());
+  if (const std::string counts = excite::app::bus_counts_report(made); !counts.empty()) {
+    std::fprintf(stderr, "excite-gateway: %s\n", counts.c_str());
+  }
   const std::string refused = gw.refusal_report();
   if (!refused.empty()) std::fprintf(stderr, "excite-gateway: fault: %s\n", refused.c_str());
   if (eng.readback_fault().valid) {

@@ -108,7 +108,8 @@ void CanFieldBus::adopt(const CanConfig& config, CanPlan&& plan, int fd) {
   awaited_.reset();
   had_values_ = false;
   interface_ = config.interface;
-  clamped_ = short_frames_ = 0;
+  clamped_ = 0;
+  counters_ = CanCounters{};
   detail_[0] = '\0';
 }
 
@@ -148,11 +149,12 @@ Validation CanFieldBus::configure(const CanConfig& config) {
     return fail("if_nametoindex");
   }
   std::vector<can_filter> filters;
-  for (const RxFrame& rx : plan.rx) {
-    const canid_t mask = (rx.id & CAN_EFF_FLAG) != 0 ? (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_EFF_MASK)
-                                                     : (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_SFF_MASK);
-    filters.push_back(can_filter{rx.id, mask});
-  }
+  const auto exact = [](canid_t id) {
+    return can_filter{id, (id & CAN_EFF_FLAG) != 0 ? (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_EFF_MASK)
+                                                   : (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_SFF_MASK)};
+  };
+  for (const RxFrame& rx : plan.rx) filters.push_back(exact(rx.id));
+  for (const can_frame& tx : plan.tx) filters.push_back(exact(tx.can_id));
   // No filters means receive nothing but error frames (an empty filter list).
   if (setsockopt(fd, SOL_CAN_RAW, CAN_RAW_FILTER, filters.empty() ? nullptr : filters.data(),
                  static_cast<socklen_t>(filters.size() * sizeof(can_filter))) != 0) {
@@ -186,6 +188,8 @@ Status CanFieldBus::write(std::span<const double> setpoints, std::uint16_t heart
   for (const can_frame& frame : tx_) {
     if (send(fd_, &frame, sizeof frame, MSG_DONTWAIT) != static_cast<ssize_t>(sizeof frame)) {
       error = errno;
+      ++counters_.send_failures;
+      counters_.last_send_error = error;
       break;
     }
   }
@@ -234,6 +238,7 @@ Status CanFieldBus::read(std::span<double> values) noexcept {
       std::snprintf(detail_, sizeof detail_, "%s: value frame 0x%X %s", interface_.c_str(),
                     plan_.rx[f].id & CAN_EFF_MASK,
                     received_at_[f].count() < 0 ? "never received" : "stale");
+      ++counters_.stale_reads;
       return Status::timeout;
     }
   }
@@ -253,9 +258,12 @@ bool CanFieldBus::drain() noexcept {
     if (const auto rx = find_rx(plan_, frame)) {
       if (unpack_values(plan_, *rx, frame, latest_)) {
         received_at_[*rx] = clock_.now();
-      } else {
-        ++short_frames_;
+      } else if (++counters_.short_frames == 1) {
+        counters_.first_short_id = frame.can_id & CAN_EFF_MASK;
+        counters_.first_short_dlc = frame.can_dlc;
       }
+    } else if (is_own_id(frame) && ++counters_.own_id_frames == 1) {
+      counters_.first_own_id = frame.can_id & CAN_EFF_MASK;
     }
   }
   if (errno != EAGAIN && errno != EWOULDBLOCK) {
@@ -264,6 +272,11 @@ bool CanFieldBus::drain() noexcept {
     return false;
   }
   return true;
+}
+
+bool CanFieldBus::is_own_id(const can_frame& frame) const noexcept {
+  const canid_t id = frame.can_id & (CAN_EFF_FLAG | CAN_EFF_MASK);
+  return std::any_of(tx_.begin(), tx_.end(), [id](const can_frame& t) { return t.can_id == id; });
 }
 
 bool CanFieldBus::all_received() const noexcept {
@@ -294,6 +307,7 @@ Status CanFieldBus::await_echo() noexcept {
   const auto echoed = [this] { return latest_[*await_echo_] == static_cast<double>(*awaited_); };
   const Status s = wait_until(echoed);
   if (s == Status::timeout) {
+    ++counters_.echo_timeouts;
     std::snprintf(detail_, sizeof detail_, "%s: no echo of heartbeat %u within %lld ms",
                   interface_.c_str(), static_cast<unsigned>(*awaited_),
                   static_cast<long long>(value_timeout_.count() / 1000000));

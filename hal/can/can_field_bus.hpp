@@ -31,6 +31,23 @@ struct CanConfig {
   std::optional<std::size_t> await_echo;
 };
 
+// What the socket transport counted since configure(), for the gateway's end-of-run summary
+// (plain counters, updated in write()/read() without allocation).
+struct CanCounters {
+  std::uint64_t short_frames = 0;    // value frames with a DLC below what the map needs: refused,
+  canid_t first_short_id = 0;        //   the values untouched; the first one's identifier
+  std::uint8_t first_short_dlc = 0;  //   (flags stripped) and DLC
+  std::uint64_t own_id_frames = 0;   // frames of one of the gateway's own setpoint identifiers:
+  canid_t first_own_id = 0;          //   another node sends them (the socket never receives
+                                     //   its own); ignored; the first one's identifier
+  std::uint64_t send_failures = 0;   // write() calls in which a send failed (ENOBUFS: the
+  int last_send_error = 0;           //   interface's queue is full); the last errno
+  std::uint64_t stale_reads = 0;     // read() calls that found a value frame never received
+                                     //   or older than value_timeout_ms (timeout)
+  std::uint64_t echo_timeouts = 0;   // await_echo: reads without the heartbeat's echo in time
+  std::uint64_t error_frames = 0;    // error frames received (LinkState)
+};
+
 // Checks the interface name, the timeouts and the frame map without opening a socket
 // (what can be checked of a CAN configuration on a machine without AF_CAN).
 Validation validate(const CanConfig& config);
@@ -44,7 +61,10 @@ struct SocketCanSupport {
 SocketCanSupport probe_socketcan() noexcept;
 
 // The field bus over a SocketCAN raw socket. configure() compiles the frame map and
-// opens the socket: receive filters for the value identifiers, all error frames enabled.
+// opens the socket: receive filters for the value identifiers and for the gateway's own
+// setpoint identifiers (another node sending them is counted: CanCounters::own_id_frames),
+// all error frames enabled; every other identifier is dropped by the kernel, unseen.
+// A value frame shorter than the map needs is refused and counted (short_frames).
 // write(): one frame per setpoint identifier, non-blocking. read(): drains what the
 // kernel queued, keeps the newest frame per identifier, and reports timeout (values
 // untouched) while a value frame is missing or older than value_timeout_ms (with
@@ -79,13 +99,20 @@ class CanFieldBus final : public FieldBus {
 
   [[nodiscard]] const LinkState& link() const noexcept { return link_; }
   [[nodiscard]] std::uint64_t clamped_setpoints() const noexcept { return clamped_; }
-  [[nodiscard]] std::uint64_t short_frames() const noexcept { return short_frames_; }
+  [[nodiscard]] std::uint64_t short_frames() const noexcept { return counters_.short_frames; }
+  [[nodiscard]] CanCounters counters() const noexcept {
+    CanCounters c = counters_;
+    c.error_frames = link_.error_frames();
+    return c;
+  }
+  [[nodiscard]] const std::string& interface_name() const noexcept { return interface_; }
 
  private:
   void release() noexcept;
   bool drain() noexcept;  // receives what is queued; false (detail_ set) on a socket error
   Status await_echo() noexcept;
   bool all_received() const noexcept;
+  bool is_own_id(const can_frame& frame) const noexcept;  // one of the setpoint identifiers
   // Polls the socket, draining it, until `done()` or value_timeout_ms have passed.
   template <class Done>
   Status wait_until(Done done) noexcept;
@@ -105,7 +132,7 @@ class CanFieldBus final : public FieldBus {
   Nanoseconds value_timeout_{0};
   std::string interface_;
   std::uint64_t clamped_ = 0;
-  std::uint64_t short_frames_ = 0;
+  CanCounters counters_;
   char detail_[256] = "not configured";
 };
 

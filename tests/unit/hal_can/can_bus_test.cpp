@@ -168,6 +168,33 @@ TEST_F(CanBus, AShortValueFrameIsCountedAndIgnored) {
   EXPECT_EQ(bus_.short_frames(), 1U);
 }
 
+// GIVEN a third node on the bus WHEN it sends a short value frame, frames of the gateway's own
+// setpoint identifiers (standard and extended) and one nobody maps THEN the short frame is
+// refused, the own-identifier frames counted (the first named), the unmapped one ignored; a
+// read with a value frame gone stale is counted too.
+TEST_F(CanBus, RefusedAndForeignFramesAndStaleReadsAreCounted) {
+  send_t1(5.0F);
+  send_dp(1);
+  std::array<double, 2> values{};
+  ASSERT_EQ(bus_.read(values), Status::ok);
+  peer_send(0x311, 1, "a", 1);  // int16 needs 2 bytes
+  peer_send(0x210, 6, "abcdef", 6);
+  peer_send(0x18FF0001 | CAN_EFF_FLAG, 4, "abcd", 4);
+  peer_send(0x123, 2, "ab", 2);
+  ASSERT_EQ(bus_.read(values), Status::ok);
+  EXPECT_EQ(values[1], 0.01);
+  CanCounters c = bus_.counters();
+  EXPECT_EQ(c.short_frames, 1U);
+  EXPECT_EQ(c.first_short_id, 0x311U);
+  EXPECT_EQ(c.first_short_dlc, 1U);
+  EXPECT_EQ(c.own_id_frames, 2U);
+  EXPECT_EQ(c.first_own_id, 0x210U);
+  EXPECT_EQ(c.stale_reads, 0U);
+  clock_.advance(std::chrono::milliseconds(101));
+  EXPECT_EQ(bus_.read(values), Status::timeout);
+  EXPECT_EQ(bus_.counters().stale_reads, 1U);
+}
+
 TEST_F(CanBus, AFullTransmitQueueIsATimeoutAndPersistentlyFullIsLinkLoss) {
   // GIVEN a peer that stops reading, WHEN the bus keeps writing, THEN the queue fills:
   // the first refused write is a timeout, the third in a row (enobufs_limit) link loss.
@@ -180,6 +207,8 @@ TEST_F(CanBus, AFullTransmitQueueIsATimeoutAndPersistentlyFullIsLinkLoss) {
   ASSERT_EQ(status, Status::timeout) << bus_.detail();
   EXPECT_EQ(bus_.write(setpoints, 0), Status::timeout);
   EXPECT_EQ(bus_.write(setpoints, 0), Status::link_lost);
+  EXPECT_EQ(bus_.counters().send_failures, 3U);  // the summary's "sends refused"
+  EXPECT_NE(bus_.counters().last_send_error, 0);
   // WHEN the peer drains the queue THEN writing works again.
   can_frame frame{};
   while (peer_receive(frame)) {
