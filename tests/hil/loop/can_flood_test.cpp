@@ -65,21 +65,32 @@ std::size_t rows_with(const runlog::RunLog& log, std::uint32_t flag) {
       log.flags.begin(), log.flags.end(), [flag](std::uint32_t f) { return (f & flag) != 0; }));
 }
 
-// Arrival times (s, the receiving socket's timestamps) of the frames in a `candump -L` file.
-std::vector<double> arrivals(const fs::path& dump) {
+// The heartbeat frames of a `candump -L` file: arrival times (s, the receiving socket's
+// timestamps) and their uint16 values.
+struct Heartbeats {
   std::vector<double> t;
+  std::vector<unsigned> value;
+};
+
+Heartbeats heartbeats_in(const fs::path& dump) {
+  Heartbeats h;
   std::ifstream in(dump);
+  // "(1700000000.123456) vcan1 201#0100"
   for (std::string stamp, iface, frame; in >> stamp >> iface >> frame;) {
-    t.push_back(std::stod(stamp.substr(1)));  // "(1700000000.123456)"
+    h.t.push_back(std::stod(stamp.substr(1)));
+    const std::string data = frame.substr(frame.find('#') + 1);
+    h.value.push_back(static_cast<unsigned>(std::stoul(data.substr(0, 2), nullptr, 16) |
+                                            std::stoul(data.substr(2, 2), nullptr, 16) << 8));
   }
-  return t;
+  return h;
 }
 
-// The longest gap between consecutive arrivals, and where it begins.
-std::pair<double, double> longest_gap(const std::vector<double>& t) {
-  std::pair<double, double> worst{0.0, 0.0};
-  for (std::size_t i = 1; i < t.size(); ++i) {
-    if (t[i] - t[i - 1] > worst.first) worst = {t[i] - t[i - 1], t[i - 1]};
+// The longest gap between consecutive arrivals in t[0, end): its length and the index of the
+// arrival that ends it.
+std::pair<double, std::size_t> longest_gap(const std::vector<double>& t, std::size_t end) {
+  std::pair<double, std::size_t> worst{0.0, 0};
+  for (std::size_t i = 1; i < std::min(end, t.size()); ++i) {
+    if (t[i] - t[i - 1] > worst.first) worst = {t[i] - t[i - 1], i};
   }
   return worst;
 }
@@ -170,19 +181,30 @@ TEST_F(CanFlood, AHigherPriorityFloodHoldsTheLoopOffTheBusAndTheGatewayAbortsOnT
   // On the wire: the gateway's heartbeat held off the bus for (nearly) the whole flood, and
   // regular before it (the shaping alone starves nothing).
   heartbeats.stop(SIGTERM);
-  const std::vector<double> hb = arrivals(path("heartbeats.log"));
-  ASSERT_GT(hb.size(), 200U);
-  const auto [gap_s, gap_at] = longest_gap(hb);
-  std::vector<double> before(hb.begin(), hb.begin() + 150);
-  EXPECT_LT(longest_gap(before).first, 0.5) << "heartbeats held off before the flood";
+  const Heartbeats hb = heartbeats_in(path("heartbeats.log"));
+  ASSERT_GT(hb.t.size(), 200U);
+  const auto [gap_s, after] = longest_gap(hb.t, hb.t.size());
+  EXPECT_LT(longest_gap(hb.t, 150).first, 0.5) << "heartbeats held off before the flood";
   EXPECT_GE(gap_s, flood_s - 0.5) << "the gateway's frames were not held off the bus";
   EXPECT_LE(gap_s, flood_s + 1.0);
+  // Late, not lost: the first heartbeat after the flood is the one after the last before it,
+  // held in the queue; those queued (at most 10 frames: 5 ticks) follow back to back.
+  ASSERT_GT(after, 0U);
+  EXPECT_EQ(hb.value[after], (hb.value[after - 1] + 1) & 0xFFFF) << "the held frames were lost";
+  std::size_t late = 1;
+  while (after + late < hb.value.size() && hb.value[after + late] == hb.value[after] + late &&
+         hb.t[after + late] - hb.t[after] < 0.02) {
+    ++late;
+  }
+  EXPECT_LE(late, 5U) << "more held heartbeats than the queue's 10 frames";
   std::printf(
-      "[ measured ] flood %.2f s: gateway heartbeat's longest gap on the bus %.3f s "
-      "(from %.3f s after the first); abort %llu ticks of the clock after the "
-      "suspension, %zu rows executed between; rows comm-lost %zu; stale reads %lu\n",
-      flood_s, gap_s, gap_at - hb.front(), static_cast<unsigned long long>(clock_ticks),
-      aborted - suspended, rows_with(log, runlog::kCommLost), stale_reads);
+      "[ measured ] flood %.2f s: gateway heartbeat's longest gap on the bus %.3f s (ended "
+      "%.3f s after the first), then %zu held heartbeats back to back; abort %llu ticks of the "
+      "clock after the suspension, %zu rows executed between; rows comm-lost %zu; stale reads "
+      "%lu\n",
+      flood_s, gap_s, hb.t[after] - hb.t.front(), late,
+      static_cast<unsigned long long>(clock_ticks), aborted - suspended,
+      rows_with(log, runlog::kCommLost), stale_reads);
 
   const runlog::RunLog plant_log = stop_plant_and_read_its_log();
   const std::string plant_err = plant_->stderr_text();

@@ -92,6 +92,17 @@ inline std::string float_frame(unsigned id, std::initializer_list<float> values)
   return text;
 }
 
+// The number after `label` in the gateway's end-of-run CAN counts ("excite-gateway: can vcan0:
+// value frames refused for their DLC N …, reads with a value frame stale or missing N, …");
+// -1 when absent.
+inline long can_count(const std::string& err, const std::string& label) {
+  const std::size_t line = err.find("excite-gateway: can ");
+  if (line == std::string::npos) return -1;
+  const std::size_t at = err.find(label + " ", line);
+  if (at == std::string::npos || at > err.find('\n', line)) return -1;
+  return std::stol(err.substr(at + label.size() + 1));
+}
+
 // The loop over a vcan bus: the plant from loop-config's plant.toml, the gateway from its
 // gateway.toml (LoopTest::start_gateway).
 class CanLoop : public LoopTest {
