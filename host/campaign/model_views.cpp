@@ -303,11 +303,16 @@ std::string parameter_table_html(const Experiment& e, const CampaignResult& r) {
   h << "<table class='params'><tr><th>CV ← MV</th><th>grade</th><th>status</th><th>K [CV unit "
        "per MV unit]</th><th>T<sub>d</sub> [min]</th><th>T<sub>p1</sub> "
        "[min]</th><th>T<sub>p2</sub> "
-       "[min]</th></tr>";
+       "[min]</th><th>structure, its other parameters</th></tr>";
   for (int o = 0; o < m.outputs; ++o) {
     for (int i = 0; i < m.inputs; ++i) {
       const ElementEstimate& est = m.element(o, i);
       const auto bound = [&](int k) { return est.at_bound[static_cast<std::size_t>(k)]; };
+      // A parameter of the element's structure with its error; "–" for one it does not have.
+      const auto parameter_cell = [&](int k) {
+        if (est.estimated() && !is_free(est.value.structure, k)) return std::string("–");
+        return with_error(est.value[k], est.std_error[k], bound(k));
+      };
       // The grade (host/identify/grade.hpp), what kept it from A as the cell's tooltip.
       std::string why;
       for (const char c : est.grade_reason)
@@ -317,8 +322,14 @@ std::string parameter_table_html(const Experiment& e, const CampaignResult& r) {
         << to_string(est.status) << "</td><td>"
         << with_error(est.value.gain, est.std_error.gain, bound(kGain)) << "</td><td>"
         << with_error(est.value.delay_min, est.std_error.delay_min, bound(kDelay)) << "</td><td>"
-        << with_error(est.value.tau1_min, est.std_error.tau1_min, bound(kTp1)) << "</td><td>"
-        << with_error(est.value.tau2_min, est.std_error.tau2_min, bound(kTp2)) << "</td></tr>";
+        << parameter_cell(kTp1) << "</td><td>" << parameter_cell(kTp2) << "</td><td>"
+        << (est.estimated() ? to_string(est.value.structure) : "–");
+      for (const int k : {kZero, kNatural, kDamping}) {
+        if (est.estimated() && is_free(est.value.structure, k)) {
+          h << ", " << parameter_name(static_cast<Parameter>(k)) << " = " << parameter_cell(k);
+        }
+      }
+      h << "</td></tr>";
     }
   }
   h << "</table>";

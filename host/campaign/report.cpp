@@ -62,15 +62,15 @@ std::string common_unit(const std::vector<std::string>& units) {
   return u == "-" ? "[–]" : "[" + u + "]";
 }
 
-// The identified model's G(jω) from its (6.1.1) elements.
+// The identified model's G(jω) from its elements (any structure, element.hpp).
 Eigen::MatrixXcd model_response(const IdentifiedModel& m, double omega) {
   Eigen::MatrixXcd g(m.outputs, m.inputs);
   const std::complex<double> s(0.0, omega);
   for (int o = 0; o < m.outputs; ++o) {
     for (int i = 0; i < m.inputs; ++i) {
-      const TwoPoleDelay& p = m.element(o, i).value;
-      g(o, i) =
-          p.gain * std::exp(-s * p.delay_min) / ((1.0 + s * p.tau1_min) * (1.0 + s * p.tau2_min));
+      const ElementEstimate& e = m.element(o, i);
+      g(o, i) = e.estimated() ? to_term(e.value, m.sample_time_min).frequency_response(omega)
+                              : std::complex<double>(std::numeric_limits<double>::quiet_NaN());
     }
   }
   return g;

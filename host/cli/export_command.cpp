@@ -40,9 +40,9 @@ int default_horizon(const NamedModel& m, const std::string& path) {
   const ElementEstimate& e = m.model.element(s.output, s.input);
   char text[200];
   std::snprintf(text, sizeof text,
-                "Td + 7 (Tp1 + Tp2) = %.6g min = %.6g samples of %g min, expected at most %d "
-                "samples (the --horizon range; give --horizon N)",
-                e.value.delay_min + 7.0 * (e.value.tau1_min + e.value.tau2_min), s.samples,
+                "settling time Td + 7 (Tp1 + Tp2 + Tn/zeta + |Tz|) = %.6g min = %.6g samples of "
+                "%g min, expected at most %d samples (the --horizon range; give --horizon N)",
+                settling_time_min(e.value), s.samples,
                 m.model.sample_time_min, kMaxHorizon);
   throw std::invalid_argument(path + ": element " +
                               m.outputs.at(static_cast<std::size_t>(s.output)) + " <- " +

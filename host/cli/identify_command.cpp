@@ -2,8 +2,8 @@
 // excite identify RUN.csv [RUN.csv…] [--json] [-o MODEL] [--max-delay MIN]
 //                 [--max-time-constant MIN] [--tau-high MIN] [--beta B] [--threads N]
 //                 [--keep-flagged] [--warm-up MIN] [--start-warm-up MIN]
-//                 [--trend none|offset|linear]
-// (6.1.1) models per output, fit % (5.5.1), identified G(0) and its directions. Several
+//                 [--trend none|offset|linear] [--structure auto|NAME]
+// Models per output (each element's structure chosen by BIC, or forced by --structure), fit % (5.5.1), identified G(0) and its directions. Several
 // runs are identified together; the logs' flags decide which rows are scored and where the
 // model restarts (host/identify/run_layout.hpp); what was excluded is warned on stderr.
 // Time constants are bounded above by β·τ_H (SPEC §6): --max-time-constant if given, else
@@ -38,6 +38,7 @@ struct IdentifyCommandOptions {
   double warm_up_min = -1.0;  // < 0: the delay bound
   std::string trend = "none";
   std::string initial_state = "auto";
+  std::string structure = "auto";
   bool allow_mixed = false;  // pool runs of other plants or units (issue 19)
 };
 
@@ -139,18 +140,42 @@ void print(const IdentificationResult& r, const runlog::RunLog& log) {
                 << " (Q = " << num(tests.whiteness, 3) << ", 99 % limit "
                 << num(tests.whiteness_limit, 3) << ", " << tests.lags << " lags)\n";
     }
-    TextTable t({"input", "grade", "K", "+-", "Td [min]", "+-", "Tp1 [min]", "+-", "Tp2 [min]",
-                 "+-", "status"});
+    // A column per parameter that some element of the row has (its structure's), "-" where
+    // an element's structure has no such parameter.
+    std::vector<int> shown;
+    for (int k = 0; k < kParameters; ++k) {
+      bool used = false;
+      for (int i = 0; i < m.inputs; ++i) {
+        const ElementEstimate& e = m.element(o, i);
+        used |= e.estimated() && is_free(e.value.structure, k);
+      }
+      if (used || k <= kTp2) shown.push_back(k);
+    }
+    std::vector<std::string> header{"input", "grade", "structure"};
+    for (const int k : shown) {
+      const auto p = static_cast<Parameter>(k);
+      header.push_back(std::string(parameter_name(p)) +
+                       (k == kGain || k == kDamping ? "" : " [min]"));
+      header.push_back("+-");
+    }
+    header.push_back("status");
+    TextTable t(header);
     for (int i = 0; i < m.inputs; ++i) {
       const ElementEstimate& e = m.element(o, i);
       std::string status = to_string(e.status);
       if (!e.reason.empty()) status += ": " + e.reason;
       for (const std::string& b : e.on_bound()) status += "; " + b;
       const auto ii = static_cast<std::size_t>(i);
-      t.add_row({with_unit(log.input_names[ii], log.input_units[ii]), to_string(e.grade),
-                 num(e.value.gain), num(e.std_error.gain), num(e.value.delay_min),
-                 num(e.std_error.delay_min), num(e.value.tau1_min), num(e.std_error.tau1_min),
-                 num(e.value.tau2_min), num(e.std_error.tau2_min), status});
+      std::vector<std::string> row{with_unit(log.input_names[ii], log.input_units[ii]),
+                                   to_string(e.grade),
+                                   e.estimated() ? to_string(e.value.structure) : "-"};
+      for (const int k : shown) {
+        const bool has = !e.estimated() || is_free(e.value.structure, k);
+        row.push_back(has ? num(e.value[k]) : "-");
+        row.push_back(has ? num(e.std_error[k]) : "-");
+      }
+      row.push_back(status);
+      t.add_row(row);
     }
     t.print(std::cout);
     for (int i = 0; i < m.inputs; ++i) {  // what kept each element from grade A
@@ -195,6 +220,7 @@ void run(const IdentifyCommandOptions& opt) {
   for (const auto& r : runs) moving_start |= !r.start_at_rest;
   options.estimate_initial_state =
       opt.initial_state == "estimate" || (opt.initial_state == "auto" && moving_start);
+  if (opt.structure != "auto") options.structure = structure_from_string(opt.structure);
   if (options.estimate_initial_state && opt.initial_state == "auto") {
     std::cerr << "excite: warning: a run log starts mid-test (start_at_rest: no): each "
                  "segment's initial state is estimated (--initial-state zero to turn off)\n";
@@ -266,6 +292,12 @@ void add_identify_command(CLI::App& app) {
       ->check(CLI::IsMember({"auto", "estimate", "zero"}));
   cmd->add_flag("--allow-mixed", opt->allow_mixed,
                 "identify runs together even when their plant or units differ");
+  cmd->add_option("--structure", opt->structure,
+                  "every element's structure: auto (chosen per element by BIC), first_order, "
+                  "two_poles, two_poles_zero, integrator, underdamped or underdamped_lag_zero")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "first_order", "two_poles", "two_poles_zero", "integrator",
+                             "underdamped", "underdamped_lag_zero"}));
   cmd->callback([opt] { run(*opt); });
 }
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <optional>
+#include <span>
 #include <stdexcept>
 #include <tuple>
 #include <utility>
@@ -15,13 +17,24 @@
 namespace excite::host::cli {
 namespace {
 
-constexpr const char* kFormat = "excite model v1";
+// v2 added each element's structure, its parameters beyond (6.1.1) and its covariance; a
+// v1 file (every element two_poles, no covariance) still reads.
+constexpr const char* kFormat = "excite model v2";
+constexpr const char* kFormatV1 = "excite model v1";
 
-nlohmann::json parameters(const TwoPoleDelay& p) {
-  return {{"K", to_json(p.gain)},
-          {"Tp1", to_json(p.tau1_min)},
-          {"Tp2", to_json(p.tau2_min)},
-          {"Td", to_json(p.delay_min)}};
+// Every parameter (those outside the structure at their neutral values, so K, Td, Tp1, Tp2
+// mean what v1 said for every structure except where Tz, Tn, zeta say more).
+nlohmann::json parameters(const ElementModel& p) {
+  nlohmann::json j = nlohmann::json::object();
+  for (int k = 0; k < kParameters; ++k) j[parameter_name(static_cast<Parameter>(k))] = to_json(p[k]);
+  return j;
+}
+
+// The structure's parameters only (standard errors: the others have none).
+nlohmann::json free_parameters_json(const ElementModel& p, Structure s) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const int k : free_parameters(s)) j[parameter_name(static_cast<Parameter>(k))] = to_json(p[k]);
+  return j;
 }
 
 // A value in short form for a message: at most 40 characters of its JSON text.
@@ -54,6 +67,71 @@ std::string text(const nlohmann::json& j, const char* key, const std::string& wh
   return v.get<std::string>();
 }
 
+// The element's standard errors, covariance and grade when the file has them (v2; NaN and
+// grade D otherwise). Only the structure's parameters.
+void read_uncertainty(const nlohmann::json& e, const std::string& where, ElementEstimate& est) {
+  const std::span<const int> free = free_parameters(est.value.structure);
+  est.std_error = est.value;
+  for (int k = 0; k < kParameters; ++k) est.std_error[k] = std::numeric_limits<double>::quiet_NaN();
+  if (e.contains("se") && e["se"].is_object()) {
+    for (const int k : free) {
+      const char* name = parameter_name(static_cast<Parameter>(k));
+      if (e["se"].contains(name)) est.std_error[k] = number(e["se"], name, where + ".se");
+    }
+  }
+  if (e.contains("covariance") && !e["covariance"].is_null()) {
+    const nlohmann::json& c = e["covariance"];
+    if (!c.is_array() || c.size() != free.size()) {
+      throw std::invalid_argument(field(where, "covariance") + " = " + shown(c) + ", expected " +
+                                  std::to_string(free.size()) + " rows (one per parameter of " +
+                                  to_string(est.value.structure) + ")");
+    }
+    for (std::size_t a = 0; a < free.size(); ++a) {
+      const std::string row_at = where + ".covariance[" + std::to_string(a) + "]";
+      if (!c[a].is_array() || c[a].size() != free.size()) {
+        throw std::invalid_argument(row_at + " = " + shown(c[a]) + ", expected " +
+                                    std::to_string(free.size()) + " numbers");
+      }
+      for (std::size_t b = 0; b < free.size(); ++b) {
+        const nlohmann::json& v = c[a][b];
+        if (!v.is_null() && !v.is_number()) {
+          throw std::invalid_argument(row_at + "[" + std::to_string(b) + "] = " + shown(v) +
+                                      ", expected a number or null");
+        }
+        est.covariance(free[a], free[b]) =
+            v.is_null() ? std::numeric_limits<double>::quiet_NaN() : v.get<double>();
+      }
+    }
+  }
+  const std::string grade = text(e, "grade", where);
+  for (const Grade g : {Grade::A, Grade::B, Grade::C, Grade::D}) {
+    if (grade == to_string(g)) est.grade = g;
+  }
+  est.grade_reason = text(e, "grade_reason", where);
+}
+
+// The row's gain covariance (n × n) when the file has it (null entries NaN).
+std::optional<Eigen::MatrixXd> read_gain_covariance(const nlohmann::json& out,
+                                                    const std::string& where, int inputs) {
+  if (!out.contains("gain_covariance") || out["gain_covariance"].is_null()) return std::nullopt;
+  const nlohmann::json& c = out["gain_covariance"];
+  const auto n = static_cast<std::size_t>(inputs);
+  Eigen::MatrixXd cov(inputs, inputs);
+  for (std::size_t a = 0; a < n; ++a) {
+    for (std::size_t b = 0; b < n; ++b) {
+      if (!c.is_array() || c.size() != n || !c[a].is_array() || c[a].size() != n ||
+          !(c[a][b].is_null() || c[a][b].is_number())) {
+        throw std::invalid_argument(field(where, "gain_covariance") + " = " + shown(c) +
+                                    ", expected " + std::to_string(n) + " x " +
+                                    std::to_string(n) + " numbers or nulls");
+      }
+      cov(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) =
+          c[a][b].is_null() ? std::numeric_limits<double>::quiet_NaN() : c[a][b].get<double>();
+    }
+  }
+  return cov;
+}
+
 }  // namespace
 
 nlohmann::json model_json(const IdentificationResult& result,
@@ -66,8 +144,16 @@ nlohmann::json model_json(const IdentificationResult& result,
     for (int i = 0; i < m.inputs; ++i) {
       const ElementEstimate& e = m.element(o, i);
       nlohmann::json j = parameters(e.value);
+      j["structure"] = to_string(e.value.structure);
       j["input"] = input_names.at(static_cast<std::size_t>(i));
-      j["se"] = parameters(e.std_error);
+      j["se"] = free_parameters_json(e.std_error, e.value.structure);
+      nlohmann::json covariance = nlohmann::json::array();  // over "se"'s parameters, in order
+      for (const int a : free_parameters(e.value.structure)) {
+        nlohmann::json row = nlohmann::json::array();
+        for (const int b : free_parameters(e.value.structure)) row.push_back(to_json(e.covariance(a, b)));
+        covariance.push_back(row);
+      }
+      j["covariance"] = covariance;
       j["status"] = to_string(e.status);
       j["reason"] = e.reason;
       j["on_bound"] = e.on_bound();
@@ -137,9 +223,10 @@ NamedModel read_named_model_file(const std::filesystem::path& path) {
   const std::string where = path.string();
   refuse_directory(path, "a model file (excite identify -o)");
   const nlohmann::json j = read_json_file(where, "a model file from excite identify -o");
-  if (!j.is_object() || !j.contains("format") || j["format"] != kFormat) {
-    throw std::invalid_argument(where + ": format: expected \"" + kFormat +
-                                "\" (a file from excite identify -o)");
+  if (!j.is_object() || !j.contains("format") ||
+      (j["format"] != kFormat && j["format"] != kFormatV1)) {
+    throw std::invalid_argument(where + ": format: expected \"" + kFormat + "\" or \"" +
+                                kFormatV1 + "\" (a file from excite identify -o)");
   }
   NamedModel named;
   named.source = where;
@@ -176,6 +263,8 @@ NamedModel read_named_model_file(const std::filesystem::path& path) {
   m.inputs = static_cast<int>(j["inputs"].size());
   m.outputs = static_cast<int>(j["outputs"].size());
   m.elements.resize(static_cast<std::size_t>(m.inputs * m.outputs));
+  std::vector<Eigen::MatrixXd> covariances;  // per output, when the file has every one
+  bool every_covariance = true;
   for (int o = 0; o < m.outputs; ++o) {
     const nlohmann::json& out = j["outputs"][static_cast<std::size_t>(o)];
     const std::string at = where + ": outputs[" + std::to_string(o) + "]";
@@ -188,13 +277,27 @@ NamedModel read_named_model_file(const std::filesystem::path& path) {
       const nlohmann::json& e = out["elements"][static_cast<std::size_t>(i)];
       const std::string el = at + ".elements[" + std::to_string(i) + "]";
       ElementEstimate& est = m.element(o, i);
-      est.value = {number(e, "K", el), number(e, "Td", el), number(e, "Tp1", el),
-                   number(e, "Tp2", el)};
-      const bool finite = std::isfinite(est.value.gain) && std::isfinite(est.value.delay_min) &&
-                          std::isfinite(est.value.tau1_min) && std::isfinite(est.value.tau2_min);
-      if (finite &&
-          (est.value.delay_min < 0.0 || est.value.tau1_min < 0.0 || est.value.tau2_min < 0.0)) {
-        throw std::invalid_argument(el + ": Td, Tp1, Tp2: expected >= 0");
+      const std::string structure = text(e, "structure", el);
+      const std::optional<Structure> s =
+          structure.empty() ? Structure::two_poles : structure_from_string(structure);
+      if (!s) {
+        throw std::invalid_argument(field(el, "structure") + " = " + shown(e["structure"]) +
+                                    ", expected first_order, two_poles, two_poles_zero, "
+                                    "integrator, underdamped or underdamped_lag_zero");
+      }
+      est.value = with_structure(ElementModel{}, *s);
+      bool finite = true;
+      for (const int k : free_parameters(*s)) {
+        est.value[k] = number(e, parameter_name(static_cast<Parameter>(k)), el);
+        finite &= std::isfinite(est.value[k]);
+      }
+      if (finite) {
+        try {
+          check_element(est.value);
+        } catch (const std::invalid_argument& bad) {
+          throw std::invalid_argument(el + "." + bad.what());
+        }
+        read_uncertainty(e, el, est);
       }
       est.status = finite ? ElementStatus::identified : ElementStatus::input_not_moved;
       const std::string status = text(e, "status", el);
@@ -202,7 +305,13 @@ NamedModel read_named_model_file(const std::filesystem::path& path) {
       if (finite && status == "weak_gain") est.status = ElementStatus::weak_gain;
       if (!finite) est.reason = reason.empty() ? "not estimated" : reason;
     }
+    if (const auto cov = read_gain_covariance(out, at, m.inputs)) {
+      covariances.push_back(*cov);
+    } else {
+      every_covariance = false;
+    }
   }
+  if (every_covariance) m.gain_covariance = std::move(covariances);
   return named;
 }
 

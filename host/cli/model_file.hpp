@@ -14,9 +14,13 @@
 
 namespace excite::host::cli {
 
-/// {"format":"excite model v1","sample_time_min","inputs":[names],"outputs":[{"name","fit",
-///  "elements":[{"input","K","Tp1","Tp2","Td","se":{…},"status","reason"}…]}…],
-///  "gain","singular_values","condition_number","xi","rga"}; null for what is unknown.
+/// {"format":"excite model v2","sample_time_min","inputs":[names],"outputs":[{"name","fit",
+///  "elements":[{"input","structure","K","Td","Tp1","Tp2","Tz","Tn","zeta","se":{…},
+///  "covariance":[[…]…],"status","reason","grade",…}…],"gain_covariance"}…],
+///  "gain","singular_values","condition_number","xi","rga",…}; null for what is unknown.
+/// Every parameter is written (those outside the element's structure at their neutral values,
+/// element.hpp); "se" and "covariance" cover the structure's parameters, in Parameter order.
+/// v1 files (no structure: two_poles) still read.
 nlohmann::json model_json(const IdentificationResult& result,
                           const std::vector<std::string>& input_names,
                           const std::vector<std::string>& output_names);

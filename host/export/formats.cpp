@@ -27,13 +27,24 @@ std::string exact(double v) {
   return buffer;
 }
 
-// Denominator (T_p1 s + 1)(T_p2 s + 1) in descending powers of s, without leading zeros.
-std::vector<double> denominator(const TwoPoleDelay& p) {
-  const double a = p.tau1_min, b = p.tau2_min;
-  if (a == 0.0 && b == 0.0) return {1.0};
-  if (a == 0.0 || b == 0.0) return {a + b, 1.0};
-  return {a * b, a + b, 1.0};
+// The element's rational part in descending powers of s, without leading zeros: the
+// numerator with the gain, and the denominator (element.hpp; vanishing time constants
+// dropped at the model's sample time).
+std::vector<double> descending(sim::Polynomial ascending) {
+  while (ascending.size() > 1 && ascending.back() == 0.0) ascending.pop_back();
+  return {ascending.rbegin(), ascending.rend()};
 }
+std::vector<double> numerator(const ElementModel& p, double T) {
+  return descending(to_term(p, T).numerator());
+}
+std::vector<double> denominator(const ElementModel& p, double T) {
+  return descending(to_term(p, T).denominator());
+}
+
+// The structures' formula, as the exports' comments state it.
+constexpr const char* kElementFormula =
+    "K (Tz s + 1) e^(-Td s) / ((Tp1 s + 1)(Tp2 s + 1)), or with (Tn^2 s^2 + 2 zeta Tn s + 1) "
+    "for (Tp2 s + 1) (underdamped), or s for (Tp2 s + 1) (integrator); see 'structure'";
 
 std::string list(const std::vector<double>& v, const char* separator) {
   std::string out;
@@ -67,19 +78,37 @@ double input_delay(const NamedModel& m, int in) {
   return d;
 }
 
+// A number, or null for NaN and ±inf (JSON has neither).
+nlohmann::json json_number(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
 nlohmann::json transfer(const NamedModel& m) {
   nlohmann::json rows = nlohmann::json::array();
   for (int o = 0; o < m.model.outputs; ++o) {
     nlohmann::json row = nlohmann::json::array();
     for (int i = 0; i < m.model.inputs; ++i) {
       const ElementEstimate& e = m.model.element(o, i);
-      row.push_back({{"K", e.value.gain},
-                     {"Td", e.value.delay_min},
-                     {"Tp1", e.value.tau1_min},
-                     {"Tp2", e.value.tau2_min},
-                     {"num", {e.value.gain}},
-                     {"den", denominator(e.value)},
-                     {"status", to_string(e.status)}});
+      const double T = m.model.sample_time_min;
+      nlohmann::json element = {{"structure", to_string(e.value.structure)}};
+      for (const int k : free_parameters(e.value.structure))
+        element[parameter_name(static_cast<Parameter>(k))] = e.value[k];
+      element["num"] = numerator(e.value, T);
+      element["den"] = denominator(e.value, T);
+      element["status"] = to_string(e.status);
+      element["grade"] = to_string(e.grade);
+      nlohmann::json se = nlohmann::json::object();
+      nlohmann::json cov = nlohmann::json::array();
+      const std::span<const int> free = free_parameters(e.value.structure);
+      for (const int a : free) {
+        se[parameter_name(static_cast<Parameter>(a))] = json_number(e.std_error[a]);
+        nlohmann::json cov_row = nlohmann::json::array();
+        for (const int b : free) cov_row.push_back(json_number(e.covariance(a, b)));
+        cov.push_back(cov_row);
+      }
+      element["se"] = se;
+      element["covariance"] = cov;  // over the parameters in the order listed, null unknown
+      row.push_back(element);
     }
     rows.push_back(row);
   }
@@ -89,7 +118,7 @@ nlohmann::json transfer(const NamedModel& m) {
           {"sample_time_min", m.model.sample_time_min},
           {"inputs", m.inputs},
           {"outputs", m.outputs},
-          {"element", "K e^(-Td s) / ((Tp1 s + 1)(Tp2 s + 1)); num, den: descending powers of s"},
+          {"element", std::string(kElementFormula) + "; num, den: descending powers of s"},
           {"elements", rows}};
 }
 
@@ -131,7 +160,8 @@ std::string step_csv(const NamedModel& m, int horizon_samples) {
       << "\n# horizon: " << horizon_samples << " samples (" << exact(horizon_samples * T)
       << " min)\n"
       << "# s_k = y(kT) after a unit step of the MV at t = 0, k = 1 ... horizon (CV units per "
-         "MV unit); element K e^(-Td s)/((Tp1 s + 1)(Tp2 s + 1))\n";
+         "MV unit); element "
+      << kElementFormula << "\n";
   out << "k,t_min";
   for (int o = 0; o < m.model.outputs; ++o) {
     for (int i = 0; i < m.model.inputs; ++i) {
@@ -159,17 +189,19 @@ std::string matlab_script(const NamedModel& m) {
   std::ostringstream s;
   s << "% excite model export (MATLAB Control System Toolbox; Octave control package)\n"
     << "% source: " << m.source << "\n"
-    << "% G(s) per CV x MV: K e^(-Td s) / ((Tp1 s + 1)(Tp2 s + 1)), time in minutes\n"
+    << "% G(s) per CV x MV: " << kElementFormula << ", time in minutes\n"
     << "% identified at sample time " << exact(m.model.sample_time_min) << " min\n";
+  const double T = m.model.sample_time_min;
   s << "num = {";
   for (int o = 0; o < p; ++o) {
-    for (int i = 0; i < n; ++i) s << (i ? ", " : "") << exact(m.model.element(o, i).value.gain);
+    for (int i = 0; i < n; ++i)
+      s << (i ? ", " : "") << '[' << list(numerator(m.model.element(o, i).value, T), " ") << ']';
     s << (o + 1 < p ? "; " : "");
   }
   s << "};\nden = {";
   for (int o = 0; o < p; ++o) {
     for (int i = 0; i < n; ++i)
-      s << (i ? ", " : "") << '[' << list(denominator(m.model.element(o, i).value), " ") << ']';
+      s << (i ? ", " : "") << '[' << list(denominator(m.model.element(o, i).value, T), " ") << ']';
     s << (o + 1 < p ? "; " : "");
   }
   s << "};\ninput_delay_min = [";
@@ -200,7 +232,7 @@ std::string python_control_script(const NamedModel& m) {
   std::ostringstream s;
   s << "#!/usr/bin/env python3\n"
     << "\"\"\"excite model export for python-control; source: " << m.source << ".\n\n"
-    << "G(s) per CV x MV: K e^(-Td s) / ((Tp1 s + 1)(Tp2 s + 1)), time in minutes.\n"
+    << "G(s) per CV x MV: " << kElementFormula << ", time in minutes.\n"
     << "G is the rational part (python-control's tf has no delay); DELAYS_MIN holds the\n"
     << "delays, with_pade(order) gives G with every delay by a Pade approximation.\n\"\"\"\n"
     << "import json\n\nimport control\n\n"
@@ -268,8 +300,21 @@ NamedModel read_transfer_json(const std::string& text, const std::string& source
           source + ": elements[" + std::to_string(o) + "][" + std::to_string(i) + "]";
       const nlohmann::json& e = row[static_cast<std::size_t>(i)];
       ElementEstimate est;
-      est.value = {number_at(e, "K", where), number_at(e, "Td", where), number_at(e, "Tp1", where),
-                   number_at(e, "Tp2", where)};
+      const std::string name = e.value("structure", "two_poles");
+      const std::optional<Structure> structure = structure_from_string(name);
+      if (!structure) {
+        throw std::invalid_argument(where + ".structure: \"" + name.substr(0, 40) +
+                                    "\", expected first_order, two_poles, two_poles_zero, "
+                                    "integrator, underdamped or underdamped_lag_zero");
+      }
+      est.value.structure = *structure;
+      for (const int k : free_parameters(*structure))
+        est.value[k] = number_at(e, parameter_name(static_cast<Parameter>(k)), where);
+      try {
+        check_element(est.value);
+      } catch (const std::invalid_argument& bad) {
+        throw std::invalid_argument(where + "." + bad.what());
+      }
       est.status = e.value("status", "identified") == "weak_gain" ? ElementStatus::weak_gain
                                                                   : ElementStatus::identified;
       m.model.elements.push_back(est);

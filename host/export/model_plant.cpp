@@ -2,7 +2,6 @@
 #include "host/export/model_plant.hpp"
 
 #include "host/identify/element.hpp"
-#include "sim/lti/sopdt.hpp"
 
 namespace excite::host {
 
@@ -13,13 +12,10 @@ std::unique_ptr<sim::Plant> plant_from_model(const NamedModel& m) {
   sim::TransferMatrix g = sim::TransferMatrix::parse(
       std::vector<std::vector<std::string>>(p, std::vector<std::string>(n, "0")), m.inputs,
       m.outputs);
-  const double vanishing = kVanishingTimeConstant * m.model.sample_time_min;
   for (int o = 0; o < m.model.outputs; ++o) {
     for (int i = 0; i < m.model.inputs; ++i) {
-      TwoPoleDelay e = m.model.element(o, i).value;
-      if (e.tau1_min < vanishing) e.tau1_min = 0.0;
-      if (e.tau2_min < vanishing) e.tau2_min = 0.0;
-      g.set_element(o, i, sim::Element({sim::sopdt_term(e)}, ""));
+      const ElementModel& e = m.model.element(o, i).value;
+      g.set_element(o, i, sim::Element({to_term(e, m.model.sample_time_min)}, ""));
     }
   }
   return sim::make_linear_plant(m.source, std::move(g));

@@ -10,7 +10,7 @@
 
 namespace excite::host {
 
-/// sim/lti's transfer-function matrix of the model's (6.1.1) elements (sim::sopdt_term), with
+/// sim/lti's transfer-function matrix of the model's elements (to_term, element.hpp), with
 /// the model's input and output names, as a linear sim::Plant named `m.source`. Time
 /// constants below kVanishingTimeConstant of the model's sample time are taken as 0 (as
 /// identification simulates them, host/identify/element.hpp). Throws std::invalid_argument

@@ -6,46 +6,33 @@
 #include <cmath>
 #include <limits>
 
+#include "host/identify/miso_fit.hpp"
+
 namespace excite::host {
 namespace {
 
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
 constexpr double kEqualRoots = 1e-6;  // relative difference of T_p1, T_p2 taken as equal
 
-double parameter(const TwoPoleDelay& p, int k) {
-  switch (k) {
-    case kGain:
-      return p.gain;
-    case kDelay:
-      return p.delay_min;
-    case kTp1:
-      return p.tau1_min;
-    default:
-      return p.tau2_min;
-  }
-}
-
-void set_parameter(TwoPoleDelay& p, int k, double v) {
-  switch (k) {
-    case kGain:
-      p.gain = v;
-      break;
-    case kDelay:
-      p.delay_min = v;
-      break;
-    case kTp1:
-      p.tau1_min = v;
-      break;
-    default:
-      p.tau2_min = v;
-      break;
-  }
+// s(t) by the exact ZOH discretisation at sample time t: a step is held constant, so the
+// discretised element's second sample is the continuous response at t (any structure).
+double step_response_by_zoh(const ElementModel& p, double t_min) {
+  const sim::DiscreteTerm d = discretise(p, t_min);
+  const std::array<double, 2> u{1.0, 1.0};
+  std::array<double, 2> y{};
+  simulate(d, u, y);
+  return y[1];
 }
 
 }  // namespace
 
-double step_response(const TwoPoleDelay& p, double t_min) {
+double step_response(const ElementModel& p, double t_min) {
   const double tau = t_min - p.delay_min;
   if (!(tau > 0.0)) return 0.0;
+  if (p.structure != Structure::two_poles && p.structure != Structure::first_order) {
+    return step_response_by_zoh(p, t_min);
+  }
   const double a = std::max(p.tau1_min, p.tau2_min);
   const double b = std::min(p.tau1_min, p.tau2_min);
   if (a == 0.0) return p.gain;
@@ -63,9 +50,7 @@ Settling slowest_settling(const IdentifiedModel& model) {
     for (int i = 0; i < model.inputs; ++i) {
       const ElementEstimate& e = model.element(o, i);
       if (!e.estimated()) continue;
-      const double samples =
-          std::ceil((e.value.delay_min + 7.0 * (e.value.tau1_min + e.value.tau2_min)) /
-                    model.sample_time_min);
+      const double samples = std::ceil(settling_time_min(e.value) / model.sample_time_min);
       if (s.output < 0 || samples > s.samples) s = {std::max(1.0, samples), o, i};
     }
   }
@@ -82,39 +67,41 @@ StepBand step_band(const ElementEstimate& estimate, const std::vector<double>& t
   StepBand band;
   band.response.reserve(times_min.size());
   band.sigma.reserve(times_min.size());
-  Eigen::Matrix4d C = estimate.covariance;
-  if (!C.diagonal().array().isFinite().any() && !C.diagonal().array().isInf().any()) {
-    const TwoPoleDelay& se = estimate.std_error;  // no covariance: the standard errors alone
-    C = Eigen::Vector4d(se.gain, se.delay_min, se.tau1_min, se.tau2_min)
-            .array()
-            .square()
-            .matrix()
-            .asDiagonal();
+  const ElementModel& p = estimate.value;
+  const std::span<const int> free = free_parameters(p.structure);
+  ElementEstimate::Covariance C = estimate.covariance;
+  bool known = false;
+  for (const int k : free) known |= !std::isnan(C(k, k));
+  if (!known) {  // no covariance: the standard errors alone
+    C.setConstant(std::numeric_limits<double>::quiet_NaN());
+    for (const int k : free) C(k, k) = estimate.std_error[k] * estimate.std_error[k];
   }
-  const TwoPoleDelay& p = estimate.value;
   // Central-difference steps: relative to the parameter, at least 1e-6 of the time scale.
-  const double time_scale = std::max({p.delay_min, p.tau1_min, p.tau2_min, 1e-3});
-  std::array<double, 4> h{};
-  for (int k = 0; k < 4; ++k) {
-    const double v = parameter(p, k);
-    h[static_cast<std::size_t>(k)] =
-        1e-6 * (k == kGain ? std::max(std::abs(v), 1e-12) : std::max(std::abs(v), time_scale));
+  const double time_scale =
+      std::max({p.delay_min, p.tau1_min, p.tau2_min, std::abs(p.zero_min), p.natural_min, 1e-3});
+  std::array<double, kParameters> h{};
+  for (const int k : free) {
+    const double v = p[k];
+    const double typical = k == kGain ? 1e-12 : (k == kDamping ? 1.0 : time_scale);
+    h[static_cast<std::size_t>(k)] = 1e-6 * std::max(std::abs(v), typical);
   }
   for (const double t : times_min) {
     band.response.push_back(step_response(p, t));
-    Eigen::Vector4d g;
-    for (int k = 0; k < 4; ++k) {
+    Eigen::Matrix<double, kParameters, 1> g = Eigen::Matrix<double, kParameters, 1>::Zero();
+    for (const int k : free) {
       const double hk = h[static_cast<std::size_t>(k)];
-      TwoPoleDelay up = p, down = p;
-      set_parameter(up, k, parameter(p, k) + hk);
-      // A time parameter at 0 is differentiated one-sided (it cannot go negative).
-      const bool one_sided = k != kGain && parameter(p, k) - hk < 0.0;
-      if (!one_sided) set_parameter(down, k, parameter(p, k) - hk);
-      g(k) = (step_response(up, t) - step_response(down, t)) / (one_sided ? hk : 2.0 * hk);
+      const ParameterRange r = parameter_range(k, MisoBounds{kInf, kInf});
+      ElementModel up = p, down = p;
+      // A parameter on the edge of its range is differentiated one-sided.
+      const bool up_only = p[k] - hk < r.lower;
+      const bool down_only = p[k] + hk > r.upper;
+      if (!down_only) up[k] = p[k] + hk;
+      if (!up_only) down[k] = p[k] - hk;
+      g(k) = (step_response(up, t) - step_response(down, t)) / (up_only || down_only ? hk : 2.0 * hk);
     }
     double variance = 0.0;
-    for (int a = 0; a < 4; ++a) {
-      for (int b = 0; b < 4; ++b) {
+    for (const int a : free) {
+      for (const int b : free) {
         const double c = C(a, b);
         if (std::isnan(c) || g(a) == 0.0 || g(b) == 0.0) continue;  // on a bound: exact
         variance += g(a) * c * g(b);

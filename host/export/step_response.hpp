@@ -16,10 +16,12 @@ namespace excite::host {
 ///   K (1 − e^{−τ/T_p1}) with one time constant 0, K with both 0.
 /// Time constants within 1e-6 relative of each other use the equal-roots form at their mean
 /// (the function is symmetric and smooth in them, so the error is O(1e-12) relative).
-double step_response(const TwoPoleDelay& p, double t_min);
+/// The other structures (element.hpp) by their exact ZOH discretisation at sample time t
+/// (a step is held constant, so it is exact).
+double step_response(const ElementModel& p, double t_min);
 
 /// Samples after which every estimated element of the model has settled to within 0.1 % of
-/// its gain: max over elements of ⌈(T_d + 7 (T_p1 + T_p2)) / T⌉, at least 1, at most
+/// its gain: max over elements of ⌈settling_time_min / T⌉ (element.hpp), at least 1, at most
 /// kMaxSettlingSamples (never a wrapped int).
 int settling_samples(const IdentifiedModel& model);
 inline constexpr int kMaxSettlingSamples = 1 << 30;
@@ -38,7 +40,7 @@ Settling slowest_settling(const IdentifiedModel& model);
 /// A parameter on its bound (NaN covariance) counts as known exactly; one the data do not
 /// determine (inf) makes the band unknown: `sigma` is inf wherever the response depends on
 /// it. The band ignores the covariance between elements of a row (each element's response
-/// depends on its own four parameters only).
+/// depends on its own parameters only).
 struct StepBand {
   std::vector<double> response;  // s(t), output units per input unit
   std::vector<double> sigma;     // 1σ of s(t)

@@ -14,6 +14,7 @@
 #include "host/identify/input_screen.hpp"
 #include "host/identify/miso_fit.hpp"
 #include "host/identify/response_bank.hpp"
+#include "host/identify/structure_search.hpp"
 #include "host/identify/validate.hpp"
 
 namespace excite::host {
@@ -98,12 +99,12 @@ constexpr int kAloneIterations = 30;
 
 // ‖y − ŷ‖² over the scored rows of the start elements (one per input of `inputs`).
 double start_cost(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
-                  const std::vector<int>& inputs, const std::vector<TwoPoleDelay>& start,
+                  const std::vector<int>& inputs, const std::vector<ElementModel>& start,
                   double T_min, const SampleLayout& layout, const Eigen::MatrixXd& trend) {
   Eigen::VectorXd r = y;
   Eigen::VectorXd z(y.size());
   for (std::size_t e = 0; e < inputs.size(); ++e) {
-    TwoPoleDelay unit = start[e];
+    ElementModel unit = start[e];
     unit.gain = 1.0;
     const auto u = U.col(inputs[e]);
     simulate_segments(discretise(unit, T_min), {u.data(), static_cast<std::size_t>(u.size())},
@@ -118,7 +119,7 @@ double start_cost(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
 void mark_row(IdentifiedModel& model, int out, ElementStatus status, const std::string& why) {
   for (int i = 0; i < model.inputs; ++i) {
     ElementEstimate& e = model.element(out, i);
-    e.value = TwoPoleDelay{kNaN, kNaN, kNaN, kNaN};
+    e.value = ElementModel{kNaN, kNaN, kNaN, kNaN};
     e.std_error = e.value;
     e.status = status;
     e.reason = why;
@@ -187,7 +188,7 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
     for (int i = 0; i < n; ++i) {
       if (screen.status[static_cast<std::size_t>(i)] != ElementStatus::identified) {
         ElementEstimate& e = model.element(j, i);
-        e.value = TwoPoleDelay{kNaN, kNaN, kNaN, kNaN};
+        e.value = ElementModel{kNaN, kNaN, kNaN, kNaN};
         e.std_error = e.value;
         e.status = screen.status[static_cast<std::size_t>(i)];
         e.reason = screen.reason[static_cast<std::size_t>(i)];
@@ -200,15 +201,15 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
       // the other too when its output error is within kAmbiguousStart of the better's, and
       // the better end is kept.
       const MisoBounds bounds{options.max_delay_min, tp_max};
-      std::vector<std::vector<TwoPoleDelay>> starts;
+      std::vector<std::vector<ElementModel>> starts;
       if (const auto Z = arx.contributions(y_start)) {
         // Each element fitted alone to its own part of the output (a start: few iterations).
-        std::vector<TwoPoleDelay> arx_start;
+        std::vector<ElementModel> arx_start;
         for (std::size_t e = 0; e < screen.usable.size(); ++e) {
           const auto col = static_cast<Eigen::Index>(e);
           const Eigen::VectorXd z = Z->col(col);
           double gain = 0.0;
-          TwoPoleDelay g = bank.grid()[static_cast<std::size_t>(bank.choose_one(col, z, gain))];
+          ElementModel g = bank.grid()[static_cast<std::size_t>(bank.choose_one(col, z, gain))];
           g.gain = gain;
           const MisoResult alone = fit_miso(U, z, {screen.usable[e]}, {g}, T_min, bounds,
                                             kAloneIterations, layout, Eigen::MatrixXd(y.size(), 0));
@@ -217,9 +218,9 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
         starts.push_back(std::move(arx_start));
       }
       const ResponseBank::Choice choice = bank.choose(y_start);
-      std::vector<TwoPoleDelay> grid_start;
+      std::vector<ElementModel> grid_start;
       for (std::size_t e = 0; e < screen.usable.size(); ++e) {
-        TwoPoleDelay g = bank.grid()[static_cast<std::size_t>(choice.grid_index[e])];
+        ElementModel g = bank.grid()[static_cast<std::size_t>(choice.grid_index[e])];
         g.gain = choice.gain(static_cast<Eigen::Index>(e));
         grid_start.push_back(g);
       }
@@ -242,6 +243,8 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
         }
         miso.iterations += other.iterations;
       }
+      miso = choose_structures(U, y, screen.usable, std::move(miso), T_min, bounds, layout, trend,
+                               StructureSearch{options.structure, options.max_iterations});
       Eigen::MatrixXd& cov = model.gain_covariance[static_cast<std::size_t>(j)];
       for (std::size_t e = 0; e < screen.usable.size(); ++e) {
         model.element(j, screen.usable[e]) = miso.elements[e];
@@ -296,9 +299,12 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
   for (int j = 0; j < p && missing.empty(); ++j) {
     for (int i = 0; i < n && missing.empty(); ++i) {
       const ElementEstimate& e = model.element(j, i);
+      const std::string element =
+          "element (output " + std::to_string(j + 1) + ", input " + std::to_string(i + 1) + ")";
       if (!e.estimated()) {
-        missing = "element (output " + std::to_string(j + 1) + ", input " + std::to_string(i + 1) +
-                  ") is " + to_string(e.status) + ": " + e.reason;
+        missing = element + " is " + to_string(e.status) + ": " + e.reason;
+      } else if (e.value.structure == Structure::integrator) {
+        missing = element + " integrates: its G(0) is infinite";
       }
     }
   }
@@ -310,7 +316,7 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
       result.gain_uncertainty = gain_uncertainty(model.static_gain(), model.gain_covariance);
     }
   } else {
-    result.gain_unavailable_reason = "G(0) is incomplete: " + missing;
+    result.gain_unavailable_reason = "G(0) is not finite: " + missing;
   }
   return result;
 }

@@ -17,8 +17,11 @@
 //   3. Bounded Levenberg–Marquardt on the output error of all 4 parameters of every element
 //      (gain, delay, two time constants), 0 ≤ T_d ≤ max_delay_min, 0 ≤ T_p ≤
 //      max_time_constant_min; Jacobian by central differences per element.
-//   4. Standard errors from σ̂² (JᵀJ)⁻¹ over the parameters not on a bound, σ̂² = SSE/(N − P).
-//   5. Per output, Ljung's residual tests; per element, a grade A–D (grade.hpp).
+//   4. Each element's structure (element.hpp: first order, two poles, two poles with a zero,
+//      integrator, underdamped, underdamped with a lag and a zero) chosen by the row's BIC,
+//      starting from the two-pole fit (structure_search.hpp), or one forced for all.
+//   5. Standard errors from σ̂² (JᵀJ)⁻¹ over the parameters not on a bound, σ̂² = SSE/(N − P).
+//   6. Per output, Ljung's residual tests; per element, a grade A–D (grade.hpp).
 // The result also carries the fit % per output (5.5.1), the analysis of the identified
 // G(0) (singular values, ξ_i, κ, RGA) and how well it is known (gain_uncertainty.hpp).
 
@@ -47,6 +50,8 @@ struct IdentifyOptions {
                                         // unknown initial state (a record that starts
                                         // mid-test): an offset and decays exp(−t/τ) for τ =
                                         // T_p max / 2^k ≥ T, k = 0…5, fitted with the model
+  std::optional<Structure> structure;   // every element in this structure; nullopt (auto):
+                                        // chosen per element by BIC (structure_search.hpp)
 };
 
 /// Per-output diagnostics of the fit.

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <limits>
 #include <span>
+#include <stdexcept>
 
 #include "host/identify/bounded_lm.hpp"
 
@@ -15,24 +16,56 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr int kPerElement = 4;  // K, T_d, T_p1, T_p2 (Parameter order)
-
-TwoPoleDelay unit_element(const Eigen::VectorXd& x, Eigen::Index e) {
-  const Eigen::Index o = kPerElement * e;
-  return TwoPoleDelay{1.0, x(o + kDelay), x(o + kTp1), x(o + kTp2)};
-}
 
 std::span<double> span_of(Eigen::VectorXd& v) {
   return {v.data(), static_cast<std::size_t>(v.size())};
 }
 
+// Where each element's free parameters (free_parameters(structure), in that order, K first)
+// sit in the fit's parameter vector.
+class ParameterMap {
+ public:
+  explicit ParameterMap(const std::vector<ElementModel>& elements) : templates_(elements) {
+    Eigen::Index o = 0;
+    for (const ElementModel& g : elements) {
+      offset_.push_back(o);
+      o += static_cast<Eigen::Index>(free_parameters(g.structure).size());
+    }
+    size_ = o;
+  }
+  Eigen::Index size() const { return size_; }
+  Eigen::Index elements() const { return static_cast<Eigen::Index>(templates_.size()); }
+  Eigen::Index offset(Eigen::Index e) const { return offset_[static_cast<std::size_t>(e)]; }
+  std::span<const int> free(Eigen::Index e) const {
+    return free_parameters(templates_[static_cast<std::size_t>(e)].structure);
+  }
+  // The element e of x (gain included).
+  ElementModel element(const Eigen::VectorXd& x, Eigen::Index e) const {
+    ElementModel g = templates_[static_cast<std::size_t>(e)];
+    const std::span<const int> f = free(e);
+    for (std::size_t k = 0; k < f.size(); ++k) g[f[k]] = x(offset(e) + static_cast<Eigen::Index>(k));
+    return g;
+  }
+  ElementModel unit_element(const Eigen::VectorXd& x, Eigen::Index e) const {
+    ElementModel g = element(x, e);
+    g.gain = 1.0;
+    return g;
+  }
+  double gain(const Eigen::VectorXd& x, Eigen::Index e) const { return x(offset(e)); }
+
+ private:
+  std::vector<ElementModel> templates_;
+  std::vector<Eigen::Index> offset_;
+  Eigen::Index size_ = 0;
+};
+
 // The row's simulation: unit-gain responses per element, scaled and summed; and its
 // Jacobian by sensitivity filters (see jacobian()).
 class RowModel {
  public:
-  RowModel(const Eigen::MatrixXd& U, const std::vector<int>& inputs, double T_min,
-           const SampleLayout& layout)
-      : U_(U), inputs_(inputs), T_(T_min), layout_(layout), w_(U.rows()), v_(U.rows()) {}
+  RowModel(const Eigen::MatrixXd& U, const std::vector<int>& inputs, const ParameterMap& map,
+           double T_min, const SampleLayout& layout)
+      : U_(U), inputs_(inputs), map_(map), T_(T_min), layout_(layout), w_(U.rows()), v_(U.rows()) {}
 
   std::span<const double> input(Eigen::Index e) const {
     const auto col = U_.col(inputs_[static_cast<std::size_t>(e)]);
@@ -42,16 +75,17 @@ class RowModel {
   Eigen::VectorXd output(const Eigen::VectorXd& x) const {
     Eigen::VectorXd y_hat = Eigen::VectorXd::Zero(U_.rows());
     Eigen::VectorXd z(U_.rows());
-    for (Eigen::Index e = 0; e < elements(); ++e) {
-      simulate_segments(discretise(unit_element(x, e), T_), input(e), span_of(z), layout_.segments);
-      y_hat += x(kPerElement * e + kGain) * z;
+    for (Eigen::Index e = 0; e < map_.elements(); ++e) {
+      simulate_segments(discretise(map_.unit_element(x, e), T_), input(e), span_of(z),
+                        layout_.segments);
+      y_hat += map_.gain(x, e) * z;
     }
     return y_hat;
   }
 
-  // ∂ŷ/∂x. With G = B(q)/D(q) (taps b_m by lag, D = 1 + a1 q⁻¹ + a2 q⁻²), w = u/D and v = z/D
-  // for the unit response z = B w:
-  //   ∂z/∂θ = Σ_m (∂b_m/∂θ) w(k − m) − (∂a1/∂θ) v(k − 1) − (∂a2/∂θ) v(k − 2),
+  // ∂ŷ/∂x. With G = B(q)/D(q) (taps b_m by lag, D = 1 + a1 q⁻¹ + a2 q⁻² + a3 q⁻³), w = u/D and
+  // v = z/D for the unit response z = B w:
+  //   ∂z/∂θ = Σ_m (∂b_m/∂θ) w(k − m) − Σ_i (∂a_i/∂θ) v(k − i),
   // exact filters, each segment from rest (segments.hpp); only the scalar coefficient derivatives
   // are taken by central differences (one-sided on a bound), over a tap window wide enough for d to
   // change by one.
@@ -59,9 +93,9 @@ class RowModel {
                 const Eigen::VectorXd& upper, Eigen::MatrixXd& J) {
     const Eigen::Index N = U_.rows();
     J.resize(N, x.size());
-    for (Eigen::Index e = 0; e < elements(); ++e) {
-      const Eigen::Index o = kPerElement * e;
-      const TwoPoleDelay g = unit_element(x, e);
+    for (Eigen::Index e = 0; e < map_.elements(); ++e) {
+      const Eigen::Index o = map_.offset(e);
+      const ElementModel g = map_.unit_element(x, e);
       // Taps by lag from the element's own whole-sample delay minus one, so a perturbed
       // delay that crosses a sample boundary still fits the window.
       const sim::DiscreteTerm c = discretise(g, T_);
@@ -70,54 +104,59 @@ class RowModel {
       const std::span<const double> u = input(e);
       std::copy(u.begin(), u.end(), w_.data());
       const std::vector<Segment>& segs = layout_.segments;
-      all_pole_filter_segments(base.a1, base.a2, span_of(w_), segs);
-      auto z = J.col(o + kGain);
+      all_pole_filter_segments(base.a, span_of(w_), segs);
+      auto z = J.col(o);  // K is every structure's first parameter
       z.setZero();
       for (std::size_t t = 0; t < kLagWindow; ++t) {
         const auto lag = static_cast<Eigen::Index>(m0 + t);
         if (base.b[t] != 0.0) add_lagged(z, w_, lag, base.b[t], segs);
       }
       v_ = z;
-      all_pole_filter_segments(base.a1, base.a2, span_of(v_), segs);
-      const double K = x(o + kGain);
-      for (const int m : {kDelay, kTp1, kTp2}) {
-        const double val = x(o + m);
-        const double h = 1e-6 * std::max(std::abs(val), T_);
-        const double hi = std::min(val + h, upper(o + m));
-        const double lo = std::max(val - h, lower(o + m));
-        TwoPoleDelay gp = g;
-        TwoPoleDelay gm = g;
-        field(gp, m) = hi;
-        field(gm, m) = lo;
-        const LagTaps tp = lag_taps(gp, T_, m0);
-        const LagTaps tm = lag_taps(gm, T_, m0);
+      all_pole_filter_segments(base.a, span_of(v_), segs);
+      const double K = map_.gain(x, e);
+      const std::span<const int> free = map_.free(e);
+      for (std::size_t k = 1; k < free.size(); ++k) {
+        const int m = free[k];
+        const Eigen::Index col_index = o + static_cast<Eigen::Index>(k);
+        const double val = x(col_index);
+        const double h = 1e-6 * std::max(std::abs(val), m == kDamping ? 1.0 : T_);
+        const double hi = std::min(val + h, upper(col_index));
+        const double lo = std::max(val - h, lower(col_index));
+        ElementModel gp = g;
+        ElementModel gm = g;
+        gp[m] = hi;
+        gm[m] = lo;
+        LagTaps tp;
+        LagTaps tm;
+        try {
+          tp = lag_taps(gp, T_, m0);
+          tm = lag_taps(gm, T_, m0);
+        } catch (const std::invalid_argument&) {
+          J.col(col_index).setZero();  // a neighbour the discretisation cannot take: held
+          continue;
+        }
         const double scale = K / (hi - lo);
-        auto col = J.col(o + m);
+        auto col = J.col(col_index);
         col.setZero();
         for (std::size_t t = 0; t < kLagWindow; ++t) {
           const auto lag = static_cast<Eigen::Index>(m0 + t);
           const double db = scale * (tp.b[t] - tm.b[t]);
           if (db != 0.0) add_lagged(col, w_, lag, db, segs);
         }
-        const double da1 = scale * (tp.a1 - tm.a1);
-        const double da2 = scale * (tp.a2 - tm.a2);
-        if (da1 != 0.0) add_lagged(col, v_, 1, -da1, segs);
-        if (da2 != 0.0) add_lagged(col, v_, 2, -da2, segs);
+        for (std::size_t i = 0; i < kMaxPoles; ++i) {
+          const double da = scale * (tp.a[i] - tm.a[i]);
+          if (da != 0.0) add_lagged(col, v_, static_cast<Eigen::Index>(i + 1), -da, segs);
+        }
       }
     }
     // Rows outside the cost have no residual, hence no sensitivity.
     J.array().colwise() *= layout_.weight.array();
   }
 
-  Eigen::Index elements() const { return static_cast<Eigen::Index>(inputs_.size()); }
-
  private:
-  static double& field(TwoPoleDelay& g, int m) {
-    return m == kDelay ? g.delay_min : (m == kTp1 ? g.tau1_min : g.tau2_min);
-  }
-
   const Eigen::MatrixXd& U_;
   const std::vector<int>& inputs_;
+  const ParameterMap& map_;
   double T_;
   const SampleLayout& layout_;
   Eigen::VectorXd w_;  // scratch: u / D
@@ -196,13 +235,29 @@ ParameterUncertainty standard_errors(const Eigen::MatrixXd& J, Eigen::Index scor
 
 }  // namespace
 
+ParameterRange parameter_range(int parameter, const MisoBounds& bounds) {
+  switch (parameter) {
+    case kGain:
+      return {-kInf, kInf};
+    case kDelay:
+      return {0.0, bounds.max_delay_min};
+    case kZero:
+      return {-bounds.max_time_constant_min, bounds.max_time_constant_min};
+    case kDamping:
+      return {kMinDamping, 1.0};
+    default:
+      return {0.0, bounds.max_time_constant_min};
+  }
+}
+
 MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
-                    const std::vector<int>& inputs, std::vector<TwoPoleDelay> initial, double T_min,
+                    const std::vector<int>& inputs, std::vector<ElementModel> initial, double T_min,
                     const MisoBounds& bounds, int max_iterations, const SampleLayout& layout,
                     const Eigen::MatrixXd& trend) {
-  RowModel row(U, inputs, T_min, layout);
-  const Eigen::Index m = row.elements();
-  const Eigen::Index P = kPerElement * m;
+  const ParameterMap map(initial);
+  RowModel row(U, inputs, map, T_min, layout);
+  const Eigen::Index m = map.elements();
+  const Eigen::Index P = map.size();
 
   LmProblem problem;
   problem.lower.resize(P);
@@ -210,16 +265,25 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
   problem.scale.resize(P);
   Eigen::VectorXd x0(P);
   for (Eigen::Index e = 0; e < m; ++e) {
-    const Eigen::Index o = kPerElement * e;
-    const TwoPoleDelay& g = initial[static_cast<std::size_t>(e)];
-    x0.segment<kPerElement>(o) << g.gain, g.delay_min, g.tau1_min, g.tau2_min;
-    problem.lower.segment<kPerElement>(o) << -kInf, 0.0, 0.0, 0.0;
-    problem.upper.segment<kPerElement>(o) << kInf, bounds.max_delay_min,
-        bounds.max_time_constant_min, bounds.max_time_constant_min;
-    problem.scale.segment<kPerElement>(o) << std::max(std::abs(g.gain), 1e-12), T_min, T_min, T_min;
+    const ElementModel& g = initial[static_cast<std::size_t>(e)];
+    const std::span<const int> free = map.free(e);
+    for (std::size_t k = 0; k < free.size(); ++k) {
+      const Eigen::Index i = map.offset(e) + static_cast<Eigen::Index>(k);
+      const ParameterRange r = parameter_range(free[k], bounds);
+      x0(i) = g[free[k]];
+      problem.lower(i) = r.lower;
+      problem.upper(i) = r.upper;
+      problem.scale(i) = free[k] == kGain ? std::max(std::abs(g.gain), 1e-12)
+                                          : (free[k] == kDamping ? 0.1 : T_min);
+    }
   }
   problem.residual = [&](const Eigen::VectorXd& x, Eigen::VectorXd& r) {
-    r = layout.weight.cwiseProduct(y - row.output(x));
+    try {
+      r = layout.weight.cwiseProduct(y - row.output(x));
+    } catch (const std::invalid_argument&) {
+      return false;  // parameters the exact discretisation cannot take (poles ≪ T): a
+                     // rejected step
+    }
     if (trend.cols() > 0) r -= trend * (trend.transpose() * r);
     return true;
   };
@@ -251,20 +315,27 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
   out.gain_covariance.resize(m, m);
   for (Eigen::Index a = 0; a < m; ++a) {
     for (Eigen::Index b = 0; b < m; ++b) {
-      out.gain_covariance(a, b) = uncertainty.cov(kPerElement * a, kPerElement * b);
+      out.gain_covariance(a, b) = uncertainty.cov(map.offset(a), map.offset(b));
     }
   }
 
   for (Eigen::Index e = 0; e < m; ++e) {
-    const Eigen::Index o = kPerElement * e;
+    const Eigen::Index o = map.offset(e);
+    const std::span<const int> free = map.free(e);
     ElementEstimate est;
-    est.value = TwoPoleDelay{lm.x(o), lm.x(o + 1), lm.x(o + 2), lm.x(o + 3)};
-    est.std_error = TwoPoleDelay{se(o), se(o + 1), se(o + 2), se(o + 3)};
-    est.covariance = uncertainty.cov.block<kPerElement, kPerElement>(o, o);
-    for (int k = 0; k < kPerElement; ++k)
-      est.at_bound[static_cast<std::size_t>(k)] = on_bound[static_cast<std::size_t>(o + k)];
+    est.value = map.element(lm.x, e);
+    est.std_error = est.value;
+    for (int k = 0; k < kParameters; ++k) est.std_error[k] = kNaN;
+    for (std::size_t a = 0; a < free.size(); ++a) {
+      const Eigen::Index ia = o + static_cast<Eigen::Index>(a);
+      est.std_error[free[a]] = se(ia);
+      est.at_bound[static_cast<std::size_t>(free[a])] = on_bound[static_cast<std::size_t>(ia)];
+      for (std::size_t b = 0; b < free.size(); ++b) {
+        est.covariance(free[a], free[b]) = uncertainty.cov(ia, o + static_cast<Eigen::Index>(b));
+      }
+    }
     // Report T_p1 ≥ T_p2 (the model is symmetric in them).
-    if (est.value.tau2_min > est.value.tau1_min) {
+    if (is_free(est.value.structure, kTp2) && est.value.tau2_min > est.value.tau1_min) {
       std::swap(est.value.tau1_min, est.value.tau2_min);
       std::swap(est.std_error.tau1_min, est.std_error.tau2_min);
       std::swap(est.at_bound[kTp1], est.at_bound[kTp2]);

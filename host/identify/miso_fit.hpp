@@ -17,6 +17,15 @@ struct MisoBounds {
   double max_time_constant_min = 1000.0;
 };
 
+/// The box a parameter is fitted in: K free; T_d in [0, max_delay]; T_p1, T_p2, T_n in
+/// [0, max_time_constant]; T_z in [−max_time_constant, max_time_constant]; ζ in
+/// [kMinDamping, 1].
+struct ParameterRange {
+  double lower;
+  double upper;
+};
+ParameterRange parameter_range(int parameter, const MisoBounds& bounds);
+
 struct MisoResult {
   std::vector<ElementEstimate> elements;  // one per entry of `inputs`
   Eigen::MatrixXd gain_covariance;        // m × m: covariance of the elements' gains (the
@@ -26,12 +35,13 @@ struct MisoResult {
   bool converged = false;
 };
 
-/// Fits y ≈ Σ_e G_e u_{inputs[e]} from `initial` (one element per input of `inputs`) on the
+/// Fits y ≈ Σ_e G_e u_{inputs[e]} from `initial` (one element per input of `inputs`, each in
+/// its own structure, which the fit keeps: only free_parameters(structure) move) on the
 /// scored rows of `layout`, the model simulated from rest at each segment's start, and the
 /// trend spanned by the orthonormal columns `trend` (trend_basis(); N × 0 for none) fitted
 /// with it by projection. y_hat is the simulation on every row plus the fitted trend.
 MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
-                    const std::vector<int>& inputs, std::vector<TwoPoleDelay> initial, double T_min,
+                    const std::vector<int>& inputs, std::vector<ElementModel> initial, double T_min,
                     const MisoBounds& bounds, int max_iterations, const SampleLayout& layout,
                     const Eigen::MatrixXd& trend);
 

@@ -38,37 +38,25 @@ const char* to_string(Grade grade) {
   return "?";
 }
 
-const char* parameter_name(Parameter p) {
-  switch (p) {
-    case kGain:
-      return "K";
-    case kDelay:
-      return "Td";
-    case kTp1:
-      return "Tp1";
-    case kTp2:
-      return "Tp2";
-  }
-  return "?";
-}
-
 std::vector<std::string> ElementEstimate::on_bound() const {
-  const double values[4] = {value.gain, value.delay_min, value.tau1_min, value.tau2_min};
   std::vector<std::string> out;
-  for (int k = 0; k < 4; ++k) {
+  for (int k = 0; k < kParameters; ++k) {
     if (!at_bound[static_cast<std::size_t>(k)]) continue;
-    const double v = values[k];
+    const double v = value[k];
+    const bool lower = k == kDamping ? v < 1.0 : (k == kZero ? v < 0.0 : v == 0.0);
     char text[96];
     std::snprintf(text, sizeof text, "%s = %.4g (%s bound)",
-                  parameter_name(static_cast<Parameter>(k)), v, v == 0.0 ? "lower" : "upper");
+                  parameter_name(static_cast<Parameter>(k)), v, lower ? "lower" : "upper");
     out.emplace_back(text);
   }
   return out;
 }
 
 bool ElementEstimate::on_upper_bound() const {
-  return (at_bound[kDelay] && value.delay_min > 0.0) || (at_bound[kTp1] && value.tau1_min > 0.0) ||
-         (at_bound[kTp2] && value.tau2_min > 0.0);
+  for (const int k : {kDelay, kTp1, kTp2, kZero, kNatural}) {
+    if (at_bound[static_cast<std::size_t>(k)] && value[k] > 0.0) return true;
+  }
+  return at_bound[kZero] && value.zero_min < 0.0;
 }
 
 Eigen::MatrixXd IdentifiedModel::static_gain() const {
@@ -76,7 +64,7 @@ Eigen::MatrixXd IdentifiedModel::static_gain() const {
   for (int j = 0; j < outputs; ++j) {
     for (int i = 0; i < inputs; ++i) {
       const ElementEstimate& e = element(j, i);
-      G(j, i) = e.estimated() ? e.value.gain : std::numeric_limits<double>::quiet_NaN();
+      G(j, i) = e.estimated() ? e.value.static_gain() : std::numeric_limits<double>::quiet_NaN();
     }
   }
   return G;

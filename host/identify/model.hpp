@@ -34,30 +34,28 @@ enum class Grade { A, B, C, D };
 /// "A", "B", "C" or "D".
 const char* to_string(Grade grade);
 
-/// Parameter order used for `at_bound` and in covariance matrices.
-enum Parameter : int { kGain = 0, kDelay = 1, kTp1 = 2, kTp2 = 3 };
-
-/// Short name of a parameter: "K", "Td", "Tp1", "Tp2".
-const char* parameter_name(Parameter p);
-
 struct ElementEstimate {
-  TwoPoleDelay value;              // NaN fields when not estimated (see status)
-  TwoPoleDelay std_error;          // 1σ; NaN when not available (not estimated, or at a bound)
-  std::array<bool, 4> at_bound{};  // parameter ended on its bound (indexed by Parameter)
-  /// The element's 4 × 4 block of the row's parameter covariance σ̂² (JᵀJ)⁺ over the
-  /// directions the data determine (indexed by Parameter; its diagonal is std_error² except
-  /// where std_error is inf: a direction the output does not depend on is left out). NaN rows
-  /// and columns for a parameter on a bound or not estimated.
-  Eigen::Matrix4d covariance = Eigen::Matrix4d::Constant(std::numeric_limits<double>::quiet_NaN());
+  ElementModel value;      // structure and parameters; NaN fields when not estimated (status)
+  ElementModel std_error;  // 1σ; NaN when not available (not estimated, at a bound, or not a
+                           // parameter of the structure)
+  std::array<bool, kParameters> at_bound{};  // parameter ended on its bound (by Parameter)
+  /// The element's block of the row's parameter covariance σ̂² (JᵀJ)⁺ over the directions
+  /// the data determine (indexed by Parameter; its diagonal is std_error² except where
+  /// std_error is inf: a direction the output does not depend on is left out). NaN rows and
+  /// columns for a parameter on a bound, not estimated or not in the structure.
+  using Covariance = Eigen::Matrix<double, kParameters, kParameters>;
+  Covariance covariance = Covariance::Constant(std::numeric_limits<double>::quiet_NaN());
   ElementStatus status = ElementStatus::identified;
   std::string reason;        // why the status is not `identified`; "" otherwise
   Grade grade = Grade::D;    // set by identify() (grade.hpp)
   std::string grade_reason;  // what kept it from A; "" for A
 
   /// The parameters that ended on a bound, each as "Tp1 = 150 (upper bound)" or
-  /// "Td = 0 (lower bound)" (the lower bounds of T_d and T_p are 0; K has none).
+  /// "Td = 0 (lower bound)" (the lower bounds of T_d and T_p are 0; K has none; ζ lies in
+  /// [kMinDamping, 1]; T_z in [−max time constant, max time constant]).
   std::vector<std::string> on_bound() const;
-  /// True when T_d or a T_p ended on its upper bound (not 0).
+  /// True when T_d, a T_p, T_n or |T_z| ended on its upper bound (not 0; ζ = 1 is not one: it
+  /// is the critically damped limit of the structure).
   bool on_upper_bound() const;
 
   /// True when value can be simulated (identified or weak_gain).
@@ -84,7 +82,7 @@ struct IdentifiedModel {
   ElementEstimate& element(int out, int in) {
     return elements[static_cast<std::size_t>(out * inputs + in)];
   }
-  /// K of every element (NaN where not estimated), p × n.
+  /// G(0) of every element (NaN where not estimated, ±inf for an integrator), p × n.
   Eigen::MatrixXd static_gain() const;
 };
 

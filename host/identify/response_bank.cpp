@@ -14,7 +14,7 @@ ResponseBank::ResponseBank(const Eigen::MatrixXd& U, const std::vector<int>& inp
       std::max(T_min, std::min(spec.max_time_constant_min, static_cast<double>(N) * T_min / 8.0));
   for (double td = 0.0; td <= spec.max_delay_min + 1e-9 * delay_step; td += delay_step) {
     for (double tau = T_min / 2.0; tau <= tau_top * (1.0 + 1e-9); tau *= 2.0) {
-      grid_.push_back(TwoPoleDelay{1.0, std::min(td, spec.max_delay_min), tau, tau / 4.0});
+      grid_.push_back(ElementModel{1.0, std::min(td, spec.max_delay_min), tau, tau / 4.0});
     }
   }
   const auto G = static_cast<Eigen::Index>(grid_.size());

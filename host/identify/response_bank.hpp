@@ -28,7 +28,7 @@ class ResponseBank {
                const GridSpec& grid, const SampleLayout& layout);
 
   /// Grid elements (gain 1), same for every input.
-  const std::vector<TwoPoleDelay>& grid() const { return grid_; }
+  const std::vector<ElementModel>& grid() const { return grid_; }
 
   /// For output y: per input of the bank, the index of the chosen grid element and the
   /// jointly least-squares gains. Sweeps over the inputs until no choice changes (≤ 6).
@@ -43,7 +43,7 @@ class ResponseBank {
   int choose_one(Eigen::Index e, const Eigen::VectorXd& z, double& gain) const;
 
  private:
-  std::vector<TwoPoleDelay> grid_;
+  std::vector<ElementModel> grid_;
   std::vector<Eigen::MatrixXf> responses_;  // per input: N × grid, single precision
   std::vector<Eigen::VectorXf> norms2_;     // per input: ‖response‖² per grid element
 };

@@ -97,11 +97,11 @@ void simulate_segments(const sim::DiscreteTerm& g, std::span<const double> u, st
   }
 }
 
-void all_pole_filter_segments(double a1, double a2, std::span<double> x,
+void all_pole_filter_segments(const std::array<double, kMaxPoles>& a, std::span<double> x,
                               const std::vector<Segment>& segments) {
   for (const Segment& s : segments) {
     all_pole_filter(
-        a1, a2,
+        a,
         x.subspan(static_cast<std::size_t>(s.begin), static_cast<std::size_t>(s.end - s.begin)));
   }
 }

@@ -65,7 +65,7 @@ void simulate_segments(const sim::DiscreteTerm& g, std::span<const double> u, st
                        const std::vector<Segment>& segments);
 
 /// all_pole_filter() per segment, each from rest.
-void all_pole_filter_segments(double a1, double a2, std::span<double> x,
+void all_pole_filter_segments(const std::array<double, kMaxPoles>& a, std::span<double> x,
                               const std::vector<Segment>& segments);
 
 /// dst(k) += c · src(k − lag) for every k whose k − lag lies in the same segment.

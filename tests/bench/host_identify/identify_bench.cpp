@@ -61,7 +61,7 @@ excite::sim::TransferMatrix sopdt_matrix() {
   for (int k = 0; k < 16; ++k) {
     g.set_element(
         k / 4, k % 4,
-        excite::sim::Element({excite::sim::sopdt_term(elements[static_cast<std::size_t>(k)])}, ""));
+        excite::sim::Element({excite::host::to_term(elements[static_cast<std::size_t>(k)], 1.0)}, ""));
   }
   return g;
 }

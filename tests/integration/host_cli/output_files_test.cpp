@@ -154,7 +154,7 @@ TEST_F(OutputFiles, ExistingFileIsReplacedWholeAndKeepsItsMode) {
   const std::string model = bytes_of(path("model.json"));
   EXPECT_LT(model.size(), 1U << 20);
   EXPECT_EQ(model.find('x' + std::string(64, 'x')), std::string::npos);
-  EXPECT_NE(model.find("\"format\": \"excite model v1\""), std::string::npos);
+  EXPECT_NE(model.find("\"format\": \"excite model v2\""), std::string::npos);
   EXPECT_EQ(fs::status(path("model.json")).permissions() & fs::perms::all,
             fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
 }

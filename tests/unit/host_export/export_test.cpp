@@ -46,10 +46,10 @@ NamedModel known_model() {
   m.model.inputs = 3;
   m.model.outputs = 2;
   m.model.sample_time_min = 1.0;
-  const std::vector<TwoPoleDelay> p = {{2.5, 1.3, 20.0, 5.0},  {-1.5, 4.75, 12.0, 12.0},
+  const std::vector<ElementModel> p = {{2.5, 1.3, 20.0, 5.0},  {-1.5, 4.75, 12.0, 12.0},
                                        {0.8, 0.0, 7.0, 0.0},   {1.2, 2.5, 0.0, 0.0},
                                        {-0.3, 0.4, 30.0, 2.0}, {4.09, 10.2, 33.0, 8.3}};
-  for (const TwoPoleDelay& e : p) {
+  for (const ElementModel& e : p) {
     ElementEstimate est;
     est.value = e;
     m.model.elements.push_back(est);
@@ -124,7 +124,7 @@ TEST(StepCsv, CoefficientsEqualTheAnalyticStepResponseWithDelays) {
     EXPECT_EQ(row[0], k);
     EXPECT_EQ(row[1], k * 1.0);
     for (std::size_t e = 0; e < 6; ++e) {
-      const TwoPoleDelay& p = m.model.elements[e].value;
+      const ElementModel& p = m.model.elements[e].value;
       const double expected = analytic_step(p.gain, p.delay_min, p.tau1_min, p.tau2_min, k);
       EXPECT_NEAR(row[2 + e], expected, 1e-9) << "k " << k << " element " << e;
       largest_error = std::max(largest_error, std::abs(row[2 + e] - expected));
@@ -141,7 +141,8 @@ TEST(StepCsv, CoefficientsEqualTheSimulatedUnitStep) {
   const NamedModel m = known_model();
   const Eigen::VectorXd u = Eigen::VectorXd::Ones(121);
   for (const ElementEstimate& e : m.model.elements) {
-    const Eigen::VectorXd y = sim::simulate_sopdt(e.value, 1.0, u);
+    Eigen::VectorXd y(u.size());
+    simulate(discretise(e.value, 1.0), {u.data(), 121}, {y.data(), 121});
     for (int k = 1; k <= 120; ++k) EXPECT_NEAR(step_response(e.value, k), y(k), 1e-9) << k;
   }
 }
@@ -182,8 +183,8 @@ TEST(TransferJson, RoundTripsEveryParameterExactly) {
   EXPECT_EQ(back.model.sample_time_min, m.model.sample_time_min);
   ASSERT_EQ(back.model.elements.size(), m.model.elements.size());
   for (std::size_t e = 0; e < m.model.elements.size(); ++e) {
-    const TwoPoleDelay& a = m.model.elements[e].value;
-    const TwoPoleDelay& b = back.model.elements[e].value;
+    const ElementModel& a = m.model.elements[e].value;
+    const ElementModel& b = back.model.elements[e].value;
     EXPECT_EQ(a.gain, b.gain);
     EXPECT_EQ(a.delay_min, b.delay_min);
     EXPECT_EQ(a.tau1_min, b.tau1_min);
@@ -225,7 +226,7 @@ TEST(MatlabScript, ParsesBackToTheModel) {
                                             1,   60, 32, 1,   33.0 * 8.3, 33.0 + 8.3, 1};
   EXPECT_EQ(den, expected_den);
   for (std::size_t e = 0; e < 6; ++e) {
-    const TwoPoleDelay& p = m.model.elements[e].value;
+    const ElementModel& p = m.model.elements[e].value;
     EXPECT_EQ(num[e], p.gain);
     EXPECT_NEAR(input_delay[e % 3] + io_delay[e], p.delay_min, 1e-15);
   }
@@ -384,7 +385,7 @@ TEST(ModelPlant, ReproducesThePlantTheModelEquals) {
   m.outputs = {"xD", "xB"};
   m.model.inputs = m.model.outputs = 2;
   m.model.sample_time_min = 1.0;
-  for (const TwoPoleDelay& p : std::vector<TwoPoleDelay>{{12.8, 1.0, 16.7, 0.0},
+  for (const ElementModel& p : std::vector<ElementModel>{{12.8, 1.0, 16.7, 0.0},
                                                          {-18.9, 3.0, 21.0, 0.0},
                                                          {6.6, 7.0, 10.9, 0.0},
                                                          {-19.4, 3.0, 14.4, 0.0}}) {

@@ -22,7 +22,7 @@ Eigen::VectorXd random_levels(Eigen::Index n, unsigned seed) {
   return u;
 }
 
-Eigen::VectorXd discrete_response(const TwoPoleDelay& g, double T, const Eigen::VectorXd& u) {
+Eigen::VectorXd discrete_response(const ElementModel& g, double T, const Eigen::VectorXd& u) {
   Eigen::VectorXd y(u.size());
   const auto n = static_cast<std::size_t>(u.size());
   simulate(discretise(g, T), {u.data(), n}, {y.data(), n});
@@ -35,7 +35,7 @@ double relative_error(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 
 struct Case {
   const char* name;
-  TwoPoleDelay g;
+  ElementModel g;
   double T;
 };
 
@@ -66,24 +66,24 @@ INSTANTIATE_TEST_SUITE_P(
 
 TEST(ZohDiscretisation, NearlyEqualPolesAreContinuousWithTheDoublePole) {
   const Eigen::VectorXd u = random_levels(300, 5);
-  const TwoPoleDelay equal{1.0, 1.5, 20.0, 20.0};
-  const TwoPoleDelay near{1.0, 1.5, 20.0, 20.0 * (1.0 + 1e-9)};
+  const ElementModel equal{1.0, 1.5, 20.0, 20.0};
+  const ElementModel near{1.0, 1.5, 20.0, 20.0 * (1.0 + 1e-9)};
   EXPECT_LT(relative_error(discrete_response(near, 1.0, u), discrete_response(equal, 1.0, u)),
             1e-8);
 }
 
 TEST(ZohDiscretisation, VanishingTimeConstantTendsToTheFirstOrderElement) {
   const Eigen::VectorXd u = random_levels(300, 7);
-  const TwoPoleDelay first{3.0, 2.7, 15.0, 0.0};
+  const ElementModel first{3.0, 2.7, 15.0, 0.0};
   for (const double small : {1e-6, 1e-12, 1e-100}) {
-    const TwoPoleDelay g{3.0, 2.7, 15.0, small};
+    const ElementModel g{3.0, 2.7, 15.0, small};
     EXPECT_LT(relative_error(discrete_response(g, 1.0, u), discrete_response(first, 1.0, u)), 1e-5)
         << small;
   }
 }
 
 TEST(ZohDiscretisation, StaticGainIsKAndDelayIsWholeSamples) {
-  const sim::DiscreteTerm c = discretise(TwoPoleDelay{-11.2, 2.6, 43.0, 6.5}, 1.0);
+  const sim::DiscreteTerm c = discretise(ElementModel{-11.2, 2.6, 43.0, 6.5}, 1.0);
   EXPECT_NEAR(c.static_gain(), -11.2, 1e-10);
   // 2.6 min = 2 whole samples + a fraction, and a strictly proper element adds one more.
   EXPECT_EQ(c.delay_samples, 3);
@@ -92,7 +92,7 @@ TEST(ZohDiscretisation, StaticGainIsKAndDelayIsWholeSamples) {
 // The taps by lag reproduce the simulation: y = B(q)/D(q) u from lag_taps and the
 // all-pole filter equals simulate().
 TEST(LagTaps, ReproduceTheSimulation) {
-  const TwoPoleDelay g{1.7, 4.35, 25.0, 7.0};
+  const ElementModel g{1.7, 4.35, 25.0, 7.0};
   const Eigen::VectorXd u = random_levels(300, 9);
   const LagTaps t = lag_taps(g, 1.0, 3);
   Eigen::VectorXd y = Eigen::VectorXd::Zero(u.size());
@@ -100,7 +100,7 @@ TEST(LagTaps, ReproduceTheSimulation) {
     const auto lag = static_cast<Eigen::Index>(3 + m);
     y.tail(u.size() - lag) += t.b[m] * u.head(u.size() - lag);
   }
-  all_pole_filter(t.a1, t.a2, {y.data(), static_cast<std::size_t>(y.size())});
+  all_pole_filter(t.a, {y.data(), static_cast<std::size_t>(y.size())});
   EXPECT_LT(relative_error(y, discrete_response(g, 1.0, u)), 1e-12);
 }
 

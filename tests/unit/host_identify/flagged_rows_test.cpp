@@ -16,7 +16,7 @@
 namespace excite::host {
 namespace {
 
-const std::vector<TwoPoleDelay> kTruth = {
+const std::vector<ElementModel> kTruth = {
     {2.0, 1.3, 20.0, 5.0}, {-1.5, 4.7, 12.0, 3.0}, {0.8, 7.25, 30.0, 2.0}, {1.2, 0.4, 8.0, 6.0}};
 constexpr double kT = 0.5;
 

@@ -15,12 +15,12 @@ namespace {
 using testing::plant_outputs;
 using testing::prbs_inputs;
 
-void expect_recovers(const IdentificationResult& r, const std::vector<TwoPoleDelay>& truth,
+void expect_recovers(const IdentificationResult& r, const std::vector<ElementModel>& truth,
                      double rel) {
   const IdentifiedModel& m = r.model;
   for (int j = 0; j < m.outputs; ++j) {
     for (int i = 0; i < m.inputs; ++i) {
-      const TwoPoleDelay t = truth[static_cast<std::size_t>(j * m.inputs + i)];
+      const ElementModel t = truth[static_cast<std::size_t>(j * m.inputs + i)];
       const ElementEstimate& e = m.element(j, i);
       SCOPED_TRACE("element (" + std::to_string(j + 1) + "," + std::to_string(i + 1) + ")");
       EXPECT_EQ(e.status, ElementStatus::identified) << e.reason;
@@ -36,7 +36,7 @@ void expect_recovers(const IdentificationResult& r, const std::vector<TwoPoleDel
 // distinct time constants and fractional delays, under uncorrelated PRBS inputs
 // WHEN identified THEN every parameter comes back to 1e-3 relative and the fit is ~100 %.
 TEST(Identify, RecoversTrueParametersOfA2x2FromNoiseFreeData) {
-  const std::vector<TwoPoleDelay> truth = {
+  const std::vector<ElementModel> truth = {
       {2.0, 1.3, 20.0, 5.0}, {-1.5, 4.7, 12.0, 3.0}, {0.8, 7.25, 30.0, 2.0}, {1.2, 0.4, 8.0, 6.0}};
   const Eigen::MatrixXd U = prbs_inputs(2, 6, 8, 31, 1008, 1.0);
   const Eigen::MatrixXd Y = plant_outputs(truth, 2, 2, 1.0, U);
@@ -53,7 +53,7 @@ TEST(Identify, RecoversTrueParametersOfA2x2FromNoiseFreeData) {
 // The same on the 4×4 stripper-like plant over a 4080-sample experiment (SPEC §4 set-up:
 // T = 1 min, T_sw = 16 min, n_r = 8, channels shifted by 16 switching intervals).
 TEST(Identify, RecoversTrueParametersOfA4x4FromNoiseFreeData) {
-  const std::vector<TwoPoleDelay> truth = testing::stripper_like_4x4();
+  const std::vector<ElementModel> truth = testing::stripper_like_4x4();
   const Eigen::MatrixXd U = prbs_inputs(4, 8, 16, 16, 4080, 1.0);
   const Eigen::MatrixXd Y = plant_outputs(truth, 4, 4, 1.0, U);
   IdentifyOptions options;
@@ -77,7 +77,7 @@ TEST(Identify, RecoversTrueParametersOfA4x4FromNoiseFreeData) {
 // THEN its elements are reported as not identifiable, with no parameters, the other
 // elements are still recovered, and G(0) analysis says why it is unavailable.
 TEST(Identify, ReportsAnInputThatNeverMovedInsteadOfInventingParameters) {
-  const std::vector<TwoPoleDelay> truth = {
+  const std::vector<ElementModel> truth = {
       {2.0, 1.3, 20.0, 5.0}, {-1.5, 4.7, 12.0, 3.0}, {0.8, 7.25, 30.0, 2.0}, {1.2, 0.4, 8.0, 6.0}};
   Eigen::MatrixXd U = prbs_inputs(2, 6, 8, 31, 1008, 1.0);
   U.col(1).setZero();
@@ -99,7 +99,7 @@ TEST(Identify, ReportsAnInputThatNeverMovedInsteadOfInventingParameters) {
 
 // Two inputs always moved together (e.g. only one gain direction excited) cannot be separated.
 TEST(Identify, ReportsCollinearInputs) {
-  const std::vector<TwoPoleDelay> truth = {
+  const std::vector<ElementModel> truth = {
       {2.0, 1.3, 20.0, 5.0}, {-1.5, 4.7, 12.0, 3.0}, {0.8, 7.25, 30.0, 2.0}, {1.2, 0.4, 8.0, 6.0}};
   Eigen::MatrixXd U = prbs_inputs(2, 6, 8, 31, 1008, 1.0);
   U.col(1) = -0.5 * U.col(0);
@@ -113,7 +113,7 @@ TEST(Identify, ReportsCollinearInputs) {
 
 // An element with a gain far below the noise is flagged weak rather than reported as known.
 TEST(Identify, FlagsAGainHiddenInTheNoise) {
-  const std::vector<TwoPoleDelay> truth = {
+  const std::vector<ElementModel> truth = {
       {2.0, 1.3, 20.0, 5.0}, {1e-4, 4.7, 12.0, 3.0}, {0.8, 7.25, 30.0, 2.0}, {1.2, 0.4, 8.0, 6.0}};
   const Eigen::MatrixXd U = prbs_inputs(2, 6, 8, 31, 1008, 1.0);
   Eigen::MatrixXd Y = plant_outputs(truth, 2, 2, 1.0, U);
@@ -173,7 +173,7 @@ TEST(Identify, BadInputGivesClearErrors) {
 
 TEST(Identify, DelayBoundIsRespected) {
   // True delay 7.25 min, bound 5 min: the delay ends on its bound and is reported so.
-  const std::vector<TwoPoleDelay> truth = {{0.8, 7.25, 30.0, 2.0}};
+  const std::vector<ElementModel> truth = {{0.8, 7.25, 30.0, 2.0}};
   const Eigen::MatrixXd U = prbs_inputs(1, 6, 8, 0, 1008, 1.0);
   const Eigen::MatrixXd Y = plant_outputs(truth, 1, 1, 1.0, U);
   IdentifyOptions o;

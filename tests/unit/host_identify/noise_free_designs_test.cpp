@@ -41,7 +41,7 @@ sim::TransferMatrix plant_matrix(const std::string& name) {
   const auto elements = testing::stripper_like_4x4();
   for (int k = 0; k < 16; ++k) {
     g.set_element(k / 4, k % 4,
-                  sim::Element({sim::sopdt_term(elements[static_cast<std::size_t>(k)])}, ""));
+                  sim::Element({to_term(elements[static_cast<std::size_t>(k)], 1.0)}, ""));
   }
   return g;
 }

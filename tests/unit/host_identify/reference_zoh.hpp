@@ -14,7 +14,7 @@
 
 namespace excite::host::testing {
 
-inline Eigen::VectorXd reference_response(const TwoPoleDelay& g, double T,
+inline Eigen::VectorXd reference_response(const ElementModel& g, double T,
                                           const Eigen::VectorXd& u) {
   std::vector<double> taus;
   if (g.tau1_min > 0.0) taus.push_back(g.tau1_min);

@@ -19,7 +19,7 @@ namespace excite::host {
 namespace {
 
 TEST(RunLogToIdentify, ALoggedNoiseFreeRunGivesBackThePlant) {
-  const std::vector<TwoPoleDelay> truth = {
+  const std::vector<ElementModel> truth = {
       {2.0, 1.3, 20.0, 5.0}, {-1.5, 4.7, 12.0, 3.0}, {0.8, 7.25, 30.0, 2.0}, {1.2, 0.4, 8.0, 6.0}};
   const double T = 0.5;
   const Eigen::MatrixXd U = testing::prbs_inputs(2, 6, 16, 31, 2016, 1.0);
@@ -56,8 +56,8 @@ TEST(RunLogToIdentify, ALoggedNoiseFreeRunGivesBackThePlant) {
   const IdentificationResult r = identify(data.U, data.Y, data.sample_time_min);
   for (int j = 0; j < 2; ++j) {
     for (int i = 0; i < 2; ++i) {
-      const TwoPoleDelay t = truth[static_cast<std::size_t>(2 * j + i)];
-      const TwoPoleDelay e = r.model.element(j, i).value;
+      const ElementModel t = truth[static_cast<std::size_t>(2 * j + i)];
+      const ElementModel e = r.model.element(j, i).value;
       EXPECT_NEAR(e.gain, t.gain, 1e-3 * std::abs(t.gain));
       EXPECT_NEAR(e.delay_min, t.delay_min, 1e-3 * t.delay_min);
       EXPECT_NEAR(e.tau1_min, t.tau1_min, 1e-3 * t.tau1_min);

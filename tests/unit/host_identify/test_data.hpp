@@ -31,7 +31,7 @@ inline Eigen::MatrixXd prbs_inputs(int n, int n_r, int hold, int shift, Eigen::I
 }
 
 /// Y = G U for a p × n matrix of elements (row-major), exact under ZOH, from rest.
-inline Eigen::MatrixXd plant_outputs(const std::vector<TwoPoleDelay>& G, int p, int n, double T,
+inline Eigen::MatrixXd plant_outputs(const std::vector<ElementModel>& G, int p, int n, double T,
                                      const Eigen::MatrixXd& U) {
   Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(U.rows(), p);
   for (int j = 0; j < p; ++j) {
@@ -54,7 +54,7 @@ inline void add_noise(Eigen::MatrixXd& Y, double variance, unsigned seed) {
 /// A 4×4 plant with the structure of the column/side-stripper case study (SPEC §7, B.0.5):
 /// its gains and delays, each element approximated by two real poles (first-order entries
 /// get a small second pole, the lead/complex-pole entry (4,2) two real poles).
-inline std::vector<TwoPoleDelay> stripper_like_4x4() {
+inline std::vector<ElementModel> stripper_like_4x4() {
   return {
       {4.09, 1.3, 33.0, 8.3},   {6.36, 1.2, 31.6, 20.0}, {-0.25, 1.4, 21.0, 2.0},
       {-0.49, 6.0, 22.0, 3.0},  {-4.17, 5.0, 45.0, 4.0}, {6.93, 1.02, 44.6, 2.5},

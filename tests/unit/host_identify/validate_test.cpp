@@ -22,12 +22,12 @@ TEST(FitPercent, HandComputed) {
   EXPECT_THROW(fit_percent(y, Eigen::Vector2d(1.0, 2.0)), std::invalid_argument);
 }
 
-IdentifiedModel model_of(const std::vector<TwoPoleDelay>& g, int p, int n, double gain_factor) {
+IdentifiedModel model_of(const std::vector<ElementModel>& g, int p, int n, double gain_factor) {
   IdentifiedModel m;
   m.inputs = n;
   m.outputs = p;
   m.sample_time_min = 1.0;
-  for (TwoPoleDelay e : g) {
+  for (ElementModel e : g) {
     e.gain *= gain_factor;
     ElementEstimate est;
     est.value = e;
@@ -36,7 +36,7 @@ IdentifiedModel model_of(const std::vector<TwoPoleDelay>& g, int p, int n, doubl
   return m;
 }
 
-const std::vector<TwoPoleDelay> kTruth = {
+const std::vector<ElementModel> kTruth = {
     {2.0, 1.3, 20.0, 5.0}, {-1.5, 4.7, 12.0, 3.0}, {0.8, 7.25, 30.0, 2.0}, {1.2, 0.4, 8.0, 6.0}};
 
 TEST(Fit, TrueModelOnOtherDataFitsPerfectly) {

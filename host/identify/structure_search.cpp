@@ -1,0 +1,263 @@
+// SPDX-License-Identifier: MIT
+#include "host/identify/structure_search.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace excite::host {
+namespace {
+
+// Iterations of one element fitted alone to its part of the output (a trial, not the result).
+constexpr int kAloneIterations = 12;
+// Rounds of changes per row.
+constexpr int kRounds = 6;
+// SSE floor relative to the output's energy (noise-free fits tie at rounding).
+constexpr double kSseFloor = 1e-12;
+
+Eigen::Index parameter_count(const std::vector<ElementEstimate>& elements) {
+  Eigen::Index p = 0;
+  for (const ElementEstimate& e : elements)
+    p += static_cast<Eigen::Index>(free_parameters(e.value.structure).size());
+  return p;
+}
+
+double weighted_sse(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const SampleLayout& layout) {
+  return (a - b).cwiseProduct(layout.weight).squaredNorm();
+}
+
+ElementModel clamped(ElementModel g, const MisoBounds& bounds) {
+  for (const int k : free_parameters(g.structure)) {
+    const ParameterRange r = parameter_range(k, bounds);
+    g[k] = std::clamp(g[k], r.lower, r.upper);
+  }
+  return g;
+}
+
+// Element e's simulated part of the output (its gain included), each segment from rest.
+Eigen::VectorXd element_part(const Eigen::MatrixXd& U, int input, const ElementModel& g,
+                             double T_min, const SampleLayout& layout) {
+  Eigen::VectorXd z(U.rows());
+  const auto u = U.col(input);
+  simulate_segments(discretise(g, T_min), {u.data(), static_cast<std::size_t>(u.size())},
+                    {z.data(), static_cast<std::size_t>(z.size())}, layout.segments);
+  return z;
+}
+
+struct AloneFit {
+  ElementModel element;
+  double sse = std::numeric_limits<double>::infinity();
+};
+
+// The best of `starts` (by their output error on `part`, one simulation each), polished alone.
+AloneFit fit_alone(const Eigen::MatrixXd& U, const Eigen::VectorXd& part, int input,
+                   const std::vector<ElementModel>& starts, double T_min, const MisoBounds& bounds,
+                   const SampleLayout& layout) {
+  const ElementModel* best = nullptr;
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (const ElementModel& s : starts) {
+    double cost = std::numeric_limits<double>::infinity();
+    try {
+      cost = weighted_sse(element_part(U, input, s, T_min, layout), part, layout);
+    } catch (const std::invalid_argument&) {
+      continue;  // a start the exact discretisation cannot take
+    }
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = &s;
+    }
+  }
+  if (best == nullptr) return {};
+  const MisoResult alone = fit_miso(U, part, {input}, {*best}, T_min, bounds, kAloneIterations,
+                                    layout, Eigen::MatrixXd(U.rows(), 0));
+  return {alone.elements.front().value, weighted_sse(alone.y_hat, part, layout)};
+}
+
+std::vector<ElementModel> current_values(const MisoResult& fit) {
+  std::vector<ElementModel> out;
+  for (const ElementEstimate& e : fit.elements) out.push_back(e.value);
+  return out;
+}
+
+}  // namespace
+
+double row_criterion(double sse, double y_energy, Eigen::Index scored_rows, Eigen::Index parameters) {
+  const auto M = static_cast<double>(std::max<Eigen::Index>(scored_rows, 1));
+  const double floor = kSseFloor * y_energy;
+  return M * std::log(std::max({sse, floor, std::numeric_limits<double>::min()}) / M) +
+         static_cast<double>(parameters) * std::log(M);
+}
+
+std::vector<ElementModel> structure_starts(const ElementModel& g, Structure s,
+                                           const MisoBounds& bounds) {
+  // g's time scales: its lags (T_p1, T_p2, T_n where it has them), slowest first.
+  std::vector<double> lags;
+  for (const int k : {kTp1, kTp2, kNatural}) {
+    if (is_free(g.structure, k) && g[k] > 0.0) lags.push_back(g[k]);
+  }
+  std::sort(lags.rbegin(), lags.rend());
+  const double slow = lags.empty() ? 0.0 : lags[0];
+  const double fast = lags.size() > 1 ? lags[1] : slow / 4.0;
+  ElementModel base = with_structure(ElementModel{}, s);
+  base.gain = g.gain;
+  base.delay_min = g.delay_min;
+  std::vector<ElementModel> out;
+  const auto add = [&](ElementModel e) { out.push_back(clamped(e, bounds)); };
+  switch (s) {
+    case Structure::first_order: {
+      ElementModel a = base;
+      a.tau1_min = slow + fast;
+      add(a);
+      ElementModel b = base;
+      b.delay_min = g.delay_min + fast;
+      b.tau1_min = slow;
+      add(b);
+      break;
+    }
+    case Structure::two_poles: {
+      ElementModel a = base;
+      a.tau1_min = slow;
+      a.tau2_min = fast;
+      add(a);
+      break;
+    }
+    case Structure::two_poles_zero:
+      for (const double tz : {0.0, 0.5 * slow, -fast}) {
+        ElementModel a = base;
+        a.tau1_min = slow;
+        a.tau2_min = fast;
+        a.zero_min = tz;
+        add(a);
+      }
+      break;
+    case Structure::integrator: {
+      ElementModel a = base;
+      a.gain = slow > 0.0 ? g.gain / slow : g.gain;
+      a.tau1_min = lags.size() > 1 ? fast : 0.0;
+      add(a);
+      break;
+    }
+    case Structure::underdamped:
+      for (const double zeta : {0.3, 0.7}) {
+        ElementModel a = base;
+        a.natural_min = std::sqrt(slow * fast);
+        a.damping = zeta;
+        add(a);
+      }
+      break;
+    case Structure::underdamped_lag_zero:
+      for (const double zeta : {0.3, 0.7}) {
+        for (const double tz : {0.0, 0.5 * slow}) {
+          ElementModel a = base;
+          a.tau1_min = slow;
+          a.natural_min = fast;
+          a.damping = zeta;
+          a.zero_min = tz;
+          add(a);
+        }
+      }
+      break;
+  }
+  return out;
+}
+
+MisoResult choose_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
+                             const std::vector<int>& inputs, MisoResult two_poles, double T_min,
+                             const MisoBounds& bounds, const SampleLayout& layout,
+                             const Eigen::MatrixXd& trend, const StructureSearch& search) {
+  if (search.forced == Structure::two_poles) return two_poles;
+  const Eigen::VectorXd y_scored = layout.scored_rows(y);
+  const double energy = (y_scored.array() - y_scored.mean()).matrix().squaredNorm();
+  const Eigen::Index M = layout.scored();
+  const auto criterion = [&](const MisoResult& fit) {
+    return row_criterion(weighted_sse(fit.y_hat, y, layout), energy, M,
+                         parameter_count(fit.elements));
+  };
+  const auto refit = [&](const std::vector<ElementModel>& start) {
+    return fit_miso(U, y, inputs, start, T_min, bounds, search.max_iterations, layout, trend);
+  };
+  // Element e's part of the output under `fit`: y minus the other elements and the trend.
+  const auto part_of = [&](const MisoResult& fit, std::size_t e) -> Eigen::VectorXd {
+    return y - fit.y_hat +
+           element_part(U, inputs[e], fit.elements[e].value, T_min, layout);
+  };
+
+  if (search.forced) {
+    std::vector<ElementModel> start;
+    for (std::size_t e = 0; e < inputs.size(); ++e) {
+      start.push_back(fit_alone(U, part_of(two_poles, e), inputs[e],
+                                structure_starts(two_poles.elements[e].value, *search.forced, bounds),
+                                T_min, bounds, layout)
+                          .element);
+    }
+    MisoResult forced = refit(start);
+    forced.iterations += two_poles.iterations;
+    return forced;
+  }
+
+  MisoResult current = std::move(two_poles);
+  double current_criterion = criterion(current);
+  const auto Md = static_cast<double>(std::max<Eigen::Index>(M, 1));
+  const auto alone_criterion = [&](double sse, Structure s) {
+    return row_criterion(sse, energy, M, static_cast<Eigen::Index>(free_parameters(s).size()));
+  };
+  const auto accept = [&](MisoResult& trial) {
+    const double c = criterion(trial);
+    current.iterations += trial.iterations;
+    if (!(c < current_criterion - 1e-9 * Md)) return false;
+    trial.iterations = current.iterations;
+    current = std::move(trial);
+    current_criterion = c;
+    return true;
+  };
+  for (int round = 0; round < kRounds; ++round) {
+    // Each element's best other structure on its own part of the output, and by how much it
+    // lowers that part's criterion.
+    struct Candidate {
+      std::size_t element;
+      ElementModel model;
+      double gain;
+    };
+    std::vector<Candidate> candidates;
+    for (std::size_t e = 0; e < inputs.size(); ++e) {
+      const Eigen::VectorXd part = part_of(current, e);
+      const ElementModel& now = current.elements[e].value;
+      const double own = alone_criterion(weighted_sse(current.y_hat, y, layout), now.structure);
+      double best = own;
+      std::optional<ElementModel> better;
+      for (int k = 0; k < kStructures; ++k) {
+        const auto s = static_cast<Structure>(k);
+        if (s == now.structure) continue;
+        const AloneFit alone =
+            fit_alone(U, part, inputs[e], structure_starts(now, s, bounds), T_min, bounds, layout);
+        const double c = alone_criterion(alone.sse, s);
+        if (c < best) {
+          best = c;
+          better = alone.element;
+        }
+      }
+      if (better) candidates.push_back({e, *better, own - best});
+    }
+    if (candidates.empty()) break;
+    std::sort(candidates.begin(), candidates.end(),
+              [](const Candidate& a, const Candidate& b) { return a.gain > b.gain; });
+    // Every change at once (one joint fit), else the largest gains one at a time.
+    bool changed = false;
+    if (candidates.size() > 1) {
+      std::vector<ElementModel> start = current_values(current);
+      for (const Candidate& c : candidates) start[c.element] = c.model;
+      MisoResult trial = refit(start);
+      changed = accept(trial);
+    }
+    for (std::size_t k = 0; !changed && k < candidates.size(); ++k) {
+      std::vector<ElementModel> start = current_values(current);
+      start[candidates[k].element] = candidates[k].model;
+      MisoResult trial = refit(start);
+      changed = accept(trial);
+    }
+    if (!changed) break;
+  }
+  return current;
+}
+
+}  // namespace excite::host

@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Choosing each element's structure (element.hpp; issue 18 §5) once the row has been fitted
+// with two poles and a delay (6.1.1).
+//
+// The criterion is the Bayesian information criterion of the row's output error,
+//   BIC = M ln(max(SSE, ε ‖y‖²) / M) + P ln M,
+// M the scored rows, P the row's free parameters, ε = 1e-12: extra parameters must lower the
+// output error by a factor e^{ln M / M} each (0.06 % per parameter at M = 15 000), and on
+// noise-free data every structure that fits to rounding ties, so the fewest parameters win.
+//
+// The search, per row, greedy: for each element in turn, its part of the output (the output
+// minus the other elements' simulated parts and the trend) is fitted alone in every other
+// structure from starts derived from its current parameters (structure_starts()); the
+// structure that lowers that part's BIC most is tried for the whole row (all elements refitted
+// jointly from there) and kept when the row's BIC falls. Passes repeat until no element
+// changes (at most three). A forced structure (--structure) fits every element in it from the
+// same starts, the best end kept.
+
+#include <Eigen/Dense>
+#include <optional>
+#include <vector>
+
+#include "host/identify/miso_fit.hpp"
+
+namespace excite::host {
+
+/// Starts for a fit in structure `s` from an element g of any structure: the parameters it
+/// shares, the others derived from g's time scales (a few damping ratios or zeros where the
+/// structure has them). Every start lies inside parameter_range().
+std::vector<ElementModel> structure_starts(const ElementModel& g, Structure s,
+                                           const MisoBounds& bounds);
+
+/// The row's BIC (above) for a fit with the given output error.
+double row_criterion(double sse, double y_energy, Eigen::Index scored_rows, Eigen::Index parameters);
+
+struct StructureSearch {
+  std::optional<Structure> forced;  // every element in this structure; nullopt: chosen per element
+  int max_iterations = 200;         // of each joint row fit
+};
+
+/// The row's fit with each element in its chosen structure, starting from `two_poles`, the
+/// row's fit in (6.1.1) (fit_miso's arguments as it was fitted with).
+MisoResult choose_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
+                             const std::vector<int>& inputs, MisoResult two_poles, double T_min,
+                             const MisoBounds& bounds, const SampleLayout& layout,
+                             const Eigen::MatrixXd& trend, const StructureSearch& search);
+
+}  // namespace excite::host
