@@ -12,6 +12,10 @@ namespace {
 constexpr int kAloneIterations = 12;
 // Rounds of changes per row.
 constexpr int kRounds = 6;
+// A change of structure must lower the criterion by more than this: a BIC difference below 2
+// is "not worth more than a bare mention" (Kass and Raftery 1995), so a structure that only
+// equals another (an underdamped pair at ζ = 1 against two equal lags) does not replace it.
+constexpr double kEvidence = 2.0;
 // SSE floor relative to the output's energy (noise-free fits tie at rounding).
 constexpr double kSseFloor = 1e-12;
 
@@ -49,28 +53,23 @@ struct AloneFit {
   double sse = std::numeric_limits<double>::infinity();
 };
 
-// The best of `starts` (by their output error on `part`, one simulation each), polished alone.
+// Every start that the exact discretisation takes, polished alone; the best end.
 AloneFit fit_alone(const Eigen::MatrixXd& U, const Eigen::VectorXd& part, int input,
                    const std::vector<ElementModel>& starts, double T_min, const MisoBounds& bounds,
                    const SampleLayout& layout) {
-  const ElementModel* best = nullptr;
-  double best_cost = std::numeric_limits<double>::infinity();
+  AloneFit best;
   for (const ElementModel& s : starts) {
-    double cost = std::numeric_limits<double>::infinity();
     try {
-      cost = weighted_sse(element_part(U, input, s, T_min, layout), part, layout);
+      (void)discretise(s, T_min);
     } catch (const std::invalid_argument&) {
       continue;  // a start the exact discretisation cannot take
     }
-    if (cost < best_cost) {
-      best_cost = cost;
-      best = &s;
-    }
+    const MisoResult alone = fit_miso(U, part, {input}, {s}, T_min, bounds, kAloneIterations,
+                                      layout, Eigen::MatrixXd(U.rows(), 0));
+    const double sse = weighted_sse(alone.y_hat, part, layout);
+    if (sse < best.sse) best = {alone.elements.front().value, sse};
   }
-  if (best == nullptr) return {};
-  const MisoResult alone = fit_miso(U, part, {input}, {*best}, T_min, bounds, kAloneIterations,
-                                    layout, Eigen::MatrixXd(U.rows(), 0));
-  return {alone.elements.front().value, weighted_sse(alone.y_hat, part, layout)};
+  return best;
 }
 
 std::vector<ElementModel> current_values(const MisoResult& fit) {
@@ -197,15 +196,13 @@ MisoResult choose_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
 
   MisoResult current = std::move(two_poles);
   double current_criterion = criterion(current);
-  const auto Md = static_cast<double>(std::max<Eigen::Index>(M, 1));
+  int iterations = current.iterations;  // of every fit made, for MisoResult::iterations
   const auto alone_criterion = [&](double sse, Structure s) {
     return row_criterion(sse, energy, M, static_cast<Eigen::Index>(free_parameters(s).size()));
   };
-  const auto accept = [&](MisoResult& trial) {
-    const double c = criterion(trial);
-    current.iterations += trial.iterations;
-    if (!(c < current_criterion - 1e-9 * Md)) return false;
-    trial.iterations = current.iterations;
+  // Keeps `trial` when it lowers the row's criterion by more than kEvidence.
+  const auto accept = [&](MisoResult& trial, double c) {
+    if (!(c < current_criterion - kEvidence)) return false;
     current = std::move(trial);
     current_criterion = c;
     return true;
@@ -236,27 +233,38 @@ MisoResult choose_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
           better = alone.element;
         }
       }
-      if (better) candidates.push_back({e, *better, own - best});
+      if (better && best < own - kEvidence) candidates.push_back({e, *better, own - best});
     }
     if (candidates.empty()) break;
     std::sort(candidates.begin(), candidates.end(),
               [](const Candidate& a, const Candidate& b) { return a.gain > b.gain; });
-    // Every change at once (one joint fit), else the largest gains one at a time.
-    bool changed = false;
+    // The largest change alone and every change at once (one joint fit each), the better
+    // kept; else the other changes one at a time.
+    const auto trial_of = [&](std::size_t first, std::size_t last) {
+      std::vector<ElementModel> start = current_values(current);
+      for (std::size_t k = first; k < last; ++k) start[candidates[k].element] = candidates[k].model;
+      MisoResult trial = refit(start);
+      iterations += trial.iterations;
+      return trial;
+    };
+    MisoResult best_trial = trial_of(0, 1);
+    double best_criterion = criterion(best_trial);
     if (candidates.size() > 1) {
-      std::vector<ElementModel> start = current_values(current);
-      for (const Candidate& c : candidates) start[c.element] = c.model;
-      MisoResult trial = refit(start);
-      changed = accept(trial);
+      MisoResult all = trial_of(0, candidates.size());
+      const double c = criterion(all);
+      if (c < best_criterion) {
+        std::swap(best_trial, all);
+        best_criterion = c;
+      }
     }
-    for (std::size_t k = 0; !changed && k < candidates.size(); ++k) {
-      std::vector<ElementModel> start = current_values(current);
-      start[candidates[k].element] = candidates[k].model;
-      MisoResult trial = refit(start);
-      changed = accept(trial);
+    bool changed = accept(best_trial, best_criterion);
+    for (std::size_t k = 1; !changed && k < candidates.size(); ++k) {
+      MisoResult trial = trial_of(k, k + 1);
+      changed = accept(trial, criterion(trial));
     }
     if (!changed) break;
   }
+  current.iterations = iterations;
   return current;
 }
 
