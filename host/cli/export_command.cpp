@@ -26,6 +26,7 @@ enum class ExportFormat { step_csv, matlab, python_control, json };
 struct ExportOptions {
   std::string model;
   ExportFormat format = ExportFormat::json;
+  bool bands = false;
   int horizon = 0;  // samples; 0: until every element has settled (settling_samples)
   std::string output;
 };
@@ -58,7 +59,7 @@ void run(const ExportOptions& opt) {
   switch (opt.format) {
     case ExportFormat::step_csv: {
       const int horizon = opt.horizon > 0 ? opt.horizon : default_horizon(m, opt.model);
-      text = step_csv(m, horizon);
+      text = step_csv(m, horizon, opt.bands);
       std::ostringstream text_of;
       text_of << "step coefficients, " << horizon << " samples of " << m.model.sample_time_min
               << " min";
@@ -105,6 +106,8 @@ void add_export_command(CLI::App& app) {
                   "step-csv: coefficients (samples; default: until every element has settled "
                   "to 0.1 %)")
       ->check(CLI::Range(1, kMaxHorizon));
+  cmd->add_flag("--bands", opt->bands,
+                "step-csv: each element's -2s and +2s columns (from the model file's covariance)");
   cmd->add_option("-o,--output", opt->output, "file to write")->required();
   cmd->callback([opt] { run(*opt); });
 }

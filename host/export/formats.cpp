@@ -148,7 +148,7 @@ void require_every_element(const NamedModel& m) {
   }
 }
 
-std::string step_csv(const NamedModel& m, int horizon_samples) {
+std::string step_csv(const NamedModel& m, int horizon_samples, bool bands) {
   if (horizon_samples < 1) {
     throw std::invalid_argument("horizon: " + std::to_string(horizon_samples) +
                                 " samples, expected at least 1");
@@ -162,21 +162,42 @@ std::string step_csv(const NamedModel& m, int horizon_samples) {
       << "# s_k = y(kT) after a unit step of the MV at t = 0, k = 1 ... horizon (CV units per "
          "MV unit); element "
       << kElementFormula << "\n";
+  if (bands) {
+    out << "# -2s, +2s: s_k -/+ 2 sigma of s(kT) from the element's parameter covariance "
+           "(empty: not known)\n";
+  }
   out << "k,t_min";
   for (int o = 0; o < m.model.outputs; ++o) {
     for (int i = 0; i < m.model.inputs; ++i) {
-      out << ','
-          << csv_field(m.outputs[static_cast<std::size_t>(o)] + " <- " +
-                       m.inputs[static_cast<std::size_t>(i)]);
+      const std::string name =
+          m.outputs[static_cast<std::size_t>(o)] + " <- " + m.inputs[static_cast<std::size_t>(i)];
+      out << ',' << csv_field(name);
+      if (bands) out << ',' << csv_field(name + " -2s") << ',' << csv_field(name + " +2s");
     }
   }
   out << '\n';
+  std::vector<double> times;
+  for (int k = 1; k <= horizon_samples; ++k) times.push_back(k * T);
+  std::vector<StepBand> band;  // per element, when asked for
+  for (int o = 0; bands && o < m.model.outputs; ++o) {
+    for (int i = 0; i < m.model.inputs; ++i) band.push_back(step_band(m.model.element(o, i), times));
+  }
   for (int k = 1; k <= horizon_samples; ++k) {
-    const double t = k * T;
+    const double t = times[static_cast<std::size_t>(k - 1)];
     out << k << ',' << exact(t);
     for (int o = 0; o < m.model.outputs; ++o) {
-      for (int i = 0; i < m.model.inputs; ++i)
+      for (int i = 0; i < m.model.inputs; ++i) {
         out << ',' << exact(step_response(m.model.element(o, i).value, t));
+        if (!bands) continue;
+        const StepBand& b = band[static_cast<std::size_t>(o * m.model.inputs + i)];
+        const double s = b.response[static_cast<std::size_t>(k - 1)];
+        const double sigma = b.sigma[static_cast<std::size_t>(k - 1)];
+        if (std::isfinite(sigma)) {
+          out << ',' << exact(s - 2.0 * sigma) << ',' << exact(s + 2.0 * sigma);
+        } else {
+          out << ",,";
+        }
+      }
     }
     out << '\n';
   }

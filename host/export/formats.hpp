@@ -26,7 +26,11 @@ void require_every_element(const NamedModel& m);
 /// CSV: '#' header lines (format, source, sample_time_min, horizon in samples and minutes,
 /// what a coefficient is), then `k,t_min,<CV> <- <MV>,…` and rows k = 1 … horizon of the
 /// unit-step coefficients s_k = s(kT) (output units per input unit; step_response.hpp).
-std::string step_csv(const NamedModel& m, int horizon_samples);
+/// With `bands`, each element's column is followed by two more, `<CV> <- <MV> -2s` and
+/// `+2s`: s_k ∓ 2σ_s(kT) from the element's parameter covariance (step_band(); empty cells
+/// where σ is not known: a model file without covariance, or a parameter the data did not
+/// determine).
+std::string step_csv(const NamedModel& m, int horizon_samples, bool bands = false);
 
 /// A MATLAB script that builds `G`, a tf array with InputDelay (per MV, the smallest delay
 /// of its column), IODelay (the rest), InputName, OutputName and TimeUnit minutes. Under
@@ -41,8 +45,10 @@ std::string matlab_script(const NamedModel& m);
 std::string python_control_script(const NamedModel& m);
 
 /// {"format":"excite transfer matrix v1","source","time_unit":"min","sample_time_min",
-///  "inputs","outputs","elements":[[{"K","Td","Tp1","Tp2","num","den","status"}…]…]}
-/// (rows = outputs). Parameters are written to round-trip exactly.
+///  "inputs","outputs","elements":[[{"structure","K","Td",… the structure's parameters,
+///  "num","den","status","grade","se":{…},"covariance":[[…]…]}…]…]} (rows = outputs; num,
+///  den in descending powers of s; se and covariance over the structure's parameters in the
+///  order listed, null where unknown). Parameters are written to round-trip exactly.
 std::string transfer_json(const NamedModel& m);
 
 /// Reads transfer_json()'s output back. Throws std::invalid_argument naming the field.

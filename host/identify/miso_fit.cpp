@@ -253,7 +253,7 @@ ParameterRange parameter_range(int parameter, const MisoBounds& bounds) {
 MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                     const std::vector<int>& inputs, std::vector<ElementModel> initial, double T_min,
                     const MisoBounds& bounds, int max_iterations, const SampleLayout& layout,
-                    const Eigen::MatrixXd& trend) {
+                    const Eigen::MatrixXd& trend, double cost_tolerance) {
   const ParameterMap map(initial);
   RowModel row(U, inputs, map, T_min, layout);
   const Eigen::Index m = map.elements();
@@ -293,6 +293,7 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
   };
   LmOptions lm_options;
   lm_options.max_iterations = max_iterations;
+  lm_options.cost_tolerance = cost_tolerance;
   const LmResult lm = minimise_bounded(problem, x0, lm_options);
 
   MisoResult out;

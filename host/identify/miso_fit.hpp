@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 #include <vector>
 
+#include "host/identify/bounded_lm.hpp"
 #include "host/identify/model.hpp"
 #include "host/identify/segments.hpp"
 
@@ -40,9 +41,10 @@ struct MisoResult {
 /// scored rows of `layout`, the model simulated from rest at each segment's start, and the
 /// trend spanned by the orthonormal columns `trend` (trend_basis(); N × 0 for none) fitted
 /// with it by projection. y_hat is the simulation on every row plus the fitted trend.
+/// `cost_tolerance`: LmOptions::cost_tolerance of the fit.
 MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                     const std::vector<int>& inputs, std::vector<ElementModel> initial, double T_min,
                     const MisoBounds& bounds, int max_iterations, const SampleLayout& layout,
-                    const Eigen::MatrixXd& trend);
+                    const Eigen::MatrixXd& trend, double cost_tolerance = LmOptions{}.cost_tolerance);
 
 }  // namespace excite::host

@@ -517,6 +517,90 @@ TEST_F(ExciteCli, ExportWritesEveryFormatOfAnIdentifiedModel) {
   EXPECT_FALSE(std::filesystem::exists(path("y")));
 }
 
+// Issue 18 §4–5 through the files an engineer hands on: identify picks each element's
+// structure (alatiqi4x4's (y4, u2) has a lead, a lag and an oscillating pole pair), the model
+// file keeps structure, grade and covariance, and export carries them: the JSON with the
+// structure's parameters, standard errors and covariance, the step table with ±2σ columns.
+TEST_F(ExciteCli, IdentifiedStructuresGradesAndBandsTravelThroughTheModelFileAndExport) {
+  ASSERT_EQ(excite("design -q --plant alatiqi4x4 --preset prbsUnc -o " + path("a.plan")).exit_code,
+            0);
+  ASSERT_EQ(excite("simulate " + path("a.plan") +
+                   " --plant alatiqi4x4 --noise-var 5e-4 --seed 3 -o " + path("a.csv"))
+                .exit_code,
+            0);
+  const Result id = excite("identify " + path("a.csv") + " --threads 2 -o " + path("m.json"));
+  ASSERT_EQ(id.exit_code, 0) << id.out;
+  const auto model = nlohmann::json::parse(std::ifstream(path("m.json")));
+  EXPECT_EQ(model["format"], "excite model v2");
+  const auto& lead = model["outputs"][3]["elements"][1];  // y4 <- u2
+  EXPECT_EQ(lead["structure"], "underdamped_lag_zero") << lead;
+  EXPECT_NEAR(lead["K"].get<double>(), 14.0, 0.5) << lead;
+  ASSERT_EQ(lead["covariance"].size(), 6U);  // K, Td, Tp1, Tz, Tn, zeta
+  EXPECT_GT(lead["covariance"][0][0].get<double>(), 0.0);
+  EXPECT_NEAR(std::sqrt(lead["covariance"][0][0].get<double>()), lead["se"]["K"].get<double>(),
+              1e-9 * lead["se"]["K"].get<double>());
+  EXPECT_NE(id.out.find("underdamped_lag_zero"), std::string::npos) << id.out;
+  // Forced back to (6.1.1), the row cannot be fitted as well.
+  const Result forced =
+      excite("identify " + path("a.csv") + " --threads 2 --structure two_poles --json");
+  ASSERT_EQ(forced.exit_code, 0) << forced.out;
+  const auto two = nlohmann::json::parse(forced.out.substr(forced.out.find('{')));
+  EXPECT_LT(two["outputs"][3]["fit"].get<double>() + 1.0, model["outputs"][3]["fit"].get<double>());
+
+  ASSERT_EQ(excite("export " + path("m.json") + " --format json -o " + path("t.json")).exit_code, 0);
+  const auto t = nlohmann::json::parse(std::ifstream(path("t.json")));
+  const auto& e = t["elements"][3][1];
+  EXPECT_EQ(e["structure"], "underdamped_lag_zero");
+  for (const char* key : {"K", "Td", "Tp1", "Tz", "Tn", "zeta", "grade", "se", "covariance"})
+    EXPECT_TRUE(e.contains(key)) << key << ": " << e;
+  EXPECT_EQ(e["den"].size(), 4U);  // (Tp1 s + 1)(Tn² s² + 2ζTn s + 1)
+  EXPECT_EQ(e["num"].size(), 2U);  // K (Tz s + 1)
+  EXPECT_EQ(e["covariance"], lead["covariance"]);
+  // The table without bands has the same coefficients.
+  ASSERT_EQ(excite("export " + path("m.json") + " --format step-csv --horizon 200 -o " +
+                   path("plain.csv"))
+                .exit_code,
+            0);
+  const Result banded = excite("export " + path("m.json") +
+                               " --format step-csv --horizon 200 --bands -o " + path("bands.csv"));
+  ASSERT_EQ(banded.exit_code, 0) << banded.out;
+  std::ifstream in(path("bands.csv"));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  std::size_t header = 0;
+  while (header < lines.size() && lines[header].rfind("k,", 0) != 0) ++header;
+  ASSERT_LT(header, lines.size());
+  EXPECT_NE(lines[header].find("y4 <- u2,y4 <- u2 -2s,y4 <- u2 +2s"), std::string::npos)
+      << lines[header];
+  int widening = 0;
+  for (std::size_t k = header + 1; k < lines.size(); ++k) {
+    std::stringstream row(lines[k]);
+    std::vector<double> v;
+    for (std::string f; std::getline(row, f, ',');) v.push_back(f.empty() ? std::nan("") : std::stod(f));
+    ASSERT_EQ(v.size(), 2U + 16U * 3U) << lines[k];
+    for (std::size_t c = 2; c < v.size(); c += 3) {  // s, s − 2σ, s + 2σ
+      EXPECT_LE(v[c + 1], v[c]) << lines[k];
+      EXPECT_GE(v[c + 2], v[c]) << lines[k];
+    }
+    const std::size_t y4u2 = 2 + 3 * (3 * 4 + 1);
+    widening += v[y4u2 + 2] - v[y4u2 + 1] > 0.0 ? 1 : 0;
+  }
+  EXPECT_GT(widening, 150);  // known after its delay: a band of positive width
+  std::ifstream plain_in(path("plain.csv"));
+  std::vector<std::string> plain;
+  for (std::string line; std::getline(plain_in, line);) plain.push_back(line);
+  const auto numbers = [](const std::string& line) {
+    std::vector<std::string> f;
+    std::stringstream row(line);
+    for (std::string x; std::getline(row, x, ',');) f.push_back(x);
+    return f;
+  };
+  const std::vector<std::string> a = numbers(plain.back());
+  const std::vector<std::string> b = numbers(lines.back());
+  ASSERT_EQ(a.size(), 2U + 16U);
+  for (std::size_t c = 0; c < 16; ++c) EXPECT_EQ(a[2 + c], b[2 + 3 * c]) << c;
+}
+
 // The in-process campaign keeps every run log and every model beside its report and links
 // them (as the --loop campaign keeps its runs).
 TEST_F(ExciteCli, CampaignKeepsEveryRunAndModelAndTheReportLinksThem) {
