@@ -43,8 +43,7 @@ int default_horizon(const NamedModel& m, const std::string& path) {
   std::snprintf(text, sizeof text,
                 "settling time Td + 7 (Tp1 + Tp2 + Tn/zeta + |Tz|) = %.6g min = %.6g samples of "
                 "%g min, expected at most %d samples (the --horizon range; give --horizon N)",
-                settling_time_min(e.value), s.samples,
-                m.model.sample_time_min, kMaxHorizon);
+                settling_time_min(e.value), s.samples, m.model.sample_time_min, kMaxHorizon);
   throw std::invalid_argument(path + ": element " +
                               m.outputs.at(static_cast<std::size_t>(s.output)) + " <- " +
                               m.inputs.at(static_cast<std::size_t>(s.input)) + ": " + text);

@@ -3,10 +3,11 @@
 //                 [--max-time-constant MIN] [--tau-high MIN] [--beta B] [--threads N]
 //                 [--keep-flagged] [--warm-up MIN] [--start-warm-up MIN]
 //                 [--trend none|offset|linear] [--structure auto|NAME]
-// Models per output (each element's structure chosen by BIC, or forced by --structure), fit % (5.5.1), identified G(0) and its directions. Several
-// runs are identified together; the logs' flags decide which rows are scored and where the
-// model restarts (host/identify/run_layout.hpp); what was excluded is warned on stderr.
-// Time constants are bounded above by β·τ_H (SPEC §6): --max-time-constant if given, else
+// Models per output (each element's structure chosen by BIC, or forced by --structure), fit %
+// (5.5.1), identified G(0) and its directions. Several runs are identified together; the logs'
+// flags decide which rows are scored and where the model restarts (host/identify/run_layout.hpp);
+// what was excluded is warned on stderr. Time constants are bounded above by β·τ_H (SPEC §6):
+// --max-time-constant if given, else
 // --tau-high, else the run logs' own design time scales, else the case study of the run
 // log's plant; without any, it refuses (host/cli/time_constant_bound.hpp).
 

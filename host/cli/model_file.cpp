@@ -26,14 +26,16 @@ constexpr const char* kFormatV1 = "excite model v1";
 // mean what v1 said for every structure except where Tz, Tn, zeta say more).
 nlohmann::json parameters(const ElementModel& p) {
   nlohmann::json j = nlohmann::json::object();
-  for (int k = 0; k < kParameters; ++k) j[parameter_name(static_cast<Parameter>(k))] = to_json(p[k]);
+  for (int k = 0; k < kParameters; ++k)
+    j[parameter_name(static_cast<Parameter>(k))] = to_json(p[k]);
   return j;
 }
 
 // The structure's parameters only (standard errors: the others have none).
 nlohmann::json free_parameters_json(const ElementModel& p, Structure s) {
   nlohmann::json j = nlohmann::json::object();
-  for (const int k : free_parameters(s)) j[parameter_name(static_cast<Parameter>(k))] = to_json(p[k]);
+  for (const int k : free_parameters(s))
+    j[parameter_name(static_cast<Parameter>(k))] = to_json(p[k]);
   return j;
 }
 
@@ -122,8 +124,8 @@ std::optional<Eigen::MatrixXd> read_gain_covariance(const nlohmann::json& out,
       if (!c.is_array() || c.size() != n || !c[a].is_array() || c[a].size() != n ||
           !(c[a][b].is_null() || c[a][b].is_number())) {
         throw std::invalid_argument(field(where, "gain_covariance") + " = " + shown(c) +
-                                    ", expected " + std::to_string(n) + " x " +
-                                    std::to_string(n) + " numbers or nulls");
+                                    ", expected " + std::to_string(n) + " x " + std::to_string(n) +
+                                    " numbers or nulls");
       }
       cov(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) =
           c[a][b].is_null() ? std::numeric_limits<double>::quiet_NaN() : c[a][b].get<double>();
@@ -150,7 +152,8 @@ nlohmann::json model_json(const IdentificationResult& result,
       nlohmann::json covariance = nlohmann::json::array();  // over "se"'s parameters, in order
       for (const int a : free_parameters(e.value.structure)) {
         nlohmann::json row = nlohmann::json::array();
-        for (const int b : free_parameters(e.value.structure)) row.push_back(to_json(e.covariance(a, b)));
+        for (const int b : free_parameters(e.value.structure))
+          row.push_back(to_json(e.covariance(a, b)));
         covariance.push_back(row);
       }
       j["covariance"] = covariance;
@@ -225,8 +228,8 @@ NamedModel read_named_model_file(const std::filesystem::path& path) {
   const nlohmann::json j = read_json_file(where, "a model file from excite identify -o");
   if (!j.is_object() || !j.contains("format") ||
       (j["format"] != kFormat && j["format"] != kFormatV1)) {
-    throw std::invalid_argument(where + ": format: expected \"" + kFormat + "\" or \"" +
-                                kFormatV1 + "\" (a file from excite identify -o)");
+    throw std::invalid_argument(where + ": format: expected \"" + kFormat + "\" or \"" + kFormatV1 +
+                                "\" (a file from excite identify -o)");
   }
   NamedModel named;
   named.source = where;

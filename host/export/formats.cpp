@@ -180,7 +180,8 @@ std::string step_csv(const NamedModel& m, int horizon_samples, bool bands) {
   for (int k = 1; k <= horizon_samples; ++k) times.push_back(k * T);
   std::vector<StepBand> band;  // per element, when asked for
   for (int o = 0; bands && o < m.model.outputs; ++o) {
-    for (int i = 0; i < m.model.inputs; ++i) band.push_back(step_band(m.model.element(o, i), times));
+    for (int i = 0; i < m.model.inputs; ++i)
+      band.push_back(step_band(m.model.element(o, i), times));
   }
   for (int k = 1; k <= horizon_samples; ++k) {
     const double t = times[static_cast<std::size_t>(k - 1)];

@@ -97,7 +97,8 @@ StepBand step_band(const ElementEstimate& estimate, const std::vector<double>& t
       const bool down_only = p[k] + hk > r.upper;
       if (!down_only) up[k] = p[k] + hk;
       if (!up_only) down[k] = p[k] - hk;
-      g(k) = (step_response(up, t) - step_response(down, t)) / (up_only || down_only ? hk : 2.0 * hk);
+      g(k) =
+          (step_response(up, t) - step_response(down, t)) / (up_only || down_only ? hk : 2.0 * hk);
     }
     double variance = 0.0;
     for (const int a : free) {

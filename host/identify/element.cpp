@@ -54,7 +54,8 @@ struct Parts {
     std::array<double, 4> out{};
     int i = 0;
     for (const double f : factor) {
-      for (int k = 0; k < den_size; ++k) out[static_cast<std::size_t>(k + i)] += f * den[static_cast<std::size_t>(k)];
+      for (int k = 0; k < den_size; ++k)
+        out[static_cast<std::size_t>(k + i)] += f * den[static_cast<std::size_t>(k)];
       ++i;
     }
     den_size += static_cast<int>(factor.size()) - 1;
@@ -183,7 +184,9 @@ double& ElementModel::operator[](int p) {
   }
 }
 
-double ElementModel::operator[](int p) const { return const_cast<ElementModel&>(*this)[p]; }
+double ElementModel::operator[](int p) const {
+  return const_cast<ElementModel&>(*this)[p];
+}
 
 double ElementModel::static_gain() const {
   if (structure != Structure::integrator || std::isnan(gain) || gain == 0.0) return gain;
@@ -226,7 +229,8 @@ sim::Term to_term(const ElementModel& g, double sample_time_min) {
   t.gain = g.gain;
   t.delay_min = g.delay_min;
   if (p.num_size == 2) t.zeros.push_back({{1.0, g.zero_min}, 1});
-  if (p.den_size > 1) t.poles.push_back({sim::Polynomial(p.den.begin(), p.den.begin() + p.den_size), 1});
+  if (p.den_size > 1)
+    t.poles.push_back({sim::Polynomial(p.den.begin(), p.den.begin() + p.den_size), 1});
   return t;
 }
 
@@ -237,7 +241,8 @@ void simulate(const sim::DiscreteTerm& g, std::span<const double> u, std::span<d
 LagTaps lag_taps(const ElementModel& g, double sample_time_min, std::size_t first_lag) {
   const sim::DiscreteTerm d = discretise(g, sample_time_min);
   LagTaps t;
-  for (std::size_t i = 1; i < static_cast<std::size_t>(d.na) && i <= kMaxPoles; ++i) t.a[i - 1] = d.a[i];
+  for (std::size_t i = 1; i < static_cast<std::size_t>(d.na) && i <= kMaxPoles; ++i)
+    t.a[i - 1] = d.a[i];
   for (int i = 0; i < d.nb; ++i) {
     const auto lag = static_cast<std::size_t>(d.delay_samples + i);
     if (lag >= first_lag && lag < first_lag + kLagWindow)

@@ -6,7 +6,8 @@
 //   first_order            K e^{−s Td} / (1 + s T1)
 //   two_poles              K e^{−s Td} / ((1 + s T1)(1 + s T2))               — (6.1.1)
 //   two_poles_zero         K (1 + s Tz) e^{−s Td} / ((1 + s T1)(1 + s T2))    — Tz > 0 lead/lag,
-//                                                                               Tz < 0 inverse response
+//                                                                               Tz < 0 inverse
+//                                                                               response
 //   integrator             K e^{−s Td} / (s (1 + s T1))                       — K per minute
 //   underdamped            K e^{−s Td} / (Tn² s² + 2ζ Tn s + 1)                — 0 < ζ ≤ 1
 //   underdamped_lag_zero   K (1 + s Tz) e^{−s Td} / ((1 + s T1)(Tn² s² + 2ζ Tn s + 1))

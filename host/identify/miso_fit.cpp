@@ -43,7 +43,8 @@ class ParameterMap {
   ElementModel element(const Eigen::VectorXd& x, Eigen::Index e) const {
     ElementModel g = templates_[static_cast<std::size_t>(e)];
     const std::span<const int> f = free(e);
-    for (std::size_t k = 0; k < f.size(); ++k) g[f[k]] = x(offset(e) + static_cast<Eigen::Index>(k));
+    for (std::size_t k = 0; k < f.size(); ++k)
+      g[f[k]] = x(offset(e) + static_cast<Eigen::Index>(k));
     return g;
   }
   ElementModel unit_element(const Eigen::VectorXd& x, Eigen::Index e) const {

@@ -45,6 +45,7 @@ struct MisoResult {
 MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                     const std::vector<int>& inputs, std::vector<ElementModel> initial, double T_min,
                     const MisoBounds& bounds, int max_iterations, const SampleLayout& layout,
-                    const Eigen::MatrixXd& trend, double cost_tolerance = LmOptions{}.cost_tolerance);
+                    const Eigen::MatrixXd& trend,
+                    double cost_tolerance = LmOptions{}.cost_tolerance);
 
 }  // namespace excite::host

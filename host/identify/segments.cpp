@@ -101,8 +101,7 @@ void all_pole_filter_segments(const std::array<double, kMaxPoles>& a, std::span<
                               const std::vector<Segment>& segments) {
   for (const Segment& s : segments) {
     all_pole_filter(
-        a,
-        x.subspan(static_cast<std::size_t>(s.begin), static_cast<std::size_t>(s.end - s.begin)));
+        a, x.subspan(static_cast<std::size_t>(s.begin), static_cast<std::size_t>(s.end - s.begin)));
   }
 }
 

@@ -30,7 +30,8 @@ Eigen::Index parameter_count(const std::vector<ElementEstimate>& elements) {
   return p;
 }
 
-double weighted_sse(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const SampleLayout& layout) {
+double weighted_sse(const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                    const SampleLayout& layout) {
   return (a - b).cwiseProduct(layout.weight).squaredNorm();
 }
 
@@ -135,8 +136,8 @@ MisoResult leave_local_optima(const Eigen::MatrixXd& U, const Eigen::VectorXd& y
     const double whole = std::round(td / T_min);
     if (whole < 1.0 || std::abs(td - whole * T_min) > kDelayKink * T_min) continue;
     std::vector<ElementModel> start = current_values(current);
-    start[e].delay_min = td < whole * T_min ? (whole + kDelayKink) * T_min
-                                            : (whole - kDelayKink) * T_min;
+    start[e].delay_min =
+        td < whole * T_min ? (whole + kDelayKink) * T_min : (whole - kDelayKink) * T_min;
     start[e] = clamped(start[e], bounds);
     try_from(start);
   }
@@ -146,7 +147,8 @@ MisoResult leave_local_optima(const Eigen::MatrixXd& U, const Eigen::VectorXd& y
 
 }  // namespace
 
-double row_criterion(double sse, double y_energy, Eigen::Index scored_rows, Eigen::Index parameters) {
+double row_criterion(double sse, double y_energy, Eigen::Index scored_rows,
+                     Eigen::Index parameters) {
   const auto M = static_cast<double>(std::max<Eigen::Index>(scored_rows, 1));
   const double floor = kSseFloor * y_energy;
   return M * std::log(std::max({sse, floor, std::numeric_limits<double>::min()}) / M) +
@@ -232,7 +234,7 @@ MisoResult choose_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                              const Eigen::MatrixXd& trend, const StructureSearch& search) {
   if (search.forced == Structure::two_poles) {
     return leave_local_optima(U, y, inputs, std::move(two_poles), T_min, bounds, layout, trend,
-                         search.max_iterations);
+                              search.max_iterations);
   }
   const Eigen::VectorXd y_scored = layout.scored_rows(y);
   const double energy = (y_scored.array() - y_scored.mean()).matrix().squaredNorm();
@@ -246,22 +248,22 @@ MisoResult choose_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
   };
   // Element e's part of the output under `fit`: y minus the other elements and the trend.
   const auto part_of = [&](const MisoResult& fit, std::size_t e) -> Eigen::VectorXd {
-    return y - fit.y_hat +
-           element_part(U, inputs[e], fit.elements[e].value, T_min, layout);
+    return y - fit.y_hat + element_part(U, inputs[e], fit.elements[e].value, T_min, layout);
   };
 
   if (search.forced) {
     std::vector<ElementModel> start;
     for (std::size_t e = 0; e < inputs.size(); ++e) {
-      start.push_back(fit_alone(U, part_of(two_poles, e), inputs[e],
-                                structure_starts(two_poles.elements[e].value, *search.forced, bounds),
-                                T_min, bounds, layout)
-                          .element);
+      start.push_back(
+          fit_alone(U, part_of(two_poles, e), inputs[e],
+                    structure_starts(two_poles.elements[e].value, *search.forced, bounds), T_min,
+                    bounds, layout)
+              .element);
     }
     MisoResult forced = refit(start);
     forced.iterations += two_poles.iterations;
     return leave_local_optima(U, y, inputs, std::move(forced), T_min, bounds, layout, trend,
-                         search.max_iterations);
+                              search.max_iterations);
   }
 
   MisoResult current = std::move(two_poles);
@@ -336,7 +338,7 @@ MisoResult choose_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
   }
   current.iterations = iterations;
   return leave_local_optima(U, y, inputs, std::move(current), T_min, bounds, layout, trend,
-                       search.max_iterations);
+                            search.max_iterations);
 }
 
 }  // namespace excite::host

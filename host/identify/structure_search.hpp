@@ -9,13 +9,17 @@
 // output error by a factor e^{ln M / M} each (0.06 % per parameter at M = 15 000), and on
 // noise-free data every structure that fits to rounding ties, so the fewest parameters win.
 //
-// The search, per row, greedy: for each element in turn, its part of the output (the output
-// minus the other elements' simulated parts and the trend) is fitted alone in every other
-// structure from starts derived from its current parameters (structure_starts()); the
-// structure that lowers that part's BIC most is tried for the whole row (all elements refitted
-// jointly from there) and kept when the row's BIC falls. Passes repeat until no element
-// changes (at most three). A forced structure (--structure) fits every element in it from the
-// same starts, the best end kept.
+// The search, per row, greedy: each element's part of the output (the output minus the other
+// elements' simulated parts and the trend) is fitted alone in every other structure from
+// starts derived from its current parameters (structure_starts()); the structure that lowers
+// that part's BIC most by more than 2 is a candidate. The largest candidate alone and all
+// together are refitted with the whole row, the better kept when the row's BIC falls by more
+// than 2, else the other candidates one at a time. Rounds repeat until no element
+// changes (at most six rounds). A forced structure (--structure) fits every element in it
+// from the same starts, the best end kept. Last, on every path, two local optima the search
+// does not leave are tried from their other side (structure_search.cpp, leave_local_optima):
+// a weak element (|K| < 5 SE) from either sign with its row's slowest lag, and a delay within
+// 0.05 T of a whole sample from across that kink.
 
 #include <Eigen/Dense>
 #include <optional>
@@ -32,7 +36,8 @@ std::vector<ElementModel> structure_starts(const ElementModel& g, Structure s,
                                            const MisoBounds& bounds);
 
 /// The row's BIC (above) for a fit with the given output error.
-double row_criterion(double sse, double y_energy, Eigen::Index scored_rows, Eigen::Index parameters);
+double row_criterion(double sse, double y_energy, Eigen::Index scored_rows,
+                     Eigen::Index parameters);
 
 struct StructureSearch {
   std::optional<Structure> forced;  // every element in this structure; nullopt: chosen per element

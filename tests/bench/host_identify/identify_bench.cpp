@@ -59,9 +59,9 @@ excite::sim::TransferMatrix sopdt_matrix() {
   excite::sim::TransferMatrix g(4, 4);
   const auto elements = excite::host::testing::stripper_like_4x4();
   for (int k = 0; k < 16; ++k) {
-    g.set_element(
-        k / 4, k % 4,
-        excite::sim::Element({excite::host::to_term(elements[static_cast<std::size_t>(k)], 1.0)}, ""));
+    g.set_element(k / 4, k % 4,
+                  excite::sim::Element(
+                      {excite::host::to_term(elements[static_cast<std::size_t>(k)], 1.0)}, ""));
   }
   return g;
 }

@@ -50,9 +50,9 @@ bool in_structure(const sim::Element& e) {
     real += pole.imag() == 0.0 ? 1 : 0;
   }
   const int complex = t.denominator_degree() - real;
-  if (complex == 0) return t.denominator_degree() <= 2;        // first order … two poles, zero
+  if (complex == 0) return t.denominator_degree() <= 2;  // first order … two poles, zero
   if (t.denominator_degree() == 2) return t.numerator_degree() == 0;  // underdamped
-  return real == 1;                                              // underdamped_lag_zero
+  return real == 1;                                                   // underdamped_lag_zero
 }
 
 double median(std::vector<double> v) {

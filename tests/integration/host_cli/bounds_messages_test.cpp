@@ -127,7 +127,9 @@ TEST_F(Bounds, StepCsvDefaultHorizonIsBoundedAndNamesTheElement) {
     const Result r =
         excite("export " + path("slow.json") + " --format step-csv -o " + path("s.csv"));
     EXPECT_EQ(r.exit_code, 1) << r.out;
-    EXPECT_TRUE(contains(r.out, path("slow.json") + ": element y2 <- u1: settling time Td + 7 (Tp1 + Tp2 + Tn/zeta + |Tz|) ="))
+    EXPECT_TRUE(contains(
+        r.out, path("slow.json") +
+                   ": element y2 <- u1: settling time Td + 7 (Tp1 + Tp2 + Tn/zeta + |Tz|) ="))
         << r.out;
     EXPECT_TRUE(contains(r.out, "expected at most 1048576 samples")) << r.out;
     EXPECT_FALSE(fs::exists(path("s.csv")));

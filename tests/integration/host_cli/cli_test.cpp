@@ -512,7 +512,8 @@ TEST_F(ExciteCli, ExportWritesEveryFormatOfAnIdentifiedModel) {
   const Result not_a_model =
       excite("export " + path("not-a-model.json") + " --format json -o " + path("y"));
   EXPECT_EQ(not_a_model.exit_code, 1);
-  EXPECT_NE(not_a_model.out.find("format: expected \"excite model v2\" or \"excite model v1\""), std::string::npos)
+  EXPECT_NE(not_a_model.out.find("format: expected \"excite model v2\" or \"excite model v1\""),
+            std::string::npos)
       << not_a_model.out;
   EXPECT_FALSE(std::filesystem::exists(path("y")));
 }
@@ -547,7 +548,8 @@ TEST_F(ExciteCli, IdentifiedStructuresGradesAndBandsTravelThroughTheModelFileAnd
   const auto two = nlohmann::json::parse(forced.out.substr(forced.out.find('{')));
   EXPECT_LT(two["outputs"][3]["fit"].get<double>() + 1.0, model["outputs"][3]["fit"].get<double>());
 
-  ASSERT_EQ(excite("export " + path("m.json") + " --format json -o " + path("t.json")).exit_code, 0);
+  ASSERT_EQ(excite("export " + path("m.json") + " --format json -o " + path("t.json")).exit_code,
+            0);
   const auto t = nlohmann::json::parse(std::ifstream(path("t.json")));
   const auto& e = t["elements"][3][1];
   EXPECT_EQ(e["structure"], "underdamped_lag_zero");
@@ -576,7 +578,8 @@ TEST_F(ExciteCli, IdentifiedStructuresGradesAndBandsTravelThroughTheModelFileAnd
   for (std::size_t k = header + 1; k < lines.size(); ++k) {
     std::stringstream row(lines[k]);
     std::vector<double> v;
-    for (std::string f; std::getline(row, f, ',');) v.push_back(f.empty() ? std::nan("") : std::stod(f));
+    for (std::string f; std::getline(row, f, ',');)
+      v.push_back(f.empty() ? std::nan("") : std::stod(f));
     ASSERT_EQ(v.size(), 2U + 16U * 3U) << lines[k];
     for (std::size_t c = 2; c < v.size(); c += 3) {  // s, s − 2σ, s + 2σ
       EXPECT_LE(v[c + 1], v[c]) << lines[k];

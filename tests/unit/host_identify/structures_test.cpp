@@ -67,7 +67,8 @@ TEST(ElementStructures, EachSimulatesAsThePlantElementWrittenInThePlantsSyntax) 
        make(Structure::two_poles_zero,
             {{kGain, 2.0}, {kDelay, 1.5}, {kTp1, 20.0}, {kTp2, 5.0}, {kZero, -8.0}})},
       {"3 e^-0.7s / (17.4s^2+3s+1)",
-       make(Structure::underdamped, {{kGain, 3.0}, {kDelay, 0.7}, {kNatural, kTn}, {kDamping, kZeta}})},
+       make(Structure::underdamped,
+            {{kGain, 3.0}, {kDelay, 0.7}, {kNatural, kTn}, {kDamping, kZeta}})},
       {"14(10s+1) e^-0.02s / ((45s+1)(17.4s^2+3s+1))",
        make(Structure::underdamped_lag_zero, {{kGain, 14.0},
                                               {kDelay, 0.02},
@@ -90,8 +91,7 @@ TEST(ElementStructures, EachSimulatesAsThePlantElementWrittenInThePlantsSyntax) 
 // K e^{−s Td} / (s (1 + s T1)): after the lag has settled the step response is a ramp of
 // slope K, delayed by Td + T1.
 TEST(ElementStructures, AnIntegratorsStepResponseIsARampOfSlopeK) {
-  const ElementModel g =
-      make(Structure::integrator, {{kGain, 0.25}, {kDelay, 2.5}, {kTp1, 4.0}});
+  const ElementModel g = make(Structure::integrator, {{kGain, 0.25}, {kDelay, 2.5}, {kTp1, 4.0}});
   const Eigen::VectorXd y = response(discretise(g, 1.0), Eigen::VectorXd::Ones(200));
   for (int k = 100; k < 200; ++k) {
     EXPECT_NEAR(y(k), 0.25 * (k - 2.5 - 4.0), 1e-9) << k;
@@ -147,7 +147,8 @@ TEST_P(OwnStructure, NoiseFreeEveryElementIsIdentifiedInItsOwnStructure) {
     EXPECT_GE(r.fits[j].fit_percent, 99.9) << "output " << j + 1;
   }
   for (std::size_t k = 0; k < c.structures.size(); ++k) {
-    EXPECT_EQ(to_string(r.model.elements[k].value.structure), std::string(to_string(c.structures[k])))
+    EXPECT_EQ(to_string(r.model.elements[k].value.structure),
+              std::string(to_string(c.structures[k])))
         << "element (" << k / static_cast<std::size_t>(r.model.inputs) + 1 << ", "
         << k % static_cast<std::size_t>(r.model.inputs) + 1 << ")";
   }
@@ -160,8 +161,8 @@ INSTANTIATE_TEST_SUITE_P(
                       LibraryCase{"column2x2", {F, Z, F, Z}},
                       LibraryCase{"heatex2x2", {Z, P, P, Z}},
                       LibraryCase{"alatiqi4x4", {P, P, F, F, F, F, P, F, P, P, F, F, P, L, P, P}},
-                      LibraryCase{"twoweak4x4", {P, P, F, F, F, P, F, P, P, P, P, F, F, P, F, F},
-                                  60.0}),
+                      LibraryCase{
+                          "twoweak4x4", {P, P, F, F, F, P, F, P, P, P, P, F, F, P, F, F}, 60.0}),
     [](const ::testing::TestParamInfo<LibraryCase>& p) { return std::string(p.param.plant); });
 
 // --structure forces one: on alatiqi4x4, whose element (4,2) has a lead and an oscillating
@@ -170,14 +171,16 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(ForcedStructure, TwoPolesEverywhereCannotFitAlatiqiRowFourTheChosenOnesCan) {
   const PriorKnowledge prior = case_study("alatiqi4x4");
   const Design design = design_preset(prior, find_preset("prbsUnc"), 0);
-  const Eigen::MatrixXd Y = sim::DiscretePlant(sim::library_plant("alatiqi4x4"), prior.sample_time_min)
-                                .simulate(design.table);
+  const Eigen::MatrixXd Y =
+      sim::DiscretePlant(sim::library_plant("alatiqi4x4"), prior.sample_time_min)
+          .simulate(design.table);
   IdentifyOptions options;
   options.max_time_constant_min = prior.beta * prior.tau_high_min;
   options.threads = 2;
   options.structure = Structure::two_poles;
   const IdentificationResult forced = identify(design.table, Y, prior.sample_time_min, options);
-  for (const ElementEstimate& e : forced.model.elements) EXPECT_EQ(e.value.structure, Structure::two_poles);
+  for (const ElementEstimate& e : forced.model.elements)
+    EXPECT_EQ(e.value.structure, Structure::two_poles);
   EXPECT_LT(forced.fits[3].fit_percent, 99.0);
   options.structure.reset();
   const IdentificationResult chosen = identify(design.table, Y, prior.sample_time_min, options);
@@ -190,8 +193,10 @@ TEST(StructureCriterion, ExtraParametersMustPayForThemselves) {
   EXPECT_EQ(row_criterion(1e-20, 1.0, 1000, 4) - row_criterion(1e-25, 1.0, 1000, 4), 0.0);
   // One more parameter at M = 1000 must lower the error by more than a factor e^{ln M / M}.
   const double factor = std::exp(std::log(1000.0) / 1000.0);
-  EXPECT_LT(row_criterion(1.0 / factor * 0.999, 100.0, 1000, 4), row_criterion(1.0, 100.0, 1000, 3));
-  EXPECT_GT(row_criterion(1.0 / factor * 1.001, 100.0, 1000, 4), row_criterion(1.0, 100.0, 1000, 3));
+  EXPECT_LT(row_criterion(1.0 / factor * 0.999, 100.0, 1000, 4),
+            row_criterion(1.0, 100.0, 1000, 3));
+  EXPECT_GT(row_criterion(1.0 / factor * 1.001, 100.0, 1000, 4),
+            row_criterion(1.0, 100.0, 1000, 3));
 }
 
 }  // namespace
