@@ -42,6 +42,32 @@ multisine::GuillaumeOptions snow_options() {
   return options;
 }
 
+// The Guillaume optimiser's run, as `excite design` shows it (issue 23 §2): its L_p
+// schedule, and each channel's crest factor on the optimisation grid from the Schroeder
+// start to the result (the optimiser lowers the worst channel's, the objective of
+// guillaume.hpp), with the evaluations it took.
+multisine::MultisineSet optimised(const multisine::MultisineSet& start,
+                                  const multisine::GuillaumeOptions& options, Composition& comp) {
+  multisine::GuillaumeReport report;
+  multisine::MultisineSet set = multisine::guillaume(start, options, &report);
+  std::string schedule, channels;
+  for (const double p : options.norms) schedule += format("%s%g", schedule.empty() ? "" : ", ", p);
+  double worst_start = 0.0, worst_final = 0.0;
+  for (std::size_t c = 0; c < report.cf_final.size(); ++c) {
+    channels +=
+        format("%s%.3f -> %.3f", c == 0 ? "" : ", ", report.cf_start[c], report.cf_final[c]);
+    worst_start = std::max(worst_start, report.cf_start[c]);
+    worst_final = std::max(worst_final, report.cf_final[c]);
+  }
+  comp.notes.push_back(format(
+      "Guillaume optimiser: L_p norms p = %s, %d L-BFGS iterations each, %u-point grid, %d "
+      "evaluations; worst channel's crest factor %.3f -> %.3f; per channel (Schroeder start -> "
+      "result) %s",
+      schedule.c_str(), options.iterations_per_norm, report.grid, report.evaluations, worst_start,
+      worst_final, channels.c_str()));
+  return set;
+}
+
 std::string snow_note() {
   return format(" with %u high snow slots per channel (at most %.0f %% of the band power)",
                 kHighSnowSlots, 100.0 * kSnowPowerFraction);
@@ -130,7 +156,7 @@ multisine::MultisineSet zippered(bool guillaume, const DesignContext& ctx, Compo
   // Guillaume: high snow slots whose amplitudes and phases the optimiser chooses (Table 4.4).
   const std::uint32_t snow = guillaume ? kHighSnowSlots : 0U;
   multisine::MultisineSet set = multisine::zippered_set(md.period, {n, 0, md.lines, snow, 1.0});
-  if (guillaume) set = multisine::guillaume(set, snow_options());
+  if (guillaume) set = optimised(set, snow_options(), comp);
   comp.notes.push_back(format("zippered (4.4.18), %s phases%s: continuous crest factors %s",
                               guillaume ? "Guillaume" : "Schroeder",
                               guillaume ? snow_note().c_str() : "", crest_factors(set).c_str()));
@@ -151,7 +177,7 @@ void sequential(bool guillaume, const DesignContext& ctx, Composition& comp) {
       fitted_request(request(ctx, 0), 1, slot, "standard multisine (4.4.27)", comp));
   comp.notes.insert(comp.notes.end(), md.explanation.begin(), md.explanation.end());
   multisine::MultisineSet set = multisine::standard_set(1, md.period, 1, md.lines, 1.0);
-  if (guillaume) set = multisine::guillaume(set, {});
+  if (guillaume) set = optimised(set, {}, comp);
   comp.notes.push_back(format("standard multisine (A2), %s phases: continuous crest factor %s",
                               guillaume ? "Guillaume" : "Schroeder", crest_factors(set).c_str()));
   std::vector<Line> lines = set.channels[0];
@@ -214,7 +240,7 @@ void modified_zippered(const DesignContext& ctx, Composition& comp) {
                                            std::sqrt(static_cast<double>(set.shared.size()))));
     }
   }
-  set = multisine::guillaume(set, snow_options());
+  set = optimised(set, snow_options(), comp);
   const std::string sizes =
       ctx.prior.sized_by_static_output()
           ? std::string(

@@ -200,8 +200,9 @@ TEST_F(WoodBerryCampaign, ReportShowsEveryModelsQualityAndLinksItsRunAndModel) {
     EXPECT_NE(html.find("href='runs/" + e.name + "/run.csv'"), std::string::npos) << e.name;
     EXPECT_NE(html.find("href='models/" + e.name + ".json'"), std::string::npos) << e.name;
   }
-  for (const char* text : {"linearised propagation", "±2.58/√N", "median", "K [CV unit per MV",
-                           "T<sub>d</sub> [min]", "duration [h min]", "15 h 45 min"}) {
+  for (const char* text :
+       {"linearised propagation", "±2.58/√N", "median", "K [CV unit per MV",
+        "CF per input, period [–]", "T<sub>d</sub> [min]", "duration [h min]", "15 h 45 min"}) {
     EXPECT_NE(html.find(text), std::string::npos) << text;
   }
   // Every parameter with its standard error: "12.8 ± 0.02"-like cells for every element.

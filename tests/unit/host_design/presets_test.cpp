@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <cmath>
 #include <utility>
 
@@ -232,6 +234,29 @@ TEST(Presets, SequentialMultisinesPlayOneChannelPerSlotContinuingThePeriod) {
                   0.01 * whole.channels[i].crest_factor)
           << seq << " " << i;
     }
+  }
+}
+
+// Issue 23 §2: `excite design` shows the optimiser's run — its L_p schedule and every
+// channel's crest factor from the Schroeder start to the result — and the result is lower.
+TEST(Presets, GuillaumeDesignsSayTheOptimisersRunWhichLowersTheWorstChannel) {
+  for (const char* name : {"msGlmZipm", "msGlmSim", "msGlmSeq"}) {
+    const Design d = design(name);
+    std::string note;
+    for (const std::string& n : d.notes) {
+      if (n.rfind("Guillaume optimiser:", 0) == 0) note = n;
+    }
+    ASSERT_FALSE(note.empty()) << name;
+    EXPECT_NE(note.find("p = 4, 8, 16, 32, 64, 128, 256, 512"), std::string::npos) << note;
+    double start = 0.0, result = 0.0;
+    const std::size_t at = note.find("worst channel's crest factor ");
+    ASSERT_NE(at, std::string::npos) << note;
+    ASSERT_EQ(
+        std::sscanf(note.c_str() + at, "worst channel's crest factor %lf -> %lf", &start, &result),
+        2)
+        << note;
+    EXPECT_LT(result, start - 0.2) << note;
+    EXPECT_GT(result, 1.0) << note;
   }
 }
 
