@@ -31,11 +31,18 @@ inline SegmentedRun read_segmented_run(const std::string& path, const FlagRule& 
   return run;
 }
 
+/// Rows of `s` that `layout` scores.
+inline Eigen::Index scored_in(const SampleLayout& layout, const Segment& s) {
+  Eigen::Index n = 0;
+  for (Eigen::Index k = s.begin; k < s.end; ++k) n += layout.weight(k) > 0.0 ? 1 : 0;
+  return n;
+}
+
 /// Segments that hold scored rows (dropped ones hold none).
 inline std::vector<Segment> scored_segments(const SampleLayout& layout) {
   std::vector<Segment> out;
   for (const Segment& s : layout.segments) {
-    if (layout.weight.segment(s.begin, s.end - s.begin).sum() > 0.0) out.push_back(s);
+    if (scored_in(layout, s) > 0) out.push_back(s);
   }
   return out;
 }

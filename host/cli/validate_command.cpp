@@ -73,11 +73,10 @@ void validate_run(const ValidateOptions& opt) {
     for (const Segment& s : segments) {
       nlohmann::json f = nlohmann::json::array();
       for (const double v : scored_fits(run, Y_hat, s.begin, s.end)) f.push_back(to_json(v));
-      per.push_back(
-          {{"first_row", s.begin + 1},
-           {"rows", s.end - s.begin},
-           {"scored_rows", run.data.layout.weight.segment(s.begin, s.end - s.begin).sum()},
-           {"fit", f}});
+      per.push_back({{"first_row", s.begin + 1},
+                     {"rows", s.end - s.begin},
+                     {"scored_rows", scored_in(run.data.layout, s)},
+                     {"fit", f}});
     }
     j["segments"] = per;
     std::cout << j.dump(2) << '\n';
@@ -92,9 +91,9 @@ void validate_run(const ValidateOptions& opt) {
     TextTable per(header);
     for (std::size_t k = 0; k < segments.size(); ++k) {
       const Segment& s = segments[k];
-      std::vector<std::string> row{
-          std::to_string(k + 1), std::to_string(s.begin + 1), std::to_string(s.end - s.begin),
-          num(run.data.layout.weight.segment(s.begin, s.end - s.begin).sum(), 6)};
+      std::vector<std::string> row{std::to_string(k + 1), std::to_string(s.begin + 1),
+                                   std::to_string(s.end - s.begin),
+                                   std::to_string(scored_in(run.data.layout, s))};
       for (const double v : scored_fits(run, Y_hat, s.begin, s.end)) row.push_back(num(v));
       per.add_row(row);
     }
