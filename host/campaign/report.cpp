@@ -139,9 +139,12 @@ std::vector<std::string> convention_lines(const CampaignResult& r) {
       "properties of the excitation and are measured on the noise-free simulated outputs; the "
       "figures on the noisy outputs stand beside them, labelled.");
   lines.push_back(
-      "Crest factors: 'CF period' over each input's active span (its whole periods), 'CF "
-      "experiment' over the whole experiment; a sequential multisine plays each channel for "
-      "one of n periods, so its experiment CF is √n times its period CF.");
+      "Crest factors: 'CF period' over each input's active span (first to last non-zero "
+      "sample: its slot in a sequential design, else the whole experiment), per input and "
+      "averaged; 'CF experiment' over the whole experiment. Every design lasts the same "
+      "number of samples (SPEC §4); a sequential multisine plays each channel alone in one of "
+      "n slots, its periodic signal continued through the slot, so its experiment CF is about "
+      "√n times its slot's");
   return lines;
 }
 
