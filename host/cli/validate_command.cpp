@@ -2,8 +2,10 @@
 // excite validate MODEL RUN.csv [--json]: fit % (5.5.1) of a model on other data; a log with
 // flagged rows is scored per segment by identify's rule (segmented_run.hpp), overall and per
 // segment.
-// excite crossval RUN.csv RUN.csv… [--json]: every run's model on every other run (SPEC §6).
+// excite crossval RUN.csv RUN.csv… [--json]: every run's model on every other run (SPEC §6),
+// every run identified and scored per segment by identify's flags rule.
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -109,45 +111,90 @@ struct CrossvalOptions {
   TimeConstantBoundOptions bound;
 };
 
+// Fit % of `model` on `run`, averaged over the outputs, over the run's scored rows, the
+// model from rest at every segment's start (NaN propagates, as in cross_validate).
+double average_scored_fit(const IdentifiedModel& model, const SegmentedRun& run) {
+  const Eigen::MatrixXd Y_hat = simulate_per_segment(model, run.data.U, run.data.layout);
+  const std::vector<double> fits = scored_fits(run, Y_hat, 0, run.data.U.rows());
+  double sum = 0.0;
+  for (const double v : fits) sum += v;
+  return sum / static_cast<double>(fits.size());
+}
+
+// Every run identified by identify's flags rule and every model scored on every run's scored
+// rows per segment (issue 23 §4); unflagged runs give what cross_validate gave.
 void crossval(const CrossvalOptions& opt) {
   std::vector<IdentifiedModel> models;
-  std::vector<Dataset> data;
+  std::vector<SegmentedRun> runs;
   std::vector<std::string> names;
   ModelChannels first;  // every run must have the first run's channels, in its order
   for (const std::string& path : opt.runs) {
-    const Run r = read_run(path);
+    runs.push_back(read_segmented_run(path));
+    const SegmentedRun& r = runs.back();
     if (path == opt.runs.front()) {
       first = {r.log.input_names, r.log.output_names};
     } else {
       check_same_channels(first, opt.runs.front(), r.log.input_names, r.log.output_names, path);
+      if (r.data.sample_time_min != runs.front().data.sample_time_min) {
+        throw std::invalid_argument(path + ": sample_time_min = " + num(r.data.sample_time_min, 6) +
+                                    ", " + opt.runs.front() + "'s is " +
+                                    num(runs.front().data.sample_time_min, 6) + "; expected equal");
+      }
+    }
+    if (needs_warning(r.data.report)) {
+      std::cerr << "excite: warning: " << path << ": " << layout_summary(r.data.report, 1) << '\n';
     }
     IdentifyOptions options;
     options.threads = opt.threads;
     options.max_time_constant_min =
         time_constant_bound(opt.bound, {{path, r.log.plant, r.log.time_scales}}).first;
-    models.push_back(identify(r.data.U, r.data.Y, r.data.sample_time_min, options).model);
+    models.push_back(
+        identify(r.data.U, r.data.Y, r.data.sample_time_min, r.data.layout, options).model);
     names.push_back(std::filesystem::path(path).stem().string());
-    data.push_back({names.back(), r.data.U, r.data.Y});
     std::cerr << "identified " << path << '\n';
   }
-  const CrossValidation cv = cross_validate(models, data);
+  const auto R = static_cast<Eigen::Index>(models.size());
+  Eigen::MatrixXd fit(R, R);
+  for (Eigen::Index a = 0; a < R; ++a) {
+    for (Eigen::Index b = 0; b < R; ++b) {
+      fit(a, b) = average_scored_fit(models[static_cast<std::size_t>(a)],
+                                     runs[static_cast<std::size_t>(b)]);
+    }
+  }
+  struct PerModel {
+    double own = 0.0, average = 0.0, best = -INFINITY, worst = INFINITY;
+    int worst_on = -1;
+  };
+  std::vector<PerModel> per(models.size());
+  for (Eigen::Index a = 0; a < R; ++a) {
+    PerModel& m = per[static_cast<std::size_t>(a)];
+    m.own = fit(a, a);
+    double sum = 0.0;
+    for (Eigen::Index b = 0; b < R; ++b) {
+      if (b == a) continue;
+      sum += fit(a, b);
+      m.best = std::max(m.best, fit(a, b));
+      if (fit(a, b) < m.worst) m.worst = fit(a, b), m.worst_on = static_cast<int>(b);
+      if (std::isnan(fit(a, b))) m.best = m.worst = std::nan("");
+    }
+    m.average = sum / static_cast<double>(R - 1);
+  }
   if (opt.json) {
     nlohmann::json j = nlohmann::json::array();
     for (std::size_t a = 0; a < models.size(); ++a) {
-      const auto& m = cv.models[a];
       j.push_back({{"name", names[a]},
-                   {"fit_own", to_json(m.own)},
-                   {"crossfit_avg", to_json(m.cross_average)},
-                   {"crossfit_best", to_json(m.cross_best)},
-                   {"crossfit_worst", to_json(m.cross_worst)}});
+                   {"fit_own", to_json(per[a].own)},
+                   {"crossfit_avg", to_json(per[a].average)},
+                   {"crossfit_best", to_json(per[a].best)},
+                   {"crossfit_worst", to_json(per[a].worst)}});
     }
-    std::cout << nlohmann::json{{"models", j}, {"fit", rows_to_json(cv.fit)}}.dump(2) << '\n';
+    std::cout << nlohmann::json{{"models", j}, {"fit", rows_to_json(fit)}}.dump(2) << '\n';
     return;
   }
   TextTable t({"model", "own fit %", "cross avg %", "best %", "worst %", "worst on"});
   for (std::size_t a = 0; a < models.size(); ++a) {
-    const auto& m = cv.models[a];
-    t.add_row({names[a], num(m.own), num(m.cross_average), num(m.cross_best), num(m.cross_worst),
+    const PerModel& m = per[a];
+    t.add_row({names[a], num(m.own), num(m.average), num(m.best), num(m.worst),
                m.worst_on >= 0 ? names[static_cast<std::size_t>(m.worst_on)] : "-"});
   }
   t.print(std::cout);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// validate and balance on a run log with a plant restart in it (issue 23 §4): they used to
-// refuse a row flagged discontinuity; they now work per segment by identify's rule
+// validate, balance and crossval on a run log with a plant restart in it (issue 23 §4): they used
+// to refuse a row flagged discontinuity; they now work per segment by identify's rule
 // (host/cli/segmented_run.hpp). The log here is two runs of the same plan joined, the second
 // one's first row flagged discontinuity: per segment they must say what each run alone says.
 
@@ -121,6 +121,22 @@ TEST_F(SegmentedCommands, BalanceMeasuresEachSegmentAboutItsOwnMeanAsEachRunAlon
   EXPECT_LE(joined["ratio"].get<double>(), 1.0);
   // An unflagged log is one segment and gives what balance always gave.
   EXPECT_EQ(a["segments"].size(), 1U);
+}
+
+// crossval takes the joined log too (it refused it), and scores a model on it exactly as
+// validate does: the model of run a on the joined log is validate's average fit.
+TEST_F(SegmentedCommands, CrossvalScoresTheJoinedLogAsValidateDoes) {
+  const nlohmann::json cv = json_of("crossval " + path("a.csv") + " " + path("joined.csv"));
+  const nlohmann::json on_a = json_of("validate " + path("model.json") + " " + path("a.csv"));
+  const nlohmann::json on_joined =
+      json_of("validate " + path("model.json") + " " + path("joined.csv"));
+  const auto average = [](const nlohmann::json& v) {
+    return 0.5 * (v["outputs"][0]["fit"].get<double>() + v["outputs"][1]["fit"].get<double>());
+  };
+  ASSERT_EQ(cv["fit"].size(), 2U) << cv.dump(1);
+  EXPECT_NEAR(cv["fit"][0][0].get<double>(), average(on_a), 1e-6);
+  EXPECT_NEAR(cv["fit"][0][1].get<double>(), average(on_joined), 1e-6);
+  EXPECT_GT(cv["fit"][1][1].get<double>(), 80.0);  // the joined log's own model
 }
 
 }  // namespace
