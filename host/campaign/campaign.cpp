@@ -132,6 +132,27 @@ void cross_validate_parallel(CampaignResult& result, int threads) {
 
 }  // namespace
 
+void check_equal_lengths(const std::vector<std::pair<std::string, Eigen::Index>>& lengths,
+                         bool allow_unequal, const std::function<void(const std::string&)>& say) {
+  bool equal = true;
+  std::string list;
+  for (const auto& [name, rows] : lengths) {
+    equal = equal && rows == lengths.front().second;
+    list += (list.empty() ? "" : ", ") + name + " " + std::to_string(rows);
+  }
+  if (equal) return;
+  if (!allow_unequal) {
+    throw std::invalid_argument(
+        "campaign: the designs differ in length (" + list +
+        " samples); expected every design equally long, so that each is judged on as much "
+        "data as the others (SPEC §4, thesis §6.3); --allow-unequal-length compares them anyway");
+  }
+  if (say) {
+    say("warning: the designs differ in length (" + list +
+        " samples), compared anyway (--allow-unequal-length)");
+  }
+}
+
 CampaignResult run_campaign(const CampaignOptions& options,
                             const std::function<void(const std::string&)>& progress) {
   if (options.threads < 1) {
@@ -197,6 +218,12 @@ CampaignResult run_campaign(const CampaignOptions& options,
     designs[static_cast<std::size_t>(k)] =
         design_preset(prior, all[first_pooled + static_cast<std::size_t>(k)], 0);
   });
+  std::vector<std::pair<std::string, Eigen::Index>> lengths;
+  if (first_pooled == 1)
+    lengths.emplace_back(result.experiments[0].name, result.experiments[0].U.rows());
+  for (std::size_t k = 0; k < designs.size(); ++k)
+    lengths.emplace_back(std::string(all[first_pooled + k].acronym), designs[k].table.rows());
+  check_equal_lengths(lengths, options.allow_unequal_length, say);
   std::vector<int> order(static_cast<std::size_t>(pooled));
   for (int k = 0; k < pooled; ++k) order[static_cast<std::size_t>(k)] = k;
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {

@@ -12,6 +12,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "firmware/plan/plan.hpp"
@@ -46,6 +47,8 @@ struct CampaignOptions {
   std::uint64_t seed = 1;        // experiment e uses seed + e
   DesignGain design_gain = DesignGain::true_gain;
   int threads = 2;  // experiments and cross-validations in parallel (≥ 1)
+  /// Compare designs of different lengths (refused otherwise, naming every length: SPEC §4).
+  bool allow_unequal_length = false;
   /// Where the measured (noisy) runs come from: empty, simulate_plan in this process; set,
   /// the caller's — `excite campaign --loop` streams each plan through the real
   /// excite-gateway to the real excite-plant (host/loop). Called from the pool's threads.
@@ -76,6 +79,13 @@ struct Experiment {
   Balance balance_clean;  // on the noise-free outputs: a property of the excitation
   Balance balance_noisy;  // on the measured (noisy) outputs
 };
+
+/// SPEC §4, thesis §6.3: every experiment as long as every other ("T_L = 4080 min was the
+/// same for all cases"), so that no design's verdict rests on more data. `lengths`: (design,
+/// samples). Unequal lengths throw std::invalid_argument naming every length, unless
+/// `allow_unequal` (then `say` gets a warning with them).
+void check_equal_lengths(const std::vector<std::pair<std::string, Eigen::Index>>& lengths,
+                         bool allow_unequal, const std::function<void(const std::string&)>& say);
 
 struct CampaignResult {
   std::string plant;

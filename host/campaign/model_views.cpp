@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "host/campaign/gnuplot.hpp"
+#include "host/campaign/plot_points.hpp"
 #include "host/export/step_response.hpp"
 #include "host/identify/residuals.hpp"
 #include "host/identify/validate.hpp"
@@ -62,45 +63,47 @@ std::string step_script(const Experiment& e, const CampaignResult& r, const Eige
   std::vector<double> t;
   for (int k = 0; k <= horizon; ++k) t.push_back(k * T);
   const auto [time_label, divisor] = time_axis(horizon * T);
-  const std::string data = e.name + "-steps.dat";  // in the figures folder
-  std::vector<std::vector<double>> columns;        // per element: s, lo, hi
+  const std::string data = source_name(e.name + "-steps.dat");
   std::vector<bool> band_known;
-  for (int o = 0; o < m.outputs; ++o) {
-    for (int i = 0; i < m.inputs; ++i) {
-      const ElementEstimate& est = m.element(o, i);
-      std::vector<double> s(t.size(), std::nan("")), lo = s, hi = s;
-      bool known = false;
-      if (est.estimated()) {
-        const StepBand band = step_band(est, t);
-        known = true;
-        for (std::size_t k = 0; k < t.size(); ++k) {
-          s[k] = band.response[k];
-          const double w = 2.0 * band.sigma[k];
-          if (!std::isfinite(w)) known = false;
-          lo[k] = std::isfinite(w) ? s[k] - w : s[k];
-          hi[k] = std::isfinite(w) ? s[k] + w : s[k];
-        }
-      }
-      columns.push_back(s);
-      columns.push_back(lo);
-      columns.push_back(hi);
-      band_known.push_back(known);
-    }
-  }
   {
+    // Blocks per element el: 3·el the ±2σ band as a closed outline (lower edge forward,
+    // upper edge back), 3·el+1 the model's step, 3·el+2 the true step (empty if unknown);
+    // each simplified within half a pixel of its panel.
     std::ostringstream out;
-    for (std::size_t k = 0; k < t.size(); ++k) {
-      out << t[k] / divisor;
-      for (const auto& c : columns) out << ' ' << (std::isfinite(c[k]) ? c[k] : NAN);
-      const auto kk = static_cast<Eigen::Index>(k);
-      for (Eigen::Index c = 0; c < truth.cols(); ++c)
-        out << ' ' << (kk < truth.rows() ? truth(kk, c) : NAN);
-      out << '\n';
+    for (int o = 0; o < m.outputs; ++o) {
+      for (int i = 0; i < m.inputs; ++i) {
+        const ElementEstimate& est = m.element(o, i);
+        Polyline band, model, true_step;
+        bool known = false;
+        if (est.estimated()) {
+          const StepBand b = step_band(est, t);
+          known = true;
+          Polyline upper;
+          for (std::size_t k = 0; k < t.size(); ++k) {
+            const double x = t[k] / divisor, s = b.response[k], w = 2.0 * b.sigma[k];
+            if (!std::isfinite(w)) known = false;
+            model.push_back({x, s});
+            band.push_back({x, std::isfinite(w) ? s - w : s});
+            upper.push_back({x, std::isfinite(w) ? s + w : s});
+          }
+          band.insert(band.end(), upper.rbegin(), upper.rend());
+        }
+        const Eigen::Index column = o * m.inputs + i;
+        for (std::size_t k = 0; k < t.size() && column < truth.cols(); ++k) {
+          const auto kk = static_cast<Eigen::Index>(k);
+          if (kk < truth.rows()) true_step.push_back({t[k] / divisor, truth(kk, column)});
+        }
+        const PixelFrame frame = frame_of({band, model, true_step}, 260.0, 210.0);
+        write_block(out, simplify(band, frame));
+        write_block(out, simplify(model, frame));
+        write_block(out, simplify(true_step, frame));
+        band_known.push_back(known);
+      }
     }
-    write_whole_file(figures / data, out.str());
+    write_figure_source(figures, data, out.str());
   }
   const int p = m.outputs, n = m.inputs;
-  const std::string script = e.name + "-steps.gp";
+  const std::string script = source_name(e.name + "-steps.gp");
   std::ostringstream gp;
   gp << "set encoding utf8\nset terminal svg size " << std::max(700, 260 * n) << ','
      << std::max(420, 210 * p + 60) << " dynamic font 'sans,10'\nset output "
@@ -114,7 +117,6 @@ std::string step_script(const Experiment& e, const CampaignResult& r, const Eige
   for (int o = 0; o < p; ++o) {
     for (int i = 0; i < n; ++i) {
       const int el = o * n + i;
-      const int col = 2 + 3 * el;
       gp << "set title "
          << gnuplot_string(
                 name_of(r.output_names, o) + " ← " + name_of(r.input_names, i) +
@@ -123,45 +125,54 @@ std::string step_script(const Experiment& e, const CampaignResult& r, const Eige
          << gnuplot_string(
                 i == 0 ? "s(t) " + gain_unit(unit_of(r.output_units, o), unit_of(r.input_units, i))
                        : "")
-         << "\nplot " << file << " using 1:" << col + 1 << ':' << col + 2
-         << " with filledcurves lc rgb '#a8c4f0' notitle, " << file << " using 1:" << col
-         << " with lines lw 2 lc rgb '#1f4e9c' notitle";
+         << "\nplot " << file << " index " << 3 * el
+         << " with filledcurves closed lc rgb '#a8c4f0' notitle, " << file << " index "
+         << 3 * el + 1 << " with lines lw 2 lc rgb '#1f4e9c' notitle";
       if (truth.size() != 0) {
-        gp << ", " << file << " using 1:" << 2 + 3 * p * n + el
+        gp << ", " << file << " index " << 3 * el + 2
            << " with lines lw 1.5 dt 2 lc rgb 'black' notitle";
       }
       gp << '\n';
     }
   }
   gp << "unset multiplot\n";
-  write_whole_file(figures / script, gp.str());
+  write_figure_source(figures, script, gp.str());
   return script;
 }
 
-// Measured against predicted, one panel per output (at most 2500 points drawn per curve).
+// Measured against predicted, one panel per output; each curve as its panel shows it: the
+// lowest and highest sample per pixel column, simplified within half a pixel.
 std::string fit_script(const Experiment& e, const CampaignResult& r, const Eigen::MatrixXd& Y_hat,
                        const std::filesystem::path& figures) {
+  constexpr int kColumns = 850;  // pixel columns of a panel's plot area (1000 px wide)
   const Eigen::Index N = e.Y.rows();
-  const Eigen::Index every = std::max<Eigen::Index>(1, N / 2500);
   const auto [time_label, divisor] = time_axis(static_cast<double>(N) * e.sample_time_min);
-  const std::string data = e.name + "-fit.dat";  // in the figures folder
+  const std::string data = source_name(e.name + "-fit.dat");
   {
+    // Blocks: 2·o measured, 2·o+1 the model's simulation, per output o.
+    std::vector<double> t;
+    for (Eigen::Index k = 0; k < N; ++k)
+      t.push_back(static_cast<double>(k) * e.sample_time_min / divisor);
     std::ostringstream out;
-    for (Eigen::Index k = 0; k < N; k += every) {
-      out << static_cast<double>(k) * e.sample_time_min / divisor;
-      for (Eigen::Index o = 0; o < e.Y.cols(); ++o) out << ' ' << e.Y(k, o) << ' ' << Y_hat(k, o);
-      out << '\n';
+    for (Eigen::Index o = 0; o < e.Y.cols(); ++o) {
+      const Eigen::VectorXd measured = e.Y.col(o), model = Y_hat.col(o);
+      const std::vector<double> ym(measured.data(), measured.data() + N);
+      const std::vector<double> yp(model.data(), model.data() + N);
+      const Polyline a = min_max_columns(t, ym, kColumns), b = min_max_columns(t, yp, kColumns);
+      const PixelFrame frame = frame_of({a, b}, kColumns, 200.0);
+      write_block(out, simplify(a, frame));
+      write_block(out, simplify(b, frame));
     }
-    write_whole_file(figures / data, out.str());
+    write_figure_source(figures, data, out.str());
   }
   const auto p = static_cast<int>(e.Y.cols());
-  const std::string script = e.name + "-fit.gp";
+  const std::string script = source_name(e.name + "-fit.gp");
   std::ostringstream gp;
   gp << "set encoding utf8\nset terminal svg size 1000," << 180 * p + 80
      << " dynamic font 'sans,10'\nset output " << gnuplot_string(e.name + "-fit.svg")
      << "\nset multiplot layout " << p << ",1 title "
      << gnuplot_string(e.name + ": measured outputs (grey) and the model's simulation (blue)" +
-                       (every > 1 ? ", every " + std::to_string(every) + "th sample drawn" : ""))
+                       (N > 2 * kColumns ? ", min and max per pixel column" : ""))
      << "\nset grid\nset key outside right top\nset xlabel " << gnuplot_string(time_label) << '\n';
   const std::string file = gnuplot_string(data);
   for (int o = 0; o < p; ++o) {
@@ -171,12 +182,12 @@ std::string fit_script(const Experiment& e, const CampaignResult& r, const Eigen
                          axis_unit(unit_of(r.output_units, o)))
        << "\nset title "
        << gnuplot_string(name_of(r.output_names, o) + ": fit " + format("%.1f", fit) + " % (5.5.1)")
-       << "\nplot " << file << " using 1:" << 2 + 2 * o
-       << " with lines lc rgb '#999999' title 'measured', " << file << " using 1:" << 3 + 2 * o
+       << "\nplot " << file << " index " << 2 * o
+       << " with lines lc rgb '#999999' title 'measured', " << file << " index " << 2 * o + 1
        << " with lines lw 1.5 lc rgb '#1f4e9c' title 'model'\n";
   }
   gp << "unset multiplot\n";
-  write_whole_file(figures / script, gp.str());
+  write_figure_source(figures, script, gp.str());
   return script;
 }
 
@@ -186,7 +197,7 @@ std::string residual_script(const Experiment& e, const CampaignResult& r,
   const auto p = static_cast<int>(e.Y.cols());
   const auto n = static_cast<int>(e.U.cols());
   const int L = std::min<int>(kResidualLags, static_cast<int>(e.Y.rows()) - 1);
-  const std::string data = e.name + "-residuals.dat";  // in the figures folder
+  const std::string data = source_name(e.name + "-residuals.dat");
   double limit = 0.0;
   {
     std::vector<ResidualCorrelation> rc;
@@ -208,9 +219,9 @@ std::string residual_script(const Experiment& e, const CampaignResult& r,
       }
       out << '\n';
     }
-    write_whole_file(figures / data, out.str());
+    write_figure_source(figures, data, out.str());
   }
-  const std::string script = e.name + "-residuals.gp";
+  const std::string script = source_name(e.name + "-residuals.gp");
   std::ostringstream gp;
   gp << "set encoding utf8\nset terminal svg size " << 230 * (n + 1) + 40 << ',' << 190 * p + 80
      << " dynamic font 'sans,9'\nset output " << gnuplot_string(e.name + "-residuals.svg")
@@ -219,7 +230,8 @@ std::string residual_script(const Experiment& e, const CampaignResult& r,
                        ": residual autocorrelation (left) and cross-correlation with "
                        "each input; dashed: 99 % limits ±2.58/√N = ±" +
                        format("%.3g", limit))
-     << "\nset grid\nunset key\nset xlabel 'lag [min]'\nset yrange [-1:1]\nset xtics "
+     << "\nset grid\nunset key\nset samples 2\nset xlabel 'lag [min]'\nset yrange [-1:1]\nset "
+        "xtics "
      << tic_step(2.0 * L * e.sample_time_min) << '\n';
   const std::string file = gnuplot_string(data);
   const int per_output = n + 1;
@@ -238,7 +250,7 @@ std::string residual_script(const Experiment& e, const CampaignResult& r,
     }
   }
   gp << "unset multiplot\n";
-  write_whole_file(figures / script, gp.str());
+  write_figure_source(figures, script, gp.str());
   return script;
 }
 

@@ -31,8 +31,9 @@ Eigen::MatrixXd true_unit_steps(sim::Plant& plant, int samples, double sample_ti
 /// bound does not squeeze every other plot; at most the shortest experiment.
 int report_step_horizon(const CampaignResult& r);
 
-/// Writes FIGURES/<name>-steps.gp, -fit.gp, -residuals.gp and their data (each whole,
-/// host/output); returns the scripts' names. `truth` as true_unit_steps gives it (empty:
+/// Writes the scripts of <name>-steps.svg, -fit.svg, -residuals.svg and their data into the
+/// figures' sources (gnuplot.hpp), each curve as its panel shows it (plot_points.hpp);
+/// returns the scripts' names. `truth` as true_unit_steps gives it (empty:
 /// not known).
 std::vector<std::string> write_model_view_scripts(const Experiment& e, const CampaignResult& r,
                                                   const Eigen::MatrixXd& truth, int horizon_samples,

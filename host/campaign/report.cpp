@@ -1,12 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "host/campaign/report.hpp"
 
-#include <Eigen/SVD>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -16,6 +14,7 @@
 #include "host/campaign/gnuplot.hpp"
 #include "host/campaign/model_views.hpp"
 #include "host/campaign/parallel.hpp"
+#include "host/campaign/report_figures.hpp"
 #include "host/output/whole_file.hpp"
 
 namespace excite::host {
@@ -46,162 +45,38 @@ std::string general(double v) {
 }
 
 bool directional(const std::string& name) {
-  return name.ends_with("Dir") || name.find("Corr") != std::string::npos || name == "msGlmZipm";
+  return is_directional_design(name);
 }
 
-// "[unit]" when every channel has the same unit, "[–]" when dimensionless, else "[mixed]".
-std::string common_unit_token(const std::vector<std::string>& units) {
-  if (units.empty()) return "-";
-  for (const std::string& u : units) {
-    if (u != units.front()) return "mixed units";
-  }
-  return units.front();
-}
-std::string common_unit(const std::vector<std::string>& units) {
-  const std::string u = common_unit_token(units);
-  return u == "-" ? "[–]" : "[" + u + "]";
-}
-
-// The identified model's G(jω) from its elements (any structure, element.hpp).
-Eigen::MatrixXcd model_response(const IdentifiedModel& m, double omega) {
-  Eigen::MatrixXcd g(m.outputs, m.inputs);
-  const std::complex<double> s(0.0, omega);
-  for (int o = 0; o < m.outputs; ++o) {
-    for (int i = 0; i < m.inputs; ++i) {
-      const ElementEstimate& e = m.element(o, i);
-      g(o, i) = e.estimated() ? to_term(e.value, m.sample_time_min).frequency_response(omega)
-                              : std::complex<double>(std::numeric_limits<double>::quiet_NaN());
+// Each input's crest factor over its active span (first to last non-zero sample: its slot,
+// or the whole experiment), as the 'CF period' average is taken (host/measures), "–" for an
+// input that does not move.
+std::string per_input_crest_factors(const Eigen::MatrixXd& U) {
+  std::string out;
+  for (Eigen::Index j = 0; j < U.cols(); ++j) {
+    Eigen::Index first = 0, last = U.rows() - 1;
+    while (first < U.rows() && U(first, j) == 0.0) ++first;
+    while (last > first && U(last, j) == 0.0) --last;
+    std::string cf = "–";
+    if (first < U.rows()) {
+      const auto span = U.col(j).segment(first, last - first + 1);
+      const double rms = std::sqrt(span.squaredNorm() / static_cast<double>(span.size()));
+      char buffer[32];
+      std::snprintf(buffer, sizeof buffer, "%.3f", span.cwiseAbs().maxCoeff() / rms);
+      cf = buffer;
     }
+    out += (j ? " " : "") + cf;
   }
-  return g;
+  return out;
 }
 
-// Inputs and outputs of one experiment over time, two panels.
-std::string plot_experiment(const Experiment& e, const CampaignResult& r,
-                            const std::filesystem::path& figures) {
-  const std::string data = e.name + ".dat";  // in the figures folder
-  const auto [time_label, divisor] = time_axis(static_cast<double>(e.U.rows()) * e.sample_time_min);
-  {
-    std::ostringstream out;
-    for (Eigen::Index k = 0; k < e.U.rows(); ++k) {
-      out << static_cast<double>(k) * e.sample_time_min / divisor;
-      for (Eigen::Index j = 0; j < e.U.cols(); ++j) out << ' ' << e.U(k, j);
-      for (Eigen::Index j = 0; j < e.Y.cols(); ++j) out << ' ' << e.Y(k, j);
-      out << '\n';
-    }
-    write_whole_file(figures / data, out.str());
-  }
-  const std::string script = e.name + ".gp";
-  std::ostringstream gp;
-  gp << "set terminal svg size 900,520 dynamic font 'sans,11'\nset output "
-     << gnuplot_string(e.name + ".svg") << "\nset multiplot layout 2,1 title "
-     << gnuplot_string(e.name + ": inputs (top) and outputs (bottom)") << '\n'
-     << "set xlabel " << gnuplot_string(time_label) << "\nset grid\nset key outside right\n"
-     << "set ylabel " << gnuplot_string("Δu " + common_unit(r.input_units)) << '\n';
-  gp << "plot";
-  for (Eigen::Index j = 0; j < e.U.cols(); ++j) {
-    gp << (j ? ", " : " ") << gnuplot_string(data) << " using 1:" << j + 2 << " with steps title "
-       << gnuplot_string(r.input_names[static_cast<std::size_t>(j)]);
-  }
-  gp << "\nset ylabel " << gnuplot_string("Δy " + common_unit(r.output_units)) << "\nplot";
-  for (Eigen::Index j = 0; j < e.Y.cols(); ++j) {
-    gp << (j ? ", " : " ") << gnuplot_string(data) << " using 1:" << e.U.cols() + j + 2
-       << " with lines title " << gnuplot_string(r.output_names[static_cast<std::size_t>(j)]);
-  }
-  gp << "\nunset multiplot\n";
-  write_whole_file(figures / script, gp.str());
-  return script;
-}
-
-// Projections of the noise-free outputs on the strongest and weakest output directions, per
-// experiment, each panel on its own scale (the designs differ by orders of magnitude).
-std::string plot_projections(const CampaignResult& r, const std::filesystem::path& figures) {
-  const Eigen::Index last = r.true_gain.output_directions.cols() - 1;
-  const std::string unit = common_unit(r.output_units);
-  const auto rows = static_cast<int>((r.experiments.size() + 3) / 4);
-  const std::string script = "projections.gp";
-  std::ostringstream gp;
-  gp << "set encoding utf8\nset terminal svg size 1150," << 250 * rows + 60
-     << " dynamic font 'sans,9'\nset output " << gnuplot_string("projections.svg")
-     << "\nset multiplot layout " << rows << ",4 title "
-     << gnuplot_string(
-            "noise-free outputs projected on the true output directions: w_1ᵀy "
-            "(strongest) against w_" +
-            std::to_string(last + 1) + "ᵀy (weakest); each panel on its own scale")
-     << "\nunset key\nset grid\nset xlabel " << gnuplot_string("w_1ᵀy " + unit) << "\nset ylabel "
-     << gnuplot_string("w_" + std::to_string(last + 1) + "ᵀy " + unit)
-     << "\nset format x '%.2g'\nset format y '%.2g'\nset xtics rotate by -30\n";
-  for (const Experiment& e : r.experiments) {
-    const Eigen::MatrixXd p = e.Y_clean * r.true_gain.output_directions;
-    const std::string data = e.name + ".proj";  // in the figures folder
-    std::ostringstream out;
-    for (Eigen::Index k = 0; k < p.rows(); k += std::max<Eigen::Index>(1, p.rows() / 1500)) {
-      out << p(k, 0) << ' ' << p(k, last) << '\n';
-    }
-    write_whole_file(figures / data, out.str());
-    gp << "set title " << gnuplot_string(std::to_string(e.number) + " " + e.name) << "\nplot "
-       << gnuplot_string(data) << " with dots lc rgb '#1f4e9c'\n";
-  }
-  gp << "unset multiplot\n";
-  write_whole_file(figures / script, gp.str());
-  return script;
-}
-
-// Singular values of G(jω): the true plant against every identified model.
-std::string plot_frequency(const CampaignResult& r, const sim::Plant& plant,
-                           const std::filesystem::path& figures) {
-  const std::string data = "sigma.dat";  // in the figures folder
-  {
-    std::ostringstream out;
-    for (int k = 0; k <= 120; ++k) {
-      const double omega = std::pow(10.0, -4.0 + 4.0 * k / 120.0);
-      out << omega;
-      Eigen::JacobiSVD<Eigen::MatrixXcd> truth(plant.frequency_response(omega));
-      for (Eigen::Index i = 0; i < truth.singularValues().size(); ++i)
-        out << ' ' << truth.singularValues()(i);
-      for (const Experiment& e : r.experiments) {
-        Eigen::JacobiSVD<Eigen::MatrixXcd> model(model_response(e.identified.model, omega));
-        const Eigen::VectorXd sv = model.singularValues();
-        for (Eigen::Index i = 0; i < sv.size(); ++i)
-          out << ' ' << (std::isfinite(sv(i)) && sv(i) > 0.0 ? sv(i) : NAN);
-      }
-      out << '\n';
-    }
-    write_whole_file(figures / data, out.str());
-  }
-  // Small multiples: one panel per design, its model's σ_i (colour) over the plant's (black).
-  const Eigen::Index n = r.true_gain.singular_values.size();
-  const auto rows = static_cast<int>((r.experiments.size() + 3) / 4);
-  const std::string script = "sigma.gp";
-  std::ostringstream gp;
-  gp << "set encoding utf8\nset terminal svg size 1150," << 240 * rows + 60
-     << " dynamic font 'sans,9'\nset output " << gnuplot_string("sigma.svg")
-     << "\nset multiplot layout " << rows << ",4 title "
-     << gnuplot_string(
-            "singular values σ_i(G(jω)): true plant (black dashed) over the model of each "
-            "design (blue: directional designs, orange: the others)")
-     << "\nset logscale xy\nset grid\nunset key\nset format x '10^{%L}'\nset format y "
-        "'10^{%L}'\nset xlabel 'ω [rad/min]'\nset ylabel "
-     << gnuplot_string(
-            "σ_i " + gain_unit(common_unit_token(r.output_units), common_unit_token(r.input_units)))
-     << '\n';
-  const std::string file = gnuplot_string(data);
-  for (std::size_t e = 0; e < r.experiments.size(); ++e) {
-    const char* colour = directional(r.experiments[e].name) ? "#3060c0" : "#e08020";
-    gp << "set title "
-       << gnuplot_string(std::to_string(r.experiments[e].number) + " " + r.experiments[e].name)
-       << "\nplot";
-    for (Eigen::Index i = 0; i < n; ++i) {
-      gp << (i ? ", " : " ") << file << " using 1:" << 2 + n + static_cast<Eigen::Index>(e) * n + i
-         << " with lines lw 3 lc rgb '" << colour << "'";
-    }
-    for (Eigen::Index i = 0; i < n; ++i)
-      gp << ", " << file << " using 1:" << i + 2 << " with lines lw 1.2 dt 2 lc rgb 'black'";
-    gp << '\n';
-  }
-  gp << "unset multiplot\n";
-  write_whole_file(figures / script, gp.str());
-  return script;
+// A figure inside a collapsed model section: loaded only when the section is opened (issue
+// 23 §3: a browser parses every SVG <img> of a page when it loads, even in a closed
+// <details>, and the 51 model views made the page take seconds to open); without
+// JavaScript the <noscript> copy loads as before.
+std::string deferred_image(const std::string& src, const std::string& alt) {
+  return "<img data-src='" + src + "' alt='" + alt + "'><noscript><img src='" + src + "' alt='" +
+         alt + "'></noscript>";
 }
 
 // A metric over one group of designs (directional or not): every statistic, so that no
@@ -264,9 +139,12 @@ std::vector<std::string> convention_lines(const CampaignResult& r) {
       "properties of the excitation and are measured on the noise-free simulated outputs; the "
       "figures on the noisy outputs stand beside them, labelled.");
   lines.push_back(
-      "Crest factors: 'CF period' over each input's active span (its whole periods), 'CF "
-      "experiment' over the whole experiment; a sequential multisine plays each channel for "
-      "one of n periods, so its experiment CF is √n times its period CF.");
+      "Crest factors: 'CF period' over each input's active span (first to last non-zero "
+      "sample: its slot in a sequential design, else the whole experiment), per input and "
+      "averaged; 'CF experiment' over the whole experiment. Every design lasts the same "
+      "number of samples (SPEC §4); a sequential multisine plays each channel alone in one of "
+      "n slots, its periodic signal continued through the slot, so its experiment CF is about "
+      "√n times its slot's");
   return lines;
 }
 
@@ -329,10 +207,9 @@ void write_report(const CampaignResult& r, const sim::Plant& plant,
                   const std::filesystem::path& dir, const ReportArtifacts& artifacts, int threads) {
   const auto figures = dir / "figures";
   std::filesystem::create_directories(figures);
-  std::vector<std::string> scripts;  // the scripts this run wrote: only these are run
-  for (const Experiment& e : r.experiments) scripts.push_back(plot_experiment(e, r, figures));
-  scripts.push_back(plot_projections(r, figures));
-  scripts.push_back(plot_frequency(r, plant, figures));
+  make_figure_sources(figures);
+  // The scripts this run wrote: only these are run.
+  std::vector<std::string> scripts = write_report_figure_scripts(r, plant, figures, threads);
   const int horizon = report_step_horizon(r);
   const double T = r.experiments.empty() ? 1.0 : r.experiments.front().sample_time_min;
   const Eigen::MatrixXd truth = true_unit_steps(*sim::make_plant(r.plant), horizon, T);
@@ -343,6 +220,7 @@ void write_report(const CampaignResult& r, const sim::Plant& plant,
   });
   for (const auto& v : views) scripts.insert(scripts.end(), v.begin(), v.end());
   run_gnuplot_scripts(figures, scripts, threads);
+  remove_figure_sources(figures);  // the report links the SVGs only
 
   const std::string out_unit = common_unit_token(r.output_units);
   const std::string in_unit = common_unit_token(r.input_units);
@@ -437,15 +315,17 @@ void write_report(const CampaignResult& r, const sim::Plant& plant,
   h << "</table>";
 
   h << "<h2>Inputs: plant-friendliness (SPEC §5)</h2><table><tr><th>#</th><th>design</th>"
-       "<th>samples</th><th>duration [h min]</th><th>CF period [–]</th><th>CF experiment "
-       "[–]</th><th>PIPS avg [%]</th><th>limit scale [–]</th></tr>";
+       "<th>samples</th><th>duration [h min]</th><th>CF period [–]</th><th>CF per input, "
+       "period [–]</th><th>CF experiment [–]</th><th>PIPS avg [%]</th><th>limit scale "
+       "[–]</th></tr>";
   for (const Experiment& e : r.experiments) {
     h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.number << ' '
       << e.name << "</td><td>" << (directional(e.name) ? "directional" : "inputs") << "</td><td>"
       << e.U.rows() << "</td><td>"
       << duration_text(static_cast<double>(e.U.rows()) * e.sample_time_min) << "</td><td>"
-      << fixed(e.cf_period_avg) << "</td><td>" << fixed(e.cf_avg) << "</td><td>"
-      << fixed(e.pips_avg, 1) << "</td><td>" << fixed(e.limit_scale, 4) << "</td></tr>";
+      << fixed(e.cf_period_avg) << "</td><td>" << per_input_crest_factors(e.U) << "</td><td>"
+      << fixed(e.cf_avg) << "</td><td>" << fixed(e.pips_avg, 1) << "</td><td>"
+      << fixed(e.limit_scale, 4) << "</td></tr>";
   }
   h << "</table>";
 
@@ -529,11 +409,20 @@ void write_report(const CampaignResult& r, const sim::Plant& plant,
       << " %, worst cross-fit " << fixed(e.crossfit_worst, 1)
       << " %</summary><p>Run log: " << link(artifacts.run_logs, k, "run.csv")
       << ", model: " << link(artifacts.models, k, "model.json") << "</p>"
-      << parameter_table_html(e, r) << "<img src='figures/" << e.name << "-steps.svg' alt='"
-      << e.name << " step responses'><img src='figures/" << e.name << "-fit.svg' alt='" << e.name
-      << " measured and predicted'><img src='figures/" << e.name << "-residuals.svg' alt='"
-      << e.name << " residual correlations'></details>";
+      << parameter_table_html(e, r);
+    for (const auto& [view, alt] :
+         {std::pair<const char*, const char*>{"-steps.svg", " step responses"},
+          {"-fit.svg", " measured and predicted"},
+          {"-residuals.svg", " residual correlations"}}) {
+      h << deferred_image("figures/" + e.name + view, e.name + alt);
+    }
+    h << "</details>";
   }
+  // Loads a section's figures when it is opened (see deferred_image).
+  h << "<script>const load=d=>{if(d.open)for(const i of d.querySelectorAll('img[data-src]'))"
+       "{i.src=i.dataset.src;i.removeAttribute('data-src')}};for(const d of "
+       "document.querySelectorAll('details')){load(d);d.addEventListener('toggle',()=>load(d))}"
+       "</script>";
 
   h << "<h2>Inputs and outputs of each experiment</h2>";
   for (const Experiment& e : r.experiments)

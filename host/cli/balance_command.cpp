@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: MIT
 // excite balance RUN.csv (--plant NAME | --gain FILE) [--json]: how evenly the outputs of
-// an experiment spread over the output gain directions (5.5.2) and Υ (6.2.1).
+// an experiment spread over the output gain directions (5.5.2) and Υ (6.2.1). A log with
+// flagged rows is measured on its scored rows, each segment about its own mean, and per
+// segment (identify's rule, segmented_run.hpp).
 
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <optional>
 
 #include "host/cli/commands.hpp"
 #include "host/cli/input_path.hpp"
@@ -13,6 +16,8 @@
 #include "host/cli/json_util.hpp"
 #include "host/cli/model_file.hpp"
 #include "host/cli/run_input.hpp"
+#include "host/cli/run_layout_text.hpp"
+#include "host/cli/segmented_run.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/identify/balance.hpp"
@@ -74,15 +79,16 @@ Eigen::MatrixXd read_gain_file(const std::string& path) {
 void run(const BalanceOptions& opt) {
   if (opt.plant.empty() == opt.gain_path.empty())
     throw std::invalid_argument("give exactly one of --plant and --gain");
-  const Run data = read_run(opt.run_path);
+  const SegmentedRun run = read_segmented_run(opt.run_path);
+  const StackedRuns& data = run.data;
   const Eigen::MatrixXd gain =
       opt.plant.empty() ? read_gain_file(opt.gain_path) : plant_gain(opt.plant);
   const std::string source = opt.plant.empty() ? opt.gain_path : "plant " + opt.plant;
-  if (gain.rows() != data.data.Y.cols() || gain.cols() != data.data.U.cols()) {
+  if (gain.rows() != data.Y.cols() || gain.cols() != data.U.cols()) {
     throw std::invalid_argument(
         source + ": gain is " + std::to_string(gain.rows()) + " x " + std::to_string(gain.cols()) +
-        ", " + opt.run_path + " has " + std::to_string(data.data.Y.cols()) + " outputs x " +
-        std::to_string(data.data.U.cols()) + " inputs; expected outputs x inputs of the run");
+        ", " + opt.run_path + " has " + std::to_string(data.Y.cols()) + " outputs x " +
+        std::to_string(data.U.cols()) + " inputs; expected outputs x inputs of the run");
   }
   const GainAnalysis a = analyse_gain(gain);
   // A zero singular value leaves its output direction arbitrary: the projections, the ratio
@@ -96,14 +102,65 @@ void run(const BalanceOptions& opt) {
                   sigma_min, sigma_max, kMinSingularRatio);
     throw std::invalid_argument(source + text);
   }
-  const DirectionalBalance b = directional_balance(data.data.Y, a.output_directions);
-  const double upsilon = output_correlation_determinant(data.data.Y);
+  if (needs_warning(data.report)) {
+    std::cerr << "excite: warning: " << layout_summary(data.report, 1) << '\n';
+  }
+  // The scored rows of every segment about the segment's own mean (a restart may move the
+  // operating point; an offset between segments is not excitation), pooled. One segment:
+  // the same as the whole run about its mean.
+  const std::vector<Segment> segments = scored_segments(data.layout);
+  std::vector<Eigen::MatrixXd> parts;
+  Eigen::Index rows = 0;
+  for (const Segment& s : segments) {
+    parts.push_back(scored_rows(data.Y, data.layout, s.begin, s.end));
+    parts.back().rowwise() -= parts.back().colwise().mean();
+    rows += parts.back().rows();
+  }
+  if (rows < 2) {
+    throw std::invalid_argument(opt.run_path + ": " + layout_summary(data.report, 1) +
+                                "; expected at least 2 scored rows");
+  }
+  Eigen::MatrixXd Y(rows, data.Y.cols());
+  Eigen::Index at = 0;
+  for (const Eigen::MatrixXd& p : parts) {
+    Y.middleRows(at, p.rows()) = p;
+    at += p.rows();
+  }
+  const DirectionalBalance b = directional_balance(Y, a.output_directions);
+  const double upsilon = output_correlation_determinant(Y);
+  // Per segment, what it can say (a short or constant segment has no balance: null / "-").
+  struct PerSegment {
+    Segment s;
+    Eigen::Index scored = 0;
+    std::optional<DirectionalBalance> balance;
+    std::optional<double> upsilon;
+  };
+  std::vector<PerSegment> per;
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    PerSegment p{segments[k], parts[k].rows(), {}, {}};
+    try {
+      p.balance = directional_balance(parts[k], a.output_directions);
+      p.upsilon = output_correlation_determinant(parts[k]);
+    } catch (const std::invalid_argument&) {
+    }
+    per.push_back(p);
+  }
   if (opt.json) {
-    std::cout << nlohmann::json{{"projection_std", to_json(b.std_dev)},
-                                {"ratio", to_json(b.ratio)},
-                                {"upsilon", to_json(upsilon)}}
-                     .dump(2)
-              << '\n';
+    nlohmann::json j{{"projection_std", to_json(b.std_dev)},
+                     {"ratio", to_json(b.ratio)},
+                     {"upsilon", to_json(upsilon)},
+                     {"data", layout_json(data.report, {opt.run_path})}};
+    nlohmann::json js = nlohmann::json::array();
+    for (const PerSegment& p : per) {
+      js.push_back({{"first_row", p.s.begin + 1},
+                    {"rows", p.s.end - p.s.begin},
+                    {"scored_rows", p.scored},
+                    {"projection_std", p.balance ? to_json(p.balance->std_dev) : nullptr},
+                    {"ratio", p.balance ? to_json(p.balance->ratio) : nullptr},
+                    {"upsilon", p.upsilon ? to_json(*p.upsilon) : nullptr}});
+    }
+    j["segments"] = js;
+    std::cout << j.dump(2) << '\n';
     return;
   }
   TextTable t({"direction", "sigma_i", "std of w_i'y"});
@@ -113,6 +170,17 @@ void run(const BalanceOptions& opt) {
   t.print(std::cout);
   std::cout << "ratio min/max = " << num(b.ratio)
             << " (1: balanced), Upsilon = det(corr(Y)) = " << num(upsilon) << '\n';
+  if (per.size() > 1) {
+    TextTable ts({"segment", "first row", "rows", "scored", "ratio", "Upsilon"});
+    for (std::size_t k = 0; k < per.size(); ++k) {
+      const PerSegment& p = per[k];
+      ts.add_row({std::to_string(k + 1), std::to_string(p.s.begin + 1),
+                  std::to_string(p.s.end - p.s.begin), std::to_string(p.scored),
+                  p.balance ? num(p.balance->ratio) : "-", p.upsilon ? num(*p.upsilon) : "-"});
+    }
+    std::cout << '\n';
+    ts.print(std::cout);
+  }
 }
 
 }  // namespace

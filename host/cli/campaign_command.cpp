@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // excite campaign --plant NAME -o DIR [--design-gain true|step-test] [--noise-var V] [--seed S]
-//                 [--threads N] [--loop] [--overwrite]
+//                 [--threads N] [--loop] [--overwrite] [--allow-unequal-length]
 // The chapter-6 study: DIR/summary.json, the report DIR/index.html, every identified model
 // in DIR/models/NN-name.json and every measured run's log in DIR/runs/NN-name/run.csv, both
 // linked from the report. With --loop every plan is streamed through the real
@@ -148,6 +148,9 @@ void add_campaign_command(CLI::App& app) {
   cmd->add_flag("--loop", opt->loop,
                 "stream every plan through the real excite-gateway to excite-plant (Modbus TCP "
                 "on 127.0.0.1, lock-step) instead of simulating it in this process");
+  cmd->add_flag("--allow-unequal-length", opt->campaign.allow_unequal_length,
+                "compare designs of different lengths (refused by default, naming every "
+                "length: SPEC §4 judges every design on equally long data)");
   cmd->add_flag("--overwrite", opt->overwrite,
                 "replace DIR whole even when it holds files that are not a previous campaign's");
   cmd->callback([opt] { run(*opt); });

@@ -21,6 +21,7 @@
 #include "host/cli/output_target.hpp"
 #include "host/cli/pooled_runs.hpp"
 #include "host/cli/run_input.hpp"
+#include "host/cli/run_layout_text.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/cli/time_constant_bound.hpp"
 #include "host/identify/run_layout.hpp"
@@ -43,67 +44,8 @@ struct IdentifyCommandOptions {
   bool allow_mixed = false;  // pool runs of other plants or units (issue 19)
 };
 
-/// One line: what the flags rule did. Empty when every row was scored in one segment per run.
-std::string layout_summary(const LayoutReport& r, std::size_t runs) {
-  std::ostringstream s;
-  s << r.scored << " of " << r.rows << " rows scored in " << r.segments << " segment"
-    << (r.segments == 1 ? "" : "s") << " (" << runs << " run" << (runs == 1 ? "" : "s") << ")";
-  if (r.flagged_excluded > 0) {
-    s << "; " << r.flagged_excluded << " flagged rows excluded (";
-    bool first = true;
-    for (int b = 0; b < 8; ++b) {
-      const Eigen::Index c = r.rows_with_flag[static_cast<std::size_t>(b)];
-      if (c == 0) continue;
-      s << (first ? "" : ", ") << flag_name(b) << ' ' << c;
-      first = false;
-    }
-    s << ')';
-  }
-  if (r.discontinuities > 0) s << "; " << r.discontinuities << " discontinuities (plant restart)";
-  if (r.skips > 0) s << "; " << r.skips << " skipped-tick rows";
-  if (r.warm_up > 0) s << "; " << r.warm_up << " warm-up rows not scored";
-  if (r.dropped_segments > 0) {
-    s << "; " << r.dropped_segments << " short segments dropped (" << r.dropped_segment_rows
-      << " rows)";
-  }
-  return s.str();
-}
-
-bool needs_warning(const LayoutReport& r) {
-  Eigen::Index flagged = 0;
-  for (const Eigen::Index c : r.rows_with_flag) flagged += c;
-  return flagged > 0 || r.dropped_segments > 0 || r.warm_up > 0;
-}
-
-nlohmann::json layout_json(const LayoutReport& r, const std::vector<std::string>& runs) {
-  nlohmann::json flags = nlohmann::json::object();
-  for (int b = 0; b < 8; ++b) flags[flag_name(b)] = r.rows_with_flag[static_cast<std::size_t>(b)];
-  return {{"runs", runs},
-          {"rows", r.rows},
-          {"scored_rows", r.scored},
-          {"flagged_rows_excluded", r.flagged_excluded},
-          {"warm_up_rows", r.warm_up},
-          {"segments", r.segments},
-          {"dropped_segments", r.dropped_segments},
-          {"dropped_segment_rows", r.dropped_segment_rows},
-          {"discontinuities", r.discontinuities},
-          {"rows_with_flag", flags}};
-}
-
 std::string with_unit(const std::string& name, const std::string& unit) {
   return unit.empty() || unit == "-" ? name : name + " [" + unit + "]";
-}
-
-// The log as read, without run_data(): identify takes rows flagged skipped or discontinuity
-// (segments), which run_data() refuses for the commands that need one unbroken run.
-// The size and value checks of read_run() (run_input.hpp) apply.
-runlog::RunLog read_log(const std::string& path) {
-  refuse_directory(path, "a run log (CSV)");
-  check_run_rows(path);
-  runlog::ReadResult r = runlog::read_run_log(path);
-  if (!r.ok()) throw std::invalid_argument(r.error->to_string());
-  check_run_values(path, r.log);
-  return std::move(r.log);
 }
 
 // σ_i ± SE, the direction angles' uncertainty and the principal minors at risk.

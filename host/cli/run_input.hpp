@@ -74,13 +74,20 @@ inline void check_run_values(const std::string& path, const runlog::RunLog& log)
   check(log.dy, log.output_names, "dy_");
 }
 
-inline Run read_run(const std::string& path) {
+/// The log as read, with the size and value checks, without run_data(): the commands that
+/// apply the flags rule (identify, validate, balance) take rows flagged skipped or
+/// discontinuity as segment starts, which run_data() refuses.
+inline runlog::RunLog read_log(const std::string& path) {
   refuse_directory(path, "a run log (CSV)");
   check_run_rows(path);
   runlog::ReadResult r = runlog::read_run_log(path);
   if (!r.ok()) throw std::invalid_argument(r.error->to_string());
   check_run_values(path, r.log);
-  Run run{std::move(r.log), {}};
+  return std::move(r.log);
+}
+
+inline Run read_run(const std::string& path) {
+  Run run{read_log(path), {}};
   run.data = run_data(run.log);
   return run;
 }

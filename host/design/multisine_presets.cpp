@@ -1,9 +1,13 @@
 // SPDX-License-Identifier: MIT
 // Presets 9–17 of Table 6.1: multisines (SPEC §1, §2, §4; host/README.md).
-//   sequential (9–12): the simultaneous design's channel signals, one at a time, one
-//                      whole period each;
+//   sequential (9–12): A2's standard multisine, one channel at a time, each in its slot of
+//                      N/n samples (at least one whole period, filled by continuing it);
 //   simultaneous (13–16): A3's zippered spectrum, every channel on its own lines;
 //   msGlmZipm (17): A3's modified zippered spectrum, shared lines along v_n.
+// Every design lasts the experiment's N samples (the PRBS design's length, SPEC §4: 4080
+// in the case study, thesis §6.3 "the same for all cases"): a multisine is continued
+// periodically to fill its span, and a period that would not fit is shortened by raising
+// ω_L (fitted_request).
 // Schroeder (Srd) or Guillaume (Glm) phases; Dir: the channels are gain directions.
 
 #include <algorithm>
@@ -36,6 +40,32 @@ multisine::GuillaumeOptions snow_options() {
   multisine::GuillaumeOptions options;
   options.snow_power_fraction = kSnowPowerFraction;
   return options;
+}
+
+// The Guillaume optimiser's run, as `excite design` shows it (issue 23 §2): its L_p
+// schedule, and each channel's crest factor on the optimisation grid from the Schroeder
+// start to the result (the optimiser lowers the worst channel's, the objective of
+// guillaume.hpp), with the evaluations it took.
+multisine::MultisineSet optimised(const multisine::MultisineSet& start,
+                                  const multisine::GuillaumeOptions& options, Composition& comp) {
+  multisine::GuillaumeReport report;
+  multisine::MultisineSet set = multisine::guillaume(start, options, &report);
+  std::string schedule, channels;
+  for (const double p : options.norms) schedule += format("%s%g", schedule.empty() ? "" : ", ", p);
+  double worst_start = 0.0, worst_final = 0.0;
+  for (std::size_t c = 0; c < report.cf_final.size(); ++c) {
+    channels +=
+        format("%s%.3f -> %.3f", c == 0 ? "" : ", ", report.cf_start[c], report.cf_final[c]);
+    worst_start = std::max(worst_start, report.cf_start[c]);
+    worst_final = std::max(worst_final, report.cf_final[c]);
+  }
+  comp.notes.push_back(format(
+      "Guillaume optimiser: L_p norms p = %s, %d L-BFGS iterations each, %u-point grid, %d "
+      "evaluations; worst channel's crest factor %.3f -> %.3f; per channel (Schroeder start -> "
+      "result) %s",
+      schedule.c_str(), options.iterations_per_norm, report.grid, report.evaluations, worst_start,
+      worst_final, channels.c_str()));
+  return set;
 }
 
 std::string snow_note() {
@@ -90,34 +120,43 @@ std::string crest_factors(const multisine::MultisineSet& set) {
   return text;
 }
 
-// Whole periods filling the experiment, no zero tail: the experiment is cut to the largest
-// whole number of periods, or grows to one period when shorter.
-std::uint32_t whole_periods(Composition& comp, std::uint32_t period) {
-  if (period > comp.samples) {
-    comp.notes.push_back(
-        format("the period (%u samples) is longer than the PRBS-based length %u: the experiment "
-               "lasts one period",
-               period, comp.samples));
-    comp.samples = period;
-  } else if (comp.samples % period != 0) {
-    comp.notes.push_back(format("whole periods: %u samples cut to %u (%u x %u), no zero tail",
-                                comp.samples, comp.samples / period * period, comp.samples / period,
-                                period));
-    comp.samples = comp.samples / period * period;
-  }
-  return comp.samples;
+// The request with its period fitted into `span` samples (issue 23 §1): A2's period (4.4.27)
+// and A3's (4.4.30) are the smallest ≥ 2π·slots/(T ω_L), ω_L = 1/(β τ_H); when that exceeds
+// the span, β is lowered to (span − ½)·T/(2π·slots·τ_H), which makes the period exactly
+// `span` (ω_L rises by the ratio; ω_H and with it the band's top stay). A note says so.
+multisine::DesignRequest fitted_request(multisine::DesignRequest r, std::uint32_t slots,
+                                        std::uint32_t span, const char* what, Composition& comp) {
+  if (!(r.sample_time > 0.0)) return r;  // A2/A3 choose T themselves: nothing to fit
+  const double period = 2.0 * std::acos(-1.0) * slots * r.beta * r.tau_high / r.sample_time;
+  if (period <= static_cast<double>(span)) return r;
+  const double beta = (span - 0.5) * r.sample_time / (2.0 * std::acos(-1.0) * slots * r.tau_high);
+  comp.notes.push_back(
+      format("%s: a period of %.0f samples (beta = %g) does not fit its span of %u samples: beta "
+             "lowered to %.4g (omega_L = 1/(beta tau_H) from %.4g to %.4g rad/min), period %u",
+             what, std::ceil(period), r.beta, span, beta, 1.0 / (r.beta * r.tau_high),
+             1.0 / (beta * r.tau_high), span));
+  r.beta = beta;
+  return r;
+}
+
+// "continued periodically": how a span of `samples` holds a period.
+std::string continued(std::uint32_t samples, std::uint32_t period) {
+  return format("%u samples = %u whole period%s of %u + %u samples continuing the periodic signal",
+                samples, samples / period, samples / period == 1 ? "" : "s", period,
+                samples % period);
 }
 
 // The zippered set (4.4.18) of the simultaneous designs, with Schroeder or Guillaume phases.
 multisine::MultisineSet zippered(bool guillaume, const DesignContext& ctx, Composition& comp,
                                  std::uint32_t& period) {
   const auto n = static_cast<std::uint32_t>(ctx.prior.input_count());
-  const multisine::MultisineDesign md = multisine::design_zippered(request(ctx, 0));
+  const multisine::MultisineDesign md = multisine::design_zippered(
+      fitted_request(request(ctx, 0), n, comp.samples, "zippered (4.4.30)", comp));
   comp.notes.insert(comp.notes.end(), md.explanation.begin(), md.explanation.end());
   // Guillaume: high snow slots whose amplitudes and phases the optimiser chooses (Table 4.4).
   const std::uint32_t snow = guillaume ? kHighSnowSlots : 0U;
   multisine::MultisineSet set = multisine::zippered_set(md.period, {n, 0, md.lines, snow, 1.0});
-  if (guillaume) set = multisine::guillaume(set, snow_options());
+  if (guillaume) set = optimised(set, snow_options(), comp);
   comp.notes.push_back(format("zippered (4.4.18), %s phases%s: continuous crest factors %s",
                               guillaume ? "Guillaume" : "Schroeder",
                               guillaume ? snow_note().c_str() : "", crest_factors(set).c_str()));
@@ -125,62 +164,58 @@ multisine::MultisineSet zippered(bool guillaume, const DesignContext& ctx, Compo
   return set;
 }
 
-// Sequential designs (9–12) apply the simultaneous design's channel signals one at a time,
-// one whole period each, so each channel's crest factor over the experiment is exactly
-// √n times (n = 4: twice) its crest factor over a period. The experiment lasts n periods.
-// When n such periods overflow the gateway's table (a slow plant: twoweak4x4's 18850-sample
-// zippered period), A2's standard multisine (4.4.27, a period n times shorter) takes the
-// channel slots instead, one whole period each, and a note says so.
+// Sequential designs (9–12): channel c (an input, or a direction) plays A2's standard
+// multisine (4.4.26–4.4.28: the band ω_L … ω_H on one channel, period N_s ≈ 2π β τ_H / T)
+// alone in its slot [c·N/n, (c+1)·N/n) — the last slot takes the remainder — the others at
+// zero. A slot holds at least one whole period and is filled by continuing the periodic
+// signal, not by zeros, so a slot's crest factor is its period's and a channel's crest
+// factor over the experiment about √n times that (n = 4: twice, as in the thesis).
 void sequential(bool guillaume, const DesignContext& ctx, Composition& comp) {
   const auto n = static_cast<std::uint32_t>(ctx.prior.input_count());
-  std::uint32_t period = 0;
-  const multisine::MultisineSet zip = zippered(guillaume, ctx, comp, period);
-  std::vector<std::vector<Line>> channels = zip.channels;
-  if (std::uint64_t{n} * n * period > signal::kTableCapacity) {
-    const multisine::MultisineDesign md = multisine::design_standard(request(ctx, 0));
-    comp.notes.insert(comp.notes.end(), md.explanation.begin(), md.explanation.end());
-    multisine::MultisineSet set = multisine::standard_set(1, md.period, 1, md.lines, 1.0);
-    if (guillaume) set = multisine::guillaume(set, {});
-    comp.notes.push_back(format(
-        "n periods of %u samples exceed the table capacity of %zu values: A2's standard "
-        "multisine (%u samples, %s phases, continuous crest factor %s) on every channel instead",
-        period, signal::kTableCapacity, md.period, guillaume ? "Guillaume" : "Schroeder",
-        crest_factors(set).c_str()));
-    period = md.period;
-    channels.assign(n, set.channels[0]);
-  }
-  comp.samples = n * period;
+  const std::uint32_t slot = comp.samples / n;
+  const multisine::MultisineDesign md = multisine::design_standard(
+      fitted_request(request(ctx, 0), 1, slot, "standard multisine (4.4.27)", comp));
+  comp.notes.insert(comp.notes.end(), md.explanation.begin(), md.explanation.end());
+  multisine::MultisineSet set = multisine::standard_set(1, md.period, 1, md.lines, 1.0);
+  if (guillaume) set = optimised(set, {}, comp);
+  comp.notes.push_back(format("standard multisine (A2), %s phases: continuous crest factor %s",
+                              guillaume ? "Guillaume" : "Schroeder", crest_factors(set).c_str()));
+  std::vector<Line> lines = set.channels[0];
+  normalise_peak(lines, md.period);
   for (std::uint32_t c = 0; c < n; ++c) {
-    std::vector<Line> lines = channels[c];
-    normalise_peak(lines, period);
+    const std::uint32_t start = c * slot;
+    const std::uint32_t length = c + 1 == n ? comp.samples - start : slot;
     const std::uint32_t first = append_lines(comp, lines);
-    comp.sources.push_back(multisine_source(c * period, period, period, first,
+    comp.sources.push_back(multisine_source(start, length, md.period, first,
                                             static_cast<std::uint32_t>(lines.size())));
   }
   comp.notes.push_back(
-      format("sequence: channel i plays its signal for one period of %u samples from sample i*%u; "
-             "%u samples in all",
-             period, period, comp.samples));
+      format("sequence: channel i plays alone in samples [i*%u, (i+1)*%u), "
+             "the last to %u; a slot: %s",
+             slot, slot, comp.samples, continued(slot, md.period).c_str()));
 }
 
+// Simultaneous designs (13–16): the zippered channels together over the whole experiment,
+// continued periodically past their last whole period.
 void simultaneous(bool guillaume, const DesignContext& ctx, Composition& comp) {
   const auto n = static_cast<std::uint32_t>(ctx.prior.input_count());
   std::uint32_t period = 0;
   const multisine::MultisineSet set = zippered(guillaume, ctx, comp, period);
-  const std::uint32_t window = whole_periods(comp, period);
   for (std::uint32_t c = 0; c < n; ++c) {
     std::vector<Line> lines = set.channels[c];
     normalise_peak(lines, period);
     const std::uint32_t first = append_lines(comp, lines);
     comp.sources.push_back(
-        multisine_source(0, window, period, first, static_cast<std::uint32_t>(lines.size())));
+        multisine_source(0, comp.samples, period, first, static_cast<std::uint32_t>(lines.size())));
   }
+  comp.notes.push_back("every channel: " + continued(comp.samples, period));
 }
 
 void modified_zippered(const DesignContext& ctx, Composition& comp) {
   const GainAnalysis& g = require_gains(ctx, "msGlmZipm");
   const auto n = static_cast<std::uint32_t>(ctx.prior.input_count());
-  const multisine::MultisineDesign md = multisine::design_zippered(request(ctx, 1));
+  const multisine::MultisineDesign md = multisine::design_zippered(
+      fitted_request(request(ctx, 1), n + 1, comp.samples, "modified zippered (4.4.30)", comp));
   comp.notes.insert(comp.notes.end(), md.explanation.begin(), md.explanation.end());
   multisine::ModifiedZipperedOptions options;
   options.shared_amplitude = 1.0;
@@ -205,7 +240,7 @@ void modified_zippered(const DesignContext& ctx, Composition& comp) {
                                            std::sqrt(static_cast<double>(set.shared.size()))));
     }
   }
-  set = multisine::guillaume(set, snow_options());
+  set = optimised(set, snow_options(), comp);
   const std::string sizes =
       ctx.prior.sized_by_static_output()
           ? std::string(
@@ -215,7 +250,8 @@ void modified_zippered(const DesignContext& ctx, Composition& comp) {
   comp.notes.push_back(
       format("modified zippered (4.4.21): %s; Guillaume phases%s: continuous crest factors %s",
              sizes.c_str(), snow_note().c_str(), crest_factors(set).c_str()));
-  const std::uint32_t window = whole_periods(comp, md.period);
+  const std::uint32_t window = comp.samples;
+  comp.notes.push_back("every source: " + continued(window, md.period));
   comp.mix = Eigen::MatrixXd::Zero(n, n + static_cast<Eigen::Index>(set.shared.size()));
   for (std::uint32_t c = 0; c < n; ++c) {
     const std::uint32_t first = append_lines(comp, set.channels[c]);

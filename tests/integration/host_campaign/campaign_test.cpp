@@ -193,13 +193,16 @@ TEST_F(WoodBerryCampaign, ReportShowsEveryModelsQualityAndLinksItsRunAndModel) {
       const std::string file = e.name + view;
       EXPECT_TRUE(std::filesystem::exists(dir / "figures" / file)) << file;
       EXPECT_GT(std::filesystem::file_size(dir / "figures" / file), 5000U) << file;
-      EXPECT_NE(html.find("src='figures/" + file + "'"), std::string::npos) << file;
+      // Loaded when its section opens; a plain copy for a browser without JavaScript.
+      EXPECT_NE(html.find("<img data-src='figures/" + file + "'"), std::string::npos) << file;
+      EXPECT_NE(html.find("<noscript><img src='figures/" + file + "'"), std::string::npos) << file;
     }
     EXPECT_NE(html.find("href='runs/" + e.name + "/run.csv'"), std::string::npos) << e.name;
     EXPECT_NE(html.find("href='models/" + e.name + ".json'"), std::string::npos) << e.name;
   }
-  for (const char* text : {"linearised propagation", "±2.58/√N", "median", "K [CV unit per MV",
-                           "T<sub>d</sub> [min]", "duration [h min]", "15 h 45 min"}) {
+  for (const char* text :
+       {"linearised propagation", "±2.58/√N", "median", "K [CV unit per MV",
+        "CF per input, period [–]", "T<sub>d</sub> [min]", "duration [h min]", "15 h 45 min"}) {
     EXPECT_NE(html.find(text), std::string::npos) << text;
   }
   // Every parameter with its standard error: "12.8 ± 0.02"-like cells for every element.
@@ -207,14 +210,21 @@ TEST_F(WoodBerryCampaign, ReportShowsEveryModelsQualityAndLinksItsRunAndModel) {
   const std::string gain = std::to_string(unc.identified.model.element(0, 0).value.gain);
   EXPECT_NE(html.find(gain.substr(0, 4)), std::string::npos) << gain;
   EXPECT_NE(html.find(" ± "), std::string::npos);
-  // The true plant's step is drawn where known (a column of the step data beyond the model's).
-  std::ifstream steps(dir / "figures" / "prbsUnc-steps.dat");
-  std::string first;
-  std::getline(steps, first);
-  std::istringstream fields(first);
-  int columns = 0;
-  for (std::string f; fields >> f;) ++columns;
-  EXPECT_EQ(columns, 1 + 3 * 4 + 4);  // t, (s, lo, hi) per element, the true steps
+  // The true plant's step is drawn where known: a black dashed curve in every panel (2 × 2).
+  std::ifstream steps_file(dir / "figures" / "prbsUnc-steps.svg");
+  const std::string steps((std::istreambuf_iterator<char>(steps_file)),
+                          std::istreambuf_iterator<char>());
+  int dashed_black = 0;
+  for (std::size_t at = 0;
+       (at = steps.find("stroke='rgb(  0,   0,   0)' stroke-dasharray", at)) != std::string::npos;
+       ++at) {
+    ++dashed_black;
+  }
+  EXPECT_GE(dashed_black, 4);
+  // Only the figures stay: their gnuplot scripts and data are gone (issue 23 §3).
+  for (const auto& entry : std::filesystem::directory_iterator(dir / "figures")) {
+    EXPECT_EQ(entry.path().extension(), ".svg") << entry.path();
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <cmath>
 #include <utility>
 
@@ -40,20 +42,27 @@ double column_norm(Eigen::Index j) {
   return case_study("alatiqi4x4").gain.col(j).norm();
 }
 
-// Whole periods, no zero tails (issue 14 §6): steps and PRBS last A1's 4080 samples, the
-// simultaneous multisines whole periods of their spectrum, the sequential ones n periods.
-TEST(Presets, EveryDesignLastsWholePeriodsAndRespectsTheLimits) {
+// Every design as long as every other (issue 23 §1, SPEC §4, thesis §6.3: T_L = 4080 min for
+// all): A1's 4080 samples. The simultaneous multisines hold at least one whole period and
+// continue it to 4080; the sequential ones give each channel a slot of 1020 samples holding
+// at least one whole period of A2's standard multisine (period ≈ 2π β τ_H = 943).
+TEST(Presets, EveryDesignLasts4080SamplesAndRespectsTheLimits) {
   const PriorKnowledge prior = case_study("alatiqi4x4");
   for (const PresetInfo& preset : presets()) {
     const Design d = design_preset(prior, preset, 0);
     const signal::Recipe& r = d.plan->recipe;
+    EXPECT_EQ(d.table.rows(), 4080) << preset.acronym;
+    EXPECT_EQ(r.samples, 4080U) << preset.acronym;
     if (preset.acronym.starts_with("ms")) {
-      const std::uint32_t period = r.sources[0].multisine.period;
       const bool sequential = preset.acronym.find("Seq") != std::string_view::npos;
-      EXPECT_EQ(r.samples, sequential ? 4 * period : r.samples / period * period) << preset.acronym;
-      EXPECT_EQ(r.samples % period, 0U) << preset.acronym;
-    } else {
-      EXPECT_EQ(d.table.rows(), 4080) << preset.acronym;
+      for (std::uint32_t i = 0; i < r.source_count; ++i) {
+        const signal::Source& src = r.sources[i];
+        EXPECT_GE(src.length, src.multisine.period) << preset.acronym << " source " << i;
+        EXPECT_EQ(src.length, sequential ? 1020U : 4080U) << preset.acronym << " source " << i;
+        if (sequential) {
+          EXPECT_EQ(src.multisine.period, 943U) << preset.acronym;
+        }
+      }
     }
     EXPECT_EQ(d.table.cols(), 4) << preset.acronym;
     EXPECT_EQ(d.limit_scale, 1.0) << preset.acronym << ": limits ±15 leave every design whole";
@@ -197,28 +206,57 @@ TEST(Presets, PrbsDirCorrSimAddsASignalAlongTheWeakestDirection) {
   }
 }
 
-// Issue 14 §6: the sequential multisines play the simultaneous design's channel signals,
-// one whole period each, so over the experiment each channel's crest factor is exactly
-// twice (√4) its crest factor over its period, and the period's equals the simultaneous one.
-TEST(Presets, SequentialMultisinesPlayTheSimultaneousSignalsOneAtATime) {
-  for (const auto& [seq, sim] :
-       {std::pair{"msSrdSeq", "msSrdSim"}, std::pair{"msGlmSeq", "msGlmSim"}}) {
+// Issue 23 §1: a sequential multisine plays A2's standard multisine on channel i alone in
+// samples [1020 i, 1020 (i+1)), continued periodically past its period (not padded with
+// zeros): the slot is the periodic signal, its crest factor its period's to within the
+// partial period's RMS, and over the experiment each channel's crest factor about twice
+// (√4) its slot's — the thesis's "sequential CF twice the simultaneous one".
+TEST(Presets, SequentialMultisinesPlayOneChannelPerSlotContinuingThePeriod) {
+  for (const char* seq : {"msSrdSeq", "msGlmSeq"}) {
     const Design s = design(seq);
-    const Design m = design(sim);
-    const std::uint32_t period = m.plan->recipe.sources[0].multisine.period;
     ASSERT_EQ(s.plan->recipe.source_count, 4U);
     const InputMeasures whole = measure_inputs(s.table);
-    const InputMeasures simultaneous = measure_inputs(m.table.topRows(period));
     for (std::uint32_t i = 0; i < 4; ++i) {
       const signal::Source& src = s.plan->recipe.sources[i];
-      EXPECT_EQ(src.start, i * period) << seq;
-      EXPECT_EQ(src.length, period) << seq;
-      const Eigen::VectorXd own = s.table.col(i).segment(i * period, period);
-      const Eigen::VectorXd other = m.table.col(i).head(period);
-      EXPECT_TRUE((own / own.norm()).isApprox(other / other.norm(), 1e-9)) << seq << " " << i;
-      EXPECT_NEAR(whole.channels[i].crest_factor, 2.0 * simultaneous.channels[i].crest_factor, 1e-9)
+      const std::uint32_t period = src.multisine.period;
+      EXPECT_EQ(src.start, i * 1020) << seq;
+      EXPECT_EQ(src.length, 1020U) << seq;
+      const Eigen::VectorXd slot = s.table.col(i).segment(i * 1020, 1020);
+      for (Eigen::Index k = period; k < 1020; ++k)  // continued, not zero
+        ASSERT_NEAR(slot(k), slot(k - period), 1e-12) << seq << " " << i << " k " << k;
+      if (i > 0) {
+        EXPECT_EQ(s.table.col(i).head(i * 1020).cwiseAbs().maxCoeff(), 0.0) << seq;
+      }
+      const InputMeasures own = measure_inputs(slot);
+      const InputMeasures one_period = measure_inputs(slot.head(period));
+      EXPECT_NEAR(own.channels[0].crest_factor, one_period.channels[0].crest_factor, 0.02) << seq;
+      EXPECT_NEAR(whole.channels[i].crest_factor, 2.0 * own.channels[0].crest_factor,
+                  0.01 * whole.channels[i].crest_factor)
           << seq << " " << i;
     }
+  }
+}
+
+// Issue 23 §2: `excite design` shows the optimiser's run — its L_p schedule and every
+// channel's crest factor from the Schroeder start to the result — and the result is lower.
+TEST(Presets, GuillaumeDesignsSayTheOptimisersRunWhichLowersTheWorstChannel) {
+  for (const char* name : {"msGlmZipm", "msGlmSim", "msGlmSeq"}) {
+    const Design d = design(name);
+    std::string note;
+    for (const std::string& n : d.notes) {
+      if (n.rfind("Guillaume optimiser:", 0) == 0) note = n;
+    }
+    ASSERT_FALSE(note.empty()) << name;
+    EXPECT_NE(note.find("p = 4, 8, 16, 32, 64, 128, 256, 512"), std::string::npos) << note;
+    double start = 0.0, result = 0.0;
+    const std::size_t at = note.find("worst channel's crest factor ");
+    ASSERT_NE(at, std::string::npos) << note;
+    ASSERT_EQ(
+        std::sscanf(note.c_str() + at, "worst channel's crest factor %lf -> %lf", &start, &result),
+        2)
+        << note;
+    EXPECT_LT(result, start - 0.2) << note;
+    EXPECT_GT(result, 1.0) << note;
   }
 }
 

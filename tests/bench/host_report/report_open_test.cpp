@@ -1,0 +1,126 @@
+// SPDX-License-Identifier: MIT
+// A report that opens (issue 23 §3), timed on the case study (alatiqi4x4, in-process):
+// writing the report and its figures takes ≤ 1 s, and headless Chromium renders index.html
+// with its figures (a screenshot) in < 2 s beyond its own start-up (the same run on an empty
+// page; that difference, not Chromium's start-up, is the report's). Each is the fastest of
+// three runs; every run is printed. The machine is shared: the report phase's 1 s budget is
+// for an idle machine and is multiplied by the 1-minute load average over the cores when
+// that exceeds 1 (printed), so another job's load does not decide. The old report (6.8 s;
+// Chromium 3.1 s beyond its start-up with the model views loaded eagerly) fails either.
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <stdlib.h>  // getloadavg
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+
+#include "host/campaign/campaign.hpp"
+#include "host/campaign/report.hpp"
+
+namespace excite::host {
+namespace {
+
+namespace fs = std::filesystem;
+
+// max(1, load average / cores): how oversubscribed the machine is right now.
+double load_factor() {
+  double load[1] = {0.0};
+  const long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  if (getloadavg(load, 1) != 1 || cores < 1) return 1.0;
+  return std::max(1.0, load[0] / static_cast<double>(cores));
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+class CaseStudyReportTiming : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    CampaignOptions options;
+    options.plant = "alatiqi4x4";
+    result_ = new CampaignResult(run_campaign(options, {}));
+    root_ = new fs::path(fs::temp_directory_path() /
+                         ("excite_report_timing_" + std::to_string(getpid())));
+    fs::remove_all(*root_);
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*root_);
+    delete result_;
+    delete root_;
+  }
+  // Writes the report into root/NAME; returns the wall time [s].
+  static double write(const std::string& name) {
+    const fs::path dir = *root_ / name;
+    fs::create_directories(dir);
+    const auto start = std::chrono::steady_clock::now();
+    write_report(*result_, *sim::make_plant("alatiqi4x4"), dir, {}, 2);
+    return seconds_since(start);
+  }
+  static CampaignResult* result_;
+  static fs::path* root_;
+};
+CampaignResult* CaseStudyReportTiming::result_ = nullptr;
+fs::path* CaseStudyReportTiming::root_ = nullptr;
+
+TEST_F(CaseStudyReportTiming, ReportAndFiguresInAtMostOneSecond) {
+  double fastest = 1e9;
+  for (int run = 0; run < 3; ++run) {
+    const double t = write("report-" + std::to_string(run));
+    std::cout << "report phase, run " << run + 1 << ": " << t << " s\n";
+    fastest = std::min(fastest, t);
+  }
+  const double factor = load_factor();
+  std::cout << "fastest " << fastest << " s; budget 1 s x load factor " << factor << '\n';
+  EXPECT_LE(fastest, 1.0 * factor);
+}
+
+// Chromium's wall time for a page: start, load index.html with its figures, screenshot, exit.
+double chromium_seconds(const fs::path& page, const fs::path& profile) {
+  const std::string command =
+      "chromium --headless --no-sandbox --disable-gpu --disable-background-networking "
+      "--user-data-dir='" +
+      profile.string() + "' --window-size=1400,4000 --screenshot='" +
+      (profile / "shot.png").string() + "' 'file://" + page.string() + "' >/dev/null 2>&1";
+  fs::remove(profile / "shot.png");
+  const auto start = std::chrono::steady_clock::now();
+  const int status = std::system(command.c_str());
+  const double t = seconds_since(start);
+  EXPECT_EQ(status, 0) << command;
+  EXPECT_GT(fs::exists(profile / "shot.png") ? fs::file_size(profile / "shot.png") : 0U, 10000U)
+      << command;
+  return t;
+}
+
+TEST_F(CaseStudyReportTiming, ChromiumRendersTheReportInUnderTwoSeconds) {
+  if (std::system("command -v chromium >/dev/null 2>&1") != 0) {
+    GTEST_SKIP() << "chromium not installed (toolchain/packages.txt lists it)";
+  }
+  write("report-browser");
+  const fs::path page = *root_ / "report-browser" / "index.html";
+  const fs::path blank = *root_ / "blank.html";
+  { std::ofstream(blank) << "<!DOCTYPE html><html><body><p>blank</p></body></html>\n"; }
+  const fs::path profile = *root_ / "chromium-profile";
+  chromium_seconds(blank, profile);  // a first start creates the profile: not counted
+  double fastest = 1e9, fastest_blank = 1e9;
+  for (int run = 0; run < 3; ++run) {
+    const double b = chromium_seconds(blank, profile), t = chromium_seconds(page, profile);
+    std::cout << "chromium, run " << run + 1 << ": index.html " << t << " s, an empty page " << b
+              << " s\n";
+    fastest = std::min(fastest, t);
+    fastest_blank = std::min(fastest_blank, b);
+  }
+  std::cout << "fastest: index.html " << fastest << " s, an empty page " << fastest_blank
+            << " s: rendering " << fastest - fastest_blank << " s (load factor " << load_factor()
+            << ")\n";
+  EXPECT_LT(fastest - fastest_blank, 2.0);
+}
+
+}  // namespace
+}  // namespace excite::host
