@@ -29,8 +29,8 @@ UnitResult read_unit(const std::filesystem::path& file);
 std::filesystem::path unit_path(const std::filesystem::path& dir, const Config& config,
                                 const Unit& unit);
 
-/// The first field in which two configurations differ, ignoring the shard index
-/// (empty: none): "seeds = 10, expected 20".
+/// The first field in which two configurations differ, the shard left out (empty: none):
+/// "seeds = 10, expected 20".
 std::string first_difference(const Config& found, const Config& expected);
 
 }  // namespace excite::host::montecarlo
