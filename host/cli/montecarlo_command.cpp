@@ -33,6 +33,7 @@ namespace {
 
 namespace fs = std::filesystem;
 namespace mc = excite::host::montecarlo;
+using mc::UnitTimes;
 
 std::atomic<bool> g_stop{false};
 static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler stores it");
@@ -119,6 +120,19 @@ void run(Options opt) {
   const mc::Outcome outcome = mc::run_into(
       opt.config, opt.output_dir, opt.threads,
       [&](const mc::Progress& p) { printer(p); }, g_stop);
+  const int ran = outcome.done - outcome.done_before;
+  if (ran > 0) {
+    const UnitTimes& t = outcome.unit_cpu;
+    const double cpu = outcome.design_cpu_s + t.experiment_s + t.crossval_s + t.lengths_s;
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "montecarlo: %d units in %.1f s wall, %.1f CPU s: designs %.1f, experiments "
+                  "(simulate, identify, balance) %.1f, cross-validation %.1f, test lengths %.1f; "
+                  "%.3f units per CPU second (%.3f without the test lengths)",
+                  ran, outcome.wall_s, cpu, outcome.design_cpu_s, t.experiment_s, t.crossval_s,
+                  t.lengths_s, ran / cpu, ran / (cpu - t.lengths_s));
+    std::cerr << line << std::endl;
+  }
   if (!outcome.complete) {
     printer.end_line();
     std::cerr << "montecarlo: interrupted: " << outcome.done << " of " << outcome.total

@@ -2,6 +2,7 @@
 #include "host/montecarlo/run.hpp"
 
 #include <chrono>
+#include <ctime>
 #include <mutex>
 #include <stdexcept>
 
@@ -67,7 +68,9 @@ Outcome run_into(const Config& config, const fs::path& dir, int threads,
   state.done = state.done_before = outcome.done_before;
   if (progress) progress(state);
   if (!pending.empty() && !stop) {
+    const std::clock_t design_start = std::clock();
     const std::unique_ptr<Prepared> prepared = prepare(config, threads);
+    outcome.design_cpu_s = static_cast<double>(std::clock() - design_start) / CLOCKS_PER_SEC;
     parallel_for(static_cast<int>(pending.size()), threads, [&](int i) {
       if (stop) return;
       const Unit& unit = pending[static_cast<std::size_t>(i)];
@@ -77,6 +80,9 @@ Outcome run_into(const Config& config, const fs::path& dir, int threads,
       write_whole_file(file, unit_json(result).dump(1) + "\n");
       const std::lock_guard<std::mutex> lock(mutex);
       ++outcome.done;
+      outcome.unit_cpu.experiment_s += result.times.experiment_s;
+      outcome.unit_cpu.crossval_s += result.times.crossval_s;
+      outcome.unit_cpu.lengths_s += result.times.lengths_s;
       state.done = outcome.done;
       state.elapsed_s =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -88,6 +94,7 @@ Outcome run_into(const Config& config, const fs::path& dir, int threads,
     });
   }
   outcome.complete = outcome.done == outcome.total;
+  outcome.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return outcome;
 }
 

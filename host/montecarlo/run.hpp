@@ -31,6 +31,11 @@ struct Progress {
 struct Outcome {
   int total = 0, done_before = 0, done = 0;
   bool complete = false;  // every unit of the shard is in DIR
+  // Where this run's time went (units run now only): process CPU seconds of the designs,
+  // the units' stages summed (unit.hpp UnitTimes), and the wall time of the whole call.
+  double design_cpu_s = 0.0;
+  UnitTimes unit_cpu;
+  double wall_s = 0.0;
 };
 
 /// Runs config.shard's units into `dir` (config normalised, work.hpp). `progress` (may be

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "host/montecarlo/unit.hpp"
 
+#include <time.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -47,6 +49,12 @@ bool met_on_prefix(const Prepared& p, const Experiment& e, Eigen::Index rows) {
 
 }  // namespace
 
+double thread_cpu_s() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 std::unique_ptr<Prepared> prepare(const Config& config, int threads) {
   auto p = std::make_unique<Prepared>();
   p->config = config;
@@ -71,6 +79,7 @@ std::unique_ptr<Prepared> prepare(const Config& config, int threads) {
 
 UnitResult run_unit(const Prepared& p, const Unit& unit) {
   const auto a = static_cast<std::size_t>(unit.design);
+  const double start_s = thread_cpu_s();
   CampaignOptions options = p.campaign;
   options.seed = kSeedStride * unit.seed;
   const Experiment e = run_experiment(p.designs[a], p.presets[a], options,
@@ -95,6 +104,8 @@ UnitResult run_unit(const Prepared& p, const Unit& unit) {
       for (Eigen::Index j = 0; j < g.gain.cols(); ++j) r.gain.push_back(g.gain(i, j));
   }
   r.accuracy = judge(p.truth, e.identified.gain);
+  const double experiment_done_s = thread_cpu_s();
+  r.times.experiment_s = experiment_done_s - start_s;
 
   // SPEC §6 cross-validation, as the campaign does it, on this seed's other runs.
   std::vector<double> cross;
@@ -107,6 +118,9 @@ UnitResult run_unit(const Prepared& p, const Unit& unit) {
   r.crossfit_avg = any_nan ? kNaN : mean_of(cross);
   r.crossfit_worst = any_nan || cross.empty() ? kNaN : *std::min_element(cross.begin(), cross.end());
 
+  const double crossval_done_s = thread_cpu_s();
+  r.times.crossval_s = crossval_done_s - experiment_done_s;
+
   for (const int percent : length_grid(p.config)) {
     LengthPoint point;
     point.percent = percent;
@@ -114,6 +128,7 @@ UnitResult run_unit(const Prepared& p, const Unit& unit) {
     point.met = percent == 100 ? r.accuracy.met : met_on_prefix(p, e, point.samples);
     r.lengths.push_back(point);
   }
+  r.times.lengths_s = thread_cpu_s() - crossval_done_s;
   return r;
 }
 

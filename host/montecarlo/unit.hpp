@@ -25,6 +25,14 @@ struct LengthPoint {
   bool met = false;
 };
 
+/// Where a unit's time went: CPU seconds of the thread that ran it, per stage. Not kept in
+/// the unit's file (they differ from run to run).
+struct UnitTimes {
+  double experiment_s = 0.0;  // run_experiment: simulate twice, identify, balance
+  double crossval_s = 0.0;    // the other designs' runs of the seed simulated, model fitted
+  double lengths_s = 0.0;     // identifications on the prefixes of the test-length grid
+};
+
 /// What a unit keeps (DIR/units/…json, records.hpp); every figure the summary needs.
 struct UnitResult {
   std::string design;  // acronym
@@ -41,6 +49,7 @@ struct UnitResult {
   std::vector<double> gain;             // the identified G(0), row-major; empty likewise
   Accuracy accuracy;                    // on the whole run
   std::vector<LengthPoint> lengths;     // length_grid(config), the last one the whole run
+  UnitTimes times;                      // not in the file
 };
 
 /// What every unit of a run shares, made once (designs are seed-free) and read-only after.
@@ -56,6 +65,9 @@ struct Prepared {
 /// Designs every design of `config` (on `threads` threads). Throws std::invalid_argument for
 /// a plant without a case study.
 std::unique_ptr<Prepared> prepare(const Config& config, int threads);
+
+/// CPU time of the calling thread, seconds (CLOCK_THREAD_CPUTIME_ID).
+double thread_cpu_s();
 
 /// Runs one unit on the calling thread.
 UnitResult run_unit(const Prepared& prepared, const Unit& unit);
