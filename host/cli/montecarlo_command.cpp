@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // excite montecarlo --plant P [--designs a,b,…] --seeds N [--first-seed S] [--threads T]
 //                   [--noise-var V] [--length-step PCT] [--shard i/N] -o DIR
+// excite montecarlo … --emit-slurm FILE [--slurm-tasks N] -o OUT   (a Slurm job array script)
 // excite montecarlo merge DIR… -o OUT
 // The campaign's experiment over noise seeds (host/montecarlo): every finished (design, seed)
 // unit is kept in DIR, so a run stopped by Ctrl-C (SIGINT) or SIGTERM resumes when the same
@@ -25,6 +26,7 @@
 #include "host/design/case_studies.hpp"
 #include "host/montecarlo/merge.hpp"
 #include "host/montecarlo/run.hpp"
+#include "host/montecarlo/slurm.hpp"
 #include "host/montecarlo/summary.hpp"
 #include "host/output/whole_file.hpp"
 
@@ -107,7 +109,25 @@ struct Options {
   int threads = 1;
   std::vector<std::string> merge_dirs;
   std::string merge_output;
+  std::string emit_slurm;  // script file; empty: run here
+  int slurm_tasks = 10;
 };
+
+// Writes the Slurm submission script instead of running (host/montecarlo/slurm.hpp).
+void emit_slurm(const Options& opt) {
+  if (opt.shard != "1/1")
+    throw std::invalid_argument("--shard = " + opt.shard +
+                                ", expected none with --emit-slurm (--slurm-tasks cuts the run)");
+  mc::SlurmJob job;
+  job.excite = fs::read_symlink("/proc/self/exe");
+  job.output_dir = fs::absolute(opt.output_dir).lexically_normal();
+  job.tasks = opt.slurm_tasks;
+  job.threads = opt.threads;
+  write_whole_file(opt.emit_slurm, mc::slurm_script(opt.config, job));
+  std::cout << "wrote " << opt.emit_slurm << ": " << opt.slurm_tasks
+            << " array tasks and a merge job into " << job.output_dir.string()
+            << "; submit with: sh " << opt.emit_slurm << "\n";
+}
 
 void run(Options opt) {
   opt.config.shard = mc::parse_shard(opt.shard);
@@ -115,6 +135,10 @@ void run(Options opt) {
     opt.config.noise_variance = case_study_noise_variance(opt.config.plant);
   case_study(opt.config.plant);  // an unknown plant or one without a case study: its message
   mc::normalise(opt.config);
+  if (!opt.emit_slurm.empty()) {
+    emit_slurm(opt);
+    return;
+  }
   catch_stop_signals();
   ProgressPrinter printer;
   const mc::Outcome outcome = mc::run_into(
@@ -185,6 +209,11 @@ void add_montecarlo_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("-o,--output-dir", opt->output_dir,
                   "folder for run.json, units/ and summary.json (kept between runs: resume)");
+  cmd->add_option("--emit-slurm", opt->emit_slurm,
+                  "write a Slurm submission script (job array + merge job) to this file instead "
+                  "of running; -o DIR is where the nodes write");
+  cmd->add_option("--slurm-tasks", opt->slurm_tasks, "array tasks (shards) of --emit-slurm")
+      ->capture_default_str();
   CLI::App* merge_cmd = cmd->add_subcommand(
       "merge", "Combine the folders of all shards of a run into OUT/summary.json");
   merge_cmd->add_option("dirs", opt->merge_dirs, "the shards' folders")->required();

@@ -219,3 +219,41 @@ TEST_F(MonteCarlo, RefusesOptionsAndFoldersNamingTheFieldValueAndExpectation) {
   EXPECT_NE(r.out.find("--seeds is required"), std::string::npos) << r.out;
   EXPECT_FALSE(fs::exists(path("x")));
 }
+
+// The --emit-slurm script run by a stand-in for sbatch (not Slurm: it runs each job of the
+// array, then the merge job, here, in order, with SLURM_ARRAY_TASK_ID set as Slurm sets it).
+// It checks the script's shell and the commands in it; the scheduler itself is not tested.
+TEST_F(MonteCarlo, EmitSlurmScriptRunsItsArrayAndMergeToTheSingleProcessSummary) {
+  const std::string out = path("cluster out");  // a space: refused, Slurm's --output is unquoted
+  auto r = excite(kRun + " --emit-slurm " + path("submit.sh") + " -o '" + out + "'");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("expected a path without spaces or '%'"), std::string::npos) << r.out;
+
+  r = excite(kRun + " --threads 1 --slurm-tasks 3 --emit-slurm " + path("submit.sh") + " -o " +
+             path("cluster"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(path("cluster"))) << "--emit-slurm ran the work";
+  const std::string script = bytes_of(path("submit.sh"));
+  EXPECT_NE(script.find("#SBATCH --array=1-3\n"), std::string::npos) << script;
+  EXPECT_NE(script.find("--dependency=afterok:"), std::string::npos) << script;
+  std::filesystem::create_directories(path("bin"));
+  {
+    std::ofstream stub(path("bin") + "/sbatch");
+    stub << "#!/bin/sh\n"
+            "job=$(mktemp); cat > \"$job\"\n"
+            "range=$(sed -n 's/^#SBATCH --array=\\([0-9]*\\)-\\([0-9]*\\)$/\\1 \\2/p' \"$job\")\n"
+            "if [ -n \"$range\" ]; then set -- $range; i=$1\n"
+            "  while [ \"$i\" -le \"$2\" ]; do SLURM_ARRAY_TASK_ID=$i sh \"$job\" >> \"$STUB_LOG\" 2>&1 || exit 1; i=$((i+1)); done\n"
+            "else sh \"$job\" >> \"$STUB_LOG\" 2>&1 || exit 1; fi\n"
+            "echo \"$$;cluster\"\n";
+  }
+  std::filesystem::permissions(path("bin") + "/sbatch", std::filesystem::perms::owner_all);
+  r = excite_cli_test::shell("STUB_LOG=" + path("stub.log") + " PATH=" + path("bin") +
+                             ":$PATH sh " + path("submit.sh"));
+  ASSERT_EQ(r.exit_code, 0) << r.out << bytes_of(path("stub.log"));
+  EXPECT_NE(r.out.find("(3 shards) and merge job"), std::string::npos) << r.out;
+  ASSERT_EQ(excite(kRun + " --threads 1 -o " + path("one")).exit_code, 0);
+  EXPECT_EQ(bytes_of(path("cluster") + "/summary.json"), bytes_of(path("one") + "/summary.json"))
+      << bytes_of(path("stub.log"));
+  EXPECT_TRUE(std::filesystem::exists(path("cluster") + "/shard-3/run.json"));
+}
