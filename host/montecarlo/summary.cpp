@@ -40,8 +40,32 @@ std::vector<double> collect(const std::vector<const UnitResult*>& units, F figur
   return v;
 }
 
+// Per element of G(0): the true gain, the spread of the identified one, and whether the
+// median is further from the truth than the 10–90 % range is wide (a bias the noise does not
+// explain: the model's structure or the identifier).
+json gain_elements_json(const std::vector<const UnitResult*>& units, const Eigen::MatrixXd& truth) {
+  json elements = json::array();
+  for (Eigen::Index i = 0; i < truth.rows(); ++i) {
+    for (Eigen::Index j = 0; j < truth.cols(); ++j) {
+      const auto at = static_cast<std::size_t>(i * truth.cols() + j);
+      json e = spread_json(collect(units, [at](const UnitResult& u) {
+        return at < u.gain.size() ? u.gain[at] : std::numeric_limits<double>::quiet_NaN();
+      }));
+      e["output"] = i;
+      e["input"] = j;
+      e["true"] = truth(i, j);
+      const bool known = e["median"].is_number();
+      e["bias_exceeds_spread"] =
+          known && std::abs(e["median"].get<double>() - truth(i, j)) >
+                       e["p90"].get<double>() - e["p10"].get<double>();
+      elements.push_back(e);
+    }
+  }
+  return elements;
+}
+
 json design_json(const std::string& name, const std::vector<const UnitResult*>& units,
-                 std::size_t inputs) {
+                 std::size_t inputs, const Eigen::MatrixXd& true_gain) {
   const UnitResult& first = *units.front();
   json j = {{"design", name}, {"number", first.number}, {"seeds", units.size()},
             {"samples", first.samples}, {"sample_time_min", first.sample_time_min}};
@@ -61,6 +85,7 @@ json design_json(const std::string& name, const std::vector<const UnitResult*>& 
     })));
   }
   j["singular_values"] = sv;
+  j["gain_elements"] = gain_elements_json(units, true_gain);
   j["sigma_n_error_percent"] = spread_json(
       collect(units, [](const UnitResult& u) { return 100.0 * u.accuracy.sigma_n_error; }));
   j["weakest_direction_angle_deg"] =
@@ -145,7 +170,7 @@ json summary_json(const Config& config, const std::vector<UnitResult>& units) {
       throw std::runtime_error(config.designs[d] + ": " + std::to_string(of_design.size()) +
                                " seeds finished, expected " + std::to_string(config.seeds));
     }
-    designs.push_back(design_json(config.designs[d], of_design, inputs));
+    designs.push_back(design_json(config.designs[d], of_design, inputs, truth.gain.gain));
   }
   Config c = config;
   c.shard = {};
@@ -171,6 +196,9 @@ json summary_json(const Config& config, const std::vector<UnitResult>& units) {
   j["spread"] = "median and 10-90 % range (linear interpolation, type 7) over the seeds; "
                 "finite values only";
   j["intervals"] = "Wilson score interval at 95 %";
+  j["bias_definition"] =
+      "gain_elements[].bias_exceeds_spread: |median - true| > p90 - p10 over the seeds: an error "
+      "the noise does not explain (the model structure or the identifier)";
   j["true_singular_values"] = true_sv;
   j["designs"] = designs;
   return j;
@@ -209,6 +237,20 @@ std::string summary_text(const json& summary) {
                   spread_text(d["weakest_direction_angle_deg"], "%.1f [%.1f-%.1f]").c_str(),
                   share, t90.c_str());
     out += line;
+  }
+  out += "G(0) elements whose median is off the true gain by more than their 10-90 % range "
+         "(bias, not noise):\n";
+  for (const json& d : summary["designs"]) {
+    std::string biased;
+    for (const json& e : d["gain_elements"]) {
+      if (!e["bias_exceeds_spread"].get<bool>()) continue;
+      std::snprintf(line, sizeof line, " g%d%d %.3g (true %.3g, range %.3g)",
+                    e["output"].get<int>() + 1, e["input"].get<int>() + 1,
+                    e["median"].get<double>(), e["true"].get<double>(),
+                    e["p90"].get<double>() - e["p10"].get<double>());
+      biased += line;
+    }
+    out += "  " + d["design"].get<std::string>() + ":" + (biased.empty() ? " none" : biased) + "\n";
   }
   out += "share of seeds meeting the criterion by test length (percent of the run: share):\n";
   for (const json& d : summary["designs"]) {
