@@ -88,6 +88,24 @@ TEST_F(MonteCarlo, WritesTheSummaryWithSpreadsSharesAndT90AndPrintsTheTable) {
   EXPECT_EQ(r.out.find('\r'), std::string::npos) << "a live bar was drawn on a pipe";
 }
 
+// On a terminal (a pseudo-terminal from util-linux `script`), one line redrawn in place.
+TEST_F(MonteCarlo, OnATerminalProgressIsOneBarRedrawnInPlace) {
+  const auto r = excite_cli_test::shell(
+      "script -qec \"" + std::string(EXCITE_CLI) +
+      " montecarlo --plant woodberry2x2 --designs prbsUnc --seeds 2 --length-step 50 -o " +
+      path("mc") + " >/dev/null\" /dev/null");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("\r[" + std::string(24, ' ') + "] montecarlo: 0/2 units"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("\r[" + std::string(24, '#') + "] montecarlo: 2/2 units"),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("montecarlo: 0/2 units, 0:00 elapsed, time left unknown\n"),
+            std::string::npos)
+      << "plain lines on a terminal";
+}
+
 TEST_F(MonteCarlo, SigintStopsCleanlyKeepsFinishedUnitsAndTheRerunResumesToTheSameSummary) {
   const std::string run = "montecarlo --plant woodberry2x2 --designs stepSeq,prbsSeq,prbsUnc,"
                           "prbsSimDir --seeds 6 --length-step 10 --threads 1";
