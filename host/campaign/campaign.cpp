@@ -42,6 +42,8 @@ Balance balance_of(const Eigen::MatrixXd& Y, const GainAnalysis& true_gain) {
   return b;
 }
 
+}  // namespace
+
 // One designed experiment run and identified. A plant of its own, so experiments run in
 // parallel.
 Experiment run_experiment(const Design& design, const PresetInfo& preset,
@@ -91,6 +93,8 @@ Experiment run_experiment(const Design& design, const PresetInfo& preset,
   e.balance_noisy = balance_of(e.Y, true_gain);
   return e;
 }
+
+namespace {
 
 // SPEC §6: every model on every data set, rows in parallel; the per-model figures as
 // cross_validate() gives them (a NaN fit makes that model's cross figures NaN).

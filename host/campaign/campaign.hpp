@@ -101,6 +101,19 @@ struct CampaignResult {
   Eigen::MatrixXd crossfit;  // fit(a, b): model a on data b, averaged over outputs
 };
 
+struct Design;
+struct PresetInfo;
+
+/// One experiment of the campaign (what run_campaign does per design, also used by
+/// host/montecarlo): `design` run noise-free and measured (options.measured_run, or
+/// simulated on options.plant with the noise of seed options.seed + preset.number),
+/// identified on one thread with T_p ≤ max_time_constant_min, balance on both runs along
+/// `true_gain`'s output directions. The cross-fit fields stay 0. Uses a plant of its own:
+/// callable from several threads at once.
+Experiment run_experiment(const Design& design, const PresetInfo& preset,
+                          const CampaignOptions& options, double noise_variance,
+                          const GainAnalysis& true_gain, double max_time_constant_min);
+
 /// Runs the campaign; `progress` (may be empty) gets one line per step for the terminal
 /// (called from the pool's threads, one call at a time). Throws std::invalid_argument for
 /// an unknown plant or a plant without a case study.

@@ -18,6 +18,7 @@ void add_validate_commands(CLI::App& app);  // validate, crossval
 void add_balance_command(CLI::App& app);
 void add_campaign_command(CLI::App& app);
 void add_loop_config_command(CLI::App& app);
+void add_montecarlo_command(CLI::App& app);  // montecarlo, montecarlo merge
 void add_export_command(
     CLI::App& app);  // export MODEL --format …  // loop-config (excite-plant + gateway pair)
 

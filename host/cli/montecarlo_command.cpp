@@ -1,0 +1,233 @@
+// SPDX-License-Identifier: MIT
+// excite montecarlo --plant P [--designs a,b,…] --seeds N [--first-seed S] [--threads T]
+//                   [--noise-var V] [--length-step PCT] [--shard i/N] -o DIR
+// excite montecarlo … --emit-slurm FILE [--slurm-tasks N] -o OUT   (a Slurm job array script)
+// excite montecarlo merge DIR… -o OUT
+// The campaign's experiment over noise seeds (host/montecarlo): every finished (design, seed)
+// unit is kept in DIR, so a run stopped by Ctrl-C (SIGINT) or SIGTERM resumes when the same
+// command is run again. A whole run (no --shard, or 1/1) ends with DIR/summary.json and the
+// table on stdout; a shard ends with its units, and `merge` makes OUT/summary.json from all
+// shards. Progress goes to stderr: a live line on a terminal, plain lines (at most one a
+// second, and the last) otherwise. Exit status 130 when interrupted.
+
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "host/cli/commands.hpp"
+#include "host/cli/number_checks.hpp"
+#include "host/design/case_studies.hpp"
+#include "host/montecarlo/merge.hpp"
+#include "host/montecarlo/run.hpp"
+#include "host/montecarlo/slurm.hpp"
+#include "host/montecarlo/summary.hpp"
+#include "host/output/whole_file.hpp"
+
+namespace excite::host::cli {
+namespace {
+
+namespace fs = std::filesystem;
+namespace mc = excite::host::montecarlo;
+using mc::UnitTimes;
+
+std::atomic<bool> g_stop{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler stores it");
+
+extern "C" void on_stop_signal(int) { g_stop.store(true); }
+
+// SIGINT and SIGTERM set the stop flag once; a second one (SA_RESETHAND) ends the process.
+void catch_stop_signals() {
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = static_cast<int>(SA_RESETHAND);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+std::string clock_text(double seconds) {
+  const auto s = static_cast<long long>(seconds + 0.5);
+  char text[32];
+  if (s >= 3600) {
+    std::snprintf(text, sizeof text, "%lld:%02lld:%02lld", s / 3600, s / 60 % 60, s % 60);
+  } else {
+    std::snprintf(text, sizeof text, "%lld:%02lld", s / 60, s % 60);
+  }
+  return text;
+}
+
+// Progress on stderr: a bar redrawn in place on a terminal, else plain lines.
+class ProgressPrinter {
+ public:
+  ProgressPrinter() : terminal_(::isatty(STDERR_FILENO) == 1) {}
+  void operator()(const mc::Progress& p) {
+    const bool last = p.done == p.total;
+    if (!terminal_ && !last && p.last != nullptr && p.elapsed_s - printed_at_ < 1.0) return;
+    printed_at_ = p.elapsed_s;
+    std::string line = "montecarlo: " + std::to_string(p.done) + "/" + std::to_string(p.total) +
+                       " units";
+    if (p.done_before > 0) line += " (" + std::to_string(p.done_before) + " from before)";
+    line += ", " + clock_text(p.elapsed_s) + " elapsed";
+    line += p.left_s >= 0.0 ? ", about " + clock_text(p.left_s) + " left" : ", time left unknown";
+    if (terminal_) {
+      constexpr int width = 24;
+      const int filled = p.total > 0 ? width * p.done / p.total : width;
+      std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
+                << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << line
+                << "   " << (last ? "\n" : "") << std::flush;
+    } else {
+      std::cerr << line << std::endl;
+    }
+  }
+  void end_line() const {
+    if (terminal_) std::cerr << "\n";
+  }
+
+ private:
+  bool terminal_;
+  double printed_at_ = -1e9;
+};
+
+void write_summary(const mc::Config& config, const std::vector<mc::UnitResult>& units,
+                   const fs::path& dir) {
+  const nlohmann::json summary = mc::summary_json(config, units);
+  write_whole_file(dir / "summary.json", summary.dump(2) + "\n");
+  std::cout << mc::summary_text(summary) << "wrote " << (dir / "summary.json").string() << "\n";
+}
+
+struct Options {
+  mc::Config config;
+  std::string shard = "1/1";
+  std::string output_dir;
+  int threads = 1;
+  std::vector<std::string> merge_dirs;
+  std::string merge_output;
+  std::string emit_slurm;  // script file; empty: run here
+  int slurm_tasks = 10;
+};
+
+// Writes the Slurm submission script instead of running (host/montecarlo/slurm.hpp).
+void emit_slurm(const Options& opt) {
+  if (opt.shard != "1/1")
+    throw std::invalid_argument("--shard = " + opt.shard +
+                                ", expected none with --emit-slurm (--slurm-tasks cuts the run)");
+  mc::SlurmJob job;
+  job.excite = fs::read_symlink("/proc/self/exe");
+  job.output_dir = fs::absolute(opt.output_dir).lexically_normal();
+  job.tasks = opt.slurm_tasks;
+  job.threads = opt.threads;
+  write_whole_file(opt.emit_slurm, mc::slurm_script(opt.config, job));
+  std::cout << "wrote " << opt.emit_slurm << ": " << opt.slurm_tasks
+            << " array tasks and a merge job into " << job.output_dir.string()
+            << "; submit with: sh " << opt.emit_slurm << "\n";
+}
+
+void run(Options opt) {
+  opt.config.shard = mc::parse_shard(opt.shard);
+  if (opt.config.noise_variance < 0.0)
+    opt.config.noise_variance = case_study_noise_variance(opt.config.plant);
+  case_study(opt.config.plant);  // an unknown plant or one without a case study: its message
+  mc::normalise(opt.config);
+  if (!opt.emit_slurm.empty()) {
+    emit_slurm(opt);
+    return;
+  }
+  catch_stop_signals();
+  ProgressPrinter printer;
+  const mc::Outcome outcome = mc::run_into(
+      opt.config, opt.output_dir, opt.threads,
+      [&](const mc::Progress& p) { printer(p); }, g_stop);
+  const int ran = outcome.done - outcome.done_before;
+  if (ran > 0) {
+    const UnitTimes& t = outcome.unit_cpu;
+    const double cpu = outcome.design_cpu_s + t.experiment_s + t.crossval_s + t.lengths_s;
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "montecarlo: %d units in %.1f s wall, %.1f CPU s: designs %.1f, experiments "
+                  "(simulate, identify, balance) %.1f, cross-validation %.1f, test lengths %.1f; "
+                  "%.3f units per CPU second (%.3f without the test lengths)",
+                  ran, outcome.wall_s, cpu, outcome.design_cpu_s, t.experiment_s, t.crossval_s,
+                  t.lengths_s, ran / cpu, ran / (cpu - t.lengths_s));
+    std::cerr << line << std::endl;
+  }
+  if (!outcome.complete) {
+    printer.end_line();
+    std::cerr << "montecarlo: interrupted: " << outcome.done << " of " << outcome.total
+              << " units kept in " << opt.output_dir
+              << "; run the same command again to resume" << std::endl;
+    std::exit(130);
+  }
+  if (opt.config.shard.count == 1) {
+    write_summary(opt.config, mc::read_units(opt.config, opt.output_dir), opt.output_dir);
+  } else {
+    std::cout << "shard " << opt.shard << " complete: " << outcome.total << " units in "
+              << opt.output_dir << "; merge all " << opt.config.shard.count
+              << " shards with: excite montecarlo merge DIR… -o OUT\n";
+  }
+}
+
+void merge(const Options& opt) {
+  std::vector<fs::path> dirs(opt.merge_dirs.begin(), opt.merge_dirs.end());
+  const mc::Merged merged = mc::merge_shards(dirs);
+  fs::create_directories(opt.merge_output);
+  write_summary(merged.config, merged.units, opt.merge_output);
+}
+
+}  // namespace
+
+void add_montecarlo_command(CLI::App& app) {
+  auto opt = std::make_shared<Options>();
+  opt->config.noise_variance = -1.0;
+  CLI::App* cmd = app.add_subcommand(
+      "montecarlo",
+      "The campaign's experiments over noise seeds: spread of fit, cross-fit, balance and "
+      "σ_i per design, the share of seeds meeting the accuracy criterion, and T90");
+  cmd->add_option("--plant", opt->config.plant, "plant with a case study");
+  cmd->add_option("--designs", opt->config.designs,
+                  "Table 6.1 acronyms, comma-separated (default: all 17)")
+      ->delimiter(',');
+  cmd->add_option("--seeds", opt->config.seeds, "number of noise seeds (1 to 1000000)");
+  cmd->add_option("--first-seed", opt->config.first_seed, "the first seed")->capture_default_str();
+  opt->threads = static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+  cmd->add_option("--threads", opt->threads, "units run in parallel (default: the cores)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  cmd->add_option("--noise-var", opt->config.noise_variance,
+                  "measurement noise variance per output (default: the case study's)")
+      ->check(finite_non_negative());
+  cmd->add_option("--length-step", opt->config.length_step_percent,
+                  "test-length grid step in percent of the run (0: the whole run only)")
+      ->capture_default_str();
+  cmd->add_option("--shard", opt->shard, "run shard i of N of the (design × seed) units")
+      ->capture_default_str();
+  cmd->add_option("-o,--output-dir", opt->output_dir,
+                  "folder for run.json, units/ and summary.json (kept between runs: resume)");
+  cmd->add_option("--emit-slurm", opt->emit_slurm,
+                  "write a Slurm submission script (job array + merge job) to this file instead "
+                  "of running; -o DIR is where the nodes write");
+  cmd->add_option("--slurm-tasks", opt->slurm_tasks, "array tasks (shards) of --emit-slurm")
+      ->capture_default_str();
+  CLI::App* merge_cmd = cmd->add_subcommand(
+      "merge", "Combine the folders of all shards of a run into OUT/summary.json");
+  merge_cmd->add_option("dirs", opt->merge_dirs, "the shards' folders")->required();
+  merge_cmd->add_option("-o,--output-dir", opt->merge_output, "folder for summary.json")
+      ->required();
+  merge_cmd->callback([opt] { merge(*opt); });
+  cmd->callback([opt, merge_cmd, cmd] {
+    if (merge_cmd->parsed()) return;
+    for (const char* name : {"--plant", "--seeds", "--output-dir"}) {
+      if (cmd->get_option(name)->count() == 0)
+        throw CLI::RequiredError(std::string(name) + " is required (or: montecarlo merge)");
+    }
+    run(*opt);
+  });
+}
+
+}  // namespace excite::host::cli

@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: MIT
+#include "host/montecarlo/run.hpp"
+
+#include <chrono>
+#include <ctime>
+#include <mutex>
+#include <stdexcept>
+
+#include "host/campaign/parallel.hpp"
+#include "host/montecarlo/records.hpp"
+#include "host/output/whole_file.hpp"
+
+namespace excite::host::montecarlo {
+namespace fs = std::filesystem;
+
+namespace {
+
+void claim_folder(const Config& config, const fs::path& dir) {
+  const fs::path run_file = dir / "run.json";
+  if (fs::exists(run_file)) {
+    const Config found = read_config(run_file);
+    std::string difference = first_difference(found, config);
+    if (difference.empty() && (found.shard.index != config.shard.index ||
+                               found.shard.count != config.shard.count)) {
+      difference = "shard = " + std::to_string(found.shard.index) + "/" +
+                   std::to_string(found.shard.count) + ", expected " +
+                   std::to_string(config.shard.index) + "/" + std::to_string(config.shard.count);
+    }
+    if (!difference.empty()) {
+      throw std::runtime_error(run_file.string() + ": " + difference +
+                               " (this command's); resume with the same options or use "
+                               "another folder");
+    }
+    return;
+  }
+  if (fs::exists(dir) && !fs::is_directory(dir))
+    throw std::runtime_error(dir.string() + ": not a folder, expected a new or empty folder");
+  if (fs::exists(dir) && !fs::is_empty(dir)) {
+    throw std::runtime_error(dir.string() +
+                             ": a folder with files and no run.json, expected a new or empty "
+                             "folder or a Monte Carlo run's");
+  }
+  fs::create_directories(dir);
+  write_whole_file(run_file, config_json(config).dump(2) + "\n");
+}
+
+}  // namespace
+
+Outcome run_into(const Config& config, const fs::path& dir, int threads,
+                 const std::function<void(const Progress&)>& progress,
+                 const std::atomic<bool>& stop) {
+  if (threads < 1)
+    throw std::invalid_argument("--threads = " + std::to_string(threads) + ", expected >= 1");
+  claim_folder(config, dir);
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<Unit> units = shard_units(config);
+  std::vector<Unit> pending;
+  for (const Unit& u : units) {
+    if (!fs::exists(unit_path(dir, config, u))) pending.push_back(u);
+  }
+  Outcome outcome;
+  outcome.total = static_cast<int>(units.size());
+  outcome.done_before = outcome.total - static_cast<int>(pending.size());
+  outcome.done = outcome.done_before;
+  std::mutex mutex;
+  Progress state;
+  state.total = outcome.total;
+  state.done = state.done_before = outcome.done_before;
+  if (progress) progress(state);
+  if (!pending.empty() && !stop) {
+    const std::clock_t design_start = std::clock();
+    const std::unique_ptr<Prepared> prepared = prepare(config, threads);
+    outcome.design_cpu_s = static_cast<double>(std::clock() - design_start) / CLOCKS_PER_SEC;
+    parallel_for(static_cast<int>(pending.size()), threads, [&](int i) {
+      if (stop) return;
+      const Unit& unit = pending[static_cast<std::size_t>(i)];
+      const UnitResult result = run_unit(*prepared, unit);
+      const fs::path file = unit_path(dir, config, unit);
+      fs::create_directories(file.parent_path());
+      write_whole_file(file, unit_json(result).dump(1) + "\n");
+      const std::lock_guard<std::mutex> lock(mutex);
+      ++outcome.done;
+      outcome.unit_cpu.experiment_s += result.times.experiment_s;
+      outcome.unit_cpu.crossval_s += result.times.crossval_s;
+      outcome.unit_cpu.lengths_s += result.times.lengths_s;
+      state.done = outcome.done;
+      state.elapsed_s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const int this_run = state.done - state.done_before;
+      state.left_s = state.elapsed_s / this_run * (state.total - state.done);
+      state.last = &result;
+      if (progress) progress(state);
+      state.last = nullptr;
+    });
+  }
+  outcome.complete = outcome.done == outcome.total;
+  outcome.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return outcome;
+}
+
+std::vector<UnitResult> read_units(const Config& config, const fs::path& dir) {
+  std::vector<UnitResult> out;
+  for (const Unit& u : shard_units(config)) {
+    const fs::path file = unit_path(dir, config, u);
+    if (!fs::exists(file)) {
+      throw std::runtime_error(dir.string() + ": unit " + config.designs[static_cast<std::size_t>(u.design)] +
+                               " seed " + std::to_string(u.seed) + " missing (" + file.string() +
+                               "), expected every unit of shard " +
+                               std::to_string(config.shard.index) + "/" +
+                               std::to_string(config.shard.count) + "; rerun it to finish");
+    }
+    UnitResult r = read_unit(file);
+    if (r.design != config.designs[static_cast<std::size_t>(u.design)] || r.seed != u.seed) {
+      throw std::runtime_error(file.string() + ": holds " + r.design + " seed " +
+                               std::to_string(r.seed) + ", expected " +
+                               config.designs[static_cast<std::size_t>(u.design)] + " seed " +
+                               std::to_string(u.seed));
+    }
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+}  // namespace excite::host::montecarlo

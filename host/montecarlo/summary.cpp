@@ -1,0 +1,268 @@
+// SPDX-License-Identifier: MIT
+#include "host/montecarlo/summary.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "host/design/case_studies.hpp"
+#include "host/montecarlo/accuracy.hpp"
+#include "host/montecarlo/statistics.hpp"
+
+namespace excite::host::montecarlo {
+namespace {
+
+using nlohmann::json;
+
+json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+json spread_json(const std::vector<double>& values) {
+  const Spread s = spread_of(values);
+  return {{"median", number(s.median)},
+          {"p10", number(s.p10)},
+          {"p90", number(s.p90)},
+          {"finite", s.finite},
+          {"left_out", s.left_out}};
+}
+
+json share_json(int met, int of) {
+  const Interval w = wilson95(met, of);
+  return {{"met", met},
+          {"of", of},
+          {"share", of > 0 ? json(static_cast<double>(met) / of) : json(nullptr)},
+          {"wilson95", {w.low, w.high}}};
+}
+
+template <class F>
+std::vector<double> collect(const std::vector<const UnitResult*>& units, F figure) {
+  std::vector<double> v;
+  for (const UnitResult* u : units) v.push_back(figure(*u));
+  return v;
+}
+
+// Per element of G(0): the true gain, the spread of the identified one, and whether the
+// median is further from the truth than the 10–90 % range is wide (a bias the noise does not
+// explain: the model's structure or the identifier).
+json gain_elements_json(const std::vector<const UnitResult*>& units, const Eigen::MatrixXd& truth) {
+  json elements = json::array();
+  for (Eigen::Index i = 0; i < truth.rows(); ++i) {
+    for (Eigen::Index j = 0; j < truth.cols(); ++j) {
+      const auto at = static_cast<std::size_t>(i * truth.cols() + j);
+      json e = spread_json(collect(units, [at](const UnitResult& u) {
+        return at < u.gain.size() ? u.gain[at] : std::numeric_limits<double>::quiet_NaN();
+      }));
+      e["output"] = i;
+      e["input"] = j;
+      e["true"] = truth(i, j);
+      const bool known = e["median"].is_number();
+      e["bias_exceeds_spread"] =
+          known && std::abs(e["median"].get<double>() - truth(i, j)) >
+                       e["p90"].get<double>() - e["p10"].get<double>();
+      elements.push_back(e);
+    }
+  }
+  return elements;
+}
+
+json design_json(const std::string& name, const std::vector<const UnitResult*>& units,
+                 std::size_t inputs, const Eigen::MatrixXd& true_gain) {
+  const UnitResult& first = *units.front();
+  json j = {{"design", name}, {"number", first.number}, {"seeds", units.size()},
+            {"samples", first.samples}, {"sample_time_min", first.sample_time_min}};
+  j["fit"] = spread_json(collect(units, [](const UnitResult& u) { return u.fit_avg; }));
+  j["crossfit_worst"] =
+      spread_json(collect(units, [](const UnitResult& u) { return u.crossfit_worst; }));
+  j["ratio"] = spread_json(collect(units, [](const UnitResult& u) { return u.ratio; }));
+  j["upsilon"] = spread_json(collect(units, [](const UnitResult& u) { return u.upsilon; }));
+  j["ratio_noisy"] = spread_json(collect(units, [](const UnitResult& u) { return u.ratio_noisy; }));
+  j["upsilon_noisy"] =
+      spread_json(collect(units, [](const UnitResult& u) { return u.upsilon_noisy; }));
+  json sv = json::array();
+  for (std::size_t i = 0; i < inputs; ++i) {
+    sv.push_back(spread_json(collect(units, [i](const UnitResult& u) {
+      return i < u.singular_values.size() ? u.singular_values[i]
+                                          : std::numeric_limits<double>::quiet_NaN();
+    })));
+  }
+  j["singular_values"] = sv;
+  j["gain_elements"] = gain_elements_json(units, true_gain);
+  j["sigma_n_error_percent"] = spread_json(
+      collect(units, [](const UnitResult& u) { return 100.0 * u.accuracy.sigma_n_error; }));
+  j["weakest_direction_angle_deg"] =
+      spread_json(collect(units, [](const UnitResult& u) { return u.accuracy.weakest_angle_deg; }));
+  int met = 0, minors = 0, identified = 0;
+  for (const UnitResult* u : units) {
+    met += u->accuracy.met ? 1 : 0;
+    minors += u->accuracy.minor_signs_right ? 1 : 0;
+    identified += u->accuracy.gain_identified ? 1 : 0;
+  }
+  const int n = static_cast<int>(units.size());
+  j["gain_identified"] = share_json(identified, n);
+  j["minor_signs_right"] = share_json(minors, n);
+  j["criterion"] = share_json(met, n);
+
+  json lengths = json::array();
+  std::vector<double> shares;
+  for (std::size_t g = 0; g < first.lengths.size(); ++g) {
+    int k = 0;
+    for (const UnitResult* u : units) {
+      if (u->lengths.size() != first.lengths.size() ||
+          u->lengths[g].percent != first.lengths[g].percent) {
+        throw std::runtime_error(name + " seed " + std::to_string(u->seed) +
+                                 ": length grid differs from seed " + std::to_string(first.seed));
+      }
+      k += u->lengths[g].met ? 1 : 0;
+    }
+    json p = share_json(k, n);
+    p["percent"] = first.lengths[g].percent;
+    p["samples"] = first.lengths[g].samples;
+    p["minutes"] = static_cast<double>(first.lengths[g].samples) * first.sample_time_min;
+    lengths.push_back(p);
+    shares.push_back(static_cast<double>(k) / n);
+  }
+  j["lengths"] = lengths;
+  const std::optional<std::size_t> t90 = t90_index(shares);
+  j["t90"] = t90 ? json{{"percent", lengths[*t90]["percent"]},
+                        {"samples", lengths[*t90]["samples"]},
+                        {"minutes", lengths[*t90]["minutes"]}}
+                 : json(nullptr);
+  return j;
+}
+
+std::string format(const char* pattern, double a, double b, double c) {
+  char buffer[96];
+  std::snprintf(buffer, sizeof buffer, pattern, a, b, c);
+  return buffer;
+}
+
+double as_double(const json& v) {
+  return v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::string spread_text(const json& s, const char* pattern) {
+  return format(pattern, as_double(s["median"]), as_double(s["p10"]), as_double(s["p90"]));
+}
+
+}  // namespace
+
+std::optional<std::size_t> t90_index(const std::vector<double>& shares) {
+  std::optional<std::size_t> from;
+  for (std::size_t g = shares.size(); g-- > 0;) {
+    if (!(shares[g] >= kT90Share)) break;
+    from = g;
+  }
+  return from;
+}
+
+json summary_json(const Config& config, const std::vector<UnitResult>& units) {
+  const TruePlant truth = true_plant_of(case_study(config.plant).gain);
+  const auto inputs = static_cast<std::size_t>(truth.gain.singular_values.size());
+  json true_sv = json::array();
+  for (Eigen::Index i = 0; i < truth.gain.singular_values.size(); ++i)
+    true_sv.push_back(truth.gain.singular_values(i));
+  json designs = json::array();
+  for (std::size_t d = 0; d < config.designs.size(); ++d) {
+    std::vector<const UnitResult*> of_design;
+    for (const UnitResult& u : units) {
+      if (u.design == config.designs[d]) of_design.push_back(&u);
+    }
+    if (of_design.size() != static_cast<std::size_t>(config.seeds)) {
+      throw std::runtime_error(config.designs[d] + ": " + std::to_string(of_design.size()) +
+                               " seeds finished, expected " + std::to_string(config.seeds));
+    }
+    designs.push_back(design_json(config.designs[d], of_design, inputs, truth.gain.gain));
+  }
+  Config c = config;
+  c.shard = {};
+  json j;
+  j["format"] = "excite montecarlo summary v1";
+  j["run"] = {{"plant", c.plant},
+              {"designs", c.designs},
+              {"seeds", c.seeds},
+              {"first_seed", c.first_seed},
+              {"noise_variance", c.noise_variance},
+              {"noise_seed", "experiment e of seed s: 100*s + e (excite campaign --seed 100s)"},
+              {"length_step_percent", c.length_step_percent}};
+  j["criterion"] = {
+      {"text",
+       "identified G(0): every principal minor's sign right, sigma_n within 20 %, the weakest "
+       "input direction v_n within 10 degrees (sign ignored)"},
+      {"sigma_n_tolerance", kSigmaTolerance},
+      {"angle_tolerance_deg", kAngleToleranceDeg}};
+  j["t90_definition"] =
+      "the shortest grid length L (percent of the run) such that the share of seeds meeting "
+      "the criterion on the first L of the run is >= 90 % at L and at every longer grid length; "
+      "null when the whole run's share is below 90 %";
+  j["spread"] = "median and 10-90 % range (linear interpolation, type 7) over the seeds; "
+                "finite values only";
+  j["intervals"] = "Wilson score interval at 95 %";
+  j["bias_definition"] =
+      "gain_elements[].bias_exceeds_spread: |median - true| > p90 - p10 over the seeds: an error "
+      "the noise does not explain (the model structure or the identifier)";
+  j["true_singular_values"] = true_sv;
+  j["designs"] = designs;
+  return j;
+}
+
+std::string summary_text(const json& summary) {
+  std::string out;
+  const json& run = summary["run"];
+  out += "plant " + run["plant"].get<std::string>() + ", " + std::to_string(run["seeds"].get<int>()) +
+         " seeds from " + std::to_string(run["first_seed"].get<std::uint64_t>()) +
+         "; criterion: " + summary["criterion"]["text"].get<std::string>() + "\n";
+  char line[512];
+  std::snprintf(line, sizeof line, "%-15s %-22s %-22s %-22s %-22s %-22s %-24s %s\n", "design",
+                "fit % [10-90]", "worst cross-fit %", "ratio (noise-free)", "sigma_n error %",
+                "v_n angle deg", "criterion met [95 %]", "T90");
+  out += line;
+  for (const json& d : summary["designs"]) {
+    const json& c = d["criterion"];
+    char share[64];
+    std::snprintf(share, sizeof share, "%d/%d [%.2f-%.2f]", c["met"].get<int>(),
+                  c["of"].get<int>(), c["wilson95"][0].get<double>(),
+                  c["wilson95"][1].get<double>());
+    std::string t90 = "none";
+    if (!d["t90"].is_null()) {
+      char text[64];
+      std::snprintf(text, sizeof text, "%d %% (%.0f min)", d["t90"]["percent"].get<int>(),
+                    d["t90"]["minutes"].get<double>());
+      t90 = text;
+    }
+    std::snprintf(line, sizeof line, "%-15s %-22s %-22s %-22s %-22s %-22s %-24s %s\n",
+                  d["design"].get<std::string>().c_str(),
+                  spread_text(d["fit"], "%.1f [%.1f-%.1f]").c_str(),
+                  spread_text(d["crossfit_worst"], "%.1f [%.1f-%.1f]").c_str(),
+                  spread_text(d["ratio"], "%.3f [%.3f-%.3f]").c_str(),
+                  spread_text(d["sigma_n_error_percent"], "%.1f [%.1f-%.1f]").c_str(),
+                  spread_text(d["weakest_direction_angle_deg"], "%.1f [%.1f-%.1f]").c_str(),
+                  share, t90.c_str());
+    out += line;
+  }
+  out += "G(0) elements whose median is off the true gain by more than their 10-90 % range "
+         "(bias, not noise):\n";
+  for (const json& d : summary["designs"]) {
+    std::string biased;
+    for (const json& e : d["gain_elements"]) {
+      if (!e["bias_exceeds_spread"].get<bool>()) continue;
+      std::snprintf(line, sizeof line, " g%d%d %.3g (true %.3g, range %.3g)",
+                    e["output"].get<int>() + 1, e["input"].get<int>() + 1,
+                    e["median"].get<double>(), e["true"].get<double>(),
+                    e["p90"].get<double>() - e["p10"].get<double>());
+      biased += line;
+    }
+    out += "  " + d["design"].get<std::string>() + ":" + (biased.empty() ? " none" : biased) + "\n";
+  }
+  out += "share of seeds meeting the criterion by test length (percent of the run: share):\n";
+  for (const json& d : summary["designs"]) {
+    out += "  " + d["design"].get<std::string>() + ":";
+    for (const json& p : d["lengths"]) {
+      std::snprintf(line, sizeof line, " %d:%.2f", p["percent"].get<int>(),
+                    p["share"].is_null() ? 0.0 : p["share"].get<double>());
+      out += line;
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+}  // namespace excite::host::montecarlo

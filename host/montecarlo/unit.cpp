@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: MIT
+#include "host/montecarlo/unit.hpp"
+
+#include <time.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "host/campaign/parallel.hpp"
+#include "host/design/case_studies.hpp"
+#include "host/identify/validate.hpp"
+#include "host/simulate/simulate.hpp"
+#include "sim/plants/plant.hpp"
+
+namespace excite::host::montecarlo {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double mean_of(const std::vector<double>& v) {
+  double sum = 0.0;
+  for (const double x : v) sum += x;
+  return v.empty() ? kNaN : sum / static_cast<double>(v.size());
+}
+
+// The measured run of design b in this unit's seed: what run_experiment measures for it
+// (simulate_plan with the noise of seed options.seed + number).
+SimulatedRun measured_run(const Prepared& p, std::size_t b, std::uint64_t campaign_seed) {
+  SimulationOptions sim;
+  sim.seed = campaign_seed + static_cast<std::uint64_t>(p.presets[b].number);
+  sim.noise_variance = p.config.noise_variance;
+  return simulate_plan(*p.designs[b].plan, std::string(p.presets[b].acronym),
+                       *sim::make_plant(p.config.plant), sim);
+}
+
+// The criterion on the first rows of the run (a prefix too short to identify: not met).
+bool met_on_prefix(const Prepared& p, const Experiment& e, Eigen::Index rows) {
+  IdentifyOptions options;
+  options.threads = 1;
+  options.max_time_constant_min = p.max_time_constant_min;
+  if (rows < minimum_samples(static_cast<int>(e.U.cols()), e.sample_time_min, options))
+    return false;
+  const IdentificationResult r =
+      identify(e.U.topRows(rows), e.Y.topRows(rows), e.sample_time_min, options);
+  return judge(p.truth, r.gain).met;
+}
+
+}  // namespace
+
+double thread_cpu_s() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+std::unique_ptr<Prepared> prepare(const Config& config, int threads) {
+  auto p = std::make_unique<Prepared>();
+  p->config = config;
+  const PriorKnowledge prior = case_study(config.plant);
+  p->campaign.plant = config.plant;
+  p->campaign.threads = 1;
+  p->campaign.noise_variance = config.noise_variance;
+  p->truth = true_plant_of(prior.gain);
+  p->max_time_constant_min = prior.beta * prior.tau_high_min;
+  for (const std::string& name : config.designs) {
+    for (const PresetInfo& info : presets()) {
+      if (info.acronym == name) p->presets.push_back(info);
+    }
+  }
+  p->designs.resize(p->presets.size());
+  parallel_for(static_cast<int>(p->presets.size()), threads, [&](int d) {
+    p->designs[static_cast<std::size_t>(d)] =
+        design_preset(prior, p->presets[static_cast<std::size_t>(d)], 0);
+  });
+  return p;
+}
+
+UnitResult run_unit(const Prepared& p, const Unit& unit) {
+  const auto a = static_cast<std::size_t>(unit.design);
+  const double start_s = thread_cpu_s();
+  CampaignOptions options = p.campaign;
+  options.seed = kSeedStride * unit.seed;
+  const Experiment e = run_experiment(p.designs[a], p.presets[a], options,
+                                      p.config.noise_variance, p.truth.gain,
+                                      p.max_time_constant_min);
+  UnitResult r;
+  r.design = e.name;
+  r.number = e.number;
+  r.seed = unit.seed;
+  r.samples = e.U.rows();
+  r.sample_time_min = e.sample_time_min;
+  r.fit_avg = e.fit_avg;
+  r.ratio = e.balance_clean.ratio;
+  r.upsilon = e.balance_clean.upsilon;
+  r.ratio_noisy = e.balance_noisy.ratio;
+  r.upsilon_noisy = e.balance_noisy.upsilon;
+  if (e.identified.gain) {
+    const GainAnalysis& g = *e.identified.gain;
+    r.singular_values.assign(g.singular_values.data(),
+                             g.singular_values.data() + g.singular_values.size());
+    for (Eigen::Index i = 0; i < g.gain.rows(); ++i)
+      for (Eigen::Index j = 0; j < g.gain.cols(); ++j) r.gain.push_back(g.gain(i, j));
+  }
+  r.accuracy = judge(p.truth, e.identified.gain);
+  const double experiment_done_s = thread_cpu_s();
+  r.times.experiment_s = experiment_done_s - start_s;
+
+  // SPEC §6 cross-validation, as the campaign does it, on this seed's other runs.
+  std::vector<double> cross;
+  for (std::size_t b = 0; b < p.designs.size(); ++b) {
+    if (b == a) continue;
+    const SimulatedRun data = measured_run(p, b, options.seed);
+    cross.push_back(mean_of(fit(e.identified.model, data.du, data.dy)));
+  }
+  const bool any_nan = std::any_of(cross.begin(), cross.end(), [](double v) { return std::isnan(v); });
+  r.crossfit_avg = any_nan ? kNaN : mean_of(cross);
+  r.crossfit_worst = any_nan || cross.empty() ? kNaN : *std::min_element(cross.begin(), cross.end());
+
+  const double crossval_done_s = thread_cpu_s();
+  r.times.crossval_s = crossval_done_s - experiment_done_s;
+
+  for (const int percent : length_grid(p.config)) {
+    LengthPoint point;
+    point.percent = percent;
+    point.samples = r.samples * percent / 100;
+    point.met = percent == 100 ? r.accuracy.met : met_on_prefix(p, e, point.samples);
+    r.lengths.push_back(point);
+  }
+  r.times.lengths_s = thread_cpu_s() - crossval_done_s;
+  return r;
+}
+
+}  // namespace excite::host::montecarlo

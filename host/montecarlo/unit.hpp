@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// One (design, seed) unit of a Monte Carlo run: the campaign's experiment (host/campaign
+// run_experiment: design → simulate noise-free and with the seed's noise → identify →
+// balance), its model cross-validated on the other designs' runs of the same seed, its G(0)
+// judged by the accuracy criterion, and the same identification repeated on the first 5, 10,
+// … % of the run (the prefix of the same run, not simulated again).
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "host/campaign/campaign.hpp"
+#include "host/design/presets.hpp"
+#include "host/montecarlo/accuracy.hpp"
+#include "host/montecarlo/work.hpp"
+
+namespace excite::host::montecarlo {
+
+/// The criterion on the first `percent` % of the run (samples = ⌊N · percent / 100⌋).
+struct LengthPoint {
+  int percent = 100;
+  long long samples = 0;
+  bool met = false;
+};
+
+/// Where a unit's time went: CPU seconds of the thread that ran it, per stage. Not kept in
+/// the unit's file (they differ from run to run).
+struct UnitTimes {
+  double experiment_s = 0.0;  // run_experiment: simulate twice, identify, balance
+  double crossval_s = 0.0;    // the other designs' runs of the seed simulated, model fitted
+  double lengths_s = 0.0;     // identifications on the prefixes of the test-length grid
+};
+
+/// What a unit keeps (DIR/units/…json, records.hpp); every figure the summary needs.
+struct UnitResult {
+  std::string design;  // acronym
+  int number = 0;      // Table 6.1
+  std::uint64_t seed = 0;
+  long long samples = 0;
+  double sample_time_min = 0.0;
+  double fit_avg = 0.0;         // own data, % averaged over outputs (5.5.1)
+  double crossfit_avg = 0.0;    // over the other designs of the run, same seed (NaN: none)
+  double crossfit_worst = 0.0;
+  double ratio = 0.0, upsilon = 0.0;              // noise-free balance (5.5.2, 6.2.1)
+  double ratio_noisy = 0.0, upsilon_noisy = 0.0;  // on the measured outputs
+  std::vector<double> singular_values;  // of the identified G(0); empty when not identified
+  std::vector<double> gain;             // the identified G(0), row-major; empty likewise
+  Accuracy accuracy;                    // on the whole run
+  std::vector<LengthPoint> lengths;     // length_grid(config), the last one the whole run
+  UnitTimes times;                      // not in the file
+};
+
+/// What every unit of a run shares, made once (designs are seed-free) and read-only after.
+struct Prepared {
+  Config config;
+  CampaignOptions campaign;  // plant, threads = 1; seed set per unit
+  TruePlant truth;
+  double max_time_constant_min = 0.0;  // β·τ_H of the case study (SPEC §6)
+  std::vector<PresetInfo> presets;     // config.designs'
+  std::vector<Design> designs;
+};
+
+/// Designs every design of `config` (on `threads` threads). Throws std::invalid_argument for
+/// a plant without a case study.
+std::unique_ptr<Prepared> prepare(const Config& config, int threads);
+
+/// CPU time of the calling thread, seconds (CLOCK_THREAD_CPUTIME_ID).
+double thread_cpu_s();
+
+/// Runs one unit on the calling thread.
+UnitResult run_unit(const Prepared& prepared, const Unit& unit);
+
+}  // namespace excite::host::montecarlo
