@@ -40,7 +40,9 @@ using mc::UnitTimes;
 std::atomic<bool> g_stop{false};
 static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler stores it");
 
-extern "C" void on_stop_signal(int) { g_stop.store(true); }
+extern "C" void on_stop_signal(int) {
+  g_stop.store(true);
+}
 
 // SIGINT and SIGTERM set the stop flag once; a second one (SA_RESETHAND) ends the process.
 void catch_stop_signals() {
@@ -71,8 +73,8 @@ class ProgressPrinter {
     const bool last = p.done == p.total;
     if (!terminal_ && !last && p.last != nullptr && p.elapsed_s - printed_at_ < 1.0) return;
     printed_at_ = p.elapsed_s;
-    std::string line = "montecarlo: " + std::to_string(p.done) + "/" + std::to_string(p.total) +
-                       " units";
+    std::string line =
+        "montecarlo: " + std::to_string(p.done) + "/" + std::to_string(p.total) + " units";
     if (p.done_before > 0) line += " (" + std::to_string(p.done_before) + " from before)";
     line += ", " + clock_text(p.elapsed_s) + " elapsed";
     line += p.left_s >= 0.0 ? ", about " + clock_text(p.left_s) + " left" : ", time left unknown";
@@ -142,8 +144,7 @@ void run(Options opt) {
   catch_stop_signals();
   ProgressPrinter printer;
   const mc::Outcome outcome = mc::run_into(
-      opt.config, opt.output_dir, opt.threads,
-      [&](const mc::Progress& p) { printer(p); }, g_stop);
+      opt.config, opt.output_dir, opt.threads, [&](const mc::Progress& p) { printer(p); }, g_stop);
   const int ran = outcome.done - outcome.done_before;
   if (ran > 0) {
     const UnitTimes& t = outcome.unit_cpu;
@@ -160,8 +161,8 @@ void run(Options opt) {
   if (!outcome.complete) {
     printer.end_line();
     std::cerr << "montecarlo: interrupted: " << outcome.done << " of " << outcome.total
-              << " units kept in " << opt.output_dir
-              << "; run the same command again to resume" << std::endl;
+              << " units kept in " << opt.output_dir << "; run the same command again to resume"
+              << std::endl;
     std::exit(130);
   }
   if (opt.config.shard.count == 1) {

@@ -20,8 +20,8 @@ inline constexpr double kAngleToleranceDeg = 10.0;  // ∠(v̂_n, ±v_n) ≤ 10�
 
 /// The true plant, as the criterion needs it.
 struct TruePlant {
-  GainAnalysis gain;                 // SVD of the true G(0); square
-  std::vector<double> minors;        // every principal minor, in principal_minor_values' order
+  GainAnalysis gain;           // SVD of the true G(0); square
+  std::vector<double> minors;  // every principal minor, in principal_minor_values' order
 };
 /// Throws std::invalid_argument when G(0) is not square.
 TruePlant true_plant_of(const Eigen::MatrixXd& gain);
@@ -31,11 +31,11 @@ TruePlant true_plant_of(const Eigen::MatrixXd& gain);
 std::vector<double> principal_minor_values(const Eigen::MatrixXd& gain);
 
 struct Accuracy {
-  bool gain_identified = false;       // every K estimated (else the rest is NaN / false)
-  double sigma_n_error = 0.0;         // (σ̂_n − σ_n) / σ_n, signed
-  double weakest_angle_deg = 0.0;     // ∠(v̂_n, ±v_n) in degrees, 0…90
+  bool gain_identified = false;    // every K estimated (else the rest is NaN / false)
+  double sigma_n_error = 0.0;      // (σ̂_n − σ_n) / σ_n, signed
+  double weakest_angle_deg = 0.0;  // ∠(v̂_n, ±v_n) in degrees, 0…90
   bool minor_signs_right = false;
-  bool met = false;                   // all three
+  bool met = false;  // all three
 };
 
 /// Judges an identified G(0) (empty: not identified, not met).

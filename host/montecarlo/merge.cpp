@@ -12,7 +12,8 @@ namespace excite::host::montecarlo {
 namespace fs = std::filesystem;
 
 Merged merge_shards(const std::vector<fs::path>& dirs) {
-  if (dirs.empty()) throw std::runtime_error("merge: no folder given, expected the shards' folders");
+  if (dirs.empty())
+    throw std::runtime_error("merge: no folder given, expected the shards' folders");
   std::vector<Config> configs;
   for (const fs::path& dir : dirs) {
     if (!fs::exists(dir / "run.json")) {
@@ -30,24 +31,24 @@ Merged merge_shards(const std::vector<fs::path>& dirs) {
                                dirs.front().string() + "), expected shards of one run");
     }
     if (configs[i].shard.count != first.shard.count) {
-      throw std::runtime_error(dirs[i].string() + "/run.json: shard = " +
-                               std::to_string(configs[i].shard.index) + "/" +
-                               std::to_string(configs[i].shard.count) + ", expected one of " +
-                               std::to_string(first.shard.count) + " (as in " +
-                               dirs.front().string() + ")");
+      throw std::runtime_error(
+          dirs[i].string() + "/run.json: shard = " + std::to_string(configs[i].shard.index) + "/" +
+          std::to_string(configs[i].shard.count) + ", expected one of " +
+          std::to_string(first.shard.count) + " (as in " + dirs.front().string() + ")");
     }
     const auto [it, inserted] = by_index.emplace(configs[i].shard.index, i);
     if (!inserted) {
       throw std::runtime_error("shard " + std::to_string(configs[i].shard.index) + "/" +
-                               std::to_string(first.shard.count) + " given twice: " +
-                               dirs[it->second].string() + " and " + dirs[i].string() +
-                               ", expected each shard once");
+                               std::to_string(first.shard.count) +
+                               " given twice: " + dirs[it->second].string() + " and " +
+                               dirs[i].string() + ", expected each shard once");
     }
   }
   std::string missing;
   for (int s = 1; s <= first.shard.count; ++s) {
     if (by_index.count(s) == 0)
-      missing += (missing.empty() ? "" : ", ") + std::to_string(s) + "/" + std::to_string(first.shard.count);
+      missing += (missing.empty() ? "" : ", ") + std::to_string(s) + "/" +
+                 std::to_string(first.shard.count);
   }
   if (!missing.empty()) {
     throw std::runtime_error("shard " + missing + " missing, expected all " +

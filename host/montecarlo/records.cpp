@@ -12,7 +12,9 @@ namespace {
 
 using nlohmann::json;
 
-json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+json number(double v) {
+  return std::isfinite(v) ? json(v) : json(nullptr);
+}
 
 std::string text_of(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
@@ -110,7 +112,8 @@ json config_json(const Config& c) {
 Config read_config(const std::filesystem::path& file) {
   const json j = parse(file);
   const Reader r(file, j);
-  if (r.string("format") != "excite montecarlo run v1") r.wrong("format", "\"excite montecarlo run v1\"");
+  if (r.string("format") != "excite montecarlo run v1")
+    r.wrong("format", "\"excite montecarlo run v1\"");
   Config c;
   c.plant = r.string("plant");
   if (!r.at("designs").is_array()) r.wrong("designs", "an array of design names");
@@ -183,8 +186,8 @@ UnitResult read_unit(const std::filesystem::path& file) {
   if (!r.at("lengths").is_array()) r.wrong("lengths", "an array");
   for (const json& p : r.at("lengths")) {
     const Reader l(file, p);
-    u.lengths.push_back({static_cast<int>(l.integer("percent")), l.integer("samples"),
-                         l.boolean("met")});
+    u.lengths.push_back(
+        {static_cast<int>(l.integer("percent")), l.integer("samples"), l.boolean("met")});
   }
   return u;
 }

@@ -20,8 +20,8 @@ void claim_folder(const Config& config, const fs::path& dir) {
   if (fs::exists(run_file)) {
     const Config found = read_config(run_file);
     std::string difference = first_difference(found, config);
-    if (difference.empty() && (found.shard.index != config.shard.index ||
-                               found.shard.count != config.shard.count)) {
+    if (difference.empty() &&
+        (found.shard.index != config.shard.index || found.shard.count != config.shard.count)) {
       difference = "shard = " + std::to_string(found.shard.index) + "/" +
                    std::to_string(found.shard.count) + ", expected " +
                    std::to_string(config.shard.index) + "/" + std::to_string(config.shard.count);
@@ -103,11 +103,11 @@ std::vector<UnitResult> read_units(const Config& config, const fs::path& dir) {
   for (const Unit& u : shard_units(config)) {
     const fs::path file = unit_path(dir, config, u);
     if (!fs::exists(file)) {
-      throw std::runtime_error(dir.string() + ": unit " + config.designs[static_cast<std::size_t>(u.design)] +
-                               " seed " + std::to_string(u.seed) + " missing (" + file.string() +
-                               "), expected every unit of shard " +
-                               std::to_string(config.shard.index) + "/" +
-                               std::to_string(config.shard.count) + "; rerun it to finish");
+      throw std::runtime_error(
+          dir.string() + ": unit " + config.designs[static_cast<std::size_t>(u.design)] + " seed " +
+          std::to_string(u.seed) + " missing (" + file.string() +
+          "), expected every unit of shard " + std::to_string(config.shard.index) + "/" +
+          std::to_string(config.shard.count) + "; rerun it to finish");
     }
     UnitResult r = read_unit(file);
     if (r.design != config.designs[static_cast<std::size_t>(u.design)] || r.seed != u.seed) {

@@ -20,11 +20,11 @@
 namespace excite::host::montecarlo {
 
 struct Progress {
-  int done = 0;            // units of this shard finished, earlier runs' included
-  int total = 0;           // units of this shard
-  int done_before = 0;     // found finished in DIR at the start
-  double elapsed_s = 0.0;  // since this run started
-  double left_s = -1.0;    // estimate from this run's pace; < 0 until a unit finished
+  int done = 0;                      // units of this shard finished, earlier runs' included
+  int total = 0;                     // units of this shard
+  int done_before = 0;               // found finished in DIR at the start
+  double elapsed_s = 0.0;            // since this run started
+  double left_s = -1.0;              // estimate from this run's pace; < 0 until a unit finished
   const UnitResult* last = nullptr;  // the unit just finished (null for the first call)
 };
 

@@ -17,7 +17,8 @@ std::string slurm_script(const Config& config, const SlurmJob& job) {
     throw std::invalid_argument("--slurm-tasks = " + std::to_string(job.tasks) +
                                 ", expected 1 to 100000");
   if (job.threads < 1 || job.threads > 64)
-    throw std::invalid_argument("--threads = " + std::to_string(job.threads) + ", expected 1 to 64");
+    throw std::invalid_argument("--threads = " + std::to_string(job.threads) +
+                                ", expected 1 to 64");
   for (const auto& p : {job.excite, job.output_dir}) {
     if (!p.is_absolute())
       throw std::invalid_argument(p.string() + ": expected an absolute path for the nodes");
@@ -57,8 +58,9 @@ std::string slurm_script(const Config& config, const SlurmJob& job) {
   s += "exec " + exe + " montecarlo --plant " + shell_word(config.plant) + " --designs " +
        shell_word(designs) + " --seeds " + std::to_string(config.seeds) + " --first-seed " +
        std::to_string(config.first_seed) + " --noise-var " + noise + " --length-step " +
-       std::to_string(config.length_step_percent) + " --threads " + threads + " --shard \"${SLURM_ARRAY_TASK_ID}/" +
-       tasks + "\" -o " + shell_word(out) + "/shard-\"${SLURM_ARRAY_TASK_ID}\"\n";
+       std::to_string(config.length_step_percent) + " --threads " + threads +
+       " --shard \"${SLURM_ARRAY_TASK_ID}/" + tasks + "\" -o " + shell_word(out) +
+       "/shard-\"${SLURM_ARRAY_TASK_ID}\"\n";
   s += "EXCITE_ARRAY\n)\n";
   s += "array=${array%%;*}\n";
   s += "merge=$(sbatch --parsable --dependency=afterok:\"$array\" <<'EXCITE_MERGE'\n";

@@ -22,8 +22,8 @@ double quantile(const std::vector<double>& sorted, double q) {
 
 Spread spread_of(std::vector<double> values) {
   Spread s;
-  const auto finite_end = std::partition(values.begin(), values.end(),
-                                         [](double v) { return std::isfinite(v); });
+  const auto finite_end =
+      std::partition(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
   s.left_out = static_cast<int>(values.end() - finite_end);
   values.erase(finite_end, values.end());
   s.finite = static_cast<int>(values.size());
@@ -41,8 +41,8 @@ Spread spread_of(std::vector<double> values) {
 
 Interval wilson95(int k, int n) {
   if (n < 0 || k < 0 || k > n) {
-    throw std::invalid_argument("wilson95: k = " + std::to_string(k) + " of n = " +
-                                std::to_string(n) + ", expected 0 <= k <= n");
+    throw std::invalid_argument("wilson95: k = " + std::to_string(k) +
+                                " of n = " + std::to_string(n) + ", expected 0 <= k <= n");
   }
   if (n == 0) return {};
   constexpr double z = 1.959963984540054;

@@ -11,8 +11,8 @@ namespace excite::host::montecarlo {
 /// position q·(n − 1) (Hyndman & Fan type 7, R's default). All NaN when no value is finite.
 struct Spread {
   double p10 = 0.0, median = 0.0, p90 = 0.0;
-  int finite = 0;     // values that entered
-  int left_out = 0;   // NaN or infinite values
+  int finite = 0;    // values that entered
+  int left_out = 0;  // NaN or infinite values
 };
 Spread spread_of(std::vector<double> values);
 

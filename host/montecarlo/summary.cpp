@@ -14,7 +14,9 @@ namespace {
 
 using nlohmann::json;
 
-json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+json number(double v) {
+  return std::isfinite(v) ? json(v) : json(nullptr);
+}
 
 json spread_json(const std::vector<double>& values) {
   const Spread s = spread_of(values);
@@ -55,9 +57,8 @@ json gain_elements_json(const std::vector<const UnitResult*>& units, const Eigen
       e["input"] = j;
       e["true"] = truth(i, j);
       const bool known = e["median"].is_number();
-      e["bias_exceeds_spread"] =
-          known && std::abs(e["median"].get<double>() - truth(i, j)) >
-                       e["p90"].get<double>() - e["p10"].get<double>();
+      e["bias_exceeds_spread"] = known && std::abs(e["median"].get<double>() - truth(i, j)) >
+                                              e["p90"].get<double>() - e["p10"].get<double>();
       elements.push_back(e);
     }
   }
@@ -67,8 +68,11 @@ json gain_elements_json(const std::vector<const UnitResult*>& units, const Eigen
 json design_json(const std::string& name, const std::vector<const UnitResult*>& units,
                  std::size_t inputs, const Eigen::MatrixXd& true_gain) {
   const UnitResult& first = *units.front();
-  json j = {{"design", name}, {"number", first.number}, {"seeds", units.size()},
-            {"samples", first.samples}, {"sample_time_min", first.sample_time_min}};
+  json j = {{"design", name},
+            {"number", first.number},
+            {"seeds", units.size()},
+            {"samples", first.samples},
+            {"sample_time_min", first.sample_time_min}};
   j["fit"] = spread_json(collect(units, [](const UnitResult& u) { return u.fit_avg; }));
   j["crossfit_worst"] =
       spread_json(collect(units, [](const UnitResult& u) { return u.crossfit_worst; }));
@@ -193,8 +197,9 @@ json summary_json(const Config& config, const std::vector<UnitResult>& units) {
       "the shortest grid length L (percent of the run) such that the share of seeds meeting "
       "the criterion on the first L of the run is >= 90 % at L and at every longer grid length; "
       "null when the whole run's share is below 90 %";
-  j["spread"] = "median and 10-90 % range (linear interpolation, type 7) over the seeds; "
-                "finite values only";
+  j["spread"] =
+      "median and 10-90 % range (linear interpolation, type 7) over the seeds; "
+      "finite values only";
   j["intervals"] = "Wilson score interval at 95 %";
   j["bias_definition"] =
       "gain_elements[].bias_exceeds_spread: |median - true| > p90 - p10 over the seeds: an error "
@@ -207,8 +212,9 @@ json summary_json(const Config& config, const std::vector<UnitResult>& units) {
 std::string summary_text(const json& summary) {
   std::string out;
   const json& run = summary["run"];
-  out += "plant " + run["plant"].get<std::string>() + ", " + std::to_string(run["seeds"].get<int>()) +
-         " seeds from " + std::to_string(run["first_seed"].get<std::uint64_t>()) +
+  out += "plant " + run["plant"].get<std::string>() + ", " +
+         std::to_string(run["seeds"].get<int>()) + " seeds from " +
+         std::to_string(run["first_seed"].get<std::uint64_t>()) +
          "; criterion: " + summary["criterion"]["text"].get<std::string>() + "\n";
   char line[512];
   std::snprintf(line, sizeof line, "%-15s %-22s %-22s %-22s %-22s %-22s %-24s %s\n", "design",
@@ -218,9 +224,8 @@ std::string summary_text(const json& summary) {
   for (const json& d : summary["designs"]) {
     const json& c = d["criterion"];
     char share[64];
-    std::snprintf(share, sizeof share, "%d/%d [%.2f-%.2f]", c["met"].get<int>(),
-                  c["of"].get<int>(), c["wilson95"][0].get<double>(),
-                  c["wilson95"][1].get<double>());
+    std::snprintf(share, sizeof share, "%d/%d [%.2f-%.2f]", c["met"].get<int>(), c["of"].get<int>(),
+                  c["wilson95"][0].get<double>(), c["wilson95"][1].get<double>());
     std::string t90 = "none";
     if (!d["t90"].is_null()) {
       char text[64];
@@ -234,12 +239,13 @@ std::string summary_text(const json& summary) {
                   spread_text(d["crossfit_worst"], "%.1f [%.1f-%.1f]").c_str(),
                   spread_text(d["ratio"], "%.3f [%.3f-%.3f]").c_str(),
                   spread_text(d["sigma_n_error_percent"], "%.1f [%.1f-%.1f]").c_str(),
-                  spread_text(d["weakest_direction_angle_deg"], "%.1f [%.1f-%.1f]").c_str(),
-                  share, t90.c_str());
+                  spread_text(d["weakest_direction_angle_deg"], "%.1f [%.1f-%.1f]").c_str(), share,
+                  t90.c_str());
     out += line;
   }
-  out += "G(0) elements whose median is off the true gain by more than their 10-90 % range "
-         "(bias, not noise):\n";
+  out +=
+      "G(0) elements whose median is off the true gain by more than their 10-90 % range "
+      "(bias, not noise):\n";
   for (const json& d : summary["designs"]) {
     std::string biased;
     for (const json& e : d["gain_elements"]) {

@@ -82,9 +82,8 @@ UnitResult run_unit(const Prepared& p, const Unit& unit) {
   const double start_s = thread_cpu_s();
   CampaignOptions options = p.campaign;
   options.seed = kSeedStride * unit.seed;
-  const Experiment e = run_experiment(p.designs[a], p.presets[a], options,
-                                      p.config.noise_variance, p.truth.gain,
-                                      p.max_time_constant_min);
+  const Experiment e = run_experiment(p.designs[a], p.presets[a], options, p.config.noise_variance,
+                                      p.truth.gain, p.max_time_constant_min);
   UnitResult r;
   r.design = e.name;
   r.number = e.number;
@@ -114,9 +113,11 @@ UnitResult run_unit(const Prepared& p, const Unit& unit) {
     const SimulatedRun data = measured_run(p, b, options.seed);
     cross.push_back(mean_of(fit(e.identified.model, data.du, data.dy)));
   }
-  const bool any_nan = std::any_of(cross.begin(), cross.end(), [](double v) { return std::isnan(v); });
+  const bool any_nan =
+      std::any_of(cross.begin(), cross.end(), [](double v) { return std::isnan(v); });
   r.crossfit_avg = any_nan ? kNaN : mean_of(cross);
-  r.crossfit_worst = any_nan || cross.empty() ? kNaN : *std::min_element(cross.begin(), cross.end());
+  r.crossfit_worst =
+      any_nan || cross.empty() ? kNaN : *std::min_element(cross.begin(), cross.end());
 
   const double crossval_done_s = thread_cpu_s();
   r.times.crossval_s = crossval_done_s - experiment_done_s;

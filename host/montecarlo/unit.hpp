@@ -40,8 +40,8 @@ struct UnitResult {
   std::uint64_t seed = 0;
   long long samples = 0;
   double sample_time_min = 0.0;
-  double fit_avg = 0.0;         // own data, % averaged over outputs (5.5.1)
-  double crossfit_avg = 0.0;    // over the other designs of the run, same seed (NaN: none)
+  double fit_avg = 0.0;       // own data, % averaged over outputs (5.5.1)
+  double crossfit_avg = 0.0;  // over the other designs of the run, same seed (NaN: none)
   double crossfit_worst = 0.0;
   double ratio = 0.0, upsilon = 0.0;              // noise-free balance (5.5.2, 6.2.1)
   double ratio_noisy = 0.0, upsilon_noisy = 0.0;  // on the measured outputs

@@ -39,7 +39,8 @@ void normalise(Config& config) {
       if (std::none_of(table.begin(), table.end(),
                        [&](const PresetInfo& p) { return p.acronym == name; })) {
         std::string known;
-        for (const PresetInfo& p : table) known += (known.empty() ? "" : ", ") + std::string(p.acronym);
+        for (const PresetInfo& p : table)
+          known += (known.empty() ? "" : ", ") + std::string(p.acronym);
         throw std::invalid_argument("--designs: " + name + ", expected one of " + known);
       }
       if (std::count(config.designs.begin(), config.designs.end(), name) > 1)
@@ -47,7 +48,8 @@ void normalise(Config& config) {
     }
     std::vector<std::string> ordered;
     for (const PresetInfo& p : table) {
-      if (std::find(config.designs.begin(), config.designs.end(), p.acronym) != config.designs.end())
+      if (std::find(config.designs.begin(), config.designs.end(), p.acronym) !=
+          config.designs.end())
         ordered.emplace_back(p.acronym);
     }
     config.designs = ordered;
@@ -73,7 +75,8 @@ std::vector<Unit> all_units(const Config& config) {
   long long k = 0;
   for (std::size_t d = 0; d < config.designs.size(); ++d) {
     for (int s = 0; s < config.seeds; ++s) {
-      units.push_back({static_cast<int>(d), config.first_seed + static_cast<std::uint64_t>(s), k++});
+      units.push_back(
+          {static_cast<int>(d), config.first_seed + static_cast<std::uint64_t>(s), k++});
     }
   }
   return units;

@@ -30,7 +30,7 @@ struct Config {
   int seeds = 0;                     // ≥ 1
   std::uint64_t first_seed = 1;      // seeds first_seed … first_seed + seeds − 1
   double noise_variance = 0.0;       // per output (resolved: the case study's by default)
-  int length_step_percent = 5;       // the test-length grid: step, 2·step, …, 100 %; 0: 100 % only
+  int length_step_percent = 5;  // the test-length grid: step, 2·step, …, 100 %; 0: 100 % only
   Shard shard;
 };
 
