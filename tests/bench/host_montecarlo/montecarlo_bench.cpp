@@ -55,7 +55,8 @@ Timing run(const mc::Config& c, int threads) {
   const std::vector<mc::Unit> units = mc::all_units(c);
   std::vector<mc::UnitResult> results(units.size());
   excite::host::parallel_for(static_cast<int>(units.size()), threads, [&](int i) {
-    results[static_cast<std::size_t>(i)] = mc::run_unit(*prepared, units[static_cast<std::size_t>(i)]);
+    results[static_cast<std::size_t>(i)] =
+        mc::run_unit(*prepared, units[static_cast<std::size_t>(i)]);
   });
   t.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   t.cpu_s = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
@@ -76,7 +77,11 @@ void BM_OneUnit(benchmark::State& state) {
     benchmark::DoNotOptimize(r.fit_avg);
   }
 }
-BENCHMARK(BM_OneUnit)->Iterations(1)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(BM_OneUnit)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
 
 int summary() {
   double load = 0.0;

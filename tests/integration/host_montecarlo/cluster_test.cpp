@@ -56,10 +56,11 @@ std::string short_hostname() {
 class SlurmCluster : public ::testing::Test {
  protected:
   void SetUp() override {
-    for (const char* program : {"/usr/sbin/munged", "/usr/sbin/mungekey", "/usr/sbin/slurmctld",
-                                "/usr/sbin/slurmd", "/usr/bin/sbatch", "/usr/bin/sinfo",
-                                "/usr/bin/squeue"}) {
-      if (!fs::exists(program)) GTEST_SKIP() << program << " missing (apt-get install slurm-wlm munge)";
+    for (const char* program :
+         {"/usr/sbin/munged", "/usr/sbin/mungekey", "/usr/sbin/slurmctld", "/usr/sbin/slurmd",
+          "/usr/bin/sbatch", "/usr/bin/sinfo", "/usr/bin/squeue"}) {
+      if (!fs::exists(program))
+        GTEST_SKIP() << program << " missing (apt-get install slurm-wlm munge)";
     }
     if (::geteuid() != 0) GTEST_SKIP() << "not root: slurmd here runs the jobs as root";
     dir_ = fs::path("/tmp") / ("excite_slurm_" + std::to_string(::getpid()));
@@ -144,16 +145,16 @@ TEST_F(SlurmCluster, EmittedJobArrayAndMergeGiveTheSingleProcessSummary) {
       "montecarlo --plant woodberry2x2 --designs stepSeq,prbsUnc,prbsSimDir --seeds 4 "
       "--first-seed 3 --length-step 25 --threads 1";
   const std::string out = (dir_ / "out").string();
-  ASSERT_EQ(excite(run + " --slurm-tasks 3 --emit-slurm " + (dir_ / "submit.sh").string() +
-                   " -o " + out)
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      excite(run + " --slurm-tasks 3 --emit-slurm " + (dir_ / "submit.sh").string() + " -o " + out)
+          .exit_code,
+      0);
   const auto submitted = shell("sh " + (dir_ / "submit.sh").string());
   ASSERT_EQ(submitted.exit_code, 0) << submitted.out;
   EXPECT_NE(submitted.out.find("(3 shards) and merge job"), std::string::npos) << submitted.out;
-  wait_for([&] { return fs::exists(out + "/summary.json") &&
-                        shell("/usr/bin/squeue -h").out.empty(); },
-           "the merged summary", 300);
+  wait_for(
+      [&] { return fs::exists(out + "/summary.json") && shell("/usr/bin/squeue -h").out.empty(); },
+      "the merged summary", 300);
   for (int i = 1; i <= 3; ++i)
     EXPECT_TRUE(fs::exists(out + "/shard-" + std::to_string(i) + "/run.json")) << i;
   ASSERT_EQ(excite(run + " -o " + (dir_ / "one").string()).exit_code, 0);

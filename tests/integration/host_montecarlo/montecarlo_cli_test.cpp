@@ -95,11 +95,9 @@ TEST_F(MonteCarlo, OnATerminalProgressIsOneBarRedrawnInPlace) {
       " montecarlo --plant woodberry2x2 --designs prbsUnc --seeds 2 --length-step 50 -o " +
       path("mc") + " >/dev/null\" /dev/null");
   ASSERT_EQ(r.exit_code, 0) << r.out;
-  EXPECT_NE(r.out.find("\r[" + std::string(24, ' ') + "] montecarlo: 0/2 units"),
-            std::string::npos)
+  EXPECT_NE(r.out.find("\r[" + std::string(24, ' ') + "] montecarlo: 0/2 units"), std::string::npos)
       << r.out;
-  EXPECT_NE(r.out.find("\r[" + std::string(24, '#') + "] montecarlo: 2/2 units"),
-            std::string::npos)
+  EXPECT_NE(r.out.find("\r[" + std::string(24, '#') + "] montecarlo: 2/2 units"), std::string::npos)
       << r.out;
   EXPECT_EQ(r.out.find("montecarlo: 0/2 units, 0:00 elapsed, time left unknown\n"),
             std::string::npos)
@@ -107,8 +105,9 @@ TEST_F(MonteCarlo, OnATerminalProgressIsOneBarRedrawnInPlace) {
 }
 
 TEST_F(MonteCarlo, SigintStopsCleanlyKeepsFinishedUnitsAndTheRerunResumesToTheSameSummary) {
-  const std::string run = "montecarlo --plant woodberry2x2 --designs stepSeq,prbsSeq,prbsUnc,"
-                          "prbsSimDir --seeds 6 --length-step 10 --threads 1";
+  const std::string run =
+      "montecarlo --plant woodberry2x2 --designs stepSeq,prbsSeq,prbsUnc,"
+      "prbsSimDir --seeds 6 --length-step 10 --threads 1";
   // GIVEN a run started as a process (its own argument vector, no shell between)
   std::vector<std::string> args = {EXCITE_CLI};
   {
@@ -167,8 +166,7 @@ TEST_F(MonteCarlo, OneShardSevenShardsAndThreeThreadsGiveTheSameSummaryBytes) {
     const auto r = excite(kRun + " --shard " + std::to_string(i) + "/3 --threads " +
                           std::to_string(i == 2 ? 2 : 1) + " -o " + dir);
     ASSERT_EQ(r.exit_code, 0) << r.out;
-    EXPECT_NE(r.out.find("shard " + std::to_string(i) + "/3 complete: 4 units"),
-              std::string::npos)
+    EXPECT_NE(r.out.find("shard " + std::to_string(i) + "/3 complete: 4 units"), std::string::npos)
         << r.out;
     EXPECT_FALSE(fs::exists(dir + "/summary.json"));
     shards3 = dir + " " + shards3;  // given in reverse order: merge does not care
@@ -198,8 +196,7 @@ TEST_F(MonteCarlo, OneShardSevenShardsAndThreeThreadsGiveTheSameSummaryBytes) {
   r = excite("montecarlo merge " + s1 + " " + s2 + " " + path("copy") + " " + s3 + " -o " +
              path("bad"));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.out.find("shard 1/3 given twice: " + s1 + " and " + path("copy")),
-            std::string::npos)
+  EXPECT_NE(r.out.find("shard 1/3 given twice: " + s1 + " and " + path("copy")), std::string::npos)
       << r.out;
   r = excite("montecarlo merge " + s1 + " " + path("s7-2") + " -o " + path("bad"));
   EXPECT_EQ(r.exit_code, 1);
@@ -261,7 +258,8 @@ TEST_F(MonteCarlo, EmitSlurmScriptRunsItsArrayAndMergeToTheSingleProcessSummary)
             "job=$(mktemp); cat > \"$job\"\n"
             "range=$(sed -n 's/^#SBATCH --array=\\([0-9]*\\)-\\([0-9]*\\)$/\\1 \\2/p' \"$job\")\n"
             "if [ -n \"$range\" ]; then set -- $range; i=$1\n"
-            "  while [ \"$i\" -le \"$2\" ]; do SLURM_ARRAY_TASK_ID=$i sh \"$job\" >> \"$STUB_LOG\" 2>&1 || exit 1; i=$((i+1)); done\n"
+            "  while [ \"$i\" -le \"$2\" ]; do SLURM_ARRAY_TASK_ID=$i sh \"$job\" >> \"$STUB_LOG\" "
+            "2>&1 || exit 1; i=$((i+1)); done\n"
             "else sh \"$job\" >> \"$STUB_LOG\" 2>&1 || exit 1; fi\n"
             "echo \"$$;cluster\"\n";
   }

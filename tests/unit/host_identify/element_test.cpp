@@ -6,21 +6,10 @@
 #include <random>
 
 #include "reference_zoh.hpp"
+#include "tests/unit/host_identify/test_data.hpp"
 
 namespace excite::host {
 namespace {
-
-Eigen::VectorXd random_levels(Eigen::Index n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> level(-1.0, 1.0);
-  Eigen::VectorXd u(n);
-  double v = 0.0;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    if (k % 7 == 0) v = level(rng);
-    u(k) = v;
-  }
-  return u;
-}
 
 Eigen::VectorXd discrete_response(const ElementModel& g, double T, const Eigen::VectorXd& u) {
   Eigen::VectorXd y(u.size());
@@ -45,7 +34,7 @@ class ZohDiscretisation : public ::testing::TestWithParam<Case> {};
 // sub-interval matrix-exponential integration of the oracle.
 TEST_P(ZohDiscretisation, MatchesExactStateSpaceIntegration) {
   const Case c = GetParam();
-  const Eigen::VectorXd u = random_levels(400, 3);
+  const Eigen::VectorXd u = testing::random_levels(400, 3);
   const Eigen::VectorXd ref = testing::reference_response(c.g, c.T, u);
   EXPECT_LT(relative_error(discrete_response(c.g, c.T, u), ref), 1e-11) << c.name;
 }
@@ -65,7 +54,7 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<Case>& p) { return "case" + std::to_string(p.index); });
 
 TEST(ZohDiscretisation, NearlyEqualPolesAreContinuousWithTheDoublePole) {
-  const Eigen::VectorXd u = random_levels(300, 5);
+  const Eigen::VectorXd u = testing::random_levels(300, 5);
   const ElementModel equal{1.0, 1.5, 20.0, 20.0};
   const ElementModel near{1.0, 1.5, 20.0, 20.0 * (1.0 + 1e-9)};
   EXPECT_LT(relative_error(discrete_response(near, 1.0, u), discrete_response(equal, 1.0, u)),
@@ -73,7 +62,7 @@ TEST(ZohDiscretisation, NearlyEqualPolesAreContinuousWithTheDoublePole) {
 }
 
 TEST(ZohDiscretisation, VanishingTimeConstantTendsToTheFirstOrderElement) {
-  const Eigen::VectorXd u = random_levels(300, 7);
+  const Eigen::VectorXd u = testing::random_levels(300, 7);
   const ElementModel first{3.0, 2.7, 15.0, 0.0};
   for (const double small : {1e-6, 1e-12, 1e-100}) {
     const ElementModel g{3.0, 2.7, 15.0, small};
@@ -93,7 +82,7 @@ TEST(ZohDiscretisation, StaticGainIsKAndDelayIsWholeSamples) {
 // all-pole filter equals simulate().
 TEST(LagTaps, ReproduceTheSimulation) {
   const ElementModel g{1.7, 4.35, 25.0, 7.0};
-  const Eigen::VectorXd u = random_levels(300, 9);
+  const Eigen::VectorXd u = testing::random_levels(300, 9);
   const LagTaps t = lag_taps(g, 1.0, 3);
   Eigen::VectorXd y = Eigen::VectorXd::Zero(u.size());
   for (std::size_t m = 0; m < kLagWindow; ++m) {

@@ -15,6 +15,7 @@
 #include "host/design/case_studies.hpp"
 #include "host/design/presets.hpp"
 #include "host/identify/identify.hpp"
+#include "tests/unit/host_identify/test_data.hpp"
 #include "host/identify/structure_search.hpp"
 #include "sim/library/library.hpp"
 #include "sim/lti/discrete_plant.hpp"
@@ -22,18 +23,6 @@
 
 namespace excite::host {
 namespace {
-
-Eigen::VectorXd random_levels(Eigen::Index n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> level(-1.0, 1.0);
-  Eigen::VectorXd u(n);
-  double v = 0.0;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    if (k % 7 == 0) v = level(rng);
-    u(k) = v;
-  }
-  return u;
-}
 
 Eigen::VectorXd response(const sim::DiscreteTerm& d, const Eigen::VectorXd& u) {
   Eigen::VectorXd y(u.size());
@@ -77,7 +66,7 @@ TEST(ElementStructures, EachSimulatesAsThePlantElementWrittenInThePlantsSyntax) 
                                               {kNatural, kTn},
                                               {kDamping, kZeta}})},
   };
-  const Eigen::VectorXd u = random_levels(600, 5);
+  const Eigen::VectorXd u = testing::random_levels(600, 5);
   for (const Written& c : cases) {
     const sim::Element parsed = sim::parse_element(c.text);
     ASSERT_EQ(parsed.terms().size(), 1u) << c.text;

@@ -13,6 +13,20 @@
 
 namespace excite::host::testing {
 
+/// Levels uniform in [−1, 1], each held for 7 samples (seeded).
+inline Eigen::VectorXd random_levels(Eigen::Index n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> level(-1.0, 1.0);
+  Eigen::VectorXd u(n);
+  double v = 0.0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    if (k % 7 == 0) v = level(rng);
+    u(k) = v;
+  }
+  return u;
+}
+
+
 /// N samples of n simultaneous PRBS (±amplitude), register n_r, each bit held `hold`
 /// samples, channel j circularly shifted by j·shift bits.
 inline Eigen::MatrixXd prbs_inputs(int n, int n_r, int hold, int shift, Eigen::Index N,

@@ -60,8 +60,8 @@ TEST(Summary, SharesPerLengthWithWilsonIntervalsAndT90FromThenOn) {
   const nlohmann::json s = mc::summary_json(config(), units());
   const nlohmann::json& d = s["designs"][0];
   EXPECT_EQ(d["criterion"]["met"], 10);
-  EXPECT_EQ(d["lengths"][1]["share"], 1.0);   // 50 %
-  EXPECT_EQ(d["lengths"][2]["share"], 0.9);   // 75 %: one seed fails
+  EXPECT_EQ(d["lengths"][1]["share"], 1.0);  // 50 %
+  EXPECT_EQ(d["lengths"][2]["share"], 0.9);  // 75 %: one seed fails
   EXPECT_EQ(d["lengths"][2]["minutes"], 750.0);
   EXPECT_NEAR(d["lengths"][2]["wilson95"][0].get<double>(), 0.5958, 5e-5);
   EXPECT_EQ(d["t90"]["percent"], 50);
