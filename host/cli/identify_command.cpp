@@ -3,7 +3,9 @@
 //                 [--max-time-constant MIN] [--tau-high MIN] [--beta B] [--threads N]
 //                 [--keep-flagged] [--warm-up MIN] [--start-warm-up MIN]
 //                 [--trend none|offset|linear] [--structure auto|NAME]
-// Models per output (each element's structure chosen by BIC, or forced by --structure), fit %
+//                 [--structures-from MODEL.json]
+// Models per output (each element's structure chosen by BIC, or forced by --structure or to
+// an earlier model's by --structures-from), fit %
 // (5.5.1), identified G(0) and its directions. Several runs are identified together; the logs'
 // flags decide which rows are scored and where the model restarts (host/identify/run_layout.hpp);
 // what was excluded is warned on stderr. Time constants are bounded above by β·τ_H (SPEC §6):
@@ -41,7 +43,8 @@ struct IdentifyCommandOptions {
   std::string trend = "none";
   std::string initial_state = "auto";
   std::string structure = "auto";
-  bool allow_mixed = false;  // pool runs of other plants or units (issue 19)
+  std::string structures_from;  // a model file whose elements' structures are forced
+  bool allow_mixed = false;     // pool runs of other plants or units (issue 19)
 };
 
 std::string with_unit(const std::string& name, const std::string& unit) {
@@ -164,6 +167,16 @@ void run(const IdentifyCommandOptions& opt) {
   options.estimate_initial_state =
       opt.initial_state == "estimate" || (opt.initial_state == "auto" && moving_start);
   if (opt.structure != "auto") options.structure = structure_from_string(opt.structure);
+  if (!opt.structures_from.empty()) {
+    ModelChannels channels;
+    const IdentifiedModel earlier = read_model_file(opt.structures_from, &channels);
+    check_same_channels(channels, opt.structures_from, first.input_names, first.output_names,
+                        opt.run_paths.front());
+    // An element the earlier model did not estimate has no structure of its own: two poles.
+    for (const ElementEstimate& e : earlier.elements) {
+      options.structures.push_back(e.estimated() ? e.value.structure : Structure::two_poles);
+    }
+  }
   if (options.estimate_initial_state && opt.initial_state == "auto") {
     std::cerr << "excite: warning: a run log starts mid-test (start_at_rest: no): each "
                  "segment's initial state is estimated (--initial-state zero to turn off)\n";
@@ -241,6 +254,12 @@ void add_identify_command(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "first_order", "two_poles", "two_poles_zero", "integrator",
                              "underdamped", "underdamped_lag_zero"}));
+  cmd->add_option("--structures-from", opt->structures_from,
+                  "each element in the structure it has in this model file (excite identify -o; "
+                  "the same inputs and outputs): re-identify a new test with an earlier model's "
+                  "structures; an element that model did not estimate gets two poles")
+      ->check(CLI::ExistingFile)
+      ->excludes("--structure");
   cmd->callback([opt] { run(*opt); });
 }
 

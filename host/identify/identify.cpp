@@ -78,6 +78,16 @@ void check_arguments(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double 
                                 " rows but the data " + std::to_string(U.rows()) +
                                 "; expected one weight per row");
   }
+  if (!o.structures.empty() &&
+      o.structures.size() != static_cast<std::size_t>(U.cols() * Y.cols())) {
+    throw std::invalid_argument("identify: structures has " + std::to_string(o.structures.size()) +
+                                " entries; expected one per element, " +
+                                std::to_string(Y.cols() * U.cols()) + " (outputs × inputs)");
+  }
+  if (!o.structures.empty() && o.structure) {
+    throw std::invalid_argument(std::string("identify: structure = ") + to_string(*o.structure) +
+                                " and per-element structures both given; expected one of them");
+  }
   layout.check();
   const Eigen::Index need = minimum_samples(static_cast<int>(U.cols()), T_min, o);
   if (layout.scored() < need) {
@@ -243,8 +253,13 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
         }
         miso.iterations += other.iterations;
       }
+      StructureSearch search{options.structure, {}, options.max_iterations};
+      if (!options.structures.empty()) {
+        for (const int i : screen.usable)
+          search.per_element.push_back(options.structures[static_cast<std::size_t>(j * n + i)]);
+      }
       miso = choose_structures(U, y, screen.usable, std::move(miso), T_min, bounds, layout, trend,
-                               StructureSearch{options.structure, options.max_iterations});
+                               search);
       Eigen::MatrixXd& cov = model.gain_covariance[static_cast<std::size_t>(j)];
       for (std::size_t e = 0; e < screen.usable.size(); ++e) {
         model.element(j, screen.usable[e]) = miso.elements[e];

@@ -52,6 +52,9 @@ struct IdentifyOptions {
                                         // T_p max / 2^k ≥ T, k = 0…5, fitted with the model
   std::optional<Structure> structure;   // every element in this structure; nullopt (auto):
                                         // chosen per element by BIC (structure_search.hpp)
+  std::vector<Structure> structures;    // outputs × inputs, row by row: each element in its own
+                                        // structure (an earlier model's, e.g. the whole run's
+                                        // for a prefix of it); empty: `structure` decides
 };
 
 /// Per-output diagnostics of the fit.

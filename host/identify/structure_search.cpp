@@ -2,6 +2,7 @@
 #include "host/identify/structure_search.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -56,6 +57,20 @@ Eigen::VectorXd element_part(const Eigen::MatrixXd& U, int input, const ElementM
 struct AloneFit {
   ElementModel element;
   double sse = std::numeric_limits<double>::infinity();
+};
+
+// What an element's last screening found: the output error each other structure reached
+// alone on its part of the output, while the element kept the structure `own`. A later round
+// fits a structure again only when it could become a candidate on the part as it is now:
+// no structure fits a part that moved by ‖Δ‖ (weighted) better than √SSE − ‖Δ‖ (the
+// triangle inequality, the earlier fits taken as minima). After a change of another element
+// of the row, a part moves little, and most fits of the round that ends the search are saved;
+// an element any structure could still improve is screened again whole.
+struct Screening {
+  bool screened = false;
+  Structure own = Structure::two_poles;
+  Eigen::VectorXd part;  // the part the errors were measured on
+  std::array<double, kStructures> sse{};
 };
 
 // Every start that the exact discretisation takes, polished alone; the best end.
@@ -232,7 +247,16 @@ MisoResult choose_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                              const std::vector<int>& inputs, MisoResult two_poles, double T_min,
                              const MisoBounds& bounds, const SampleLayout& layout,
                              const Eigen::MatrixXd& trend, const StructureSearch& search) {
-  if (search.forced == Structure::two_poles) {
+  // The structure forced on element e, if any.
+  const auto forced_on = [&](std::size_t e) -> std::optional<Structure> {
+    if (!search.per_element.empty()) return search.per_element.at(e);
+    return search.forced;
+  };
+  const bool all_forced = search.forced.has_value() || !search.per_element.empty();
+  bool all_two_poles = all_forced;
+  for (std::size_t e = 0; e < inputs.size(); ++e)
+    all_two_poles = all_two_poles && forced_on(e) == Structure::two_poles;
+  if (all_two_poles) {
     return leave_local_optima(U, y, inputs, std::move(two_poles), T_min, bounds, layout, trend,
                               search.max_iterations);
   }
@@ -251,14 +275,16 @@ MisoResult choose_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
     return y - fit.y_hat + element_part(U, inputs[e], fit.elements[e].value, T_min, layout);
   };
 
-  if (search.forced) {
+  if (all_forced) {
     std::vector<ElementModel> start;
     for (std::size_t e = 0; e < inputs.size(); ++e) {
-      start.push_back(
-          fit_alone(U, part_of(two_poles, e), inputs[e],
-                    structure_starts(two_poles.elements[e].value, *search.forced, bounds), T_min,
-                    bounds, layout)
-              .element);
+      const Structure s = *forced_on(e);
+      const ElementModel& g = two_poles.elements[e].value;
+      start.push_back(s == Structure::two_poles
+                          ? g
+                          : fit_alone(U, part_of(two_poles, e), inputs[e],
+                                      structure_starts(g, s, bounds), T_min, bounds, layout)
+                                .element);
     }
     MisoResult forced = refit(start);
     forced.iterations += two_poles.iterations;
@@ -279,6 +305,7 @@ MisoResult choose_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
     current_criterion = c;
     return true;
   };
+  std::vector<Screening> screened(inputs.size());
   for (int round = 0; round < kRounds; ++round) {
     // Each element's best other structure on its own part of the output, and by how much it
     // lowers that part's criterion.
@@ -292,6 +319,21 @@ MisoResult choose_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
       const Eigen::VectorXd part = part_of(current, e);
       const ElementModel& now = current.elements[e].value;
       const double own = alone_criterion(weighted_sse(current.y_hat, y, layout), now.structure);
+      Screening& last = screened[e];
+      if (last.screened && last.own == now.structure) {
+        // The lowest output error each structure can reach on the moved part (see Screening).
+        const double moved = (part - last.part).cwiseProduct(layout.weight).norm();
+        bool could = false;
+        for (int k = 0; k < kStructures && !could; ++k) {
+          const double reach =
+              std::max(std::sqrt(last.sse[static_cast<std::size_t>(k)]) - moved, 0.0);
+          could = static_cast<Structure>(k) != now.structure &&
+                  alone_criterion(reach * reach, static_cast<Structure>(k)) < own - kEvidence;
+        }
+        if (!could) continue;
+      }
+      last = {true, now.structure, part, {}};
+      last.sse.fill(std::numeric_limits<double>::infinity());
       double best = own;
       std::optional<ElementModel> better;
       for (int k = 0; k < kStructures; ++k) {
@@ -299,6 +341,7 @@ MisoResult choose_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
         if (s == now.structure) continue;
         const AloneFit alone =
             fit_alone(U, part, inputs[e], structure_starts(now, s, bounds), T_min, bounds, layout);
+        last.sse[static_cast<std::size_t>(k)] = alone.sse;
         const double c = alone_criterion(alone.sse, s);
         if (c < best) {
           best = c;

@@ -15,11 +15,11 @@
 // that part's BIC most by more than 2 is a candidate. The largest candidate alone and all
 // together are refitted with the whole row, the better kept when the row's BIC falls by more
 // than 2, else the other candidates one at a time. Rounds repeat until no element
-// changes (at most six rounds). A forced structure (--structure) fits every element in it
-// from the same starts, the best end kept. Last, on every path, two local optima the search
-// does not leave are tried from their other side (structure_search.cpp, leave_local_optima):
-// a weak element (|K| < 5 SE) from either sign with its row's slowest lag, and a delay within
-// 0.05 T of a whole sample from across that kink.
+// changes (at most six rounds). A forced structure (--structure, or one per element) fits
+// each element in it from the same starts, the best end kept. Last, on every path, two local optima
+// the search does not leave are tried from their other side (structure_search.cpp,
+// leave_local_optima): a weak element (|K| < 5 SE) from either sign with its row's slowest lag, and
+// a delay within 0.05 T of a whole sample from across that kink.
 
 #include <Eigen/Dense>
 #include <optional>
@@ -41,7 +41,9 @@ double row_criterion(double sse, double y_energy, Eigen::Index scored_rows,
 
 struct StructureSearch {
   std::optional<Structure> forced;  // every element in this structure; nullopt: chosen per element
-  int max_iterations = 200;         // of each joint row fit
+  std::vector<Structure> per_element;  // one per input of the row: each element forced to its
+                                       // own; empty: `forced` decides
+  int max_iterations = 200;            // of each joint row fit
 };
 
 /// The row's fit with each element in its chosen structure, starting from `two_poles`, the

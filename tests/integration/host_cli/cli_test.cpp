@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <set>
 #include <sstream>
 #include <string>
 #include <tuple>
@@ -522,6 +523,49 @@ TEST_F(ExciteCli, ExportWritesEveryFormatOfAnIdentifiedModel) {
 // structure (alatiqi4x4's (y4, u2) has a lead, a lag and an oscillating pole pair), the model
 // file keeps structure, grade and covariance, and export carries them: the JSON with the
 // structure's parameters, standard errors and covariance, the step table with ±2σ columns.
+// A new test of the same plant re-identified in an earlier model's structures: each element
+// keeps its structure (no search); a model of other channels, or with --structure, is refused.
+TEST_F(ExciteCli, StructuresFromAnEarlierModelAreKeptPerElement) {
+  ASSERT_EQ(excite("design -q --plant alatiqi4x4 --preset prbsUnc -o " + path("a.plan")).exit_code,
+            0);
+  for (const char* seed : {"3", "4"}) {
+    ASSERT_EQ(excite("simulate " + path("a.plan") + " --plant alatiqi4x4 --noise-var 5e-4 --seed " +
+                     seed + " -o " + path(("run" + std::string(seed) + ".csv").c_str()))
+                  .exit_code,
+              0);
+  }
+  ASSERT_EQ(excite("identify " + path("run3.csv") + " --threads 2 -o " + path("m.json")).exit_code,
+            0);
+  const auto earlier = nlohmann::json::parse(std::ifstream(path("m.json")));
+  const Result again = excite("identify " + path("run4.csv") +
+                              " --threads 2 --json --structures-from " + path("m.json"));
+  ASSERT_EQ(again.exit_code, 0) << again.out;
+  const auto model = nlohmann::json::parse(again.out.substr(again.out.find('{')));
+  std::set<std::string> kinds;
+  for (std::size_t j = 0; j < 4; ++j) {
+    for (std::size_t i = 0; i < 4; ++i) {
+      const auto& e = model["outputs"][j]["elements"][i]["structure"];
+      EXPECT_EQ(e, earlier["outputs"][j]["elements"][i]["structure"]) << j << "," << i;
+      kinds.insert(e.get<std::string>());
+    }
+  }
+  EXPECT_GE(kinds.size(), 2U) << "the earlier model has more than one structure";
+  EXPECT_GT(model["outputs"][3]["fit"].get<double>(), 90.0);
+
+  const Result both = excite("identify " + path("run4.csv") +
+                             " --structure two_poles --structures-from " + path("m.json"));
+  EXPECT_NE(both.exit_code, 0);
+  EXPECT_NE(both.out.find("excludes"), std::string::npos) << both.out;
+  ASSERT_EQ(
+      excite("design -q --plant woodberry2x2 --preset prbsUnc -o " + path("w.plan")).exit_code, 0);
+  ASSERT_EQ(
+      excite("simulate " + path("w.plan") + " --plant woodberry2x2 -o " + path("w.csv")).exit_code,
+      0);
+  const Result other = excite("identify " + path("w.csv") + " --structures-from " + path("m.json"));
+  EXPECT_NE(other.exit_code, 0);
+  EXPECT_NE(other.out.find("m.json"), std::string::npos) << other.out;
+}
+
 TEST_F(ExciteCli, IdentifiedStructuresGradesAndBandsTravelThroughTheModelFileAndExport) {
   ASSERT_EQ(excite("design -q --plant alatiqi4x4 --preset prbsUnc -o " + path("a.plan")).exit_code,
             0);

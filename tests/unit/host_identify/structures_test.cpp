@@ -15,11 +15,11 @@
 #include "host/design/case_studies.hpp"
 #include "host/design/presets.hpp"
 #include "host/identify/identify.hpp"
-#include "tests/unit/host_identify/test_data.hpp"
 #include "host/identify/structure_search.hpp"
 #include "sim/library/library.hpp"
 #include "sim/lti/discrete_plant.hpp"
 #include "sim/lti/parse_element.hpp"
+#include "tests/unit/host_identify/test_data.hpp"
 
 namespace excite::host {
 namespace {
@@ -174,6 +174,40 @@ TEST(ForcedStructure, TwoPolesEverywhereCannotFitAlatiqiRowFourTheChosenOnesCan)
   options.structure.reset();
   const IdentificationResult chosen = identify(design.table, Y, prior.sample_time_min, options);
   EXPECT_GE(chosen.fits[3].fit_percent, 99.9);
+}
+
+// One structure per element (IdentifyOptions::structures, `identify --structures-from`):
+// each element is fitted in its own, no search. alatiqi4x4 noise-free in the plant's own
+// structures fits every row; with (4, 2) alone forced to two poles row 4 cannot.
+TEST(ForcedStructure, EachElementInItsOwnGivenStructure) {
+  const PriorKnowledge prior = case_study("alatiqi4x4");
+  const Design design = design_preset(prior, find_preset("prbsUnc"), 0);
+  const Eigen::MatrixXd Y =
+      sim::DiscretePlant(sim::library_plant("alatiqi4x4"), prior.sample_time_min)
+          .simulate(design.table);
+  IdentifyOptions options;
+  options.max_time_constant_min = prior.beta * prior.tau_high_min;
+  options.threads = 2;
+  options.structures = {P, P, F, F, F, F, P, F, P, P, F, F, P, L, P, P};
+  const IdentificationResult own = identify(design.table, Y, prior.sample_time_min, options);
+  for (std::size_t k = 0; k < options.structures.size(); ++k)
+    EXPECT_EQ(own.model.elements[k].value.structure, options.structures[k]) << k;
+  for (const OutputFit& f : own.fits) EXPECT_GE(f.fit_percent, 99.9);
+  options.structures[13] = P;
+  const IdentificationResult wrong = identify(design.table, Y, prior.sample_time_min, options);
+  EXPECT_EQ(wrong.model.element(3, 1).value.structure, P);
+  EXPECT_LT(wrong.fits[3].fit_percent, 99.0);
+  EXPECT_GE(wrong.fits[0].fit_percent, 99.9);
+
+  options.structures.pop_back();
+  try {
+    (void)identify(design.table, Y, prior.sample_time_min, options);
+    ADD_FAILURE() << "15 structures for 16 elements were accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("structures has 15 entries; expected one per element, 16"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(StructureCriterion, ExtraParametersMustPayForThemselves) {
