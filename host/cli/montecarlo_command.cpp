@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // excite montecarlo --plant P [--designs a,b,…] --seeds N [--first-seed S] [--threads T]
-//                   [--noise-var V] [--length-step PCT] [--shard i/N] -o DIR
+//                   [--noise-var V] [--length-step PCT] [--perturb X] [--shard i/N] -o DIR
 // excite montecarlo … --emit-slurm FILE [--slurm-tasks N] -o OUT   (a Slurm job array script)
 // excite montecarlo merge DIR… -o OUT
 // The campaign's experiment over noise seeds (host/montecarlo): every finished (design, seed)
@@ -25,6 +25,7 @@
 #include "host/cli/number_checks.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/montecarlo/merge.hpp"
+#include "host/montecarlo/perturb.hpp"
 #include "host/montecarlo/run.hpp"
 #include "host/montecarlo/slurm.hpp"
 #include "host/montecarlo/summary.hpp"
@@ -107,6 +108,7 @@ void write_summary(const mc::Config& config, const std::vector<mc::UnitResult>& 
 struct Options {
   mc::Config config;
   std::string shard = "1/1";
+  std::string perturb = "0";
   std::string output_dir;
   int threads = 1;
   std::vector<std::string> merge_dirs;
@@ -133,6 +135,7 @@ void emit_slurm(const Options& opt) {
 
 void run(Options opt) {
   opt.config.shard = mc::parse_shard(opt.shard);
+  opt.config.perturb_percent = mc::parse_perturb(opt.perturb);
   if (opt.config.noise_variance < 0.0)
     opt.config.noise_variance = case_study_noise_variance(opt.config.plant);
   case_study(opt.config.plant);  // an unknown plant or one without a case study: its message
@@ -205,6 +208,10 @@ void add_montecarlo_command(CLI::App& app) {
       ->check(finite_non_negative());
   cmd->add_option("--length-step", opt->config.length_step_percent,
                   "test-length grid step in percent of the run (0: the whole run only)")
+      ->capture_default_str();
+  cmd->add_option("--perturb", opt->perturb,
+                  "perturbed true plant: every gain, time constant and delay within +-X % per "
+                  "seed; the designs keep the nominal plant (percent, 0 <= X < 100)")
       ->capture_default_str();
   cmd->add_option("--shard", opt->shard, "run shard i of N of the (design × seed) units")
       ->capture_default_str();
