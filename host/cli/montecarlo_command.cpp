@@ -5,13 +5,15 @@
 // excite montecarlo merge DIR… -o OUT
 // The campaign's experiment over noise seeds (host/montecarlo): every finished (design, seed)
 // unit is kept in DIR, so a run stopped by Ctrl-C (SIGINT) or SIGTERM resumes when the same
-// command is run again. A whole run (no --shard, or 1/1) ends with DIR/summary.json and the
-// table on stdout; a shard ends with its units, and `merge` makes OUT/summary.json from all
-// shards. Progress goes to stderr: a live line on a terminal, plain lines (at most one a
-// second, and the last) otherwise. Exit status 130 when interrupted.
+// command is run again. A whole run (no --shard, or 1/1) ends with DIR/summary.json, the
+// table on stdout and the report DIR/index.html; a shard ends with its units, and `merge`
+// makes OUT/summary.json and OUT/index.html from all shards. Progress goes to stderr: a
+// live line on a terminal, plain lines (at most one a second, and the last) otherwise. Exit
+// status 130 when interrupted.
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -26,6 +28,7 @@
 #include "host/design/case_studies.hpp"
 #include "host/montecarlo/merge.hpp"
 #include "host/montecarlo/perturb.hpp"
+#include "host/montecarlo/report.hpp"
 #include "host/montecarlo/run.hpp"
 #include "host/montecarlo/slurm.hpp"
 #include "host/montecarlo/summary.hpp"
@@ -98,11 +101,14 @@ class ProgressPrinter {
   double printed_at_ = -1e9;
 };
 
+// summary.json, the table on stdout, and the report (index.html with its figures).
 void write_summary(const mc::Config& config, const std::vector<mc::UnitResult>& units,
-                   const fs::path& dir) {
+                   const fs::path& dir, int threads) {
   const nlohmann::json summary = mc::summary_json(config, units);
   write_whole_file(dir / "summary.json", summary.dump(2) + "\n");
   std::cout << mc::summary_text(summary) << "wrote " << (dir / "summary.json").string() << "\n";
+  mc::write_report(summary, units, dir, threads);
+  std::cout << "wrote " << (dir / "index.html").string() << " (the report)\n";
 }
 
 struct Options {
@@ -169,7 +175,8 @@ void run(Options opt) {
     std::exit(130);
   }
   if (opt.config.shard.count == 1) {
-    write_summary(opt.config, mc::read_units(opt.config, opt.output_dir), opt.output_dir);
+    write_summary(opt.config, mc::read_units(opt.config, opt.output_dir), opt.output_dir,
+                  std::min(opt.threads, 2));
   } else {
     std::cout << "shard " << opt.shard << " complete: " << outcome.total << " units in "
               << opt.output_dir << "; merge all " << opt.config.shard.count
@@ -181,7 +188,7 @@ void merge(const Options& opt) {
   std::vector<fs::path> dirs(opt.merge_dirs.begin(), opt.merge_dirs.end());
   const mc::Merged merged = mc::merge_shards(dirs);
   fs::create_directories(opt.merge_output);
-  write_summary(merged.config, merged.units, opt.merge_output);
+  write_summary(merged.config, merged.units, opt.merge_output, 2);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "host/campaign/report_figures.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/montecarlo/accuracy.hpp"
 #include "host/montecarlo/perturb.hpp"
@@ -74,6 +75,98 @@ json gain_elements_json(const std::vector<const UnitResult*>& units, const Eigen
     }
   }
   return elements;
+}
+
+// The figures the verdicts compare, per unit: "better" is higher, or lower (of |value|).
+struct VerdictMetric {
+  const char* key;
+  const char* label;
+  bool higher_is_better;
+  double (*value)(const UnitResult&);
+};
+const VerdictMetric kVerdictMetrics[] = {
+    {"fit", "own fit [%]", true, [](const UnitResult& u) { return u.fit_avg; }},
+    {"crossfit_worst", "worst cross-fit [%]", true,
+     [](const UnitResult& u) { return u.crossfit_worst; }},
+    {"ratio", "output balance, noise-free (ratio min/max, 1 = balanced)", true,
+     [](const UnitResult& u) { return u.ratio; }},
+    {"sigma_n_error_percent", "|error of sigma_n| [%]", false,
+     [](const UnitResult& u) { return std::abs(100.0 * u.accuracy.sigma_n_error); }},
+    {"weakest_direction_angle_deg", "angle of the weakest input direction v_n [deg]", false,
+     [](const UnitResult& u) { return u.accuracy.weakest_angle_deg; }},
+};
+
+double median_of(const std::vector<double>& v) {
+  return spread_of(v).median;
+}
+
+// +1: a better than b, −1: worse, 0: equal; kNotCompared: NaN on either side. (A plain int,
+// not std::optional: GCC 12 -O1 sees the optional's value as maybe uninitialized.)
+constexpr int kNotCompared = 2;
+int compare(double a, double b, bool higher_is_better) {
+  if (!std::isfinite(a) || !std::isfinite(b)) return kNotCompared;
+  if (a == b) return 0;
+  return (a > b) == higher_is_better ? 1 : -1;
+}
+
+// Directional designs (is_directional_design) against the others, per metric: the verdict by
+// the median over all (design, seed) values of each group, and in how many seeds it holds
+// (that seed's median over the group's designs compared the same way), and in how many seeds
+// the best directional design beats the best other one.
+json verdicts_json(const Config& config, const std::vector<UnitResult>& units) {
+  json verdicts = json::array();
+  bool any_directional = false, any_plain = false;
+  for (const std::string& d : config.designs)
+    (is_directional_design(d) ? any_directional : any_plain) = true;
+  const bool both = any_directional && any_plain;
+  for (const VerdictMetric& m : kVerdictMetrics) {
+    json v = {
+        {"metric", m.key}, {"label", m.label}, {"better", m.higher_is_better ? "higher" : "lower"}};
+    std::vector<double> pooled[2];  // [0] others, [1] directional
+    std::vector<std::vector<double>> by_seed[2];
+    for (auto& b : by_seed) b.resize(static_cast<std::size_t>(config.seeds));
+    for (const UnitResult& u : units) {
+      const int g = is_directional_design(u.design) ? 1 : 0;
+      const double x = m.value(u);
+      pooled[g].push_back(x);
+      by_seed[g][static_cast<std::size_t>(u.seed - config.first_seed)].push_back(x);
+    }
+    const double dir = median_of(pooled[1]), plain = median_of(pooled[0]);
+    v["directional_median"] = number(dir);
+    v["others_median"] = number(plain);
+    const int overall = both ? compare(dir, plain, m.higher_is_better) : kNotCompared;
+    v["verdict"] = overall == kNotCompared ? json(nullptr)
+                   : overall > 0           ? json("directional better")
+                   : overall < 0           ? json("directional not better")
+                                           : json("equal");
+    int holds = 0, compared = 0, best_better = 0, best_compared = 0;
+    for (int s = 0; overall != kNotCompared && s < config.seeds; ++s) {
+      const auto& d = by_seed[1][static_cast<std::size_t>(s)];
+      const auto& o = by_seed[0][static_cast<std::size_t>(s)];
+      const int seed_verdict = compare(median_of(d), median_of(o), m.higher_is_better);
+      if (seed_verdict != kNotCompared) {
+        ++compared;
+        holds += seed_verdict == overall ? 1 : 0;
+      }
+      // The best of each group (finite values only).
+      const auto best = [&](const std::vector<double>& values) {
+        double b = std::numeric_limits<double>::quiet_NaN();
+        for (const double x : values) {
+          if (std::isfinite(x) && (!std::isfinite(b) || (x > b) == m.higher_is_better)) b = x;
+        }
+        return b;
+      };
+      const int best_verdict = compare(best(d), best(o), m.higher_is_better);
+      if (best_verdict != kNotCompared) {
+        ++best_compared;
+        best_better += best_verdict > 0 ? 1 : 0;
+      }
+    }
+    v["holds_in_seeds"] = share_json(holds, compared);
+    v["best_directional_better_in_seeds"] = share_json(best_better, best_compared);
+    verdicts.push_back(v);
+  }
+  return verdicts;
 }
 
 json design_json(const std::string& name, const std::vector<const UnitResult*>& units,
@@ -225,8 +318,15 @@ json summary_json(const Config& config, const std::vector<UnitResult>& units) {
       "gain_elements[].bias_exceeds_spread: |median error| > p90 - p10 of the error (identified "
       "minus the seed's true gain) over the seeds: an error the noise does not explain (the "
       "model structure or the identifier)";
+  j["verdict_definition"] =
+      "directional designs against the others per metric: the verdict compares the medians over "
+      "all (design, seed) values of each group; holds_in_seeds counts the seeds in which the "
+      "same comparison of that seed's medians over the group's designs gives the same verdict; "
+      "best_directional_better_in_seeds the seeds in which the best directional design beats "
+      "the best other one. |sigma_n error| and the v_n angle: lower is better";
   j["true_singular_values"] = true_sv;
   j["designs"] = designs;
+  j["verdicts"] = verdicts_json(c, units);
   return j;
 }
 
@@ -282,6 +382,24 @@ std::string summary_text(const json& summary) {
       biased += line;
     }
     out += "  " + d["design"].get<std::string>() + ":" + (biased.empty() ? " none" : biased) + "\n";
+  }
+  out +=
+      "directional designs against the others (verdict by median; seeds in which it holds; "
+      "seeds in which the best directional design beats the best other):\n";
+  for (const json& v : summary["verdicts"]) {
+    if (v["verdict"].is_null()) {
+      out += "  " + v["label"].get<std::string>() + ": - (needs designs of both groups)\n";
+      continue;
+    }
+    std::snprintf(line, sizeof line,
+                  "  %s: %s (%.4g against %.4g); holds in %d of %d seeds; "
+                  "best directional better in %d of %d\n",
+                  v["label"].get<std::string>().c_str(), v["verdict"].get<std::string>().c_str(),
+                  as_double(v["directional_median"]), as_double(v["others_median"]),
+                  v["holds_in_seeds"]["met"].get<int>(), v["holds_in_seeds"]["of"].get<int>(),
+                  v["best_directional_better_in_seeds"]["met"].get<int>(),
+                  v["best_directional_better_in_seeds"]["of"].get<int>());
+    out += line;
   }
   out += "share of seeds meeting the criterion by test length (percent of the run: share):\n";
   for (const json& d : summary["designs"]) {
