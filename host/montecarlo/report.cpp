@@ -374,7 +374,8 @@ void write_report(const json& summary, const std::vector<UnitResult>& units, con
   const double perturb = run.value("perturb_percent", 0.0);
   std::ostringstream h;
   h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>excite montecarlo: "
-    << plant << "</title><style>" << report_style() << "</style></head><body>";
+    << plant << "</title><style>" << report_style()
+    << "table.spreads td{white-space:nowrap}</style></head><body>";
   h << "<h1>Monte Carlo: " << plant << ", " << seeds << " seeds</h1>";
   h << "<p>The campaign's experiment (design → simulate → identify → cross-validate → balance) "
        "for "
@@ -445,7 +446,8 @@ void write_report(const json& summary, const std::vector<UnitResult>& units, con
   h << "</table><img src='figures/shares.svg' alt='share of seeds against the test length'>";
 
   h << "<h2>Spreads per design</h2><p class='note'>Median <b>bold</b> and [10 % – 90 %] over the "
-       "seeds.</p><table><tr><th>design</th><th>own fit [%]</th><th>worst cross-fit [%]</th>"
+       "seeds.</p><table class='spreads'><tr><th>design</th><th>own fit [%]</th><th>worst "
+       "cross-fit [%]</th>"
        "<th>ratio, noise-free [–]</th><th>Υ, noise-free [–]</th><th>σ_n error [%]</th>"
        "<th>v_n angle [°]</th></tr>";
   for (const Placed& p : layout.designs) {
