@@ -52,14 +52,17 @@ Experiment run_experiment(const Design& design, const PresetInfo& preset,
   SimulationOptions sim;
   sim.seed = options.seed + static_cast<std::uint64_t>(preset.number);
   sim.noise_variance = 0.0;
-  const SimulatedRun clean = simulate_plan(*design.plan, std::string(preset.acronym),
-                                           *sim::make_plant(options.plant), sim);
+  const auto plant = [&options] {
+    return options.true_plant ? options.true_plant() : sim::make_plant(options.plant);
+  };
+  const SimulatedRun clean =
+      simulate_plan(*design.plan, std::string(preset.acronym), *plant(), sim);
   sim.noise_variance = noise_variance;
   const std::string name(preset.acronym);
   const SimulatedRun run =
       options.measured_run
           ? options.measured_run({*design.plan, preset.number, name, sim.seed, noise_variance})
-          : simulate_plan(*design.plan, name, *sim::make_plant(options.plant), sim);
+          : simulate_plan(*design.plan, name, *plant(), sim);
   const Eigen::Index rows = clean.du.rows();
   if (run.du.rows() < rows || run.dy.rows() < rows || run.du.cols() != clean.du.cols() ||
       run.dy.cols() != clean.dy.cols()) {

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -19,6 +20,7 @@
 #include "host/identify/identify.hpp"
 #include "host/measures/gain_directions.hpp"
 #include "host/simulate/simulate.hpp"
+#include "sim/plants/plant.hpp"
 
 namespace excite::host {
 
@@ -54,6 +56,11 @@ struct CampaignOptions {
   /// excite-gateway to the real excite-plant (host/loop). Called from the pool's threads.
   /// The noise-free runs that balance is measured on are always simulated here.
   MeasuredRun measured_run;
+  /// The plant the runs are simulated on (the noise-free one, and the measured one unless
+  /// measured_run is set): empty, sim::make_plant(plant); set, the caller's — host/montecarlo
+  /// runs a seed's perturbed "true" plant while the designs keep the nominal one. Called from
+  /// the pool's threads; each call gives a plant of its own.
+  std::function<std::unique_ptr<sim::Plant>()> true_plant;
 };
 
 /// Output balance of one experiment's outputs (5.5.2, 6.2.1).

@@ -158,6 +158,17 @@ nlohmann::json conventions(const CampaignResult& r) {
 
 }  // namespace
 
+const char* report_style() {
+  return "body{font-family:sans-serif;max-width:1150px;margin:2em auto;color:#222}"
+         "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px "
+         "8px;text-align:right}"
+         "th{background:#eef}td:first-child,th:first-child{text-align:left}tr.dir "
+         "td{background:#eef5ff}"
+         "img{max-width:100%;border:1px solid #ddd;margin:.5em 0}.note{color:#555}"
+         "details{border:1px solid #ccd;margin:.4em 0;padding:.3em .6em}"
+         "summary{cursor:pointer;font-weight:bold}table.params td{text-align:left}";
+}
+
 void write_summary(const CampaignResult& r, const std::filesystem::path& dir) {
   nlohmann::json experiments = nlohmann::json::array();
   for (const Experiment& e : r.experiments) {
@@ -226,16 +237,7 @@ void write_report(const CampaignResult& r, const sim::Plant& plant,
   const std::string in_unit = common_unit_token(r.input_units);
   std::ostringstream h;
   h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>excite campaign: "
-    << r.plant
-    << "</title><style>body{font-family:sans-serif;max-width:1150px;margin:2em auto;color:#222}"
-       "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px "
-       "8px;text-align:right}"
-       "th{background:#eef}td:first-child,th:first-child{text-align:left}tr.dir "
-       "td{background:#eef5ff}"
-       "img{max-width:100%;border:1px solid #ddd;margin:.5em 0}.note{color:#555}"
-       "details{border:1px solid #ccd;margin:.4em 0;padding:.3em .6em}"
-       "summary{cursor:pointer;font-weight:bold}table.params td{text-align:left}"
-       "</style></head><body>";
+    << r.plant << "</title><style>" << report_style() << "</style></head><body>";
   h << "<h1>Identification campaign: " << r.plant << "</h1>";
   h << "<p>The study of thesis chapter 6 on <b>" << r.plant
     << "</b>: every design of Table 6.1 simulated with "

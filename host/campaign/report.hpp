@@ -13,6 +13,10 @@
 
 namespace excite::host {
 
+/// The reports' style sheet (the campaign's, host/montecarlo's): one look; rows of
+/// directional designs are <tr class='dir'>.
+const char* report_style();
+
 /// DIR/summary.json: [{"name","cf_avg","pips_avg","fit_avg","crossfit_avg","crossfit_best",
 /// "crossfit_worst","singular_values","projection_std","ratio","upsilon"}…] inside
 /// {"plant", "design_gain_source", "true_singular_values", "experiments": […]}.

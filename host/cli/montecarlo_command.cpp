@@ -1,17 +1,19 @@
 // SPDX-License-Identifier: MIT
 // excite montecarlo --plant P [--designs a,b,…] --seeds N [--first-seed S] [--threads T]
-//                   [--noise-var V] [--length-step PCT] [--shard i/N] -o DIR
+//                   [--noise-var V] [--length-step PCT] [--perturb X] [--shard i/N] -o DIR
 // excite montecarlo … --emit-slurm FILE [--slurm-tasks N] -o OUT   (a Slurm job array script)
 // excite montecarlo merge DIR… -o OUT
 // The campaign's experiment over noise seeds (host/montecarlo): every finished (design, seed)
 // unit is kept in DIR, so a run stopped by Ctrl-C (SIGINT) or SIGTERM resumes when the same
-// command is run again. A whole run (no --shard, or 1/1) ends with DIR/summary.json and the
-// table on stdout; a shard ends with its units, and `merge` makes OUT/summary.json from all
-// shards. Progress goes to stderr: a live line on a terminal, plain lines (at most one a
-// second, and the last) otherwise. Exit status 130 when interrupted.
+// command is run again. A whole run (no --shard, or 1/1) ends with DIR/summary.json, the
+// table on stdout and the report DIR/index.html; a shard ends with its units, and `merge`
+// makes OUT/summary.json and OUT/index.html from all shards. Progress goes to stderr: a
+// live line on a terminal, plain lines (at most one a second, and the last) otherwise. Exit
+// status 130 when interrupted.
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -25,6 +27,8 @@
 #include "host/cli/number_checks.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/montecarlo/merge.hpp"
+#include "host/montecarlo/perturb.hpp"
+#include "host/montecarlo/report.hpp"
 #include "host/montecarlo/run.hpp"
 #include "host/montecarlo/slurm.hpp"
 #include "host/montecarlo/summary.hpp"
@@ -97,16 +101,20 @@ class ProgressPrinter {
   double printed_at_ = -1e9;
 };
 
+// summary.json, the table on stdout, and the report (index.html with its figures).
 void write_summary(const mc::Config& config, const std::vector<mc::UnitResult>& units,
-                   const fs::path& dir) {
+                   const fs::path& dir, int threads) {
   const nlohmann::json summary = mc::summary_json(config, units);
   write_whole_file(dir / "summary.json", summary.dump(2) + "\n");
   std::cout << mc::summary_text(summary) << "wrote " << (dir / "summary.json").string() << "\n";
+  mc::write_report(summary, units, dir, threads);
+  std::cout << "wrote " << (dir / "index.html").string() << " (the report)\n";
 }
 
 struct Options {
   mc::Config config;
   std::string shard = "1/1";
+  std::string perturb = "0";
   std::string output_dir;
   int threads = 1;
   std::vector<std::string> merge_dirs;
@@ -133,6 +141,7 @@ void emit_slurm(const Options& opt) {
 
 void run(Options opt) {
   opt.config.shard = mc::parse_shard(opt.shard);
+  opt.config.perturb_percent = mc::parse_perturb(opt.perturb);
   if (opt.config.noise_variance < 0.0)
     opt.config.noise_variance = case_study_noise_variance(opt.config.plant);
   case_study(opt.config.plant);  // an unknown plant or one without a case study: its message
@@ -166,7 +175,8 @@ void run(Options opt) {
     std::exit(130);
   }
   if (opt.config.shard.count == 1) {
-    write_summary(opt.config, mc::read_units(opt.config, opt.output_dir), opt.output_dir);
+    write_summary(opt.config, mc::read_units(opt.config, opt.output_dir), opt.output_dir,
+                  std::min(opt.threads, 2));
   } else {
     std::cout << "shard " << opt.shard << " complete: " << outcome.total << " units in "
               << opt.output_dir << "; merge all " << opt.config.shard.count
@@ -178,7 +188,7 @@ void merge(const Options& opt) {
   std::vector<fs::path> dirs(opt.merge_dirs.begin(), opt.merge_dirs.end());
   const mc::Merged merged = mc::merge_shards(dirs);
   fs::create_directories(opt.merge_output);
-  write_summary(merged.config, merged.units, opt.merge_output);
+  write_summary(merged.config, merged.units, opt.merge_output, 2);
 }
 
 }  // namespace
@@ -205,6 +215,10 @@ void add_montecarlo_command(CLI::App& app) {
       ->check(finite_non_negative());
   cmd->add_option("--length-step", opt->config.length_step_percent,
                   "test-length grid step in percent of the run (0: the whole run only)")
+      ->capture_default_str();
+  cmd->add_option("--perturb", opt->perturb,
+                  "perturbed true plant: every gain, time constant and delay within +-X % per "
+                  "seed; the designs keep the nominal plant (percent, 0 <= X < 100)")
       ->capture_default_str();
   cmd->add_option("--shard", opt->shard, "run shard i of N of the (design × seed) units")
       ->capture_default_str();

@@ -106,6 +106,7 @@ json config_json(const Config& c) {
           {"first_seed", c.first_seed},
           {"noise_variance", c.noise_variance},
           {"length_step_percent", c.length_step_percent},
+          {"perturb_percent", c.perturb_percent},
           {"shard", std::to_string(c.shard.index) + "/" + std::to_string(c.shard.count)}};
 }
 
@@ -125,6 +126,8 @@ Config read_config(const std::filesystem::path& file) {
   c.first_seed = r.unsigned_integer("first_seed");
   c.noise_variance = r.real("noise_variance");
   c.length_step_percent = static_cast<int>(r.integer("length_step_percent"));
+  // Absent in the folders of runs before --perturb: the nominal plant.
+  if (j.contains("perturb_percent")) c.perturb_percent = r.real("perturb_percent");
   try {
     c.shard = parse_shard(r.string("shard"));
   } catch (const std::invalid_argument&) {
@@ -141,6 +144,8 @@ json unit_json(const UnitResult& u) {
   for (const double v : u.singular_values) sv.push_back(number(v));
   json gain = json::array();
   for (const double v : u.gain) gain.push_back(number(v));
+  json true_gain = json::array();
+  for (const double v : u.true_gain) true_gain.push_back(number(v));
   return {{"design", u.design},
           {"number", u.number},
           {"seed", u.seed},
@@ -155,6 +160,7 @@ json unit_json(const UnitResult& u) {
           {"upsilon_noisy", number(u.upsilon_noisy)},
           {"singular_values", sv},
           {"gain", gain},
+          {"true_gain", true_gain},
           {"accuracy", accuracy_json(u.accuracy)},
           {"lengths", lengths}};
 }
@@ -177,6 +183,7 @@ UnitResult read_unit(const std::filesystem::path& file) {
   u.upsilon_noisy = r.real("upsilon_noisy");
   u.singular_values = r.reals("singular_values");
   u.gain = r.reals("gain");
+  if (j.contains("true_gain")) u.true_gain = r.reals("true_gain");  // absent: nominal plant
   const Reader a(file, r.at("accuracy"));
   u.accuracy.gain_identified = a.boolean("gain_identified");
   u.accuracy.sigma_n_error = a.real("sigma_n_error");

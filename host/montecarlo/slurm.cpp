@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "host/montecarlo/perturb.hpp"
+
 namespace excite::host::montecarlo {
 
 std::string shell_word(const std::string& text) {
@@ -58,9 +60,10 @@ std::string slurm_script(const Config& config, const SlurmJob& job) {
   s += "exec " + exe + " montecarlo --plant " + shell_word(config.plant) + " --designs " +
        shell_word(designs) + " --seeds " + std::to_string(config.seeds) + " --first-seed " +
        std::to_string(config.first_seed) + " --noise-var " + noise + " --length-step " +
-       std::to_string(config.length_step_percent) + " --threads " + threads +
-       " --shard \"${SLURM_ARRAY_TASK_ID}/" + tasks + "\" -o " + shell_word(out) +
-       "/shard-\"${SLURM_ARRAY_TASK_ID}\"\n";
+       std::to_string(config.length_step_percent) +
+       (config.perturb_percent > 0.0 ? " --perturb " + percent_text(config.perturb_percent) : "") +
+       " --threads " + threads + " --shard \"${SLURM_ARRAY_TASK_ID}/" + tasks + "\" -o " +
+       shell_word(out) + "/shard-\"${SLURM_ARRAY_TASK_ID}\"\n";
   s += "EXCITE_ARRAY\n)\n";
   s += "array=${array%%;*}\n";
   s += "merge=$(sbatch --parsable --dependency=afterok:\"$array\" <<'EXCITE_MERGE'\n";

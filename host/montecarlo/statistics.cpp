@@ -29,13 +29,15 @@ Spread spread_of(std::vector<double> values) {
   s.finite = static_cast<int>(values.size());
   if (values.empty()) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    s.p10 = s.median = s.p90 = nan;
+    s.p10 = s.median = s.p90 = s.p25 = s.p75 = nan;
     return s;
   }
   std::sort(values.begin(), values.end());
   s.p10 = quantile(values, 0.10);
   s.median = quantile(values, 0.50);
   s.p90 = quantile(values, 0.90);
+  s.p25 = quantile(values, 0.25);
+  s.p75 = quantile(values, 0.75);
   return s;
 }
 

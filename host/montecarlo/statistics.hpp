@@ -6,13 +6,15 @@
 
 namespace excite::host::montecarlo {
 
-/// Median and 10–90 % range of the finite values (NaN and ±inf are left out and counted).
+/// Median, quartiles and 10–90 % range of the finite values (NaN and ±inf are left out and
+/// counted).
 /// Quantile q of the n sorted finite values x_0 ≤ … ≤ x_{n−1}: linear interpolation at
 /// position q·(n − 1) (Hyndman & Fan type 7, R's default). All NaN when no value is finite.
 struct Spread {
   double p10 = 0.0, median = 0.0, p90 = 0.0;
-  int finite = 0;    // values that entered
-  int left_out = 0;  // NaN or infinite values
+  double p25 = 0.0, p75 = 0.0;  // quartiles (the report's boxes)
+  int finite = 0;               // values that entered
+  int left_out = 0;             // NaN or infinite values
 };
 Spread spread_of(std::vector<double> values);
 

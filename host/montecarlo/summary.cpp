@@ -3,10 +3,14 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <optional>
 #include <stdexcept>
 
+#include "host/campaign/report_figures.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/montecarlo/accuracy.hpp"
+#include "host/montecarlo/perturb.hpp"
 #include "host/montecarlo/statistics.hpp"
 
 namespace excite::host::montecarlo {
@@ -42,27 +46,127 @@ std::vector<double> collect(const std::vector<const UnitResult*>& units, F figur
   return v;
 }
 
-// Per element of G(0): the true gain, the spread of the identified one, and whether the
-// median is further from the truth than the 10–90 % range is wide (a bias the noise does not
-// explain: the model's structure or the identifier).
+// Per element of G(0): the nominal true gain, the spread of the identified one and of its
+// error against the seed's true gain (the nominal one unless the plant was perturbed), and
+// whether the median error is larger than the error's 10–90 % range is wide (a bias the noise
+// does not explain: the model's structure or the identifier).
 json gain_elements_json(const std::vector<const UnitResult*>& units, const Eigen::MatrixXd& truth) {
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   json elements = json::array();
   for (Eigen::Index i = 0; i < truth.rows(); ++i) {
     for (Eigen::Index j = 0; j < truth.cols(); ++j) {
       const auto at = static_cast<std::size_t>(i * truth.cols() + j);
-      json e = spread_json(collect(units, [at](const UnitResult& u) {
-        return at < u.gain.size() ? u.gain[at] : std::numeric_limits<double>::quiet_NaN();
-      }));
+      json e = spread_json(collect(
+          units, [at](const UnitResult& u) { return at < u.gain.size() ? u.gain[at] : nan; }));
       e["output"] = i;
       e["input"] = j;
       e["true"] = truth(i, j);
-      const bool known = e["median"].is_number();
-      e["bias_exceeds_spread"] = known && std::abs(e["median"].get<double>() - truth(i, j)) >
-                                              e["p90"].get<double>() - e["p10"].get<double>();
+      e["error"] = spread_json(collect(units, [&](const UnitResult& u) {
+        const double true_gain = u.true_gain.empty()       ? truth(i, j)
+                                 : at < u.true_gain.size() ? u.true_gain[at]
+                                                           : nan;
+        return at < u.gain.size() ? u.gain[at] - true_gain : nan;
+      }));
+      const json& error = e["error"];
+      e["bias_exceeds_spread"] = error["median"].is_number() &&
+                                 std::abs(error["median"].get<double>()) >
+                                     error["p90"].get<double>() - error["p10"].get<double>();
       elements.push_back(e);
     }
   }
   return elements;
+}
+
+// The figures the verdicts compare, per unit: "better" is higher, or lower (of |value|).
+struct VerdictMetric {
+  const char* key;
+  const char* label;
+  bool higher_is_better;
+  double (*value)(const UnitResult&);
+};
+const VerdictMetric kVerdictMetrics[] = {
+    {"fit", "own fit [%]", true, [](const UnitResult& u) { return u.fit_avg; }},
+    {"crossfit_worst", "worst cross-fit [%]", true,
+     [](const UnitResult& u) { return u.crossfit_worst; }},
+    {"ratio", "output balance, noise-free (ratio min/max, 1 = balanced)", true,
+     [](const UnitResult& u) { return u.ratio; }},
+    {"sigma_n_error_percent", "|error of sigma_n| [%]", false,
+     [](const UnitResult& u) { return std::abs(100.0 * u.accuracy.sigma_n_error); }},
+    {"weakest_direction_angle_deg", "angle of the weakest input direction v_n [deg]", false,
+     [](const UnitResult& u) { return u.accuracy.weakest_angle_deg; }},
+};
+
+double median_of(const std::vector<double>& v) {
+  return spread_of(v).median;
+}
+
+// +1: a better than b, −1: worse, 0: equal; kNotCompared: NaN on either side. (A plain int,
+// not std::optional: GCC 12 -O1 sees the optional's value as maybe uninitialized.)
+constexpr int kNotCompared = 2;
+int compare(double a, double b, bool higher_is_better) {
+  if (!std::isfinite(a) || !std::isfinite(b)) return kNotCompared;
+  if (a == b) return 0;
+  return (a > b) == higher_is_better ? 1 : -1;
+}
+
+// Directional designs (is_directional_design) against the others, per metric: the verdict by
+// the median over all (design, seed) values of each group, and in how many seeds it holds
+// (that seed's median over the group's designs compared the same way), and in how many seeds
+// the best directional design beats the best other one.
+json verdicts_json(const Config& config, const std::vector<UnitResult>& units) {
+  json verdicts = json::array();
+  bool any_directional = false, any_plain = false;
+  for (const std::string& d : config.designs)
+    (is_directional_design(d) ? any_directional : any_plain) = true;
+  const bool both = any_directional && any_plain;
+  for (const VerdictMetric& m : kVerdictMetrics) {
+    json v = {
+        {"metric", m.key}, {"label", m.label}, {"better", m.higher_is_better ? "higher" : "lower"}};
+    std::vector<double> pooled[2];  // [0] others, [1] directional
+    std::vector<std::vector<double>> by_seed[2];
+    for (auto& b : by_seed) b.resize(static_cast<std::size_t>(config.seeds));
+    for (const UnitResult& u : units) {
+      const int g = is_directional_design(u.design) ? 1 : 0;
+      const double x = m.value(u);
+      pooled[g].push_back(x);
+      by_seed[g][static_cast<std::size_t>(u.seed - config.first_seed)].push_back(x);
+    }
+    const double dir = median_of(pooled[1]), plain = median_of(pooled[0]);
+    v["directional_median"] = number(dir);
+    v["others_median"] = number(plain);
+    const int overall = both ? compare(dir, plain, m.higher_is_better) : kNotCompared;
+    v["verdict"] = overall == kNotCompared ? json(nullptr)
+                   : overall > 0           ? json("directional better")
+                   : overall < 0           ? json("directional not better")
+                                           : json("equal");
+    int holds = 0, compared = 0, best_better = 0, best_compared = 0;
+    for (int s = 0; overall != kNotCompared && s < config.seeds; ++s) {
+      const auto& d = by_seed[1][static_cast<std::size_t>(s)];
+      const auto& o = by_seed[0][static_cast<std::size_t>(s)];
+      const int seed_verdict = compare(median_of(d), median_of(o), m.higher_is_better);
+      if (seed_verdict != kNotCompared) {
+        ++compared;
+        holds += seed_verdict == overall ? 1 : 0;
+      }
+      // The best of each group (finite values only).
+      const auto best = [&](const std::vector<double>& values) {
+        double b = std::numeric_limits<double>::quiet_NaN();
+        for (const double x : values) {
+          if (std::isfinite(x) && (!std::isfinite(b) || (x > b) == m.higher_is_better)) b = x;
+        }
+        return b;
+      };
+      const int best_verdict = compare(best(d), best(o), m.higher_is_better);
+      if (best_verdict != kNotCompared) {
+        ++best_compared;
+        best_better += best_verdict > 0 ? 1 : 0;
+      }
+    }
+    v["holds_in_seeds"] = share_json(holds, compared);
+    v["best_directional_better_in_seeds"] = share_json(best_better, best_compared);
+    verdicts.push_back(v);
+  }
+  return verdicts;
 }
 
 json design_json(const std::string& name, const std::vector<const UnitResult*>& units,
@@ -186,7 +290,16 @@ json summary_json(const Config& config, const std::vector<UnitResult>& units) {
               {"first_seed", c.first_seed},
               {"noise_variance", c.noise_variance},
               {"noise_seed", "experiment e of seed s: 100*s + e (excite campaign --seed 100s)"},
-              {"length_step_percent", c.length_step_percent}};
+              {"length_step_percent", c.length_step_percent},
+              {"perturb_percent", c.perturb_percent},
+              {"true_plant", c.perturb_percent > 0.0
+                                 ? "perturbed per seed: every element's gain, every time "
+                                   "constant and every delay within +-" +
+                                       percent_text(c.perturb_percent) +
+                                       " % of the nominal plant's (host/montecarlo/perturb.hpp); "
+                                       "the designs use the nominal plant, the criterion, the "
+                                       "balance and the gain errors the seed's perturbed one"
+                                 : "the nominal plant in every seed"}};
   j["criterion"] = {
       {"text",
        "identified G(0): every principal minor's sign right, sigma_n within 20 %, the weakest "
@@ -202,10 +315,18 @@ json summary_json(const Config& config, const std::vector<UnitResult>& units) {
       "finite values only";
   j["intervals"] = "Wilson score interval at 95 %";
   j["bias_definition"] =
-      "gain_elements[].bias_exceeds_spread: |median - true| > p90 - p10 over the seeds: an error "
-      "the noise does not explain (the model structure or the identifier)";
+      "gain_elements[].bias_exceeds_spread: |median error| > p90 - p10 of the error (identified "
+      "minus the seed's true gain) over the seeds: an error the noise does not explain (the "
+      "model structure or the identifier)";
+  j["verdict_definition"] =
+      "directional designs against the others per metric: the verdict compares the medians over "
+      "all (design, seed) values of each group; holds_in_seeds counts the seeds in which the "
+      "same comparison of that seed's medians over the group's designs gives the same verdict; "
+      "best_directional_better_in_seeds the seeds in which the best directional design beats "
+      "the best other one. |sigma_n error| and the v_n angle: lower is better";
   j["true_singular_values"] = true_sv;
   j["designs"] = designs;
+  j["verdicts"] = verdicts_json(c, units);
   return j;
 }
 
@@ -216,6 +337,8 @@ std::string summary_text(const json& summary) {
          std::to_string(run["seeds"].get<int>()) + " seeds from " +
          std::to_string(run["first_seed"].get<std::uint64_t>()) +
          "; criterion: " + summary["criterion"]["text"].get<std::string>() + "\n";
+  if (run.value("perturb_percent", 0.0) > 0.0)
+    out += "true plant: " + run["true_plant"].get<std::string>() + "\n";
   char line[512];
   std::snprintf(line, sizeof line, "%-15s %-22s %-22s %-22s %-22s %-22s %-24s %s\n", "design",
                 "fit % [10-90]", "worst cross-fit %", "ratio (noise-free)", "sigma_n error %",
@@ -250,13 +373,33 @@ std::string summary_text(const json& summary) {
     std::string biased;
     for (const json& e : d["gain_elements"]) {
       if (!e["bias_exceeds_spread"].get<bool>()) continue;
-      std::snprintf(line, sizeof line, " g%d%d %.3g (true %.3g, range %.3g)",
+      const json& error = e["error"];
+      std::snprintf(line, sizeof line, " g%d%d %.3g (true %.3g, median error %+.3g, range %.3g)",
                     e["output"].get<int>() + 1, e["input"].get<int>() + 1,
                     e["median"].get<double>(), e["true"].get<double>(),
-                    e["p90"].get<double>() - e["p10"].get<double>());
+                    error["median"].get<double>(),
+                    error["p90"].get<double>() - error["p10"].get<double>());
       biased += line;
     }
     out += "  " + d["design"].get<std::string>() + ":" + (biased.empty() ? " none" : biased) + "\n";
+  }
+  out +=
+      "directional designs against the others (verdict by median; seeds in which it holds; "
+      "seeds in which the best directional design beats the best other):\n";
+  for (const json& v : summary["verdicts"]) {
+    if (v["verdict"].is_null()) {
+      out += "  " + v["label"].get<std::string>() + ": - (needs designs of both groups)\n";
+      continue;
+    }
+    std::snprintf(line, sizeof line,
+                  "  %s: %s (%.4g against %.4g); holds in %d of %d seeds; "
+                  "best directional better in %d of %d\n",
+                  v["label"].get<std::string>().c_str(), v["verdict"].get<std::string>().c_str(),
+                  as_double(v["directional_median"]), as_double(v["others_median"]),
+                  v["holds_in_seeds"]["met"].get<int>(), v["holds_in_seeds"]["of"].get<int>(),
+                  v["best_directional_better_in_seeds"]["met"].get<int>(),
+                  v["best_directional_better_in_seeds"]["of"].get<int>());
+    out += line;
   }
   out += "share of seeds meeting the criterion by test length (percent of the run: share):\n";
   for (const json& d : summary["designs"]) {

@@ -11,7 +11,9 @@
 #include "host/campaign/parallel.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/identify/validate.hpp"
+#include "host/montecarlo/perturb.hpp"
 #include "host/simulate/simulate.hpp"
+#include "sim/library/library.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::host::montecarlo {
@@ -26,17 +28,19 @@ double mean_of(const std::vector<double>& v) {
 }
 
 // The measured run of design b in this unit's seed: what run_experiment measures for it
-// (simulate_plan with the noise of seed options.seed + number).
-SimulatedRun measured_run(const Prepared& p, std::size_t b, std::uint64_t campaign_seed) {
+// (simulate_plan on the unit's true plant with the noise of seed options.seed + number).
+SimulatedRun measured_run(const Prepared& p, std::size_t b, const CampaignOptions& options) {
   SimulationOptions sim;
-  sim.seed = campaign_seed + static_cast<std::uint64_t>(p.presets[b].number);
+  sim.seed = options.seed + static_cast<std::uint64_t>(p.presets[b].number);
   sim.noise_variance = p.config.noise_variance;
-  return simulate_plan(*p.designs[b].plan, std::string(p.presets[b].acronym),
-                       *sim::make_plant(p.config.plant), sim);
+  return simulate_plan(
+      *p.designs[b].plan, std::string(p.presets[b].acronym),
+      options.true_plant ? *options.true_plant() : *sim::make_plant(p.config.plant), sim);
 }
 
 // The criterion on the first rows of the run (a prefix too short to identify: not met).
-bool met_on_prefix(const Prepared& p, const Experiment& e, Eigen::Index rows) {
+bool met_on_prefix(const Prepared& p, const TruePlant& truth, const Experiment& e,
+                   Eigen::Index rows) {
   IdentifyOptions options;
   options.threads = 1;
   options.max_time_constant_min = p.max_time_constant_min;
@@ -44,7 +48,7 @@ bool met_on_prefix(const Prepared& p, const Experiment& e, Eigen::Index rows) {
     return false;
   const IdentificationResult r =
       identify(e.U.topRows(rows), e.Y.topRows(rows), e.sample_time_min, options);
-  return judge(p.truth, r.gain).met;
+  return judge(truth, r.gain).met;
 }
 
 }  // namespace
@@ -63,6 +67,7 @@ std::unique_ptr<Prepared> prepare(const Config& config, int threads) {
   p->campaign.threads = 1;
   p->campaign.noise_variance = config.noise_variance;
   p->truth = true_plant_of(prior.gain);
+  if (config.perturb_percent > 0.0) p->nominal = sim::library_plant(config.plant);
   p->max_time_constant_min = prior.beta * prior.tau_high_min;
   for (const std::string& name : config.designs) {
     for (const PresetInfo& info : presets()) {
@@ -82,8 +87,17 @@ UnitResult run_unit(const Prepared& p, const Unit& unit) {
   const double start_s = thread_cpu_s();
   CampaignOptions options = p.campaign;
   options.seed = kSeedStride * unit.seed;
+  // The seed's true plant: the nominal one, or its perturbation (the designs keep the nominal).
+  std::optional<sim::TransferMatrix> perturbed;
+  std::optional<TruePlant> perturbed_truth;
+  if (p.nominal) {
+    perturbed = perturbed_plant(*p.nominal, p.config.perturb_percent, unit.seed);
+    perturbed_truth = true_plant_of(perturbed->static_gain());
+    options.true_plant = [&] { return sim::make_linear_plant(p.config.plant, *perturbed); };
+  }
+  const TruePlant& truth = perturbed_truth ? *perturbed_truth : p.truth;
   const Experiment e = run_experiment(p.designs[a], p.presets[a], options, p.config.noise_variance,
-                                      p.truth.gain, p.max_time_constant_min);
+                                      truth.gain, p.max_time_constant_min);
   UnitResult r;
   r.design = e.name;
   r.number = e.number;
@@ -102,7 +116,12 @@ UnitResult run_unit(const Prepared& p, const Unit& unit) {
     for (Eigen::Index i = 0; i < g.gain.rows(); ++i)
       for (Eigen::Index j = 0; j < g.gain.cols(); ++j) r.gain.push_back(g.gain(i, j));
   }
-  r.accuracy = judge(p.truth, e.identified.gain);
+  if (perturbed_truth) {
+    const Eigen::MatrixXd& g = truth.gain.gain;
+    for (Eigen::Index i = 0; i < g.rows(); ++i)
+      for (Eigen::Index j = 0; j < g.cols(); ++j) r.true_gain.push_back(g(i, j));
+  }
+  r.accuracy = judge(truth, e.identified.gain);
   const double experiment_done_s = thread_cpu_s();
   r.times.experiment_s = experiment_done_s - start_s;
 
@@ -110,7 +129,7 @@ UnitResult run_unit(const Prepared& p, const Unit& unit) {
   std::vector<double> cross;
   for (std::size_t b = 0; b < p.designs.size(); ++b) {
     if (b == a) continue;
-    const SimulatedRun data = measured_run(p, b, options.seed);
+    const SimulatedRun data = measured_run(p, b, options);
     cross.push_back(mean_of(fit(e.identified.model, data.du, data.dy)));
   }
   const bool any_nan =
@@ -126,7 +145,7 @@ UnitResult run_unit(const Prepared& p, const Unit& unit) {
     LengthPoint point;
     point.percent = percent;
     point.samples = r.samples * percent / 100;
-    point.met = percent == 100 ? r.accuracy.met : met_on_prefix(p, e, point.samples);
+    point.met = percent == 100 ? r.accuracy.met : met_on_prefix(p, truth, e, point.samples);
     r.lengths.push_back(point);
   }
   r.times.lengths_s = thread_cpu_s() - crossval_done_s;

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "host/design/presets.hpp"
 #include "host/montecarlo/accuracy.hpp"
 #include "host/montecarlo/work.hpp"
+#include "sim/lti/transfer_matrix.hpp"
 
 namespace excite::host::montecarlo {
 
@@ -47,7 +49,8 @@ struct UnitResult {
   double ratio_noisy = 0.0, upsilon_noisy = 0.0;  // on the measured outputs
   std::vector<double> singular_values;  // of the identified G(0); empty when not identified
   std::vector<double> gain;             // the identified G(0), row-major; empty likewise
-  Accuracy accuracy;                    // on the whole run
+  std::vector<double> true_gain;        // the seed's perturbed true G(0), row-major; empty: nominal
+  Accuracy accuracy;                    // on the whole run, against the seed's true plant
   std::vector<LengthPoint> lengths;     // length_grid(config), the last one the whole run
   UnitTimes times;                      // not in the file
 };
@@ -55,10 +58,11 @@ struct UnitResult {
 /// What every unit of a run shares, made once (designs are seed-free) and read-only after.
 struct Prepared {
   Config config;
-  CampaignOptions campaign;  // plant, threads = 1; seed set per unit
-  TruePlant truth;
-  double max_time_constant_min = 0.0;  // β·τ_H of the case study (SPEC §6)
-  std::vector<PresetInfo> presets;     // config.designs'
+  CampaignOptions campaign;                    // plant, threads = 1; seed set per unit
+  TruePlant truth;                             // the nominal plant's
+  std::optional<sim::TransferMatrix> nominal;  // set when config.perturb_percent > 0
+  double max_time_constant_min = 0.0;          // β·τ_H of the case study (SPEC §6)
+  std::vector<PresetInfo> presets;             // config.designs'
   std::vector<Design> designs;
 };
 
@@ -69,7 +73,10 @@ std::unique_ptr<Prepared> prepare(const Config& config, int threads);
 /// CPU time of the calling thread, seconds (CLOCK_THREAD_CPUTIME_ID).
 double thread_cpu_s();
 
-/// Runs one unit on the calling thread.
+/// Runs one unit on the calling thread: with a perturbation, on the seed's perturbed plant
+/// (perturb.hpp), every run of the unit (its own, and the other designs' for the
+/// cross-validation) on that plant, the balance along its output directions and the
+/// criterion against its G(0).
 UnitResult run_unit(const Prepared& prepared, const Unit& unit);
 
 }  // namespace excite::host::montecarlo

@@ -30,7 +30,8 @@ struct Config {
   int seeds = 0;                     // ≥ 1
   std::uint64_t first_seed = 1;      // seeds first_seed … first_seed + seeds − 1
   double noise_variance = 0.0;       // per output (resolved: the case study's by default)
-  int length_step_percent = 5;  // the test-length grid: step, 2·step, …, 100 %; 0: 100 % only
+  int length_step_percent = 5;   // the test-length grid: step, 2·step, …, 100 %; 0: 100 % only
+  double perturb_percent = 0.0;  // the true plant's parameters within ±X % per seed (perturb.hpp)
   Shard shard;
 };
 
@@ -53,8 +54,8 @@ std::vector<Unit> shard_units(const Config& config);
 std::vector<int> length_grid(const Config& config);
 
 /// Fills `designs` (empty: all 17 of Table 6.1; else checks each name and puts them in Table
-/// order) and checks the rest; throws std::invalid_argument naming the option, the value and
-/// what was expected.
+/// order) and checks the rest (a perturbation needs a linear library plant); throws
+/// std::invalid_argument naming the option, the value and what was expected.
 void normalise(Config& config);
 
 }  // namespace excite::host::montecarlo
