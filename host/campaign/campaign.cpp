@@ -33,6 +33,76 @@ double mean_finite(const std::vector<double>& v) {
   return n > 0 ? sum / n : kNaN;
 }
 
+// The first `rows` rows of `layout` (a gateway's closing ticks past the plan dropped); an
+// empty layout is one segment over every row.
+SampleLayout first_rows(const SampleLayout& layout, Eigen::Index rows) {
+  if (layout.rows() == 0) return SampleLayout::whole(rows);
+  if (layout.rows() < rows) {
+    throw std::runtime_error("the measured run's layout has " + std::to_string(layout.rows()) +
+                             " rows, expected at least the run's " + std::to_string(rows));
+  }
+  SampleLayout out;
+  out.weight = layout.weight.head(rows);
+  for (const Segment& s : layout.segments) {
+    if (s.begin < rows) out.segments.push_back({s.begin, std::min(s.end, rows)});
+  }
+  out.check();
+  return out;
+}
+
+// The rows of M that `layout` scores in [begin, end).
+Eigen::MatrixXd scored_rows(const Eigen::MatrixXd& M, const SampleLayout& layout,
+                            Eigen::Index begin, Eigen::Index end) {
+  Eigen::Index n = 0;
+  for (Eigen::Index k = begin; k < end; ++k) n += layout.weight(k) > 0.0 ? 1 : 0;
+  Eigen::MatrixXd out(n, M.cols());
+  Eigen::Index r = 0;
+  for (Eigen::Index k = begin; k < end; ++k) {
+    if (layout.weight(k) > 0.0) out.row(r++) = M.row(k);
+  }
+  return out;
+}
+
+// The scored rows of every segment about the segment's own mean, pooled (as `excite balance`
+// measures a flagged log; one segment: Y about its mean).
+Eigen::MatrixXd scored_about_segment_means(const Eigen::MatrixXd& Y, const SampleLayout& layout) {
+  if (layout.segments.size() == 1 && layout.scored() == layout.rows()) return Y;
+  std::vector<Eigen::MatrixXd> parts;
+  Eigen::Index rows = 0;
+  for (const Segment& s : layout.segments) {
+    parts.push_back(scored_rows(Y, layout, s.begin, s.end));
+    if (parts.back().rows() == 0) continue;
+    parts.back().rowwise() -= parts.back().colwise().mean();
+    rows += parts.back().rows();
+  }
+  Eigen::MatrixXd out(rows, Y.cols());
+  Eigen::Index at = 0;
+  for (const Eigen::MatrixXd& p : parts) {
+    out.middleRows(at, p.rows()) = p;
+    at += p.rows();
+  }
+  return out;
+}
+
+// Fit % (5.5.1) of `model` on data U, Y per output, over the rows `layout` scores, the model
+// simulated from rest at every segment's start; one segment scoring every row gives fit().
+std::vector<double> scored_fit(const IdentifiedModel& model, const Eigen::MatrixXd& U,
+                               const Eigen::MatrixXd& Y, const SampleLayout& layout) {
+  if (layout.segments.size() == 1 && layout.scored() == layout.rows()) return fit(model, U, Y);
+  Eigen::MatrixXd Y_hat = Eigen::MatrixXd::Zero(U.rows(), model.outputs);
+  for (const Segment& s : layout.segments) {
+    Y_hat.middleRows(s.begin, s.end - s.begin) =
+        simulate(model, U.middleRows(s.begin, s.end - s.begin));
+  }
+  const Eigen::MatrixXd y = scored_rows(Y, layout, 0, Y.rows());
+  const Eigen::MatrixXd y_hat = scored_rows(Y_hat, layout, 0, Y.rows());
+  std::vector<double> out;
+  for (Eigen::Index j = 0; j < Y.cols(); ++j) {
+    out.push_back(y.rows() > 0 ? fit_percent(y.col(j), y_hat.col(j)) : kNaN);
+  }
+  return out;
+}
+
 Balance balance_of(const Eigen::MatrixXd& Y, const GainAnalysis& true_gain) {
   Balance b;
   const DirectionalBalance d = directional_balance(Y, true_gain.output_directions);
@@ -59,10 +129,11 @@ Experiment run_experiment(const Design& design, const PresetInfo& preset,
       simulate_plan(*design.plan, std::string(preset.acronym), *plant(), sim);
   sim.noise_variance = noise_variance;
   const std::string name(preset.acronym);
-  const SimulatedRun run =
+  const MeasuredData measured =
       options.measured_run
           ? options.measured_run({*design.plan, preset.number, name, sim.seed, noise_variance})
-          : simulate_plan(*design.plan, name, *plant(), sim);
+          : MeasuredData{simulate_plan(*design.plan, name, *plant(), sim), {}};
+  const SimulatedRun& run = measured.run;
   const Eigen::Index rows = clean.du.rows();
   if (run.du.rows() < rows || run.dy.rows() < rows || run.du.cols() != clean.du.cols() ||
       run.dy.cols() != clean.dy.cols()) {
@@ -80,6 +151,7 @@ Experiment run_experiment(const Design& design, const PresetInfo& preset,
   e.U = run.du.topRows(rows);
   e.Y = run.dy.topRows(rows);
   e.Y_clean = clean.dy;
+  e.layout = first_rows(measured.layout, rows);
   e.limit_scale = design.limit_scale;
   const InputMeasures m = measure_inputs(design.table);
   e.cf_avg = m.average.crest_factor;
@@ -88,12 +160,12 @@ Experiment run_experiment(const Design& design, const PresetInfo& preset,
   IdentifyOptions identify_options;
   identify_options.threads = 1;  // the campaign's pool runs experiments in parallel
   identify_options.max_time_constant_min = max_time_constant_min;  // SPEC §6: β·τ_H
-  e.identified = identify(e.U, e.Y, e.sample_time_min, identify_options);
+  e.identified = identify(e.U, e.Y, e.sample_time_min, e.layout, identify_options);
   std::vector<double> fits;
   for (const OutputFit& f : e.identified.fits) fits.push_back(f.fit_percent);
   e.fit_avg = mean_finite(fits);
   e.balance_clean = balance_of(e.Y_clean, true_gain);
-  e.balance_noisy = balance_of(e.Y, true_gain);
+  e.balance_noisy = balance_of(scored_about_segment_means(e.Y, e.layout), true_gain);
   return e;
 }
 
@@ -108,7 +180,7 @@ void cross_validate_parallel(CampaignResult& result, int threads) {
     const Experiment& model = result.experiments[static_cast<std::size_t>(a)];
     for (Eigen::Index b = 0; b < R; ++b) {
       const Experiment& data = result.experiments[static_cast<std::size_t>(b)];
-      const std::vector<double> f = fit(model.identified.model, data.U, data.Y);
+      const std::vector<double> f = scored_fit(model.identified.model, data.U, data.Y, data.layout);
       double sum = 0.0;
       for (const double v : f) sum += v;
       result.crossfit(a, b) = sum / static_cast<double>(f.size());

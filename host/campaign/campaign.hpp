@@ -18,6 +18,7 @@
 
 #include "firmware/plan/plan.hpp"
 #include "host/identify/identify.hpp"
+#include "host/identify/segments.hpp"
 #include "host/measures/gain_directions.hpp"
 #include "host/simulate/simulate.hpp"
 #include "sim/plants/plant.hpp"
@@ -39,9 +40,19 @@ struct RunRequest {
   double noise_variance = 0.0;  // per output
 };
 
+/// A measured run and which of its rows count (issue 23 §4: the campaign honours a run
+/// log's flags as identify does).
+struct MeasuredData {
+  SimulatedRun run;
+  /// The rows of `run` by the flags rule (host/identify/run_layout.hpp): where the model
+  /// restarts from rest and which rows are scored. Empty (no rows): one segment, every row
+  /// scored — a run simulated in this process has no flags.
+  SampleLayout layout;
+};
+
 /// Makes a measured run: deviations, at least the plan's rows (rows past them, such as a
 /// gateway's closing ticks at the baseline, are not part of the experiment and are dropped).
-using MeasuredRun = std::function<SimulatedRun(const RunRequest&)>;
+using MeasuredRun = std::function<MeasuredData(const RunRequest&)>;
 
 struct CampaignOptions {
   std::string plant;
@@ -76,15 +87,18 @@ struct Experiment {
   double sample_time_min = 0.0;
   Eigen::MatrixXd U, Y;        // N × n inputs, N × p noisy outputs (deviations)
   Eigen::MatrixXd Y_clean;     // N × p noise-free outputs (same run, no noise)
+  SampleLayout layout;         // of U and Y: segments and scored rows (the log's flags);
+                               // one segment, every row scored, for an unflagged run
   double cf_avg = 0.0;         // crest factor over the experiment, averaged over inputs
   double cf_period_avg = 0.0;  // over each input's active span (its periods), averaged
   double pips_avg = 0.0;
-  double limit_scale = 1.0;  // < 1: scaled as a whole to fit the input limits
-  IdentificationResult identified;
-  double fit_avg = 0.0;  // own data, averaged over outputs (5.5.1)
+  double limit_scale = 1.0;         // < 1: scaled as a whole to fit the input limits
+  IdentificationResult identified;  // on the rows `layout` scores
+  double fit_avg = 0.0;             // own data, averaged over outputs (5.5.1)
   double crossfit_avg = 0.0, crossfit_best = 0.0, crossfit_worst = 0.0;
   Balance balance_clean;  // on the noise-free outputs: a property of the excitation
-  Balance balance_noisy;  // on the measured (noisy) outputs
+  Balance balance_noisy;  // on the measured (noisy) outputs: the scored rows, each segment
+                          // about its own mean
 };
 
 /// SPEC §4, thesis §6.3: every experiment as long as every other ("T_L = 4080 min was the
@@ -105,7 +119,8 @@ struct CampaignResult {
   std::string design_gain_source;         // "true G(0)" or "step test (stepSeq)"
   std::optional<GainAnalysis> step_gain;  // the step test's estimate, when it has one
   std::vector<Experiment> experiments;
-  Eigen::MatrixXd crossfit;  // fit(a, b): model a on data b, averaged over outputs
+  Eigen::MatrixXd crossfit;  // fit(a, b): model a on data b, averaged over outputs (b's
+                             // scored rows, the model from rest at each of b's segments)
 };
 
 struct Design;

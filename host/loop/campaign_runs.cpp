@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "host/loop/campaign_runs.hpp"
 
+#include <utility>
+
 #include "host/design/plan_file.hpp"
-#include "host/identify/run_data.hpp"
+#include "host/identify/run_layout.hpp"
 
 namespace excite::host {
 
@@ -10,6 +12,22 @@ namespace fs = std::filesystem;
 
 std::string experiment_folder(int number, const std::string& name) {
   return (number < 10 ? "0" : "") + std::to_string(number) + "-" + name;
+}
+
+MeasuredData measured_data(const runlog::RunLog& log, const std::string& name) {
+  // identify's flags rule (host/identify/run_layout.hpp), as `excite identify RUN` applies it
+  StackedRuns data = stack_runs({&log}, {name}, FlagRule{});
+  MeasuredData measured;
+  SimulatedRun& run = measured.run;
+  run.plant = log.plant;
+  run.plan = log.plan;
+  run.sample_time_min = data.sample_time_min;
+  run.input_names = log.input_names;
+  run.output_names = log.output_names;
+  run.du = std::move(data.U);
+  run.dy = std::move(data.Y);
+  measured.layout = std::move(data.layout);
+  return measured;
 }
 
 MeasuredRun measured_runs_in_the_loop(const std::string& plant, const fs::path& runs,
@@ -27,15 +45,7 @@ MeasuredRun measured_runs_in_the_loop(const std::string& plant, const fs::path& 
     loop.programs = programs;
     const LoopResult streamed = stream_in_the_loop(loop);
     const runlog::RunLog& log = streamed.log;
-    const RunData data = run_data(log);
-    SimulatedRun run;
-    run.plant = log.plant;
-    run.plan = log.plan;
-    run.sample_time_min = data.sample_time_min;
-    run.input_names = log.input_names;
-    run.output_names = log.output_names;
-    run.du = data.U;
-    run.dy = data.Y;
+    const MeasuredData run = measured_data(log, streamed.gateway_log.string());
     if (say)
       say(request.name + ": streamed through excite-gateway to excite-plant, " +
           std::to_string(log.rows()) + " ticks in " +

@@ -85,7 +85,7 @@ class CrestObjective {
  public:
   CrestObjective(const MultisineSet& set, const GuillaumeOptions& options,
                  std::uint32_t oversampling)
-      : set_(set), options_(options) {
+      : set_(set), options_(options), mean_(options.aggregate == ChannelAggregate::mean) {
     const std::size_t n = set.channels.size();
     channels_.resize(n);
     std::uint32_t top = 0;
@@ -162,9 +162,11 @@ class CrestObjective {
     return std::sqrt(2.0 * options_.snow_power_fraction * channels_[c].band_power / (1.0 + norm2));
   }
 
-  // Fills signals_ and rms_ for the variables v; returns the worst grid crest factor.
+  // Fills signals_, rms_ and cf_ for the variables v; returns the aggregate grid crest
+  // factor (the worst channel's, or the channels' mean).
   double synthesize(const Eigen::VectorXd& v) {
-    double worst = 0.0;
+    double worst = 0.0, sum = 0.0;
+    cf_.assign(channels_.size(), 0.0);
     for (std::size_t c = 0; c < channels_.size(); ++c) {
       const Channel& channel = channels_[c];
       double norm2 = 0.0;
@@ -201,26 +203,31 @@ class CrestObjective {
       }
       double peak = 0.0;
       for (double value : signals_[c]) peak = std::max(peak, std::abs(value));
-      worst = std::max(worst, peak / rms_[c]);
+      cf_[c] = peak / rms_[c];
+      worst = std::max(worst, cf_[c]);
+      sum += cf_[c];
     }
-    return worst;
+    return mean_ ? sum / static_cast<double>(channels_.size()) : worst;
   }
 
-  // F = (1/p) log Σ_c mean_m |x_c(m)/rms_c|^p and its gradient.
+  // F (GuillaumeOptions::aggregate) and its gradient.
   double evaluate(const Eigen::VectorXd& v, Eigen::VectorXd& gradient, const PowerKernel& kernel) {
     ++evaluations_;
-    const double worst = synthesize(v);
-    if (worst < best_cf_) {
-      best_cf_ = worst;
+    const double aggregate = synthesize(v);
+    if (aggregate < best_cf_) {
+      best_cf_ = aggregate;
       best_ = v;
     }
+    const double worst = *std::max_element(cf_.begin(), cf_.end());
     const double p = kernel.p;
+    const auto channel_count = static_cast<double>(channels_.size());
     std::vector<double>& sums = sums_;
     sums.assign(channels_.size(), 0.0);
     double total = 0.0;
-    // Overwrite each signal with h = |z|^(p−1) sign(z), z = x / (rms · worst) ∈ [−1, 1].
+    // Overwrite each signal with h = |z|^(p−1) sign(z), z = x / (rms · s_c) ∈ [−1, 1], s_c the
+    // worst crest factor (worst) or the channel's own (mean), so no power overflows.
     for (std::size_t c = 0; c < channels_.size(); ++c) {
-      const double scale = 1.0 / (rms_[c] * worst);
+      const double scale = 1.0 / (rms_[c] * (mean_ ? cf_[c] : worst));
       double sum = 0.0;
       for (double& value : signals_[c]) {
         double power = 0.0;
@@ -230,12 +237,20 @@ class CrestObjective {
       sums[c] = sum / grid_;
       total += sums[c];
     }
-    const double value = std::log(worst) + std::log(total) / p;
+    double value = std::log(worst) + std::log(total) / p;
+    if (mean_) {
+      value = 0.0;
+      for (std::size_t c = 0; c < channels_.size(); ++c)
+        value += (std::log(cf_[c]) + std::log(sums[c]) / p) / channel_count;
+    }
 
     gradient.setZero(v.size());
     for (std::size_t c = 0; c < channels_.size(); ++c) {
       const Channel& channel = channels_[c];
-      const double kappa = 1.0 / (grid_ * total * worst * rms_[c]);
+      // ∂F/∂x_c(m) = κ_c h_c(m).
+      const double kappa = mean_ ? 1.0 / (channel_count * grid_ * sums[c] * cf_[c] * rms_[c])
+                                 : 1.0 / (grid_ * total * worst * rms_[c]);
+      const double share = 1.0 / channel_count;            // of F per channel (mean)
       auto weight = [&](std::uint32_t index) -> Complex {  // W = κ Σ_m h(m) e^{+jθm}
         if (options_.evaluation == Evaluation::fft)
           return kappa * std::conj(gradient_spectrum_[index]);
@@ -261,7 +276,8 @@ class CrestObjective {
       if (channel.snow.empty()) continue;
       double norm2 = 0.0;
       const double beta = snow_scale(c, v, norm2);
-      const double mu = sums[c] / (total * rms_[c]) / (2.0 * rms_[c]);
+      const double mu =
+          mean_ ? share / rms_[c] / (2.0 * rms_[c]) : sums[c] / (total * rms_[c]) / (2.0 * rms_[c]);
       double g_dot_w = 0.0;
       std::vector<double>& g = snow_gradient_;
       g.assign(2 * channel.snow.size(), 0.0);
@@ -344,6 +360,8 @@ class CrestObjective {
   std::vector<double> snow_gradient_;
   std::vector<double> cos_table_;
   std::vector<double> sin_table_;
+  std::vector<double> cf_;  // per channel, of the last synthesis
+  bool mean_ = false;       // ChannelAggregate::mean
   double best_cf_ = INFINITY;
   Eigen::VectorXd best_;
   int evaluations_ = 0;

@@ -28,6 +28,11 @@ namespace excite::host::multisine {
 /// baseline the benchmark compares the FFT against; both give the same numbers.
 enum class Evaluation { fft, direct };
 
+/// What the optimiser lowers when channels are optimised together (a set with shared
+/// sources): the worst channel's crest factor, or the average of the channels' (both through
+/// L_p norms, see the file comment).
+enum class ChannelAggregate { worst, mean };
+
 struct GuillaumeOptions {
   std::vector<double> norms{4, 8, 16, 32, 64, 128, 256, 512};  // p, increasing
   int iterations_per_norm = 40;                                // L-BFGS iterations per p
@@ -41,6 +46,10 @@ struct GuillaumeOptions {
   std::uint32_t coarse_oversampling = 4;
   double coarse_until_norm = 64.0;
   double snow_power_fraction = 0.0;  // ρ; 0 leaves the snow slots empty
+  /// worst: F = (1/p) log Σ_c mean_m |x_c/rms_c|^p (→ log of the worst channel's crest
+  /// factor); mean: F = (1/C) Σ_c (1/p) log mean_m |x_c/rms_c|^p (→ the mean of the channels'
+  /// log crest factors). The best iterate is judged by the same aggregate.
+  ChannelAggregate aggregate = ChannelAggregate::worst;
   Evaluation evaluation = Evaluation::fft;
 };
 
@@ -53,8 +62,9 @@ struct GuillaumeReport {
 };
 
 /// Optimises the free phases (and snow) of `start`, whose phases are the starting point
-/// (Schroeder in the allocations). Returns the best iterate seen, by worst-channel crest
-/// factor on the optimisation grid, so the result is never worse than the start there.
+/// (Schroeder in the allocations). Returns the best iterate seen, by worst-channel (or,
+/// with aggregate = mean, average) crest factor on the optimisation grid, so the result is
+/// never worse than the start there.
 /// Snow lines the optimiser filled are appended to their channel's own lines (sorted by
 /// index) and removed from `snow`. Throws std::invalid_argument on an invalid set, an
 /// empty or non-increasing p sequence, p < 2, or ρ outside [0, 1].
