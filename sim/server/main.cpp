@@ -168,6 +168,10 @@ std::optional<int> parse_command_line(int argc, char** argv, CommandLine& cl) {
       ->excludes(lockstep)
       ->excludes(clock_opt);
   app.add_option("--log", options.log_path, "run log (CSV) of every plant sample");
+  app.add_option("--plan", cl.overrides.plan,
+                 "the plan the gateway will stream: refused unless its sample time is the "
+                 "plant's (plant.sample_time_min or --sample-time-min)")
+      ->check(CLI::ExistingFile);
   app.add_option("--idle-timeout-s", options.idle_timeout_s,
                  "close a connection silent this long (never the gateway's), seconds > 0")
       ->capture_default_str();

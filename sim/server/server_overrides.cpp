@@ -4,11 +4,15 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 #include "firmware/app/timing_range.hpp"
 #include "firmware/config/error.hpp"
+#include "firmware/plan/codec.hpp"
 
 namespace excite::sim::server {
 namespace {
@@ -33,6 +37,26 @@ void check_period(const std::string& option, const std::string& value,
     bad(option, value,
         what + " within the gateway's tick periods, " + text_of(app::kMinPeriodS) + " … " +
             text_of(app::kMaxPeriodS) + " s (got " + text_of(seconds) + " s)");
+  }
+}
+
+// The plan the gateway will stream, against the plant's sample time T (minutes; `where`
+// names the setting T came from). Equal to a part in 1e9: the plan stores T as a double,
+// plant.toml as the shortest text that reads back exactly.
+void check_plan(const std::string& path, double sample_time_min, const std::string& where) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) bad("--plan", "\"" + path + "\"", "a plan file that can be opened");
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                        std::istreambuf_iterator<char>());
+  auto plan = std::make_unique<plan::Plan>();  // large: not on the stack
+  if (const Status s = plan::decode(bytes, *plan); !s) {
+    bad("--plan", "\"" + path + "\"", std::string("a plan file (") + s.message() + ")");
+  }
+  const double t = plan->meta.sample_time_min;
+  if (!(std::abs(t - sample_time_min) <= 1e-9 * sample_time_min)) {
+    throw config::Error(path, {}, "sample_time_min", text_of(t),
+                        "the plant's sample time, " + text_of(sample_time_min) + " min (" + where +
+                            "): the plant steps once per row of the plan");
   }
 }
 
@@ -107,6 +131,7 @@ void apply_overrides(ServerConfig& config, const ServerOverrides& o, std::string
       o.sample_time_min ? "--sample-time-min" : std::string(source) + ": plant.sample_time_min";
   check_period(where, text_of(plant.sample_time_min), Minutes(plant.sample_time_min),
                "minutes whose seconds lie");
+  if (!o.plan.empty()) check_plan(o.plan, plant.sample_time_min, where);
 }
 
 std::chrono::duration<double> sample_period(Minutes sample_time, const ServerOverrides& o) {

@@ -36,11 +36,16 @@ struct ServerOverrides {
   // --sample-time-s (wall-clock seconds per sample); neither: real time.
   std::optional<double> speedup;
   std::optional<double> sample_time_s;
+  // --plan: the plan the gateway will stream. Its sample time must be the plant's: a plant
+  // stepped at another T than the plan's rows would answer another experiment.
+  std::string plan;
 };
 
 /// The plant, its noise and its sample time from `overrides` into `config` (read from
 /// `source`); the sample time's seconds must lie within the gateway's tick periods
-/// (firmware/app/timing_range.hpp).
+/// (firmware/app/timing_range.hpp). With a plan, refuses a plan that cannot be read and
+/// one whose sample time is not the plant's ("x.plan: sample_time_min = 0.5, expected the
+/// plant's sample time, 1 min (plant.toml: plant.sample_time_min)").
 void apply_overrides(ServerConfig& config, const ServerOverrides& overrides,
                      std::string_view source);
 
