@@ -30,7 +30,9 @@ DistortionVerdict check_distortion(const GatewayConfig& config,
     const double fraction = d.fraction(c);
     const std::string clamped = d.clamping_known
                                     ? format("%u clamped", ch.clamped_rows)
-                                    : std::string("clamping known at arm (needs the baseline)");
+                                    : std::string(
+                                          "clamping known at arm (needs the baseline; arm "
+                                          "refuses a clamped row)");
     const std::string line = format(
         "%s: %u of %u rows rate-limited, %s (%.4g %% of the rows); largest move %.6g %s at row "
         "%u, max_move %.6g",

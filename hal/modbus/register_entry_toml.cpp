@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "hal/modbus/register_entry_toml.hpp"
 
+#include "firmware/config/writer.hpp"
+
 namespace excite::hal::modbus {
 
 RegisterEntry read_register_entry(const config::Table& entry, EntryKind kind) {
@@ -34,6 +36,30 @@ void read_map_settings(const config::Table& table, RegisterMap& map) {
   if (const auto v = table.integer("read_chunk", 2, max_read_registers)) {
     map.read_chunk = static_cast<std::uint32_t>(*v);
   }
+}
+
+std::string format_register_entry(const RegisterEntry& e, EntryKind kind) {
+  using config::toml_number;
+  using config::toml_string;
+  std::string out = "address = " + std::to_string(e.address) + "\n";
+  if (kind == EntryKind::value || e.function_code != default_function_code(kind)) {
+    out += "function_code = " + std::to_string(e.function_code) + "\n";
+  }
+  out += "type = " + toml_string(e.type) + "\n";
+  if (e.type == "float32") return out + "word_order = " + toml_string(e.word_order) + "\n";
+  out += "eng_min = " + toml_number(e.eng_min) + "\neng_max = " + toml_number(e.eng_max) + "\n";
+  if (e.raw_min) out += "raw_min = " + std::to_string(*e.raw_min) + "\n";
+  if (e.raw_max) out += "raw_max = " + std::to_string(*e.raw_max) + "\n";
+  return out;
+}
+
+std::string format_map_settings(const RegisterMap& map) {
+  std::string out;
+  if (map.heartbeat_address) {
+    out += "heartbeat_address = " + std::to_string(*map.heartbeat_address) + "\n";
+  }
+  return out + "write_chunk = " + std::to_string(map.write_chunk) +
+         "\nread_chunk = " + std::to_string(map.read_chunk) + "\n";
 }
 
 }  // namespace excite::hal::modbus

@@ -4,7 +4,10 @@
 // map's own settings. One definition, read by both the gateway's configuration
 // (firmware/app/gateway_config.cpp, [[setpoints]], [[values]], [map]) and the plant
 // server's (sim/server/server_config.cpp, [[registers.setpoints]], [[registers.values]],
-// [registers]), so the two sides of one link cannot default a field differently.
+// [registers]), so the two sides of one link cannot default a field differently; and
+// written by one writer beside the reader (format_register_entry, format_map_settings:
+// the plant server's configuration writer and `excite loop-config`'s gateway side), so
+// what is written is what the reader reads back.
 //
 // Entry keys and defaults (hal's RegisterEntry):
 //   address        required, an integer 0..65535 (PDU address; the span is checked by
@@ -21,6 +24,7 @@
 // Built apart from excite_hal_modbus (library excite_hal_modbus_toml) because it throws.
 
 #include <array>
+#include <string>
 #include <string_view>
 
 #include "firmware/config/table.hpp"
@@ -48,5 +52,15 @@ RegisterEntry read_register_entry(const config::Table& entry, EntryKind kind);
 /// Reads heartbeat_address, write_chunk and read_chunk from `table` into `map` (the keys
 /// that are absent keep map's values).
 void read_map_settings(const config::Table& table, RegisterMap& map);
+
+/// The register fields of `e` as TOML lines, one "key = value\n" each, that
+/// read_register_entry reads back into the same fields: address; function_code for a
+/// value (and for a setpoint whose code is not 16); type; float32: word_order; int16 and
+/// uint16: eng_min, eng_max, and raw_min, raw_max when set. The name is its owner's to write.
+std::string format_register_entry(const RegisterEntry& e, EntryKind kind);
+
+/// heartbeat_address (when set), write_chunk and read_chunk as TOML lines that
+/// read_map_settings reads back.
+std::string format_map_settings(const RegisterMap& map);
 
 }  // namespace excite::hal::modbus

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // excite loop-config --plant NAME [--transport modbus-tcp|can] [--interface IFACE]
 //                    [--host ADDR] [--port P] [--input-range R] [--max-move M]
-//                    [--output-range R] [--sample-time-min T] [--noise-var V] [--seed S] -o DIR
+//                    [--output-range R] [--sample-time-min T | --plan PLAN] [--noise-var V]
+//                    [--seed S] -o DIR
 //
 // One register map for both sides of the loop: writes DIR/plant.toml (excite-plant's
 // configuration) and DIR/gateway.toml (excite-gateway's), both made by host/loop's
@@ -13,6 +14,7 @@
 
 #include "host/cli/commands.hpp"
 #include "host/cli/number_checks.hpp"
+#include "host/design/plan_file.hpp"
 #include "host/loop/loop_config.hpp"
 #include "host/output/whole_file.hpp"
 
@@ -21,10 +23,14 @@ namespace {
 
 struct LoopConfigCommand {
   LoopConfigOptions config;
+  std::string plan;  // --plan: the plant's sample time is this plan's
   std::string output_dir;
 };
 
-void run(const LoopConfigCommand& cmd) {
+void run(const LoopConfigCommand& command) {
+  LoopConfigCommand cmd = command;
+  if (!cmd.plan.empty())
+    cmd.config.sample_time_min = read_plan_file(cmd.plan)->meta.sample_time_min;
   const LoopConfigPair pair = make_loop_config(cmd.config);
   const std::filesystem::path dir(cmd.output_dir);
   std::filesystem::create_directories(dir);
@@ -41,9 +47,10 @@ void run(const LoopConfigCommand& cmd) {
             << "  excite-plant --config " << plant_path.string()
             << (c.transport == "can" ? " --can " + c.can_interface
                                      : " --modbus-tcp " + c.host + ":" + std::to_string(c.port))
-            << " --clock lockstep\n"
-            << "  excite-gateway --config " << gateway_path.string()
-            << " --plan PLAN --log RUN.csv --start --clock lockstep\n";
+            << (cmd.plan.empty() ? "" : " --plan " + cmd.plan) << " --clock lockstep\n"
+            << "  excite-gateway --config " << gateway_path.string() << " --plan "
+            << (cmd.plan.empty() ? std::string("PLAN") : cmd.plan)
+            << " --log RUN.csv --start --clock lockstep\n";
 }
 
 }  // namespace
@@ -78,9 +85,14 @@ void add_loop_config_command(CLI::App& app) {
   cmd->add_option("--output-range", opt->config.output_range,
                   "test limits on every output: baseline +- this (default: none)")
       ->check(finite_non_negative());
-  cmd->add_option("--sample-time-min", opt->config.sample_time_min,
-                  "plant sample time, minutes (default: the case study's)")
-      ->check(finite_non_negative());
+  auto* sample_time = cmd->add_option("--sample-time-min", opt->config.sample_time_min,
+                                      "plant sample time, minutes (default: the case study's)")
+                          ->check(finite_non_negative());
+  cmd->add_option("--plan", opt->plan,
+                  "the plan to be streamed: the plant's sample time is its own (excite-plant "
+                  "--plan refuses one at another)")
+      ->check(CLI::ExistingFile)
+      ->excludes(sample_time);
   cmd->add_option("--noise-var", opt->config.noise_var,
                   "measurement noise variance (default: the case study's)")
       ->check(finite_non_negative());

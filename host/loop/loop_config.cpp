@@ -9,6 +9,8 @@
 #include <stdexcept>
 
 #include "firmware/app/gateway_config.hpp"
+#include "firmware/config/writer.hpp"
+#include "hal/modbus/register_entry_toml.hpp"
 #include "host/design/case_studies.hpp"
 #include "sim/plants/plant.hpp"
 #include "sim/server/can_map.hpp"
@@ -19,41 +21,20 @@
 namespace excite::host {
 namespace {
 
-using sim::server::toml_number;
+using config::toml_number;
+using config::toml_string;
+using hal::modbus::EntryKind;
+using hal::modbus::format_register_entry;
 
-// A TOML basic string: quotes, backslashes and every control character escaped (a host
-// with a quote or a newline once made gateway.toml invalid TOML).
-std::string toml_string(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    const auto byte = static_cast<unsigned char>(c);
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      case '\r':
-        out += "\\r";
-        break;
-      default:
-        if (byte < 0x20 || byte == 0x7f) {
-          char code[8];
-          std::snprintf(code, sizeof code, "\\u%04X", byte);
-          out += code;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
+// A uint16 value of the gateway's that the plant server keeps (heartbeat echo, command).
+hal::modbus::RegisterEntry counter(std::uint32_t address, int function_code) {
+  hal::modbus::RegisterEntry e;
+  e.address = address;
+  e.function_code = function_code;
+  e.type = "uint16";
+  e.eng_min = 0.0;
+  e.eng_max = 65535.0;
+  return e;
 }
 
 // Both files read back by the partners' own readers (excite-gateway's configuration with
@@ -111,26 +92,28 @@ std::string gateway_toml(const LoopConfigOptions& opt, const sim::Plant& plant,
     os << "peer_watchdog_s = " << toml_number(server.plant.watchdog_s)
        << "   # plant.toml's watchdog_s: at least two tick periods\n\n";
   }
-  os << "[map]\nheartbeat_address = " << *map.heartbeat_address << "\n";
+  // The map as the plant server serves it, written by the schema's own writer: the same
+  // entries, types and word orders on both sides.
+  os << "[map]\n" << hal::modbus::format_map_settings(map);
   const double move = opt.max_move > 0.0 ? opt.max_move : 2.0 * range;
   for (std::size_t i = 0; i < map.setpoints.size(); ++i) {
     const auto& e = map.setpoints[i];
-    // The gateway's baseline is the float32 register read back at arm, which may sit half a
+    // The gateway's baseline is the register read back at arm, which may sit half a
     // float32 step (|u0|·2⁻²⁴) from u0: the limits allow one step more, so a design that
     // uses exactly ±range is not refused for the register's rounding.
     const double slack = std::abs(u0[i]) * 0x1p-23;
     os << "\n[[setpoints]]\nname = " << toml_string(e.name)
-       << "\nunit = " << toml_string(in_units[i]) << "\naddress = " << e.address
-       << "\ntype = \"float32\"\nword_order = " << toml_string(e.word_order)
-       << "\nmin = " << toml_number(u0[i] - range - slack)
+       << "\nunit = " << toml_string(in_units[i]) << "\n"
+       << format_register_entry(e, EntryKind::setpoint)
+       << "min = " << toml_number(u0[i] - range - slack)
        << "\nmax = " << toml_number(u0[i] + range + slack) << "\nmax_move = " << toml_number(move)
        << "\nreadback = " << toml_string(e.name + "_sp") << "\n";
   }
   for (std::size_t j = 0; j < map.values.size(); ++j) {
     const auto& e = map.values[j];
     os << "\n[[values]]\nname = " << toml_string(e.name) << "\nunit = " << toml_string(out_units[j])
-       << "\naddress = " << e.address << "\nfunction_code = " << e.function_code
-       << "\ntype = \"float32\"\nword_order = " << toml_string(e.word_order) << "\n";
+       << "\n"
+       << format_register_entry(e, EntryKind::value);
     if (opt.output_range > 0.0) {
       os << "test_low = " << toml_number(y0[j] - opt.output_range)
          << "\ntest_high = " << toml_number(y0[j] + opt.output_range)
@@ -138,21 +121,19 @@ std::string gateway_toml(const LoopConfigOptions& opt, const sim::Plant& plant,
     }
   }
   for (std::size_t i = 0; i < map.setpoints.size(); ++i) {
-    const auto& e = map.setpoints[i];
-    os << "\n[[values]]\nname = " << toml_string(e.name + "_sp")
-       << "\nunit = " << toml_string(in_units[i])
-       << "\nrole = \"readback\"\naddress = " << e.address
-       << "\nfunction_code = 3\ntype = \"float32\"\nword_order = " << toml_string(e.word_order)
-       << "\n";
+    hal::modbus::RegisterEntry readback = map.setpoints[i];  // its holding register, read back
+    readback.function_code = 3;
+    os << "\n[[values]]\nname = " << toml_string(readback.name + "_sp")
+       << "\nunit = " << toml_string(in_units[i]) << "\nrole = \"readback\"\n"
+       << format_register_entry(readback, EntryKind::value);
   }
-  os << "\n[[values]]\nname = \"hb_echo\"\nrole = \"heartbeat_echo\"\naddress = "
-     << server.registers.heartbeat_echo_address
-     << "\nfunction_code = " << server.registers.heartbeat_echo_function_code
-     << "\ntype = \"uint16\"\neng_min = 0\neng_max = 65535\n";
+  os << "\n[[values]]\nname = \"hb_echo\"\nrole = \"heartbeat_echo\"\n"
+     << format_register_entry(counter(server.registers.heartbeat_echo_address,
+                                      server.registers.heartbeat_echo_function_code),
+                              EntryKind::value);
   os << "\n[[values]]\nname = \"command\"\nrole = \"command\"   # 1 start, 2 suspend, 3 resume, "
-        "4 abort\naddress = "
-     << *server.registers.command_address
-     << "\nfunction_code = 3\ntype = \"uint16\"\neng_min = 0\neng_max = 65535\n";
+        "4 abort\n"
+     << format_register_entry(counter(*server.registers.command_address, 3), EntryKind::value);
   return os.str();
 }
 

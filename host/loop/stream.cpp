@@ -7,6 +7,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "host/design/plan_file.hpp"
 #include "host/output/whole_file.hpp"
 #include "host/process/child_process.hpp"
 
@@ -51,13 +52,17 @@ LoopResult stream_in_the_loop(const LoopRun& run) {
   const fs::path plant_toml = run.work_dir / "plant.toml";
   const fs::path gateway_toml = run.work_dir / "gateway.toml";
 
-  // The plant side first: it picks its port; then the gateway side for that port.
+  // The plant steps at the sample time of the plan being streamed (its header's), not at
+  // one looked up by the plant's name; excite-plant --plan refuses a plan at another T.
   LoopConfigOptions config = run.config;
+  config.sample_time_min = read_plan_file(run.plan)->meta.sample_time_min;
+  // The plant side first: it picks its port; then the gateway side for that port.
   write_whole_file(plant_toml, make_loop_config(config).plant_toml);
-  ChildProcess plant(run.programs.plant_server,
-                     {"--config", plant_toml.string(), "--modbus-tcp", config.host + ":0",
-                      "--clock", "lockstep", "--log", result.plant_log.string()},
-                     run.work_dir / "plant.stderr");
+  ChildProcess plant(
+      run.programs.plant_server,
+      {"--config", plant_toml.string(), "--plan", run.plan.string(), "--modbus-tcp",
+       config.host + ":0", "--clock", "lockstep", "--log", result.plant_log.string()},
+      run.work_dir / "plant.stderr");
   const auto listening = plant.read_line(10s);
   const std::string prefix = "listening ";
   if (!listening || listening->rfind(prefix, 0) != 0) failed(plant, "did not start");

@@ -40,8 +40,10 @@ struct LoopResult {
   double seconds = 0.0;               // wall time of the stream
 };
 
-/// Starts the plant server on an ephemeral loopback port, streams the plan through the
-/// gateway with --start --clock lockstep, waits for both to finish. Throws
+/// Starts the plant server on an ephemeral loopback port at the plan's sample time (its
+/// header's; `run.config.sample_time_min` is not used) with --plan, so the plant refuses a
+/// plan at another T; streams the plan through the gateway with --start --clock lockstep,
+/// waits for both to finish. Throws
 /// std::runtime_error when either program fails (exit code and its last stderr line) or
 /// the timeout passes, and when the gateway's log is not a valid run log.
 LoopResult stream_in_the_loop(const LoopRun& run);

@@ -39,7 +39,7 @@ CanPlantServer::CanPlantServer(PlantProcess& process, const hal::can::CanFrameMa
       options_(std::move(options)),
       interface_(std::move(interface)),
       resend_(std::chrono::milliseconds(resend_ms)) {
-  if (!options_.lockstep && !(options_.sample_time_s > 0.0)) {
+  if (!options_.lockstep && !(options_.sample_period.count() > 0.0)) {
     throw std::runtime_error("--sample-time-s must be > 0 (wall-clock seconds per sample)");
   }
   if (const hal::Validation v = hal::can::compile_frame_map(plant_map, plan_); !v.ok()) {
@@ -189,7 +189,7 @@ void CanPlantServer::send_answer() {
 
 void CanPlantServer::run(const std::function<bool()>& stop) {
   const auto period = std::chrono::duration_cast<Clock::duration>(
-      std::chrono::duration<double>(options_.lockstep ? 1.0 : options_.sample_time_s));
+      options_.lockstep ? std::chrono::duration<double>(1.0) : options_.sample_period);
   auto next_sample = Clock::now();
   send_answer();
   while (!stop()) {
@@ -240,7 +240,7 @@ int serve_can(PlantProcess& process, const ServeOptions& options, const std::str
             << " inputs, " << plant.outputs() << " outputs, T = " << process.sample_time_min()
             << " min, "
             << (options.lockstep ? std::string("lock-step")
-                                 : std::to_string(options.sample_time_s) + " s per sample")
+                                 : std::to_string(options.sample_period.count()) + " s per sample")
             << ", default CAN frame map on " << interface
             << (options.watchdog_s > 0.0 ? ", watchdog " + std::to_string(options.watchdog_s) + " s"
                                          : std::string(", no watchdog"))

@@ -33,7 +33,7 @@ class CanPlantServer {
  public:
   /// Opens and binds a raw CAN socket on `interface`, then the log (if any). Throws
   /// std::runtime_error naming what failed (no AF_CAN, no such interface, the log).
-  /// Uses of `options`: lockstep, sample_time_s, log_path, plant_description, names and
+  /// Uses of `options`: lockstep, sample_period, log_path, plant_description, names and
   /// units, watchdog_s, input_min/input_max, faults.freeze_echo.
   CanPlantServer(PlantProcess& process, const hal::can::CanFrameMap& plant_map,
                  ServeOptions options, std::string interface, int resend_ms = 10);

@@ -18,10 +18,10 @@
 #include <exception>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
-#include "firmware/app/timing_range.hpp"
 #include "firmware/config/error.hpp"
 #include "firmware/runlog/format.hpp"
 #include "sim/server/can_plant_server.hpp"
@@ -31,13 +31,13 @@
 #include "sim/server/register_image.hpp"
 #include "sim/server/server_config.hpp"
 #include "sim/server/server_layout.hpp"
+#include "sim/server/server_overrides.hpp"
 
 namespace {
 
-constexpr int kExitStopped = 0;
-constexpr int kExitServeFailed = 1;
-constexpr int kExitBadInput = 2;
-constexpr int kExitLogFailed = 3;
+using namespace excite::sim::server;
+
+constexpr int kExitBadInput = 2;  // 0, 1 and 3 come from serve_modbus / serve_can
 
 volatile std::sig_atomic_t g_stop = 0;
 
@@ -70,17 +70,6 @@ void check_positive(const std::string& option, double x, bool zero_ok, const std
   if (!std::isfinite(x) || x < 0.0 || (!zero_ok && x == 0.0)) bad(option, text_of(x), what);
 }
 
-// The wall-clock seconds per plant sample, and the sample time as seconds, within the
-// gateway's tick periods (firmware/app/timing_range.hpp: the same numbers, not a copy).
-void check_period(const std::string& option, const std::string& value, double seconds,
-                  const std::string& what) {
-  if (!(seconds >= excite::app::kMinPeriodS && seconds <= excite::app::kMaxPeriodS)) {
-    bad(option, value,
-        what + " within the gateway's tick periods, " + text_of(excite::app::kMinPeriodS) + " … " +
-            text_of(excite::app::kMaxPeriodS) + " s (got " + text_of(seconds) + " s)");
-  }
-}
-
 // "ADDR:PORT" → host and port (ADDR an IPv4 address, PORT 0..65535).
 void parse_endpoint(const std::string& text, std::string& host, std::uint16_t& port) {
   const auto colon = text.rfind(':');
@@ -97,31 +86,35 @@ void parse_endpoint(const std::string& text, std::string& host, std::uint16_t& p
   port = static_cast<std::uint16_t>(std::stoul(port_text));
 }
 
-}  // namespace
+struct CommandLine {
+  std::string config_path;    // empty: the default register map for --plant
+  std::string can_interface;  // non-empty: serve CAN
+  ServerOverrides overrides;  // over the configuration file
+  ServeOptions options;       // transport, clock, log, faults
+};
 
-int main(int argc, char** argv) {
-  using namespace excite::sim::server;
-  // A file-size limit (ulimit -f) must not kill the plant: a log write beyond it fails with
-  // EFBIG instead, and logging stops (PlantLog::failure(), Modbus and CAN alike).
-  std::signal(SIGXFSZ, SIG_IGN);
+// The command line, its numbers checked by name before anything else (NaN and negatives
+// included); an exit code when there is nothing to serve (--help, --version: 0; a bad
+// command line: 2).
+std::optional<int> parse_command_line(int argc, char** argv, CommandLine& cl) {
   CLI::App app{
       "excite-plant: a simulated plant served over Modbus TCP or RTU for testing excite-gateway "
       "in the loop.\nExit codes: 0 stopped by SIGTERM/SIGINT, 1 failed while serving, 2 bad "
       "command line or configuration (nothing served), 3 stopped after its run log could not be "
       "written (logging stopped, serving went on)."};
-  std::string config_path;
+  std::string& config_path = cl.config_path;
   std::string plant_name;
   std::string plant_file;
   std::string modbus_tcp;
   std::string modbus_rtu;
-  std::string can_interface;
+  std::string& can_interface = cl.can_interface;
   std::uint32_t baud = 0;
   std::string clock;
   double speedup = 0.0;
   double noise_var = -1.0;
   std::uint64_t seed = 0;
   double sample_time_min = 0.0;
-  ServeOptions options;
+  ServeOptions& options = cl.options;
   options.port = 1502;
   double sample_time_s = 0.0;
   std::uint64_t faults_after = 0;
@@ -175,6 +168,10 @@ int main(int argc, char** argv) {
       ->excludes(lockstep)
       ->excludes(clock_opt);
   app.add_option("--log", options.log_path, "run log (CSV) of every plant sample");
+  app.add_option("--plan", cl.overrides.plan,
+                 "the plan the gateway will stream: refused unless its sample time is the "
+                 "plant's (plant.sample_time_min or --sample-time-min)")
+      ->check(CLI::ExistingFile);
   app.add_option("--idle-timeout-s", options.idle_timeout_s,
                  "close a connection silent this long (never the gateway's), seconds > 0")
       ->capture_default_str();
@@ -258,163 +255,52 @@ int main(int argc, char** argv) {
     std::cerr << "excite-plant: " << e.what() << "\n";
     return kExitBadInput;
   }
+  ServerOverrides& o = cl.overrides;
+  o.plant = plant_name;
+  o.plant_file = plant_file;
+  if (app.count("--noise-var") > 0) o.noise_variance = noise_var;
+  if (seed_opt->count() > 0) o.noise_seed = seed;
+  if (app.count("--sample-time-min") > 0) o.sample_time_min = sample_time_min;
+  if (app.count("--watchdog-s") > 0) o.watchdog_s = watchdog_s;
+  if (app.count("--input-range") > 0) o.input_range = input_range;
+  if (app.count("--speedup") > 0) o.speedup = speedup;
+  if (app.count("--sample-time-s") > 0) o.sample_time_s = sample_time_s;
+  return std::nullopt;
+}
 
-  const std::string source = config_path.empty() ? std::string("excite-plant") : config_path;
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace excite::sim::server;
+  // A file-size limit (ulimit -f) must not kill the plant: a log write beyond it fails with
+  // EFBIG instead, and logging stops (PlantLog::failure(), Modbus and CAN alike).
+  std::signal(SIGXFSZ, SIG_IGN);
+  CommandLine cl;
+  if (const std::optional<int> rc = parse_command_line(argc, argv, cl)) return *rc;
+  const std::string source = cl.config_path.empty() ? std::string("excite-plant") : cl.config_path;
   try {
     ServerConfig config;
-    if (!config_path.empty()) config = load_server_config(config_path);
-    if (!plant_name.empty()) {
-      const bool file =
-          plant_name.size() > 5 && plant_name.compare(plant_name.size() - 5, 5, ".toml") == 0;
-      config.plant.library = file ? "" : plant_name;
-      config.plant.file = file ? std::filesystem::absolute(plant_name).string() : "";
-    }
-    if (!plant_file.empty()) {
-      config.plant.file = std::filesystem::absolute(plant_file).string();
-      config.plant.library.clear();
-    }
-    if (app.count("--noise-var") > 0) config.plant.noise_variance = {noise_var};
-    if (seed_opt->count() > 0) config.plant.noise_seed = seed;
-    if (app.count("--sample-time-min") > 0) config.plant.sample_time_min = sample_time_min;
-    check_period(app.count("--sample-time-min") > 0 ? "--sample-time-min"
-                                                    : source + ": plant.sample_time_min",
-                 text_of(config.plant.sample_time_min), 60.0 * config.plant.sample_time_min,
-                 "minutes whose seconds lie");
+    if (!cl.config_path.empty()) config = load_server_config(cl.config_path);
+    apply_overrides(config, cl.overrides, source);
     PlantProcess process(load_plant(config.plant, config.base_directory, source), config.plant);
     const excite::sim::Plant& plant = process.plant();
-    if (config_path.empty()) {
+    if (cl.config_path.empty()) {
       config.registers = default_registers(plant.inputs(), plant.outputs(), plant.input_names(),
                                            plant.output_names());
     }
     const ServerLayout layout =
-        compile_layout(config, plant.inputs(), plant.outputs(), options.lockstep, source);
+        compile_layout(config, plant.inputs(), plant.outputs(), cl.options.lockstep, source);
     RegisterImage image(layout, process.input_baseline(), process.output_baseline());
-    options.watchdog_s = app.count("--watchdog-s") > 0 ? watchdog_s : config.plant.watchdog_s;
-    const std::vector<double>& u0 = process.input_baseline();
-    if (app.count("--input-range") > 0) {
-      for (const double b : u0) {
-        options.input_min.push_back(b - input_range);
-        options.input_max.push_back(b + input_range);
-      }
-    } else if (!config.plant.input_min.empty()) {
-      const std::size_t n = u0.size();
-      if (config.plant.input_min.size() != n) {
-        bad(source + ": plant.input_min", std::to_string(config.plant.input_min.size()) + " values",
-            std::to_string(n) + " (one per plant input)");
-      }
-      for (std::size_t i = 0; i < n; ++i) {
-        if (!(config.plant.input_min[i] <= u0[i] && u0[i] <= config.plant.input_max[i])) {
-          bad(source + ": plant.input_min/input_max[" + std::to_string(i) + "]",
-              "[" + text_of(config.plant.input_min[i]) + ", " + text_of(config.plant.input_max[i]) +
-                  "]",
-              "limits around the input baseline " + text_of(u0[i]));
-        }
-      }
-      options.input_min = config.plant.input_min;
-      options.input_max = config.plant.input_max;
+    ServeOptions options = cl.options;
+    const std::string warning =
+        complete_serve_options(options, config, cl.overrides, process, layout, source);
+    if (!warning.empty()) std::cerr << "excite-plant: warning: " << warning << "\n";
+    const auto stopped = [] { return g_stop != 0; };
+    if (!cl.can_interface.empty()) {
+      return serve_can(process, options, cl.can_interface, install_handlers, stopped);
     }
-    if (speedup > 0.0) {
-      options.sample_time_s = 60.0 * process.sample_time_min() / speedup;
-      check_period("--speedup", text_of(speedup), options.sample_time_s,
-                   "a factor whose wall-clock seconds per sample (60 · T / X, T = " +
-                       text_of(process.sample_time_min()) + " min) lie");
-    } else {
-      options.sample_time_s =
-          sample_time_s > 0.0 ? sample_time_s : 60.0 * process.sample_time_min();
-      if (sample_time_s > 0.0) {
-        check_period("--sample-time-s", text_of(sample_time_s), sample_time_s, "seconds");
-      }
-    }
-    // Noise whose standard deviation exceeds what an output's register carries (float32:
-    // ±FLT_MAX; a scaled int16/uint16: its engineering range) only clips: refused.
-    for (std::size_t j = 0; j < layout.values.size(); ++j) {
-      const excite::hal::modbus::Codec& c = layout.values[j].codec;
-      const double span = c.type == excite::hal::modbus::RegisterType::float32
-                              ? 2.0 * static_cast<double>(std::numeric_limits<float>::max())
-                              : c.eng_max - c.eng_min;
-      const std::vector<double>& v = config.plant.noise_variance;
-      if (v.empty()) break;
-      const double variance = v.size() == 1 ? v.front() : v[std::min(j, v.size() - 1)];
-      if (!(std::sqrt(variance) <= span)) {
-        bad(app.count("--noise-var") > 0 ? "--noise-var" : source + ": plant.noise_variance",
-            text_of(variance),
-            "a variance whose standard deviation fits output " + plant.output_names()[j] +
-                "'s register (at most " + text_of(span) + ", the range it carries)");
-      }
-    }
-    // A free-running watchdog shorter than one sample trips between the gateway's writes:
-    // the inputs sit at the baseline part of every sample while the gateway logs the
-    // excitation (issue 28 item 3). Warned, and the trips are counted at the stop.
-    if (!options.lockstep && options.watchdog_s > 0.0 &&
-        options.watchdog_s < options.sample_time_s) {
-      std::cerr << "excite-plant: warning: watchdog " << text_of(options.watchdog_s)
-                << " s is shorter than one sample period (" << text_of(options.sample_time_s)
-                << " s): it trips between the gateway's writes and holds the inputs at the "
-                   "baseline; give it at least two periods\n";
-    }
-    options.plant_description = plant.name() + " (excite-plant)";
-    options.time_scales.tau_high_min = config.plant.tau_high_min;
-    options.time_scales.beta = config.plant.beta;
-    options.input_names = plant.input_names();
-    options.output_names = plant.output_names();
-    options.input_units = plant.input_units();
-    options.output_units = plant.output_units();
-
-    if (!can_interface.empty()) {
-      return serve_can(process, options, can_interface, install_handlers,
-                       [] { return g_stop != 0; });
-    }
-    std::unique_ptr<PlantServer> server;
-    try {
-      server = std::make_unique<PlantServer>(process, image, options);
-    } catch (const std::exception& e) {
-      std::cerr << "excite-plant: " << e.what() << "\n";
-      return kExitServeFailed;
-    }
-    install_handlers();
-    if (options.rtu_device.empty()) {
-      std::printf("listening %s:%u\n", options.host.c_str(), static_cast<unsigned>(server->port()));
-    } else {  // the same shape: DEVICE:BAUD
-      std::printf("listening %s:%d\n", options.rtu_device.c_str(), options.rtu_baud);
-    }
-    std::fflush(stdout);
-    std::cerr << "excite-plant: " << options.plant_description << ", " << plant.inputs()
-              << " inputs, " << plant.outputs() << " outputs, T = " << process.sample_time_min()
-              << " min, "
-              << (options.lockstep ? std::string("lock-step")
-                                   : std::to_string(options.sample_time_s) + " s per sample")
-              << (config_path.empty() ? ", default register map" : "")
-              << (options.watchdog_s > 0.0 ? ", watchdog " + text_of(options.watchdog_s) + " s"
-                                           : std::string(", no watchdog"))
-              << (options.input_min.empty() ? ", no input limits" : ", input limits") << "\n";
-    int code = kExitStopped;
-    try {
-      server->run([] { return g_stop != 0; });
-    } catch (const std::exception& e) {
-      std::cerr << "excite-plant: " << e.what() << "\n";
-      code = kExitServeFailed;
-    }
-    std::cerr << "excite-plant: stopped after " << process.samples() << " samples, "
-              << server->requests() << " requests, " << server->rejected_frames()
-              << " rejected frames, " << server->illegal_functions() << " illegal functions, "
-              << server->closed_connections() << " connections closed by the server, "
-              << image.clamped_values() << " values did not fit their registers, "
-              << server->watchdog_trips() << " watchdog trips, " << server->refused_writes()
-              << " writes refused for the input limits\n";
-    for (std::size_t j = 0; j < image.misfits().size(); ++j) {
-      const RegisterImage::Misfit& m = image.misfits()[j];
-      if (m.count == 0) continue;
-      const PlacedValue& p = layout.values[j];
-      std::cerr << "excite-plant: output " << options.output_names[j] << ": " << m.count
-                << " samples outside its register's range [" << p.codec.eng_min << ", "
-                << p.codec.eng_max << "] (lowest " << m.lowest << ", highest " << m.highest
-                << "); the register held the range's end\n";
-    }
-    if (!server->log_failure().empty()) {
-      std::cerr << "excite-plant: " << server->log_failure() << "\n";
-      if (code == kExitStopped) code = kExitLogFailed;
-    }
-    return code;
+    return serve_modbus(process, image, layout, options, cl.config_path.empty(), install_handlers,
+                        stopped);
   } catch (const std::exception& e) {
     std::cerr << "excite-plant: " << e.what() << "\n";
     return kExitBadInput;

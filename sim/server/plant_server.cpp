@@ -12,6 +12,9 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <iostream>
+#include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
 
@@ -36,7 +39,7 @@ PlantServer::PlantServer(PlantProcess& process, RegisterImage& image, ServeOptio
       faults_(options_.faults),
       u_(static_cast<std::size_t>(process.inputs())),
       y_(static_cast<std::size_t>(process.outputs())) {
-  if (!options_.lockstep && !(options_.sample_time_s > 0.0)) {
+  if (!options_.lockstep && !(options_.sample_period.count() > 0.0)) {
     throw std::runtime_error("--sample-time-s must be > 0 (wall-clock seconds per sample)");
   }
   // Listen first and open the log last: when either fails, nothing is left behind (no
@@ -424,7 +427,7 @@ void PlantServer::freeze(const std::function<bool()>& stop) {
 void PlantServer::run(const std::function<bool()>& stop) {
   for (Client& c : clients_) c.last_activity = Clock::now();
   const auto period = std::chrono::duration_cast<Clock::duration>(
-      std::chrono::duration<double>(options_.lockstep ? 1.0 : options_.sample_time_s));
+      options_.lockstep ? std::chrono::duration<double>(1.0) : options_.sample_period);
   auto next_sample = Clock::now();
   std::vector<pollfd> fds;
   while (!stop()) {
@@ -482,6 +485,79 @@ void PlantServer::run(const std::function<bool()>& stop) {
     if ((fds[0].revents & POLLIN) != 0) accept_client();
   }
   while (!clients_.empty()) close_client(clients_.size() - 1);
+}
+
+namespace {
+
+std::string text_of(double x) {
+  std::ostringstream os;
+  os << x;
+  return os.str();
+}
+
+void print_summary(const PlantProcess& process, const PlantServer& server,
+                   const RegisterImage& image, const ServerLayout& layout,
+                   const ServeOptions& options) {
+  std::cerr << "excite-plant: stopped after " << process.samples() << " samples, "
+            << server.requests() << " requests, " << server.rejected_frames()
+            << " rejected frames, " << server.illegal_functions() << " illegal functions, "
+            << server.closed_connections() << " connections closed by the server, "
+            << image.clamped_values() << " values did not fit their registers, "
+            << server.watchdog_trips() << " watchdog trips, " << server.refused_writes()
+            << " writes refused for the input limits\n";
+  for (std::size_t j = 0; j < image.misfits().size(); ++j) {
+    const RegisterImage::Misfit& m = image.misfits()[j];
+    if (m.count == 0) continue;
+    const PlacedValue& p = layout.values[j];
+    std::cerr << "excite-plant: output " << options.output_names[j] << ": " << m.count
+              << " samples outside its register's range [" << p.codec.eng_min << ", "
+              << p.codec.eng_max << "] (lowest " << m.lowest << ", highest " << m.highest
+              << "); the register held the range's end\n";
+  }
+}
+
+}  // namespace
+
+int serve_modbus(PlantProcess& process, RegisterImage& image, const ServerLayout& layout,
+                 const ServeOptions& options, bool default_map, const std::function<void()>& ready,
+                 const std::function<bool()>& stop) {
+  std::unique_ptr<PlantServer> server;
+  try {
+    server = std::make_unique<PlantServer>(process, image, options);
+  } catch (const std::exception& e) {
+    std::cerr << "excite-plant: " << e.what() << "\n";
+    return 1;
+  }
+  ready();
+  if (options.rtu_device.empty()) {
+    std::printf("listening %s:%u\n", options.host.c_str(), static_cast<unsigned>(server->port()));
+  } else {  // the same shape: DEVICE:BAUD
+    std::printf("listening %s:%d\n", options.rtu_device.c_str(), options.rtu_baud);
+  }
+  std::fflush(stdout);
+  const Plant& plant = process.plant();
+  std::cerr << "excite-plant: " << options.plant_description << ", " << plant.inputs()
+            << " inputs, " << plant.outputs() << " outputs, T = " << process.sample_time_min()
+            << " min, "
+            << (options.lockstep ? std::string("lock-step")
+                                 : std::to_string(options.sample_period.count()) + " s per sample")
+            << (default_map ? ", default register map" : "")
+            << (options.watchdog_s > 0.0 ? ", watchdog " + text_of(options.watchdog_s) + " s"
+                                         : std::string(", no watchdog"))
+            << (options.input_min.empty() ? ", no input limits" : ", input limits") << "\n";
+  int code = 0;
+  try {
+    server->run(stop);
+  } catch (const std::exception& e) {
+    std::cerr << "excite-plant: " << e.what() << "\n";
+    code = 1;
+  }
+  print_summary(process, *server, image, layout, options);
+  if (!server->log_failure().empty()) {
+    std::cerr << "excite-plant: " << server->log_failure() << "\n";
+    if (code == 0) code = 3;
+  }
+  return code;
 }
 
 }  // namespace excite::sim::server

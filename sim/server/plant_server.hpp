@@ -27,6 +27,7 @@
 #include "sim/server/plant_log.hpp"
 #include "sim/server/plant_process.hpp"
 #include "sim/server/register_image.hpp"
+#include "sim/server/server_layout.hpp"
 
 struct _modbus;
 
@@ -47,8 +48,9 @@ struct ServeOptions {
   std::string host = "127.0.0.1";  // IPv4 address to listen on ("0.0.0.0": all)
   std::uint16_t port = 0;          // 0: an ephemeral port, see PlantServer::port()
   bool lockstep = false;           // one plant sample per heartbeat change
-  double sample_time_s = 1.0;      // free-running: wall-clock seconds per plant sample
-  FaultSettings faults;            // from the command line
+  std::chrono::duration<double> sample_period{1.0};  // free-running: wall-clock time per
+                                                     // plant sample
+  FaultSettings faults;                              // from the command line
   std::uint64_t faults_after = 0;  // ordinary requests served normally before faults apply
   // Frozen on purpose (as a SIGSTOP of the process, without the signal): after freeze_after
   // requests, nothing is read, answered or sampled for freeze_ms; then serving goes on with
@@ -185,5 +187,17 @@ class PlantServer {
 
   std::optional<PlantLog> log_;  // the run log (plant_log.hpp); empty until opened
 };
+
+/// excite-plant over Modbus (TCP, or RTU with options.rtu_device): builds the server on
+/// `image` (laid out by `layout`), calls `ready()` (signal handlers), prints `listening
+/// HOST:PORT` (RTU: `listening DEVICE:BAUD`) on stdout and the plant on stderr
+/// (`default_map`: the map derived from the plant, no --config), serves until `stop()`,
+/// and prints the summary on stderr: the counts, the outputs that did not fit their
+/// registers, a log failure. Returns excite-plant's exit code: 0 stopped, 1 when it could
+/// not listen or open the log, or serving failed (the reason on stderr), 3 stopped after
+/// its run log could not be written (as serve_can).
+int serve_modbus(PlantProcess& process, RegisterImage& image, const ServerLayout& layout,
+                 const ServeOptions& options, bool default_map, const std::function<void()>& ready,
+                 const std::function<bool()>& stop);
 
 }  // namespace excite::sim::server

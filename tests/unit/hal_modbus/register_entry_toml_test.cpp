@@ -51,6 +51,70 @@ TEST(RegisterEntryToml, ReadsEveryField) {
   EXPECT_EQ(v.raw_max, 32767);
 }
 
+// The writer beside the reader: what format_register_entry writes, read_register_entry
+// reads back into the same fields, for each kind of register.
+void expect_round_trip(const RegisterEntry& e, EntryKind kind) {
+  const RegisterEntry back = entry(format_register_entry(e, kind), kind);
+  EXPECT_EQ(back.address, e.address);
+  EXPECT_EQ(back.function_code, e.function_code);
+  EXPECT_EQ(back.type, e.type);
+  if (e.type == "float32") {
+    EXPECT_EQ(back.word_order, e.word_order);
+  } else {
+    EXPECT_EQ(back.eng_min, e.eng_min);
+    EXPECT_EQ(back.eng_max, e.eng_max);
+    EXPECT_EQ(back.raw_min, e.raw_min);
+    EXPECT_EQ(back.raw_max, e.raw_max);
+  }
+}
+
+TEST(RegisterEntryToml, WhatTheWriterWritesTheReaderReadsBack) {
+  RegisterEntry setpoint;
+  setpoint.address = 100;
+  setpoint.word_order = "CDAB";
+  expect_round_trip(setpoint, EntryKind::setpoint);
+  EXPECT_EQ(format_register_entry(setpoint, EntryKind::setpoint),
+            "address = 100\ntype = \"float32\"\nword_order = \"CDAB\"\n");  // FC16 implied
+
+  RegisterEntry scaled;
+  scaled.address = 7;
+  scaled.function_code = 4;
+  scaled.type = "int16";
+  scaled.eng_min = -5.0;
+  scaled.eng_max = 0.1;  // not a short decimal in binary: written so it reads back exactly
+  scaled.raw_min = -1000;
+  scaled.raw_max = 1000;
+  expect_round_trip(scaled, EntryKind::value);
+
+  RegisterEntry counter;
+  counter.address = 300;
+  counter.function_code = 3;
+  counter.type = "uint16";
+  counter.eng_max = 65535.0;
+  expect_round_trip(counter, EntryKind::value);
+  EXPECT_EQ(format_register_entry(counter, EntryKind::value),
+            "address = 300\nfunction_code = 3\ntype = \"uint16\"\neng_min = 0.0\n"
+            "eng_max = 65535.0\n");
+
+  RegisterEntry odd_setpoint = setpoint;  // a setpoint code other than 16 is not dropped
+  odd_setpoint.function_code = 6;
+  expect_round_trip(odd_setpoint, EntryKind::setpoint);
+}
+
+TEST(RegisterEntryToml, MapSettingsRoundTrip) {
+  RegisterMap map;
+  map.heartbeat_address = 108;
+  map.write_chunk = 10;
+  map.read_chunk = 20;
+  const std::string text = format_map_settings(map);
+  const toml::table doc = config::parse(text, "m.toml");
+  RegisterMap back;
+  read_map_settings(config::Table(doc, "map", "m.toml"), back);
+  EXPECT_EQ(back.heartbeat_address, map.heartbeat_address);
+  EXPECT_EQ(back.write_chunk, 10u);
+  EXPECT_EQ(back.read_chunk, 20u);
+}
+
 TEST(RegisterEntryToml, RefusalsNameFieldValueAndPosition) {
   EXPECT_EQ(error_of("type = \"int16\"\n"),
             "m.toml:1:1: values[0].address = (missing), expected a register address 0..65535");
