@@ -148,7 +148,8 @@ TEST_F(CaseStudyReportTiming, ChromiumRendersTheReportInUnderTwoSeconds) {
   std::cout << "fastest: index.html " << fastest << " s, an empty page " << fastest_blank
             << " s: rendering " << fastest - fastest_blank << " s (load factor " << load_factor()
             << ")\n";
-  EXPECT_LT(fastest - fastest_blank, 2.0);
+  // The same scaling as the report phase's budget: the goal is 2 s on an idle machine.
+  EXPECT_LT(fastest - fastest_blank, 2.0 * load_factor());
 }
 
 }  // namespace
