@@ -103,8 +103,8 @@ inline double expect_same_model(const nlohmann::json& a, const nlohmann::json& b
         const double diff = std::abs(ex[key].get<double>() - ey[key].get<double>());
         // "se" holds the structure's free parameters only (a first-order element has no T_p2
         // there): a parameter it lacks is compared as undetermined.
-        const nlohmann::json se = ey.contains("se") && ey["se"].contains(key) ? ey["se"][key]
-                                                                              : nlohmann::json();
+        const nlohmann::json se =
+            ey.contains("se") && ey["se"].contains(key) ? ey["se"][key] : nlohmann::json();
         if (se.is_number() && std::isfinite(se.get<double>()) && se.get<double>() > 0.0) {
           largest = std::max(largest, diff / se.get<double>());
           EXPECT_LE(diff, tol.standard_errors * se.get<double>())

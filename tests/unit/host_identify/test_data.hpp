@@ -26,7 +26,6 @@ inline Eigen::VectorXd random_levels(Eigen::Index n, unsigned seed) {
   return u;
 }
 
-
 /// N samples of n simultaneous PRBS (±amplitude), register n_r, each bit held `hold`
 /// samples, channel j circularly shifted by j·shift bits.
 inline Eigen::MatrixXd prbs_inputs(int n, int n_r, int hold, int shift, Eigen::Index N,
