@@ -50,40 +50,6 @@ SampleLayout first_rows(const SampleLayout& layout, Eigen::Index rows) {
   return out;
 }
 
-// The rows of M that `layout` scores in [begin, end).
-Eigen::MatrixXd scored_rows(const Eigen::MatrixXd& M, const SampleLayout& layout,
-                            Eigen::Index begin, Eigen::Index end) {
-  Eigen::Index n = 0;
-  for (Eigen::Index k = begin; k < end; ++k) n += layout.weight(k) > 0.0 ? 1 : 0;
-  Eigen::MatrixXd out(n, M.cols());
-  Eigen::Index r = 0;
-  for (Eigen::Index k = begin; k < end; ++k) {
-    if (layout.weight(k) > 0.0) out.row(r++) = M.row(k);
-  }
-  return out;
-}
-
-// The scored rows of every segment about the segment's own mean, pooled (as `excite balance`
-// measures a flagged log; one segment: Y about its mean).
-Eigen::MatrixXd scored_about_segment_means(const Eigen::MatrixXd& Y, const SampleLayout& layout) {
-  if (layout.segments.size() == 1 && layout.scored() == layout.rows()) return Y;
-  std::vector<Eigen::MatrixXd> parts;
-  Eigen::Index rows = 0;
-  for (const Segment& s : layout.segments) {
-    parts.push_back(scored_rows(Y, layout, s.begin, s.end));
-    if (parts.back().rows() == 0) continue;
-    parts.back().rowwise() -= parts.back().colwise().mean();
-    rows += parts.back().rows();
-  }
-  Eigen::MatrixXd out(rows, Y.cols());
-  Eigen::Index at = 0;
-  for (const Eigen::MatrixXd& p : parts) {
-    out.middleRows(at, p.rows()) = p;
-    at += p.rows();
-  }
-  return out;
-}
-
 // Fit % (5.5.1) of `model` on data U, Y per output, over the rows `layout` scores, the model
 // simulated from rest at every segment's start; one segment scoring every row gives fit().
 std::vector<double> scored_fit(const IdentifiedModel& model, const Eigen::MatrixXd& U,
@@ -94,8 +60,8 @@ std::vector<double> scored_fit(const IdentifiedModel& model, const Eigen::Matrix
     Y_hat.middleRows(s.begin, s.end - s.begin) =
         simulate(model, U.middleRows(s.begin, s.end - s.begin));
   }
-  const Eigen::MatrixXd y = scored_rows(Y, layout, 0, Y.rows());
-  const Eigen::MatrixXd y_hat = scored_rows(Y_hat, layout, 0, Y.rows());
+  const Eigen::MatrixXd y = layout.scored_rows(Y, 0, Y.rows());
+  const Eigen::MatrixXd y_hat = layout.scored_rows(Y_hat, 0, Y.rows());
   std::vector<double> out;
   for (Eigen::Index j = 0; j < Y.cols(); ++j) {
     out.push_back(y.rows() > 0 ? fit_percent(y.col(j), y_hat.col(j)) : kNaN);

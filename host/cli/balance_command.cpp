@@ -105,26 +105,11 @@ void run(const BalanceOptions& opt) {
   if (needs_warning(data.report)) {
     std::cerr << "excite: warning: " << layout_summary(data.report, 1) << '\n';
   }
-  // The scored rows of every segment about the segment's own mean (a restart may move the
-  // operating point; an offset between segments is not excitation), pooled. One segment:
-  // the same as the whole run about its mean.
-  const std::vector<Segment> segments = scored_segments(data.layout);
-  std::vector<Eigen::MatrixXd> parts;
-  Eigen::Index rows = 0;
-  for (const Segment& s : segments) {
-    parts.push_back(scored_rows(data.Y, data.layout, s.begin, s.end));
-    parts.back().rowwise() -= parts.back().colwise().mean();
-    rows += parts.back().rows();
-  }
-  if (rows < 2) {
+  // The scored rows of every segment about the segment's own mean, pooled.
+  const Eigen::MatrixXd Y = scored_about_segment_means(data.Y, data.layout);
+  if (Y.rows() < 2) {
     throw std::invalid_argument(opt.run_path + ": " + layout_summary(data.report, 1) +
                                 "; expected at least 2 scored rows");
-  }
-  Eigen::MatrixXd Y(rows, data.Y.cols());
-  Eigen::Index at = 0;
-  for (const Eigen::MatrixXd& p : parts) {
-    Y.middleRows(at, p.rows()) = p;
-    at += p.rows();
   }
   const DirectionalBalance b = directional_balance(Y, a.output_directions);
   const double upsilon = output_correlation_determinant(Y);
@@ -136,11 +121,12 @@ void run(const BalanceOptions& opt) {
     std::optional<double> upsilon;
   };
   std::vector<PerSegment> per;
-  for (std::size_t k = 0; k < segments.size(); ++k) {
-    PerSegment p{segments[k], parts[k].rows(), {}, {}};
-    try {
-      p.balance = directional_balance(parts[k], a.output_directions);
-      p.upsilon = output_correlation_determinant(parts[k]);
+  for (const Segment& s : scored_segments(data.layout)) {
+    const Eigen::MatrixXd part = data.layout.scored_rows(data.Y, s.begin, s.end);
+    PerSegment p{s, part.rows(), {}, {}};
+    try {  // both measures are about the segment's mean
+      p.balance = directional_balance(part, a.output_directions);
+      p.upsilon = output_correlation_determinant(part);
     } catch (const std::invalid_argument&) {
     }
     per.push_back(p);

@@ -58,17 +58,4 @@ inline Eigen::MatrixXd simulate_per_segment(const IdentifiedModel& model, const 
   return Y_hat;
 }
 
-/// The rows of M that `layout` scores within [begin, end).
-inline Eigen::MatrixXd scored_rows(const Eigen::MatrixXd& M, const SampleLayout& layout,
-                                   Eigen::Index begin, Eigen::Index end) {
-  Eigen::Index n = 0;
-  for (Eigen::Index k = begin; k < end; ++k) n += layout.weight(k) > 0.0 ? 1 : 0;
-  Eigen::MatrixXd out(n, M.cols());
-  Eigen::Index r = 0;
-  for (Eigen::Index k = begin; k < end; ++k) {
-    if (layout.weight(k) > 0.0) out.row(r++) = M.row(k);
-  }
-  return out;
-}
-
 }  // namespace excite::host::cli

@@ -34,8 +34,8 @@ struct ValidateOptions {
 std::vector<double> scored_fits(const SegmentedRun& run, const Eigen::MatrixXd& Y_hat,
                                 Eigen::Index begin, Eigen::Index end) {
   const SampleLayout& layout = run.data.layout;
-  const Eigen::MatrixXd y = scored_rows(run.data.Y, layout, begin, end);
-  const Eigen::MatrixXd y_hat = scored_rows(Y_hat, layout, begin, end);
+  const Eigen::MatrixXd y = layout.scored_rows(run.data.Y, begin, end);
+  const Eigen::MatrixXd y_hat = layout.scored_rows(Y_hat, begin, end);
   std::vector<double> fits;
   for (Eigen::Index o = 0; o < y.cols(); ++o) {
     fits.push_back(y.rows() > 0 ? fit_percent(y.col(o), y_hat.col(o)) : std::nan(""));

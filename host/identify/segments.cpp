@@ -54,6 +54,31 @@ Eigen::VectorXd SampleLayout::scored_rows(const Eigen::VectorXd& v) const {
   return out;
 }
 
+Eigen::MatrixXd SampleLayout::scored_rows(const Eigen::MatrixXd& M, Eigen::Index begin,
+                                          Eigen::Index end) const {
+  Eigen::Index n = 0;
+  for (Eigen::Index k = begin; k < end; ++k) n += weight(k) != 0.0 ? 1 : 0;
+  Eigen::MatrixXd out(n, M.cols());
+  Eigen::Index r = 0;
+  for (Eigen::Index k = begin; k < end; ++k) {
+    if (weight(k) != 0.0) out.row(r++) = M.row(k);
+  }
+  return out;
+}
+
+Eigen::MatrixXd scored_about_segment_means(const Eigen::MatrixXd& Y, const SampleLayout& layout) {
+  Eigen::MatrixXd out(layout.scored(), Y.cols());
+  Eigen::Index at = 0;
+  for (const Segment& s : layout.segments) {
+    Eigen::MatrixXd part = layout.scored_rows(Y, s.begin, s.end);
+    if (part.rows() == 0) continue;
+    part.rowwise() -= part.colwise().mean();
+    out.middleRows(at, part.rows()) = part;
+    at += part.rows();
+  }
+  return out;
+}
+
 Eigen::MatrixXd trend_basis(const SampleLayout& layout, Trend trend,
                             const std::vector<double>& transient_samples) {
   const Eigen::Index N = layout.rows();

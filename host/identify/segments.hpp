@@ -41,7 +41,14 @@ struct SampleLayout {
   void check() const;
   /// The scored rows of v, in order.
   Eigen::VectorXd scored_rows(const Eigen::VectorXd& v) const;
+  /// The rows of M (rows() rows) that are scored within [begin, end), in order.
+  Eigen::MatrixXd scored_rows(const Eigen::MatrixXd& M, Eigen::Index begin, Eigen::Index end) const;
 };
+
+/// The scored rows of Y, each segment's about that segment's own mean, pooled in order (a
+/// restart may move the operating point; an offset between segments is not excitation). One
+/// segment scoring every row: Y about its mean. Segments without scored rows add nothing.
+Eigen::MatrixXd scored_about_segment_means(const Eigen::MatrixXd& Y, const SampleLayout& layout);
 
 /// A trend fitted with the model (issue 13 §1): per segment an offset, or an offset and a
 /// slope, of each output that the (6.1.1) model does not explain (an unmeasured disturbance,

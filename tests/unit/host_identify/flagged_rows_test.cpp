@@ -223,5 +223,25 @@ TEST(FittedTrend, OffsetAndDriftPerSegmentAreFittedWithTheModel) {
   EXPECT_EQ(trend_basis(d.layout, Trend::none).cols(), 0);
 }
 
+TEST(SegmentMeans, ScoredRowsOfEachSegmentArePooledAboutThatSegmentsMean) {
+  // Two segments at different operating points (the second offset by 10), row 1 not scored,
+  // segment [4, 5) with no scored row.
+  SampleLayout layout;
+  layout.segments = {{0, 4}, {4, 5}, {5, 8}};
+  layout.weight = Eigen::VectorXd::Ones(8);
+  layout.weight(1) = 0.0;
+  layout.weight(4) = 0.0;
+  layout.check();
+  Eigen::MatrixXd Y(8, 2);
+  Y << 1, -1, 99, 99, 2, -2, 3, -3, 99, 99, 10, 20, 12, 22, 14, 24;
+  const Eigen::MatrixXd rows = layout.scored_rows(Y, 0, 5);
+  ASSERT_EQ(rows.rows(), 3);
+  EXPECT_EQ(rows(2, 1), -3.0);
+  const Eigen::MatrixXd pooled = scored_about_segment_means(Y, layout);
+  Eigen::MatrixXd expected(6, 2);
+  expected << -1, 1, 0, 0, 1, -1, -2, -2, 0, 0, 2, 2;
+  EXPECT_TRUE(pooled.isApprox(expected)) << pooled;
+}
+
 }  // namespace
 }  // namespace excite::host
