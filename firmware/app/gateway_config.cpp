@@ -12,8 +12,8 @@
 #include <stdexcept>
 
 #include "firmware/app/register_range.hpp"
-#include "firmware/config/document.hpp"
-#include "firmware/config/table.hpp"
+#include "base/config/document.hpp"
+#include "base/config/table.hpp"
 #include "firmware/runlog/format.hpp"
 #include "hal/modbus/register_entry_toml.hpp"
 
@@ -21,7 +21,7 @@ namespace excite::app {
 
 namespace {
 
-// A configuration error in the one form of firmware/config, "FIELD = VALUE, expected …";
+// A configuration error in the one form of base/config, "FIELD = VALUE, expected …";
 // the readers below add the position, parse_gateway_config the file name.
 using ConfigError = config::Error;
 using config::describe;

@@ -13,7 +13,7 @@
 #include <string_view>
 
 #include "firmware/runlog/format.hpp"
-#include "firmware/status/status.hpp"
+#include "base/status/status.hpp"
 
 namespace excite::runlog {
 
@@ -46,7 +46,7 @@ struct Row {
   RunState state = RunState::unknown;  // the engine's state at this row (v2 `state` column)
 };
 
-/// The writer's status is the project's one vocabulary (firmware/status/status.hpp):
+/// The writer's status is the project's one vocabulary (base/status/status.hpp):
 ///   ok                 written
 ///   capacity_exceeded  the buffer is too small; nothing usable was written
 ///   invalid_field      a header field: plant/plan/producer text with CR or LF, a channel

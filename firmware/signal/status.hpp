@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // The firmware core's status is the project's one status vocabulary
-// (firmware/status/status.hpp); these names keep signal's and plan's code as it was.
+// (base/status/status.hpp); these names keep signal's and plan's code as it was.
 
-#include "firmware/status/status.hpp"
+#include "base/status/status.hpp"
 
 namespace excite::signal {
 

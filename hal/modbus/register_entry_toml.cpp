@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "hal/modbus/register_entry_toml.hpp"
 
-#include "firmware/config/writer.hpp"
+#include "base/config/writer.hpp"
 
 namespace excite::hal::modbus {
 

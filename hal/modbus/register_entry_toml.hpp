@@ -20,14 +20,14 @@
 // Map keys: heartbeat_address (0..65535, optional here), write_chunk (2..123),
 // read_chunk (2..125).
 //
-// Start-up code: reads through firmware/config and throws config::Error in its one form.
+// Start-up code: reads through base/config and throws config::Error in its one form.
 // Built apart from excite_hal_modbus (library excite_hal_modbus_toml) because it throws.
 
 #include <array>
 #include <string>
 #include <string_view>
 
-#include "firmware/config/table.hpp"
+#include "base/config/table.hpp"
 #include "hal/modbus/register_map.hpp"
 
 namespace excite::hal::modbus {

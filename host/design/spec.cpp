@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <stdexcept>
 
-#include "firmware/config/document.hpp"
-#include "firmware/config/table.hpp"
+#include "base/config/document.hpp"
+#include "base/config/table.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/measures/gain_directions.hpp"
 

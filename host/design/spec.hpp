@@ -20,7 +20,7 @@ struct DesignSpec {
   std::optional<PlainMultisine> multisine;  // set when design == "multisine"
 };
 
-/// Parses a spec. Throws std::invalid_argument (config::Error, firmware/config) in the one
+/// Parses a spec. Throws std::invalid_argument (config::Error, base/config) in the one
 /// form "SOURCE:LINE:COL: FIELD = VALUE, expected …"; its message starts with `source_name`
 /// and, where the TOML parser knows it, line:column, then names the key, the value and
 /// what was expected: unknown keys, missing fields, wrong types, invalid prior knowledge

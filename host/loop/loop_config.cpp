@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "firmware/app/gateway_config.hpp"
-#include "firmware/config/writer.hpp"
+#include "base/config/writer.hpp"
 #include "hal/modbus/register_entry_toml.hpp"
 #include "host/design/case_studies.hpp"
 #include "sim/plants/plant.hpp"

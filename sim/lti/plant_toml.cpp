@@ -4,8 +4,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "firmware/config/document.hpp"
-#include "firmware/config/table.hpp"
+#include "base/config/document.hpp"
+#include "base/config/table.hpp"
 
 namespace excite::sim {
 namespace {

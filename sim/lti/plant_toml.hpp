@@ -19,7 +19,7 @@ struct PlantDefinition {
 
 /// Parses a plant from TOML text; `source` names it in error messages (a path or a plant
 /// name). Throws std::invalid_argument (a config::Error) in the one form of
-/// firmware/config: "SOURCE:LINE:COL: FIELD = VALUE, expected …"; an element the grammar
+/// base/config: "SOURCE:LINE:COL: FIELD = VALUE, expected …"; an element the grammar
 /// refuses reads "SOURCE:LINE:COL: <the grammar's message>" at the line of G.
 PlantDefinition plant_from_toml(std::string_view toml_text, std::string_view source = "plant");
 

@@ -9,7 +9,7 @@
 
 #include <string>
 
-#include "firmware/config/writer.hpp"
+#include "base/config/writer.hpp"
 #include "sim/server/server_config.hpp"
 
 namespace excite::sim::server {
@@ -17,7 +17,7 @@ namespace excite::sim::server {
 /// The configuration as TOML text, with a comment line `header` (may be empty) on top.
 std::string format_server_config(const ServerConfig& config, const std::string& header = "");
 
-// The configuration room's value forms (firmware/config/writer.hpp).
+// The configuration room's value forms (base/config/writer.hpp).
 using config::toml_number;
 using config::toml_string;
 

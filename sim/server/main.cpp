@@ -22,7 +22,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "firmware/config/error.hpp"
+#include "base/config/error.hpp"
 #include "firmware/runlog/format.hpp"
 #include "sim/server/can_plant_server.hpp"
 #include "sim/server/default_map.hpp"

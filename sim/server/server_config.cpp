@@ -4,8 +4,8 @@
 #include <limits>
 #include <string>
 
-#include "firmware/config/document.hpp"
-#include "firmware/config/table.hpp"
+#include "base/config/document.hpp"
+#include "base/config/table.hpp"
 #include "hal/modbus/register_entry_toml.hpp"
 #include "sim/server/server_layout.hpp"
 

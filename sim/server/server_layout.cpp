@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "firmware/config/error.hpp"
+#include "base/config/error.hpp"
 
 namespace excite::sim::server {
 namespace {

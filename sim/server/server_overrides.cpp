@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "firmware/app/timing_range.hpp"
-#include "firmware/config/error.hpp"
+#include "base/config/error.hpp"
 #include "firmware/plan/codec.hpp"
 
 namespace excite::sim::server {

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The configuration room: every refusal reads "FILE:LINE:COL: FIELD = VALUE, expected …".
-#include "firmware/config/table.hpp"
-#include "firmware/config/document.hpp"
+#include "base/config/table.hpp"
+#include "base/config/document.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

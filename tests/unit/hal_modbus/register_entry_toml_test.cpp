@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "firmware/config/document.hpp"
+#include "base/config/document.hpp"
 
 namespace excite::hal::modbus {
 namespace {

@@ -6,8 +6,8 @@
 
 #include <string>
 
-#include "firmware/config/document.hpp"
-#include "firmware/config/table.hpp"
+#include "base/config/document.hpp"
+#include "base/config/table.hpp"
 #include "firmware/signal/validate.hpp"
 #include "hal/modbus/modbus_field_bus.hpp"
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The one status vocabulary: codes, names, the message and its bounds.
-#include "firmware/status/status.hpp"
+#include "base/status/status.hpp"
 
 #include <gtest/gtest.h>
 

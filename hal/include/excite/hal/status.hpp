@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include "firmware/status/status.hpp"
+#include "base/status/status.hpp"
 
 namespace excite::hal {
 
@@ -21,7 +21,7 @@ namespace excite::hal {
 // A write that fails after some of its requests went out leaves those written: the
 // protocol has no transaction; the status reports the failure.
 //
-// The codes are the project's one vocabulary (firmware/status/status.hpp, StatusCode); a hal
+// The codes are the project's one vocabulary (base/status/status.hpp, StatusCode); a hal
 // call returns only the six above. Messages (detail(), Validation) use the one form
 // "FIELD = VALUE, expected WHAT".
 using Status = excite::StatusCode;

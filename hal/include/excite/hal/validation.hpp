@@ -23,7 +23,7 @@ struct Validation {
   [[nodiscard]] bool ok() const noexcept { return field.empty(); }
 
   // "<field> = <value>, expected <expected>" (the one message form,
-  // firmware/status/status.hpp), or "ok".
+  // base/status/status.hpp), or "ok".
   [[nodiscard]] std::string message() const {
     if (ok()) {
       return "ok";

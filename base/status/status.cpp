@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "firmware/status/status.hpp"
+#include "base/status/status.hpp"
 
 #include <cstdarg>
 #include <cstdio>

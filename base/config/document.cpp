@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "firmware/config/document.hpp"
+#include "base/config/document.hpp"
 
 #include <array>
 #include <cerrno>

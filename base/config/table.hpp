@@ -17,7 +17,7 @@
 #include <string_view>
 #include <vector>
 
-#include "firmware/config/error.hpp"
+#include "base/config/error.hpp"
 
 namespace excite::config {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-#include "firmware/config/error.hpp"
+#include "base/config/error.hpp"
 
 namespace excite::config {
 

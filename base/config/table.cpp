@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
-#include "firmware/config/table.hpp"
+#include "base/config/table.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "firmware/config/document.hpp"
+#include "base/config/document.hpp"
 
 namespace excite::config {
 namespace {

@@ -9,7 +9,7 @@
 // The message form, everywhere (firmware, hal, configuration files):
 //   FIELD = VALUE, expected WHAT
 // e.g. "sources[2].prbs.register_length = 40, expected 2…31". A configuration file's
-// reader (firmware/config) puts "FILE:LINE:COL: " in front.
+// reader (base/config) puts "FILE:LINE:COL: " in front.
 //
 // Contract: a Status is either ok (code() == StatusCode::ok, message() == "") or an error
 // whose message() is in the form above. The message lives in a fixed buffer inside the

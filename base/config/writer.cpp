@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "firmware/config/writer.hpp"
+#include "base/config/writer.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "firmware/config/error.hpp"
+#include "base/config/error.hpp"
 
 namespace excite::config {
 namespace {
