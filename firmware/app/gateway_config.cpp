@@ -11,9 +11,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "firmware/app/register_range.hpp"
 #include "base/config/document.hpp"
 #include "base/config/table.hpp"
+#include "firmware/app/register_range.hpp"
 #include "firmware/runlog/format.hpp"
 #include "hal/modbus/register_entry_toml.hpp"
 

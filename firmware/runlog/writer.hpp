@@ -12,8 +12,8 @@
 #include <span>
 #include <string_view>
 
-#include "firmware/runlog/format.hpp"
 #include "base/status/status.hpp"
+#include "firmware/runlog/format.hpp"
 
 namespace excite::runlog {
 

@@ -8,8 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "firmware/app/gateway_config.hpp"
 #include "base/config/writer.hpp"
+#include "firmware/app/gateway_config.hpp"
 #include "hal/modbus/register_entry_toml.hpp"
 #include "host/design/case_studies.hpp"
 #include "sim/plants/plant.hpp"

@@ -10,8 +10,8 @@
 #include <memory>
 #include <sstream>
 
-#include "firmware/app/timing_range.hpp"
 #include "base/config/error.hpp"
+#include "firmware/app/timing_range.hpp"
 #include "firmware/plan/codec.hpp"
 
 namespace excite::sim::server {
