@@ -11,7 +11,8 @@
 //
 // The search, per row, greedy: each element's part of the output (the output minus the other
 // elements' simulated parts and the trend) is fitted alone in every other structure from
-// starts derived from its current parameters (structure_starts()); the structure that lowers
+// starts derived from its current parameters (structure_starts(); when screened again in a
+// later round, from the end each structure reached last time); the structure that lowers
 // that part's BIC most by more than 2 is a candidate. The largest candidate alone and all
 // together are refitted with the whole row, the better kept when the row's BIC falls by more
 // than 2, else the other candidates one at a time. Rounds repeat until no element
