@@ -97,7 +97,7 @@ class Parser {
   bool parse_header() {
     std::string_view line;
     if (!next_line(line)) {
-      return fail(0, "empty file; expected the line '# excite run log v2' (or v1)");
+      return fail(0, "empty file, expected the line '# excite run log v2' (or v1)");
     }
     if (trim(line) == kMagicLine) {
       log_.format_version = 2;
@@ -109,7 +109,7 @@ class Parser {
                     "unsupported version " + quoted(trim(line)) + "; this reader reads v1 and v2");
       }
       return fail(0, "first line is " + quoted(trim(line)) +
-                         "; expected '# excite run log v2' (or v1) (not an excite run log?)");
+                         ", expected '# excite run log v2' (or v1) (not an excite run log?)");
     }
     bool seen[6] = {};
     bool seen_producer = false;  // optional: logs written before it existed have none
@@ -196,7 +196,7 @@ class Parser {
           if (r.ec != std::errc{} || r.ptr != value.data() + value.size() || !std::isfinite(t) ||
               t <= 0.0) {
             return fail(0, "sample_time_min is " + quoted(value) +
-                               "; expected a finite number > 0 (minutes)");
+                               ", expected a finite number > 0 (minutes)");
           }
           log_.sample_time_min = t;
           break;
@@ -207,13 +207,13 @@ class Parser {
           for (const auto w : words(value)) {
             if (!valid_channel_name(w)) {
               return fail(0, "channel name " + quoted(w) +
-                                 " is invalid; expected letters, digits, '_', '.', '-'");
+                                 " is invalid, expected letters, digits, '_', '.', '-'");
             }
             names.emplace_back(w);
           }
           if (names.empty()) {
             return fail(0, std::string(which == 3 ? "inputs" : "outputs") +
-                               " lists no channel; expected at least one name");
+                               " lists no channel, expected at least one name");
           }
           break;
         }
@@ -228,7 +228,7 @@ class Parser {
     for (std::size_t i = 0; i < 6; ++i) {
       if (!seen[i]) {
         return fail(0, "header has no '# " + std::string(kKeys[i]) +
-                           ":' line; expected plant, plan, sample_time_min, inputs, outputs, "
+                           ":' line, expected plant, plan, sample_time_min, inputs, outputs, "
                            "units");
       }
     }
@@ -269,7 +269,7 @@ class Parser {
     for (std::size_t i = 0; i < all.size(); ++i) {
       if (units[i].empty()) {
         line_no_ = at_line;
-        return fail(0, "units line gives no unit for channel " + quoted(all[i]) + "; expected " +
+        return fail(0, "units line gives no unit for channel " + quoted(all[i]) + ", expected " +
                            all[i] + "=<unit> ('-' if dimensionless)");
       }
     }
@@ -281,7 +281,7 @@ class Parser {
 
   bool parse_columns() {
     std::string_view line;
-    if (!next_line(line)) return fail(0, "end of file; expected the column header row");
+    if (!next_line(line)) return fail(0, "end of file, expected the column header row");
     const auto names = split(line, ',');
     const std::size_t n = log_.input_names.size();
     const std::size_t p = log_.output_names.size();
@@ -341,10 +341,10 @@ class Parser {
     std::string_view line;
     while (next_line(line)) {
       if (trim(line).empty()) continue;  // a trailing blank line is tolerated
-      if (line.front() == '#') return fail(0, "comment line inside the data; expected a data row");
+      if (line.front() == '#') return fail(0, "comment line inside the data, expected a data row");
       const auto fields = split(line, ',');
       if (fields.size() != roles_.size()) {
-        return fail(0, std::to_string(fields.size()) + " fields; expected " +
+        return fail(0, std::to_string(fields.size()) + " fields, expected " +
                            std::to_string(roles_.size()) + " as in the column header row");
       }
       for (std::size_t c = 0; c < fields.size(); ++c) {
@@ -435,7 +435,7 @@ class Parser {
     if (skipped ? log_.k[r] <= log_.k[r - 1] + 1 : log_.k[r] != log_.k[r - 1] + 1) {
       return fail(column_of(Role::k), "k: " + std::to_string(log_.k[r]) + " follows " +
                                           std::to_string(log_.k[r - 1]) +
-                                          (skipped ? "; expected more than " : "; expected ") +
+                                          (skipped ? ", expected more than " : ", expected ") +
                                           std::to_string(log_.k[r - 1] + 1) +
                                           (skipped ? " (the row is flagged skipped)" : ""));
     }
@@ -446,12 +446,12 @@ class Parser {
       char buf[240];
       if (ticks == 1.0) {
         std::snprintf(buf, sizeof buf,
-                      "t_min: step %.17g min from the previous row; expected the sample time "
+                      "t_min: step %.17g min from the previous row, expected the sample time "
                       "%.17g min (tolerance %.3g of it)",
                       dt, T, options_.time_tolerance);
       } else {
         std::snprintf(buf, sizeof buf,
-                      "t_min: step %.17g min from the previous row; expected %.17g min (%.17g "
+                      "t_min: step %.17g min from the previous row, expected %.17g min (%.17g "
                       "ticks of the sample time %.17g min, tolerance %.3g of it)",
                       dt, ticks * T, ticks, T, options_.time_tolerance);
       }
@@ -462,7 +462,7 @@ class Parser {
 
   bool check_length() {
     if (log_.rows() < options_.min_rows) {
-      return fail(0, std::to_string(log_.rows()) + " data rows; expected at least " +
+      return fail(0, std::to_string(log_.rows()) + " data rows, expected at least " +
                          std::to_string(options_.min_rows));
     }
     return true;

@@ -189,7 +189,7 @@ void check_equal_lengths(const std::vector<std::pair<std::string, Eigen::Index>>
   if (!allow_unequal) {
     throw std::invalid_argument(
         "campaign: the designs differ in length (" + list +
-        " samples); expected every design equally long, so that each is judged on as much "
+        " samples), expected every design equally long, so that each is judged on as much "
         "data as the others (SPEC §4, thesis §6.3); --allow-unequal-length compares them anyway");
   }
   if (say) {

@@ -93,7 +93,7 @@ std::string gnuplot_string(const std::string& text) {
     const auto byte = static_cast<unsigned char>(c);
     if (byte < 0x20 || byte == 0x7f) {
       throw std::invalid_argument("'" + text +
-                                  "': a control character in a gnuplot string; expected "
+                                  "': a control character in a gnuplot string, expected "
                                   "printable text");
     }
     out += c == '\'' ? std::string("''") : std::string(1, c);

@@ -57,18 +57,18 @@ Eigen::MatrixXd read_gain_file(const std::string& path) {
                     static_cast<Eigen::Index>(rows[0].size()));
   for (std::size_t r = 0; r < rows.size(); ++r) {
     if (!rows[r].is_array() || rows[r].size() != static_cast<std::size_t>(g.cols())) {
-      throw std::invalid_argument(path + ": gain[" + std::to_string(r) + "]: expected " +
+      throw std::invalid_argument(path + ": gain[" + std::to_string(r) + "], expected " +
                                   std::to_string(g.cols()) + " numbers");
     }
     for (std::size_t c = 0; c < rows[r].size(); ++c) {
       if (!rows[r][c].is_number()) {
         throw std::invalid_argument(path + ": gain[" + std::to_string(r) + "][" +
-                                    std::to_string(c) + "]: expected a number");
+                                    std::to_string(c) + "], expected a number");
       }
       const double v = rows[r][c].get<double>();
       if (!std::isfinite(v)) {
         throw std::invalid_argument(path + ": gain[" + std::to_string(r) + "][" +
-                                    std::to_string(c) + "]: expected a finite number");
+                                    std::to_string(c) + "], expected a finite number");
       }
       g(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = v;
     }
@@ -88,7 +88,7 @@ void run(const BalanceOptions& opt) {
     throw std::invalid_argument(
         source + ": gain is " + std::to_string(gain.rows()) + " x " + std::to_string(gain.cols()) +
         ", " + opt.run_path + " has " + std::to_string(data.Y.cols()) + " outputs x " +
-        std::to_string(data.U.cols()) + " inputs; expected outputs x inputs of the run");
+        std::to_string(data.U.cols()) + " inputs, expected outputs x inputs of the run");
   }
   const GainAnalysis a = analyse_gain(gain);
   // A zero singular value leaves its output direction arbitrary: the projections, the ratio
@@ -109,7 +109,7 @@ void run(const BalanceOptions& opt) {
   const Eigen::MatrixXd Y = scored_about_segment_means(data.Y, data.layout);
   if (Y.rows() < 2) {
     throw std::invalid_argument(opt.run_path + ": " + layout_summary(data.report, 1) +
-                                "; expected at least 2 scored rows");
+                                ", expected at least 2 scored rows");
   }
   const DirectionalBalance b = directional_balance(Y, a.output_directions);
   const double upsilon = output_correlation_determinant(Y);

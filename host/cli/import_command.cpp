@@ -84,7 +84,7 @@ void parse_baseline(const std::string& text, historian::ImportOptions& o) {
   } catch (const std::exception&) {
     throw std::invalid_argument(
         "--baseline '" + text +
-        "'; expected auto or FROM:TO in minutes from the data's start, e.g. "
+        "', expected auto or FROM:TO in minutes from the data's start, e.g. "
         "0:30");
   }
 }
@@ -98,7 +98,7 @@ void run(ImportCommandOptions opt) {
   if (!opt.map_path.empty()) {
     if (!opt.mv_tags.empty() || !opt.cv_tags.empty()) {
       throw std::invalid_argument("--map " + opt.map_path +
-                                  " and --mv/--cv given together; expected one of the two");
+                                  " and --mv/--cv given together, expected one of the two");
     }
     const historian::TagMap map = historian::read_tag_map(opt.map_path);
     o.mvs = map.mvs;
@@ -110,7 +110,7 @@ void run(ImportCommandOptions opt) {
   if (o.mvs.empty() || o.cvs.empty()) {
     throw std::invalid_argument(std::to_string(o.mvs.size()) + " MV and " +
                                 std::to_string(o.cvs.size()) +
-                                " CV tags; expected at least one of each (--mv, --cv or --map)");
+                                " CV tags, expected at least one of each (--mv, --cv or --map)");
   }
   o.resample = opt.resample == "linear" ? historian::Resample::linear : historian::Resample::hold;
   o.detrend = opt.detrend == "offset"   ? historian::Detrend::offset
@@ -124,12 +124,12 @@ void run(ImportCommandOptions opt) {
   csv.delimiter = delimiter_of(opt.delimiter);
   if (csv.decimal_comma && csv.delimiter == ',') {
     throw std::invalid_argument(
-        "--decimal-comma with --delimiter ','; expected another delimiter (';' in most "
+        "--decimal-comma with --delimiter ',', expected another delimiter (';' in most "
         "European exports)");
   }
   if (csv.long_format && (csv.time_column_per_tag || !opt.time_column.empty())) {
     throw std::invalid_argument(
-        "--long with --time-column or --time-column-per-tag; expected one layout (--long: "
+        "--long with --time-column or --time-column-per-tag, expected one layout (--long: "
         "TAG,TIME,VALUE[,QUALITY] by position)");
   }
   csv.time_column = opt.time_column;

@@ -228,7 +228,7 @@ NamedModel read_named_model_file(const std::filesystem::path& path) {
   const nlohmann::json j = read_json_file(where, "a model file from excite identify -o");
   if (!j.is_object() || !j.contains("format") ||
       (j["format"] != kFormat && j["format"] != kFormatV1)) {
-    throw std::invalid_argument(where + ": format: expected \"" + kFormat + "\" or \"" + kFormatV1 +
+    throw std::invalid_argument(where + ": format, expected \"" + kFormat + "\" or \"" + kFormatV1 +
                                 "\" (a file from excite identify -o)");
   }
   NamedModel named;
@@ -236,7 +236,7 @@ NamedModel read_named_model_file(const std::filesystem::path& path) {
   IdentifiedModel& m = named.model;
   m.sample_time_min = number(j, "sample_time_min", where + ":");
   if (!(m.sample_time_min > 0.0))
-    throw std::invalid_argument(where + ": sample_time_min: expected > 0");
+    throw std::invalid_argument(where + ": sample_time_min = " + std::to_string(m.sample_time_min) + ", expected > 0");
   for (const char* key : {"inputs", "outputs"}) {
     if (!j.contains(key) || !j[key].is_array()) {
       throw std::invalid_argument(where + ": " + key + " = " +
@@ -258,7 +258,7 @@ NamedModel read_named_model_file(const std::filesystem::path& path) {
           e.is_string() ? &e : (e.is_object() && e.contains("name") ? &e["name"] : nullptr);
       if (name == nullptr || !name->is_string()) {
         throw std::invalid_argument(where + ": " + key + "[" + std::to_string(k) +
-                                    "]: expected a channel name");
+                                    "], expected a channel name");
       }
       names->push_back(name->get<std::string>());
     }
@@ -273,7 +273,7 @@ NamedModel read_named_model_file(const std::filesystem::path& path) {
     const std::string at = where + ": outputs[" + std::to_string(o) + "]";
     if (!out.contains("elements") || !out["elements"].is_array() ||
         out["elements"].size() != static_cast<std::size_t>(m.inputs)) {
-      throw std::invalid_argument(at + ".elements: expected " + std::to_string(m.inputs) +
+      throw std::invalid_argument(at + ".elements, expected " + std::to_string(m.inputs) +
                                   " elements");
     }
     for (int i = 0; i < m.inputs; ++i) {
@@ -334,7 +334,7 @@ void check_same_channels(const ModelChannels& model, const std::string& model_pa
     if (*ours != *theirs) {
       throw std::invalid_argument(model_path + ": " + kind + " = " + listed(*ours) + ", " +
                                   run_path + ": " + kind + " = " + listed(*theirs) +
-                                  "; expected the same channels in the same order");
+                                  ", expected the same channels in the same order");
     }
   }
 }

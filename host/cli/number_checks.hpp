@@ -3,7 +3,7 @@
 // CLI11 validators shared by every `excite` option that takes a real number. CLI11's own
 // PositiveNumber/NonNegativeNumber let "nan" through (every comparison with NaN is false);
 // these refuse NaN, infinities and out-of-range values, and CLI11 prefixes the option's
-// name: "--noise-var: nan: expected a finite number >= 0".
+// name: "--noise-var: nan, expected a finite number >= 0".
 
 #include <CLI/CLI.hpp>
 #include <cmath>
@@ -21,7 +21,7 @@ inline CLI::Validator finite_number(double lowest, bool strict, const std::strin
         const double x = std::strtod(text.c_str(), &end);
         const bool parsed = !text.empty() && end != nullptr && *end == '\0';
         if (parsed && std::isfinite(x) && (strict ? x > lowest : x >= lowest)) return "";
-        return text + ": expected " + expected;
+        return text + ", expected " + expected;
       },
       expected);
 }

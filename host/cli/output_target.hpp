@@ -34,7 +34,7 @@ class HumanTextAside {
   std::streambuf* saved_ = nullptr;
 };
 
-/// Throws "OUTPUT: cannot be written (it is the input INPUT; expected another file)" when
+/// Throws "OUTPUT: cannot be written (it is the input INPUT, expected another file)" when
 /// `output` exists and is the same file as one of `inputs`.
 inline void refuse_output_among_inputs(const std::string& output,
                                        const std::vector<std::string>& inputs) {
@@ -46,7 +46,7 @@ inline void refuse_output_among_inputs(const std::string& output,
     if (input.empty() || ::stat(input.c_str(), &in) != 0) continue;
     if (in.st_dev == out.st_dev && in.st_ino == out.st_ino) {
       throw std::invalid_argument(output + ": cannot be written (it is the input " + input +
-                                  "; expected another file)");
+                                  ", expected another file)");
     }
   }
 }
@@ -58,7 +58,7 @@ inline void check_identify_output(const std::string& output, const std::vector<s
   refuse_output_among_inputs(output, runs);
   if (json && !output.empty() && writes_to_stdout(output)) {
     throw std::invalid_argument("-o " + output +
-                                " and --json both write to standard output; expected one of "
+                                " and --json both write to standard output, expected one of "
                                 "the two");
   }
 }

@@ -64,7 +64,7 @@ void run(const SimulateOptions& opt) {
     const auto eq = opt.step.find('=');
     if (eq == std::string::npos) {
       throw std::invalid_argument("--step \"" + opt.step +
-                                  "\": expected INPUT=AMPLITUDE, e.g. L=0.01");
+                                  "\", expected INPUT=AMPLITUDE, e.g. L=0.01");
     }
     std::size_t used = 0;
     double amplitude = 0.0;

@@ -52,11 +52,11 @@ void validate_run(const ValidateOptions& opt) {
   if (std::abs(model.sample_time_min - run.data.sample_time_min) > 1e-9 * model.sample_time_min) {
     throw std::invalid_argument(
         opt.run_path + ": sample_time_min = " + num(run.data.sample_time_min, 6) +
-        ", the model's is " + num(model.sample_time_min, 6) + "; expected equal");
+        ", the model's is " + num(model.sample_time_min, 6) + ", expected equal");
   }
   if (run.data.report.scored == 0) {
     throw std::invalid_argument(opt.run_path + ": " + layout_summary(run.data.report, 1) +
-                                "; expected rows to score (host/README.md, the flags rule)");
+                                ", expected rows to score (host/README.md, the flags rule)");
   }
   if (needs_warning(run.data.report)) {
     std::cerr << "excite: warning: " << layout_summary(run.data.report, 1) << '\n';
@@ -138,7 +138,7 @@ void crossval(const CrossvalOptions& opt) {
       if (r.data.sample_time_min != runs.front().data.sample_time_min) {
         throw std::invalid_argument(path + ": sample_time_min = " + num(r.data.sample_time_min, 6) +
                                     ", " + opt.runs.front() + "'s is " +
-                                    num(runs.front().data.sample_time_min, 6) + "; expected equal");
+                                    num(runs.front().data.sample_time_min, 6) + ", expected equal");
       }
     }
     if (needs_warning(r.data.report)) {

@@ -285,7 +285,7 @@ void modified_zippered(const DesignContext& ctx, Composition& comp) {
 Composition compose_plain_multisine(const PriorKnowledge& prior, const PlainMultisine& spec) {
   if (spec.last_line < spec.first_line || spec.first_line == 0) {
     throw std::invalid_argument(
-        format("multisine.first_line = %u, last_line = %u: expected 1 <= first_line <= last_line",
+        format("multisine.first_line = %u, last_line = %u, expected 1 <= first_line <= last_line",
                spec.first_line, spec.last_line));
   }
   if (spec.periods == 0)

@@ -143,7 +143,7 @@ void require_every_element(const NamedModel& m) {
           m.outputs.at(static_cast<std::size_t>(o)) + " <- " +
           m.inputs.at(static_cast<std::size_t>(i)) + "): not estimated (" + to_string(e.status) +
           (e.reason.empty() ? "" : ": " + e.reason) +
-          "); expected every element to have parameters before it is exported");
+          "), expected every element to have parameters before it is exported");
     }
   }
 }
@@ -297,7 +297,7 @@ NamedModel read_transfer_json(const std::string& text, const std::string& source
     throw std::invalid_argument(source + ": not JSON (" + e.what() + ")");
   }
   if (!j.is_object() || j.value("format", "") != kTransferFormat) {
-    throw std::invalid_argument(source + ": format: expected \"" + kTransferFormat + "\"");
+    throw std::invalid_argument(source + ": format, expected \"" + kTransferFormat + "\"");
   }
   NamedModel m;
   m.source = source;
@@ -308,13 +308,13 @@ NamedModel read_transfer_json(const std::string& text, const std::string& source
   m.model.outputs = static_cast<int>(m.outputs.size());
   const nlohmann::json& rows = j.at("elements");
   if (!rows.is_array() || rows.size() != m.outputs.size()) {
-    throw std::invalid_argument(source + ": elements: expected " +
+    throw std::invalid_argument(source + ": elements, expected " +
                                 std::to_string(m.outputs.size()) + " rows");
   }
   for (int o = 0; o < m.model.outputs; ++o) {
     const nlohmann::json& row = rows[static_cast<std::size_t>(o)];
     if (!row.is_array() || row.size() != m.inputs.size()) {
-      throw std::invalid_argument(source + ": elements[" + std::to_string(o) + "]: expected " +
+      throw std::invalid_argument(source + ": elements[" + std::to_string(o) + "], expected " +
                                   std::to_string(m.inputs.size()) + " elements");
     }
     for (int i = 0; i < m.model.inputs; ++i) {

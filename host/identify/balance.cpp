@@ -12,7 +12,7 @@ void check_outputs(const Eigen::MatrixXd& Y, const char* who) {
   if (Y.rows() < 2 || Y.cols() < 1) {
     throw std::invalid_argument(std::string(who) + ": Y is " + std::to_string(Y.rows()) + "×" +
                                 std::to_string(Y.cols()) +
-                                "; expected N × p with N ≥ 2 samples and p ≥ 1 outputs");
+                                ", expected N × p with N ≥ 2 samples and p ≥ 1 outputs");
   }
   if (!Y.allFinite()) throw std::invalid_argument(std::string(who) + ": Y contains NaN or inf");
 }
@@ -30,7 +30,7 @@ DirectionalBalance directional_balance(const Eigen::MatrixXd& Y, const Eigen::Ma
   check_outputs(Y, "directional_balance");
   if (W.rows() != Y.cols() || W.cols() < 1 || !W.allFinite()) {
     throw std::invalid_argument("directional_balance: W is " + std::to_string(W.rows()) + "×" +
-                                std::to_string(W.cols()) + "; expected " +
+                                std::to_string(W.cols()) + ", expected " +
                                 std::to_string(Y.cols()) +
                                 " rows (one per output), finite, at least one direction");
   }

@@ -28,7 +28,7 @@ void check_element(const ElementModel& g) {
     char value[32];
     std::snprintf(value, sizeof value, "%.6g", v);
     throw std::invalid_argument(std::string(parameter_name(static_cast<Parameter>(p))) + " = " +
-                                value + ": expected " + expected);
+                                value + ", expected " + expected);
   };
   for (int p = 0; p < kParameters; ++p) {
     const double v = g[p];

@@ -87,7 +87,7 @@ struct ElementModel {
   double static_gain() const;
 };
 
-/// Throws std::invalid_argument "PARAMETER = VALUE: expected RANGE" for a parameter that is
+/// Throws std::invalid_argument "PARAMETER = VALUE, expected RANGE" for a parameter that is
 /// not finite or outside its range (T's ≥ 0, 0 < ζ ≤ 1).
 void check_element(const ElementModel& g);
 

@@ -44,49 +44,49 @@ void check_arguments(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double 
                      const SampleLayout& layout, const IdentifyOptions& o) {
   if (!std::isfinite(T_min) || T_min <= 0.0) {
     throw std::invalid_argument("identify: sample time T_min = " + number(T_min) +
-                                "; expected a finite number > 0 (minutes)");
+                                ", expected a finite number > 0 (minutes)");
   }
   if (!std::isfinite(o.max_delay_min) || o.max_delay_min < 0.0) {
     throw std::invalid_argument("identify: max_delay_min = " + number(o.max_delay_min) +
-                                "; expected a finite number ≥ 0 (minutes)");
+                                ", expected a finite number ≥ 0 (minutes)");
   }
   if (!std::isfinite(o.max_time_constant_min) || o.max_time_constant_min < 0.0) {
     throw std::invalid_argument(
         "identify: max_time_constant_min = " + number(o.max_time_constant_min) +
-        "; expected a finite number ≥ 0 (0: the experiment length)");
+        ", expected a finite number ≥ 0 (0: the experiment length)");
   }
   if (o.max_iterations < 1) {
     throw std::invalid_argument("identify: max_iterations = " + std::to_string(o.max_iterations) +
-                                "; expected ≥ 1");
+                                ", expected ≥ 1");
   }
   if (o.threads < 1) {
     throw std::invalid_argument("identify: threads = " + std::to_string(o.threads) +
-                                "; expected ≥ 1");
+                                ", expected ≥ 1");
   }
   if (U.cols() == 0 || Y.cols() == 0) {
     throw std::invalid_argument("identify: U has " + std::to_string(U.cols()) + " inputs and Y " +
                                 std::to_string(Y.cols()) +
-                                " outputs; expected at least one of each");
+                                " outputs, expected at least one of each");
   }
   if (U.rows() != Y.rows()) {
     throw std::invalid_argument("identify: U has " + std::to_string(U.rows()) +
                                 " samples (rows) but Y has " + std::to_string(Y.rows()) +
-                                "; expected one row per sample in both");
+                                ", expected one row per sample in both");
   }
   if (layout.rows() != U.rows()) {
     throw std::invalid_argument("identify: the sample layout has " + std::to_string(layout.rows()) +
                                 " rows but the data " + std::to_string(U.rows()) +
-                                "; expected one weight per row");
+                                ", expected one weight per row");
   }
   if (!o.structures.empty() &&
       o.structures.size() != static_cast<std::size_t>(U.cols() * Y.cols())) {
     throw std::invalid_argument("identify: structures has " + std::to_string(o.structures.size()) +
-                                " entries; expected one per element, " +
+                                " entries, expected one per element, " +
                                 std::to_string(Y.cols() * U.cols()) + " (outputs × inputs)");
   }
   if (!o.structures.empty() && o.structure) {
     throw std::invalid_argument(std::string("identify: structure = ") + to_string(*o.structure) +
-                                " and per-element structures both given; expected one of them");
+                                " and per-element structures both given, expected one of them");
   }
   layout.check();
   const Eigen::Index need = minimum_samples(static_cast<int>(U.cols()), T_min, o);
@@ -94,7 +94,7 @@ void check_arguments(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double 
     throw std::invalid_argument(
         "identify: " + std::to_string(layout.scored()) + " samples are too few for " +
         std::to_string(U.cols()) + " inputs with delays up to " + number(o.max_delay_min) +
-        " min at T = " + number(T_min) + " min; expected at least " + std::to_string(need) +
+        " min at T = " + number(T_min) + " min, expected at least " + std::to_string(need) +
         " (⌈max_delay/T⌉ + 10 per parameter, 4 parameters per input)");
   }
   check_finite(U, "U");

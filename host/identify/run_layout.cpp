@@ -27,13 +27,13 @@ void check_same_channels(const runlog::RunLog& first, const runlog::RunLog& log,
                          const std::string& first_name, const std::string& name) {
   if (log.input_names != first.input_names || log.output_names != first.output_names) {
     throw std::invalid_argument(name + ": inputs '" + join(log.input_names) + "', outputs '" +
-                                join(log.output_names) + "'; expected those of " + first_name +
+                                join(log.output_names) + "', expected those of " + first_name +
                                 " (inputs '" + join(first.input_names) + "', outputs '" +
                                 join(first.output_names) + "') to identify the runs together");
   }
   if (std::abs(log.sample_time_min - first.sample_time_min) > 1e-9 * first.sample_time_min) {
     throw std::invalid_argument(
-        name + ": sample_time_min = " + std::to_string(log.sample_time_min) + "; expected " +
+        name + ": sample_time_min = " + std::to_string(log.sample_time_min) + ", expected " +
         std::to_string(first.sample_time_min) + " as in " + first_name);
   }
 }
@@ -55,13 +55,13 @@ StackedRuns stack_runs(const std::vector<const runlog::RunLog*>& logs,
   if (logs.empty() || names.size() != logs.size()) {
     throw std::invalid_argument("identify: " + std::to_string(logs.size()) + " runs and " +
                                 std::to_string(names.size()) +
-                                " names; expected at least one run, one name each");
+                                " names, expected at least one run, one name each");
   }
   if (!(rule.warm_up_min >= 0.0) || !(rule.start_warm_up_min >= 0.0) || rule.min_segment_rows < 1) {
     throw std::invalid_argument("identify: warm-up " + std::to_string(rule.warm_up_min) +
                                 " min, start warm-up " + std::to_string(rule.start_warm_up_min) +
                                 " min, min segment rows " + std::to_string(rule.min_segment_rows) +
-                                "; expected warm-ups ≥ 0 and ≥ 1 row");
+                                ", expected warm-ups ≥ 0 and ≥ 1 row");
   }
   const runlog::RunLog& first = *logs.front();
   Eigen::Index N = 0;

@@ -28,19 +28,19 @@ void SampleLayout::check() const {
     if (g.begin != next || g.end <= g.begin) {
       throw std::invalid_argument("identify: segment " + std::to_string(s + 1) + " is rows [" +
                                   std::to_string(g.begin) + ", " + std::to_string(g.end) +
-                                  "); expected a non-empty span starting at row " +
+                                  "), expected a non-empty span starting at row " +
                                   std::to_string(next));
     }
     next = g.end;
   }
   if (next != rows()) {
     throw std::invalid_argument("identify: the segments cover " + std::to_string(next) +
-                                " rows; expected all " + std::to_string(rows()));
+                                " rows, expected all " + std::to_string(rows()));
   }
   for (Eigen::Index k = 0; k < rows(); ++k) {
     if (weight(k) != 0.0 && weight(k) != 1.0) {
       throw std::invalid_argument("identify: weight of row " + std::to_string(k) + " is " +
-                                  std::to_string(weight(k)) + "; expected 0 or 1");
+                                  std::to_string(weight(k)) + ", expected 0 or 1");
     }
   }
 }

@@ -14,7 +14,7 @@ double fit_percent(const Eigen::VectorXd& y, const Eigen::VectorXd& y_hat) {
   if (y.size() == 0 || y.size() != y_hat.size()) {
     throw std::invalid_argument("fit_percent: y has " + std::to_string(y.size()) +
                                 " samples and ŷ " + std::to_string(y_hat.size()) +
-                                "; expected the same non-zero length");
+                                ", expected the same non-zero length");
   }
   const double spread = (y.array() - y.mean()).matrix().norm();
   if (spread == 0.0 || !y_hat.allFinite()) return kNaN;
@@ -29,7 +29,7 @@ std::vector<double> fit(const IdentifiedModel& model, const Eigen::MatrixXd& U,
         "fit: data U " + std::to_string(U.rows()) + "×" + std::to_string(U.cols()) + ", Y " +
         std::to_string(Y.rows()) + "×" + std::to_string(Y.cols()) + " do not match the model (" +
         std::to_string(model.inputs) + " inputs, " + std::to_string(model.outputs) +
-        " outputs); expected N×n and N×p with the same N > 0");
+        " outputs), expected N×n and N×p with the same N > 0");
   }
   if (!U.allFinite() || !Y.allFinite()) {
     throw std::invalid_argument("fit: the data contain NaN or inf");
@@ -45,7 +45,7 @@ CrossValidation cross_validate(const std::vector<IdentifiedModel>& models,
   if (models.size() != data.size() || models.size() < 2) {
     throw std::invalid_argument("cross_validate: " + std::to_string(models.size()) +
                                 " models and " + std::to_string(data.size()) +
-                                " data sets; expected one model per data set, at least two");
+                                " data sets, expected one model per data set, at least two");
   }
   const auto R = static_cast<Eigen::Index>(models.size());
   for (std::size_t a = 1; a < models.size(); ++a) {

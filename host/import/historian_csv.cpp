@@ -142,7 +142,7 @@ void Reader::read_header() {
     return;
   }
   throw std::invalid_argument(file_ +
-                              ": no header row; expected a row of column names "
+                              ": no header row, expected a row of column names "
                               "(timestamp, then one column per tag)");
 }
 

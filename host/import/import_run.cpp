@@ -97,7 +97,7 @@ double baseline_of(const std::vector<double>& v, std::size_t from, std::size_t t
                                 "' has no good value in the baseline "
                                 "window " +
                                 number(o.baseline_from_min) + " … " + number(o.baseline_to_min) +
-                                " min from the data's start; expected at least one (give "
+                                " min from the data's start, expected at least one (give "
                                 "--baseline FROM:TO)");
   }
   return sum / static_cast<double>(n);
@@ -205,37 +205,37 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
   if (o.mvs.empty() || o.cvs.empty()) {
     throw std::invalid_argument(data.file + ": " + std::to_string(o.mvs.size()) + " MVs and " +
                                 std::to_string(o.cvs.size()) +
-                                " CVs; expected at least one of each (--mv, --cv or --map)");
+                                " CVs, expected at least one of each (--mv, --cv or --map)");
   }
   std::vector<TagSpec> all = o.mvs;
   all.insert(all.end(), o.cvs.begin(), o.cvs.end());
   if (all.size() != data.series.size()) {
     throw std::invalid_argument(data.file + ": read " + std::to_string(data.series.size()) +
-                                " tags; expected " + std::to_string(all.size()));
+                                " tags, expected " + std::to_string(all.size()));
   }
   for (std::size_t a = 0; a < all.size(); ++a) {
     if (!runlog::valid_channel_name(all[a].name)) {
       throw std::invalid_argument("tag '" + all[a].tag + "': channel name '" + all[a].name +
-                                  "' is not valid; expected letters, digits, _ . - (give a name "
+                                  "' is not valid, expected letters, digits, _ . - (give a name "
                                   "in the --map file)");
     }
     if (!runlog::valid_unit(all[a].unit)) {
       throw std::invalid_argument("tag '" + all[a].tag + "': unit '" + all[a].unit +
-                                  "' is not valid; expected no spaces, commas or '=' ('-' when "
+                                  "' is not valid, expected no spaces, commas or '=' ('-' when "
                                   "dimensionless)");
     }
     for (std::size_t b = 0; b < a; ++b) {
       if (all[b].name == all[a].name) {
         throw std::invalid_argument("tags '" + all[b].tag + "' and '" + all[a].tag +
                                     "' both become channel '" + all[a].name +
-                                    "'; expected unique names");
+                                    "', expected unique names");
       }
     }
   }
   for (std::size_t a = 0; a < all.size(); ++a) {
     if (data.series[a].time_s.empty()) {
       throw std::invalid_argument(data.file + ": tag '" + all[a].tag +
-                                  "' has no samples; expected at least one");
+                                  "' has no samples, expected at least one");
     }
   }
   double t_first = 0.0, t_last = 0.0;
@@ -245,7 +245,7 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
   if (T_min == 0.0) T_min = spacing_s / 60.0;
   if (!(T_min > 0.0) || !std::isfinite(T_min)) {
     throw std::invalid_argument(data.file + ": sample time " + number(T_min) +
-                                " min; expected > 0 (give --sample-time-min; the data have " +
+                                " min, expected > 0 (give --sample-time-min; the data have " +
                                 std::to_string(data.series.front().time_s.size()) + " rows)");
   }
   const double T_s = T_min * 60.0;
@@ -254,18 +254,18 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
   if (grid.size() < 2) {
     throw std::invalid_argument(data.file + ": the data span " + number(t_last - t_first) +
                                 " s, less than two samples of " + number(T_min) +
-                                " min; expected a longer record or a shorter --sample-time-min");
+                                " min, expected a longer record or a shorter --sample-time-min");
   }
   if (!(o.max_gap_min >= 0.0) || !std::isfinite(o.max_gap_min)) {
     throw std::invalid_argument("--max-gap-min " + number(o.max_gap_min) +
-                                "; expected a finite number ≥ 0 (0: 1.5 sample times)");
+                                ", expected a finite number ≥ 0 (0: 1.5 sample times)");
   }
   const double gap_limit =
       o.max_gap_min > 0.0 ? 60.0 * o.max_gap_min : 1.5 * std::max(T_s, spacing_s);
   if (!(o.baseline_from_min >= 0.0) || !(o.baseline_to_min >= o.baseline_from_min)) {
     throw std::invalid_argument("--baseline " + number(o.baseline_from_min) + ":" +
                                 number(o.baseline_to_min) +
-                                "; expected 0 ≤ FROM ≤ TO minutes from the data's start");
+                                ", expected 0 ≤ FROM ≤ TO minutes from the data's start");
   }
   // The window inside the data before any minutes become sample indices (1e300 once went
   // through an out-of-range double → size_t conversion).

@@ -59,7 +59,7 @@ void check_with_partners(const LoopConfigPair& pair) {
 
 [[noreturn]] void bad(const std::string& field, double value, const std::string& expected) {
   std::ostringstream os;
-  os << field << " = " << value << ": expected " << expected;
+  os << field << " = " << value << ", expected " << expected;
   throw std::invalid_argument(os.str());
 }
 
@@ -217,7 +217,7 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
   if (opt.port > 65535) bad("--port", opt.port, "a TCP port 0..65535");
   if (opt.transport != "modbus-tcp" && opt.transport != "can") {
     throw std::invalid_argument("--transport = \"" + opt.transport +
-                                "\": expected modbus-tcp or can");
+                                "\", expected modbus-tcp or can");
   }
   const auto plant = sim::make_plant(opt.plant);
 

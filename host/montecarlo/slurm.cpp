@@ -3,6 +3,8 @@
 
 #include <cstdio>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 #include "host/montecarlo/perturb.hpp"
 
@@ -21,14 +23,15 @@ std::string slurm_script(const Config& config, const SlurmJob& job) {
   if (job.threads < 1 || job.threads > 64)
     throw std::invalid_argument("--threads = " + std::to_string(job.threads) +
                                 ", expected 1 to 64");
-  for (const auto& p : {job.excite, job.output_dir}) {
+  for (const auto& [name, p] : {std::pair{"excite", job.excite}, std::pair{"-o", job.output_dir}}) {
     if (!p.is_absolute())
-      throw std::invalid_argument(p.string() + ": expected an absolute path for the nodes");
+      throw std::invalid_argument(std::string(name) + " = " + p.string() +
+                                  ", expected an absolute path for the nodes");
   }
   for (const char c : job.output_dir.string()) {
     if (c == '%' || c == ' ' || c == '\t' || c == '\n')
       throw std::invalid_argument("-o " + job.output_dir.string() +
-                                  ": expected a path without spaces or '%' (Slurm's #SBATCH "
+                                  ", expected a path without spaces or '%' (Slurm's #SBATCH "
                                   "--output takes it unquoted, % as a pattern)");
   }
   std::string designs;

@@ -20,7 +20,7 @@ namespace {
 
 void check_layout(const ZipperedLayout& layout, const char* what) {
   const std::string where(what);
-  if (layout.channels == 0) throw std::invalid_argument(where + ": channels: expected >= 1");
+  if (layout.channels == 0) throw std::invalid_argument(where + ": channels = 0, expected >= 1");
   if (layout.lines == 0) {
     throw std::invalid_argument(where + ": lines (n_s): too few lines, expected >= 1 per channel");
   }
@@ -67,7 +67,7 @@ MultisineSet standard_set(std::uint32_t channels, std::uint32_t period, std::uin
                           std::uint32_t line_count, double amplitude) {
   ZipperedLayout layout{channels, 0, line_count, 0, amplitude};
   check_layout(layout, "standard_set");
-  if (first_index == 0) throw std::invalid_argument("standard_set: first_index: expected >= 1");
+  if (first_index == 0) throw std::invalid_argument("standard_set: first_index = 0, expected >= 1");
   check_nyquist(std::uint64_t{first_index} + line_count - 1, period, "standard_set");
   MultisineSet set;
   set.period = period;
@@ -95,7 +95,7 @@ MultisineSet zippered_set(std::uint32_t period, const ZipperedLayout& layout) {
 std::vector<Eigen::VectorXd> weak_input_directions(const Eigen::MatrixXd& gain,
                                                    double xi_threshold) {
   if (gain.rows() == 0 || gain.rows() != gain.cols()) {
-    throw std::invalid_argument("weak_input_directions: gain: expected a square n×n G(0), got " +
+    throw std::invalid_argument("weak_input_directions: gain, expected a square n×n G(0), got " +
                                 std::to_string(gain.rows()) + "×" + std::to_string(gain.cols()));
   }
   if (!gain.allFinite()) throw std::invalid_argument("weak_input_directions: gain: not finite");

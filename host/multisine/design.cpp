@@ -66,7 +66,7 @@ void check_request(const DesignRequest& r, const char* procedure) {
   positive(r.alpha, "alpha");
   positive(r.beta, "beta");
   if (r.sample_time != 0.0) positive(r.sample_time, "sample_time");
-  if (r.channels == 0) throw std::invalid_argument(where + ": channels: expected >= 1");
+  if (r.channels == 0) throw std::invalid_argument(where + ": channels = 0, expected >= 1");
 }
 
 // ω_L, ω_H (4.4.10) and T, with their explanation lines.

@@ -369,7 +369,7 @@ class CrestObjective {
 
 void check_options(const GuillaumeOptions& options) {
   if (options.norms.empty())
-    throw std::invalid_argument("guillaume: norms: expected at least one p");
+    throw std::invalid_argument("guillaume: norms = {} (none), expected at least one p");
   double previous = 0.0;
   for (std::size_t k = 0; k < options.norms.size(); ++k) {
     const double p = options.norms[k];
@@ -385,7 +385,7 @@ void check_options(const GuillaumeOptions& options) {
         ", expected within [0, 1]");
   }
   if (options.iterations_per_norm < 1) {
-    throw std::invalid_argument("guillaume: iterations_per_norm: expected >= 1");
+    throw std::invalid_argument("guillaume: iterations_per_norm = " + std::to_string(options.iterations_per_norm) + ", expected >= 1");
   }
 }
 

@@ -60,7 +60,7 @@ std::vector<double> schroeder_phases_equal(std::uint32_t line_count) {
 
 std::vector<double> linear_phases(std::span<const std::uint32_t> indices, std::uint32_t period,
                                   double delay_samples) {
-  if (period == 0) throw std::invalid_argument("linear_phases: period: expected > 0 samples");
+  if (period == 0) throw std::invalid_argument("linear_phases: period = 0, expected > 0 samples");
   std::vector<double> phases(indices.size());
   for (std::size_t k = 0; k < indices.size(); ++k) {
     const double omega = 2.0 * std::numbers::pi * indices[k] / period;  // rad/sample

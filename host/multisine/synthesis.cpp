@@ -13,7 +13,7 @@ namespace excite::host::multisine {
 
 void validate_lines(std::span<const Line> lines, std::uint32_t period, std::string_view what) {
   const std::string where(what);
-  if (period == 0) throw std::invalid_argument(where + ": period: expected > 0 samples, got 0");
+  if (period == 0) throw std::invalid_argument(where + ": period = 0, expected > 0 samples");
   if (lines.empty()) {
     throw std::invalid_argument(where + ": lines: too few lines, expected at least 1, got 0");
   }
@@ -83,7 +83,7 @@ std::vector<double> synthesize_on_grid(std::span<const Line> lines, std::uint32_
 }
 
 double crest_factor(std::span<const double> samples) {
-  if (samples.empty()) throw std::invalid_argument("crest_factor: samples: expected at least 1");
+  if (samples.empty()) throw std::invalid_argument("crest_factor: samples = 0 (none), expected at least 1");
   double peak = 0.0;
   double sum_squares = 0.0;
   for (double v : samples) {

@@ -49,7 +49,7 @@ WholeFolder::WholeFolder(const fs::path& path, bool overwrite,
     if (!fs::is_directory(st)) refuse(path, "it is not a folder");
     if (!fs::is_empty(target_, ec) && !is_previous(target_) && !overwrite) {
       refuse(path, std::string("a folder with other files, not ") + what_previous +
-                       "; expected a new or empty folder, or --overwrite to replace it whole");
+                       ", expected a new or empty folder, or --overwrite to replace it whole");
     }
     struct stat info {};
     if (::stat(target_.c_str(), &info) == 0) mode = info.st_mode & 07777;

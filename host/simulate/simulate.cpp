@@ -45,7 +45,7 @@ SimulatedRun simulate_plan(const plan::Plan& plan, std::string plan_label, sim::
   if (static_cast<int>(plan.recipe.channels) != plant.inputs()) {
     throw std::invalid_argument("plan has " + std::to_string(plan.recipe.channels) +
                                 " channels, plant " + plant.name() + " has " +
-                                std::to_string(plant.inputs()) + " inputs; expected equal");
+                                std::to_string(plant.inputs()) + " inputs, expected equal");
   }
   if (options.periods == 0) throw std::invalid_argument("periods = 0, expected at least 1");
   const std::uint64_t rows = std::uint64_t{options.periods} * plan.recipe.samples;

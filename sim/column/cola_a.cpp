@@ -167,7 +167,7 @@ ColaA::ColaA(ColaAParameters p) : p_(p), stages_(p.stages) {
   if (p_.stages < 3 || p_.feed_stage < 2 || p_.feed_stage > p_.stages - 1) {
     std::ostringstream msg;
     msg << "colaA: stages = " << p_.stages << ", feed_stage = " << p_.feed_stage
-        << "; expected at least 3 stages and the feed on a tray (2…stages−1)";
+        << ", expected at least 3 stages and the feed on a tray (2…stages−1)";
     throw std::invalid_argument(msg.str());
   }
   if (!(p_.holdup_kmol > 0.0 && p_.liquid_time_constant_min > 0.0 && p_.relative_volatility > 0.0 &&

@@ -24,7 +24,7 @@ void require_finite_inputs(const double* u, const std::string& plant, long row) 
     std::ostringstream msg;
     msg << plant << ": input " << (i == 0 ? "L" : "V") << " deviation";
     if (row >= 0) msg << " at sample " << row;
-    msg << " is " << u[i] << "; expected a finite number (kmol/min)";
+    msg << " is " << u[i] << ", expected a finite number (kmol/min)";
     throw std::invalid_argument(msg.str());
   }
 }
@@ -56,7 +56,7 @@ ColumnPlant ColumnPlant::by_name(const std::string& name) {
   if (name == "colaA") return cola_a();
   if (name == "pilot15") return pilot15();
   throw std::invalid_argument("unknown column plant \"" + name +
-                              "\"; expected \"colaA\" or \"pilot15\"");
+                              "\", expected \"colaA\" or \"pilot15\"");
 }
 
 Linearisation ColumnPlant::linearise(const Eigen::VectorXd& state, const Operating& op) const {
@@ -118,7 +118,7 @@ void ColumnPlant::reset() {
 void ColumnPlant::set_max_steps_per_sample(long n) {
   if (n < 1) {
     std::ostringstream msg;
-    msg << model_->name() << ": max_steps_per_sample = " << n << "; expected at least 1";
+    msg << model_->name() << ": max_steps_per_sample = " << n << ", expected at least 1";
     throw std::invalid_argument(msg.str());
   }
   tol_.max_steps = n;
@@ -127,7 +127,7 @@ void ColumnPlant::set_max_steps_per_sample(long n) {
 void ColumnPlant::set_state(const Eigen::VectorXd& s) {
   if (s.size() != model_->state_size()) {
     std::ostringstream msg;
-    msg << model_->name() << ": state has " << s.size() << " components; expected "
+    msg << model_->name() << ": state has " << s.size() << " components, expected "
         << model_->state_size();
     throw std::invalid_argument(msg.str());
   }
@@ -138,7 +138,7 @@ void ColumnPlant::set_state(const Eigen::VectorXd& s) {
 void ColumnPlant::set_sample_time_min(double t) {
   if (!(std::isfinite(t) && t > 0.0)) {
     std::ostringstream msg;
-    msg << model_->name() << ": sample time " << t << " min; expected a positive number";
+    msg << model_->name() << ": sample time " << t << " min, expected a positive number";
     throw std::invalid_argument(msg.str());
   }
   sample_time_min_ = t;
@@ -173,13 +173,13 @@ Eigen::MatrixXd ColumnPlant::simulate(const Eigen::MatrixXd& U, double sample_ti
   if (U.cols() != 2) {
     std::ostringstream msg;
     msg << model_->name() << ": input matrix has " << U.cols()
-        << " columns; expected 2 (L, V deviations)";
+        << " columns, expected 2 (L, V deviations)";
     throw std::invalid_argument(msg.str());
   }
   if (!(std::isfinite(sample_time_min) && sample_time_min > 0.0)) {
     std::ostringstream msg;
     msg << model_->name() << ": sample time " << sample_time_min
-        << " min; expected a positive number";
+        << " min, expected a positive number";
     throw std::invalid_argument(msg.str());
   }
   for (Eigen::Index k = 0; k < U.rows(); ++k) {

@@ -12,7 +12,7 @@ void require_flow(double value, const char* field, const std::string& context) {
   if (std::isfinite(value) && value >= 0.0) return;
   std::ostringstream msg;
   msg << context << ": " << field << " = " << value
-      << " kmol/min; expected a finite, non-negative flow";
+      << " kmol/min, expected a finite, non-negative flow";
   throw std::invalid_argument(msg.str());
 }
 
@@ -25,7 +25,7 @@ void validate(const Operating& op, const std::string& context) {
   if (!(std::isfinite(op.feed_light) && op.feed_light >= 0.0 && op.feed_light <= 1.0)) {
     std::ostringstream msg;
     msg << context << ": feed composition z_F = " << op.feed_light
-        << "; expected a mole fraction in [0, 1]";
+        << ", expected a mole fraction in [0, 1]";
     throw std::invalid_argument(msg.str());
   }
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace excite::sim::column {
 
@@ -143,12 +144,12 @@ Pilot15::Pilot15(Pilot15Parameters p) : p_(p), vle_(p.pressure_kpa) {
   if (p_.trays < 2 || p_.feed_tray < 1 || p_.feed_tray > p_.trays) {
     std::ostringstream msg;
     msg << "pilot15: trays = " << p_.trays << ", feed_tray = " << p_.feed_tray
-        << "; expected at least 2 trays and the feed on one of them";
+        << ", expected at least 2 trays and the feed on one of them";
     throw std::invalid_argument(msg.str());
   }
   if (!(p_.liquid_return_fraction >= 0.0 && p_.liquid_return_fraction < 1.0 &&
         p_.compartment_return_fraction >= 0.0 && p_.compartment_return_fraction <= 1.0)) {
-    throw std::invalid_argument("pilot15: expected 0 ≤ R < 1 and 0 ≤ r ≤ 1");
+    throw std::invalid_argument("pilot15: R = " + std::to_string(p_.liquid_return_fraction) + ", r = " + std::to_string(p_.compartment_return_fraction) + ", expected 0 ≤ R < 1 and 0 ≤ r ≤ 1");
   }
   validate(p_.nominal, "pilot15 nominal operating point");
   distillate_bias_ = p_.nominal.boilup_kmol_min - p_.nominal.reflux_kmol_min;
@@ -250,7 +251,7 @@ void Pilot15::check_state(const Eigen::VectorXd& s) const {
       std::ostringstream msg;
       msg << (i == 0 ? std::string("reflux drum") : "tray " + std::to_string(i))
           << " left the physical range (M = " << m << " kmol, x = " << xi
-          << "; expected M > 0, 0 ≤ x ≤ 1)";
+          << ", expected M > 0, 0 ≤ x ≤ 1)";
       fail(msg.str());
     }
   }
@@ -258,13 +259,13 @@ void Pilot15::check_state(const Eigen::VectorXd& s) const {
   if (pr.distillate_kmol_min < 0.0 || pr.bottoms_kmol_min < 0.0) {
     std::ostringstream msg;
     msg << "level loops demand negative product flows (D = " << pr.distillate_kmol_min
-        << ", B = " << pr.bottoms_kmol_min << " kmol/min; expected ≥ 0)";
+        << ", B = " << pr.bottoms_kmol_min << " kmol/min, expected ≥ 0)";
     fail(msg.str());
   }
   const double l_b = compartment_overflow(s);
   if (l_b < 0.0) {
     std::ostringstream msg;
-    msg << "reboiler compartment runs dry (L_b = " << l_b << " kmol/min; expected ≥ 0)";
+    msg << "reboiler compartment runs dry (L_b = " << l_b << " kmol/min, expected ≥ 0)";
     fail(msg.str());
   }
 }

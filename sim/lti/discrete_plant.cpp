@@ -52,7 +52,7 @@ void DiscretePlant::step(const double* u, double* y) {
     if (!std::isfinite(u[j])) {
       throw std::invalid_argument("input " + std::to_string(j + 1) + " at sample " +
                                   std::to_string(tick_) + " is " + std::to_string(u[j]) +
-                                  ": expected a finite value");
+                                  ", expected a finite value");
     }
   }
   for (int j = 0; j < inputs_; ++j) {
@@ -82,7 +82,7 @@ Eigen::MatrixXd DiscretePlant::simulate(const Eigen::MatrixXd& u) const {
     Eigen::Index c = 0;
     (!u.array().isFinite()).cast<int>().maxCoeff(&r, &c);
     throw std::invalid_argument("input matrix U(" + std::to_string(r) + ", " + std::to_string(c) +
-                                ") is " + std::to_string(u(r, c)) + ": expected a finite value");
+                                ") is " + std::to_string(u(r, c)) + ", expected a finite value");
   }
   const auto n = static_cast<std::size_t>(u.rows());
   Eigen::MatrixXd y = Eigen::MatrixXd::Zero(u.rows(), outputs_);

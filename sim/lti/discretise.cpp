@@ -22,7 +22,7 @@ using SmallRow = Eigen::Matrix<double, 1, Eigen::Dynamic, Eigen::RowMajor, 1, kM
 void check_sample_time(double t) {
   if (!std::isfinite(t) || t <= 0.0) {
     throw std::invalid_argument("sample time " + std::to_string(t) +
-                                " min: expected a finite value > 0");
+                                " min, expected a finite value > 0");
   }
 }
 
@@ -47,12 +47,12 @@ DelaySplit split_delay(double delay_min, double sample_time_min) {
   check_sample_time(sample_time_min);
   if (!std::isfinite(delay_min) || delay_min < 0.0) {
     throw std::invalid_argument("delay " + std::to_string(delay_min) +
-                                " min: expected a finite value ≥ 0");
+                                " min, expected a finite value ≥ 0");
   }
   const double samples = delay_min / sample_time_min;
   if (samples > kMaxDelaySamples) {
     throw std::invalid_argument("delay " + std::to_string(delay_min) + " min at sample time " +
-                                std::to_string(sample_time_min) + " min: expected at most " +
+                                std::to_string(sample_time_min) + " min, expected at most " +
                                 std::to_string(kMaxDelaySamples) + " samples");
   }
   double whole = std::floor(samples);
@@ -73,14 +73,14 @@ DiscreteTerm discretise_zoh(std::span<const double> num, std::span<const double>
   const double T = sample_time_min;
   const DelaySplit split = split_delay(delay_min, T);
   const int n = degree_of(den);
-  if (n < 0) throw std::invalid_argument("denominator: expected a non-zero polynomial");
+  if (n < 0) throw std::invalid_argument("denominator, expected a non-zero polynomial");
   if (n > kMaxTermOrder) {
-    throw std::invalid_argument("denominator degree " + std::to_string(n) + ": expected at most " +
+    throw std::invalid_argument("denominator degree " + std::to_string(n) + ", expected at most " +
                                 std::to_string(kMaxTermOrder));
   }
   if (degree_of(num) > n) {
     throw std::invalid_argument("numerator degree " + std::to_string(degree_of(num)) +
-                                ": expected at most the denominator degree " + std::to_string(n));
+                                ", expected at most the denominator degree " + std::to_string(n));
   }
   if (static_cast<int>(poles.size()) != n) {
     throw std::invalid_argument(std::to_string(poles.size()) +
@@ -156,7 +156,7 @@ DiscreteTerm discretise_zoh(std::span<const double> num, std::span<const double>
     if (!std::isfinite(out.b[uj]) || !std::isfinite(out.a[uj])) {
       throw std::invalid_argument(
           "discretisation at sample time " + std::to_string(T) +
-          " min gives non-finite coefficients (poles too fast for the sample time): expected "
+          " min gives non-finite coefficients (poles too fast for the sample time), expected "
           "a shorter sample time or slower poles");
     }
   }
@@ -180,7 +180,7 @@ DiscreteTerm discretise_zoh(const Term& term, double sample_time_min) {
   const int n = term.denominator_degree();
   if (n > kMaxTermOrder) {
     throw std::invalid_argument("term denominator degree " + std::to_string(n) +
-                                ": expected at most " + std::to_string(kMaxTermOrder));
+                                ", expected at most " + std::to_string(kMaxTermOrder));
   }
   const Polynomial num = term.numerator();
   const Polynomial den = term.denominator();

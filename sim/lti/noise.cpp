@@ -26,12 +26,12 @@ double GaussianSource::next() {
 
 MeasurementNoise::MeasurementNoise(std::vector<double> variances, std::uint64_t seed)
     : source_(seed) {
-  if (variances.empty()) throw std::invalid_argument("noise variances: expected one per output");
+  if (variances.empty()) throw std::invalid_argument("noise variances, expected one per output");
   for (std::size_t i = 0; i < variances.size(); ++i) {
     const double v = variances[i];
     if (!std::isfinite(v) || v < 0.0) {
       throw std::invalid_argument("noise variance of output " + std::to_string(i + 1) + " is " +
-                                  std::to_string(v) + ": expected a finite value ≥ 0");
+                                  std::to_string(v) + ", expected a finite value ≥ 0");
     }
     std_dev_.push_back(std::sqrt(v));
   }

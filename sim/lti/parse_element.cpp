@@ -329,11 +329,11 @@ std::string describe(const Polynomial& p) {
 std::string check_term(const Term& term, const ElementRules& rules) {
   if (!std::isfinite(term.gain)) return "gain " + format_number(term.gain) + " is not finite";
   if (!std::isfinite(term.delay_min) || term.delay_min < 0.0) {
-    return "delay " + format_number(term.delay_min) + " min: expected a finite delay ≥ 0";
+    return "delay " + format_number(term.delay_min) + " min, expected a finite delay ≥ 0";
   }
   for (const auto* list : {&term.zeros, &term.poles}) {
     for (const Factor& f : *list) {
-      if (f.power < 1) return "factor power " + std::to_string(f.power) + ": expected ≥ 1";
+      if (f.power < 1) return "factor power " + std::to_string(f.power) + ", expected ≥ 1";
       for (double c : f.poly) {
         if (!std::isfinite(c))
           return "factor (" + describe(f.poly) + ") has a non-finite coefficient";
@@ -358,7 +358,7 @@ std::string check_term(const Term& term, const ElementRules& rules) {
             msg += ", time constant " + format_number(f.poly[1] / f.poly[0]) + " min";
           }
           return msg +
-                 ": expected poles in the open left half-plane (time constants > 0); "
+                 ", expected poles in the open left half-plane (time constants > 0); "
                  "set allow_unstable to accept";
         }
       }

@@ -16,7 +16,7 @@ void check(double value, const char* name, bool non_negative) {
   if (!std::isfinite(value) || (non_negative && value < 0.0)) {
     throw std::invalid_argument(
         std::string("SOPDT parameter ") + name + " = " + std::to_string(value) +
-        (non_negative ? ": expected a finite value ≥ 0" : ": expected a finite value"));
+        (non_negative ? ", expected a finite value ≥ 0" : ", expected a finite value"));
   }
 }
 
@@ -68,7 +68,7 @@ void simulate_term(const DiscreteTerm& d, const double* u, double* y, std::size_
 
 Eigen::VectorXd simulate_sopdt(const SopdtParameters& p, double sample_time_min,
                                const Eigen::VectorXd& u) {
-  if (!u.allFinite()) throw std::invalid_argument("input column: expected finite values");
+  if (!u.allFinite()) throw std::invalid_argument("input column, expected finite values");
   const DiscreteTerm d = discretise_sopdt(p, sample_time_min);
   Eigen::VectorXd y(u.size());
   simulate_term(d, u.data(), y.data(), static_cast<std::size_t>(u.size()));

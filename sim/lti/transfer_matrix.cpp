@@ -23,7 +23,7 @@ void check_names(const std::vector<std::string>& names, int expected, const char
   }
   std::set<std::string> seen;
   for (const std::string& n : names) {
-    if (n.empty()) throw std::invalid_argument(std::string(what) + ": expected non-empty names");
+    if (n.empty()) throw std::invalid_argument(std::string(what) + ", expected non-empty names");
     if (!seen.insert(n).second) {
       throw std::invalid_argument(std::string(what) + ": name \"" + n +
                                   "\" appears twice, expected unique names");
@@ -40,7 +40,7 @@ TransferMatrix::TransferMatrix(int outputs, int inputs)
       output_names_(default_names('y', outputs)) {
   if (outputs < 1 || inputs < 1) {
     throw std::invalid_argument("transfer matrix size " + std::to_string(outputs) + " × " +
-                                std::to_string(inputs) + ": expected at least 1 × 1");
+                                std::to_string(inputs) + ", expected at least 1 × 1");
   }
   elements_.resize(static_cast<std::size_t>(outputs) * static_cast<std::size_t>(inputs));
 }
@@ -107,7 +107,7 @@ Eigen::MatrixXd TransferMatrix::static_gain() const {
 Eigen::MatrixXcd TransferMatrix::frequency_response(double omega_rad_per_min) const {
   if (!std::isfinite(omega_rad_per_min)) {
     throw std::invalid_argument("frequency " + std::to_string(omega_rad_per_min) +
-                                " rad/min: expected a finite value");
+                                " rad/min, expected a finite value");
   }
   Eigen::MatrixXcd g(outputs_, inputs_);
   for (int i = 0; i < outputs_; ++i) {

@@ -34,7 +34,7 @@ void require_step_arguments(const std::string& plant, bool live, std::span<const
                             std::span<double> dy, int inputs, int outputs) {
   if (!live) {
     throw std::invalid_argument(plant +
-                                ": step() before reset(sample_time_min): expected "
+                                ": step() before reset(sample_time_min), expected "
                                 "reset() to start the live simulation");
   }
   if (du.size() != static_cast<std::size_t>(inputs)) {

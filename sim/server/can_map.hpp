@@ -40,7 +40,7 @@ struct CanLoopMap {
 
 /// The default CAN map for a plant with `inputs` inputs and `outputs` outputs, channels
 /// named by `input_names`/`output_names` when given (else u1.., y1..). Throws
-/// std::invalid_argument "plant = ...: expected 1..32 inputs and 1..64 outputs ..." beyond.
+/// std::invalid_argument "plant = ..., expected 1..32 inputs and 1..64 outputs ..." beyond.
 CanLoopMap default_can_map(int inputs, int outputs,
                            const std::vector<std::string>& input_names = {},
                            const std::vector<std::string>& output_names = {});

@@ -30,7 +30,7 @@ inline constexpr int default_max_outputs = 50;  // values stay below the echo at
 
 /// The default map for a plant with `inputs` inputs and `outputs` outputs, entries named
 /// by `input_names`/`output_names` when given (sizes must then match). Throws
-/// std::invalid_argument "plant = ...: expected at most 99 inputs and 50 outputs ..." beyond
+/// std::invalid_argument "plant = ..., expected at most 99 inputs and 50 outputs ..." beyond
 /// the table's room.
 ServerRegisters default_registers(int inputs, int outputs,
                                   const std::vector<std::string>& input_names = {},

@@ -22,7 +22,7 @@ namespace excite::sim::server {
 /// The plant named by the settings: a plant `make_plant` knows (sim/plants: the library
 /// plants, colaA, pilot15) or a plant file (sim/lti format, ending in .toml), a relative
 /// path taken from `base_directory`. Throws std::invalid_argument
-/// "<source>: plant.library = ...: expected ..." (or the plant file's own error).
+/// "<source>: plant.library = ..., expected ..." (or the plant file's own error).
 std::unique_ptr<Plant> load_plant(const PlantSettings& settings,
                                   const std::filesystem::path& base_directory,
                                   std::string_view source = "config");

@@ -6,7 +6,7 @@
 // `compile_register_map`, so the plant and the gateway agree on every bit.
 //
 // Every error is a std::invalid_argument whose message reads
-//   "<source>: <field> = <value>: expected <what>".
+//   "<source>: <field> = <value>, expected <what>".
 
 #include <cstdint>
 #include <filesystem>

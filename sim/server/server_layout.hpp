@@ -48,7 +48,7 @@ void check_registers(const ServerRegisters& registers, std::string_view source);
 /// places every register. In lock-step mode the heartbeat must be the highest write
 /// register, so that a gateway writing in address order (hal's request plan) writes it last
 /// and the sample it triggers sees this tick's setpoints. Throws std::invalid_argument
-/// "<source>: <field> = <value>: expected <what>".
+/// "<source>: <field> = <value>, expected <what>".
 ServerLayout compile_layout(const ServerConfig& config, int inputs, int outputs, bool lockstep,
                             std::string_view source = "config");
 

@@ -134,7 +134,7 @@ TEST_F(LoopConfig, BadNumbersAreRefusedByName) {
   EXPECT_NE(excite({"loop-config", "--plant", "alatiqi4x4", "--input-range", "nan", "-o",
                     (dir_.path() / "x").string()}),
             0);
-  EXPECT_THAT(excite_output(), HasSubstr("--input-range: nan: expected a finite number >= 0"));
+  EXPECT_THAT(excite_output(), HasSubstr("--input-range: nan, expected a finite number >= 0"));
   EXPECT_NE(excite({"loop-config", "--plant", "nosuch", "-o", (dir_.path() / "x").string()}), 0);
   EXPECT_THAT(excite_output(), HasSubstr("nosuch"));
 }
@@ -165,7 +165,7 @@ TEST_F(LoopConfig, PlantSideHasAWatchdogAndTheGatewaysLimits) {
     EXPECT_NE(
         excite({"loop-config", "--plant", "woodberry2x2", "--watchdog-s", bad, "-o", out.string()}),
         0);
-    EXPECT_THAT(excite_output(), HasSubstr("--watchdog-s: " + bad + ": expected"));
+    EXPECT_THAT(excite_output(), HasSubstr("--watchdog-s: " + bad + ", expected"));
   }
 }
 

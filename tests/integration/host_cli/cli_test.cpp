@@ -513,7 +513,7 @@ TEST_F(ExciteCli, ExportWritesEveryFormatOfAnIdentifiedModel) {
   const Result not_a_model =
       excite("export " + path("not-a-model.json") + " --format json -o " + path("y"));
   EXPECT_EQ(not_a_model.exit_code, 1);
-  EXPECT_NE(not_a_model.out.find("format: expected \"excite model v2\" or \"excite model v1\""),
+  EXPECT_NE(not_a_model.out.find("format, expected \"excite model v2\" or \"excite model v1\""),
             std::string::npos)
       << not_a_model.out;
   EXPECT_FALSE(std::filesystem::exists(path("y")));

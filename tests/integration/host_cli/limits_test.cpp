@@ -58,13 +58,13 @@ TEST_F(Limits, NanAndNegativeOptionValuesAreRefusedByName) {
   make_plan_and_run();
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"simulate " + path("wb.plan") + " --plant woodberry2x2 --noise-var nan -o " + path("n.csv"),
-       "--noise-var: nan: expected a finite number >= 0"},
+       "--noise-var: nan, expected a finite number >= 0"},
       {"simulate " + path("wb.plan") + " --plant woodberry2x2 --noise-var -1 -o " + path("n.csv"),
-       "--noise-var: -1: expected a finite number >= 0"},
-      {"gains --plant woodberry2x2 --xi-threshold nan", "--xi-threshold: nan: expected"},
-      {"gains --plant woodberry2x2 --xi-threshold -1", "--xi-threshold: -1: expected"},
-      {"identify --max-delay 0 " + path("wb.csv"), "--max-delay: 0: expected"},
-      {"identify --tau-high inf " + path("wb.csv"), "--tau-high: inf: expected"},
+       "--noise-var: -1, expected a finite number >= 0"},
+      {"gains --plant woodberry2x2 --xi-threshold nan", "--xi-threshold: nan, expected"},
+      {"gains --plant woodberry2x2 --xi-threshold -1", "--xi-threshold: -1, expected"},
+      {"identify --max-delay 0 " + path("wb.csv"), "--max-delay: 0, expected"},
+      {"identify --tau-high inf " + path("wb.csv"), "--tau-high: inf, expected"},
       {"campaign --plant woodberry2x2 --noise-var nan -o " + path("c"), "--noise-var: nan"},
       {"loop-config --plant woodberry2x2 --input-range nan -o " + path("l"), "--input-range: nan"},
   };

@@ -204,7 +204,7 @@ TEST(ForcedStructure, EachElementInItsOwnGivenStructure) {
     (void)identify(design.table, Y, prior.sample_time_min, options);
     ADD_FAILURE() << "15 structures for 16 elements were accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("structures has 15 entries; expected one per element, 16"),
+    EXPECT_NE(std::string(e.what()).find("structures has 15 entries, expected one per element, 16"),
               std::string::npos)
         << e.what();
   }

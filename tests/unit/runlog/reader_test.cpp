@@ -147,13 +147,13 @@ TEST(RunLogReader, TooFewRows) {
   ReadOptions options;
   options.min_rows = 10;
   const ReadError e = error_of(kHeader + kColumns + rows(3), options);
-  EXPECT_NE(e.message.find("3 data rows; expected at least 10"), std::string::npos);
+  EXPECT_NE(e.message.find("3 data rows, expected at least 10"), std::string::npos);
 }
 
 TEST(RunLogReader, WrongFieldCount) {
   const ReadError e = error_of(kHeader + kColumns + "0,0,0,0,0,0,0\n");
   EXPECT_EQ(e.line, 9U);
-  EXPECT_NE(e.message.find("7 fields; expected 8"), std::string::npos) << e.message;
+  EXPECT_NE(e.message.find("7 fields, expected 8"), std::string::npos) << e.message;
 }
 
 TEST(RunLogReader, UnknownFlagBitsAreRejected) {
@@ -246,7 +246,7 @@ TEST(RunLogReader, V2SkippedRowJumpsKAndTimeTogether) {
   EXPECT_EQ(r.log.k[2], 4U);
   // The same jump without the flag is an error, as in v1.
   const ReadError unflagged = error_of(head + "2,4,0,0,0,0,0,0,running\n");
-  EXPECT_NE(unflagged.message.find("k: 4 follows 1; expected 2"), std::string::npos)
+  EXPECT_NE(unflagged.message.find("k: 4 follows 1, expected 2"), std::string::npos)
       << unflagged.message;
   // Flagged skipped, k and t_min must still agree.
   const ReadError time = error_of(head + "1.5,4,0,0,0,0,0,32,running\n");
