@@ -236,7 +236,8 @@ NamedModel read_named_model_file(const std::filesystem::path& path) {
   IdentifiedModel& m = named.model;
   m.sample_time_min = number(j, "sample_time_min", where + ":");
   if (!(m.sample_time_min > 0.0))
-    throw std::invalid_argument(where + ": sample_time_min = " + std::to_string(m.sample_time_min) + ", expected > 0");
+    throw std::invalid_argument(where + ": sample_time_min = " + std::to_string(m.sample_time_min) +
+                                ", expected > 0");
   for (const char* key : {"inputs", "outputs"}) {
     if (!j.contains(key) || !j[key].is_array()) {
       throw std::invalid_argument(where + ": " + key + " = " +

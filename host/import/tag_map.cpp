@@ -36,7 +36,8 @@ std::vector<TagSpec> read_role(const toml::table& root, const char* role, std::s
     for (const auto& [key, value] : *t) {
       const std::string k(key.str());
       if (k != "tag" && k != "name" && k != "unit") {
-        fail(source, value, at + "." + k, "one of the known keys: tag, name, unit", " (unknown key)");
+        fail(source, value, at + "." + k, "one of the known keys: tag, name, unit",
+             " (unknown key)");
       }
       const auto* s = value.as_string();
       if (s == nullptr) fail(source, value, at + "." + k, "a string");
@@ -66,6 +67,8 @@ TagMap parse_tag_map(std::string_view toml_text, std::string_view source_name) {
   return TagMap{read_role(root, "mv", source_name), read_role(root, "cv", source_name)};
 }
 
-TagMap read_tag_map(const std::string& path) { return parse_tag_map(config::read_file(path), path); }
+TagMap read_tag_map(const std::string& path) {
+  return parse_tag_map(config::read_file(path), path);
+}
 
 }  // namespace excite::host::historian

@@ -36,7 +36,9 @@ json parse(const std::filesystem::path& file) {
 class Reader {
  public:
   Reader(const std::filesystem::path& file, const json& object) : file_(file), object_(object) {
-    if (!object_.is_object()) throw std::runtime_error(file_.string() + ": top level = " + std::string(object_.type_name()) + ", expected a JSON object");
+    if (!object_.is_object())
+      throw std::runtime_error(file_.string() + ": top level = " +
+                               std::string(object_.type_name()) + ", expected a JSON object");
   }
   const json& at(const char* key) const {
     if (!object_.contains(key))

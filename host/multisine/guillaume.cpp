@@ -385,7 +385,8 @@ void check_options(const GuillaumeOptions& options) {
         ", expected within [0, 1]");
   }
   if (options.iterations_per_norm < 1) {
-    throw std::invalid_argument("guillaume: iterations_per_norm = " + std::to_string(options.iterations_per_norm) + ", expected >= 1");
+    throw std::invalid_argument("guillaume: iterations_per_norm = " +
+                                std::to_string(options.iterations_per_norm) + ", expected >= 1");
   }
 }
 

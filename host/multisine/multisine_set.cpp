@@ -12,7 +12,8 @@
 namespace excite::host::multisine {
 
 void validate_set(const MultisineSet& set) {
-  if (set.channels.empty()) throw std::invalid_argument("multisine set: channels = 0 (none), expected >= 1");
+  if (set.channels.empty())
+    throw std::invalid_argument("multisine set: channels = 0 (none), expected >= 1");
   const std::size_t n = set.channels.size();
   if (!set.snow.empty() && set.snow.size() != n) {
     throw std::invalid_argument("multisine set: snow: " + std::to_string(set.snow.size()) +

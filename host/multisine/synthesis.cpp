@@ -83,7 +83,8 @@ std::vector<double> synthesize_on_grid(std::span<const Line> lines, std::uint32_
 }
 
 double crest_factor(std::span<const double> samples) {
-  if (samples.empty()) throw std::invalid_argument("crest_factor: samples = 0 (none), expected at least 1");
+  if (samples.empty())
+    throw std::invalid_argument("crest_factor: samples = 0 (none), expected at least 1");
   double peak = 0.0;
   double sum_squares = 0.0;
   for (double v : samples) {

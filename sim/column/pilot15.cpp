@@ -149,7 +149,9 @@ Pilot15::Pilot15(Pilot15Parameters p) : p_(p), vle_(p.pressure_kpa) {
   }
   if (!(p_.liquid_return_fraction >= 0.0 && p_.liquid_return_fraction < 1.0 &&
         p_.compartment_return_fraction >= 0.0 && p_.compartment_return_fraction <= 1.0)) {
-    throw std::invalid_argument("pilot15: R = " + std::to_string(p_.liquid_return_fraction) + ", r = " + std::to_string(p_.compartment_return_fraction) + ", expected 0 ≤ R < 1 and 0 ≤ r ≤ 1");
+    throw std::invalid_argument("pilot15: R = " + std::to_string(p_.liquid_return_fraction) +
+                                ", r = " + std::to_string(p_.compartment_return_fraction) +
+                                ", expected 0 ≤ R < 1 and 0 ≤ r ≤ 1");
   }
   validate(p_.nominal, "pilot15 nominal operating point");
   distillate_bias_ = p_.nominal.boilup_kmol_min - p_.nominal.reflux_kmol_min;
