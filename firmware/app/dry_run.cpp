@@ -22,7 +22,7 @@ void print_dry_run(std::FILE* out, const Gateway& gw, const DistortionVerdict& d
                std::chrono::duration<double>(gw.period()).count());
   std::fprintf(out, "device: %s%s\n", describe_peer(config).c_str(),
                config.simulator ? " (a simulated plant)" : "");
-  const bool can = config.transport == Transport::can;
+  const hal::TransportConfig* bus = config.transport.get();
   std::fprintf(out, "would write every tick, setpoint = baseline (read back at arm) + du:\n");
   for (std::size_t c = 0; c < config.setpoints.size(); ++c) {
     const auto& s = config.setpoints[c];
@@ -32,15 +32,8 @@ void print_dry_run(std::FILE* out, const Gateway& gw, const DistortionVerdict& d
       lo = std::min(lo, table.at(k, static_cast<std::uint32_t>(c)));
       hi = std::max(hi, table.at(k, static_cast<std::uint32_t>(c)));
     }
-    if (can) {
-      const auto& g = config.can.map.setpoints[c];
-      std::fprintf(out, "  %-12s CAN 0x%03X byte %u %-7s %-6s scale %g offset %g", s.name.c_str(),
-                   g.id, g.byte_offset, g.type.c_str(), g.byte_order.c_str(), g.scale, g.offset);
-    } else {
-      const auto& r = config.modbus.map.setpoints[c];
-      std::fprintf(out, "  %-12s register %5u %-7s %-4s", s.name.c_str(), r.address, r.type.c_str(),
-                   r.type == "float32" ? r.word_order.c_str() : "");
-    }
+    std::fprintf(out, "  %-12s %s", s.name.c_str(),
+                 bus ? bus->channel_columns(hal::ChannelKind::setpoint, c).c_str() : "");
     std::fprintf(
         out,
         " du in [%g, %g] %s, limits [%g, %g], max move %g/tick, baseline from %s (plan channel "
@@ -48,28 +41,16 @@ void print_dry_run(std::FILE* out, const Gateway& gw, const DistortionVerdict& d
         lo, hi, s.unit.c_str(), s.min, s.max, s.max_move, s.readback.c_str(),
         plan::text_of(plan.meta.channels[c].name).data());
   }
-  if (!can && config.modbus.map.heartbeat_address) {
-    std::fprintf(out, "  heartbeat    register %5u uint16 counter, +1 per tick\n",
-                 *config.modbus.map.heartbeat_address);
-  }
-  if (can && config.can.map.heartbeat) {
-    const auto& h = *config.can.map.heartbeat;
-    std::fprintf(out, "  heartbeat    CAN 0x%03X byte %u %s counter, +1 per tick\n", h.id,
-                 h.byte_offset, h.type.c_str());
+  if (const std::string heartbeat = bus ? bus->heartbeat_columns() : ""; !heartbeat.empty()) {
+    std::fprintf(out, "  heartbeat    %s counter, +1 per tick\n", heartbeat.c_str());
   }
   std::fprintf(out, "would read every tick:\n");
   for (std::size_t j = 0; j < config.values.size(); ++j) {
     const auto& v = config.values[j];
     static const char* roles[] = {"output", "readback", "heartbeat_echo", "command"};
-    if (can) {
-      const auto& g = config.can.map.values[j];
-      std::fprintf(out, "  %-12s CAN 0x%03X byte %u %-7s %s", v.name.c_str(), g.id, g.byte_offset,
-                   g.type.c_str(), roles[static_cast<int>(v.role)]);
-    } else {
-      const auto& r = config.modbus.map.values[j];
-      std::fprintf(out, "  %-12s register %5u FC%02d %-7s %s", v.name.c_str(), r.address,
-                   r.function_code, r.type.c_str(), roles[static_cast<int>(v.role)]);
-    }
+    std::fprintf(out, "  %-12s %s %s", v.name.c_str(),
+                 bus ? bus->channel_columns(hal::ChannelKind::value, j).c_str() : "",
+                 roles[static_cast<int>(v.role)]);
     if (v.test_low)
       std::fprintf(out, ", test limits [%g, %g] hysteresis %g", *v.test_low, *v.test_high,
                    v.hysteresis);

@@ -32,7 +32,7 @@ enum class ExitCode : int {
   log_fault = 13,       // a run-log write failed mid-run (disk full, file-size limit, I/O
                         // error): the excitation stopped, ramped out, and the baseline was
                         // confirmed; the log is whole up to its last full row
-  device_refused = 14,  // the device refused a request (Modbus exception 1, 2 or 3: illegal
+  device_refused = 14,  // the device refused a request (exception reply 1, 2 or 3: illegal
                         // function, data address, data value): the excitation stopped at
                         // once, ramped out, and the baseline was confirmed
 };

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 
-#include "firmware/app/register_range.hpp"
 #include "firmware/engine/load_plan.hpp"
 
 namespace excite::app {
@@ -43,7 +42,7 @@ StageResult Gateway::load_plan(std::span<const std::uint8_t> plan_file, std::str
   }
   // Outputs and readbacks carried by a bounded register are watched for readings at its
   // end (a quarter of one raw count inside it, or beyond).
-  const std::vector<CarriedRange> ranges = value_ranges(config_);
+  const std::vector<hal::CarriedRange> ranges = carried_ranges(config_, hal::ChannelKind::value);
   range_what_.assign(config_.values.size(), std::string());
   for (std::size_t j = 0; j < ranges.size() && j < config_.values.size(); ++j) {
     const ValueRole role = config_.values[j].role;
@@ -142,23 +141,16 @@ std::string number_text(double v) {
 std::string Gateway::readback_fault_report() const {
   const engine::ReadbackFault& f = engine_->readback_fault();
   if (!f.valid) return "";
-  std::string where;
-  if (config_.transport == Transport::can) {
-    const auto& g = config_.can.map.setpoints[f.input];
-    char id[16];
-    std::snprintf(id, sizeof id, "0x%03X", g.id);
-    where = std::string("CAN ") + id + " byte " + std::to_string(g.byte_offset) + " " + g.type;
-  } else {
-    const auto& r = config_.modbus.map.setpoints[f.input];
-    where = "register " + std::to_string(r.address) + " " + r.type +
-            (r.type == "float32" ? " " + r.word_order : std::string());
-  }
+  const std::string where =
+      config_.transport
+          ? " (" + config_.transport->describe_channel(hal::ChannelKind::setpoint, f.input) + ")"
+          : std::string();
   const auto& sp = config_.setpoints[f.input];
   const std::string readback =
       f.value >= 0 ? config_.values[static_cast<std::size_t>(f.value)].name : sp.readback;
   const engine::InputLimits& in = engine_config_.input[f.input];
-  return "setpoint " + sp.name + " (" + where + "): wrote " + number_text(f.written) +
-         ", read back " + number_text(f.read) + " from " + readback +
+  return "setpoint " + sp.name + where + ": wrote " + number_text(f.written) + ", read back " +
+         number_text(f.read) + " from " + readback +
          (f.at_arm ? std::string(" at arm") : " at tick " + std::to_string(f.tick)) +
          " (tolerance " +
          number_text(in.readback_abs_tol + in.readback_rel_tol * std::abs(f.written)) + ")";
@@ -177,18 +169,14 @@ std::string Gateway::refusal_report() const {
                            std::to_string(e.function) + " registers " + std::to_string(e.address) +
                            ".." + std::to_string(e.address + e.count - 1);
   const std::string at = " at tick " + std::to_string(r.tick);
-  if (!e.write || config_.transport == Transport::can) {
-    return "device refused the read of " + span + at + ": " + what;
-  }
+  if (!e.write) return "device refused the read of " + span + at + ": " + what;
   std::string named;
   int n = 0;
-  for (std::size_t c = 0; c < config_.setpoints.size(); ++c) {
-    const auto& reg = config_.modbus.map.setpoints[c];
-    const unsigned width = reg.type == "float32" ? 2U : 1U;
-    if (reg.address + width <= e.address || reg.address >= e.address + e.count) continue;
+  for (std::size_t c = 0; config_.transport && c < config_.setpoints.size(); ++c) {
+    if (!config_.transport->refusal_covers(e, c)) continue;
     named += (n++ == 0 ? "" : ", ") + config_.setpoints[c].name + " = " +
-             number_text(r.setpoint[c]) + " (register " + std::to_string(reg.address) + " " +
-             reg.type + (reg.type == "float32" ? " " + reg.word_order : std::string()) + ")";
+             number_text(r.setpoint[c]) + " (" +
+             config_.transport->describe_channel(hal::ChannelKind::setpoint, c) + ")";
   }
   if (n == 0) return "device refused the write of " + span + at + ": " + what;
   if (n == 1) return "device refused setpoint " + named + at + ": " + what;

@@ -2,8 +2,9 @@
 #pragma once
 // The gateway in one component: configuration → plan → tables → engine → arm → run → log.
 // excite-gateway's main(), the integration fixtures and the benches all build the gateway
-// through it; they differ only in the field bus and the clock they hand it (a Modbus or CAN
-// bus and the POSIX clock in the field; a simulated plant and a virtual clock in tests).
+// through it; they differ only in the field bus and the clock they hand it (the configured
+// transport's bus and the POSIX clock in the field; a simulated plant and a virtual clock in
+// tests).
 //
 //   Gateway gw(config);                      1. a parsed, validated configuration
 //   gw.load_plan(bytes, "plans/x.plan");     2.–3. plan decoded, table generated into fixed
@@ -105,7 +106,7 @@ class Gateway {
   /// of start_log() (the no-allocation proof, the benches).
   [[nodiscard]] engine::LogRingBase& log_ring() noexcept { return *ring_; }
 
-  /// Readings at the end of their register's range, per value (register_range.hpp).
+  /// Readings at the end of their encoding's range, per value (hal::CarriedRange).
   [[nodiscard]] std::span<const std::uint64_t> readings_at_range_end() const noexcept {
     return {range_end_counts_.data(), config_.values.size()};
   }

@@ -13,9 +13,8 @@
 
 #include "base/config/document.hpp"
 #include "base/config/table.hpp"
-#include "firmware/app/register_range.hpp"
 #include "firmware/runlog/format.hpp"
-#include "hal/modbus/register_entry_toml.hpp"
+#include "hal/transports/transports.hpp"
 
 namespace excite::app {
 
@@ -140,19 +139,17 @@ void parse_gateway(const toml::table& t, GatewayConfig& c) {
     c.realtime_priority = static_cast<int>(*v);
 }
 
-Transport parse_transport(const toml::table& t) {
-  const auto s = text(t, "device", "transport");
-  if (!s || *s == "modbus-tcp" || *s == "tcp") return Transport::modbus_tcp;
-  if (*s == "modbus-rtu" || *s == "rtu") return Transport::modbus_rtu;
-  if (*s == "can") return Transport::can;
-  throw ConfigError("device.transport", '"' + *s + '"',
-                    "\"modbus-tcp\", \"modbus-rtu\" or \"can\" (\"tcp\" and \"rtu\" are still "
-                    "accepted)");
-}
-
-void parse_device(const toml::table& t, GatewayConfig& c) {
+// [device] transport names a row of hal's table of transports; the transport then reads
+// its own [device] keys.
+std::unique_ptr<hal::TransportConfig> parse_device(const toml::table& t, GatewayConfig& c) {
   const std::string w = "device";
-  c.transport = parse_transport(t);
+  const auto s = text(t, w, "transport");
+  const hal::TransportEntry* entry =
+      s ? hal::find_transport(*s) : &hal::transports().front();  // the first is the default
+  if (entry == nullptr) {
+    throw ConfigError(w + ".transport", '"' + *s + '"', hal::transport_choices());
+  }
+  std::unique_ptr<hal::TransportConfig> transport = entry->make();
   if (const toml::node* n = t.get("simulator")) {
     const auto b = n->value_exact<bool>();
     if (!b) throw ConfigError(w + ".simulator", describe(*n), "true or false");
@@ -165,116 +162,31 @@ void parse_device(const toml::table& t, GatewayConfig& c) {
     }
     c.peer_watchdog_s = *v;
   }
-  if (c.transport == Transport::can) {
-    // The CAN device is the [can] section.
-    check_keys(t, w, {"transport", "simulator", "peer_watchdog_s"});
-    return;
-  }
-  hal::modbus::ModbusDevice& d = c.modbus.device;
-  check_keys(t, w,
-             {"transport", "simulator", "peer_watchdog_s", "host", "port", "serial_port", "baud",
-              "parity", "data_bits", "stop_bits", "unit_id", "response_timeout_ms"});
-  d.transport = c.transport == Transport::modbus_tcp ? "tcp" : "rtu";
-  if (auto s = text(t, w, "host")) d.host = *s;
-  if (auto v = integer(t, w, "port", 0, 1 << 30)) d.port = static_cast<std::uint32_t>(*v);
-  if (auto s = text(t, w, "serial_port")) d.serial_port = *s;
-  if (auto v = integer(t, w, "baud", 0, 1 << 30)) d.baud = static_cast<std::int32_t>(*v);
-  if (auto s = text(t, w, "parity")) d.parity = *s;
-  if (auto v = integer(t, w, "data_bits", 0, 64)) d.data_bits = static_cast<std::int32_t>(*v);
-  if (auto v = integer(t, w, "stop_bits", 0, 64)) d.stop_bits = static_cast<std::int32_t>(*v);
-  if (auto v = integer(t, w, "unit_id", -1, 1 << 16)) d.unit_id = static_cast<std::int32_t>(*v);
-  if (auto v = integer(t, w, "response_timeout_ms", 1, 60000)) {
-    d.response_timeout_ms = static_cast<std::int32_t>(*v);
-  }
+  std::set<std::string> keys = {"transport", "simulator", "peer_watchdog_s"};
+  for (std::string& k : transport->device_keys()) keys.insert(std::move(k));
+  check_keys(t, w, keys);
+  transport->read_device(config::Table(t, w, {}));
+  return transport;
 }
 
-bool flag(const toml::table& t, const std::string& where, const std::string& key) {
-  return config::Table(t, where, {}).flag(key).value_or(false);
-}
-
-// The [can] section: interface, timeouts and the heartbeat's place in a setpoint frame.
-void parse_can(const toml::table& t, hal::can::CanConfig& c) {
-  const std::string w = "can";
-  check_keys(
-      t, w,
-      {"interface", "value_timeout_ms", "enobufs_limit", "bitrate", "heartbeat_id",
-       "heartbeat_extended", "heartbeat_byte_offset", "heartbeat_type", "heartbeat_byte_order"});
-  auto iface = text(t, w, "interface");
-  if (!iface) throw ConfigError(w + ".interface", "(missing)", "a SocketCAN interface, e.g. can0");
-  c.interface = *iface;
-  if (auto v = integer(t, w, "value_timeout_ms", 0, 1 << 30)) {
-    c.value_timeout_ms = static_cast<std::int32_t>(*v);
-  }
-  if (auto v = integer(t, w, "enobufs_limit", 0, 1 << 30)) {
-    c.enobufs_limit = static_cast<std::uint32_t>(*v);
-  }
-  if (auto v = integer(t, w, "bitrate", 10000, 1000000)) {  // classic CAN: up to 1 Mbit/s
-    c.bitrate = static_cast<std::uint32_t>(*v);
-  }
-  if (auto id = integer(t, w, "heartbeat_id", 0, 0x1FFFFFFF)) {
-    hal::can::CanSignal hb;
-    hb.name = "heartbeat";
-    hb.id = static_cast<std::uint32_t>(*id);
-    hb.extended = flag(t, w, "heartbeat_extended");
-    hb.byte_offset =
-        static_cast<std::uint32_t>(integer(t, w, "heartbeat_byte_offset", 0, 7).value_or(0));
-    hb.type = text(t, w, "heartbeat_type").value_or("uint16");
-    hb.byte_order = text(t, w, "heartbeat_byte_order").value_or("little");
-    c.map.heartbeat = hb;
-  } else {
-    for (const char* key : {"heartbeat_extended", "heartbeat_byte_offset", "heartbeat_type",
-                            "heartbeat_byte_order"}) {
-      if (const toml::node* n = t.get(key)) {
-        throw ConfigError(w + "." + key, describe(*n), "heartbeat_id as well");
-      }
+// The sections of the file: the chosen transport reads its own; another transport's is
+// refused.
+void parse_sections(const toml::table& root, hal::TransportConfig& transport) {
+  transport.read_sections(config::Table(root, "", {}));
+  const std::vector<std::string> own = transport.sections();
+  for (const std::string& section : hal::transport_sections()) {
+    if (root.get(section) == nullptr || std::find(own.begin(), own.end(), section) != own.end()) {
+      continue;
     }
-  }
-}
-
-// The register fields shared by setpoints and values (Modbus transports).
-const std::set<std::string> kModbusKeys(hal::modbus::register_entry_keys.begin(),
-                                        hal::modbus::register_entry_keys.end());
-// The frame layout shared by setpoints and values (transport can).
-const std::set<std::string> kCanKeys = {"can_id",     "extended", "byte_offset", "type",
-                                        "byte_order", "scale",    "offset"};
-
-void parse_signal(const toml::table& t, const std::string& w, hal::can::CanSignal& s) {
-  auto id = integer(t, w, "can_id", 0, 0x1FFFFFFF);
-  if (!id) throw ConfigError(w + ".can_id", "(missing)", "a CAN identifier (e.g. 0x210)");
-  s.id = static_cast<std::uint32_t>(*id);
-  s.extended = flag(t, w, "extended");
-  s.byte_offset = static_cast<std::uint32_t>(integer(t, w, "byte_offset", 0, 7).value_or(0));
-  if (auto v = text(t, w, "type")) s.type = *v;
-  if (auto v = text(t, w, "byte_order")) s.byte_order = *v;
-  if (auto v = number(t, w, "scale")) s.scale = *v;
-  if (auto v = number(t, w, "offset")) s.offset = *v;
-}
-
-// An entry's field-bus mapping, by transport: a CAN signal, or a Modbus register read or
-// written with `function_code` unless the entry names another.
-void add_field_entry(const toml::table& t, const std::string& w, const std::string& name,
-                     int function_code, Transport transport,
-                     std::vector<hal::can::CanSignal>& signals,
-                     std::vector<hal::modbus::RegisterEntry>& registers) {
-  if (transport == Transport::can) {
-    hal::can::CanSignal e;
-    e.name = name;
-    parse_signal(t, w, e);
-    signals.push_back(e);
-  } else {
-    // hal's register-map schema, the same the plant server reads (defaults included).
-    hal::modbus::RegisterEntry e = hal::modbus::read_register_entry(
-        config::Table(t, w, {}),
-        function_code == 16 ? hal::modbus::EntryKind::setpoint : hal::modbus::EntryKind::value);
-    e.name = name;
-    registers.push_back(e);
+    throw ConfigError(
+        section, "a table",
+        "no [" + section + "] section with transport = \"" + std::string(transport.name()) + "\"");
   }
 }
 
 // The keys an entry may carry: its own plus the transport's mapping keys.
-std::set<std::string> entry_keys(std::set<std::string> own, Transport transport) {
-  const auto& mapping = transport == Transport::can ? kCanKeys : kModbusKeys;
-  own.insert(mapping.begin(), mapping.end());
+std::set<std::string> entry_keys(std::set<std::string> own, const hal::TransportConfig& transport) {
+  for (std::string& k : transport.entry_keys()) own.insert(std::move(k));
   return own;
 }
 
@@ -306,15 +218,14 @@ const toml::array& array_of_tables(const toml::table& root, const std::string& k
   return *n->as_array();
 }
 
-void parse_setpoints(const toml::table& root, GatewayConfig& c) {
+void parse_setpoints(const toml::table& root, GatewayConfig& c, hal::TransportConfig& transport) {
   const toml::array& list = array_of_tables(root, "setpoints");
   std::size_t i = 0;
   for (const toml::node& node : list) {
     const std::string w = "setpoints[" + std::to_string(i++) + "]";
     if (!node.is_table()) throw ConfigError(w, describe(node), "a table");
     const toml::table& t = *node.as_table();
-    check_keys(t, w,
-               entry_keys({"name", "unit", "min", "max", "max_move", "readback"}, c.transport));
+    check_keys(t, w, entry_keys({"name", "unit", "min", "max", "max_move", "readback"}, transport));
     SetpointSpec s;
     s.name = channel_name(t, w);
     s.unit = channel_unit(t, w);
@@ -330,7 +241,7 @@ void parse_setpoints(const toml::table& root, GatewayConfig& c) {
     auto rb = text(t, w, "readback");
     if (!rb) throw ConfigError(w + ".readback", "(missing)", "the name of a readback value");
     s.readback = *rb;
-    add_field_entry(t, w, s.name, 16, c.transport, c.can.map.setpoints, c.modbus.map.setpoints);
+    transport.read_entry(config::Table(t, w, {}), hal::ChannelKind::setpoint, s.name);
     c.setpoints.push_back(s);
   }
   if (c.setpoints.empty() || c.setpoints.size() > engine::kMaxInputs) {
@@ -339,7 +250,7 @@ void parse_setpoints(const toml::table& root, GatewayConfig& c) {
   }
 }
 
-void parse_values(const toml::table& root, GatewayConfig& c) {
+void parse_values(const toml::table& root, GatewayConfig& c, hal::TransportConfig& transport) {
   const toml::array& list = array_of_tables(root, "values");
   std::size_t i = 0;
   for (const toml::node& node : list) {
@@ -348,7 +259,7 @@ void parse_values(const toml::table& root, GatewayConfig& c) {
     const toml::table& t = *node.as_table();
     check_keys(
         t, w,
-        entry_keys({"name", "unit", "role", "test_low", "test_high", "hysteresis"}, c.transport));
+        entry_keys({"name", "unit", "role", "test_low", "test_high", "hysteresis"}, transport));
     ValueSpec v;
     v.name = channel_name(t, w);
     v.unit = channel_unit(t, w);
@@ -383,7 +294,7 @@ void parse_values(const toml::table& root, GatewayConfig& c) {
                         ">= 0 and 2 * hysteresis < test_high - test_low (with test_low < "
                         "test_high)");
     }
-    add_field_entry(t, w, v.name, 3, c.transport, c.can.map.values, c.modbus.map.values);
+    transport.read_entry(config::Table(t, w, {}), hal::ChannelKind::value, v.name);
     c.values.push_back(v);
   }
   if (c.values.empty() || c.values.size() > engine::kMaxValues) {
@@ -392,63 +303,30 @@ void parse_values(const toml::table& root, GatewayConfig& c) {
   }
 }
 
-std::string g17(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
-// A setpoint's limits must lie inside what its register (signal) can carry: the bus would
-// clip a setpoint beyond it without the engine knowing.
-void check_representable(const GatewayConfig& c) {
-  const std::vector<CarriedRange> ranges = setpoint_ranges(c);
+// A setpoint's limits must lie inside what its field encoding carries: the bus would clip a
+// setpoint beyond it without the engine knowing.
+void check_representable(const GatewayConfig& c, const hal::TransportConfig& transport) {
+  const std::vector<hal::CarriedRange> ranges = transport.carried_range(hal::ChannelKind::setpoint);
   for (std::size_t i = 0; i < ranges.size() && i < c.setpoints.size(); ++i) {
-    const CarriedRange& r = ranges[i];
-    if (!r.bounded) continue;
-    const std::string w = "setpoints[" + std::to_string(i) + "]";
-    if (c.setpoints[i].min < r.low) {
-      throw ConfigError(w + ".min", g17(c.setpoints[i].min),
-                        ">= " + g17(r.low) + ", the least " + r.what + " can carry");
-    }
-    if (c.setpoints[i].max > r.high) {
-      throw ConfigError(w + ".max", g17(c.setpoints[i].max),
-                        "<= " + g17(r.high) + ", the most " + r.what + " can carry");
-    }
+    const hal::Validation v = hal::check_carried(ranges[i], "setpoints[" + std::to_string(i) + "]",
+                                                 c.setpoints[i].min, c.setpoints[i].max);
+    if (!v.ok()) throw ConfigError(v.field, v.value, v.expected);
   }
 }
 
-// Verified writes: a readback of the setpoint's own holding register must decode it as it
-// is written, else every comparison would judge the encoding, not the field (a wrong
-// word_order would send the plant values up to 1e33 before any mismatch showed). Runs after
-// the register map's own validation (types and word orders are known good).
-void check_readback_encodings(const GatewayConfig& c) {
-  if (c.transport == Transport::can) return;
-  for (std::size_t i = 0; i < c.setpoints.size() && i < c.modbus.map.setpoints.size(); ++i) {
+// Verified writes: each setpoint against the value its baseline is read back from (the
+// transport compares their encodings). Runs after the transport's own validation.
+void check_readback_encodings(const GatewayConfig& c, const hal::TransportConfig& transport) {
+  for (std::size_t i = 0; i < c.setpoints.size(); ++i) {
     const auto& rb = c.setpoints[i].readback;
     const auto it = std::find_if(c.values.begin(), c.values.end(),
                                  [&rb](const ValueSpec& v) { return v.name == rb; });
     if (it == c.values.end()) continue;
-    const auto& w = c.modbus.map.setpoints[i];
-    const auto& r = c.modbus.map.values[static_cast<std::size_t>(it - c.values.begin())];
-    const bool same_register = r.function_code == 3 && r.address == w.address;
-    const bool same_encoding =
-        r.type == w.type && (w.type != "float32" || r.word_order == w.word_order) &&
-        (w.type == "float32" || (r.eng_min == w.eng_min && r.eng_max == w.eng_max &&
-                                 r.raw_min == w.raw_min && r.raw_max == w.raw_max));
-    if (same_register && !same_encoding) {
-      auto enc = [](const hal::modbus::RegisterEntry& e) {
-        return e.type + (e.type == "float32" ? " " + e.word_order : std::string());
-      };
-      throw ConfigError(
-          "setpoints[" + std::to_string(i) + "] (" + c.setpoints[i].name + ") register " +
-              std::to_string(w.address),
-          enc(w),
-          "the encoding its readback " + rb + " reads the same register with (" + enc(r) + ")");
-    }
+    transport.check_readback(i, static_cast<std::size_t>(it - c.values.begin()));
   }
 }
 
-void cross_check(GatewayConfig& c) {
+void cross_check(GatewayConfig& c, const hal::TransportConfig& transport) {
   std::set<std::string> names;
   auto unique = [&names](const std::string& field, const std::string& name) {
     if (!names.insert(name).second) {
@@ -484,38 +362,12 @@ void cross_check(GatewayConfig& c) {
                    [](const ValueSpec& v) { return v.role == ValueRole::output; })) {
     throw ConfigError("values", "no output", "at least one value with role = \"output\"");
   }
-  if (c.transport == Transport::can) {
-    hal::Validation v = hal::can::validate(c.can);
-    if (!v.ok()) {
-      // hal names the frame map's fields; the file spells them can_id and [can].heartbeat_*.
-      if (v.field.rfind("heartbeat.", 0) == 0) {
-        v.field = "can.heartbeat_" + v.field.substr(10);
-      } else if (v.field.size() > 3 && v.field.compare(v.field.size() - 3, 3, ".id") == 0) {
-        v.field = v.field.substr(0, v.field.size() - 3) + ".can_id";
-      }
-      throw ConfigError(v.field, v.value, v.expected);
-    }
-  } else {
-    const hal::Validation v = hal::modbus::validate(c.modbus);
-    if (!v.ok()) throw ConfigError(v.field, v.value, v.expected);
-  }
-  check_representable(c);
-  check_readback_encodings(c);
+  transport.validate();
+  check_representable(c, transport);
+  check_readback_encodings(c, transport);
 }
 
 }  // namespace
-
-const char* to_string(Transport transport) noexcept {
-  switch (transport) {
-    case Transport::modbus_tcp:
-      return "modbus-tcp";
-    case Transport::modbus_rtu:
-      return "modbus-rtu";
-    case Transport::can:
-      return "can";
-  }
-  return "unknown";
-}
 
 ConfigResult parse_gateway_config(std::string_view text_in, std::string_view source) {
   ConfigResult result;
@@ -523,30 +375,17 @@ ConfigResult parse_gateway_config(std::string_view text_in, std::string_view sou
     toml::table root = config::parse(text_in, source);
     GatewayConfig c;
     c.source = std::string(source);
-    check_keys(root, "", {"gateway", "device", "map", "can", "setpoints", "values"});
+    std::set<std::string> sections = {"gateway", "device", "setpoints", "values"};
+    for (std::string& section : hal::transport_sections()) sections.insert(std::move(section));
+    check_keys(root, "", sections);
     if (const toml::table* g = table_at(root, "gateway", false)) parse_gateway(*g, c);
-    parse_device(*table_at(root, "device", true), c);
-    const toml::table* can = table_at(root, "can", false);
-    if (c.transport == Transport::can) {
-      if (can == nullptr)
-        throw ConfigError("[can]", "(missing)", "a table with transport = \"can\"");
-      parse_can(*can, c.can);
-      if (const toml::node* m = root.get("map")) {
-        throw ConfigError("map", describe(*m),
-                          "no [map] with transport = \"can\" (the heartbeat is can.heartbeat_id)");
-      }
-    } else if (can != nullptr) {
-      throw ConfigError(
-          "can", "a table",
-          "no [can] section with transport = \"" + std::string(to_string(c.transport)) + "\"");
-    }
-    if (const toml::table* m = table_at(root, "map", false)) {
-      check_keys(*m, "map", {"heartbeat_address", "write_chunk", "read_chunk"});
-      hal::modbus::read_map_settings(config::Table(*m, "map", {}), c.modbus.map);
-    }
-    parse_setpoints(root, c);
-    parse_values(root, c);
-    cross_check(c);
+    std::unique_ptr<hal::TransportConfig> transport =
+        parse_device(*table_at(root, "device", true), c);
+    parse_sections(root, *transport);
+    parse_setpoints(root, c, *transport);
+    parse_values(root, c, *transport);
+    cross_check(c, *transport);
+    c.transport = std::move(transport);
     result.config = std::move(c);
   } catch (const config::Error& e) {
     result.error = e.with_source(source).what();
@@ -567,6 +406,10 @@ ConfigResult load_gateway_config(const std::string& path) {
 }
 
 namespace {
+
+// Without a transport (a bus handed over built) an exchange is taken to answer within
+// 100 ms, the default response timeout of hal's devices.
+constexpr double kHandedOverResponseTimeoutS = 0.1;
 
 // Seconds → ticks of `period`, rounded up; NaN, negative → 0 and beyond uint32 → its maximum
 // (never an undefined conversion; check_timing() refuses such values before).
@@ -652,9 +495,8 @@ engine::EngineConfig to_engine_config(const GatewayConfig& c,
   e.suspend_timeout_ticks = ticks(c.suspend_timeout_s);
   // Confirmation: two readbacks of the baseline at least one tick and twice the response
   // timeout apart (a write in flight when the link broke has landed by then).
-  const double response_s = c.transport == Transport::can
-                                ? c.can.value_timeout_ms / 1000.0
-                                : c.modbus.device.response_timeout_ms / 1000.0;
+  const double response_s =
+      c.transport ? c.transport->response_timeout_s() : kHandedOverResponseTimeoutS;
   e.confirm_hold_ticks = std::max<std::uint32_t>(1, ticks(2.0 * response_s));
   // At least room for the two readbacks, and for a readback lag plus the mismatch limit (the
   // older window): at long periods 60 s may be a single tick.
@@ -668,14 +510,14 @@ engine::EngineConfig to_engine_config(const GatewayConfig& c,
   e.verify_readbacks = true;
   e.readback_lag_ticks = c.readback_lag_ticks;
   e.readback_mismatch_limit = c.readback_mismatch_limit;
-  const std::vector<CarriedRange> sp = setpoint_ranges(c);
-  const std::vector<CarriedRange> va = value_ranges(c);
+  const std::vector<hal::CarriedRange> sp = carried_ranges(c, hal::ChannelKind::setpoint);
+  const std::vector<hal::CarriedRange> va = carried_ranges(c, hal::ChannelKind::value);
   for (std::size_t i = 0; i < c.setpoints.size() && i < sp.size(); ++i) {
     engine::InputLimits& in = e.input[i];
     double abs_tol = sp[i].bounded ? sp[i].count : 0.0;
     bool any_float = !sp[i].bounded;
     if (in.readback >= 0 && static_cast<std::size_t>(in.readback) < va.size()) {
-      const CarriedRange& r = va[static_cast<std::size_t>(in.readback)];
+      const hal::CarriedRange& r = va[static_cast<std::size_t>(in.readback)];
       if (r.bounded) abs_tol = std::max(abs_tol, r.count);
       any_float = any_float || !r.bounded;
     }
@@ -689,6 +531,10 @@ engine::EngineConfig to_engine_config(const GatewayConfig& c,
                               : 3;
   }
   return e;
+}
+
+std::vector<hal::CarriedRange> carried_ranges(const GatewayConfig& c, hal::ChannelKind kind) {
+  return c.transport ? c.transport->carried_range(kind) : std::vector<hal::CarriedRange>();
 }
 
 std::vector<int> output_indices(const GatewayConfig& c) {

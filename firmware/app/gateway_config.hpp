@@ -1,23 +1,23 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // The gateway configuration file (TOML; README.md has the complete example): run
-// parameters in seconds, the transport (Modbus TCP, Modbus RTU or CAN) with its device and
-// register or frame map (hal's ModbusConfig or CanConfig), and per setpoint and per value
-// what the engine needs (absolute limits, slew, readback, test limits, roles). Parsed once
-// at start-up (allocates); every error names the file, the key, the value found and what
-// was expected.
+// parameters in seconds, the transport named by [device] transport, which reads its own
+// part of the file (hal's transport seam: excite/hal/transport.hpp, the table of them in
+// hal/transports), and per setpoint and per value what the engine needs (absolute limits,
+// slew, readback, test limits, roles). Parsed once at start-up (allocates); every error
+// names the file, the key, the value found and what was expected.
 
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "excite/hal/transport.hpp"
 #include "firmware/app/timing_range.hpp"
 #include "firmware/engine/config.hpp"
-#include "hal/can/can_field_bus.hpp"
-#include "hal/modbus/modbus_field_bus.hpp"
 
 namespace excite::app {
 
@@ -28,15 +28,6 @@ enum class ValueRole : std::uint8_t {
   heartbeat_echo,  // the peer's echo of the heartbeat counter
   command,         // the operator command register: 1 start, 2 suspend, 3 resume, 4 abort
 };
-
-/// The field bus the gateway talks to ([device] transport).
-enum class Transport : std::uint8_t {
-  modbus_tcp,  // "modbus-tcp" (also accepted: "tcp")
-  modbus_rtu,  // "modbus-rtu" (also accepted: "rtu")
-  can,         // "can": SocketCAN, the [can] section and per-entry frame layout
-};
-
-const char* to_string(Transport transport) noexcept;
 
 struct SetpointSpec {
   std::string name;  // run-log channel name: letters, digits, _ . -
@@ -81,16 +72,16 @@ struct GatewayConfig {
   double max_distortion = 0.0;       // largest fraction (0…1) of a channel's rows the engine
                                      // may clamp or rate-limit; more → refused (exit 12)
   int realtime_priority = 80;        // SCHED_FIFO priority; 0 = leave the scheduler alone
-  Transport transport = Transport::modbus_tcp;
-  bool simulator = false;                 // [device] simulator: the peer is a simulated plant
-                                          // (allows --clock lockstep)
+  bool simulator = false;            // [device] simulator: the peer is a simulated plant
+                                     // (allows --clock lockstep)
   std::optional<double> peer_watchdog_s;  // [device] peer_watchdog_s: the peer's own heartbeat
                                           // watchdog as declared (seconds; 0: none): refused
                                           // when shorter than two tick periods (check_timing)
-  hal::modbus::ModbusConfig modbus;       // transport modbus-*: device and register map
-  hal::can::CanConfig can;                // transport can: interface and frame map
-  std::vector<SetpointSpec> setpoints;    // in plan channel order
-  std::vector<ValueSpec> values;          // in register-map order
+  // [device] transport: its device, sections and per-entry mapping as it read them; null
+  // when the bus is handed over built (the in-process tests).
+  std::shared_ptr<const hal::TransportConfig> transport;
+  std::vector<SetpointSpec> setpoints;  // in plan channel order
+  std::vector<ValueSpec> values;        // in register-map order
 };
 
 struct ConfigResult {
@@ -114,6 +105,10 @@ std::string check_timing(const GatewayConfig& config, std::chrono::duration<doub
 /// order.
 engine::EngineConfig to_engine_config(const GatewayConfig& config,
                                       std::chrono::duration<double> period);
+
+/// What the encoding of each channel of `kind` carries (the transport's carried_range);
+/// empty without a transport.
+std::vector<hal::CarriedRange> carried_ranges(const GatewayConfig& config, hal::ChannelKind kind);
 
 /// Value indices of the outputs (the run log's dy columns), in order.
 std::vector<int> output_indices(const GatewayConfig& config);

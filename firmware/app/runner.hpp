@@ -41,7 +41,7 @@ struct RunStats {
   engine::Outcome outcome = engine::Outcome::none;
 };
 
-/// The first request the device refused (a Modbus exception 1, 2 or 3, hal::is_refusal):
+/// The first request the device refused (an exception reply 1, 2 or 3, hal::is_refusal):
 /// what was being written, at which tick. Found on the cyclic path (fixed storage).
 struct Refusal {
   bool valid = false;
@@ -51,7 +51,7 @@ struct Refusal {
 };
 
 /// A value's watched range end: a good reading ≤ low or ≥ high is counted (the reading may
-/// have been clipped by the register; register_range.hpp). Not watched: never counted.
+/// have been clipped by its encoding; hal::CarriedRange). Not watched: never counted.
 struct RangeEnd {
   bool watched = false;
   double low = 0.0;

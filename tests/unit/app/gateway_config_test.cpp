@@ -10,6 +10,10 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <string_view>
+
+#include "hal/can/can_transport.hpp"
+#include "hal/modbus/modbus_transport.hpp"
 
 namespace excite::app {
 namespace {
@@ -24,6 +28,21 @@ std::string example_text(const std::string& path = kExample) {
   return s.str();
 }
 
+// What the transport read: its own configuration (hal's transport seam).
+const hal::modbus::ModbusConfig& modbus_of(const GatewayConfig& c) {
+  const hal::modbus::ModbusConfig* m = hal::modbus::modbus_config_of(*c.transport);
+  EXPECT_NE(m, nullptr);
+  static const hal::modbus::ModbusConfig none;
+  return m != nullptr ? *m : none;
+}
+
+const hal::can::CanConfig& can_of(const GatewayConfig& c) {
+  const hal::can::CanConfig* can = hal::can::can_config_of(*c.transport);
+  EXPECT_NE(can, nullptr);
+  static const hal::can::CanConfig none;
+  return can != nullptr ? *can : none;
+}
+
 std::string error_of(const std::string& text) {
   const ConfigResult r = parse_gateway_config(text, "gw.toml");
   EXPECT_FALSE(r.config.has_value());
@@ -36,31 +55,30 @@ TEST(GatewayConfigTest, TheDocumentedExampleParses) {
   const GatewayConfig& c = *r.config;
   EXPECT_EQ(c.setpoints.size(), 4U);
   EXPECT_EQ(c.values.size(), 10U);
-  EXPECT_EQ(c.modbus.device.port, 502U);
-  EXPECT_EQ(c.modbus.map.setpoints[2].type, "int16");
-  EXPECT_EQ(c.modbus.map.values[0].function_code, 4);
+  EXPECT_EQ(modbus_of(c).device.port, 502U);
+  EXPECT_EQ(modbus_of(c).map.setpoints[2].type, "int16");
+  EXPECT_EQ(modbus_of(c).map.values[0].function_code, 4);
   EXPECT_EQ(output_indices(c), (std::vector<int>{0, 1, 2, 3}));
-  EXPECT_EQ(c.transport, Transport::modbus_tcp);
-  EXPECT_EQ(c.modbus.device.transport, "tcp");
+  EXPECT_EQ(c.transport->name(), "modbus-tcp");
+  EXPECT_EQ(modbus_of(c).device.transport, "tcp");
   EXPECT_FALSE(c.simulator);
 }
 
 TEST(GatewayConfigTest, TransportNamesOldAndNew) {
-  const std::pair<const char*, Transport> cases[] = {{"modbus-tcp", Transport::modbus_tcp},
-                                                     {"tcp", Transport::modbus_tcp},
-                                                     {"modbus-rtu", Transport::modbus_rtu},
-                                                     {"rtu", Transport::modbus_rtu}};
+  const std::pair<const char*, std::string_view> cases[] = {{"modbus-tcp", "modbus-tcp"},
+                                                            {"tcp", "modbus-tcp"},
+                                                            {"modbus-rtu", "modbus-rtu"},
+                                                            {"rtu", "modbus-rtu"}};
   for (const auto& [name, transport] : cases) {
     std::string text = example_text();
     text.replace(text.find("\"modbus-tcp\""), 12, std::string("\"") + name + "\"");
-    if (transport == Transport::modbus_rtu) {
+    if (transport == "modbus-rtu") {
       text.replace(text.find("host = \"10.0.0.5\""), 17, "serial_port = \"/dev/ttyS0\"");
     }
     const ConfigResult r = parse_gateway_config(text, "gw.toml");
     ASSERT_TRUE(r.config) << name << ": " << r.error;
-    EXPECT_EQ(r.config->transport, transport) << name;
-    EXPECT_EQ(r.config->modbus.device.transport,
-              transport == Transport::modbus_tcp ? "tcp" : "rtu");
+    EXPECT_EQ(r.config->transport->name(), transport) << name;
+    EXPECT_EQ(modbus_of(*r.config).device.transport, transport == "modbus-tcp" ? "tcp" : "rtu");
   }
   std::string text = example_text();
   text.replace(text.find("\"modbus-tcp\""), 12, "\"udp\"");
@@ -83,22 +101,22 @@ TEST(GatewayConfigTest, TheCanExampleMapsSetpointsAndValuesToFrames) {
   const ConfigResult r = load_gateway_config(kCanExample);
   ASSERT_TRUE(r.config) << r.error;
   const GatewayConfig& c = *r.config;
-  EXPECT_EQ(c.transport, Transport::can);
-  EXPECT_EQ(c.can.interface, "can0");
-  EXPECT_EQ(c.can.value_timeout_ms, 500);
-  ASSERT_EQ(c.can.map.setpoints.size(), 2U);
-  EXPECT_EQ(c.can.map.setpoints[1].id, 0x210U);
-  EXPECT_EQ(c.can.map.setpoints[1].byte_offset, 2U);
-  EXPECT_EQ(c.can.map.setpoints[1].type, "int16");
-  EXPECT_EQ(c.can.map.setpoints[1].scale, 0.001);
-  ASSERT_TRUE(c.can.map.heartbeat.has_value());
-  EXPECT_EQ(c.can.map.heartbeat->id, 0x210U);
-  EXPECT_EQ(c.can.map.heartbeat->byte_offset, 4U);
-  ASSERT_EQ(c.can.map.values.size(), 6U);
-  EXPECT_EQ(c.can.map.values[1].type, "float32");
-  EXPECT_EQ(c.can.map.values[1].byte_offset, 4U);
-  EXPECT_EQ(c.can.map.values[5].id, 0x311U);
-  EXPECT_TRUE(c.modbus.map.setpoints.empty());
+  EXPECT_EQ(c.transport->name(), "can");
+  EXPECT_EQ(can_of(c).interface, "can0");
+  EXPECT_EQ(can_of(c).value_timeout_ms, 500);
+  ASSERT_EQ(can_of(c).map.setpoints.size(), 2U);
+  EXPECT_EQ(can_of(c).map.setpoints[1].id, 0x210U);
+  EXPECT_EQ(can_of(c).map.setpoints[1].byte_offset, 2U);
+  EXPECT_EQ(can_of(c).map.setpoints[1].type, "int16");
+  EXPECT_EQ(can_of(c).map.setpoints[1].scale, 0.001);
+  ASSERT_TRUE(can_of(c).map.heartbeat.has_value());
+  EXPECT_EQ(can_of(c).map.heartbeat->id, 0x210U);
+  EXPECT_EQ(can_of(c).map.heartbeat->byte_offset, 4U);
+  ASSERT_EQ(can_of(c).map.values.size(), 6U);
+  EXPECT_EQ(can_of(c).map.values[1].type, "float32");
+  EXPECT_EQ(can_of(c).map.values[1].byte_offset, 4U);
+  EXPECT_EQ(can_of(c).map.values[5].id, 0x311U);
+  EXPECT_EQ(hal::modbus::modbus_config_of(*c.transport), nullptr);
   const engine::EngineConfig e = to_engine_config(c, std::chrono::minutes(1));
   EXPECT_EQ(e.input[1].readback, 3);
   EXPECT_EQ(e.heartbeat_echo, 4);
