@@ -44,7 +44,7 @@ DistortionVerdict check_distortion(const GatewayConfig& config,
   if (!worst.empty() && !allow) {
     v.refusal = std::string("the plan would be distorted: ") + worst +
                 format(
-                    "; expected at most gateway.max_distortion = %g of each channel's rows "
+                    ", expected at most gateway.max_distortion = %g of each channel's rows "
                     "(%s; --allow-distortion streams it anyway)",
                     config.max_distortion, config.source.c_str());
   }

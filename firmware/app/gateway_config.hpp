@@ -96,7 +96,7 @@ ConfigResult load_gateway_config(const std::string& path);
 // (timing_range.hpp); converted to ticks of the period, within the engine's range.
 
 /// "" when every duration of `config` converts to ticks of `period` within the engine's
-/// ranges; otherwise "<source>: gateway.<key> = <value> (<n> ticks of <p> s): expected …".
+/// ranges; otherwise "<source>: gateway.<key> = <value> (<n> ticks of <p> s), expected …".
 /// Call before to_engine_config().
 std::string check_timing(const GatewayConfig& config, std::chrono::duration<double> period);
 
