@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "firmware/app/gateway.hpp"
+#include "base/config/document.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -128,15 +129,7 @@ std::string Gateway::log_failure() const {
   return drain_ ? drain_->failure() : std::string();
 }
 
-namespace {
-
-std::string number_text(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 std::string Gateway::readback_fault_report() const {
   const engine::ReadbackFault& f = engine_->readback_fault();
@@ -149,11 +142,12 @@ std::string Gateway::readback_fault_report() const {
   const std::string readback =
       f.value >= 0 ? config_.values[static_cast<std::size_t>(f.value)].name : sp.readback;
   const engine::InputLimits& in = engine_config_.input[f.input];
-  return "setpoint " + sp.name + where + ": wrote " + number_text(f.written) + ", read back " +
-         number_text(f.read) + " from " + readback +
+  return "setpoint " + sp.name + where + ": wrote " + config::format_number(f.written) +
+         ", read back " + config::format_number(f.read) + " from " + readback +
          (f.at_arm ? std::string(" at arm") : " at tick " + std::to_string(f.tick)) +
          " (tolerance " +
-         number_text(in.readback_abs_tol + in.readback_rel_tol * std::abs(f.written)) + ")";
+         config::format_number(in.readback_abs_tol + in.readback_rel_tol * std::abs(f.written)) +
+         ")";
 }
 
 std::string Gateway::refusal_report() const {
@@ -175,7 +169,7 @@ std::string Gateway::refusal_report() const {
   for (std::size_t c = 0; config_.transport && c < config_.setpoints.size(); ++c) {
     if (!config_.transport->refusal_covers(e, c)) continue;
     named += (n++ == 0 ? "" : ", ") + config_.setpoints[c].name + " = " +
-             number_text(r.setpoint[c]) + " (" +
+             config::format_number(r.setpoint[c]) + " (" +
              config_.transport->describe_channel(hal::ChannelKind::setpoint, c) + ")";
   }
   if (n == 0) return "device refused the write of " + span + at + ": " + what;

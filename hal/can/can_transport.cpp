@@ -15,12 +15,6 @@ namespace excite::hal::can {
 
 namespace {
 
-std::string number_text(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 std::string hex(unsigned id, const char* form = "0x%X") {
   char text[16];
   std::snprintf(text, sizeof text, form, id);
@@ -233,7 +227,8 @@ class CanTransport final : public TransportConfig {
       const double b = hi * c.scale + c.offset_eng;
       out.push_back({true, std::min(a, b), std::max(a, b), std::abs(c.scale),
                      "CAN " + hex(signals[i].id) + " " + signals[i].type + " scale " +
-                         number_text(c.scale) + " offset " + number_text(c.offset_eng)});
+                         config::format_number(c.scale) + " offset " +
+                         config::format_number(c.offset_eng)});
     }
     return out;
   }

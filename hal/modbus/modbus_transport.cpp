@@ -14,12 +14,6 @@ namespace excite::hal::modbus {
 
 namespace {
 
-std::string number_text(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 std::string encoding(const RegisterEntry& e) {
   return e.type + (e.type == "float32" ? " " + e.word_order : std::string());
 }
@@ -171,10 +165,11 @@ class ModbusTransport final : public TransportConfig {
         continue;
       }
       const double count = std::abs((c.eng_max - c.eng_min) / (c.raw_max - c.raw_min));
-      out.push_back({true, std::min(c.eng_min, c.eng_max), std::max(c.eng_min, c.eng_max), count,
-                     "register " + std::to_string(entries[i].address) + " " + entries[i].type +
-                         " raw " + number_text(c.raw_min) + ".." + number_text(c.raw_max) + " = " +
-                         number_text(c.eng_min) + ".." + number_text(c.eng_max)});
+      out.push_back(
+          {true, std::min(c.eng_min, c.eng_max), std::max(c.eng_min, c.eng_max), count,
+           "register " + std::to_string(entries[i].address) + " " + entries[i].type + " raw " +
+               config::format_number(c.raw_min) + ".." + config::format_number(c.raw_max) + " = " +
+               config::format_number(c.eng_min) + ".." + config::format_number(c.eng_max)});
     }
     return out;
   }

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "hal/modbus/register_map.hpp"
+#include "base/config/document.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -19,15 +20,6 @@ struct Item {
   Codec* codec = nullptr;  // null for the heartbeat
   bool heartbeat = false;
 };
-
-std::string number(double x) {
-  std::string text = std::to_string(x);
-  text.erase(text.find_last_not_of('0') + 1);
-  if (!text.empty() && text.back() == '.') {
-    text.pop_back();
-  }
-  return text;
-}
 
 std::optional<RegisterType> parse_type(const std::string& text) {
   if (text == "float32") return RegisterType::float32;
@@ -67,9 +59,9 @@ Validation compile_entry(const RegisterEntry& entry, const std::string& field, b
   } else {
     if (!std::isfinite(entry.eng_min) || !std::isfinite(entry.eng_max) ||
         !(entry.eng_min < entry.eng_max)) {
-      return Validation::invalid(
-          field + ".eng_max", number(entry.eng_max),
-          "a finite engineering range with eng_min (" + number(entry.eng_min) + ") < eng_max");
+      return Validation::invalid(field + ".eng_max", config::format_number(entry.eng_max),
+                                 "a finite engineering range with eng_min (" +
+                                     config::format_number(entry.eng_min) + ") < eng_max");
     }
     const std::int32_t type_min = *type == RegisterType::int16 ? -32768 : 0;
     const std::int32_t type_max = *type == RegisterType::int16 ? 32767 : 65535;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "hal/transports/transports.hpp"
+#include "base/config/document.hpp"
 
 #include <algorithm>
 #include <array>
@@ -60,26 +61,20 @@ std::vector<std::string> transport_sections() {
   return out;
 }
 
-namespace {
-
-std::string g17(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 Validation check_carried(const CarriedRange& range, const std::string& where, double min,
                          double max) {
   if (!range.bounded) return Validation::valid();
   if (min < range.low) {
-    return Validation::invalid(where + ".min", g17(min),
-                               ">= " + g17(range.low) + ", the least " + range.what + " can carry");
+    return Validation::invalid(
+        where + ".min", config::format_number(min),
+        ">= " + config::format_number(range.low) + ", the least " + range.what + " can carry");
   }
   if (max > range.high) {
-    return Validation::invalid(where + ".max", g17(max),
-                               "<= " + g17(range.high) + ", the most " + range.what + " can carry");
+    return Validation::invalid(
+        where + ".max", config::format_number(max),
+        "<= " + config::format_number(range.high) + ", the most " + range.what + " can carry");
   }
   return Validation::valid();
 }

@@ -37,7 +37,8 @@ std::string transport_choices();
 std::vector<std::string> transport_sections();
 
 /// Whether the limits [min, max] of the setpoint at `where` ("setpoints[2]") lie inside what
-/// its encoding carries; else names where.min or where.max, the limit (%.17g) and the end of
+/// its encoding carries; else names where.min or where.max, the limit (config::format_number:
+/// the shortest text that reads back to the same double) and the end of
 /// `range` ("<= 2, the most register 104 int16 raw 0..27648 = 0..2 can carry").
 Validation check_carried(const CarriedRange& range, const std::string& where, double min,
                          double max);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "host/design/prior_knowledge.hpp"
+#include "base/config/document.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -10,13 +11,6 @@
 
 namespace excite::host {
 namespace {
-
-// The shortest text that reads back as `value` (1e+308, not 309 digits).
-std::string shortest(double value) {
-  char text[32];
-  const auto end = std::to_chars(text, text + sizeof text, value).ptr;
-  return std::string(text, end);
-}
 
 [[noreturn]] void fail(const std::string& field, double value, const std::string& expected) {
   std::ostringstream msg;
@@ -36,7 +30,7 @@ void validate(const PriorKnowledge& prior) {
   require_positive("tau_high_min", prior.tau_high_min);
   if (prior.tau_low_min > prior.tau_high_min) {
     fail("tau_low_min", prior.tau_low_min,
-         "at most tau_high_min = " + shortest(prior.tau_high_min));
+         "at most tau_high_min = " + config::format_number(prior.tau_high_min));
   }
   require_positive("alpha", prior.alpha);
   require_positive("beta", prior.beta);
@@ -60,7 +54,7 @@ void validate_inputs(const PriorKnowledge& prior) {
     const double room = std::min(-in.min, in.max);
     if (!(std::isfinite(in.amplitude) && in.amplitude > 0.0 && in.amplitude <= room)) {
       fail(field + ".amplitude", in.amplitude,
-           "in (0, " + shortest(room) + "], inside the input limits");
+           "in (0, " + config::format_number(room) + "], inside the input limits");
     }
   }
   if (prior.gain.size() != 0) {

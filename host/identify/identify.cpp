@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "host/identify/identify.hpp"
+#include "base/config/document.hpp"
 
 #include <atomic>
 #include <cmath>
@@ -22,19 +23,14 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string number(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 void check_finite(const Eigen::MatrixXd& M, const char* name) {
   for (Eigen::Index c = 0; c < M.cols(); ++c) {
     for (Eigen::Index r = 0; r < M.rows(); ++r) {
       if (!std::isfinite(M(r, c))) {
         throw std::invalid_argument(std::string("identify: ") + name + " sample " +
                                     std::to_string(r) + " (row), channel " + std::to_string(c + 1) +
-                                    " is " + number(M(r, c)) + "; data must be finite");
+                                    " is " + config::format_number(M(r, c)) +
+                                    "; data must be finite");
       }
     }
   }
@@ -43,16 +39,17 @@ void check_finite(const Eigen::MatrixXd& M, const char* name) {
 void check_arguments(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double T_min,
                      const SampleLayout& layout, const IdentifyOptions& o) {
   if (!std::isfinite(T_min) || T_min <= 0.0) {
-    throw std::invalid_argument("identify: sample time T_min = " + number(T_min) +
+    throw std::invalid_argument("identify: sample time T_min = " + config::format_number(T_min) +
                                 ", expected a finite number > 0 (minutes)");
   }
   if (!std::isfinite(o.max_delay_min) || o.max_delay_min < 0.0) {
-    throw std::invalid_argument("identify: max_delay_min = " + number(o.max_delay_min) +
-                                ", expected a finite number ≥ 0 (minutes)");
+    throw std::invalid_argument(
+        "identify: max_delay_min = " + config::format_number(o.max_delay_min) +
+        ", expected a finite number ≥ 0 (minutes)");
   }
   if (!std::isfinite(o.max_time_constant_min) || o.max_time_constant_min < 0.0) {
     throw std::invalid_argument(
-        "identify: max_time_constant_min = " + number(o.max_time_constant_min) +
+        "identify: max_time_constant_min = " + config::format_number(o.max_time_constant_min) +
         ", expected a finite number ≥ 0 (0: the experiment length)");
   }
   if (o.max_iterations < 1) {
@@ -93,8 +90,9 @@ void check_arguments(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double 
   if (layout.scored() < need) {
     throw std::invalid_argument(
         "identify: " + std::to_string(layout.scored()) + " samples are too few for " +
-        std::to_string(U.cols()) + " inputs with delays up to " + number(o.max_delay_min) +
-        " min at T = " + number(T_min) + " min, expected at least " + std::to_string(need) +
+        std::to_string(U.cols()) + " inputs with delays up to " +
+        config::format_number(o.max_delay_min) + " min at T = " + config::format_number(T_min) +
+        " min, expected at least " + std::to_string(need) +
         " (⌈max_delay/T⌉ + 10 per parameter, 4 parameters per input)");
   }
   check_finite(U, "U");

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "host/import/historian_csv.hpp"
+#include "base/config/document.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -21,12 +22,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr std::size_t kBadExamples = 3;
-
-std::string number(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
 
 bool is_units_label(const std::string& cell) {
   const std::string c = lower(trim(cell));
@@ -370,7 +365,7 @@ void Reader::add(std::size_t g, double t, const std::string& time_text, const st
   double v = parsed ? *parsed : kNaN;
   if (parsed && std::fabs(v) > o_.max_value) {
     throw std::invalid_argument(at(line) + tags_[g] + " = " + quote_cell(value) +
-                                ", expected |value| <= " + number(o_.max_value) +
+                                ", expected |value| <= " + config::format_number(o_.max_value) +
                                 " (so that the run log's values and deviations stay within its "
                                 "limit)");
   }

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "host/import/import_run.hpp"
+#include "base/config/document.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -14,12 +15,6 @@
 
 namespace excite::host::historian {
 namespace {
-
-std::string number(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 // The first and last sample over all tags (each tag's times increase).
 void span_of(const HistorianData& d, double& first, double& last) {
@@ -67,9 +62,10 @@ void check_grid_rows(const HistorianData& d, double first, double last, double T
   std::snprintf(count, sizeof count, "%.0f", rows);
   throw std::invalid_argument(
       d.file + ":" + std::to_string(far_line) + ": time = " + format_utc(far) +
-      ", expected a record of at most " + std::to_string(max_rows) + " rows of " + number(T_min) +
-      " min (the run log's limit): from " + format_utc(first) + " to " + format_utc(last) + " is " +
-      count + " rows; give --from/--to (a time window) or a longer --sample-time-min");
+      ", expected a record of at most " + std::to_string(max_rows) + " rows of " +
+      config::format_number(T_min) + " min (the run log's limit): from " + format_utc(first) +
+      " to " + format_utc(last) + " is " + count +
+      " rows; give --from/--to (a time window) or a longer --sample-time-min");
 }
 
 // A uniform grid from the first timestamp to the last.
@@ -96,7 +92,8 @@ double baseline_of(const std::vector<double>& v, std::size_t from, std::size_t t
     throw std::invalid_argument(file + ": tag '" + tag.tag +
                                 "' has no good value in the baseline "
                                 "window " +
-                                number(o.baseline_from_min) + " … " + number(o.baseline_to_min) +
+                                config::format_number(o.baseline_from_min) + " … " +
+                                config::format_number(o.baseline_to_min) +
                                 " min from the data's start, expected at least one (give "
                                 "--baseline FROM:TO)");
   }
@@ -163,9 +160,9 @@ AutoBaseline auto_baseline(const std::vector<std::vector<double>>& values, std::
                             : std::min<std::size_t>(60, N / 10));
   std::string why;
   if (first_move < needed) {
-    why = "the MVs move " + number(static_cast<double>(first_move) * T_min) +
+    why = "the MVs move " + config::format_number(static_cast<double>(first_move) * T_min) +
           " min after the start, before a steady window of " +
-          number(static_cast<double>(needed) * T_min) + " min";
+          config::format_number(static_cast<double>(needed) * T_min) + " min";
   } else {
     for (std::size_t c = mvs; c < values.size() && why.empty(); ++c) {
       // The CV's least-squares line over the window: its rise over the window.
@@ -184,7 +181,7 @@ AutoBaseline auto_baseline(const std::vector<std::vector<double>>& values, std::
       const double slope = denominator > 0.0 ? (n * sky - sk * sy) / denominator : 0.0;
       const double rise = std::abs(slope) * static_cast<double>(first_move);
       if (rise > 0.1 * range_of(values[c])) {
-        why = "CV " + std::to_string(c - mvs + 1) + " drifts by " + number(rise) +
+        why = "CV " + std::to_string(c - mvs + 1) + " drifts by " + config::format_number(rise) +
               " before the first MV move";
       }
     }
@@ -192,7 +189,8 @@ AutoBaseline auto_baseline(const std::vector<std::vector<double>>& values, std::
   if (why.empty()) {
     out.at_rest = true;
     out.steady_rows = first_move;
-    out.note = "steady window 0 … " + number(static_cast<double>(first_move) * T_min) +
+    out.note = "steady window 0 … " +
+               config::format_number(static_cast<double>(first_move) * T_min) +
                " min before the first MV move";
   } else {
     out.note = "start not at rest (" + why +
@@ -244,7 +242,7 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
   double T_min = o.sample_time_min;
   if (T_min == 0.0) T_min = spacing_s / 60.0;
   if (!(T_min > 0.0) || !std::isfinite(T_min)) {
-    throw std::invalid_argument(data.file + ": sample time " + number(T_min) +
+    throw std::invalid_argument(data.file + ": sample time " + config::format_number(T_min) +
                                 " min, expected > 0 (give --sample-time-min; the data have " +
                                 std::to_string(data.series.front().time_s.size()) + " rows)");
   }
@@ -252,29 +250,31 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
   check_grid_rows(data, t_first, t_last, T_s, T_min, o.max_rows);
   const std::vector<double> grid = grid_of(t_first, t_last, T_s);
   if (grid.size() < 2) {
-    throw std::invalid_argument(data.file + ": the data span " + number(t_last - t_first) +
-                                " s, less than two samples of " + number(T_min) +
+    throw std::invalid_argument(data.file + ": the data span " +
+                                config::format_number(t_last - t_first) +
+                                " s, less than two samples of " + config::format_number(T_min) +
                                 " min, expected a longer record or a shorter --sample-time-min");
   }
   if (!(o.max_gap_min >= 0.0) || !std::isfinite(o.max_gap_min)) {
-    throw std::invalid_argument("--max-gap-min " + number(o.max_gap_min) +
+    throw std::invalid_argument("--max-gap-min " + config::format_number(o.max_gap_min) +
                                 ", expected a finite number ≥ 0 (0: 1.5 sample times)");
   }
   const double gap_limit =
       o.max_gap_min > 0.0 ? 60.0 * o.max_gap_min : 1.5 * std::max(T_s, spacing_s);
   if (!(o.baseline_from_min >= 0.0) || !(o.baseline_to_min >= o.baseline_from_min)) {
-    throw std::invalid_argument("--baseline " + number(o.baseline_from_min) + ":" +
-                                number(o.baseline_to_min) +
+    throw std::invalid_argument("--baseline " + config::format_number(o.baseline_from_min) + ":" +
+                                config::format_number(o.baseline_to_min) +
                                 ", expected 0 ≤ FROM ≤ TO minutes from the data's start");
   }
   // The window inside the data before any minutes become sample indices (1e300 once went
   // through an out-of-range double → size_t conversion).
   const double span_min = static_cast<double>(grid.size() - 1) * T_min;
   if (!(o.baseline_from_min <= span_min)) {
-    throw std::invalid_argument(
-        "--baseline " + number(o.baseline_from_min) + ":" + number(o.baseline_to_min) +
-        "; FROM = " + number(o.baseline_from_min) + " min, expected at most " + number(span_min) +
-        " min (the data's span)");
+    throw std::invalid_argument("--baseline " + config::format_number(o.baseline_from_min) + ":" +
+                                config::format_number(o.baseline_to_min) +
+                                "; FROM = " + config::format_number(o.baseline_from_min) +
+                                " min, expected at most " + config::format_number(span_min) +
+                                " min (the data's span)");
   }
   const double to_min = std::min(o.baseline_to_min, span_min);
   auto b_from = static_cast<std::size_t>(std::ceil(o.baseline_from_min / T_min - 1e-9));
@@ -299,8 +299,8 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
     b_from = 0;
     b_to = ab.at_rest ? ab.steady_rows - 1 : N - 1;
   } else {
-    run.baseline_note = "window " + number(o.baseline_from_min) + " … " +
-                        number(o.baseline_to_min) + " min (--baseline)";
+    run.baseline_note = "window " + config::format_number(o.baseline_from_min) + " … " +
+                        config::format_number(o.baseline_to_min) + " min (--baseline)";
   }
   std::vector<std::vector<double>> dev(all.size());
   std::vector<double> base(all.size());

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "host/multisine/allocation.hpp"
+#include "base/config/document.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -9,13 +10,7 @@
 #include "host/multisine/phases.hpp"
 
 namespace excite::host::multisine {
-namespace {
-// The shortest text that reads back as `value` (1e+308, not 309 digits).
-std::string shortest(double value) {
-  char text[32];
-  return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
-}
-}  // namespace
+namespace {}  // namespace
 namespace {
 
 void check_layout(const ZipperedLayout& layout, const char* what) {
@@ -25,7 +20,7 @@ void check_layout(const ZipperedLayout& layout, const char* what) {
     throw std::invalid_argument(where + ": lines (n_s): too few lines, expected >= 1 per channel");
   }
   if (!(layout.amplitude > 0.0) || !std::isfinite(layout.amplitude)) {
-    throw std::invalid_argument(where + ": amplitude = " + shortest(layout.amplitude) +
+    throw std::invalid_argument(where + ": amplitude = " + config::format_number(layout.amplitude) +
                                 ", expected a finite value > 0");
   }
 }

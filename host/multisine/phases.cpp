@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "host/multisine/phases.hpp"
+#include "base/config/document.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -9,13 +10,7 @@
 #include <string>
 
 namespace excite::host::multisine {
-namespace {
-// The shortest text that reads back as `value` (1e+308, not 309 digits).
-std::string shortest(double value) {
-  char text[32];
-  return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
-}
-}  // namespace
+namespace {}  // namespace
 
 std::vector<double> schroeder_phases(std::span<const double> amplitudes) {
   if (amplitudes.empty()) {
@@ -24,8 +19,9 @@ std::vector<double> schroeder_phases(std::span<const double> amplitudes) {
   double total_power = 0.0;
   for (std::size_t k = 0; k < amplitudes.size(); ++k) {
     if (!(amplitudes[k] >= 0.0) || !std::isfinite(amplitudes[k])) {
-      throw std::invalid_argument("schroeder_phases: amplitudes[" + std::to_string(k) + "] = " +
-                                  shortest(amplitudes[k]) + ", expected a finite value >= 0");
+      throw std::invalid_argument("schroeder_phases: amplitudes[" + std::to_string(k) +
+                                  "] = " + config::format_number(amplitudes[k]) +
+                                  ", expected a finite value >= 0");
     }
     total_power += amplitudes[k] * amplitudes[k];
   }

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "sim/lti/parse_element.hpp"
+#include "base/config/document.hpp"
 
 #include <cctype>
 #include <charconv>
@@ -9,13 +10,6 @@
 
 namespace excite::sim {
 namespace {
-
-std::string format_number(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
 
 // Recursive-descent parser over one element string. Each parse_* method consumes what it
 // recognises and throws with the current position otherwise.
@@ -316,7 +310,7 @@ std::string describe(const Polynomial& p) {
     if (first && c < 0) os << '-';
     const double a = std::abs(c);
     const std::size_t power = i - 1;
-    if (a != 1.0 || power == 0) os << format_number(a);
+    if (a != 1.0 || power == 0) os << config::format_number(a);
     if (power >= 1) os << 's';
     if (power >= 2) os << '^' << power;
     first = false;
@@ -327,9 +321,10 @@ std::string describe(const Polynomial& p) {
 }  // namespace
 
 std::string check_term(const Term& term, const ElementRules& rules) {
-  if (!std::isfinite(term.gain)) return "gain " + format_number(term.gain) + " is not finite";
+  if (!std::isfinite(term.gain))
+    return "gain " + config::format_number(term.gain) + " is not finite";
   if (!std::isfinite(term.delay_min) || term.delay_min < 0.0) {
-    return "delay " + format_number(term.delay_min) + " min, expected a finite delay ≥ 0";
+    return "delay " + config::format_number(term.delay_min) + " min, expected a finite delay ≥ 0";
   }
   for (const auto* list : {&term.zeros, &term.poles}) {
     for (const Factor& f : *list) {
@@ -350,12 +345,12 @@ std::string check_term(const Term& term, const ElementRules& rules) {
     for (const Factor& f : term.poles) {
       for (const std::complex<double>& p : roots(f.poly)) {
         if (p.real() >= 0.0) {
-          std::string msg = "pole at s = " + format_number(p.real() + 0.0);  // no "-0"
+          std::string msg = "pole at s = " + config::format_number(p.real() + 0.0);  // no "-0"
           if (p.imag() != 0.0)
-            msg += (p.imag() > 0 ? " + " : " - ") + format_number(std::abs(p.imag())) + "j";
+            msg += (p.imag() > 0 ? " + " : " - ") + config::format_number(std::abs(p.imag())) + "j";
           msg += " 1/min from factor (" + describe(f.poly) + ")";
           if (degree(f.poly) == 1 && f.poly[0] != 0.0) {
-            msg += ", time constant " + format_number(f.poly[1] / f.poly[0]) + " min";
+            msg += ", time constant " + config::format_number(f.poly[1] / f.poly[0]) + " min";
           }
           return msg +
                  ", expected poles in the open left half-plane (time constants > 0); "

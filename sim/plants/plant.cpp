@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "sim/plants/plant.hpp"
+#include "base/config/document.hpp"
 
 #include <Eigen/LU>
 
@@ -17,15 +18,10 @@
 namespace excite::sim {
 namespace {
 
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.12g", v);
-  return text;
-}
-
 void require_sample_time(const std::string& plant, double sample_time_min) {
   if (std::isfinite(sample_time_min) && sample_time_min > 0.0) return;
-  throw std::invalid_argument(plant + ": sample_time_min = " + number(sample_time_min) +
+  throw std::invalid_argument(plant +
+                              ": sample_time_min = " + config::format_number(sample_time_min) +
                               ", expected a finite number of minutes > 0");
 }
 
@@ -49,8 +45,8 @@ void require_step_arguments(const std::string& plant, bool live, std::span<const
   }
   for (std::size_t j = 0; j < du.size(); ++j) {
     if (!std::isfinite(du[j])) {
-      throw std::invalid_argument(plant + ": du[" + std::to_string(j) + "] = " + number(du[j]) +
-                                  ", expected a finite deviation");
+      throw std::invalid_argument(plant + ": du[" + std::to_string(j) + "] = " +
+                                  config::format_number(du[j]) + ", expected a finite deviation");
     }
   }
 }

@@ -22,6 +22,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "base/config/document.hpp"
 #include "base/config/error.hpp"
 #include "firmware/runlog/format.hpp"
 #include "sim/server/can_plant_server.hpp"
@@ -59,15 +60,10 @@ void install_handlers() {
   throw excite::config::Error(field, value, expected);
 }
 
-std::string text_of(double x) {
-  std::ostringstream os;
-  os << x;
-  return os.str();
-}
-
 // A finite number above (or at, when `zero_ok`) zero, or an error naming the option.
 void check_positive(const std::string& option, double x, bool zero_ok, const std::string& what) {
-  if (!std::isfinite(x) || x < 0.0 || (!zero_ok && x == 0.0)) bad(option, text_of(x), what);
+  if (!std::isfinite(x) || x < 0.0 || (!zero_ok && x == 0.0))
+    bad(option, excite::config::format_number(x), what);
 }
 
 // "ADDR:PORT" → host and port (ADDR an IPv4 address, PORT 0..65535).
@@ -214,7 +210,8 @@ std::optional<int> parse_command_line(int argc, char** argv, CommandLine& cl) {
     }
     if (app.count("--speedup") > 0) {
       check_positive("--speedup", speedup, false, "a factor > 0 (plant minutes per wall minute)");
-      if (clock != "realtime") bad("--speedup", text_of(speedup), "only with --clock realtime");
+      if (clock != "realtime")
+        bad("--speedup", excite::config::format_number(speedup), "only with --clock realtime");
     }
     if (app.count("--sample-time-s") > 0) {
       check_positive("--sample-time-s", sample_time_s, false, "seconds > 0");

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "sim/server/plant_server.hpp"
+#include "base/config/document.hpp"
 
 #include <arpa/inet.h>
 #include <modbus.h>
@@ -489,12 +490,6 @@ void PlantServer::run(const std::function<bool()>& stop) {
 
 namespace {
 
-std::string text_of(double x) {
-  std::ostringstream os;
-  os << x;
-  return os.str();
-}
-
 void print_summary(const PlantProcess& process, const PlantServer& server,
                    const RegisterImage& image, const ServerLayout& layout,
                    const ServeOptions& options) {
@@ -542,8 +537,9 @@ int serve_modbus(PlantProcess& process, RegisterImage& image, const ServerLayout
             << (options.lockstep ? std::string("lock-step")
                                  : std::to_string(options.sample_period.count()) + " s per sample")
             << (default_map ? ", default register map" : "")
-            << (options.watchdog_s > 0.0 ? ", watchdog " + text_of(options.watchdog_s) + " s"
-                                         : std::string(", no watchdog"))
+            << (options.watchdog_s > 0.0
+                    ? ", watchdog " + config::format_number(options.watchdog_s) + " s"
+                    : std::string(", no watchdog"))
             << (options.input_min.empty() ? ", no input limits" : ", input limits") << "\n";
   int code = 0;
   try {

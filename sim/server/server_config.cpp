@@ -14,10 +14,6 @@ namespace {
 
 using config::Table;
 
-std::string g(double x) {
-  return config::format_number(x);
-}
-
 PlantSettings read_plant(const Table& t) {
   t.only_keys({"library", "file", "sample_time_min", "input_baseline", "output_baseline",
                "noise_variance", "noise_seed", "watchdog_s", "input_min", "input_max",
@@ -34,8 +30,8 @@ PlantSettings read_plant(const Table& t) {
   plant.noise_variance = t.numbers("noise_variance", true);
   for (std::size_t i = 0; i < plant.noise_variance.size(); ++i) {
     if (plant.noise_variance[i] < 0.0) {
-      t.fail("noise_variance[" + std::to_string(i) + "]", g(plant.noise_variance[i]),
-             "a variance >= 0");
+      t.fail("noise_variance[" + std::to_string(i) + "]",
+             config::format_number(plant.noise_variance[i]), "a variance >= 0");
     }
   }
   if (const auto seed =
@@ -53,8 +49,9 @@ PlantSettings read_plant(const Table& t) {
   }
   for (std::size_t i = 0; i < plant.input_min.size(); ++i) {
     if (!(plant.input_min[i] < plant.input_max[i])) {
-      t.fail("input_max[" + std::to_string(i) + "]", g(plant.input_max[i]),
-             "a limit above input_min[" + std::to_string(i) + "] = " + g(plant.input_min[i]));
+      t.fail("input_max[" + std::to_string(i) + "]", config::format_number(plant.input_max[i]),
+             "a limit above input_min[" + std::to_string(i) +
+                 "] = " + config::format_number(plant.input_min[i]));
     }
   }
   return plant;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "sim/server/server_overrides.hpp"
+#include "base/config/document.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -22,12 +23,6 @@ namespace {
   throw config::Error(field, value, expected);
 }
 
-std::string text_of(double x) {
-  std::ostringstream os;
-  os << x;
-  return os.str();
-}
-
 // The wall-clock seconds per plant sample, and the sample time as seconds, within the
 // gateway's tick periods (firmware/app/timing_range.hpp: the same numbers, not a copy).
 void check_period(const std::string& option, const std::string& value,
@@ -35,8 +30,9 @@ void check_period(const std::string& option, const std::string& value,
   const double seconds = period.count();
   if (!(seconds >= app::kMinPeriodS && seconds <= app::kMaxPeriodS)) {
     bad(option, value,
-        what + " within the gateway's tick periods, " + text_of(app::kMinPeriodS) + " … " +
-            text_of(app::kMaxPeriodS) + " s (got " + text_of(seconds) + " s)");
+        what + " within the gateway's tick periods, " + config::format_number(app::kMinPeriodS) +
+            " … " + config::format_number(app::kMaxPeriodS) + " s (got " +
+            config::format_number(seconds) + " s)");
   }
 }
 
@@ -54,9 +50,9 @@ void check_plan(const std::string& path, double sample_time_min, const std::stri
   }
   const double t = plan->meta.sample_time_min;
   if (!(std::abs(t - sample_time_min) <= 1e-9 * sample_time_min)) {
-    throw config::Error(path, {}, "sample_time_min", text_of(t),
-                        "the plant's sample time, " + text_of(sample_time_min) + " min (" + where +
-                            "): the plant steps once per row of the plan");
+    throw config::Error(path, {}, "sample_time_min", config::format_number(t),
+                        "the plant's sample time, " + config::format_number(sample_time_min) +
+                            " min (" + where + "): the plant steps once per row of the plan");
   }
 }
 
@@ -81,8 +77,9 @@ void input_limits(ServeOptions& options, const PlantSettings& plant,
   for (std::size_t i = 0; i < n; ++i) {
     if (!(plant.input_min[i] <= u0[i] && u0[i] <= plant.input_max[i])) {
       bad(src + ": plant.input_min/input_max[" + std::to_string(i) + "]",
-          "[" + text_of(plant.input_min[i]) + ", " + text_of(plant.input_max[i]) + "]",
-          "limits around the input baseline " + text_of(u0[i]));
+          "[" + config::format_number(plant.input_min[i]) + ", " +
+              config::format_number(plant.input_max[i]) + "]",
+          "limits around the input baseline " + config::format_number(u0[i]));
     }
   }
   options.input_min = plant.input_min;
@@ -104,9 +101,9 @@ void check_noise_fits(const PlantSettings& plant, const ServerOverrides& overrid
     const double variance = v.size() == 1 ? v.front() : v[std::min(j, v.size() - 1)];
     if (!(std::sqrt(variance) <= span)) {
       bad(overrides.noise_variance ? "--noise-var" : std::string(source) + ": plant.noise_variance",
-          text_of(variance),
+          config::format_number(variance),
           "a variance whose standard deviation fits output " + output_names[j] +
-              "'s register (at most " + text_of(span) + ", the range it carries)");
+              "'s register (at most " + config::format_number(span) + ", the range it carries)");
     }
   }
 }
@@ -129,7 +126,7 @@ void apply_overrides(ServerConfig& config, const ServerOverrides& o, std::string
   if (o.sample_time_min) plant.sample_time_min = *o.sample_time_min;
   const std::string where =
       o.sample_time_min ? "--sample-time-min" : std::string(source) + ": plant.sample_time_min";
-  check_period(where, text_of(plant.sample_time_min), Minutes(plant.sample_time_min),
+  check_period(where, config::format_number(plant.sample_time_min), Minutes(plant.sample_time_min),
                "minutes whose seconds lie");
   if (!o.plan.empty()) check_plan(o.plan, plant.sample_time_min, where);
 }
@@ -137,14 +134,14 @@ void apply_overrides(ServerConfig& config, const ServerOverrides& o, std::string
 std::chrono::duration<double> sample_period(Minutes sample_time, const ServerOverrides& o) {
   if (o.speedup) {
     const std::chrono::duration<double> period = sample_time / *o.speedup;
-    check_period("--speedup", text_of(*o.speedup), period,
+    check_period("--speedup", config::format_number(*o.speedup), period,
                  "a factor whose wall-clock seconds per sample (60 · T / X, T = " +
-                     text_of(sample_time.count()) + " min) lie");
+                     config::format_number(sample_time.count()) + " min) lie");
     return period;
   }
   if (o.sample_time_s) {
     const std::chrono::duration<double> period(*o.sample_time_s);
-    check_period("--sample-time-s", text_of(*o.sample_time_s), period, "seconds");
+    check_period("--sample-time-s", config::format_number(*o.sample_time_s), period, "seconds");
     return period;
   }
   return sample_time;
@@ -170,8 +167,8 @@ std::string complete_serve_options(ServeOptions& options, const ServerConfig& co
   // excitation (issue 28 item 3). Warned, and the trips are counted at the stop.
   const double period_s = options.sample_period.count();
   if (options.lockstep || options.watchdog_s <= 0.0 || options.watchdog_s >= period_s) return "";
-  return "watchdog " + text_of(options.watchdog_s) + " s is shorter than one sample period (" +
-         text_of(period_s) +
+  return "watchdog " + config::format_number(options.watchdog_s) +
+         " s is shorter than one sample period (" + config::format_number(period_s) +
          " s): it trips between the gateway's writes and holds the inputs at the baseline; give "
          "it at least two periods";
 }

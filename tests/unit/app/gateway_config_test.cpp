@@ -185,7 +185,7 @@ TEST(GatewayConfigTest, SetpointLimitsBeyondTheRegisterAreRefused) {
   text = example_text(kCanExample);  // L: int16 at 0.001 kmol/min per count
   text.replace(text.find("max = 3.5"), 9, "max = 40.0");
   EXPECT_EQ(error_of(text),
-            "gw.toml: setpoints[0].max = 40, expected <= 32.767000000000003, the most CAN 0x210 "
+            "gw.toml: setpoints[0].max = 40, expected <= 32.767, the most CAN 0x210 "
             "int16 scale 0.001 offset 0 can carry");
 }
 
