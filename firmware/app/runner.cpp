@@ -12,8 +12,8 @@ engine::Status Runner::arm() noexcept {
         engine::StatusCode::invalid_field, "field bus = %zu setpoints, %zu values, expected %u, %u",
         bus_.setpoint_count(), bus_.value_count(), engine_.config().inputs, n);
   }
-  const hal::Status s = bus_.read(std::span<double>(values_.data(), n));
-  if (s != hal::Status::ok) {
+  const hal::StatusCode s = bus_.read(std::span<double>(values_.data(), n));
+  if (s != hal::StatusCode::ok) {
     return engine::Status::error(engine::StatusCode::invalid_field,
                                  "first read of the live values = %s (%s), expected ok",
                                  hal::to_string(s), bus_.detail());
@@ -23,9 +23,9 @@ engine::Status Runner::arm() noexcept {
   // Verified writes at arm: write the baseline once (heartbeat 0; the first tick writes 1),
   // read it back, and refuse before any excitation when a readback disagrees.
   const engine::TickOutput& out = engine_.output();
-  hal::Status w = bus_.write(out.setpoints(), 0);
-  if (w == hal::Status::ok) w = bus_.read(std::span<double>(values_.data(), n));
-  if (w != hal::Status::ok) {
+  hal::StatusCode w = bus_.write(out.setpoints(), 0);
+  if (w == hal::StatusCode::ok) w = bus_.read(std::span<double>(values_.data(), n));
+  if (w != hal::StatusCode::ok) {
     return engine::Status::error(engine::StatusCode::invalid_field,
                                  "writing the baseline and reading it back = %s (%s), expected ok",
                                  hal::to_string(w), bus_.detail());
@@ -41,21 +41,22 @@ void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t s
   bool ok = false;
   bool refused = false;
   if (out.write) {
-    last_status_ = hal::Status::ok;
+    last_status_ = hal::StatusCode::ok;
     if (reverify_) {  // after a failure: read the peer before writing anything to it again
       ++reverified_;
       last_status_ = bus_.read(values);
-      if (last_status_ == hal::Status::ok) engine_.check_peer_continuity(values);
+      if (last_status_ == hal::StatusCode::ok) engine_.check_peer_continuity(values);
     }
-    if (last_status_ == hal::Status::ok) last_status_ = bus_.write(out.setpoints(), out.heartbeat);
-    if (last_status_ == hal::Status::ok) last_status_ = bus_.read(values);
-    ok = last_status_ == hal::Status::ok;
+    if (last_status_ == hal::StatusCode::ok)
+      last_status_ = bus_.write(out.setpoints(), out.heartbeat);
+    if (last_status_ == hal::StatusCode::ok) last_status_ = bus_.read(values);
+    ok = last_status_ == hal::StatusCode::ok;
     reverify_ = !ok;
     if (!ok && pacing_clock_ != nullptr) last_failed_at_ = pacing_clock_->now();
     // Exceptions 1, 2, 3: the device refused the request itself (it will again) — not a
     // link fault. The first one is kept and stops the excitation below; 4, 6 and the rest
     // stay with the comm guard.
-    if (last_status_ == hal::Status::peer_error && !refusal_.valid) {
+    if (last_status_ == hal::StatusCode::peer_error && !refusal_.valid) {
       const hal::PeerException e = bus_.last_exception();
       if (hal::is_refusal(e.code)) {
         refusal_.valid = true;

@@ -116,7 +116,7 @@ class Runner {
   /// after the previous one was due (Engine::compute: time is counted on the clock).
   void tick(std::int64_t time_ns, engine::Command command, std::uint64_t skipped = 0) noexcept;
 
-  [[nodiscard]] hal::Status last_status() const noexcept { return last_status_; }
+  [[nodiscard]] hal::StatusCode last_status() const noexcept { return last_status_; }
   /// The first refusal (exception 1, 2 or 3) of the run; it stopped the excitation
   /// (Engine::fault(Outcome::device_refused)). Not valid when there was none.
   [[nodiscard]] const Refusal& refusal() const noexcept { return refusal_; }
@@ -133,7 +133,7 @@ class Runner {
   std::span<const RangeEnd> range_ends_{};
   std::span<std::uint64_t> range_counts_{};
   std::array<double, engine::kMaxValues> values_{};
-  hal::Status last_status_ = hal::Status::ok;
+  hal::StatusCode last_status_ = hal::StatusCode::ok;
   std::uint64_t ticks_ = 0;
   bool verify_at_arm_ = true;
   Refusal refusal_{};

@@ -40,10 +40,10 @@ const char* socket_failure_reason(int error) noexcept {
 SocketCanSupport probe_socketcan() noexcept {
   const int fd = socket(PF_CAN, SOCK_RAW, CAN_RAW);
   if (fd < 0) {
-    return {Status::unavailable, socket_failure_reason(errno)};
+    return {StatusCode::unavailable, socket_failure_reason(errno)};
   }
   close(fd);
-  return {Status::ok, ""};
+  return {StatusCode::ok, ""};
 }
 
 CanFieldBus::~CanFieldBus() {
@@ -174,15 +174,15 @@ Validation CanFieldBus::configure(const CanConfig& config) {
   return Validation::valid();
 }
 
-Status CanFieldBus::write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept {
+StatusCode CanFieldBus::write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept {
   if (fd_ < 0) {
-    return Status::unavailable;  // detail_ says why (not configured, or no AF_CAN)
+    return StatusCode::unavailable;  // detail_ says why (not configured, or no AF_CAN)
   }
-  if (pack_setpoints(plan_, setpoints, heartbeat, tx_, clamped_) != Status::ok) {
+  if (pack_setpoints(plan_, setpoints, heartbeat, tx_, clamped_) != StatusCode::ok) {
     std::snprintf(detail_, sizeof detail_,
                   "write: %zu setpoints (%zu configured), all finite expected", setpoints.size(),
                   plan_.setpoints.size());
-    return Status::bad_argument;
+    return StatusCode::bad_argument;
   }
   int error = 0;
   for (const can_frame& frame : tx_) {
@@ -193,11 +193,11 @@ Status CanFieldBus::write(std::span<const double> setpoints, std::uint16_t heart
       break;
     }
   }
-  const Status status = link_.on_write(error);
-  if (await_echo_ && status == Status::ok) {
+  const StatusCode status = link_.on_write(error);
+  if (await_echo_ && status == StatusCode::ok) {
     awaited_ = heartbeat;
   }
-  if (status == Status::ok) {
+  if (status == StatusCode::ok) {
     detail_[0] = '\0';
   } else if (link_.bus_off()) {
     std::snprintf(detail_, sizeof detail_, "%s: controller is bus-off", interface_.c_str());
@@ -208,20 +208,20 @@ Status CanFieldBus::write(std::span<const double> setpoints, std::uint16_t heart
   return status;
 }
 
-Status CanFieldBus::read(std::span<double> values) noexcept {
+StatusCode CanFieldBus::read(std::span<double> values) noexcept {
   if (fd_ < 0) {
-    return Status::unavailable;
+    return StatusCode::unavailable;
   }
   if (values.size() != plan_.values.size()) {
     std::snprintf(detail_, sizeof detail_, "read: room for %zu values given, %zu configured",
                   values.size(), plan_.values.size());
-    return Status::bad_argument;
+    return StatusCode::bad_argument;
   }
   if (!drain()) {
-    return Status::link_lost;
+    return StatusCode::link_lost;
   }
   if (awaited_) {
-    if (const Status s = await_echo(); s != Status::ok) {
+    if (const StatusCode s = await_echo(); s != StatusCode::ok) {
       return s;
     }
   }
@@ -230,7 +230,7 @@ Status CanFieldBus::read(std::span<double> values) noexcept {
   }
   if (link_.bus_off()) {
     std::snprintf(detail_, sizeof detail_, "%s: controller is bus-off", interface_.c_str());
-    return Status::link_lost;
+    return StatusCode::link_lost;
   }
   const Nanoseconds now = clock_.now();
   for (std::size_t f = 0; f < plan_.rx.size(); ++f) {
@@ -239,13 +239,13 @@ Status CanFieldBus::read(std::span<double> values) noexcept {
                     plan_.rx[f].id & CAN_EFF_MASK,
                     received_at_[f].count() < 0 ? "never received" : "stale");
       ++counters_.stale_reads;
-      return Status::timeout;
+      return StatusCode::timeout;
     }
   }
   std::copy(latest_.begin(), latest_.end(), values.begin());
   detail_[0] = '\0';
   had_values_ = true;
-  return Status::ok;
+  return StatusCode::ok;
 }
 
 bool CanFieldBus::drain() noexcept {
@@ -285,34 +285,34 @@ bool CanFieldBus::all_received() const noexcept {
 }
 
 template <class Done>
-Status CanFieldBus::wait_until(Done done) noexcept {
+StatusCode CanFieldBus::wait_until(Done done) noexcept {
   const Nanoseconds deadline = clock_.now() + value_timeout_;
   while (!done()) {
     const Nanoseconds left = deadline - clock_.now();
     const auto ms = std::chrono::ceil<std::chrono::milliseconds>(left).count();
     pollfd p{fd_, POLLIN, 0};
     if (ms <= 0 || poll(&p, 1, static_cast<int>(ms)) <= 0) {
-      return Status::timeout;
+      return StatusCode::timeout;
     }
     if (!drain()) {
-      return Status::link_lost;
+      return StatusCode::link_lost;
     }
   }
-  return Status::ok;
+  return StatusCode::ok;
 }
 
 // Frames arrive in the order the peer sent them, so the ones it sent before the echo (its
 // answer to that write) are in latest_ once the echo is.
-Status CanFieldBus::await_echo() noexcept {
+StatusCode CanFieldBus::await_echo() noexcept {
   const auto echoed = [this] { return latest_[*await_echo_] == static_cast<double>(*awaited_); };
-  const Status s = wait_until(echoed);
-  if (s == Status::timeout) {
+  const StatusCode s = wait_until(echoed);
+  if (s == StatusCode::timeout) {
     ++counters_.echo_timeouts;
     std::snprintf(detail_, sizeof detail_, "%s: no echo of heartbeat %u within %lld ms",
                   interface_.c_str(), static_cast<unsigned>(*awaited_),
                   static_cast<long long>(value_timeout_.count() / 1000000));
   }
-  if (s == Status::ok) {
+  if (s == StatusCode::ok) {
     awaited_.reset();
   }
   return s;

@@ -55,7 +55,7 @@ Validation validate(const CanConfig& config);
 // Whether this kernel can open a SocketCAN raw socket. reason: "" when ok, else a
 // static string naming the call and errno (e.g. EAFNOSUPPORT: no AF_CAN).
 struct SocketCanSupport {
-  Status status;  // ok or unavailable
+  StatusCode status;  // ok or unavailable
   const char* reason;
 };
 SocketCanSupport probe_socketcan() noexcept;
@@ -89,8 +89,8 @@ class CanFieldBus final : public FieldBus {
   // names it in messages. On success the bus owns fd (closes it); on failure the caller does.
   Validation configure_on_socket(const CanConfig& config, int fd);
 
-  Status write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept override;
-  Status read(std::span<double> values) noexcept override;
+  StatusCode write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept override;
+  StatusCode read(std::span<double> values) noexcept override;
   [[nodiscard]] std::size_t setpoint_count() const noexcept override {
     return plan_.setpoints.size();
   }
@@ -110,12 +110,12 @@ class CanFieldBus final : public FieldBus {
  private:
   void release() noexcept;
   bool drain() noexcept;  // receives what is queued; false (detail_ set) on a socket error
-  Status await_echo() noexcept;
+  StatusCode await_echo() noexcept;
   bool all_received() const noexcept;
   bool is_own_id(const can_frame& frame) const noexcept;  // one of the setpoint identifiers
   // Polls the socket, draining it, until `done()` or value_timeout_ms have passed.
   template <class Done>
-  Status wait_until(Done done) noexcept;
+  StatusCode wait_until(Done done) noexcept;
   Validation prepare(const CanConfig& config, CanPlan& plan);
   void adopt(const CanConfig& config, CanPlan&& plan, int fd);
 

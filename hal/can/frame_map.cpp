@@ -230,15 +230,15 @@ Validation compile_frame_map(const CanFrameMap& map, CanPlan& plan) {
   return Validation::valid();
 }
 
-Status pack_setpoints(const CanPlan& plan, std::span<const double> setpoints,
-                      std::uint16_t heartbeat, std::span<can_frame> frames,
-                      std::uint64_t& clamped) noexcept {
+StatusCode pack_setpoints(const CanPlan& plan, std::span<const double> setpoints,
+                          std::uint16_t heartbeat, std::span<can_frame> frames,
+                          std::uint64_t& clamped) noexcept {
   if (setpoints.size() != plan.setpoints.size() || frames.size() != plan.tx.size()) {
-    return Status::bad_argument;
+    return StatusCode::bad_argument;
   }
   for (double setpoint : setpoints) {
     if (!std::isfinite(setpoint)) {
-      return Status::bad_argument;
+      return StatusCode::bad_argument;
     }
   }
   for (std::size_t f = 0; f < frames.size(); ++f) {
@@ -256,7 +256,7 @@ Status pack_setpoints(const CanPlan& plan, std::span<const double> setpoints,
     const std::uint32_t counter = plan.heartbeat->size == 1 ? heartbeat & 0xFFU : heartbeat;
     store(frames[plan.heartbeat->frame].data, *plan.heartbeat, counter);
   }
-  return Status::ok;
+  return StatusCode::ok;
 }
 
 std::optional<std::size_t> find_rx(const CanPlan& plan, const can_frame& frame) noexcept {

@@ -71,9 +71,9 @@ Validation compile_frame_map(const CanFrameMap& map, CanPlan& plan);
 // Fills `frames` (size plan.tx.size()) with the setpoints (engineering units) and the
 // heartbeat. Returns bad_argument (frames unspecified) for a wrong size or a non-finite
 // setpoint; adds the number of clamped setpoints to `clamped`.
-Status pack_setpoints(const CanPlan& plan, std::span<const double> setpoints,
-                      std::uint16_t heartbeat, std::span<can_frame> frames,
-                      std::uint64_t& clamped) noexcept;
+StatusCode pack_setpoints(const CanPlan& plan, std::span<const double> setpoints,
+                          std::uint16_t heartbeat, std::span<can_frame> frames,
+                          std::uint64_t& clamped) noexcept;
 
 // Index into plan.rx of a received frame's identifier, if it is mapped.
 std::optional<std::size_t> find_rx(const CanPlan& plan, const can_frame& frame) noexcept;

@@ -20,18 +20,18 @@ void LinkState::on_error_frame(const can_frame& frame) noexcept {
   }
 }
 
-Status LinkState::on_write(int error) noexcept {
+StatusCode LinkState::on_write(int error) noexcept {
   if (error == 0) {
     enobufs_streak_ = 0;
-    return bus_off_ ? Status::link_lost : Status::ok;
+    return bus_off_ ? StatusCode::link_lost : StatusCode::ok;
   }
   if (error == ENOBUFS || error == EAGAIN) {
     if (enobufs_streak_ < enobufs_limit_) {
       ++enobufs_streak_;
     }
-    return lost() ? Status::link_lost : Status::timeout;
+    return lost() ? StatusCode::link_lost : StatusCode::timeout;
   }
-  return Status::link_lost;  // ENETDOWN (interface down), EBADF, …
+  return StatusCode::link_lost;  // ENETDOWN (interface down), EBADF, …
 }
 
 }  // namespace excite::hal::can

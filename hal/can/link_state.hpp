@@ -24,7 +24,7 @@ class LinkState {
 
   // Result of one write() call's sends: 0 if every frame was queued, else the errno of
   // the first failure. Returns the status that call reports.
-  Status on_write(int error) noexcept;
+  StatusCode on_write(int error) noexcept;
 
   [[nodiscard]] bool bus_off() const noexcept { return bus_off_; }
   [[nodiscard]] bool lost() const noexcept { return bus_off_ || enobufs_streak_ >= enobufs_limit_; }

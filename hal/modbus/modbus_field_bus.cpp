@@ -144,30 +144,30 @@ Validation ModbusFieldBus::configure(const ModbusConfig& config) {
   return Validation::valid();
 }
 
-Status ModbusFieldBus::ensure_connected() noexcept {
+StatusCode ModbusFieldBus::ensure_connected() noexcept {
   if (ctx_ == nullptr) {
     set_detail("not configured");
-    return Status::unavailable;
+    return StatusCode::unavailable;
   }
   if (connected_) {
-    return Status::ok;
+    return StatusCode::ok;
   }
   if (modbus_connect(ctx_) == -1) {
     const int error = errno;
     modbus_close(ctx_);
     std::snprintf(detail_, sizeof detail_, "%s: reconnect failed: %s", peer_.c_str(),
                   modbus_strerror(error));
-    return Status::link_lost;
+    return StatusCode::link_lost;
   }
   connected_ = true;
   ++reconnects_;
-  return Status::ok;
+  return StatusCode::ok;
 }
 
-Status ModbusFieldBus::fail(const char* operation, const Request* request, int error) noexcept {
-  Status status = Status::link_lost;
+StatusCode ModbusFieldBus::fail(const char* operation, const Request* request, int error) noexcept {
+  StatusCode status = StatusCode::link_lost;
   if (is_exception_reply(error)) {
-    status = Status::peer_error;
+    status = StatusCode::peer_error;
     const int code = error - MODBUS_ENOBASE;
     exception_ = {code, operation[0] == 'w', 0, 0, 0};
     if (request != nullptr) {
@@ -180,11 +180,11 @@ Status ModbusFieldBus::fail(const char* operation, const Request* request, int e
     }
   } else if (is_malformed_reply(error)) {
     modbus_flush(ctx_);
-    status = Status::peer_error;
+    status = StatusCode::peer_error;
   } else {
     // ETIMEDOUT, EPIPE, ECONNRESET, EBADF and any other system error: start afresh on
     // the next call, so a late reply is never taken for the answer to a new request.
-    status = error == ETIMEDOUT ? Status::timeout : Status::link_lost;
+    status = error == ETIMEDOUT ? StatusCode::timeout : StatusCode::link_lost;
     modbus_close(ctx_);
     connected_ = false;
   }
@@ -199,16 +199,17 @@ Status ModbusFieldBus::fail(const char* operation, const Request* request, int e
   return status;
 }
 
-Status ModbusFieldBus::write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept {
+StatusCode ModbusFieldBus::write(std::span<const double> setpoints,
+                                 std::uint16_t heartbeat) noexcept {
   exception_ = {};
   if (ctx_ == nullptr) {
     set_detail("not configured");
-    return Status::unavailable;
+    return StatusCode::unavailable;
   }
   if (setpoints.size() != plan_.setpoints.size()) {
     std::snprintf(detail_, sizeof detail_, "write: %zu setpoints given, %zu configured",
                   setpoints.size(), plan_.setpoints.size());
-    return Status::bad_argument;
+    return StatusCode::bad_argument;
   }
   // Encode everything before sending anything: a bad setpoint sends nothing.
   std::uint64_t clamped = 0;
@@ -220,7 +221,7 @@ Status ModbusFieldBus::write(std::span<const double> setpoints, std::uint16_t he
       std::snprintf(detail_, sizeof detail_,
                     "write: setpoints[%zu] = %g, expected a finite value%s", i, value,
                     codec.type == RegisterType::float32 ? " within float32 range" : "");
-      return Status::bad_argument;
+      return StatusCode::bad_argument;
     }
     if (codec.type == RegisterType::float32) {
       encode_float32(static_cast<float>(value), codec.order, &write_image_[codec.offset]);
@@ -235,7 +236,7 @@ Status ModbusFieldBus::write(std::span<const double> setpoints, std::uint16_t he
   }
   clamped_ += clamped;
 
-  if (const Status link = ensure_connected(); link != Status::ok) {
+  if (const StatusCode link = ensure_connected(); link != StatusCode::ok) {
     return link;
   }
   for (const Request& request : plan_.writes) {
@@ -246,21 +247,21 @@ Status ModbusFieldBus::write(std::span<const double> setpoints, std::uint16_t he
     }
   }
   detail_[0] = '\0';
-  return Status::ok;
+  return StatusCode::ok;
 }
 
-Status ModbusFieldBus::read(std::span<double> values) noexcept {
+StatusCode ModbusFieldBus::read(std::span<double> values) noexcept {
   exception_ = {};
   if (ctx_ == nullptr) {
     set_detail("not configured");
-    return Status::unavailable;
+    return StatusCode::unavailable;
   }
   if (values.size() != plan_.values.size()) {
     std::snprintf(detail_, sizeof detail_, "read: room for %zu values given, %zu configured",
                   values.size(), plan_.values.size());
-    return Status::bad_argument;
+    return StatusCode::bad_argument;
   }
-  if (const Status link = ensure_connected(); link != Status::ok) {
+  if (const StatusCode link = ensure_connected(); link != StatusCode::ok) {
     return link;
   }
   for (const Request& request : plan_.reads) {
@@ -282,7 +283,7 @@ Status ModbusFieldBus::read(std::span<double> values) noexcept {
                     : from_raw(codec, read_image_[codec.offset]);
   }
   detail_[0] = '\0';
-  return Status::ok;
+  return StatusCode::ok;
 }
 
 }  // namespace excite::hal::modbus

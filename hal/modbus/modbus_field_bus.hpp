@@ -62,8 +62,8 @@ class ModbusFieldBus final : public FieldBus {
   // An unreachable device fails here, naming host/port (or serial port) and the reason.
   Validation configure(const ModbusConfig& config);
 
-  Status write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept override;
-  Status read(std::span<double> values) noexcept override;
+  StatusCode write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept override;
+  StatusCode read(std::span<double> values) noexcept override;
   [[nodiscard]] std::size_t setpoint_count() const noexcept override {
     return plan_.setpoints.size();
   }
@@ -82,8 +82,8 @@ class ModbusFieldBus final : public FieldBus {
 
  private:
   void release() noexcept;
-  Status ensure_connected() noexcept;
-  Status fail(const char* operation, const Request* request, int error) noexcept;
+  StatusCode ensure_connected() noexcept;
+  StatusCode fail(const char* operation, const Request* request, int error) noexcept;
   void set_detail(const char* text) noexcept;
 
   _modbus* ctx_ = nullptr;

@@ -174,7 +174,7 @@ void CanPlantServer::take_sample() {
 void CanPlantServer::send_answer() {
   std::copy(y_.begin(), y_.end(), answer_.begin());
   std::copy(applied_.begin(), applied_.end(), answer_.begin() + static_cast<long>(y_.size()));
-  if (hal::can::pack_setpoints(plan_, answer_, echo_, tx_, clamped_) != hal::Status::ok) {
+  if (hal::can::pack_setpoints(plan_, answer_, echo_, tx_, clamped_) != hal::StatusCode::ok) {
     return;  // a non-finite output: nothing sent, the gateway sees the values go stale
   }
   for (const can_frame& frame : tx_) {

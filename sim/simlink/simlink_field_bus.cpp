@@ -10,7 +10,7 @@
 
 namespace excite::sim::simlink {
 
-using hal::Status;
+using hal::StatusCode;
 
 SimLinkFieldBus::SimLinkFieldBus(std::unique_ptr<Plant> plant, double sample_time_min,
                                  SimLinkConfig config, hal::VirtualClock* clock)
@@ -63,7 +63,7 @@ int SimLinkFieldBus::readback_index(std::size_t input) const noexcept {
   return readback_base_ + static_cast<int>(input);
 }
 
-void SimLinkFieldBus::drop(int calls, Status status) noexcept {
+void SimLinkFieldBus::drop(int calls, StatusCode status) noexcept {
   drop_status_.store(status);
   drop_calls_.store(calls);
 }
@@ -72,7 +72,7 @@ void SimLinkFieldBus::set_disturbance(std::size_t output, double value) noexcept
   if (output < outputs_) disturbance_[output].store(value);
 }
 
-bool SimLinkFieldBus::consume_drop(Status& status) noexcept {
+bool SimLinkFieldBus::consume_drop(StatusCode& status) noexcept {
   int left = drop_calls_.load();
   while (left > 0 && !drop_calls_.compare_exchange_weak(left, left - 1)) {
   }
@@ -87,19 +87,20 @@ void SimLinkFieldBus::spend_time() noexcept {
   if (clock_ != nullptr) clock_->advance(config_.exchange_time);
 }
 
-Status SimLinkFieldBus::write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept {
+StatusCode SimLinkFieldBus::write(std::span<const double> setpoints,
+                                  std::uint16_t heartbeat) noexcept {
   spend_time();
   if (setpoints.size() != inputs_) {
     detail_ = "simlink: wrong number of setpoints";
-    return Status::bad_argument;
+    return StatusCode::bad_argument;
   }
   for (double s : setpoints) {
     if (!std::isfinite(s)) {
       detail_ = "simlink: non-finite setpoint";
-      return Status::bad_argument;
+      return StatusCode::bad_argument;
     }
   }
-  Status dropped = Status::ok;
+  StatusCode dropped = StatusCode::ok;
   const bool drop_this = consume_drop(dropped);
   if (!drop_this) {
     for (std::size_t i = 0; i < inputs_; ++i) held_[i] = setpoints[i];
@@ -116,21 +117,21 @@ Status SimLinkFieldBus::write(std::span<const double> setpoints, std::uint16_t h
     plant_error_[sizeof plant_error_ - 1] = '\0';
     detail_ = plant_error_;
     plant_errors_.fetch_add(1);
-    return Status::peer_error;
+    return StatusCode::peer_error;
   }
   samples_.fetch_add(1);
   if (drop_this) return dropped;
   detail_ = "";
-  return Status::ok;
+  return StatusCode::ok;
 }
 
-Status SimLinkFieldBus::read(std::span<double> values) noexcept {
+StatusCode SimLinkFieldBus::read(std::span<double> values) noexcept {
   spend_time();
   if (values.size() != values_) {
     detail_ = "simlink: wrong number of values";
-    return Status::bad_argument;
+    return StatusCode::bad_argument;
   }
-  Status dropped = Status::ok;
+  StatusCode dropped = StatusCode::ok;
   if (consume_drop(dropped)) return dropped;
   for (std::size_t j = 0; j < outputs_; ++j) {
     values[j] = config_.output_baseline[j] + y_[j] + disturbance_[j].load();
@@ -144,7 +145,7 @@ Status SimLinkFieldBus::read(std::span<double> values) noexcept {
   if (command_index_ >= 0) values[static_cast<std::size_t>(command_index_)] = command_.load();
   reads_.fetch_add(1);
   detail_ = "";
-  return Status::ok;
+  return StatusCode::ok;
 }
 
 }  // namespace excite::sim::simlink

@@ -60,8 +60,9 @@ class SimLinkFieldBus final : public hal::FieldBus {
   SimLinkFieldBus(const TransferMatrix& g, double sample_time_min, SimLinkConfig config,
                   hal::VirtualClock* clock = nullptr);
 
-  hal::Status write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept override;
-  hal::Status read(std::span<double> values) noexcept override;
+  hal::StatusCode write(std::span<const double> setpoints,
+                        std::uint16_t heartbeat) noexcept override;
+  hal::StatusCode read(std::span<double> values) noexcept override;
   [[nodiscard]] std::size_t setpoint_count() const noexcept override { return inputs_; }
   [[nodiscard]] std::size_t value_count() const noexcept override { return values_; }
   [[nodiscard]] const char* detail() const noexcept override { return detail_; }
@@ -72,7 +73,7 @@ class SimLinkFieldBus final : public hal::FieldBus {
   [[nodiscard]] int command_index() const noexcept { return command_index_; }
 
   // Fault injection and stimuli; safe from another thread.
-  void drop(int calls, hal::Status status = hal::Status::timeout) noexcept;
+  void drop(int calls, hal::StatusCode status = hal::StatusCode::timeout) noexcept;
   void freeze_echo(bool frozen) noexcept { echo_frozen_.store(frozen); }
   void set_disturbance(std::size_t output, double value) noexcept;
   void set_command(double code) noexcept { command_.store(code); }
@@ -89,7 +90,7 @@ class SimLinkFieldBus final : public hal::FieldBus {
   [[nodiscard]] const Plant& plant() const noexcept { return *plant_; }
 
  private:
-  bool consume_drop(hal::Status& status) noexcept;
+  bool consume_drop(hal::StatusCode& status) noexcept;
   void spend_time() noexcept;
 
   std::unique_ptr<Plant> plant_;
@@ -111,7 +112,7 @@ class SimLinkFieldBus final : public hal::FieldBus {
   std::atomic<bool> echo_frozen_{false};
   std::atomic<double> command_{0.0};
   std::atomic<int> drop_calls_{0};
-  std::atomic<hal::Status> drop_status_{hal::Status::timeout};
+  std::atomic<hal::StatusCode> drop_status_{hal::StatusCode::timeout};
   std::atomic<std::uint64_t> writes_{0};
   std::atomic<std::uint64_t> reads_{0};
   std::atomic<std::uint64_t> dropped_{0};

@@ -44,7 +44,7 @@ void field_bus_exchange(benchmark::State& state) {
   std::uint16_t heartbeat = 0;
   for (auto _ : state) {
     setpoints[0] += 1.0;
-    if (bus.exchange(setpoints, ++heartbeat, values) != excite::hal::Status::ok) {
+    if (bus.exchange(setpoints, ++heartbeat, values) != excite::hal::StatusCode::ok) {
       state.SkipWithError(bus.detail());
       break;
     }

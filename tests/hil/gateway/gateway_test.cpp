@@ -737,7 +737,7 @@ TEST_F(GatewayCan, StreamsTheCaseStudyPlanOverCanOnVcan) {
 }
 
 TEST_F(GatewayCan, WithoutSocketCanExitsFourNamingTheReason) {
-  if (hal::can::probe_socketcan().status == hal::Status::ok) {
+  if (hal::can::probe_socketcan().status == hal::StatusCode::ok) {
     GTEST_SKIP() << "this kernel has SocketCAN: the missing-AF_CAN path cannot be shown here";
   }
   write_config(can_config_text("vcan0"));

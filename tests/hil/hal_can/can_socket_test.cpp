@@ -73,7 +73,7 @@ class Peer {
 
 TEST(CanSocket, AKernelWithoutSocketCanIsReportedUnavailableWithTheReason) {
   const SocketCanSupport support = probe_socketcan();
-  if (support.status == Status::ok) {
+  if (support.status == StatusCode::ok) {
     GTEST_SKIP() << "this kernel has AF_CAN";
   }
   VirtualClock clock;
@@ -83,7 +83,7 @@ TEST(CanSocket, AKernelWithoutSocketCanIsReportedUnavailableWithTheReason) {
   EXPECT_EQ(v.field, "can.interface");
   EXPECT_NE(v.expected.find(support.reason), std::string::npos) << v.message();
   std::array<double, 2> setpoints{};
-  EXPECT_EQ(bus.write(setpoints, 0), Status::unavailable);
+  EXPECT_EQ(bus.write(setpoints, 0), StatusCode::unavailable);
   EXPECT_STREQ(bus.detail(), support.reason);
 }
 
@@ -94,7 +94,7 @@ TEST(CanSocket, WriteSendsTheSetpointFrameThePeerDecodes) {
   CanFieldBus bus(clock);
   ASSERT_TRUE(bus.configure(tick_config()).ok());
   const std::array<double, 2> setpoints{12.3, -4.5};
-  ASSERT_EQ(bus.write(setpoints, 0x0102), Status::ok) << bus.detail();
+  ASSERT_EQ(bus.write(setpoints, 0x0102), StatusCode::ok) << bus.detail();
   can_frame frame{};
   ASSERT_TRUE(peer.receive(frame));
   EXPECT_EQ(frame.can_id, 0x210U);
@@ -113,12 +113,12 @@ TEST(CanSocket, ReadDecodesTheNewestValueFrame) {
   CanFieldBus bus(clock);
   ASSERT_TRUE(bus.configure(tick_config()).ok());
   std::array<double, 1> values{-1.0};
-  EXPECT_EQ(bus.read(values), Status::timeout);  // nothing received yet
+  EXPECT_EQ(bus.read(values), StatusCode::timeout);  // nothing received yet
   EXPECT_EQ(values[0], -1.0);
   peer.send_value(1.0F);
   peer.send_value(123456.0F);
   std::this_thread::sleep_for(std::chrono::milliseconds(20));  // let the kernel deliver
-  ASSERT_EQ(bus.read(values), Status::ok) << bus.detail();
+  ASSERT_EQ(bus.read(values), StatusCode::ok) << bus.detail();
   EXPECT_EQ(values[0], 123456.0);
 }
 
@@ -131,9 +131,9 @@ TEST(CanSocket, AValueFrameOlderThanTheTimeoutIsStale) {
   peer.send_value(5.0F);
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
   std::array<double, 1> values{};
-  ASSERT_EQ(bus.read(values), Status::ok) << bus.detail();
+  ASSERT_EQ(bus.read(values), StatusCode::ok) << bus.detail();
   clock.advance(std::chrono::milliseconds(101));
-  EXPECT_EQ(bus.read(values), Status::timeout);
+  EXPECT_EQ(bus.read(values), StatusCode::timeout);
   EXPECT_NE(std::string(bus.detail()).find("stale"), std::string::npos) << bus.detail();
 }
 

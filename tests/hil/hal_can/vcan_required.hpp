@@ -17,7 +17,7 @@ namespace excite::test {
 // Empty when SocketCAN works here and `iface` exists (nullptr: AF_CAN alone); else why not.
 inline std::string why_no_socketcan(const char* iface) {
   const hal::can::SocketCanSupport support = hal::can::probe_socketcan();
-  if (support.status != hal::Status::ok) {
+  if (support.status != hal::StatusCode::ok) {
     return std::string("no SocketCAN in this kernel (") + support.reason +
            "): toolchain/can-vm runs this test in a VM with vcan0 and vcan1";
   }

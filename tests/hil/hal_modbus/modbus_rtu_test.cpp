@@ -129,7 +129,7 @@ TEST(ModbusRtu, ExchangesOverAPseudoTerminalPair) {
   ASSERT_TRUE(v.ok()) << v.message();
   const std::array<double, 1> setpoints{123456.0};
   std::array<double, 1> values{};
-  ASSERT_EQ(bus.exchange(setpoints, 42, values), Status::ok) << bus.detail();
+  ASSERT_EQ(bus.exchange(setpoints, 42, values), StatusCode::ok) << bus.detail();
   EXPECT_EQ(server.holding(10), 0x0020);  // DCBA
   EXPECT_EQ(server.holding(11), 0xF147);
   EXPECT_EQ(server.holding(12), 42);
@@ -144,11 +144,11 @@ TEST(ModbusRtu, ASilentDeviceTimesOutAndTheNextExchangeSucceeds) {
   const std::array<double, 1> setpoints{1.0};
   std::array<double, 1> values{};
   server.stall_next(std::chrono::milliseconds(600));
-  EXPECT_EQ(bus.exchange(setpoints, 1, values), Status::timeout);
+  EXPECT_EQ(bus.exchange(setpoints, 1, values), StatusCode::timeout);
   EXPECT_NE(std::string(bus.detail()).find("rtu " + server.path() + " slave 17"), std::string::npos)
       << bus.detail();
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
-  EXPECT_EQ(bus.exchange(setpoints, 2, values), Status::ok) << bus.detail();
+  EXPECT_EQ(bus.exchange(setpoints, 2, values), StatusCode::ok) << bus.detail();
   EXPECT_EQ(bus.reconnects(), 1U);  // the serial port was reopened
   EXPECT_EQ(server.holding(12), 2);
 }

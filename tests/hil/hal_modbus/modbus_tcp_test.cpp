@@ -70,7 +70,7 @@ TEST(ModbusTcp, ExchangeWritesSetpointsAndHeartbeatAndReadsValues) {
   ModbusFieldBus bus;
   ASSERT_TRUE(bus.configure(tick_config(server.port())).ok());
   std::array<double, 3> values{};
-  ASSERT_EQ(bus.exchange(setpoints, 7, values), Status::ok) << bus.detail();
+  ASSERT_EQ(bus.exchange(setpoints, 7, values), StatusCode::ok) << bus.detail();
 
   EXPECT_EQ(server.holding(100), 0x2000);  // 123456.0f in CDAB
   EXPECT_EQ(server.holding(101), 0x47F1);
@@ -89,7 +89,7 @@ TEST(ModbusTcp, OneTickIsOneWriteAndOneReadPerRegisterTable) {
   ModbusFieldBus bus;
   ASSERT_TRUE(bus.configure(tick_config(server.port())).ok());
   std::array<double, 3> values{};
-  ASSERT_EQ(bus.exchange(setpoints, 1, values), Status::ok) << bus.detail();
+  ASSERT_EQ(bus.exchange(setpoints, 1, values), StatusCode::ok) << bus.detail();
   const auto seen = server.seen();
   ASSERT_EQ(seen.size(), 3U);  // FC16 100..105, FC03 300, FC04 200..203
   EXPECT_EQ(seen[0].function_code, 16);
@@ -116,7 +116,7 @@ TEST(ModbusTcp, AMapOf300RegistersTakesThreeRequestsEachWayOnTheServer) {
   for (std::size_t i = 0; i < 300; ++i) {
     out[i] = static_cast<double>(i * 200);
   }
-  ASSERT_EQ(bus.exchange(out, 0, in), Status::ok) << bus.detail();
+  ASSERT_EQ(bus.exchange(out, 0, in), StatusCode::ok) << bus.detail();
   const auto seen = server.seen();
   ASSERT_EQ(seen.size(), 6U);
   EXPECT_EQ(server.count(16), 3);
@@ -137,11 +137,11 @@ TEST(ModbusTcp, AStalledPeerGivesTimeoutThenTheClientReconnects) {
   ASSERT_TRUE(bus.configure(tick_config(server.port())).ok());
   std::array<double, 3> values{};
   server.inject(FaultServer::Fault::stall, 1, std::chrono::milliseconds(600));
-  EXPECT_EQ(bus.exchange(setpoints, 1, values), Status::timeout);
+  EXPECT_EQ(bus.exchange(setpoints, 1, values), StatusCode::timeout);
   EXPECT_NE(std::string(bus.detail()).find("timed out"), std::string::npos) << bus.detail();
   EXPECT_FALSE(bus.connected());
   std::this_thread::sleep_for(std::chrono::milliseconds(700));  // the stall ends
-  EXPECT_EQ(bus.exchange(setpoints, 2, values), Status::ok) << bus.detail();
+  EXPECT_EQ(bus.exchange(setpoints, 2, values), StatusCode::ok) << bus.detail();
   EXPECT_EQ(bus.reconnects(), 1U);
   EXPECT_EQ(server.holding(105), 2);
 }
@@ -152,10 +152,10 @@ TEST(ModbusTcp, ADroppedConnectionGivesLinkLostThenTheClientReconnects) {
   ASSERT_TRUE(bus.configure(tick_config(server.port())).ok());
   std::array<double, 3> values{};
   server.inject(FaultServer::Fault::drop);
-  EXPECT_EQ(bus.exchange(setpoints, 1, values), Status::link_lost);
+  EXPECT_EQ(bus.exchange(setpoints, 1, values), StatusCode::link_lost);
   EXPECT_NE(std::string(bus.detail()).find("write FC16 address 100 count 6"), std::string::npos)
       << bus.detail();
-  EXPECT_EQ(bus.exchange(setpoints, 2, values), Status::ok) << bus.detail();
+  EXPECT_EQ(bus.exchange(setpoints, 2, values), StatusCode::ok) << bus.detail();
   EXPECT_EQ(bus.reconnects(), 1U);
 }
 
@@ -164,14 +164,14 @@ TEST(ModbusTcp, AnExceptionReplyGivesPeerErrorKeepsTheLinkAndLeavesValuesUntouch
   serve_values(server);
   ModbusFieldBus bus;
   ASSERT_TRUE(bus.configure(tick_config(server.port())).ok());
-  ASSERT_TRUE(bus.write(setpoints, 1) == Status::ok);
+  ASSERT_TRUE(bus.write(setpoints, 1) == StatusCode::ok);
   std::array<double, 3> values{-1.0, -1.0, -1.0};
   server.inject(FaultServer::Fault::exception);
-  EXPECT_EQ(bus.read(values), Status::peer_error);
+  EXPECT_EQ(bus.read(values), StatusCode::peer_error);
   EXPECT_NE(std::string(bus.detail()).find("failure"), std::string::npos) << bus.detail();
   EXPECT_EQ(values, (std::array<double, 3>{-1.0, -1.0, -1.0}));
   EXPECT_TRUE(bus.connected());
-  EXPECT_EQ(bus.read(values), Status::ok) << bus.detail();
+  EXPECT_EQ(bus.read(values), StatusCode::ok) << bus.detail();
   EXPECT_EQ(values[0], 123456.0);
   EXPECT_EQ(bus.reconnects(), 0U);
 }
@@ -183,11 +183,11 @@ TEST(ModbusTcp, APeerThatIsGoneGivesLinkLostUntilItComesBack) {
   ASSERT_TRUE(bus.configure(tick_config(port)).ok());
   std::array<double, 3> values{};
   server->stop();
-  EXPECT_EQ(bus.exchange(setpoints, 1, values), Status::link_lost);
-  EXPECT_EQ(bus.exchange(setpoints, 2, values), Status::link_lost);  // reconnect refused
+  EXPECT_EQ(bus.exchange(setpoints, 1, values), StatusCode::link_lost);
+  EXPECT_EQ(bus.exchange(setpoints, 2, values), StatusCode::link_lost);  // reconnect refused
   EXPECT_NE(std::string(bus.detail()).find("reconnect failed"), std::string::npos) << bus.detail();
   server = std::make_unique<FaultServer>(port);
-  EXPECT_EQ(bus.exchange(setpoints, 3, values), Status::ok) << bus.detail();
+  EXPECT_EQ(bus.exchange(setpoints, 3, values), StatusCode::ok) << bus.detail();
   EXPECT_EQ(server->holding(105), 3);
 }
 
@@ -206,10 +206,10 @@ TEST(ModbusTcp, BadSetpointsSendNothing) {
   ModbusFieldBus bus;
   ASSERT_TRUE(bus.configure(tick_config(server.port())).ok());
   const std::array<double, 3> not_a_number{1.0, std::nan(""), 2.0};
-  EXPECT_EQ(bus.write(not_a_number, 1), Status::bad_argument);
+  EXPECT_EQ(bus.write(not_a_number, 1), StatusCode::bad_argument);
   EXPECT_NE(std::string(bus.detail()).find("setpoints[1]"), std::string::npos) << bus.detail();
   const std::array<double, 2> too_few{1.0, 2.0};
-  EXPECT_EQ(bus.write(too_few, 1), Status::bad_argument);
+  EXPECT_EQ(bus.write(too_few, 1), StatusCode::bad_argument);
   EXPECT_TRUE(server.seen().empty());
 }
 
@@ -218,7 +218,7 @@ TEST(ModbusTcp, OutOfRangeScaledSetpointsAreClampedAndCounted) {
   ModbusFieldBus bus;
   ASSERT_TRUE(bus.configure(tick_config(server.port())).ok());
   const std::array<double, 3> too_open{0.0, 0.0, 140.0};
-  ASSERT_EQ(bus.write(too_open, 1), Status::ok) << bus.detail();
+  ASSERT_EQ(bus.write(too_open, 1), StatusCode::ok) << bus.detail();
   EXPECT_EQ(server.holding(104), 65535);
   EXPECT_EQ(bus.clamped_setpoints(), 1U);
 }

@@ -111,7 +111,7 @@ TEST(ModbusNoAllocation, ThousandExchangesAllocateNothing) {
   int failures = 0;
   for (std::uint16_t tick = 0; tick < 1000; ++tick) {
     setpoints[0] = tick * 0.5;
-    failures += bus.exchange(setpoints, tick, values) == Status::ok ? 0 : 1;
+    failures += bus.exchange(setpoints, tick, values) == StatusCode::ok ? 0 : 1;
   }
   counting = false;
   EXPECT_EQ(failures, 0) << bus.detail();

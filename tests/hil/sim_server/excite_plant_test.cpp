@@ -24,7 +24,7 @@
 namespace excite::sim::server {
 namespace {
 
-using hal::Status;
+using hal::StatusCode;
 using test::PlantRunner;
 using test::TempDir;
 using ::testing::HasSubstr;
@@ -121,7 +121,7 @@ class ExcitePlant : public ::testing::Test {
     ASSERT_EQ(modbus_write_register(ctl_, address, value), 1) << modbus_strerror(errno);
   }
 
-  Status exchange(std::uint16_t heartbeat) {
+  StatusCode exchange(std::uint16_t heartbeat) {
     const std::array<double, 4> u = kInputBaseline;
     std::array<double, 4> y{};
     return bus_.exchange(u, heartbeat, y);
@@ -152,7 +152,8 @@ TEST_F(ExcitePlant, LockstepResponseEqualsDiscretePlantSteppedInProcess) {
     }
     // WHEN the gateway's field bus writes them with heartbeat k + 1 and reads the values
     std::array<double, 4> y{};
-    ASSERT_EQ(bus_.exchange(u, static_cast<std::uint16_t>(k + 1), y), Status::ok) << bus_.detail();
+    ASSERT_EQ(bus_.exchange(u, static_cast<std::uint16_t>(k + 1), y), StatusCode::ok)
+        << bus_.detail();
     // THEN they equal the in-process plant fed the float32-rounded setpoints, rounded to
     // float32 on the way back: bit for bit.
     std::array<double, 4> du{};
@@ -213,7 +214,7 @@ TEST(ExcitePlantLive, ColumnThroughTheServerEqualsItsBatchSimulation) {
   for (std::size_t k = 0; k < kSamples; ++k) {
     sent[k] = {u0(0) + ((k / 7) % 2 == 0 ? 0.01 : -0.01),
                u0(1) + ((k / 5) % 2 == 0 ? -0.01 : 0.01)};
-    ASSERT_EQ(bus.exchange(sent[k], static_cast<std::uint16_t>(k + 1), read[k]), Status::ok)
+    ASSERT_EQ(bus.exchange(sent[k], static_cast<std::uint16_t>(k + 1), read[k]), StatusCode::ok)
         << bus.detail();
   }
   ASSERT_EQ(plant.stop(SIGTERM), 0) << plant.stderr_text();
@@ -249,7 +250,7 @@ TEST_F(ExcitePlant, RewritingTheSameHeartbeatTakesNoLockstepSample) {
   const auto log_path = dir_.path() / "run.csv";
   start({"--lockstep", "--log", log_path.string()});
   for (const std::uint16_t hb : std::array<std::uint16_t, 6>{7, 7, 7, 8, 8, 9})
-    ASSERT_EQ(exchange(hb), Status::ok);
+    ASSERT_EQ(exchange(hb), StatusCode::ok);
   ASSERT_EQ(plant_->stop(SIGTERM), 0);
   const runlog::ReadResult log = runlog::read_run_log(log_path.string());
   ASSERT_TRUE(log.ok()) << log.error->to_string();
@@ -258,40 +259,40 @@ TEST_F(ExcitePlant, RewritingTheSameHeartbeatTakesNoLockstepSample) {
 
 TEST_F(ExcitePlant, HeartbeatIsEchoedInLockstepAndFreeRunning) {
   start({"--lockstep"});
-  ASSERT_EQ(exchange(41), Status::ok);
+  ASSERT_EQ(exchange(41), StatusCode::ok);
   EXPECT_EQ(echo(), 41);
-  ASSERT_EQ(exchange(42), Status::ok);
+  ASSERT_EQ(exchange(42), StatusCode::ok);
   EXPECT_EQ(echo(), 42);
 }
 
 TEST_F(ExcitePlant, FreeRunningEchoFollowsEveryHeartbeatWrite) {
   start({"--sample-time-s", "0.01"});
   for (const std::uint16_t hb : std::array<std::uint16_t, 4>{1, 2, 65535, 0}) {
-    ASSERT_EQ(exchange(hb), Status::ok) << bus_.detail();
+    ASSERT_EQ(exchange(hb), StatusCode::ok) << bus_.detail();
     EXPECT_EQ(echo(), hb);
   }
 }
 
 TEST_F(ExcitePlant, FrozenEchoStaysWhileTheHeartbeatMoves) {
   start({"--lockstep"});
-  ASSERT_EQ(exchange(9), Status::ok);
+  ASSERT_EQ(exchange(9), StatusCode::ok);
   set_control(kFreeze, 1);
-  ASSERT_EQ(exchange(10), Status::ok);
-  ASSERT_EQ(exchange(11), Status::ok);
+  ASSERT_EQ(exchange(10), StatusCode::ok);
+  ASSERT_EQ(exchange(11), StatusCode::ok);
   EXPECT_EQ(echo(), 9);  // stale: the gateway's watchdog should notice
   set_control(kFreeze, 0);
-  ASSERT_EQ(exchange(12), Status::ok);
+  ASSERT_EQ(exchange(12), StatusCode::ok);
   EXPECT_EQ(echo(), 12);
 }
 
 TEST_F(ExcitePlant, StalledReplyTimesTheGatewayOutThenServesAgain) {
   start({"--lockstep"});
-  ASSERT_EQ(exchange(1), Status::ok);
+  ASSERT_EQ(exchange(1), StatusCode::ok);
   set_control(kStallMs, 700);
   set_control(kStallRequests, 1);
-  EXPECT_EQ(exchange(2), Status::timeout);  // 300 ms response timeout < 700 ms stall
+  EXPECT_EQ(exchange(2), StatusCode::timeout);  // 300 ms response timeout < 700 ms stall
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // the stall has passed
-  EXPECT_EQ(exchange(3), Status::ok) << bus_.detail();
+  EXPECT_EQ(exchange(3), StatusCode::ok) << bus_.detail();
   EXPECT_GE(bus_.reconnects(), 1U);
   std::uint16_t remaining = 99;
   ASSERT_EQ(modbus_read_registers(ctl_, kStallRequests, 1, &remaining), 1);
@@ -300,21 +301,21 @@ TEST_F(ExcitePlant, StalledReplyTimesTheGatewayOutThenServesAgain) {
 
 TEST_F(ExcitePlant, DroppedConnectionIsLostThenTheGatewayReconnects) {
   start({"--lockstep"});
-  ASSERT_EQ(exchange(1), Status::ok);
+  ASSERT_EQ(exchange(1), StatusCode::ok);
   set_control(kDropRequests, 1);
-  EXPECT_EQ(exchange(2), Status::link_lost);
-  EXPECT_EQ(exchange(3), Status::ok) << bus_.detail();
+  EXPECT_EQ(exchange(2), StatusCode::link_lost);
+  EXPECT_EQ(exchange(3), StatusCode::ok) << bus_.detail();
   EXPECT_EQ(bus_.reconnects(), 1U);
   EXPECT_EQ(echo(), 3);
 }
 
 TEST_F(ExcitePlant, ExceptionReplyIsAPeerErrorAndTheLinkIsKept) {
   start({"--lockstep"});
-  ASSERT_EQ(exchange(1), Status::ok);
+  ASSERT_EQ(exchange(1), StatusCode::ok);
   set_control(kExceptionRequests, 2);
-  EXPECT_EQ(exchange(2), Status::peer_error);
-  EXPECT_EQ(exchange(3), Status::peer_error);
-  EXPECT_EQ(exchange(4), Status::ok) << bus_.detail();
+  EXPECT_EQ(exchange(2), StatusCode::peer_error);
+  EXPECT_EQ(exchange(3), StatusCode::peer_error);
+  EXPECT_EQ(exchange(4), StatusCode::ok) << bus_.detail();
   EXPECT_EQ(bus_.reconnects(), 0U);
 }
 
@@ -363,7 +364,7 @@ TEST_F(ExcitePlant, PortInUseExitsWithOneAndLeavesNoLog) {
   EXPECT_THAT(second.stderr_text(),
               HasSubstr("cannot listen on 127.0.0.1:" + std::to_string(port_)));
   EXPECT_FALSE(std::filesystem::exists(log_path));
-  EXPECT_EQ(exchange(1), Status::ok);  // the first plant is unaffected
+  EXPECT_EQ(exchange(1), StatusCode::ok);  // the first plant is unaffected
 }
 
 // ---- Bad input: a clear error, exit code 2, nothing served. ----

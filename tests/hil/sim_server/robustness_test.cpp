@@ -332,7 +332,7 @@ TEST_F(Robust, DefaultRegisterMapServesTheGatewaysFieldBusInLockstep) {
   int moves = 0;
   std::array<double, 4> previous{};
   for (std::uint16_t k = 1; k <= 30; ++k) {
-    ASSERT_EQ(bus.exchange(step, k, y), hal::Status::ok) << bus.detail();
+    ASSERT_EQ(bus.exchange(step, k, y), hal::StatusCode::ok) << bus.detail();
     moves += y != previous ? 1 : 0;
     previous = y;
   }

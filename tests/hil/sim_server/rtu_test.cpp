@@ -62,7 +62,7 @@ TEST(ExcitePlantRtu, LockstepOverAPtyPairEqualsThePlantSteppedInProcess) {
   for (std::uint16_t k = 1; k <= 20; ++k) {
     const std::array<double, 2> u{k % 4 < 2 ? 0.5 : -0.25, k % 6 < 3 ? -0.125 : 0.375};
     std::array<double, 2> y{};
-    ASSERT_EQ(bus.exchange(u, k, y), hal::Status::ok) << "k = " << k << ": " << bus.detail();
+    ASSERT_EQ(bus.exchange(u, k, y), hal::StatusCode::ok) << "k = " << k << ": " << bus.detail();
     // THEN it reads exactly the plant stepped in process (float32 registers, exact inputs)
     std::array<double, 2> dy{};
     reference->step(u, dy);

@@ -58,7 +58,7 @@ TEST_F(GatewayLoop, PersistentExcursionAbortsOnTimeoutAndReturnsToBaseline) {
 }
 
 TEST_F(GatewayLoop, CommLossHoldsReconnectsAndMarksTheLog) {
-  script_.at(300, [this] { bus_->drop(8, hal::Status::link_lost); });
+  script_.at(300, [this] { bus_->drop(8, hal::StatusCode::link_lost); });
   const app::RunStats stats = run();
   EXPECT_EQ(stats.outcome, engine::Outcome::completed);
   EXPECT_EQ(bus_->dropped(), 8U);

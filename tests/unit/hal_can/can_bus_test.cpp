@@ -81,7 +81,7 @@ constexpr std::array<double, 3> setpoints{12.3, -4.5, 123456.0};
 }  // namespace
 
 TEST_F(CanBus, WriteSendsOneFramePerSetpointIdentifier) {
-  ASSERT_EQ(bus_.write(setpoints, 0x0102), Status::ok) << bus_.detail();
+  ASSERT_EQ(bus_.write(setpoints, 0x0102), StatusCode::ok) << bus_.detail();
   can_frame frame{};
   ASSERT_TRUE(peer_receive(frame));
   EXPECT_EQ(frame.can_id, 0x210U);
@@ -99,7 +99,7 @@ TEST_F(CanBus, WriteSendsOneFramePerSetpointIdentifier) {
 
 TEST_F(CanBus, BadSetpointsSendNothing) {
   const std::array<double, 3> bad{1.0, std::nan(""), 2.0};
-  EXPECT_EQ(bus_.write(bad, 0), Status::bad_argument);
+  EXPECT_EQ(bus_.write(bad, 0), StatusCode::bad_argument);
   can_frame frame{};
   EXPECT_FALSE(peer_receive(frame));
 }
@@ -110,7 +110,7 @@ TEST_F(CanBus, ReadTakesTheNewestFrameOfEachIdentifier) {
   peer_send(0x312, 2, "xx", 2);  // not mapped: ignored
   send_t1(123456.0F);
   std::array<double, 2> values{};
-  ASSERT_EQ(bus_.read(values), Status::ok) << bus_.detail();
+  ASSERT_EQ(bus_.read(values), StatusCode::ok) << bus_.detail();
   EXPECT_EQ(values[0], 123456.0);
   EXPECT_DOUBLE_EQ(values[1], -2.5);
 }
@@ -118,12 +118,12 @@ TEST_F(CanBus, ReadTakesTheNewestFrameOfEachIdentifier) {
 TEST_F(CanBus, ReadTimesOutUntilEveryValueFrameHasArrived) {
   send_t1(5.0F);
   std::array<double, 2> values{-1.0, -1.0};
-  EXPECT_EQ(bus_.read(values), Status::timeout);
+  EXPECT_EQ(bus_.read(values), StatusCode::timeout);
   EXPECT_NE(std::string(bus_.detail()).find("0x311 never received"), std::string::npos)
       << bus_.detail();
   EXPECT_EQ(values, (std::array<double, 2>{-1.0, -1.0}));
   send_dp(1);
-  EXPECT_EQ(bus_.read(values), Status::ok) << bus_.detail();
+  EXPECT_EQ(bus_.read(values), StatusCode::ok) << bus_.detail();
   EXPECT_EQ(values[0], 5.0);
 }
 
@@ -131,15 +131,15 @@ TEST_F(CanBus, AValueFrameOlderThanTheTimeoutIsStale) {
   send_t1(5.0F);
   send_dp(1);
   std::array<double, 2> values{};
-  ASSERT_EQ(bus_.read(values), Status::ok) << bus_.detail();
+  ASSERT_EQ(bus_.read(values), StatusCode::ok) << bus_.detail();
   clock_.advance(std::chrono::milliseconds(100));
-  EXPECT_EQ(bus_.read(values), Status::ok);  // exactly the timeout: still fresh
+  EXPECT_EQ(bus_.read(values), StatusCode::ok);  // exactly the timeout: still fresh
   clock_.advance(std::chrono::milliseconds(1));
-  EXPECT_EQ(bus_.read(values), Status::timeout);
+  EXPECT_EQ(bus_.read(values), StatusCode::timeout);
   EXPECT_NE(std::string(bus_.detail()).find("stale"), std::string::npos) << bus_.detail();
   send_t1(6.0F);
   send_dp(2);
-  EXPECT_EQ(bus_.read(values), Status::ok);
+  EXPECT_EQ(bus_.read(values), StatusCode::ok);
   EXPECT_EQ(values[0], 6.0);
 }
 
@@ -148,12 +148,12 @@ TEST_F(CanBus, BusOffIsLinkLossUntilTheControllerRestarts) {
   send_dp(1);
   send_error(CAN_ERR_BUSOFF);
   std::array<double, 2> values{};
-  EXPECT_EQ(bus_.read(values), Status::link_lost);
+  EXPECT_EQ(bus_.read(values), StatusCode::link_lost);
   EXPECT_NE(std::string(bus_.detail()).find("bus-off"), std::string::npos) << bus_.detail();
-  EXPECT_EQ(bus_.write(setpoints, 1), Status::link_lost);
+  EXPECT_EQ(bus_.write(setpoints, 1), StatusCode::link_lost);
   send_error(CAN_ERR_RESTARTED);
-  EXPECT_EQ(bus_.read(values), Status::ok) << bus_.detail();
-  EXPECT_EQ(bus_.write(setpoints, 2), Status::ok) << bus_.detail();
+  EXPECT_EQ(bus_.read(values), StatusCode::ok) << bus_.detail();
+  EXPECT_EQ(bus_.write(setpoints, 2), StatusCode::ok) << bus_.detail();
   EXPECT_EQ(bus_.link().error_frames(), 2U);
 }
 
@@ -161,9 +161,9 @@ TEST_F(CanBus, AShortValueFrameIsCountedAndIgnored) {
   send_t1(5.0F);
   send_dp(1);
   std::array<double, 2> values{};
-  ASSERT_EQ(bus_.read(values), Status::ok);
+  ASSERT_EQ(bus_.read(values), StatusCode::ok);
   peer_send(0x310, 2, "ab", 2);  // float32 needs 4 bytes
-  ASSERT_EQ(bus_.read(values), Status::ok);
+  ASSERT_EQ(bus_.read(values), StatusCode::ok);
   EXPECT_EQ(values[0], 5.0);
   EXPECT_EQ(bus_.short_frames(), 1U);
 }
@@ -176,12 +176,12 @@ TEST_F(CanBus, RefusedAndForeignFramesAndStaleReadsAreCounted) {
   send_t1(5.0F);
   send_dp(1);
   std::array<double, 2> values{};
-  ASSERT_EQ(bus_.read(values), Status::ok);
+  ASSERT_EQ(bus_.read(values), StatusCode::ok);
   peer_send(0x311, 1, "a", 1);  // int16 needs 2 bytes
   peer_send(0x210, 6, "abcdef", 6);
   peer_send(0x18FF0001 | CAN_EFF_FLAG, 4, "abcd", 4);
   peer_send(0x123, 2, "ab", 2);
-  ASSERT_EQ(bus_.read(values), Status::ok);
+  ASSERT_EQ(bus_.read(values), StatusCode::ok);
   EXPECT_EQ(values[1], 0.01);
   CanCounters c = bus_.counters();
   EXPECT_EQ(c.short_frames, 1U);
@@ -191,29 +191,29 @@ TEST_F(CanBus, RefusedAndForeignFramesAndStaleReadsAreCounted) {
   EXPECT_EQ(c.first_own_id, 0x210U);
   EXPECT_EQ(c.stale_reads, 0U);
   clock_.advance(std::chrono::milliseconds(101));
-  EXPECT_EQ(bus_.read(values), Status::timeout);
+  EXPECT_EQ(bus_.read(values), StatusCode::timeout);
   EXPECT_EQ(bus_.counters().stale_reads, 1U);
 }
 
 TEST_F(CanBus, AFullTransmitQueueIsATimeoutAndPersistentlyFullIsLinkLoss) {
   // GIVEN a peer that stops reading, WHEN the bus keeps writing, THEN the queue fills:
   // the first refused write is a timeout, the third in a row (enobufs_limit) link loss.
-  Status status = Status::ok;
+  StatusCode status = StatusCode::ok;
   int writes = 0;
-  while (status == Status::ok && writes < 100000) {
+  while (status == StatusCode::ok && writes < 100000) {
     status = bus_.write(setpoints, 0);
     ++writes;
   }
-  ASSERT_EQ(status, Status::timeout) << bus_.detail();
-  EXPECT_EQ(bus_.write(setpoints, 0), Status::timeout);
-  EXPECT_EQ(bus_.write(setpoints, 0), Status::link_lost);
+  ASSERT_EQ(status, StatusCode::timeout) << bus_.detail();
+  EXPECT_EQ(bus_.write(setpoints, 0), StatusCode::timeout);
+  EXPECT_EQ(bus_.write(setpoints, 0), StatusCode::link_lost);
   EXPECT_EQ(bus_.counters().send_failures, 3U);  // the summary's "sends refused"
   EXPECT_NE(bus_.counters().last_send_error, 0);
   // WHEN the peer drains the queue THEN writing works again.
   can_frame frame{};
   while (peer_receive(frame)) {
   }
-  EXPECT_EQ(bus_.write(setpoints, 0), Status::ok) << bus_.detail();
+  EXPECT_EQ(bus_.write(setpoints, 0), StatusCode::ok) << bus_.detail();
 }
 
 // ---- waiting for the peer: the first read, and lock-step (CanConfig::await_echo) ----
@@ -266,7 +266,7 @@ TEST(CanBusWaits, TheFirstReadWaitsForValueFramesSentOnThePeersOwnCycle) {
     answer(peer, 4.0F, 0);  // 0x313 is not mapped here: ignored
   });
   std::array<double, 2> values{};
-  EXPECT_EQ(bus.read(values), Status::ok) << bus.detail();
+  EXPECT_EQ(bus.read(values), StatusCode::ok) << bus.detail();
   EXPECT_EQ(values[0], 4.0);
   later.join();
   close(peer);
@@ -279,13 +279,13 @@ TEST(CanBusWaits, WithAwaitEchoAReadReturnsThePeersAnswerToThatWrite) {
     int peer = -1;
     open_pair(bus, peer, echo);
     answer(peer, 1.0F, 6);  // the answer to the previous tick
-    ASSERT_EQ(bus.write(setpoints, 7), Status::ok);
+    ASSERT_EQ(bus.write(setpoints, 7), StatusCode::ok);
     std::thread later([peer] {
       std::this_thread::sleep_for(std::chrono::milliseconds(30));
       answer(peer, 2.0F, 7);  // the answer to this one, after a while
     });
     std::vector<double> values(echo ? 3 : 2);
-    EXPECT_EQ(bus.read(values), Status::ok) << bus.detail();
+    EXPECT_EQ(bus.read(values), StatusCode::ok) << bus.detail();
     // Without the echo the read takes what is queued: the previous answer.
     EXPECT_EQ(values[0], echo ? 2.0 : 1.0) << (echo ? "await_echo" : "no await");
     later.join();
@@ -299,10 +299,10 @@ TEST(CanBusWaits, NoEchoOfTheHeartbeatWithinTheValueTimeoutIsATimeoutNamingIt) {
   int peer = -1;
   open_pair(bus, peer, true);
   answer(peer, 1.0F, 6);
-  ASSERT_EQ(bus.write(setpoints, 8), Status::ok);
+  ASSERT_EQ(bus.write(setpoints, 8), StatusCode::ok);
   std::vector<double> values(3, -1.0);
   const auto start = std::chrono::steady_clock::now();
-  EXPECT_EQ(bus.read(values), Status::timeout);
+  EXPECT_EQ(bus.read(values), StatusCode::timeout);
   EXPECT_GE(std::chrono::steady_clock::now() - start, std::chrono::milliseconds(100));
   EXPECT_STREQ(bus.detail(), "pair: no echo of heartbeat 8 within 100 ms");
   EXPECT_EQ(values[0], -1.0) << "values untouched";

@@ -51,7 +51,7 @@ TEST(CanFrameMap, PacksScaledIntegersInTheirByteOrderAndTheHeartbeat) {
   std::vector<can_frame> frames(plan.tx.size());
   std::uint64_t clamped = 0;
   const std::array<double, 3> setpoints{-12.3, 20.0, 123456.0};
-  ASSERT_EQ(pack_setpoints(plan, setpoints, 0x1A5, frames, clamped), Status::ok);
+  ASSERT_EQ(pack_setpoints(plan, setpoints, 0x1A5, frames, clamped), StatusCode::ok);
   // -12.3 / 0.1 = -123 = 0xFF85, little-endian
   EXPECT_EQ(frames[0].data[0], 0x85);
   EXPECT_EQ(frames[0].data[1], 0xFF);
@@ -75,7 +75,7 @@ TEST(CanFrameMap, ClampsSetpointsToTheRawTypeAndCountsThem) {
   std::vector<can_frame> frames(1);
   std::uint64_t clamped = 0;
   const std::array<double, 2> setpoints{300.0, -200.0};
-  ASSERT_EQ(pack_setpoints(plan, setpoints, 0, frames, clamped), Status::ok);
+  ASSERT_EQ(pack_setpoints(plan, setpoints, 0, frames, clamped), StatusCode::ok);
   EXPECT_EQ(frames[0].data[0], 255);
   EXPECT_EQ(frames[0].data[1], 0x80);
   EXPECT_EQ(clamped, 2U);
@@ -87,7 +87,7 @@ TEST(CanFrameMap, RejectsNonFiniteSetpoints) {
   std::vector<can_frame> frames(plan.tx.size());
   std::uint64_t clamped = 0;
   const std::array<double, 3> setpoints{0.0, std::nan(""), 0.0};
-  EXPECT_EQ(pack_setpoints(plan, setpoints, 0, frames, clamped), Status::bad_argument);
+  EXPECT_EQ(pack_setpoints(plan, setpoints, 0, frames, clamped), StatusCode::bad_argument);
 }
 
 TEST(CanFrameMap, UnpacksValuesFromAMappedFrame) {
@@ -121,7 +121,7 @@ TEST(CanFrameMap, RoundTripsEveryTypeThroughAFrame) {
       std::vector<can_frame> frames(1);
       std::uint64_t clamped = 0;
       const std::array<double, 1> setpoint{45.5};  // raw 85
-      ASSERT_EQ(pack_setpoints(plan, setpoint, 0, frames, clamped), Status::ok);
+      ASSERT_EQ(pack_setpoints(plan, setpoint, 0, frames, clamped), StatusCode::ok);
       frames[0].can_id = 0x101;  // the peer echoes it as a value frame
       std::array<double, 1> value{};
       ASSERT_TRUE(unpack_values(plan, 0, frames[0], value));

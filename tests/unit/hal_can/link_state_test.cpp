@@ -7,7 +7,7 @@
 
 #include "hal/can/link_state.hpp"
 
-using excite::hal::Status;
+using excite::hal::StatusCode;
 using excite::hal::can::LinkState;
 
 namespace {
@@ -23,10 +23,10 @@ TEST(CanLinkState, BusOffIsLinkLossUntilTheControllerRestarts) {
   LinkState link;
   link.on_error_frame(error_frame(CAN_ERR_BUSOFF));
   EXPECT_TRUE(link.lost());
-  EXPECT_EQ(link.on_write(0), Status::link_lost);
+  EXPECT_EQ(link.on_write(0), StatusCode::link_lost);
   link.on_error_frame(error_frame(CAN_ERR_RESTARTED));
   EXPECT_FALSE(link.lost());
-  EXPECT_EQ(link.on_write(0), Status::ok);
+  EXPECT_EQ(link.on_write(0), StatusCode::ok);
   EXPECT_EQ(link.error_frames(), 2U);
 }
 
@@ -48,15 +48,15 @@ TEST(CanLinkState, DataFramesAreNotErrorFrames) {
 
 TEST(CanLinkState, OneEnobufsIsATimeoutAPersistentOneIsLinkLoss) {
   LinkState link(3);
-  EXPECT_EQ(link.on_write(ENOBUFS), Status::timeout);
-  EXPECT_EQ(link.on_write(ENOBUFS), Status::timeout);
-  EXPECT_EQ(link.on_write(ENOBUFS), Status::link_lost);
-  EXPECT_EQ(link.on_write(ENOBUFS), Status::link_lost);
-  EXPECT_EQ(link.on_write(0), Status::ok);  // a frame got through: the streak resets
-  EXPECT_EQ(link.on_write(ENOBUFS), Status::timeout);
+  EXPECT_EQ(link.on_write(ENOBUFS), StatusCode::timeout);
+  EXPECT_EQ(link.on_write(ENOBUFS), StatusCode::timeout);
+  EXPECT_EQ(link.on_write(ENOBUFS), StatusCode::link_lost);
+  EXPECT_EQ(link.on_write(ENOBUFS), StatusCode::link_lost);
+  EXPECT_EQ(link.on_write(0), StatusCode::ok);  // a frame got through: the streak resets
+  EXPECT_EQ(link.on_write(ENOBUFS), StatusCode::timeout);
 }
 
 TEST(CanLinkState, AnInterfaceDownIsLinkLoss) {
   LinkState link;
-  EXPECT_EQ(link.on_write(ENETDOWN), Status::link_lost);
+  EXPECT_EQ(link.on_write(ENETDOWN), StatusCode::link_lost);
 }

@@ -83,6 +83,6 @@ TEST(ModbusConfig, ConfigureFailsOnAMissingSerialPortNamingIt) {
 TEST(ModbusConfig, AnUnconfiguredBusReportsUnavailable) {
   ModbusFieldBus bus;
   double value = 0.0;
-  EXPECT_EQ(bus.read(std::span<double>(&value, 0)), Status::unavailable);
+  EXPECT_EQ(bus.read(std::span<double>(&value, 0)), StatusCode::unavailable);
   EXPECT_STREQ(bus.detail(), "not configured");
 }

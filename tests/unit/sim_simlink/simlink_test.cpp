@@ -22,7 +22,7 @@
 namespace excite::sim::simlink {
 namespace {
 
-using hal::Status;
+using hal::StatusCode;
 using ::testing::HasSubstr;
 
 Eigen::MatrixXd moves(Eigen::Index n, int inputs, double a) {
@@ -43,8 +43,8 @@ Eigen::MatrixXd exchange_all(SimLinkFieldBus& bus, const Eigen::VectorXd& u0,
     for (std::size_t j = 0; j < sp.size(); ++j) {
       sp[j] = u0[static_cast<Eigen::Index>(j)] + du(k, static_cast<Eigen::Index>(j));
     }
-    EXPECT_EQ(bus.write(sp, static_cast<std::uint16_t>(k)), Status::ok) << bus.detail();
-    EXPECT_EQ(bus.read(values), Status::ok) << bus.detail();
+    EXPECT_EQ(bus.write(sp, static_cast<std::uint16_t>(k)), StatusCode::ok) << bus.detail();
+    EXPECT_EQ(bus.read(values), StatusCode::ok) << bus.detail();
     for (std::size_t i = 0; i < values.size(); ++i) y(k, static_cast<Eigen::Index>(i)) = values[i];
   }
   return y;
@@ -86,13 +86,13 @@ TEST(SimLink, DrivesALinearPlantGivenByItsTransferMatrix) {
 TEST(SimLink, APlantRefusingASampleIsAPeerErrorNamedInDetail) {
   SimLinkFieldBus bus(make_plant("colaA"), 1.0, SimLinkConfig{});
   const std::vector<double> negative_reflux = {-1.0, 3.2};  // absolute kmol/min
-  EXPECT_EQ(bus.write(negative_reflux, 1), Status::peer_error);
+  EXPECT_EQ(bus.write(negative_reflux, 1), StatusCode::peer_error);
   EXPECT_THAT(bus.detail(), HasSubstr("reflux L = -1"));
   EXPECT_EQ(bus.plant_errors(), 1U);
   EXPECT_EQ(bus.samples(), 0U) << "the refused sample did not happen";
   const Eigen::VectorXd u0 = bus.plant().input_baseline();
   const std::vector<double> nominal = {u0[0], u0[1]};
-  EXPECT_EQ(bus.write(nominal, 2), Status::ok);
+  EXPECT_EQ(bus.write(nominal, 2), StatusCode::ok);
   EXPECT_EQ(bus.samples(), 1U);
 }
 
@@ -119,8 +119,8 @@ TEST(SimLink, CyclicCallsWithAColumnAllocateNothing) {
   const long m0 = excite::test::mallocs();
   for (int k = 0; k < 300; ++k) {
     sp[0] = u0[0] + ((k / 2) % 2 == 0 ? 0.01 : -0.01);
-    ASSERT_EQ(bus.write(sp, static_cast<std::uint16_t>(k)), Status::ok);
-    ASSERT_EQ(bus.read(values), Status::ok);
+    ASSERT_EQ(bus.write(sp, static_cast<std::uint16_t>(k)), StatusCode::ok);
+    ASSERT_EQ(bus.read(values), StatusCode::ok);
   }
   EXPECT_EQ(excite::test::allocations() - n0, 0);
   if (excite::test::malloc_interposed()) {

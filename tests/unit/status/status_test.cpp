@@ -16,10 +16,10 @@ namespace excite {
 namespace {
 
 // One vocabulary: the hal's status and the firmware core's are the same type.
-static_assert(std::is_same_v<hal::Status, StatusCode>);
+static_assert(std::is_same_v<hal::StatusCode, StatusCode>);
 static_assert(std::is_same_v<signal::StatusCode, StatusCode>);
 static_assert(std::is_same_v<signal::Status, Status>);
-static_assert(std::string_view(to_string(hal::Status::timeout)) == "timeout");
+static_assert(std::string_view(to_string(hal::StatusCode::timeout)) == "timeout");
 
 TEST(Status, EveryCodeHasItsOwnName) {
   std::set<std::string> names;

@@ -68,12 +68,12 @@ class FieldBus {
   FieldBus& operator=(const FieldBus&) = delete;
 
   // Writes setpoints (size == setpoint_count(), engineering units) and the heartbeat
-  // counter (the peer watches it change). Status per status.hpp.
-  virtual Status write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept = 0;
+  // counter (the peer watches it change). StatusCode per status.hpp.
+  virtual StatusCode write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept = 0;
 
   // Reads the process values (size == value_count(), engineering units); values are
   // written only when the status is ok.
-  virtual Status read(std::span<double> values) noexcept = 0;
+  virtual StatusCode read(std::span<double> values) noexcept = 0;
 
   [[nodiscard]] virtual std::size_t setpoint_count() const noexcept = 0;
   [[nodiscard]] virtual std::size_t value_count() const noexcept = 0;
@@ -93,10 +93,10 @@ class FieldBus {
   }
 
   // One tick's exchange: write, then read. Returns the first non-ok status.
-  Status exchange(std::span<const double> setpoints, std::uint16_t heartbeat,
-                  std::span<double> values) noexcept {
-    const Status written = write(setpoints, heartbeat);
-    if (written != Status::ok) {
+  StatusCode exchange(std::span<const double> setpoints, std::uint16_t heartbeat,
+                      std::span<double> values) noexcept {
+    const StatusCode written = write(setpoints, heartbeat);
+    if (written != StatusCode::ok) {
       return written;
     }
     return read(values);

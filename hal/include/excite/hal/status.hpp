@@ -24,7 +24,7 @@ namespace excite::hal {
 // The codes are the project's one vocabulary (base/status/status.hpp, StatusCode); a hal
 // call returns only the six above. Messages (detail(), Validation) use the one form
 // "FIELD = VALUE, expected WHAT".
-using Status = excite::StatusCode;
+using excite::StatusCode;
 using excite::to_string;
 
 }  // namespace excite::hal
