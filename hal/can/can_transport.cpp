@@ -21,33 +21,6 @@ std::string hex(unsigned id, const char* form = "0x%X") {
   return text;
 }
 
-bool raw_limits(SignalType type, double& lo, double& hi) {
-  using T = SignalType;
-  switch (type) {
-    case T::int8:
-      lo = -128.0, hi = 127.0;
-      return true;
-    case T::uint8:
-      lo = 0.0, hi = 255.0;
-      return true;
-    case T::int16:
-      lo = -32768.0, hi = 32767.0;
-      return true;
-    case T::uint16:
-      lo = 0.0, hi = 65535.0;
-      return true;
-    case T::int32:
-      lo = -2147483648.0, hi = 2147483647.0;
-      return true;
-    case T::uint32:
-      lo = 0.0, hi = 4294967295.0;
-      return true;
-    case T::float32:
-      return false;
-  }
-  return false;
-}
-
 std::string counts_of(const CanFieldBus& can) {
   const CanCounters c = can.counters();
   std::string out = "can " + can.interface_name() + ": value frames refused for their DLC " +
@@ -219,7 +192,7 @@ class CanTransport final : public TransportConfig {
       const SignalCodec& c = codecs[i];
       double lo = 0.0;
       double hi = 0.0;
-      if (!raw_limits(c.type, lo, hi)) {
+      if (!raw_range(c.type, lo, hi)) {
         out.push_back({});
         continue;
       }

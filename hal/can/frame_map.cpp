@@ -34,6 +34,17 @@ const TypeInfo& info(SignalType type) noexcept {
   return types[static_cast<std::size_t>(type)];
 }
 
+}  // namespace
+
+bool raw_range(SignalType type, double& low, double& high) noexcept {
+  if (type == SignalType::float32) return false;
+  low = info(type).min;
+  high = info(type).max;
+  return true;
+}
+
+namespace {
+
 std::string hex(std::uint32_t x) {
   static constexpr char digits[] = "0123456789ABCDEF";
   std::string text;

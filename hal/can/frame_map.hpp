@@ -40,6 +40,10 @@ struct CanFrameMap {
 
 enum class SignalType : std::uint8_t { int8, uint8, int16, uint16, int32, uint32, float32 };
 
+/// The raw values an integer signal type holds, [low, high]; false for float32 (its range
+/// is not a limit a setpoint meets).
+bool raw_range(SignalType type, double& low, double& high) noexcept;
+
 struct SignalCodec {
   std::size_t frame = 0;  // index into CanPlan::tx or CanPlan::rx
   std::uint8_t offset = 0;
