@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "firmware/app/gateway.hpp"
-#include "base/config/document.hpp"
 
 #include <cmath>
 #include <cstdio>
 
+#include "base/config/document.hpp"
 #include "firmware/engine/load_plan.hpp"
 
 namespace excite::app {

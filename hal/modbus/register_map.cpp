@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "hal/modbus/register_map.hpp"
-#include "base/config/document.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numeric>
+
+#include "base/config/document.hpp"
 
 namespace excite::hal::modbus {
 

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "hal/transports/transports.hpp"
-#include "base/config/document.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cstdio>
 
+#include "base/config/document.hpp"
 #include "hal/can/can_transport.hpp"
 #include "hal/modbus/modbus_transport.hpp"
 

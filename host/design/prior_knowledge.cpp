@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "host/design/prior_knowledge.hpp"
-#include "base/config/document.hpp"
 
 #include <charconv>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
+#include "base/config/document.hpp"
 #include "firmware/signal/recipe.hpp"
 
 namespace excite::host {

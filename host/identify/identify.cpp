@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: MIT
 #include "host/identify/identify.hpp"
-#include "base/config/document.hpp"
 
 #include <atomic>
 #include <cmath>
@@ -10,6 +9,7 @@
 #include <string>
 #include <thread>
 
+#include "base/config/document.hpp"
 #include "host/identify/arx_start.hpp"
 #include "host/identify/grade.hpp"
 #include "host/identify/input_screen.hpp"

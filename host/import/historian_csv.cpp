@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: MIT
 #include "host/import/historian_csv.hpp"
-#include "base/config/document.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -12,6 +11,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "base/config/document.hpp"
 #include "host/import/csv_text.hpp"
 #include "host/import/number_text.hpp"
 #include "host/import/time_zone.hpp"

@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: MIT
 #include "host/import/import_run.hpp"
-#include "base/config/document.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -9,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "base/config/document.hpp"
 #include "firmware/runlog/format.hpp"
 #include "firmware/runlog/writer.hpp"
 #include "host/import/timestamp.hpp"

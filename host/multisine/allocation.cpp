@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "host/multisine/allocation.hpp"
-#include "base/config/document.hpp"
 
 #include <charconv>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
+#include "base/config/document.hpp"
 #include "host/multisine/phases.hpp"
 
 namespace excite::host::multisine {

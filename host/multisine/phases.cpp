@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: MIT
 #include "host/multisine/phases.hpp"
-#include "base/config/document.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -8,6 +7,8 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+
+#include "base/config/document.hpp"
 
 namespace excite::host::multisine {
 namespace {}  // namespace

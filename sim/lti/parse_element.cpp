@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "sim/lti/parse_element.hpp"
-#include "base/config/document.hpp"
 
 #include <cctype>
 #include <charconv>
 #include <cmath>
 #include <optional>
 #include <sstream>
+
+#include "base/config/document.hpp"
 
 namespace excite::sim {
 namespace {

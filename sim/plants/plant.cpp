@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: MIT
 #include "sim/plants/plant.hpp"
-#include "base/config/document.hpp"
 
 #include <Eigen/LU>
 
@@ -10,6 +9,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "base/config/document.hpp"
 #include "sim/column/column_plant.hpp"
 #include "sim/library/library.hpp"
 #include "sim/lti/discrete_plant.hpp"

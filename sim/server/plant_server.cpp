@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: MIT
 #include "sim/server/plant_server.hpp"
-#include "base/config/document.hpp"
 
 #include <arpa/inet.h>
 #include <modbus.h>
@@ -18,6 +17,8 @@
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+
+#include "base/config/document.hpp"
 
 namespace excite::sim::server {
 namespace {

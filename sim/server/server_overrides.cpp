@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: MIT
 #include "sim/server/server_overrides.hpp"
-#include "base/config/document.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +10,7 @@
 #include <memory>
 #include <sstream>
 
+#include "base/config/document.hpp"
 #include "base/config/error.hpp"
 #include "firmware/app/timing_range.hpp"
 #include "firmware/plan/codec.hpp"
