@@ -17,10 +17,13 @@
 // together are refitted with the whole row, the better kept when the row's BIC falls by more
 // than 2, else the other candidates one at a time. Rounds repeat until no element
 // changes (at most six rounds). A forced structure (--structure, or one per element) fits
-// each element in it from the same starts, the best end kept. Last, on every path, two local optima
-// the search does not leave are tried from their other side (structure_search.cpp,
-// leave_local_optima): a weak element (|K| < 5 SE) from either sign with its row's slowest lag, and
-// a delay within 0.05 T of a whole sample from across that kink.
+// each element in it from the same starts, the best end kept. Last, on every path, two local
+// optima the search does not leave are tried from their other side (structure_search.cpp,
+// leave_local_optima): an element the row's others can compensate for (|K| < 5 SE, or its
+// part below 5 % of the row's) from either sign, its lags at the row's other elements' time
+// scale and a quarter of it, in its own structure and in two poles (a forced structure: its
+// own only), each kept when it lowers the row's BIC; and a delay within 0.05 T of a whole
+// sample from across that kink.
 
 #include <Eigen/Dense>
 #include <optional>

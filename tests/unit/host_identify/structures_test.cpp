@@ -210,6 +210,26 @@ TEST(ForcedStructure, EachElementInItsOwnGivenStructure) {
   }
 }
 
+// A forced structure holds through the restarts of weak and small elements
+// (structure_search.cpp, leave_local_optima): before, a weak element was restarted in two
+// poles whatever was forced, and `--structure first_order` returned it with two poles.
+TEST(ForcedStructure, RestartsOfWeakElementsKeepTheForcedStructure) {
+  const PriorKnowledge prior = case_study("alatiqi4x4");
+  const Design design = design_preset(prior, find_preset("prbsSimDir"), 0);
+  Eigen::MatrixXd Y = sim::DiscretePlant(sim::library_plant("alatiqi4x4"), prior.sample_time_min)
+                          .simulate(design.table);
+  testing::add_noise(Y, 0.05, 3);  // a hundred times the case study's: (2, 3), K = −0.05, is weak
+  IdentifyOptions options;
+  options.max_time_constant_min = prior.beta * prior.tau_high_min;
+  options.threads = 2;
+  options.structure = Structure::first_order;
+  const IdentificationResult r = identify(design.table, Y, prior.sample_time_min, options);
+  const ElementEstimate& weak = r.model.element(1, 2);
+  EXPECT_LT(std::abs(weak.value.gain), 5.0 * weak.std_error.gain) << "(2, 3) is not weak here";
+  for (const ElementEstimate& e : r.model.elements)
+    EXPECT_EQ(e.value.structure, Structure::first_order);
+}
+
 TEST(StructureCriterion, ExtraParametersMustPayForThemselves) {
   // Same error: fewer parameters win; noise-free (below the floor) ties on the error.
   EXPECT_LT(row_criterion(1.0, 100.0, 1000, 3), row_criterion(1.0, 100.0, 1000, 4));
