@@ -40,6 +40,8 @@ Error::Error(std::string_view source, Position at, std::string field, std::strin
     : Error(format_message(source, at, field, value, expected), source, at, field, value,
             expected) {}
 
+Error::Error(const Check& failed) : Error(failed.field, failed.value, failed.expected) {}
+
 Error Error::text(std::string_view source, Position at, std::string_view description) {
   return Error(prefix(source, at) + std::string(description), source, at, {}, {},
                std::string(description));

@@ -308,9 +308,9 @@ void parse_values(const toml::table& root, GatewayConfig& c, hal::TransportConfi
 void check_representable(const GatewayConfig& c, const hal::TransportConfig& transport) {
   const std::vector<hal::CarriedRange> ranges = transport.carried_range(hal::ChannelKind::setpoint);
   for (std::size_t i = 0; i < ranges.size() && i < c.setpoints.size(); ++i) {
-    const hal::Validation v = hal::check_carried(ranges[i], "setpoints[" + std::to_string(i) + "]",
-                                                 c.setpoints[i].min, c.setpoints[i].max);
-    if (!v.ok()) throw ConfigError(v.field, v.value, v.expected);
+    const config::Check v = hal::check_carried(ranges[i], "setpoints[" + std::to_string(i) + "]",
+                                               c.setpoints[i].min, c.setpoints[i].max);
+    if (!v.ok()) throw ConfigError(v);
   }
 }
 

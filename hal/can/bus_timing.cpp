@@ -27,20 +27,20 @@ TickLoad tick_load(const CanPlan& plan, std::uint32_t bitrate, double period_s) 
   return t;
 }
 
-Validation check_tick_fits(const CanPlan& plan, std::uint32_t bitrate, double period_s) {
+config::Check check_tick_fits(const CanPlan& plan, std::uint32_t bitrate, double period_s) {
   if (bitrate == 0) {
-    return Validation::valid();
+    return config::Check::valid();
   }
   const TickLoad t = tick_load(plan, bitrate, period_s);
   if (t.load <= 1.0) {
-    return Validation::valid();
+    return config::Check::valid();
   }
   char text[200];
   std::snprintf(text, sizeof text,
                 "a rate whose frames fit the tick: %u frames, %u bits at worst per tick need "
                 "%.3g ms, the tick is %.3g ms (bus load %.0f %%)",
                 t.frames, t.bits, 1e3 * t.seconds, 1e3 * period_s, 100.0 * t.load);
-  return Validation::invalid("can.bitrate", std::to_string(bitrate), text);
+  return config::Check::invalid("can.bitrate", std::to_string(bitrate), text);
 }
 
 }  // namespace excite::hal::can

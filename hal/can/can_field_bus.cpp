@@ -59,40 +59,40 @@ void CanFieldBus::release() noexcept {
 
 namespace {
 
-Validation check_settings(const CanConfig& config) {
+config::Check check_settings(const CanConfig& config) {
   if (config.interface.empty() || config.interface.size() >= IFNAMSIZ) {
-    return Validation::invalid(
+    return config::Check::invalid(
         "can.interface", "\"" + config.interface + "\"",
         "an interface name of 1.." + std::to_string(IFNAMSIZ - 1) + " characters");
   }
   if (config.value_timeout_ms < 1 || config.value_timeout_ms > 60000) {
-    return Validation::invalid("can.value_timeout_ms", std::to_string(config.value_timeout_ms),
-                               "1..60000 ms");
+    return config::Check::invalid("can.value_timeout_ms", std::to_string(config.value_timeout_ms),
+                                  "1..60000 ms");
   }
   if (config.enobufs_limit < 1) {
-    return Validation::invalid("can.enobufs_limit", "0", "at least 1 write() call");
+    return config::Check::invalid("can.enobufs_limit", "0", "at least 1 write() call");
   }
   if (config.await_echo && *config.await_echo >= config.map.values.size()) {
-    return Validation::invalid(
+    return config::Check::invalid(
         "can.await_echo", std::to_string(*config.await_echo),
         "the index of a value (0.." + std::to_string(config.map.values.size()) + " - 1)");
   }
-  return Validation::valid();
+  return config::Check::valid();
 }
 
 }  // namespace
 
-Validation validate(const CanConfig& config) {
-  if (Validation v = check_settings(config); !v.ok()) return v;
+config::Check validate(const CanConfig& config) {
+  if (config::Check v = check_settings(config); !v.ok()) return v;
   CanPlan plan;
   return compile_frame_map(config.map, plan);
 }
 
-Validation CanFieldBus::prepare(const CanConfig& config, CanPlan& plan) {
+config::Check CanFieldBus::prepare(const CanConfig& config, CanPlan& plan) {
   release();
   plan_ = CanPlan{};
   std::snprintf(detail_, sizeof detail_, "not configured");
-  if (Validation v = check_settings(config); !v.ok()) return v;
+  if (config::Check v = check_settings(config); !v.ok()) return v;
   return compile_frame_map(config.map, plan);
 }
 
@@ -113,19 +113,19 @@ void CanFieldBus::adopt(const CanConfig& config, CanPlan&& plan, int fd) {
   detail_[0] = '\0';
 }
 
-Validation CanFieldBus::configure_on_socket(const CanConfig& config, int fd) {
+config::Check CanFieldBus::configure_on_socket(const CanConfig& config, int fd) {
   CanPlan plan;
   if (auto v = prepare(config, plan); !v.ok()) {
     return v;
   }
   if (fd < 0) {
-    return Validation::invalid("can.socket", std::to_string(fd), "an open socket descriptor");
+    return config::Check::invalid("can.socket", std::to_string(fd), "an open socket descriptor");
   }
   adopt(config, std::move(plan), fd);
-  return Validation::valid();
+  return config::Check::valid();
 }
 
-Validation CanFieldBus::configure(const CanConfig& config) {
+config::Check CanFieldBus::configure(const CanConfig& config) {
   CanPlan plan;
   if (auto v = prepare(config, plan); !v.ok()) {
     return v;
@@ -134,15 +134,15 @@ Validation CanFieldBus::configure(const CanConfig& config) {
   if (fd < 0) {
     const char* reason = socket_failure_reason(errno);
     std::snprintf(detail_, sizeof detail_, "%s", reason);
-    return Validation::invalid("can.interface", "\"" + config.interface + "\"",
-                               std::string("a usable SocketCAN interface (") + reason + ")");
+    return config::Check::invalid("can.interface", "\"" + config.interface + "\"",
+                                  std::string("a usable SocketCAN interface (") + reason + ")");
   }
   auto fail = [&](const char* call) {
     const std::string reason = std::string(call) + " failed: " + std::strerror(errno);
     close(fd);
     std::snprintf(detail_, sizeof detail_, "%s", reason.c_str());
-    return Validation::invalid("can.interface", "\"" + config.interface + "\"",
-                               "an existing, usable CAN interface (" + reason + ")");
+    return config::Check::invalid("can.interface", "\"" + config.interface + "\"",
+                                  "an existing, usable CAN interface (" + reason + ")");
   };
   const unsigned int index = if_nametoindex(config.interface.c_str());
   if (index == 0) {
@@ -171,7 +171,7 @@ Validation CanFieldBus::configure(const CanConfig& config) {
     return fail("bind");
   }
   adopt(config, std::move(plan), fd);
-  return Validation::valid();
+  return config::Check::valid();
 }
 
 StatusCode CanFieldBus::write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept {

@@ -118,7 +118,7 @@ class CanTransport final : public TransportConfig {
   }
 
   void validate() const override {
-    Validation v = can::validate(config_);
+    config::Check v = can::validate(config_);
     if (v.ok()) return;
     // The frame map names its fields; the file spells them can_id and [can].heartbeat_*.
     if (v.field.rfind("heartbeat.", 0) == 0) {
@@ -126,7 +126,7 @@ class CanTransport final : public TransportConfig {
     } else if (v.field.size() > 3 && v.field.compare(v.field.size() - 3, 3, ".id") == 0) {
       v.field = v.field.substr(0, v.field.size() - 3) + ".can_id";
     }
-    throw config::Error(v.field, v.value, v.expected);
+    throw config::Error(v);
   }
 
   // Setpoint and value frames never share an identifier (validate()): nothing to compare.
@@ -138,7 +138,7 @@ class CanTransport final : public TransportConfig {
     auto bus = std::make_unique<CanFieldBus>(clock);
     CanConfig c = config_;
     c.await_echo = await_echo;
-    if (const Validation v = bus->configure(c); !v.ok()) {
+    if (const config::Check v = bus->configure(c); !v.ok()) {
       made.error = v.message();
       return made;
     }
@@ -216,7 +216,7 @@ class CanTransport final : public TransportConfig {
     if (config_.bitrate == 0) return "";
     CanPlan plan;
     if (!compile_frame_map(config_.map, plan).ok()) return "";  // checked at load
-    const Validation v = check_tick_fits(plan, config_.bitrate, period_s);
+    const config::Check v = check_tick_fits(plan, config_.bitrate, period_s);
     return v.ok() ? "" : v.message();
   }
 

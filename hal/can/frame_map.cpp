@@ -67,14 +67,14 @@ struct FrameSlots {
   std::vector<std::uint8_t> dlc;
 };
 
-Validation place(const CanSignal& signal, const std::string& field, FrameSlots& slots,
-                 SignalCodec& codec) {
+config::Check place(const CanSignal& signal, const std::string& field, FrameSlots& slots,
+                    SignalCodec& codec) {
   const std::uint32_t id_limit = signal.extended ? CAN_EFF_MASK : CAN_SFF_MASK;
   if (signal.id > id_limit) {
-    return Validation::invalid(field + ".id", hex(signal.id),
-                               signal.extended
-                                   ? "0x0..0x1FFFFFFF (29-bit extended identifier)"
-                                   : "0x0..0x7FF (11-bit identifier; set extended for 29-bit)");
+    return config::Check::invalid(field + ".id", hex(signal.id),
+                                  signal.extended
+                                      ? "0x0..0x1FFFFFFF (29-bit extended identifier)"
+                                      : "0x0..0x7FF (11-bit identifier; set extended for 29-bit)");
   }
   const TypeInfo* type = nullptr;
   for (const TypeInfo& candidate : types) {
@@ -83,24 +83,25 @@ Validation place(const CanSignal& signal, const std::string& field, FrameSlots& 
     }
   }
   if (type == nullptr) {
-    return Validation::invalid(field + ".type", "\"" + signal.type + "\"",
-                               "int8, uint8, int16, uint16, int32, uint32 or float32");
+    return config::Check::invalid(field + ".type", "\"" + signal.type + "\"",
+                                  "int8, uint8, int16, uint16, int32, uint32 or float32");
   }
   if (signal.byte_order != "little" && signal.byte_order != "big") {
-    return Validation::invalid(field + ".byte_order", "\"" + signal.byte_order + "\"",
-                               "\"little\" or \"big\"");
+    return config::Check::invalid(field + ".byte_order", "\"" + signal.byte_order + "\"",
+                                  "\"little\" or \"big\"");
   }
   if (signal.byte_offset > 7 || signal.byte_offset + type->size > 8) {
-    return Validation::invalid(field + ".byte_offset", std::to_string(signal.byte_offset),
-                               "byte_offset + " + std::to_string(type->size) + " byte(s) of " +
-                                   signal.type + " <= 8 (classic CAN payload)");
+    return config::Check::invalid(field + ".byte_offset", std::to_string(signal.byte_offset),
+                                  "byte_offset + " + std::to_string(type->size) + " byte(s) of " +
+                                      signal.type + " <= 8 (classic CAN payload)");
   }
   if (!std::isfinite(signal.scale) || signal.scale == 0.0) {
-    return Validation::invalid(field + ".scale", std::to_string(signal.scale),
-                               "a finite, non-zero scale");
+    return config::Check::invalid(field + ".scale", std::to_string(signal.scale),
+                                  "a finite, non-zero scale");
   }
   if (!std::isfinite(signal.offset)) {
-    return Validation::invalid(field + ".offset", std::to_string(signal.offset), "a finite offset");
+    return config::Check::invalid(field + ".offset", std::to_string(signal.offset),
+                                  "a finite offset");
   }
   const canid_t id = frame_id(signal);
   auto found = std::find(slots.ids.begin(), slots.ids.end(), id);
@@ -120,8 +121,8 @@ Validation place(const CanSignal& signal, const std::string& field, FrameSlots& 
         break;
       }
     }
-    return Validation::invalid(field + ".byte_offset", std::to_string(signal.byte_offset),
-                               "no overlap with " + other + " in frame " + hex(signal.id));
+    return config::Check::invalid(field + ".byte_offset", std::to_string(signal.byte_offset),
+                                  "no overlap with " + other + " in frame " + hex(signal.id));
   }
   slots.used[frame] = static_cast<std::uint8_t>(slots.used[frame] | mask);
   for (std::uint32_t b = signal.byte_offset; b < signal.byte_offset + type->size; ++b) {
@@ -136,7 +137,7 @@ Validation place(const CanSignal& signal, const std::string& field, FrameSlots& 
                       signal.byte_order == "big",
                       signal.scale,
                       signal.offset};
-  return Validation::valid();
+  return config::Check::valid();
 }
 
 void store(std::uint8_t* data, const SignalCodec& codec, std::uint32_t bits) noexcept {
@@ -192,7 +193,7 @@ double from_bits(const SignalCodec& codec, std::uint32_t bits) noexcept {
 
 }  // namespace
 
-Validation compile_frame_map(const CanFrameMap& map, CanPlan& plan) {
+config::Check compile_frame_map(const CanFrameMap& map, CanPlan& plan) {
   plan = CanPlan{};
   CanPlan compiled;
   FrameSlots tx;
@@ -208,8 +209,8 @@ Validation compile_frame_map(const CanFrameMap& map, CanPlan& plan) {
   }
   if (map.heartbeat) {
     if (map.heartbeat->type != "uint8" && map.heartbeat->type != "uint16") {
-      return Validation::invalid("heartbeat.type", "\"" + map.heartbeat->type + "\"",
-                                 "uint8 or uint16 (a counter)");
+      return config::Check::invalid("heartbeat.type", "\"" + map.heartbeat->type + "\"",
+                                    "uint8 or uint16 (a counter)");
     }
     SignalCodec codec;
     if (auto v = place(*map.heartbeat, "heartbeat", tx, codec); !v.ok()) {
@@ -220,7 +221,7 @@ Validation compile_frame_map(const CanFrameMap& map, CanPlan& plan) {
   for (std::size_t i = 0; i < map.values.size(); ++i) {
     const std::string field = "values[" + std::to_string(i) + "]";
     if (std::find(tx.ids.begin(), tx.ids.end(), frame_id(map.values[i])) != tx.ids.end()) {
-      return Validation::invalid(
+      return config::Check::invalid(
           field + ".id", hex(map.values[i].id),
           "an identifier not also used for setpoints (a frame is sent or received)");
     }
@@ -238,7 +239,7 @@ Validation compile_frame_map(const CanFrameMap& map, CanPlan& plan) {
     compiled.rx.push_back(RxFrame{rx.ids[f], rx.dlc[f]});
   }
   plan = std::move(compiled);
-  return Validation::valid();
+  return config::Check::valid();
 }
 
 StatusCode pack_setpoints(const CanPlan& plan, std::span<const double> setpoints,

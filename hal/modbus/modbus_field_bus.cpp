@@ -20,56 +20,56 @@ bool is_malformed_reply(int error) noexcept {
   return error > EMBXGTAR && error <= EMBBADSLAVE;
 }
 
-Validation validate_device(const ModbusDevice& device) {
+config::Check validate_device(const ModbusDevice& device) {
   if (device.transport != "tcp" && device.transport != "rtu") {
-    return Validation::invalid("device.transport", "\"" + device.transport + "\"",
-                               "\"tcp\" or \"rtu\"");
+    return config::Check::invalid("device.transport", "\"" + device.transport + "\"",
+                                  "\"tcp\" or \"rtu\"");
   }
   if (device.response_timeout_ms < 1 || device.response_timeout_ms > 60000) {
-    return Validation::invalid("device.response_timeout_ms",
-                               std::to_string(device.response_timeout_ms), "1..60000 ms");
+    return config::Check::invalid("device.response_timeout_ms",
+                                  std::to_string(device.response_timeout_ms), "1..60000 ms");
   }
   if (device.transport == "tcp") {
     if (device.host.empty()) {
-      return Validation::invalid("device.host", "\"\"", "a host name or address");
+      return config::Check::invalid("device.host", "\"\"", "a host name or address");
     }
     if (device.port < 1 || device.port > 65535) {
-      return Validation::invalid("device.port", std::to_string(device.port), "1..65535");
+      return config::Check::invalid("device.port", std::to_string(device.port), "1..65535");
     }
     if (device.unit_id < 0 || device.unit_id > 255) {
-      return Validation::invalid("device.unit_id", std::to_string(device.unit_id),
-                                 "0..255 for Modbus TCP");
+      return config::Check::invalid("device.unit_id", std::to_string(device.unit_id),
+                                    "0..255 for Modbus TCP");
     }
-    return Validation::valid();
+    return config::Check::valid();
   }
   if (device.serial_port.empty()) {
-    return Validation::invalid("device.serial_port", "\"\"",
-                               "a serial device path, e.g. /dev/ttyUSB0");
+    return config::Check::invalid("device.serial_port", "\"\"",
+                                  "a serial device path, e.g. /dev/ttyUSB0");
   }
   if (device.baud <= 0) {
-    return Validation::invalid("device.baud", std::to_string(device.baud),
-                               "a positive baud rate, e.g. 19200");
+    return config::Check::invalid("device.baud", std::to_string(device.baud),
+                                  "a positive baud rate, e.g. 19200");
   }
   if (device.parity != "N" && device.parity != "E" && device.parity != "O") {
-    return Validation::invalid("device.parity", "\"" + device.parity + "\"",
-                               "\"N\", \"E\" or \"O\"");
+    return config::Check::invalid("device.parity", "\"" + device.parity + "\"",
+                                  "\"N\", \"E\" or \"O\"");
   }
   if (device.data_bits < 5 || device.data_bits > 8) {
-    return Validation::invalid("device.data_bits", std::to_string(device.data_bits), "5..8");
+    return config::Check::invalid("device.data_bits", std::to_string(device.data_bits), "5..8");
   }
   if (device.stop_bits != 1 && device.stop_bits != 2) {
-    return Validation::invalid("device.stop_bits", std::to_string(device.stop_bits), "1 or 2");
+    return config::Check::invalid("device.stop_bits", std::to_string(device.stop_bits), "1 or 2");
   }
   if (device.unit_id < 1 || device.unit_id > 247) {
-    return Validation::invalid("device.unit_id", std::to_string(device.unit_id),
-                               "1..247 for Modbus RTU (0 is broadcast, which never answers)");
+    return config::Check::invalid("device.unit_id", std::to_string(device.unit_id),
+                                  "1..247 for Modbus RTU (0 is broadcast, which never answers)");
   }
-  return Validation::valid();
+  return config::Check::valid();
 }
 
 }  // namespace
 
-Validation validate(const ModbusConfig& config) {
+config::Check validate(const ModbusConfig& config) {
   if (auto v = validate_device(config.device); !v.ok()) {
     return v;
   }
@@ -94,7 +94,7 @@ void ModbusFieldBus::set_detail(const char* text) noexcept {
   std::snprintf(detail_, sizeof detail_, "%s", text);
 }
 
-Validation ModbusFieldBus::configure(const ModbusConfig& config) {
+config::Check ModbusFieldBus::configure(const ModbusConfig& config) {
   release();
   plan_ = RegisterPlan{};
   set_detail("not configured");
@@ -120,7 +120,7 @@ Validation ModbusFieldBus::configure(const ModbusConfig& config) {
     peer_ = "rtu " + device.serial_port + " slave " + std::to_string(device.unit_id);
   }
   if (ctx_ == nullptr) {
-    return Validation::invalid(
+    return config::Check::invalid(
         where, peer_, std::string("a usable device (libmodbus: ") + modbus_strerror(errno) + ")");
   }
   const auto timeout_ms = static_cast<std::uint32_t>(device.response_timeout_ms);
@@ -130,8 +130,8 @@ Validation ModbusFieldBus::configure(const ModbusConfig& config) {
   if (modbus_connect(ctx_) == -1) {
     const std::string reason = modbus_strerror(errno);
     release();
-    return Validation::invalid(where, peer_,
-                               "a reachable Modbus peer (connect failed: " + reason + ")");
+    return config::Check::invalid(where, peer_,
+                                  "a reachable Modbus peer (connect failed: " + reason + ")");
   }
   connected_ = true;
   plan_ = std::move(plan);
@@ -141,7 +141,7 @@ Validation ModbusFieldBus::configure(const ModbusConfig& config) {
   exception_ = {};
   exception_counts_.fill(0);
   set_detail("");
-  return Validation::valid();
+  return config::Check::valid();
 }
 
 StatusCode ModbusFieldBus::ensure_connected() noexcept {

@@ -72,8 +72,8 @@ class ModbusTransport final : public TransportConfig {
   }
 
   void validate() const override {
-    const Validation v = modbus::validate(config_);
-    if (!v.ok()) throw config::Error(v.field, v.value, v.expected);
+    const config::Check v = modbus::validate(config_);
+    if (!v.ok()) throw config::Error(v);
   }
 
   // Runs after validate() (types and word orders are known good). A wrong word_order would
@@ -101,7 +101,7 @@ class ModbusTransport final : public TransportConfig {
     // Each read is a request answered by the peer: no clock, no echo to wait for.
     MadeBus made;
     auto bus = std::make_unique<ModbusFieldBus>();
-    if (const Validation v = bus->configure(config_); !v.ok()) {
+    if (const config::Check v = bus->configure(config_); !v.ok()) {
       made.error = v.message();
       return made;
     }

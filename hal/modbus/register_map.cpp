@@ -29,40 +29,40 @@ std::optional<RegisterType> parse_type(const std::string& text) {
   return std::nullopt;
 }
 
-Validation compile_entry(const RegisterEntry& entry, const std::string& field, bool is_setpoint,
-                         Codec& codec, Item& item) {
+config::Check compile_entry(const RegisterEntry& entry, const std::string& field, bool is_setpoint,
+                            Codec& codec, Item& item) {
   if (is_setpoint && entry.function_code != 16) {
-    return Validation::invalid(field + ".function_code", std::to_string(entry.function_code),
-                               "16 (write multiple registers) for a setpoint");
+    return config::Check::invalid(field + ".function_code", std::to_string(entry.function_code),
+                                  "16 (write multiple registers) for a setpoint");
   }
   if (!is_setpoint && entry.function_code != 3 && entry.function_code != 4) {
-    return Validation::invalid(field + ".function_code", std::to_string(entry.function_code),
-                               "3 (holding registers) or 4 (input registers) for a value");
+    return config::Check::invalid(field + ".function_code", std::to_string(entry.function_code),
+                                  "3 (holding registers) or 4 (input registers) for a value");
   }
   const auto type = parse_type(entry.type);
   if (!type) {
-    return Validation::invalid(field + ".type", "\"" + entry.type + "\"",
-                               "float32, int16 or uint16");
+    return config::Check::invalid(field + ".type", "\"" + entry.type + "\"",
+                                  "float32, int16 or uint16");
   }
   codec.type = *type;
   const std::uint32_t size = register_count(*type);
   if (entry.address >= address_space || entry.address + size > address_space) {
-    return Validation::invalid(field + ".address", std::to_string(entry.address),
-                               "address + " + std::to_string(size) + " register(s) <= 65536");
+    return config::Check::invalid(field + ".address", std::to_string(entry.address),
+                                  "address + " + std::to_string(size) + " register(s) <= 65536");
   }
   if (*type == RegisterType::float32) {
     const auto order = parse_word_order(entry.word_order);
     if (!order) {
-      return Validation::invalid(field + ".word_order", "\"" + entry.word_order + "\"",
-                                 "ABCD, CDAB, BADC or DCBA");
+      return config::Check::invalid(field + ".word_order", "\"" + entry.word_order + "\"",
+                                    "ABCD, CDAB, BADC or DCBA");
     }
     codec.order = *order;
   } else {
     if (!std::isfinite(entry.eng_min) || !std::isfinite(entry.eng_max) ||
         !(entry.eng_min < entry.eng_max)) {
-      return Validation::invalid(field + ".eng_max", config::format_number(entry.eng_max),
-                                 "a finite engineering range with eng_min (" +
-                                     config::format_number(entry.eng_min) + ") < eng_max");
+      return config::Check::invalid(field + ".eng_max", config::format_number(entry.eng_max),
+                                    "a finite engineering range with eng_min (" +
+                                        config::format_number(entry.eng_min) + ") < eng_max");
     }
     const std::int32_t type_min = *type == RegisterType::int16 ? -32768 : 0;
     const std::int32_t type_max = *type == RegisterType::int16 ? 32767 : 65535;
@@ -70,11 +70,11 @@ Validation compile_entry(const RegisterEntry& entry, const std::string& field, b
     const std::int32_t raw_max = entry.raw_max.value_or(type_max);
     const std::string span = std::to_string(type_min) + ".." + std::to_string(type_max);
     if (raw_min < type_min || raw_min > type_max) {
-      return Validation::invalid(field + ".raw_min", std::to_string(raw_min),
-                                 "within " + span + " for " + entry.type);
+      return config::Check::invalid(field + ".raw_min", std::to_string(raw_min),
+                                    "within " + span + " for " + entry.type);
     }
     if (raw_max < type_min || raw_max > type_max || raw_max <= raw_min) {
-      return Validation::invalid(
+      return config::Check::invalid(
           field + ".raw_max", std::to_string(raw_max),
           "within " + span + " and > raw_min (" + std::to_string(raw_min) + ")");
     }
@@ -84,14 +84,14 @@ Validation compile_entry(const RegisterEntry& entry, const std::string& field, b
     codec.raw_max = raw_max;
   }
   item = Item{field + ".address", entry.address, size, entry.function_code, &codec, false};
-  return Validation::valid();
+  return config::Check::valid();
 }
 
 // Sorts the items of one register table, rejects overlaps, and splits contiguous runs
 // into requests of at most `chunk` registers without splitting a value.
-Validation plan_requests(std::vector<Item>& items, std::uint32_t chunk,
-                         std::vector<Request>& requests, std::size_t& image_size,
-                         std::optional<std::size_t>& heartbeat_offset) {
+config::Check plan_requests(std::vector<Item>& items, std::uint32_t chunk,
+                            std::vector<Request>& requests, std::size_t& image_size,
+                            std::optional<std::size_t>& heartbeat_offset) {
   std::stable_sort(items.begin(), items.end(), [](const Item& a, const Item& b) {
     return a.function_code != b.function_code ? a.function_code < b.function_code
                                               : a.address < b.address;
@@ -103,10 +103,11 @@ Validation plan_requests(std::vector<Item>& items, std::uint32_t chunk,
       const Item& previous = items[i - 1];
       if (previous.function_code == item.function_code &&
           previous.address + previous.size > item.address) {
-        return Validation::invalid(item.field, std::to_string(item.address),
-                                   "no overlap with " + previous.field + " (registers " +
-                                       std::to_string(previous.address) + ".." +
-                                       std::to_string(previous.address + previous.size - 1) + ")");
+        return config::Check::invalid(item.field, std::to_string(item.address),
+                                      "no overlap with " + previous.field + " (registers " +
+                                          std::to_string(previous.address) + ".." +
+                                          std::to_string(previous.address + previous.size - 1) +
+                                          ")");
       }
     }
     const bool extends = !requests.empty() && requests.back().function_code == item.function_code &&
@@ -126,7 +127,7 @@ Validation plan_requests(std::vector<Item>& items, std::uint32_t chunk,
     offset += item.size;
   }
   image_size = offset;
-  return Validation::valid();
+  return config::Check::valid();
 }
 
 }  // namespace
@@ -135,15 +136,15 @@ std::uint32_t register_count(RegisterType type) noexcept {
   return type == RegisterType::float32 ? 2U : 1U;
 }
 
-Validation compile_register_map(const RegisterMap& map, RegisterPlan& plan) {
+config::Check compile_register_map(const RegisterMap& map, RegisterPlan& plan) {
   plan = RegisterPlan{};
   if (map.write_chunk < 2 || map.write_chunk > max_write_registers) {
-    return Validation::invalid("write_chunk", std::to_string(map.write_chunk),
-                               "2..123 registers per FC16 request (protocol limit 123)");
+    return config::Check::invalid("write_chunk", std::to_string(map.write_chunk),
+                                  "2..123 registers per FC16 request (protocol limit 123)");
   }
   if (map.read_chunk < 2 || map.read_chunk > max_read_registers) {
-    return Validation::invalid("read_chunk", std::to_string(map.read_chunk),
-                               "2..125 registers per FC03/FC04 request (protocol limit 125)");
+    return config::Check::invalid("read_chunk", std::to_string(map.read_chunk),
+                                  "2..125 registers per FC03/FC04 request (protocol limit 125)");
   }
   RegisterPlan compiled;
   compiled.setpoints.resize(map.setpoints.size());
@@ -159,8 +160,8 @@ Validation compile_register_map(const RegisterMap& map, RegisterPlan& plan) {
   }
   if (map.heartbeat_address) {
     if (*map.heartbeat_address >= address_space) {
-      return Validation::invalid("heartbeat_address", std::to_string(*map.heartbeat_address),
-                                 "address + 1 register <= 65536");
+      return config::Check::invalid("heartbeat_address", std::to_string(*map.heartbeat_address),
+                                    "address + 1 register <= 65536");
     }
     writes.push_back(Item{"heartbeat_address", *map.heartbeat_address, 1, 16, nullptr, true});
   }
@@ -184,7 +185,7 @@ Validation compile_register_map(const RegisterMap& map, RegisterPlan& plan) {
     return v;
   }
   plan = std::move(compiled);
-  return Validation::valid();
+  return config::Check::valid();
 }
 
 std::uint16_t to_raw(const Codec& codec, double engineering, bool& clamped) noexcept {

@@ -63,20 +63,20 @@ std::vector<std::string> transport_sections() {
 
 namespace {}  // namespace
 
-Validation check_carried(const CarriedRange& range, const std::string& where, double min,
-                         double max) {
-  if (!range.bounded) return Validation::valid();
+config::Check check_carried(const CarriedRange& range, const std::string& where, double min,
+                            double max) {
+  if (!range.bounded) return config::Check::valid();
   if (min < range.low) {
-    return Validation::invalid(
+    return config::Check::invalid(
         where + ".min", config::format_number(min),
         ">= " + config::format_number(range.low) + ", the least " + range.what + " can carry");
   }
   if (max > range.high) {
-    return Validation::invalid(
+    return config::Check::invalid(
         where + ".max", config::format_number(max),
         "<= " + config::format_number(range.high) + ", the most " + range.what + " can carry");
   }
-  return Validation::valid();
+  return config::Check::valid();
 }
 
 }  // namespace excite::hal

@@ -42,7 +42,7 @@ CanPlantServer::CanPlantServer(PlantProcess& process, const hal::can::CanFrameMa
   if (!options_.lockstep && !(options_.sample_period.count() > 0.0)) {
     throw std::runtime_error("--sample-time-s must be > 0 (wall-clock seconds per sample)");
   }
-  if (const hal::Validation v = hal::can::compile_frame_map(plant_map, plan_); !v.ok()) {
+  if (const config::Check v = hal::can::compile_frame_map(plant_map, plan_); !v.ok()) {
     throw std::runtime_error("--can " + interface_ + ": frame map: " + v.message());
   }
   const auto n = static_cast<std::size_t>(process_.inputs());

@@ -11,9 +11,9 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "check.hpp"
 #include "host/design/prior_knowledge.hpp"
 #include "host/design/spec.hpp"
-#include "tests/fuzz/check.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

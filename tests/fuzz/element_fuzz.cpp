@@ -12,9 +12,9 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "check.hpp"
 #include "sim/lti/discretise.hpp"
 #include "sim/lti/parse_element.hpp"
-#include "tests/fuzz/check.hpp"
 
 namespace {
 

@@ -13,9 +13,9 @@
 #include <cstdint>
 #include <string_view>
 
+#include "check.hpp"
 #include "firmware/app/gateway_config.hpp"
 #include "firmware/engine/config.hpp"
-#include "tests/fuzz/check.hpp"
 
 namespace {
 

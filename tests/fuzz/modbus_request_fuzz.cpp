@@ -33,11 +33,11 @@
 #include <string>
 #include <vector>
 
+#include "check.hpp"
 #include "sim/server/modbus_request.hpp"
 #include "sim/server/register_image.hpp"
 #include "sim/server/server_config.hpp"
 #include "sim/server/server_layout.hpp"
-#include "tests/fuzz/check.hpp"
 
 namespace {
 

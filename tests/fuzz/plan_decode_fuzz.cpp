@@ -14,9 +14,9 @@
 #include <span>
 #include <vector>
 
+#include "check.hpp"
 #include "firmware/plan/codec.hpp"
 #include "firmware/plan/crc32.hpp"
-#include "tests/fuzz/check.hpp"
 
 namespace {
 

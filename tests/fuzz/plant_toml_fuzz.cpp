@@ -12,9 +12,9 @@
 #include <string_view>
 #include <vector>
 
+#include "check.hpp"
 #include "sim/lti/discrete_plant.hpp"
 #include "sim/lti/plant_toml.hpp"
-#include "tests/fuzz/check.hpp"
 
 namespace {
 

@@ -14,10 +14,10 @@
 #include <string_view>
 #include <vector>
 
+#include "check.hpp"
 #include "firmware/runlog/format.hpp"
 #include "firmware/runlog/reader.hpp"
 #include "firmware/runlog/writer.hpp"
-#include "tests/fuzz/check.hpp"
 
 namespace {
 

@@ -13,10 +13,10 @@
 #include <string_view>
 #include <vector>
 
+#include "check.hpp"
 #include "sim/server/register_image.hpp"
 #include "sim/server/server_config.hpp"
 #include "sim/server/server_layout.hpp"
-#include "tests/fuzz/check.hpp"
 
 namespace {
 

@@ -18,7 +18,9 @@ FLOORS = [
     ("sim/", ("base", "hal", "firmware", "sim")),
     ("host/", ("base", "hal", "firmware", "sim", "host")),
 ]
-# Include roots that are not a room's path: hal's public interface folder.
+# A header's file is ROOM/include/ROOM/NAME.hpp and its spelling ROOM/NAME.hpp: both start
+# with the room, so a file and what it includes map to rooms the same way. Include roots that
+# are not a room's path: hal's public interface folder.
 ALIASES = {"excite/hal/": "hal/"}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
 

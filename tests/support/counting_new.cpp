@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "tests/support/counting_new.hpp"
+#include "counting_new.hpp"
 
 #include <atomic>
 #include <cstdlib>

@@ -22,13 +22,13 @@
 #include <thread>
 #include <vector>
 
+#include "../../integration/engine/simlink_gateway.hpp"
 #include "firmware/app/command_mailbox.hpp"
 #include "firmware/app/gateway.hpp"
 #include "firmware/app/realtime.hpp"
 #include "hal/posix/posix_clock.hpp"
 #include "sim/library/library.hpp"
 #include "sim/simlink/simlink_field_bus.hpp"
-#include "tests/integration/engine/simlink_gateway.hpp"
 
 namespace {
 

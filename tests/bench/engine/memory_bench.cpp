@@ -12,13 +12,13 @@
 #include <string>
 #include <vector>
 
+#include "../../integration/engine/simlink_gateway.hpp"
 #include "excite/hal/virtual_clock.hpp"
 #include "firmware/app/command_mailbox.hpp"
 #include "firmware/app/gateway.hpp"
 #include "firmware/app/realtime.hpp"
 #include "sim/library/library.hpp"
 #include "sim/simlink/simlink_field_bus.hpp"
-#include "tests/integration/engine/simlink_gateway.hpp"
 
 namespace {
 

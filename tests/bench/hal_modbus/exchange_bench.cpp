@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "fault_server.hpp"
 #include "hal/modbus/modbus_field_bus.hpp"
-#include "tests/hil/hal_modbus/fault_server.hpp"
 
 namespace {
 

@@ -10,11 +10,11 @@
 #include <algorithm>
 #include <vector>
 
+#include "counting_new.hpp"
 #include "firmware/signal/generate.hpp"
 #include "firmware/signal/mseq.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/presets.hpp"
-#include "tests/support/counting_new.hpp"
 
 namespace {
 

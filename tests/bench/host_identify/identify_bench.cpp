@@ -27,11 +27,11 @@
 #include <ctime>
 #include <string>
 
+#include "../../unit/host_identify/test_data.hpp"
 #include "host/identify/identify.hpp"
 #include "sim/library/library.hpp"
 #include "sim/lti/discrete_plant.hpp"
 #include "sim/lti/noise.hpp"
-#include "tests/unit/host_identify/test_data.hpp"
 
 namespace {
 

@@ -15,10 +15,10 @@
 #include <string>
 #include <vector>
 
+#include "../../unit/signal/example_recipes.hpp"
+#include "counting_new.hpp"
 #include "firmware/signal/generate.hpp"
 #include "firmware/signal/mseq.hpp"
-#include "tests/support/counting_new.hpp"
-#include "tests/unit/signal/example_recipes.hpp"
 
 namespace excite::signal {
 namespace {

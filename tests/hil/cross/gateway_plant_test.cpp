@@ -23,8 +23,8 @@
 #include <thread>
 #include <vector>
 
+#include "../gateway/gateway_process.hpp"
 #include "firmware/runlog/reader.hpp"
-#include "tests/hil/gateway/gateway_process.hpp"
 
 namespace excite::test {
 namespace {

@@ -23,13 +23,13 @@
 #include <fstream>
 #include <thread>
 
+#include "../hal_can/vcan_required.hpp"
+#include "fault_server.hpp"
 #include "firmware/runlog/format.hpp"
 #include "firmware/runlog/reader.hpp"
+#include "gateway_process.hpp"
 #include "hal/can/can_field_bus.hpp"
-#include "tests/hil/gateway/gateway_process.hpp"
-#include "tests/hil/gateway/killed_log.hpp"
-#include "tests/hil/hal_can/vcan_required.hpp"
-#include "tests/hil/hal_modbus/fault_server.hpp"
+#include "killed_log.hpp"
 
 namespace excite::test {
 namespace {

@@ -21,7 +21,7 @@
 #include <thread>
 #include <vector>
 
-#include "tests/hil/gateway/gateway_process.hpp"
+#include "gateway_process.hpp"
 
 namespace excite::test {
 namespace {

@@ -18,7 +18,7 @@
 
 #include "excite/hal/virtual_clock.hpp"
 #include "hal/can/can_field_bus.hpp"
-#include "tests/hil/hal_can/vcan_required.hpp"
+#include "vcan_required.hpp"
 
 using namespace excite::hal;
 using namespace excite::hal::can;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "tests/hil/hal_modbus/fault_server.hpp"
+#include "fault_server.hpp"
 
 #include <arpa/inet.h>
 #include <modbus.h>

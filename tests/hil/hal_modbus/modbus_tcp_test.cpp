@@ -15,8 +15,8 @@
 #include <string>
 #include <thread>
 
+#include "fault_server.hpp"
 #include "hal/modbus/modbus_field_bus.hpp"
-#include "tests/hil/hal_modbus/fault_server.hpp"
 
 using namespace excite::hal;
 using namespace excite::hal::modbus;

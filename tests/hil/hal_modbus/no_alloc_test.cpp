@@ -9,8 +9,8 @@
 #include <cstdlib>
 #include <new>
 
+#include "fault_server.hpp"
 #include "hal/modbus/modbus_field_bus.hpp"
-#include "tests/hil/hal_modbus/fault_server.hpp"
 
 // The replacement operator delete hands the block back to free(); after inlining, GCC
 // sees free() on a pointer from operator new and warns, though the pair is consistent.

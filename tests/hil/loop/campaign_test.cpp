@@ -11,8 +11,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "tests/hil/loop/loop_fixture.hpp"
-#include "tests/hil/loop/same_run.hpp"
+#include "loop_fixture.hpp"
+#include "same_run.hpp"
 
 namespace excite::test {
 namespace {

@@ -14,7 +14,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "tests/hil/loop/can_loop_fixture.hpp"
+#include "can_loop_fixture.hpp"
 
 namespace excite::test {
 namespace {

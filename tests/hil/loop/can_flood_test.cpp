@@ -18,8 +18,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "can_loop_fixture.hpp"
 #include "firmware/runlog/format.hpp"
-#include "tests/hil/loop/can_loop_fixture.hpp"
 
 namespace excite::test {
 namespace {

@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-#include "tests/hil/loop/can_loop_fixture.hpp"
+#include "can_loop_fixture.hpp"
 
 namespace excite::test {
 namespace {

@@ -22,8 +22,8 @@
 #include <thread>
 #include <vector>
 
-#include "tests/hil/hal_can/vcan_required.hpp"
-#include "tests/hil/loop/loop_fixture.hpp"
+#include "../hal_can/vcan_required.hpp"
+#include "loop_fixture.hpp"
 
 namespace excite::test {
 

@@ -15,8 +15,8 @@
 #include <thread>
 #include <vector>
 
+#include "can_loop_fixture.hpp"
 #include "firmware/runlog/format.hpp"
-#include "tests/hil/loop/can_loop_fixture.hpp"
 
 namespace excite::test {
 namespace {

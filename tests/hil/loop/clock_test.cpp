@@ -14,8 +14,8 @@
 #include <thread>
 
 #include "firmware/runlog/format.hpp"
-#include "tests/hil/loop/loop_fixture.hpp"
-#include "tests/hil/loop/wire_order.hpp"
+#include "loop_fixture.hpp"
+#include "wire_order.hpp"
 
 namespace excite::test {
 namespace {

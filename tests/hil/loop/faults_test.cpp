@@ -17,10 +17,10 @@
 #include <sstream>
 #include <thread>
 
+#include "../gateway/killed_log.hpp"
 #include "firmware/runlog/format.hpp"
-#include "tests/hil/gateway/killed_log.hpp"
-#include "tests/hil/loop/limits.hpp"
-#include "tests/hil/loop/loop_fixture.hpp"
+#include "limits.hpp"
+#include "loop_fixture.hpp"
 
 namespace excite::test {
 namespace {

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "tests/hil/loop/loop_fixture.hpp"
+#include "loop_fixture.hpp"
 
 namespace excite::test {
 namespace {

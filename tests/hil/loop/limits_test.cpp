@@ -15,8 +15,8 @@
 #include <sstream>
 #include <string>
 
-#include "tests/hil/loop/limits.hpp"
-#include "tests/hil/loop/loop_fixture.hpp"
+#include "limits.hpp"
+#include "loop_fixture.hpp"
 
 namespace excite::test {
 namespace {

@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "../gateway/gateway_process.hpp"
 #include "firmware/runlog/reader.hpp"
-#include "tests/hil/gateway/gateway_process.hpp"
-#include "tests/hil/sim_server/plant_runner.hpp"
+#include "plant_runner.hpp"
 
 namespace excite::test {
 

@@ -12,7 +12,7 @@
 
 #include "firmware/plan/codec.hpp"
 #include "host/loop/stream.hpp"
-#include "tests/hil/loop/loop_fixture.hpp"
+#include "loop_fixture.hpp"
 
 namespace excite::test {
 namespace {

@@ -11,7 +11,7 @@
 #include <iterator>
 #include <string>
 
-#include "tests/hil/loop/loop_fixture.hpp"
+#include "loop_fixture.hpp"
 
 namespace excite::test {
 namespace {

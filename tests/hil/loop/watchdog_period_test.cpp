@@ -12,7 +12,7 @@
 #include <sstream>
 #include <thread>
 
-#include "tests/hil/loop/loop_fixture.hpp"
+#include "loop_fixture.hpp"
 
 namespace excite::test {
 namespace {

@@ -9,7 +9,7 @@
 #include <map>
 #include <vector>
 
-#include "tests/hil/loop/recording_proxy.hpp"
+#include "recording_proxy.hpp"
 
 namespace excite::test {
 

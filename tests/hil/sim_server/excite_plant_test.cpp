@@ -14,12 +14,12 @@
 
 #include "firmware/runlog/reader.hpp"
 #include "hal/modbus/modbus_field_bus.hpp"
+#include "plant_runner.hpp"
 #include "sim/library/library.hpp"
 #include "sim/lti/discrete_plant.hpp"
 #include "sim/plants/plant.hpp"
 #include "sim/server/default_map.hpp"
 #include "sim/server/server_config.hpp"
-#include "tests/hil/sim_server/plant_runner.hpp"
 
 namespace excite::sim::server {
 namespace {

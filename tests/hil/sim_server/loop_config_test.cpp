@@ -11,9 +11,9 @@
 #include <sstream>
 
 #include "firmware/runlog/reader.hpp"
+#include "plant_runner.hpp"
 #include "sim/server/config_writer.hpp"
 #include "sim/server/server_config.hpp"
-#include "tests/hil/sim_server/plant_runner.hpp"
 
 namespace excite::sim::server {
 namespace {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "tests/hil/sim_server/plant_runner.hpp"
+#include "plant_runner.hpp"
 
 #include <fcntl.h>
 #include <poll.h>

@@ -28,9 +28,9 @@
 
 #include "firmware/app/timing_range.hpp"
 #include "hal/modbus/modbus_field_bus.hpp"
+#include "plant_runner.hpp"
 #include "sim/plants/plant.hpp"
 #include "sim/server/default_map.hpp"
-#include "tests/hil/sim_server/plant_runner.hpp"
 
 namespace excite::sim::server {
 namespace {

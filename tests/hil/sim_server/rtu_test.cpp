@@ -11,9 +11,9 @@
 #include <thread>
 
 #include "hal/modbus/modbus_field_bus.hpp"
+#include "plant_runner.hpp"
 #include "sim/plants/plant.hpp"
 #include "sim/server/default_map.hpp"
-#include "tests/hil/sim_server/plant_runner.hpp"
 
 namespace excite::sim::server {
 namespace {

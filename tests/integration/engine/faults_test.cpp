@@ -4,7 +4,7 @@
 #include <fstream>
 
 #include "firmware/runlog/format.hpp"
-#include "tests/integration/engine/gateway_fixture.hpp"
+#include "gateway_fixture.hpp"
 
 namespace excite::testing {
 

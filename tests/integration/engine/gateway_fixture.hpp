@@ -27,7 +27,7 @@
 #include "firmware/runlog/reader.hpp"
 #include "sim/library/library.hpp"
 #include "sim/simlink/simlink_field_bus.hpp"
-#include "tests/integration/engine/simlink_gateway.hpp"
+#include "simlink_gateway.hpp"
 
 namespace excite::testing {
 

@@ -5,10 +5,10 @@
 // loss (then reads before writing again), stale echo, skipped ticks (the clock jumps past
 // deadlines) and operator commands. The ring is drained on this thread between
 // batches (no log thread), so only the cyclic path runs while counting.
+#include "counting_malloc.hpp"
+#include "counting_new.hpp"
 #include "firmware/runlog/format.hpp"
-#include "tests/integration/engine/counting_malloc.hpp"
-#include "tests/integration/engine/gateway_fixture.hpp"
-#include "tests/support/counting_new.hpp"
+#include "gateway_fixture.hpp"
 
 namespace excite::testing {
 

@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "../../unit/plan/example_plan.hpp"
 #include "firmware/app/gateway_config.hpp"
 #include "firmware/plan/codec.hpp"
-#include "tests/unit/plan/example_plan.hpp"
 
 namespace excite::testing {
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Engine + simlink plant: the whole plan is streamed, every tick is logged, the log reads back.
 #include "firmware/runlog/format.hpp"
-#include "tests/integration/engine/gateway_fixture.hpp"
+#include "gateway_fixture.hpp"
 
 namespace excite::testing {
 

@@ -22,7 +22,7 @@
 #include "host/campaign/parallel.hpp"
 #include "host/campaign/report.hpp"
 #include "host/identify/residuals.hpp"
-#include "tests/integration/host_campaign/true_gain_check.hpp"
+#include "true_gain_check.hpp"
 
 namespace excite::host {
 namespace {

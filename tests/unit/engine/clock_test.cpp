@@ -2,8 +2,8 @@
 // Time is counted on the clock, not in ticks executed (issue 10 item 3): ticks the loop
 // skipped (overruns) move the log's k, are flagged, and count towards the suspension
 // timeout and the unconfirmed window; the table, ramp and max_move advance per write.
+#include "engine_fixture.hpp"
 #include "firmware/runlog/format.hpp"
-#include "tests/unit/engine/engine_fixture.hpp"
 
 namespace excite::engine::testing {
 

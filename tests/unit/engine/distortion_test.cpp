@@ -4,8 +4,8 @@
 // the same table with the same baseline.
 #include "firmware/engine/distortion.hpp"
 
+#include "engine_fixture.hpp"
 #include "firmware/runlog/format.hpp"
-#include "tests/unit/engine/engine_fixture.hpp"
 
 namespace excite::engine::testing {
 

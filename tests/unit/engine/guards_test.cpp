@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Test limits (suspend, resume with hysteresis and dwell, abort on timeout), communication
 // loss (failed exchanges, stale heartbeat echo; hold or ramp), operator commands.
+#include "engine_fixture.hpp"
 #include "firmware/runlog/format.hpp"
-#include "tests/unit/engine/engine_fixture.hpp"
 
 namespace excite::engine::testing {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The lifecycle: configured → armed → running → completed → returning → safe, and abort.
-#include "tests/unit/engine/engine_fixture.hpp"
+#include "engine_fixture.hpp"
 
 namespace excite::engine::testing {
 

@@ -8,10 +8,10 @@
 #include <cstring>
 #include <vector>
 
+#include "../plan/example_plan.hpp"
 #include "firmware/plan/codec.hpp"
 #include "firmware/signal/generate.hpp"
 #include "host/design/table.hpp"
-#include "tests/unit/plan/example_plan.hpp"
 
 namespace excite::engine {
 namespace {

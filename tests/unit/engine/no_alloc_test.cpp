@@ -6,11 +6,11 @@
 #include <cstdlib>
 #include <vector>
 
+#include "counting_malloc.hpp"
+#include "counting_new.hpp"
+#include "engine_fixture.hpp"
 #include "firmware/engine/log_ring.hpp"
 #include "firmware/runlog/format.hpp"
-#include "tests/integration/engine/counting_malloc.hpp"
-#include "tests/support/counting_new.hpp"
-#include "tests/unit/engine/engine_fixture.hpp"
 
 namespace excite::engine::testing {
 

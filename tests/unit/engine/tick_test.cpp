@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The tick: clamp to [min, max], slew limit, ramp in and out, flags.
+#include "engine_fixture.hpp"
 #include "firmware/runlog/format.hpp"
-#include "tests/unit/engine/engine_fixture.hpp"
 
 namespace excite::engine::testing {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <functional>
 
-#include "tests/unit/engine/engine_fixture.hpp"
+#include "engine_fixture.hpp"
 
 namespace excite::engine::testing {
 namespace {

@@ -7,9 +7,9 @@
 
 #include <cmath>
 
+#include "../host_identify/test_data.hpp"
 #include "host/export/step_response.hpp"
 #include "host/identify/identify.hpp"
-#include "tests/unit/host_identify/test_data.hpp"
 
 namespace excite::host {
 namespace {

@@ -6,7 +6,7 @@
 #include <random>
 
 #include "reference_zoh.hpp"
-#include "tests/unit/host_identify/test_data.hpp"
+#include "test_data.hpp"
 
 namespace excite::host {
 namespace {

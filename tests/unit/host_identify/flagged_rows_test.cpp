@@ -11,7 +11,7 @@
 #include "firmware/runlog/format.hpp"
 #include "host/identify/identify.hpp"
 #include "host/identify/run_layout.hpp"
-#include "tests/unit/host_identify/test_data.hpp"
+#include "test_data.hpp"
 
 namespace excite::host {
 namespace {

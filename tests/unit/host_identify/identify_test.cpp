@@ -7,7 +7,7 @@
 #include <limits>
 
 #include "host/identify/validate.hpp"
-#include "tests/unit/host_identify/test_data.hpp"
+#include "test_data.hpp"
 
 namespace excite::host {
 namespace {

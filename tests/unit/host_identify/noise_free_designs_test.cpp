@@ -24,7 +24,7 @@
 #include "host/identify/identify.hpp"
 #include "sim/library/library.hpp"
 #include "sim/lti/discrete_plant.hpp"
-#include "tests/unit/host_identify/test_data.hpp"
+#include "test_data.hpp"
 
 namespace excite::host {
 namespace {

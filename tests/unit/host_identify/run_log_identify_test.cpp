@@ -13,7 +13,7 @@
 #include "firmware/runlog/writer.hpp"
 #include "host/identify/identify.hpp"
 #include "host/identify/run_data.hpp"
-#include "tests/unit/host_identify/test_data.hpp"
+#include "test_data.hpp"
 
 namespace excite::host {
 namespace {

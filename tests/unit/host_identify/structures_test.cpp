@@ -19,7 +19,7 @@
 #include "sim/library/library.hpp"
 #include "sim/lti/discrete_plant.hpp"
 #include "sim/lti/parse_element.hpp"
-#include "tests/unit/host_identify/test_data.hpp"
+#include "test_data.hpp"
 
 namespace excite::host {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "firmware/signal/mseq.hpp"
 #include "host/identify/element.hpp"
-#include "tests/unit/host_identify/reference_zoh.hpp"
+#include "reference_zoh.hpp"
 
 namespace excite::host::testing {
 

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "tests/unit/host_identify/test_data.hpp"
+#include "test_data.hpp"
 
 namespace excite::host {
 namespace {

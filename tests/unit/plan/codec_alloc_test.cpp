@@ -5,11 +5,11 @@
 
 #include <vector>
 
+#include "counting_new.hpp"
+#include "example_plan.hpp"
 #include "firmware/plan/codec.hpp"
 #include "firmware/plan/limits.hpp"
 #include "firmware/signal/generate.hpp"
-#include "tests/support/counting_new.hpp"
-#include "tests/unit/plan/example_plan.hpp"
 
 namespace excite::plan {
 namespace {

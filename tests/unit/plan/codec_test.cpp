@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "example_plan.hpp"
 #include "firmware/plan/crc32.hpp"
 #include "firmware/signal/generate.hpp"
-#include "tests/unit/plan/example_plan.hpp"
 
 namespace excite::plan {
 namespace {

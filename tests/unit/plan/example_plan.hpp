@@ -4,8 +4,8 @@
 
 #include <memory>
 
+#include "../signal/example_recipes.hpp"
 #include "firmware/plan/plan.hpp"
-#include "tests/unit/signal/example_recipes.hpp"
 
 namespace excite::plan::testing {
 

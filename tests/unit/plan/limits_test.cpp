@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "example_plan.hpp"
 #include "firmware/signal/generate.hpp"
-#include "tests/unit/plan/example_plan.hpp"
 
 namespace excite::plan {
 namespace {

@@ -6,7 +6,7 @@
 #include <limits>
 #include <string>
 
-#include "tests/unit/plan/example_plan.hpp"
+#include "example_plan.hpp"
 
 namespace excite::plan {
 namespace {

@@ -5,9 +5,9 @@
 
 #include <vector>
 
+#include "counting_new.hpp"
+#include "example_recipes.hpp"
 #include "firmware/signal/generate.hpp"
-#include "tests/support/counting_new.hpp"
-#include "tests/unit/signal/example_recipes.hpp"
 
 namespace excite::signal {
 namespace {

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "example_recipes.hpp"
 #include "firmware/signal/prbs.hpp"
-#include "tests/unit/signal/example_recipes.hpp"
 
 namespace excite::signal {
 namespace {

@@ -6,7 +6,7 @@
 #include <limits>
 #include <string>
 
-#include "tests/unit/signal/example_recipes.hpp"
+#include "example_recipes.hpp"
 
 namespace excite::signal {
 namespace {

@@ -5,9 +5,9 @@
 
 #include <vector>
 
+#include "counting_malloc.hpp"
+#include "counting_new.hpp"
 #include "sim/plants/plant.hpp"
-#include "tests/integration/engine/counting_malloc.hpp"
-#include "tests/support/counting_new.hpp"
 
 namespace excite::sim {
 namespace {

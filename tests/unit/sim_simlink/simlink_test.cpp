@@ -13,11 +13,11 @@
 #include <string>
 #include <vector>
 
+#include "counting_malloc.hpp"
+#include "counting_new.hpp"
 #include "excite/hal/virtual_clock.hpp"
 #include "sim/library/library.hpp"
 #include "sim/plants/plant.hpp"
-#include "tests/integration/engine/counting_malloc.hpp"
-#include "tests/support/counting_new.hpp"
 
 namespace excite::sim::simlink {
 namespace {

@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: MIT
-// One message form across the rooms: the firmware core's Status, hal's Validation and the
-// configuration reader all say "FIELD = VALUE, expected WHAT" (before, hal and the
-// configuration readers said ": expected").
+// One message form across the rooms: the firmware core's Status, hal's configuration checks
+// (config::Check) and the configuration reader all say "FIELD = VALUE, expected WHAT" (before, hal
+// and the configuration readers said ": expected").
 #include <gtest/gtest.h>
 
 #include <string>
 
+#include "base/config/check.hpp"
 #include "base/config/document.hpp"
+#include "base/config/error.hpp"
 #include "base/config/table.hpp"
 #include "firmware/signal/validate.hpp"
 #include "hal/modbus/modbus_field_bus.hpp"
@@ -28,10 +30,21 @@ TEST(MessageForm, FirmwareSignal) {
   expect_one_form(s.message(), "channels");
 }
 
-TEST(MessageForm, HalValidation) {
+TEST(MessageForm, HalConfigurationCheck) {
   hal::modbus::ModbusConfig config;
   config.device.transport = "udp";
   expect_one_form(hal::modbus::validate(config).message(), "device.transport");
+}
+
+// A configuration check's result is config::Error's non-throwing form: the same three parts,
+// the same message.
+TEST(MessageForm, CheckIsTheErrorsNonThrowingForm) {
+  const config::Check failed = config::Check::invalid("values[0].address", "65535", "0…65534");
+  EXPECT_FALSE(failed.ok());
+  EXPECT_EQ(failed.message(), "values[0].address = 65535, expected 0…65534");
+  EXPECT_EQ(std::string(config::Error(failed).what()), failed.message());
+  EXPECT_TRUE(config::Check::valid().ok());
+  EXPECT_EQ(config::Check::valid().message(), "ok");
 }
 
 TEST(MessageForm, ConfigurationFiles) {

@@ -22,7 +22,7 @@ namespace excite::hal {
 // protocol has no transaction; the status reports the failure.
 //
 // The codes are the project's one vocabulary (base/status/status.hpp, StatusCode); a hal
-// call returns only the six above. Messages (detail(), Validation) use the one form
+// call returns only the six above. Messages (detail(), config::Check) use the one form
 // "FIELD = VALUE, expected WHAT".
 using excite::StatusCode;
 using excite::to_string;

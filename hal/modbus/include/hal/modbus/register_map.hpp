@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "excite/hal/validation.hpp"
+#include "base/config/check.hpp"
 #include "hal/modbus/word_order.hpp"
 
 namespace excite::hal::modbus {
@@ -80,8 +80,8 @@ struct RegisterPlan {
 // Checks the map against the protocol (addresses, overlaps, chunk limits, types, word
 // orders, ranges) and compiles it into `plan`. Requests cover contiguous registers only
 // (a gap is never written or read) and never split a value across two requests.
-// On failure the Validation names the first offending field; `plan` is left empty.
-Validation compile_register_map(const RegisterMap& map, RegisterPlan& plan);
+// On failure the config::Check names the first offending field; `plan` is left empty.
+config::Check compile_register_map(const RegisterMap& map, RegisterPlan& plan);
 
 // Linear scaling of one int16/uint16 value (codec.type != float32).
 // to_raw clamps to the engineering range and reports whether it did.

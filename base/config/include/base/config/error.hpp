@@ -15,6 +15,8 @@
 #include <string>
 #include <string_view>
 
+#include "base/config/check.hpp"
+
 namespace excite::config {
 
 /// A place in a configuration text; line 0 means unknown.
@@ -36,6 +38,8 @@ class Error : public std::invalid_argument {
   /// A field error at a known place.
   Error(std::string_view source, Position at, std::string field, std::string value,
         std::string expected);
+  /// The thrown form of a failed check (check.hpp): its field, value and expected, no place.
+  explicit Error(const Check& failed);
   /// A free-text error (a TOML syntax error, an unreadable file): "FILE:LINE:COL: TEXT".
   static Error text(std::string_view source, Position at, std::string_view description);
 

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "base/config/check.hpp"
 #include "excite/hal/status.hpp"
-#include "excite/hal/validation.hpp"
 
 namespace excite::hal::can {
 
@@ -70,7 +70,7 @@ struct CanPlan {
 // Checks identifiers, byte layout (fits in 8 bytes, no two signals share a byte), types,
 // byte orders and scaling, and compiles the map. An identifier is either sent or
 // received, never both. On failure `plan` is left empty.
-Validation compile_frame_map(const CanFrameMap& map, CanPlan& plan);
+config::Check compile_frame_map(const CanFrameMap& map, CanPlan& plan);
 
 // Fills `frames` (size plan.tx.size()) with the setpoints (engineering units) and the
 // heartbeat. Returns bad_argument (frames unspecified) for a wrong size or a non-finite

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "base/config/check.hpp"
 #include "excite/hal/field_bus.hpp"
-#include "excite/hal/validation.hpp"
 #include "hal/modbus/register_map.hpp"
 
 struct _modbus;  // libmodbus's modbus_t
@@ -40,7 +40,7 @@ struct ModbusConfig {
 
 // Checks device and map without touching the network (what can be checked of an RTU
 // configuration on a machine without the serial port).
-Validation validate(const ModbusConfig& config);
+config::Check validate(const ModbusConfig& config);
 
 // The field bus over Modbus TCP or RTU. Lifecycle: configure() validates, compiles the
 // register map, sizes every buffer and connects; write()/read() then never allocate.
@@ -60,7 +60,7 @@ class ModbusFieldBus final : public FieldBus {
 
   // May be called again to reconfigure (closes the previous connection first).
   // An unreachable device fails here, naming host/port (or serial port) and the reason.
-  Validation configure(const ModbusConfig& config);
+  config::Check configure(const ModbusConfig& config);
 
   StatusCode write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept override;
   StatusCode read(std::span<double> values) noexcept override;

@@ -12,8 +12,8 @@
 #include <string_view>
 #include <vector>
 
+#include "base/config/check.hpp"
 #include "excite/hal/transport.hpp"
-#include "excite/hal/validation.hpp"
 
 namespace excite::hal {
 
@@ -40,7 +40,7 @@ std::vector<std::string> transport_sections();
 /// its encoding carries; else names where.min or where.max, the limit (config::format_number:
 /// the shortest text that reads back to the same double) and the end of
 /// `range` ("<= 2, the most register 104 int16 raw 0..27648 = 0..2 can carry").
-Validation check_carried(const CarriedRange& range, const std::string& where, double min,
-                         double max);
+config::Check check_carried(const CarriedRange& range, const std::string& where, double min,
+                            double max);
 
 }  // namespace excite::hal

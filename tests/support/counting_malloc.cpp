@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "tests/integration/engine/counting_malloc.hpp"
+#include "counting_malloc.hpp"
 
 #include <atomic>
 #include <cstddef>

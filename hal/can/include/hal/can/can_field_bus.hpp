@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "base/config/check.hpp"
 #include "excite/hal/clock.hpp"
 #include "excite/hal/field_bus.hpp"
-#include "excite/hal/validation.hpp"
 #include "hal/can/frame_map.hpp"
 #include "hal/can/link_state.hpp"
 
@@ -50,7 +50,7 @@ struct CanCounters {
 
 // Checks the interface name, the timeouts and the frame map without opening a socket
 // (what can be checked of a CAN configuration on a machine without AF_CAN).
-Validation validate(const CanConfig& config);
+config::Check validate(const CanConfig& config);
 
 // Whether this kernel can open a SocketCAN raw socket. reason: "" when ok, else a
 // static string naming the call and errno (e.g. EAFNOSUPPORT: no AF_CAN).
@@ -80,14 +80,14 @@ class CanFieldBus final : public FieldBus {
   explicit CanFieldBus(const Clock& clock) noexcept : clock_(clock) {}
   ~CanFieldBus() override;
 
-  Validation configure(const CanConfig& config);
+  config::Check configure(const CanConfig& config);
 
   // The seam below the socket (STYLE.md practice 8): validates and compiles like
   // configure(), then uses `fd` — any open socket that carries one struct can_frame per
   // datagram, e.g. a raw socket set up elsewhere, or one end of a
   // socketpair(AF_UNIX, SOCK_SEQPACKET) playing the bus in tests. config.interface only
   // names it in messages. On success the bus owns fd (closes it); on failure the caller does.
-  Validation configure_on_socket(const CanConfig& config, int fd);
+  config::Check configure_on_socket(const CanConfig& config, int fd);
 
   StatusCode write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept override;
   StatusCode read(std::span<double> values) noexcept override;
@@ -116,7 +116,7 @@ class CanFieldBus final : public FieldBus {
   // Polls the socket, draining it, until `done()` or value_timeout_ms have passed.
   template <class Done>
   StatusCode wait_until(Done done) noexcept;
-  Validation prepare(const CanConfig& config, CanPlan& plan);
+  config::Check prepare(const CanConfig& config, CanPlan& plan);
   void adopt(const CanConfig& config, CanPlan&& plan, int fd);
 
   const Clock& clock_;

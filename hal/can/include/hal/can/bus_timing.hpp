@@ -7,7 +7,7 @@
 
 #include <cstdint>
 
-#include "excite/hal/validation.hpp"
+#include "base/config/check.hpp"
 #include "hal/can/frame_map.hpp"
 
 namespace excite::hal::can {
@@ -32,6 +32,6 @@ TickLoad tick_load(const CanPlan& plan, std::uint32_t bitrate, double period_s) 
 /// Refuses (field "can.bitrate") a configuration whose frames of one tick, at their worst
 /// case, need longer than the tick: the bus could not carry them before the next tick's.
 /// bitrate 0 (a virtual bus, vcan) is not checked.
-Validation check_tick_fits(const CanPlan& plan, std::uint32_t bitrate, double period_s);
+config::Check check_tick_fits(const CanPlan& plan, std::uint32_t bitrate, double period_s);
 
 }  // namespace excite::hal::can
