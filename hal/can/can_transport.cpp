@@ -9,6 +9,7 @@
 
 #include "base/config/document.hpp"
 #include "base/config/table.hpp"
+#include "base/config/writer.hpp"
 #include "hal/can/bus_timing.hpp"
 
 namespace excite::hal::can {
@@ -242,6 +243,34 @@ std::unique_ptr<TransportConfig> make_transport_config() {
 const CanConfig* can_config_of(const TransportConfig& transport) noexcept {
   if (transport.name() != "can") return nullptr;
   return &static_cast<const CanTransport&>(transport).config();
+}
+
+std::string format_can_settings(const CanConfig& c) {
+  using config::toml_string;
+  std::string out = "interface = " + toml_string(c.interface) +
+                    "\nvalue_timeout_ms = " + std::to_string(c.value_timeout_ms) +
+                    "\nenobufs_limit = " + std::to_string(c.enobufs_limit) + "\n";
+  if (c.bitrate != 0) out += "bitrate = " + std::to_string(c.bitrate) + "\n";
+  if (const auto& hb = c.map.heartbeat) {
+    out += "heartbeat_id = " + hex(hb->id) + "\n";
+    if (hb->extended) out += "heartbeat_extended = true\n";
+    out += "heartbeat_byte_offset = " + std::to_string(hb->byte_offset) +
+           "\nheartbeat_type = " + toml_string(hb->type) +
+           "\nheartbeat_byte_order = " + toml_string(hb->byte_order) + "\n";
+  }
+  return out;
+}
+
+std::string format_can_entry(const CanSignal& s) {
+  using config::toml_number;
+  using config::toml_string;
+  std::string out = "can_id = " + hex(s.id) + "\n";
+  if (s.extended) out += "extended = true\n";
+  out += "byte_offset = " + std::to_string(s.byte_offset) + "\ntype = " + toml_string(s.type) +
+         "\nbyte_order = " + toml_string(s.byte_order) + "\n";
+  if (s.scale != 1.0) out += "scale = " + toml_number(s.scale) + "\n";
+  if (s.offset != 0.0) out += "offset = " + toml_number(s.offset) + "\n";
+  return out;
 }
 
 }  // namespace excite::hal::can

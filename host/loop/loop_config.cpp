@@ -10,6 +10,7 @@
 
 #include "base/config/writer.hpp"
 #include "firmware/app/gateway_config.hpp"
+#include "hal/can/can_transport.hpp"
 #include "hal/modbus/register_entry_toml.hpp"
 #include "host/design/case_studies.hpp"
 #include "sim/plants/plant.hpp"
@@ -137,18 +138,6 @@ std::string gateway_toml(const LoopConfigOptions& opt, const sim::Plant& plant,
   return os.str();
 }
 
-std::string hex(std::uint32_t id) {
-  std::ostringstream os;
-  os << "0x" << std::hex << std::uppercase << id;
-  return os.str();
-}
-
-void can_layout(std::ostringstream& os, const hal::can::CanSignal& s) {
-  os << "can_id = " << hex(s.id) << "\nbyte_offset = " << s.byte_offset
-     << "\ntype = " << toml_string(s.type) << "\nbyte_order = " << toml_string(s.byte_order)
-     << "\n";
-}
-
 // The gateway over CAN: sim/server's default CAN frame map, the same limits as over Modbus.
 std::string gateway_can_toml(const LoopConfigOptions& opt, const sim::Plant& plant, double range,
                              const std::vector<double>& u0, const std::vector<double>& y0) {
@@ -167,18 +156,18 @@ std::string gateway_can_toml(const LoopConfigOptions& opt, const sim::Plant& pla
   os << "comm_fail_limit = 3\ncomm_loss = \"hold\"\nrealtime_priority = 0\n\n";
   os << "[device]\ntransport = \"can\"\nsimulator = true   # the peer is excite-plant: "
         "--clock lockstep allowed\n\n";
-  os << "[can]\ninterface = " << toml_string(opt.can_interface)
-     << "\nvalue_timeout_ms = 1000\nheartbeat_id = " << hex(map.heartbeat->id)
-     << "\nheartbeat_byte_offset = " << map.heartbeat->byte_offset
-     << "\nheartbeat_type = " << toml_string(map.heartbeat->type) << "\n";
+  hal::can::CanConfig can;
+  can.interface = opt.can_interface;
+  can.value_timeout_ms = 1000;
+  can.map.heartbeat = map.heartbeat;
+  os << "[can]\n" << hal::can::format_can_settings(can);
   const double move = opt.max_move > 0.0 ? opt.max_move : 2.0 * range;
   for (std::size_t i = 0; i < n; ++i) {
     const auto& s = map.setpoints[i];
     const double slack = std::abs(u0[i]) * 0x1p-23;  // float32, as over Modbus
     os << "\n[[setpoints]]\nname = " << toml_string(s.name)
        << "\nunit = " << toml_string(in_units[i]) << "\n";
-    can_layout(os, s);
-    os << "min = " << toml_number(u0[i] - range - slack)
+    os << hal::can::format_can_entry(s) << "min = " << toml_number(u0[i] - range - slack)
        << "\nmax = " << toml_number(u0[i] + range + slack) << "\nmax_move = " << toml_number(move)
        << "\nreadback = " << toml_string(s.name + "_sp") << "\n";
   }
@@ -194,7 +183,7 @@ std::string gateway_can_toml(const LoopConfigOptions& opt, const sim::Plant& pla
     } else {
       os << "role = \"heartbeat_echo\"\n";
     }
-    can_layout(os, s);
+    os << hal::can::format_can_entry(s);
     if (output && opt.output_range > 0.0) {
       os << "test_low = " << toml_number(y0[k] - opt.output_range)
          << "\ntest_high = " << toml_number(y0[k] + opt.output_range)

@@ -123,6 +123,63 @@ TEST(GatewayConfigTest, TheCanExampleMapsSetpointsAndValuesToFrames) {
   EXPECT_EQ(e.command_value, 5);
 }
 
+// One writer beside the reader (issue 24 §4): what format_can_settings and format_can_entry
+// write of every field, the CAN transport reads back the same.
+TEST(GatewayConfigTest, TheCanWriterWritesWhatTheReaderReadsBack) {
+  hal::can::CanConfig written;
+  written.interface = "vcan3";
+  written.value_timeout_ms = 750;
+  written.enobufs_limit = 4;
+  written.bitrate = 250000;
+  hal::can::CanSignal sp;
+  sp.name = "L";
+  sp.id = 0x1ABCDE;
+  sp.extended = true;
+  sp.byte_offset = 2;
+  sp.type = "int16";
+  sp.byte_order = "big";
+  sp.scale = 0.001;
+  sp.offset = 1.5;
+  hal::can::CanSignal pv{"xD", 0x310, false, 4, "float32", "little", 1.0, 0.0};
+  hal::can::CanSignal rb{"L_sp", 0x311, false, 0, "int16", "big", 0.001, 1.5};
+  hal::can::CanSignal hb{"heartbeat", 0x1ABCDE, true, 0, "uint8", "big", 1.0, 0.0};
+  written.map.setpoints = {sp};
+  written.map.values = {pv, rb};
+  written.map.heartbeat = hb;
+  const std::string text = "[gateway]\nplant = \"p\"\n[device]\ntransport = \"can\"\n[can]\n" +
+                           hal::can::format_can_settings(written) +
+                           "[[setpoints]]\nname = \"L\"\nmin = 1.0\nmax = 2.0\nmax_move = 0.5\n"
+                           "readback = \"L_sp\"\n" +
+                           hal::can::format_can_entry(sp) + "[[values]]\nname = \"xD\"\n" +
+                           hal::can::format_can_entry(pv) +
+                           "[[values]]\nname = \"L_sp\"\nrole = \"readback\"\n" +
+                           hal::can::format_can_entry(rb);
+  const ConfigResult r = parse_gateway_config(text, "gw.toml");
+  ASSERT_TRUE(r.config) << r.error << "\n" << text;
+  const hal::can::CanConfig& read = can_of(*r.config);
+  EXPECT_EQ(read.interface, written.interface);
+  EXPECT_EQ(read.value_timeout_ms, written.value_timeout_ms);
+  EXPECT_EQ(read.enobufs_limit, written.enobufs_limit);
+  EXPECT_EQ(read.bitrate, written.bitrate);
+  const auto same = [](const hal::can::CanSignal& a, const hal::can::CanSignal& b) {
+    EXPECT_EQ(a.name, b.name);
+    EXPECT_EQ(a.id, b.id);
+    EXPECT_EQ(a.extended, b.extended);
+    EXPECT_EQ(a.byte_offset, b.byte_offset);
+    EXPECT_EQ(a.type, b.type);
+    EXPECT_EQ(a.byte_order, b.byte_order);
+    EXPECT_EQ(a.scale, b.scale);
+    EXPECT_EQ(a.offset, b.offset);
+  };
+  ASSERT_EQ(read.map.setpoints.size(), 1U);
+  same(read.map.setpoints[0], sp);
+  ASSERT_EQ(read.map.values.size(), 2U);
+  same(read.map.values[0], pv);
+  same(read.map.values[1], rb);
+  ASSERT_TRUE(read.map.heartbeat.has_value());
+  same(*read.map.heartbeat, hb);
+}
+
 TEST(GatewayConfigTest, CanFrameLayoutErrorsNameTheKeyOfTheFile) {
   std::string text = example_text(kCanExample);
   text.replace(text.find("byte_offset = 2"), 15, "byte_offset = 1");  // V over L's byte 1
