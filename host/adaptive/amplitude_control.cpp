@@ -218,6 +218,7 @@ SegmentScale scale_segment(const IdentifiedModel& model, const Eigen::MatrixXd& 
   if (const Violation v = first_violation(rows, limits, k, 0.0); v.output >= 0) {
     out.binding_output = v.output;
     out.binding_row = v.row;
+    out.binding_high = v.high;
     out.reason = "the history alone is predicted to leave output " + std::to_string(v.output + 1) +
                  "'s " + (v.high ? "high" : "low") + " limit at row " + std::to_string(v.row) +
                  " of the segment";
@@ -236,6 +237,7 @@ SegmentScale scale_segment(const IdentifiedModel& model, const Eigen::MatrixXd& 
   out.scale = feasible;
   out.binding_output = v.output;
   out.binding_row = v.row;
+  out.binding_high = v.high;
   std::ostringstream m;
   m << "output " << v.output + 1 << "'s " << (v.high ? "high" : "low") << " limit at row " << v.row
     << " of the segment (prediction ± " << k << " σ)";

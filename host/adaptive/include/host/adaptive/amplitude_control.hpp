@@ -41,6 +41,7 @@ struct SegmentScale {
   double scale = 0.0;             // α ∈ [0, max_scale]: multiply the segment by it
   int binding_output = -1;        // the output whose limit stops a larger α (-1: none does)
   Eigen::Index binding_row = -1;  // its row, counted from the segment's first row
+  bool binding_high = false;      // its high limit binds (else its low one)
   std::string reason;             // why α < max_scale, in words; "" otherwise
 };
 
