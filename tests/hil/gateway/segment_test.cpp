@@ -5,7 +5,8 @@
 // so the inbox thread has staged it while the gateway waits, armed, for its start command.
 //  (a) approved over stdin: switched to after the last row of the running plan; the gateway
 //      log's segment column goes 0 → 1 there, and the plant's own log follows the new table
-//      from that row on;
+//      from that row on; a segment whose provenance names the configuration's
+//      [segments] preapproved_from is taken without `approve`;
 //  (b) never approved: never taken; the run completes on the original plan, segment 0;
 //  (c) bad segments (CRC, undecodable, channels, sample time, limits, values beyond the plan's
 //      limits, distortion above gateway.max_distortion) are refused by name, renamed
@@ -165,7 +166,7 @@ TEST_F(Segments, AnApprovedSegmentIsTakenAtTheEndAndThePlantFollowsTheNewTable) 
   ASSERT_TRUE(wait_for(*gw, "segment 1 staged")) << gw->err();
   EXPECT_NE(gw->err().find("waiting for approval"), std::string::npos) << gw->err();
   gw->send_line("approve");
-  std::this_thread::sleep_for(300ms);  // one command slot: the approval is taken first
+  std::this_thread::sleep_for(500ms);  // one command slot: the approval is taken first
   gw->send_line("start");
   const auto rc = gw->wait(120s);
   ASSERT_TRUE(rc.has_value()) << gw->err();
@@ -196,6 +197,27 @@ TEST_F(Segments, AnApprovedSegmentIsTakenAtTheEndAndThePlantFollowsTheNewTable) 
   }
   std::printf("[ measured ] switch at gateway row %zu of %zu; plant rows %zu\n", r1, gwl.rows(),
               plant.rows());
+}
+
+TEST_F(Segments, ASegmentFromThePreApprovedToolIsTakenWithoutApproval) {
+  start_loop(kPlant, "--input-range 2");
+  std::ofstream(path("gateway.toml"), std::ios::app)
+      << "\n[segments]\npreapproved_from = \"excite test\"\n";
+  drop(encoded(step_segment(level())));  // provenance "excite test (hil segment)"
+  auto gw = start_waiting();
+  ASSERT_TRUE(wait_for(*gw, "segment 1 staged")) << gw->err();
+  gw->send_line("start");  // no approve
+  const auto rc = gw->wait(120s);
+  ASSERT_TRUE(rc.has_value()) << gw->err();
+  EXPECT_EQ(*rc, 0) << gw->err();
+  EXPECT_NE(gw->err().find("pre-approved (segments.preapproved_from = \"excite test\")"),
+            std::string::npos)
+      << gw->err();
+  EXPECT_NE(gw->err().find("segments: 1 staged, 0 refused, 1 taken"), std::string::npos)
+      << gw->err();
+  const runlog::RunLog gwl = read_log_or_fail(path("gw.csv"));
+  EXPECT_LT(first_row_of_segment_1(gwl), gwl.rows());
+  (void)stop_plant_and_read_its_log();
 }
 
 TEST_F(Segments, AnUnapprovedSegmentIsNeverTaken) {
@@ -312,7 +334,7 @@ TEST_F(Segments, NoMoveThePlantReceivesAtTheSwitchExceedsMaxMove) {
   auto gw = start_waiting({"--allow-distortion"});
   ASSERT_TRUE(wait_for(*gw, "segment 1 staged")) << gw->err();
   gw->send_line("approve");
-  std::this_thread::sleep_for(300ms);
+  std::this_thread::sleep_for(500ms);
   gw->send_line("start");
   const auto rc = gw->wait(120s);
   ASSERT_TRUE(rc.has_value()) << gw->err();
