@@ -100,6 +100,8 @@ class Gateway {
   // ---- what start-up produced (valid after load_plan) ----
   [[nodiscard]] const GatewayConfig& config() const noexcept { return config_; }
   [[nodiscard]] const plan::Plan& plan() const noexcept { return *plan_; }
+  /// The table of the plan started with (segment 0). With plan segments its storage is
+  /// reused by segments 2, 4, … once the engine has left it: read it before run().
   [[nodiscard]] signal::ConstTableView table() const noexcept { return table_; }
   [[nodiscard]] const engine::EngineConfig& engine_config() const noexcept {
     return engine_config_;
