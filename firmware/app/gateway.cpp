@@ -107,6 +107,27 @@ StageResult Gateway::start_log(std::FILE* file, std::string producer) {
   return std::nullopt;
 }
 
+void Gateway::start_segments(std::string dir, bool allow_distortion, std::FILE* events) {
+  spare_storage_.assign(signal::kTableCapacity, 0.0);  // sized once, before the run
+  SegmentInboxSetup setup;
+  setup.dir = std::move(dir);
+  setup.config = &config_;
+  setup.engine_config = engine_config_;
+  setup.running = plan_.get();
+  for (std::uint32_t c = 0; c < engine_config_.inputs; ++c)
+    setup.baseline[c] = engine_->baseline(c);
+  setup.buffers = {std::span<double>(storage_), std::span<double>(spare_storage_)};
+  setup.allow_distortion = allow_distortion;
+  setup.events = events;
+  inbox_ = std::make_unique<SegmentInbox>(std::move(setup));
+  runner_->watch_segments(&inbox_->handoff());
+  inbox_->start();
+}
+
+void Gateway::stop_segments() {
+  if (inbox_) inbox_->stop();
+}
+
 RunStats Gateway::run(CommandMailbox& commands, const std::atomic<bool>* stop,
                       std::uint64_t max_ticks) noexcept {
   runner_->set_observer(observer_);

@@ -367,6 +367,23 @@ void cross_check(GatewayConfig& c, const hal::TransportConfig& transport) {
   check_readback_encodings(c, transport);
 }
 
+// [segments]: how a running gateway takes the next plan segment (README "Plan segments").
+void parse_segments(const toml::table& t, GatewayConfig& c) {
+  const std::string w = "segments";
+  check_keys(t, w, {"period_rows", "preapproved_from"});
+  if (auto v = integer(t, w, "period_rows", 0, 1 << 24)) {
+    c.segment_period_rows = static_cast<std::uint32_t>(*v);
+  }
+  if (auto s = text(t, w, "preapproved_from")) {
+    if (s->empty() || s->find_first_of("\r\n") != std::string::npos) {
+      throw ConfigError(w + ".preapproved_from", '"' + *s + '"',
+                        "one line of text, not empty (what a pre-approved plan's provenance "
+                        "contains)");
+    }
+    c.segment_preapproved_from = *s;
+  }
+}
+
 }  // namespace
 
 ConfigResult parse_gateway_config(std::string_view text_in, std::string_view source) {
@@ -375,10 +392,11 @@ ConfigResult parse_gateway_config(std::string_view text_in, std::string_view sou
     toml::table root = config::parse(text_in, source);
     GatewayConfig c;
     c.source = std::string(source);
-    std::set<std::string> sections = {"gateway", "device", "setpoints", "values"};
+    std::set<std::string> sections = {"gateway", "device", "setpoints", "values", "segments"};
     for (std::string& section : hal::transport_sections()) sections.insert(std::move(section));
     check_keys(root, "", sections);
     if (const toml::table* g = table_at(root, "gateway", false)) parse_gateway(*g, c);
+    if (const toml::table* g = table_at(root, "segments", false)) parse_segments(*g, c);
     std::unique_ptr<hal::TransportConfig> transport =
         parse_device(*table_at(root, "device", true), c);
     parse_sections(root, *transport);
@@ -491,6 +509,7 @@ engine::EngineConfig to_engine_config(const GatewayConfig& c,
     if (v.role == ValueRole::command) e.command_value = static_cast<std::int32_t>(j);
   }
   e.ramp_ticks = ticks(c.ramp_s);
+  e.segment_period_rows = c.segment_period_rows;
   e.resume_dwell_ticks = std::max<std::uint32_t>(1, ticks(c.resume_dwell_s));
   e.suspend_timeout_ticks = ticks(c.suspend_timeout_s);
   // Confirmation: two readbacks of the baseline at least one tick and twice the response

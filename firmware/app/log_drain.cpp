@@ -69,6 +69,7 @@ bool LogDrain::write(const engine::TickRecord& r) {
   row.dy = std::span<const double>(dy_);
   row.flags = r.flags & runlog::kKnownFlags;
   row.state = engine::to_run_state(r.state);
+  row.segment = r.segment;
   const runlog::WriteResult f = runlog::format_row(layout_.header, row, std::span<char>(buffer_));
   if (f.status != runlog::WriteStatus::ok) {
     detail_ = f.message;
@@ -125,6 +126,11 @@ void LogDrain::report(const engine::TickRecord& r) {
                  static_cast<unsigned long long>(r.tick), t, r.row, engine::to_string(last_state_),
                  engine::to_string(r.state));
     last_state_ = r.state;
+  }
+  if (r.segment != last_segment_) {
+    std::fprintf(events_, "tick %llu (t = %g min, row %u): segment %u -> %u\n",
+                 static_cast<unsigned long long>(r.tick), t, r.row, last_segment_, r.segment);
+    last_segment_ = r.segment;
   }
   const bool lost = (r.flags & runlog::kCommLost) != 0;
   if (lost != last_comm_lost_) {

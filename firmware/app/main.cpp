@@ -83,7 +83,7 @@ void ignore_file_size_signal() {
   std::signal(SIGXFSZ, SIG_IGN);
 }
 
-// Operator commands typed on stdin, one per line: start, suspend, resume, abort.
+// Operator commands typed on stdin, one per line: start, suspend, resume, abort, approve.
 void read_stdin_commands() {
   static excite::app::SmallThread reader;
   reader.start([] {
@@ -98,10 +98,13 @@ void read_stdin_commands() {
         g_commands.post(engine::Command::resume);
       } else if (line == "abort") {
         g_commands.post(engine::Command::abort);
+      } else if (line == "approve") {
+        g_commands.post(engine::Command::approve);
       } else if (!line.empty()) {
-        std::fprintf(stderr,
-                     "excite-gateway: unknown command \"%s\" (start, suspend, resume, abort)\n",
-                     line.c_str());
+        std::fprintf(
+            stderr,
+            "excite-gateway: unknown command \"%s\" (start, suspend, resume, abort, approve)\n",
+            line.c_str());
       }
     }
   });
@@ -122,6 +125,7 @@ struct Options {
   std::string plan_path;
   std::string log_path;
   std::string clock_mode = "realtime";
+  std::string segment_inbox;  // --segment-inbox DIR: "" = no plan segments
   bool dry_run = false;
   bool auto_start = false;
   bool allow_distortion = false;
@@ -140,6 +144,10 @@ std::optional<int> parse_command_line(int argc, char** argv, Options& opt) {
                  "returned (a simulated plant owns the clock; [device] simulator = true)")
       ->check(CLI::IsMember({"realtime", "lockstep"}))
       ->capture_default_str();
+  cli.add_option("--segment-inbox", opt.segment_inbox,
+                 "a folder where the next plan segment appears as next.plan (written to a "
+                 "temporary file and renamed); taken at a boundary once approved")
+      ->check(CLI::ExistingDirectory);
   cli.add_flag("--dry-run", opt.dry_run, "validate everything and print what would be written");
   cli.add_flag("--start", opt.auto_start, "start streaming right after arming (no start command)");
   cli.add_flag("--allow-distortion", opt.allow_distortion,
@@ -200,8 +208,14 @@ excite::hal::Clock& tick_clock(excite::app::Gateway& gw, const Options& opt,
   return lockstep;
 }
 
-// Armed: real time, signals, operator input, and the start-up's last words on stderr.
-void go_live(const excite::app::Gateway& gw, const Options& opt) {
+// Armed: the segment inbox, real time, signals, operator input, and the start-up's last
+// words on stderr.
+void go_live(excite::app::Gateway& gw, const Options& opt) {
+  if (!opt.segment_inbox.empty()) {
+    gw.start_segments(opt.segment_inbox, opt.allow_distortion, stderr);
+    std::fprintf(stderr, "excite-gateway: watching %s/next.plan for the next plan segment\n",
+                 opt.segment_inbox.c_str());
+  }
   const excite::app::RealtimeResult rt = excite::app::make_realtime(gw.config().realtime_priority);
   for (const auto& w : rt.warnings)
     std::fprintf(stderr, "excite-gateway: warning: %s\n", w.c_str());
@@ -264,6 +278,11 @@ int main(int argc, char** argv) {
   }
   go_live(gw, opt);
   const RunStats stats = gw.run(g_commands, &g_hard_stop);
+  gw.stop_segments();
+  if (const SegmentInbox* inbox = gw.segments()) {
+    std::fprintf(stderr, "excite-gateway: segments: %u staged, %u refused, %u taken\n",
+                 inbox->staged(), inbox->refused(), gw.engine().segment());
+  }
   const RunSummary summary = finish_run(gw, stats, made, log);
   print_summary(stderr, summary);
   return fail(verdict(summary));

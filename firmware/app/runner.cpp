@@ -35,7 +35,17 @@ engine::Status Runner::arm() noexcept {
 
 void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t skipped) noexcept {
   if (command != engine::Command::none) engine_.command(command);
+  if (segments_ != nullptr) {
+    const std::uint32_t id = segments_->published.load(std::memory_order_acquire);
+    if (id != segment_seen_) {
+      segment_seen_ = id;
+      if (!engine_.stage(segments_->table, segments_->approved)) {
+        segments_->stage_refused.store(true, std::memory_order_release);
+      }
+    }
+  }
   const engine::TickOutput& out = engine_.compute(skipped);
+  if (segments_ != nullptr) segments_->running.store(engine_.segment(), std::memory_order_release);
   const std::uint32_t n = engine_.config().values;
   const std::span<double> values(values_.data(), n);
   bool ok = false;

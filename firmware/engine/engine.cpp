@@ -127,6 +127,9 @@ void Engine::apply_command() noexcept {
     case Command::resume:
       reasons_ &= static_cast<std::uint8_t>(~kReasonOperator);
       break;
+    case Command::approve:
+      if (staged_.data != nullptr) staged_approved_ = true;
+      break;
     case Command::abort:
       if (state_ == State::configured) {
         state_ = State::safe;
@@ -137,6 +140,35 @@ void Engine::apply_command() noexcept {
       }
       break;
   }
+}
+
+Status Engine::stage(signal::ConstTableView next, bool approved) noexcept {
+  if (staged_.data != nullptr) {
+    return Status::error(StatusCode::invalid_field,
+                         "staged segment = already one (segment %u), expected none waiting",
+                         segment_ + 1);
+  }
+  if (!(state_ == State::armed || state_ == State::running || state_ == State::suspended)) {
+    return Status::error(StatusCode::invalid_field,
+                         "engine state = %s, expected armed, running or suspended",
+                         to_string(state_));
+  }
+  if (next.data == nullptr || next.channels != config_.inputs || next.samples == 0) {
+    return Status::error(StatusCode::invalid_field,
+                         "segment table = %u channels x %u samples, expected %u channels and at "
+                         "least 1 sample",
+                         next.channels, next.samples, config_.inputs);
+  }
+  staged_ = next;
+  staged_approved_ = approved;
+  return {};
+}
+
+// The row about to be written (row_, already advanced) starts a period of the running table,
+// or lies past its end.
+bool Engine::at_segment_boundary() const noexcept {
+  if (row_ >= table_.samples) return true;
+  return config_.segment_period_rows != 0 && row_ % config_.segment_period_rows == 0;
 }
 
 void Engine::fault(Outcome why) noexcept {
@@ -212,6 +244,13 @@ const TickOutput& Engine::compute(std::uint64_t skipped_ticks) noexcept {
   if (state_ == State::running) {
     if (row_started_) ++row_;
     row_started_ = true;
+    if (row_ != 0 && staged_approved_ && at_segment_boundary()) {  // switch: row 0 of the next
+      table_ = staged_;
+      staged_ = {};
+      staged_approved_ = false;
+      row_ = 0;
+      ++segment_;
+    }
     if (row_ >= table_.samples) {  // the last row was written last tick
       row_ = table_.samples - 1;
       state_ = State::completed;
@@ -467,6 +506,7 @@ TickRecord Engine::record(std::int64_t time_ns) const noexcept {
   r.time_ns = time_ns;
   r.tick = ticks_ == 0 ? 0 : ticks_ - 1;
   r.row = row_;
+  r.segment = segment_;
   r.state = state_;
   r.flags = flags_;
   for (std::uint32_t c = 0; c < config_.inputs; ++c) {

@@ -63,6 +63,8 @@ const char* to_string(Command command) noexcept {
       return "resume";
     case Command::abort:
       return "abort";
+    case Command::approve:
+      return "approve";
   }
   return "unknown";
 }
@@ -97,6 +99,8 @@ Command command_from_code(std::int64_t code) noexcept {
       return Command::resume;
     case 4:
       return Command::abort;
+    case 5:
+      return Command::approve;
     default:
       return Command::none;
   }

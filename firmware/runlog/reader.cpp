@@ -51,7 +51,7 @@ std::string quoted(std::string_view s) {
 }
 
 // Column roles of the data table.
-enum class Role : std::uint8_t { t_min, k, du, u, dy, flags, state };
+enum class Role : std::uint8_t { t_min, k, du, u, dy, flags, state, segment };
 struct ColumnRole {
   Role role;
   std::size_t channel;  // for du, u, dy
@@ -97,19 +97,21 @@ class Parser {
   bool parse_header() {
     std::string_view line;
     if (!next_line(line)) {
-      return fail(0, "empty file, expected the line '# excite run log v2' (or v1)");
+      return fail(0, "empty file, expected the line '# excite run log v3' (or v2, v1)");
     }
     if (trim(line) == kMagicLine) {
+      log_.format_version = 3;
+    } else if (trim(line) == kMagicLineV2) {
       log_.format_version = 2;
     } else if (trim(line) == kMagicLineV1) {
       log_.format_version = 1;
     } else {
       if (line.rfind("# excite run log v", 0) == 0) {
-        return fail(0,
-                    "unsupported version " + quoted(trim(line)) + "; this reader reads v1 and v2");
+        return fail(
+            0, "unsupported version " + quoted(trim(line)) + "; this reader reads v1, v2 and v3");
       }
       return fail(0, "first line is " + quoted(trim(line)) +
-                         ", expected '# excite run log v2' (or v1) (not an excite run log?)");
+                         ", expected '# excite run log v3' (or v2, v1) (not an excite run log?)");
     }
     bool seen[6] = {};
     bool seen_producer = false;  // optional: logs written before it existed have none
@@ -300,6 +302,7 @@ class Parser {
     }
     expected.push_back({"flags", {Role::flags, 0}});
     if (log_.format_version >= 2) expected.push_back({"state", {Role::state, 0}});
+    if (log_.format_version >= 3) expected.push_back({"segment", {Role::segment, 0}});
 
     std::vector<bool> found(expected.size(), false);
     for (std::size_t c = 0; c < names.size(); ++c) {
@@ -351,6 +354,7 @@ class Parser {
         if (!parse_field(c, fields[c])) return false;
       }
       if (log_.format_version == 1) log_.state.push_back(RunState::unknown);
+      if (log_.format_version <= 2) log_.segment.push_back(0);
       if (!check_time()) return false;
     }
     return true;
@@ -370,13 +374,16 @@ class Parser {
       log_.state.push_back(state);
       return true;
     }
-    if (role.role == Role::k || role.role == Role::flags) {
+    if (role.role == Role::k || role.role == Role::flags || role.role == Role::segment) {
       std::uint64_t v = 0;
       const auto r = std::from_chars(first, last, v);
       if (f.empty() || r.ec != std::errc{} || r.ptr != last) {
         return field_error(c, f, "a non-negative integer");
       }
-      if (role.role == Role::k) {
+      if (role.role == Role::segment) {
+        if (v > 0xFFFFFFFFU) return field_error(c, f, "a segment id of at most 4294967295");
+        log_.segment.push_back(static_cast<std::uint32_t>(v));
+      } else if (role.role == Role::k) {
         log_.k.push_back(v);
       } else {
         const bool v1 = log_.format_version == 1;

@@ -246,7 +246,7 @@ WriteResult format_header(const Header& header, std::span<char> out) {
   column_names(s, "du_", header.inputs);
   column_names(s, "u_", header.inputs);
   column_names(s, "dy_", header.outputs);
-  s.text(",flags,state\n");
+  s.text(",flags,state,segment\n");
   return s.result();
 }
 
@@ -282,6 +282,8 @@ WriteResult format_row(const Header& header, const Row& row, std::span<char> out
   s.integer(row.flags);
   s.ch(',');
   s.text(to_text(row.state));
+  s.ch(',');
+  s.integer(row.segment);
   s.ch('\n');
   return s.result();
 }

@@ -124,7 +124,7 @@ TEST_F(Clock, APlantStoppedLongerThanTheSuspendTimeoutAbortsTheRunOnTheClock) {
 
   const runlog::RunLog log = read_log_or_fail(path("gw.csv"));
   ASSERT_GT(log.rows(), 0U);
-  EXPECT_EQ(log.format_version, 2);
+  EXPECT_EQ(log.format_version, 3);
   EXPECT_EQ(log.state.back(), runlog::RunState::safe);
   // The abort came 3 s of the clock (150 ticks of 20 ms) after the suspension began, with
   // only a handful of ticks executed in between; the skipped ones are flagged.

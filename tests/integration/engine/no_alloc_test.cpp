@@ -5,6 +5,10 @@
 // loss (then reads before writing again), stale echo, skipped ticks (the clock jumps past
 // deadlines) and operator commands. The ring is drained on this thread between
 // batches (no log thread), so only the cyclic path runs while counting.
+#include <chrono>
+#include <fstream>
+#include <thread>
+
 #include "counting_malloc.hpp"
 #include "counting_new.hpp"
 #include "firmware/runlog/format.hpp"
@@ -92,6 +96,49 @@ TEST_F(GatewayLoop, TenThousandTicksOfTheCyclicPathAllocateNothing) {
   EXPECT_GE(engine().rows_flagged(runlog::kSkipped), 20U);  // the skipped-tick path
   EXPECT_GE(engine().skipped_ticks(), 7U * 20U);
   EXPECT_EQ(ring.overruns(), 0U);
+}
+
+// Plan segments: a segment staged by the inbox thread (which allocates: it decodes and
+// generates; stopped before counting) is handed to the tick, approved and switched to at the
+// end of the running table, on the cyclic path without an allocation.
+TEST_F(GatewayLoop, ASegmentSwitchOnTheCyclicPathAllocatesNothing) {
+  config_.suspend_timeout_s = 0.0;
+  ASSERT_TRUE(start_up());  // the example plan: 4080 rows
+  const std::filesystem::path inbox = std::filesystem::path(log_path_).replace_extension(".inbox");
+  std::filesystem::create_directories(inbox);
+  {
+    const std::vector<std::uint8_t> next = example_plan_file();
+    std::ofstream(inbox / "next.plan", std::ios::binary)
+        .write(reinterpret_cast<const char*>(next.data()),
+               static_cast<std::streamsize>(next.size()));
+  }
+  gateway_->start_segments(inbox.string(), true, nullptr);
+  for (int i = 0; i < 500 && gateway_->segments()->staged() == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  gateway_->stop_segments();
+  std::filesystem::remove_all(inbox);
+  ASSERT_EQ(gateway_->segments()->staged(), 1U);
+  engine::LogRingBase& ring = gateway_->log_ring();
+  engine::TickRecord sink;
+  commands_.post(engine::Command::start);
+  long new_count = 0;
+  long malloc_count = 0;
+  for (int batch = 0; batch < 10; ++batch) {
+    if (batch == 1) commands_.post(engine::Command::approve);
+    const long n0 = excite::test::allocations();
+    const long m0 = excite::test::mallocs();
+    (void)gateway_->run(commands_, nullptr, 500);
+    new_count += excite::test::allocations() - n0;
+    malloc_count += excite::test::mallocs() - m0;
+    while (ring.pop(sink)) {
+    }
+  }
+  EXPECT_EQ(engine().segment(), 1U)  // the switch was really taken (after row 4079)
+      << engine::to_string(engine().state()) << " row " << engine().row() << " staged "
+      << engine().segment_staged() << " approved " << engine().segment_approved();
+  EXPECT_EQ(new_count, 0);
+  EXPECT_EQ(malloc_count, 0) << "(malloc interposed: " << excite::test::malloc_interposed() << ")";
 }
 
 }  // namespace excite::testing

@@ -179,8 +179,9 @@ TEST_F(Limits, HugeValueInARunIsRefusedWithFileRowAndColumn) {
   }
   ASSERT_GT(line_start, 0U);
   const std::size_t line_end = text.find('\n', line_start);
-  // v2 rows end in ...,dy_last,flags,state: the last dy is before the second-last comma.
-  const std::size_t state_comma = text.rfind(',', line_end);
+  // v3 rows end in ...,dy_last,flags,state,segment: the last dy is before the third-last comma.
+  const std::size_t segment_comma = text.rfind(',', line_end);
+  const std::size_t state_comma = text.rfind(',', segment_comma - 1);
   const std::size_t flags_comma = text.rfind(',', state_comma - 1);
   const std::size_t dy_comma = text.rfind(',', flags_comma - 1);
   text.replace(dy_comma + 1, flags_comma - dy_comma - 1, "1e308");

@@ -67,7 +67,7 @@ class SegmentedCommands : public ExciteCli {
       const auto k = std::stoul(f[1]) + rows_a;
       f[0] = std::to_string(k);  // T = 1 min
       f[1] = std::to_string(k);
-      if (first) f[f.size() - 2] = "64";  // discontinuity: the plant restarted
+      if (first) f[f.size() - 3] = "64";  // flags (v3: …,flags,state,segment): a restart
       first = false;
       for (std::size_t i = 0; i < f.size(); ++i) out << (i ? "," : "") << f[i];
       out << '\n';

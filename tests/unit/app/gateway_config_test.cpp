@@ -87,6 +87,28 @@ TEST(GatewayConfigTest, TransportNamesOldAndNew) {
             "\"can\" (\"tcp\" and \"rtu\" are still accepted)");
 }
 
+// Issue 26 §1: [segments] — the boundary period and the pre-approval, both optional.
+TEST(GatewayConfigTest, SegmentsSectionSetsThePeriodAndThePreApproval) {
+  const ConfigResult plain = parse_gateway_config(example_text(), "gw.toml");
+  ASSERT_TRUE(plain.config) << plain.error;
+  EXPECT_EQ(plain.config->segment_period_rows, 0U);
+  EXPECT_EQ(plain.config->segment_preapproved_from, "");
+  const std::string text =
+      example_text() + "\n[segments]\nperiod_rows = 255\npreapproved_from = \"excite test\"\n";
+  const ConfigResult r = parse_gateway_config(text, "gw.toml");
+  ASSERT_TRUE(r.config) << r.error;
+  EXPECT_EQ(r.config->segment_period_rows, 255U);
+  EXPECT_EQ(r.config->segment_preapproved_from, "excite test");
+  EXPECT_EQ(to_engine_config(*r.config, std::chrono::seconds(1)).segment_period_rows, 255U);
+  EXPECT_NE(error_of(example_text() + "\n[segments]\nauto = true\n").find("segments.auto"),
+            std::string::npos);
+  EXPECT_NE(error_of(example_text() + "\n[segments]\npreapproved_from = \"\"\n")
+                .find("segments.preapproved_from = \"\", expected one line of text, not empty"),
+            std::string::npos);
+  EXPECT_NE(error_of(example_text() + "\n[segments]\nperiod_rows = -1\n").find("period_rows"),
+            std::string::npos);
+}
+
 TEST(GatewayConfigTest, SimulatorFlag) {
   std::string text = example_text();
   text.replace(text.find("# simulator = false"), 19, "simulator = true");

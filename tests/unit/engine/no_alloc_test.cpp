@@ -68,6 +68,37 @@ TEST_F(EngineTest, TenThousandTicksThroughEveryPathAllocateNothing) {
   EXPECT_EQ(engine_.rows_flagged(runlog::kSkipped), 100U);
 }
 
+// Plan segments: staging, approving and switching between two pre-allocated tables, every
+// 50 rows (a period boundary), and a refused stage, allocate nothing either.
+TEST_F(EngineTest, SegmentSwitchesAllocateNothing) {
+  EngineConfig c = small_config();
+  c.suspend_timeout_ticks = 0;
+  c.segment_period_rows = 50;
+  const std::vector<double> a(2 * 20000, 0.5);
+  const std::vector<double> b(2 * 20000, -0.5);
+  ASSERT_TRUE(engine_.configure(c, {a.data(), 2, 20000}));
+  arm();
+  engine_.command(Command::start);
+  TickRecord sink;
+  auto ring = std::make_unique<LogRing<256>>();
+  const long new_before = excite::test::allocations();
+  const long malloc_before = excite::test::mallocs();
+  for (int i = 0; i < 10000; ++i) {
+    if (i % 100 == 10) {
+      const std::vector<double>& next = engine_.segment() % 2 == 0 ? b : a;
+      (void)engine_.stage({next.data(), 2, 20000}, false);
+      (void)engine_.stage({next.data(), 2, 20000}, false);  // refused: one is staged
+    }
+    if (i % 100 == 30) engine_.command(Command::approve);
+    tick();
+    ring->push(engine_.record(i));
+    ring->pop(sink);
+  }
+  EXPECT_EQ(excite::test::allocations() - new_before, 0);
+  EXPECT_EQ(excite::test::mallocs() - malloc_before, 0);
+  EXPECT_EQ(engine_.segment(), 100U);  // the switches were really taken
+}
+
 }  // namespace excite::engine::testing
 
 namespace excite::engine::testing {

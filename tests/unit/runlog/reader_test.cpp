@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 namespace excite::runlog {
 namespace {
@@ -163,10 +164,10 @@ TEST(RunLogReader, UnknownFlagBitsAreRejected) {
 }
 
 TEST(RunLogReader, HeaderProblemsAreExplained) {
-  EXPECT_NE(error_of("a,b\n").message.find("expected '# excite run log v2' (or v1)"),
+  EXPECT_NE(error_of("a,b\n").message.find("expected '# excite run log v3' (or v2, v1)"),
             std::string::npos);
-  EXPECT_EQ(error_of("# excite run log v3\n").message,
-            "unsupported version '# excite run log v3'; this reader reads v1 and v2");
+  EXPECT_EQ(error_of("# excite run log v4\n").message,
+            "unsupported version '# excite run log v4'; this reader reads v1, v2 and v3");
   std::string no_units = kHeader.substr(0, kHeader.find("# units")) + kColumns;
   EXPECT_NE(error_of(no_units).message.find("no '# units:' line"), std::string::npos);
   std::string missing_unit = kHeader;
@@ -207,6 +208,40 @@ TEST(RunLogReader, V2ReadsTheStateOfEveryRow) {
   EXPECT_EQ(r.log.state[1], RunState::running);
   EXPECT_EQ(r.log.state[2], RunState::suspended);
   EXPECT_EQ(r.log.state[3], RunState::safe_unconfirmed);
+}
+
+// ---- format v3: the segment column ----
+
+const std::string kHeaderV3 = "# excite run log v3\n" + kHeader.substr(kHeader.find('\n') + 1);
+const std::string kColumnsV3 = "t_min,k,du_L,du_V,u_L,u_V,dy_xD,flags,state,segment\n";
+
+TEST(RunLogReader, V3ReadsTheSegmentOfEveryRow) {
+  const std::string text = kHeaderV3 + kColumnsV3 + "0,0,0,0,2.8,3.1,0,0,running,0\n" +
+                           "0.5,1,0.1,0,2.9,3.1,0,0,running,1\n" +
+                           "1,2,0,0,2.8,3.1,0,0,running,2\n";
+  const ReadResult r = parse_run_log(text, "run.csv");
+  ASSERT_TRUE(r.ok()) << r.error->to_string();
+  EXPECT_EQ(r.log.format_version, 3);
+  EXPECT_EQ(r.log.segment, (std::vector<std::uint32_t>{0, 1, 2}));
+}
+
+TEST(RunLogReader, V1AndV2LogsReadWithSegmentZero) {
+  const ReadResult v1 = parse_run_log(kHeader + kColumns + rows(3), "run.csv");
+  ASSERT_TRUE(v1.ok()) << v1.error->to_string();
+  EXPECT_EQ(v1.log.segment, (std::vector<std::uint32_t>{0, 0, 0}));
+  const ReadResult v2 = parse_run_log(
+      kHeaderV2 + kColumnsV2 + "0,0,0,0,2.8,3.1,0,0,armed\n0.5,1,0,0,2.8,3.1,0,0,running\n",
+      "run.csv");
+  ASSERT_TRUE(v2.ok()) << v2.error->to_string();
+  EXPECT_EQ(v2.log.segment, (std::vector<std::uint32_t>{0, 0}));
+  // A v2 log has no segment column; a v3 log must have one.
+  EXPECT_NE(error_of(kHeaderV2 + kColumnsV3).message.find("unexpected column 'segment'"),
+            std::string::npos);
+  EXPECT_NE(error_of(kHeaderV3 + kColumnsV2).message.find("missing column 'segment'"),
+            std::string::npos);
+  const ReadError bad = error_of(kHeaderV3 + kColumnsV3 + "0,0,0,0,2.8,3.1,0,0,running,x\n");
+  EXPECT_NE(bad.message.find("segment = 'x', expected a non-negative integer"), std::string::npos)
+      << bad.message;
 }
 
 TEST(RunLogReader, V2RequiresAKnownStateInItsColumn) {

@@ -56,14 +56,14 @@ TEST(RunLogWriter, HeaderListsMagicKeysUnitsAndColumns) {
   const WriteResult r = format_header(two_by_one(), buf);
   ASSERT_EQ(r.status, WriteStatus::ok);
   EXPECT_EQ(text_of(r, buf),
-            "# excite run log v2\n"
+            "# excite run log v3\n"
             "# plant: column A\n"
             "# plan: plans/prbs.toml\n"
             "# sample_time_min: 1\n"
             "# inputs: L V\n"
             "# outputs: xD\n"
             "# units: L=kmol/min V=kmol/min xD=mol/mol\n"
-            "t_min,k,du_L,du_V,u_L,u_V,dy_xD,flags,state\n");
+            "t_min,k,du_L,du_V,u_L,u_V,dy_xD,flags,state,segment\n");
 }
 
 TEST(RunLogWriter, ProducerLineNamesTheProgramAndReadsBack) {
@@ -73,10 +73,10 @@ TEST(RunLogWriter, ProducerLineNamesTheProgramAndReadsBack) {
   const WriteResult r = format_header(h, buf);
   ASSERT_EQ(r.status, WriteStatus::ok);
   const std::string text = text_of(r, buf);
-  EXPECT_EQ(text.rfind("# excite run log v2\n# producer: excite-gateway 0.1.0\n# plant:", 0), 0U)
+  EXPECT_EQ(text.rfind("# excite run log v3\n# producer: excite-gateway 0.1.0\n# plant:", 0), 0U)
       << text;
   const ReadResult back =
-      parse_run_log(text + "0,0,0,0,1,1,0,0,armed\n1,1,0,0,1,1,0,0,running\n", "run.csv");
+      parse_run_log(text + "0,0,0,0,1,1,0,0,armed,0\n1,1,0,0,1,1,0,0,running,0\n", "run.csv");
   ASSERT_TRUE(back.ok()) << back.error->to_string();
   EXPECT_EQ(back.log.producer, "excite-gateway 0.1.0");
   h.producer = "two\nlines";
@@ -90,9 +90,9 @@ TEST(RunLogWriter, RowUsesShortestRoundTripNumbers) {
   const std::array<double, 2> u = {2.806, 3.206};
   const std::array<double, 1> dy = {1.0 / 3.0};
   const WriteResult r = format_row(
-      two_by_one(), Row{12.0, 12, du, u, dy, kClamped | kStale, RunState::suspended}, buf);
+      two_by_one(), Row{12.0, 12, du, u, dy, kClamped | kStale, RunState::suspended, 2}, buf);
   ASSERT_EQ(r.status, WriteStatus::ok);
-  EXPECT_EQ(text_of(r, buf), "12,12,0.1,-0.25,2.806,3.206,0.3333333333333333,20,suspended\n");
+  EXPECT_EQ(text_of(r, buf), "12,12,0.1,-0.25,2.806,3.206,0.3333333333333333,20,suspended,2\n");
 }
 
 TEST(RunLogWriter, EveryStateHasItsOwnTextThatReadsBack) {
@@ -221,7 +221,9 @@ TEST(RunLogWriter, FileRoundTripIsExact) {
     EXPECT_EQ(r.log.u[0][k], 2.706 + written[k]);
     EXPECT_EQ(r.log.dy[0][k], std::exp(written[k]) * 1e5);
   }
-  EXPECT_EQ(r.log.format_version, 2);
+  EXPECT_EQ(r.log.format_version, 3);
+  ASSERT_EQ(r.log.segment.size(), 50U);
+  EXPECT_EQ(r.log.segment[49], 0U);
   ASSERT_EQ(r.log.state.size(), 50U);
   EXPECT_EQ(r.log.state[39], RunState::running);
   EXPECT_EQ(r.log.state[40], RunState::returning);

@@ -41,6 +41,7 @@
 #include "firmware/app/gateway_config.hpp"
 #include "firmware/app/log_drain.hpp"
 #include "firmware/app/runner.hpp"
+#include "firmware/app/segment_inbox.hpp"
 #include "firmware/engine/engine.hpp"
 #include "firmware/engine/log_ring.hpp"
 #include "firmware/plan/plan.hpp"
@@ -81,6 +82,14 @@ class Gateway {
   /// finish_log()) naming `producer`, and starts the log thread (log_error).
   StageResult start_log(std::FILE* file, std::string producer);
 
+  /// 5b. (optional, after arm) Plan segments (README "Plan segments"): allocates the second
+  /// table buffer and starts the inbox thread watching `dir`/next.plan; each tick of run()
+  /// then stages what it hands over. `allow_distortion`: --allow-distortion.
+  void start_segments(std::string dir, bool allow_distortion, std::FILE* events);
+  /// Stops the inbox thread (also done by the destructor); the inbox, or null without one.
+  void stop_segments();
+  [[nodiscard]] const SegmentInbox* segments() const noexcept { return inbox_.get(); }
+
   /// 6. Runs until the engine is safe, `stop` is raised or max_ticks have run (0: no limit).
   RunStats run(CommandMailbox& commands, const std::atomic<bool>* stop = nullptr,
                std::uint64_t max_ticks = 0) noexcept;
@@ -91,6 +100,8 @@ class Gateway {
   // ---- what start-up produced (valid after load_plan) ----
   [[nodiscard]] const GatewayConfig& config() const noexcept { return config_; }
   [[nodiscard]] const plan::Plan& plan() const noexcept { return *plan_; }
+  /// The table of the plan started with (segment 0). With plan segments its storage is
+  /// reused by segments 2, 4, … once the engine has left it: read it before run().
   [[nodiscard]] signal::ConstTableView table() const noexcept { return table_; }
   [[nodiscard]] const engine::EngineConfig& engine_config() const noexcept {
     return engine_config_;
@@ -142,7 +153,9 @@ class Gateway {
  private:
   GatewayConfig config_;
   std::unique_ptr<plan::Plan> plan_;
-  std::vector<double> storage_;  // the gateway's fixed table storage
+  std::vector<double> storage_;        // the gateway's fixed table storage
+  std::vector<double> spare_storage_;  // the second, for plan segments (start_segments)
+  std::unique_ptr<SegmentInbox> inbox_;
   signal::TableView table_;
   engine::EngineConfig engine_config_;
   std::unique_ptr<engine::Engine> engine_;

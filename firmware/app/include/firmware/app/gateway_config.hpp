@@ -77,6 +77,12 @@ struct GatewayConfig {
   std::optional<double> peer_watchdog_s;  // [device] peer_watchdog_s: the peer's own heartbeat
                                           // watchdog as declared (seconds; 0: none): refused
                                           // when shorter than two tick periods (check_timing)
+  // [segments] (README "Plan segments"): an approved segment is taken after a row r of the
+  // running table with (r + 1) % segment_period_rows == 0, or after its last row (0: only
+  // there); a segment whose plan provenance contains segment_preapproved_from needs no
+  // operator approval ("": every segment needs one).
+  std::uint32_t segment_period_rows = 0;
+  std::string segment_preapproved_from;
   // [device] transport: its device, sections and per-entry mapping as it read them; null
   // when the bus is handed over built (the in-process tests).
   std::shared_ptr<const hal::TransportConfig> transport;

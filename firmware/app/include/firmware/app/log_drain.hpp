@@ -89,6 +89,7 @@ class LogDrain {
   std::chrono::microseconds row_delay_{0};
   std::FILE* events_ = nullptr;
   engine::State last_state_ = engine::State::configured;
+  std::uint32_t last_segment_ = 0;  // plan segment of the last row reported
   bool last_comm_lost_ = false;
   std::atomic<bool> stopping_{false};
   bool finished_ = false;  // stop() has run since start()

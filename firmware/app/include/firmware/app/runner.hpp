@@ -24,6 +24,7 @@
 #include "excite/hal/clock.hpp"
 #include "excite/hal/field_bus.hpp"
 #include "firmware/app/command_mailbox.hpp"
+#include "firmware/app/segment_handoff.hpp"
 #include "firmware/engine/engine.hpp"
 #include "firmware/engine/log_ring.hpp"
 
@@ -100,6 +101,11 @@ class Runner {
     retry_interval_ = interval;
   }
 
+  /// Plan segments (segment_handoff.hpp): each tick stages a newly published segment into
+  /// the engine and stores the engine's segment id back. Two atomic loads, one store per
+  /// tick; null: no segments.
+  void watch_segments(SegmentHandoff* handoff) noexcept { segments_ = handoff; }
+
   /// Whether arm() writes the baseline once and reads it back (default true). Off only for
   /// a lock-step simulated peer, where that write would be a plant sample of its own.
   void set_verify_at_arm(bool on) noexcept { verify_at_arm_ = on; }
@@ -129,6 +135,8 @@ class Runner {
   hal::Nanoseconds period_;
   TickObserver* observer_ = nullptr;
   const std::atomic<bool>* log_failed_ = nullptr;
+  SegmentHandoff* segments_ = nullptr;
+  std::uint32_t segment_seen_ = 0;  // the last published segment handed to the engine
   std::span<std::uint64_t> lateness_{};
   std::span<const RangeEnd> range_ends_{};
   std::span<std::uint64_t> range_counts_{};

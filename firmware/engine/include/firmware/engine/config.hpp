@@ -80,6 +80,10 @@ struct EngineConfig {
   // stale writes being undone (the baseline is written every tick), counted, not faults.
   std::uint32_t confirm_timeout_ticks = 0;
   std::uint32_t confirm_hold_ticks = 1;  // ≥ 1
+  // Plan segments (Engine::stage): an approved staged table is taken at a period boundary
+  // of the running table — after a row r with (r + 1) % segment_period_rows == 0 — or
+  // after its last row. 0: at the end of the running table only.
+  std::uint32_t segment_period_rows = 0;
 };
 
 /// Ok, or the first broken rule naming the field ("input[1].max_move = 0, expected > 0").

@@ -69,6 +69,17 @@ class Engine {
   /// Safe to call from the tick's thread only; the app funnels signals through an atomic.
   void command(Command c) noexcept { pending_ = c; }
 
+  /// Stages the next plan segment's table (not owned; kept alive and unchanged by the caller
+  /// until segment() has moved past it): already checked by the caller against the running
+  /// plan (channels, limits, sample time: check_segment, segment.hpp). It is taken only when
+  /// approved (here, or later by Command::approve), at the next boundary of the running
+  /// table (EngineConfig::segment_period_rows, or its end): the row written after the
+  /// switch is row 0 of the new table, the baseline and the ramp are unchanged, and
+  /// max_move still limits every move. Refused (nothing staged) when a segment is already
+  /// staged, the run is not armed, running or suspended, or the table's shape differs.
+  /// Cyclic path: O(1), no allocation.
+  Status stage(signal::ConstTableView next, bool approved) noexcept;
+
   /// A fault found outside the engine (the run log cannot be written, the device refused a
   /// write) stops the excitation at once: armed, running or suspended → aborted (ramp out,
   /// baseline confirmed by readback as after any abort) with outcome `why`. The first fault
@@ -105,6 +116,11 @@ class Engine {
   [[nodiscard]] Outcome outcome() const noexcept { return outcome_; }
   [[nodiscard]] std::uint8_t suspend_reasons() const noexcept { return reasons_; }
   [[nodiscard]] std::uint32_t row() const noexcept { return row_; }
+  /// The plan segment streaming: 0 the plan started with, +1 at every switch.
+  [[nodiscard]] std::uint32_t segment() const noexcept { return segment_; }
+  /// A segment is staged (waiting for approval or for the boundary).
+  [[nodiscard]] bool segment_staged() const noexcept { return staged_.data != nullptr; }
+  [[nodiscard]] bool segment_approved() const noexcept { return staged_approved_; }
   [[nodiscard]] std::uint64_t ticks() const noexcept { return ticks_; }  // since arm, on the clock
   [[nodiscard]] std::uint64_t skipped_ticks() const noexcept { return skipped_total_; }
   [[nodiscard]] std::uint64_t discontinuities() const noexcept { return discontinuities_; }
@@ -139,6 +155,7 @@ class Engine {
   void check_readbacks(std::span<const double> values) noexcept;
   [[nodiscard]] bool at_baseline() const noexcept;
   void count_flags() noexcept;
+  [[nodiscard]] bool at_segment_boundary() const noexcept;
   void confirm(bool out_at_baseline) noexcept;
 
   EngineConfig config_{};
@@ -155,8 +172,11 @@ class Engine {
   std::array<double, kMaxInputs> excitation_{};  // table row in use (frozen when suspended)
   std::array<double, kMaxValues> last_y_{};      // last good values
   TickOutput out_{};
-  double ramp_ = 0.0;          // excitation scale, 0 … 1, moves 1/ramp_ticks per tick
-  std::uint32_t row_ = 0;      // table row of the current excitation
+  double ramp_ = 0.0;                // excitation scale, 0 … 1, moves 1/ramp_ticks per tick
+  std::uint32_t row_ = 0;            // table row of the current excitation
+  std::uint32_t segment_ = 0;        // plan segment of table_
+  signal::ConstTableView staged_{};  // the next segment's table; data == nullptr: none
+  bool staged_approved_ = false;
   bool row_started_ = false;   // row_ has been written at least once
   std::uint64_t ticks_ = 0;    // ticks since arm: ticks written + ticks skipped
   std::uint64_t writes_ = 0;   // ticks written since arm (the heartbeat and readback ring)

@@ -34,7 +34,16 @@ constexpr bool finished(State s) noexcept {
 }
 
 /// Operator commands (signals, command register, command line), applied at the next tick.
-enum class Command : std::uint8_t { none = 0, start = 1, suspend = 2, resume = 3, abort = 4 };
+/// approve: the staged plan segment may be taken at the next boundary (Engine::stage);
+/// ignored when no segment is staged (it never approves a segment not yet seen).
+enum class Command : std::uint8_t {
+  none = 0,
+  start = 1,
+  suspend = 2,
+  resume = 3,
+  abort = 4,
+  approve = 5
+};
 
 /// Why a run is suspended: a bit set; the run resumes when it is empty.
 enum SuspendReason : std::uint8_t {

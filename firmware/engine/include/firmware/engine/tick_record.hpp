@@ -11,9 +11,10 @@
 namespace excite::engine {
 
 struct TickRecord {
-  std::int64_t time_ns = 0;  // the tick's nominal time (clock epoch)
-  std::uint64_t tick = 0;    // ticks since arm: 0, 1, 2, … (the run log's k)
-  std::uint32_t row = 0;     // table row k written this tick (frozen while suspended)
+  std::int64_t time_ns = 0;   // the tick's nominal time (clock epoch)
+  std::uint64_t tick = 0;     // ticks since arm: 0, 1, 2, … (the run log's k)
+  std::uint32_t row = 0;      // table row k written this tick (frozen while suspended)
+  std::uint32_t segment = 0;  // plan segment of that row: 0 the plan started with, then 1, 2, …
   State state = State::configured;
   std::uint32_t flags = 0;              // runlog::Flag bits
   std::array<double, kMaxInputs> du{};  // setpoint − baseline

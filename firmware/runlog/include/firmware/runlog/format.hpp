@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// The run log (CSV), version 2: the one format written by the gateway's log thread, by
+// The run log (CSV), version 3: the one format written by the gateway's log thread, by
 // `excite simulate` and by `excite-plant`, and read by every downstream tool (identify,
 // validate, balance, import). The format is defined in firmware/runlog/README.md; this
-// header holds its constants. Writers write v2 only; the reader reads v1 and v2.
+// header holds its constants. Writers write v3 only; the reader reads v1, v2 and v3.
 
 #include <cstddef>
 #include <cstdint>
@@ -12,8 +12,9 @@
 
 namespace excite::runlog {
 
-/// The first line of every log this code writes (v2), and of the logs written before v2.
-inline constexpr std::string_view kMagicLine = "# excite run log v2";
+/// The first line of every log this code writes (v3), and of the logs written before v3.
+inline constexpr std::string_view kMagicLine = "# excite run log v3";
+inline constexpr std::string_view kMagicLineV2 = "# excite run log v2";
 inline constexpr std::string_view kMagicLineV1 = "# excite run log v1";
 
 /// The project's version, for the `# producer:` header line ("excite-gateway 0.1.0",
@@ -92,9 +93,9 @@ bool valid_channel_name(std::string_view name);
 inline constexpr std::size_t kMaxNumberChars = 24;
 
 /// Buffer size that always holds one formatted data row of n inputs and p outputs,
-/// newline included: t_min, k, 2n + p numbers, flags, state, separators.
+/// newline included: t_min, k, 2n + p numbers, flags, state, segment (v3), separators.
 constexpr std::size_t max_row_chars(std::size_t n_inputs, std::size_t n_outputs) {
-  return (3 + 2 * n_inputs + n_outputs) * (kMaxNumberChars + 1) + (kMaxStateChars + 1) + 1;
+  return (4 + 2 * n_inputs + n_outputs) * (kMaxNumberChars + 1) + (kMaxStateChars + 1) + 1;
 }
 
 }  // namespace excite::runlog

@@ -18,7 +18,7 @@ namespace excite::runlog {
 /// A run log in columns. du[i], u[i] are input i's columns, dy[j] output j's, each with
 /// rows() values; t_min, k, flags, state likewise.
 struct RunLog {
-  int format_version = 2;  // 1 or 2: the magic line's version
+  int format_version = 3;  // 1, 2 or 3: the magic line's version
   std::string producer;    // the `# producer:` line ("excite-gateway 0.1.0"); "" when absent
   std::string plant;
   std::string plan;
@@ -34,7 +34,8 @@ struct RunLog {
   std::vector<std::uint64_t> k;
   std::vector<std::vector<double>> du, u, dy;
   std::vector<std::uint32_t> flags;
-  std::vector<RunState> state;  // v2: the `state` column; v1: RunState::unknown on every row
+  std::vector<RunState> state;         // v2: the `state` column; v1: RunState::unknown on every row
+  std::vector<std::uint32_t> segment;  // v3: the `segment` column; v1, v2: 0 on every row
 
   std::size_t rows() const { return t_min.size(); }
 };

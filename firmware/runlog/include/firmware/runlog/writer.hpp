@@ -44,6 +44,7 @@ struct Row {
   std::span<const double> dy;          // output deviations from the baseline
   std::uint32_t flags = 0;             // bits of Flag only (kKnownFlags)
   RunState state = RunState::unknown;  // the engine's state at this row (v2 `state` column)
+  std::uint32_t segment = 0;           // plan segment of this row (v3 `segment` column)
 };
 
 /// The writer's status is the project's one vocabulary (base/status/status.hpp):
