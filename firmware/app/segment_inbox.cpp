@@ -12,6 +12,7 @@
 #include "firmware/app/distortion_check.hpp"
 #include "firmware/engine/load_plan.hpp"
 #include "firmware/engine/segment.hpp"
+#include "firmware/plan/codec.hpp"
 #include "firmware/signal/generate.hpp"
 
 namespace excite::app {
@@ -80,12 +81,23 @@ bool SegmentInbox::poll_once() {
   if (handoff_.stage_refused.load()) return false;  // the run is ending: nothing more is taken
   const std::uint32_t id = published + 1;
 
-  std::ifstream in(inbox, std::ios::binary);
-  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                        std::istreambuf_iterator<char>());
+  // No file larger than the largest plan is read (the folder is an input from outside).
+  const std::uintmax_t size = fs::file_size(inbox, ec);
+  std::string why;
+  std::vector<std::uint8_t> bytes;
+  if (ec) {
+    why = "cannot read the file (" + ec.message() + ")";
+  } else if (size > plan::max_encoded_size()) {
+    why = "file size = " + std::to_string(size) + " bytes, expected at most " +
+          std::to_string(plan::max_encoded_size()) + " (the largest plan)";
+  } else {
+    std::ifstream in(inbox, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (!in && !in.eof()) why = "cannot read the file";
+  }
   auto next = std::make_unique<plan::Plan>();
   signal::TableView table;
-  const std::string why = in ? check(bytes, id, *next, table) : "cannot read the file";
+  if (why.empty()) why = check(bytes, id, *next, table);
   if (!why.empty()) {
     fs::rename(inbox, fs::path(inbox).concat(".refused"), ec);
     ++refused_;

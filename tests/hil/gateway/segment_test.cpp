@@ -270,6 +270,12 @@ TEST_F(Segments, BadSegmentsAreRefusedByNameAndTheRunCompletesOnTheOriginalPlan)
     plan::Plan p = step_segment(3.0);  // inside the plan's limits, beyond the gateway's ±2
     bad.push_back({encoded(p), "baseline + segment table = [-3, 3], expected within"});
   }
+  {
+    // Larger than any plan: refused by its size, not read.
+    std::vector<std::uint8_t> huge(plan::max_encoded_size() + 1, 0x55U);
+    bad.push_back(
+        {huge, "file size = " + std::to_string(huge.size()) + " bytes, expected at most"});
+  }
   for (std::size_t i = 0; i < bad.size(); ++i) {
     drop(bad[i].first);
     ASSERT_TRUE(wait_for(*gw, "segment refused: ", i + 1)) << "bad segment " << i << gw->err();
@@ -285,7 +291,7 @@ TEST_F(Segments, BadSegmentsAreRefusedByNameAndTheRunCompletesOnTheOriginalPlan)
     EXPECT_NE(err.find(message), std::string::npos) << "expected a refusal naming " << message;
   }
   EXPECT_EQ(count_of(err, "; the running segment 0 continues"), bad.size()) << err;
-  EXPECT_NE(err.find("segments: 0 staged, 7 refused, 0 taken"), std::string::npos) << err;
+  EXPECT_NE(err.find("segments: 0 staged, 8 refused, 0 taken"), std::string::npos) << err;
   const runlog::RunLog gwl = read_log_or_fail(path("gw.csv"));
   for (std::size_t r = 0; r < gwl.rows(); ++r) ASSERT_EQ(gwl.segment[r], 0U) << "row " << r;
   (void)stop_plant_and_read_its_log();
