@@ -4,18 +4,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "firmware/engine/table_checks.hpp"
 #include "firmware/runlog/format.hpp"
 
 namespace excite::engine {
 
 Status Engine::configure(const EngineConfig& config, signal::ConstTableView table) {
   if (Status s = validate(config); !s) return s;
-  if (table.data == nullptr || table.channels != config.inputs || table.samples == 0) {
-    return Status::error(StatusCode::invalid_field,
-                         "table = %u channels x %u samples, expected %u channels (the "
-                         "configuration's setpoints) and at least 1 sample",
-                         table.channels, table.samples, config.inputs);
-  }
+  if (Status s = check_table_shape(table, config.inputs, "table"); !s) return s;
   *this = Engine{};
   config_ = config;
   table_ = table;
@@ -49,19 +45,8 @@ Status Engine::arm(std::span<const double> live_values) {
                            "[%g, %g]",
                            c, base[c], in.readback, in.min, in.max);
     }
-    double lo = 0.0;
-    double hi = 0.0;
-    for (std::uint32_t k = 0; k < table_.samples; ++k) {
-      lo = std::min(lo, table_.at(k, c));
-      hi = std::max(hi, table_.at(k, c));
-    }
-    if (base[c] + lo < in.min || base[c] + hi > in.max) {
-      return Status::error(StatusCode::limit_violated,
-                           "input[%u] baseline + table = [%g, %g], expected within [%g, %g] "
-                           "(baseline %g)",
-                           c, base[c] + lo, base[c] + hi, in.min, in.max, base[c]);
-    }
   }
+  if (Status s = check_table_range(config_, base, table_, "table"); !s) return s;
   base_u_ = base;
   for (std::uint32_t j = 0; j < config_.values; ++j) {
     base_y_[j] = live_values[j];
@@ -153,12 +138,7 @@ Status Engine::stage(signal::ConstTableView next, bool approved) noexcept {
                          "engine state = %s, expected armed, running or suspended",
                          to_string(state_));
   }
-  if (next.data == nullptr || next.channels != config_.inputs || next.samples == 0) {
-    return Status::error(StatusCode::invalid_field,
-                         "segment table = %u channels x %u samples, expected %u channels and at "
-                         "least 1 sample",
-                         next.channels, next.samples, config_.inputs);
-  }
+  if (Status s = check_table_shape(next, config_.inputs, "segment table"); !s) return s;
   staged_ = next;
   staged_approved_ = approved;
   return {};

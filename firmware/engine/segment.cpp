@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "firmware/engine/segment.hpp"
 
-#include <algorithm>
+#include "firmware/engine/table_checks.hpp"
 
 namespace excite::engine {
 
@@ -46,28 +46,13 @@ signal::Status check_segment(const plan::Plan& running, const plan::Plan& next) 
 
 signal::Status check_segment_table(const EngineConfig& config, std::span<const double> baseline,
                                    signal::ConstTableView table) {
-  using signal::Status;
-  using signal::StatusCode;
-  if (table.data == nullptr || table.channels != config.inputs || baseline.size() < config.inputs) {
-    return Status::error(StatusCode::invalid_field, "segment table = %u channels, expected %u",
-                         table.channels, config.inputs);
+  if (baseline.size() < config.inputs) {
+    return signal::Status::error(signal::StatusCode::invalid_field,
+                                 "baseline = %zu values, expected %u (the setpoints)",
+                                 baseline.size(), config.inputs);
   }
-  for (std::uint32_t c = 0; c < config.inputs; ++c) {
-    const InputLimits& in = config.input[c];
-    double lo = 0.0;
-    double hi = 0.0;
-    for (std::uint32_t k = 0; k < table.samples; ++k) {
-      lo = std::min(lo, table.at(k, c));
-      hi = std::max(hi, table.at(k, c));
-    }
-    if (baseline[c] + lo < in.min || baseline[c] + hi > in.max) {
-      return Status::error(StatusCode::limit_violated,
-                           "input[%u] baseline + segment table = [%g, %g], expected within [%g, "
-                           "%g] (baseline %g)",
-                           c, baseline[c] + lo, baseline[c] + hi, in.min, in.max, baseline[c]);
-    }
-  }
-  return {};
+  if (auto s = check_table_shape(table, config.inputs, "segment table"); !s) return s;
+  return check_table_range(config, baseline, table, "segment table");
 }
 
 }  // namespace excite::engine
