@@ -5,9 +5,11 @@
 // scale so every CV's predicted excursion ± k σ stays inside its test limits; the plan is
 // written with its mixing matrix (hence every value of its table) multiplied by that scale.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <stdexcept>
 
 #include "firmware/plan/plan.hpp"
@@ -119,8 +121,9 @@ void run(const ScaleCommandOptions& opt) {
   }
 
   CvLimits limits;
-  limits.low = Eigen::VectorXd::Constant(model.outputs, -INFINITY);
-  limits.high = Eigen::VectorXd::Constant(model.outputs, INFINITY);
+  constexpr double kUnlimited = std::numeric_limits<double>::infinity();  // a CV without --limit
+  limits.low = Eigen::VectorXd::Constant(model.outputs, -kUnlimited);
+  limits.high = Eigen::VectorXd::Constant(model.outputs, kUnlimited);
   for (const std::string& l : opt.limits) parse_limit(l, channels.outputs, limits);
   ScaleOptions options;
   options.k_sigma = opt.k_sigma;
