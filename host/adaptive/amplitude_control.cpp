@@ -219,6 +219,7 @@ SegmentScale scale_segment(const IdentifiedModel& model, const Eigen::MatrixXd& 
     out.binding_output = v.output;
     out.binding_row = v.row;
     out.binding_high = v.high;
+    out.history_leaves = true;
     out.reason = "the history alone is predicted to leave output " + std::to_string(v.output + 1) +
                  "'s " + (v.high ? "high" : "low") + " limit at row " + std::to_string(v.row) +
                  " of the segment";

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   excite::host::cli::add_montecarlo_command(app);
   excite::host::cli::add_export_command(app);
   excite::host::cli::add_scale_command(app);
+  excite::host::cli::add_test_command(app);
   app.failure_message([](const CLI::App* a, const CLI::Error& e) {
     return excite::host::cli::short_numbers(CLI::FailureMessage::simple(a, e));
   });

@@ -15,6 +15,7 @@
 #include "firmware/plan/plan.hpp"
 #include "host/adaptive/amplitude_control.hpp"
 #include "host/cli/commands.hpp"
+#include "host/cli/cv_limit_option.hpp"
 #include "host/cli/model_file.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/output_target.hpp"
@@ -39,41 +40,6 @@ std::string joined(const std::vector<std::string>& names) {
   std::string out;
   for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
   return out;
-}
-
-// "CV=LOW:HIGH" into the limits of the output named CV (deviations from its baseline).
-void parse_limit(const std::string& text, const std::vector<std::string>& outputs,
-                 CvLimits& limits) {
-  const auto eq = text.rfind('=');
-  const auto colon = text.find(':', eq == std::string::npos ? 0 : eq);
-  if (eq == std::string::npos || colon == std::string::npos) {
-    throw std::invalid_argument("--limit \"" + text +
-                                "\", expected CV=LOW:HIGH (deviations from the baseline), e.g. "
-                                "xD=-0.01:0.01");
-  }
-  const std::string name = text.substr(0, eq);
-  const auto at = std::find(outputs.begin(), outputs.end(), name);
-  if (at == outputs.end()) {
-    throw std::invalid_argument("--limit \"" + text + "\": CV \"" + name +
-                                "\", expected one of the model's outputs: " + joined(outputs));
-  }
-  const auto number = [&](const std::string& part) {
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(part, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != part.size() || !std::isfinite(v)) {
-      throw std::invalid_argument("--limit \"" + text + "\": \"" + part +
-                                  "\", expected a finite number");
-    }
-    return v;
-  };
-  const auto j = at - outputs.begin();
-  limits.low(j) = number(text.substr(eq + 1, colon - eq - 1));
-  limits.high(j) = number(text.substr(colon + 1));
 }
 
 void run(const ScaleCommandOptions& opt) {
@@ -120,11 +86,7 @@ void run(const ScaleCommandOptions& opt) {
     history = std::move(longer);
   }
 
-  CvLimits limits;
-  constexpr double kUnlimited = std::numeric_limits<double>::infinity();  // a CV without --limit
-  limits.low = Eigen::VectorXd::Constant(model.outputs, -kUnlimited);
-  limits.high = Eigen::VectorXd::Constant(model.outputs, kUnlimited);
-  for (const std::string& l : opt.limits) parse_limit(l, channels.outputs, limits);
+  const CvLimits limits = parse_cv_limits(opt.limits, channels.outputs, "the model's");
   ScaleOptions options;
   options.k_sigma = opt.k_sigma;
   const SegmentScale s = scale_segment(model, history, segment, limits, options);

@@ -42,6 +42,7 @@ struct SegmentScale {
   int binding_output = -1;        // the output whose limit stops a larger α (-1: none does)
   Eigen::Index binding_row = -1;  // its row, counted from the segment's first row
   bool binding_high = false;      // its high limit binds (else its low one)
+  bool history_leaves = false;    // α = 0 because the history alone leaves a limit
   std::string reason;             // why α < max_scale, in words; "" otherwise
 };
 

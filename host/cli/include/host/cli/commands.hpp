@@ -20,6 +20,7 @@ void add_campaign_command(CLI::App& app);
 void add_loop_config_command(CLI::App& app);
 void add_montecarlo_command(CLI::App& app);  // montecarlo, montecarlo merge
 void add_scale_command(CLI::App& app);       // predictive amplitude control (issue 26 §2)
+void add_test_command(CLI::App& app);        // the adaptive plant test (issue 26 §3)
 void add_export_command(
     CLI::App& app);  // export MODEL --format …  // loop-config (excite-plant + gateway pair)
 

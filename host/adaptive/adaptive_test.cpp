@@ -1,0 +1,291 @@
+// SPDX-License-Identifier: MIT
+#include "host/adaptive/adaptive_test.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "host/adaptive/residual_colour.hpp"
+#include "host/adaptive/segments.hpp"
+#include "host/design/table.hpp"
+
+namespace excite::host {
+namespace {
+
+std::string vector_text(const Eigen::VectorXd& v) {
+  std::string text;
+  char number[32];
+  for (Eigen::Index i = 0; i < v.size(); ++i) {
+    std::snprintf(number, sizeof number, "%s%.3g", i == 0 ? "" : ", ", v(i));
+    text += number;
+  }
+  return "[" + text + "]";
+}
+
+void append_rows(Eigen::MatrixXd& all, const Eigen::MatrixXd& more) {
+  if (more.size() == 0) return;
+  Eigen::MatrixXd longer(all.rows() + more.rows(), more.cols());
+  if (all.rows() > 0) longer.topRows(all.rows()) = all;
+  longer.bottomRows(more.rows()) = more;
+  all = std::move(longer);
+}
+
+void check_options(const AdaptiveOptions& o) {
+  if (!(std::isfinite(o.segment_min) && o.segment_min >= 0.0)) {
+    throw std::invalid_argument("segment length = " + std::to_string(o.segment_min) +
+                                " min, expected a finite value >= 0 (0: 4 tau_H)");
+  }
+  if (!(std::isfinite(o.max_length_min) && o.max_length_min >= 0.0)) {
+    throw std::invalid_argument("maximum length = " + std::to_string(o.max_length_min) +
+                                " min, expected a finite value >= 0 (0: the plain design's)");
+  }
+  if (!(o.first_scale > 0.0 && o.first_scale <= 1.0)) {
+    throw std::invalid_argument("first segment scale = " + std::to_string(o.first_scale) +
+                                ", expected 0 < scale <= 1");
+  }
+  if (!(o.weight_floor > 0.0 && o.weight_floor <= 1.0)) {
+    throw std::invalid_argument("direction weight floor = " + std::to_string(o.weight_floor) +
+                                ", expected 0 < floor <= 1");
+  }
+}
+
+class Test {
+ public:
+  Test(const PriorKnowledge& prior, SegmentRunner& runner, const AdaptiveOptions& options,
+       AdaptiveObserver* observer)
+      : prior_(prior),
+        runner_(runner),
+        options_(options),
+        observer_(observer),
+        sources_(segment_sources(prior)) {
+    check_options(options);
+    const plan::Plan& plain = *sources_.plain.plan;
+    result_.sample_time_min = plain.meta.sample_time_min;
+    rows_ = whole_bit_rows(
+        plain, options.segment_min > 0.0 ? options.segment_min : 4.0 * prior.tau_high_min);
+    max_rows_ = options.max_length_min > 0.0
+                    ? static_cast<long long>(
+                          std::ceil(options.max_length_min / plain.meta.sample_time_min - 1e-9))
+                    : static_cast<long long>(plain.recipe.samples);
+    identify_ = options.identify;
+    if (identify_.max_time_constant_min <= 0.0)
+      identify_.max_time_constant_min = prior.beta * prior.tau_high_min;
+    // The first segment: H, or longer when H is shorter than identify's minimum record.
+    const double shortest_min = static_cast<double>(minimum_samples(
+                                    prior.input_count(), plain.meta.sample_time_min, identify_)) *
+                                plain.meta.sample_time_min;
+    first_rows_ = std::max(rows_, whole_bit_rows(plain, shortest_min));
+    first_rows_ = static_cast<std::uint32_t>(std::min<long long>(first_rows_, max_rows_));
+  }
+
+  AdaptiveResult run() {
+    int next = 0;
+    SegmentDecision segment = plain_segment(
+        next, "the first segment: plain PRBS on every input, long enough to identify");
+    segment.rows = first_rows_;
+    segment.plan = cut_segment(*sources_.plain.plan, 0, segment.rows);
+    scale_mix(segment.plan, segment.scale);
+    set_provenance(segment.plan, "excite test segment 0: plain; " + prior_.plant);
+    for (;;) {
+      record(std::move(segment));
+      const MeasuredSegment m = runner_.run(result_.segments.back().plan);
+      append_rows(result_.U, m.du);
+      append_rows(result_.Y, m.dy);
+      append_rows(result_.Y_true, m.dy_true);
+      ++next;
+      const Reestimate* e = reestimate(next - 1);
+      if (e != nullptr && e->confidence.met) {
+        return stop(true, "the stop rule holds: the accuracy criterion at 95 % confidence");
+      }
+      if (result_.U.rows() >= max_rows_) {
+        return stop(false, "the maximum length, " + minutes(max_rows_) + ", is reached" +
+                               (e != nullptr ? "; still missing: " + e->confidence.missing : ""));
+      }
+      std::optional<SegmentDecision> decided = next_segment(next, e);
+      if (!decided) return stop(false, std::move(refused_));  // amplitude control
+      segment = std::move(*decided);
+    }
+  }
+
+ private:
+  std::string minutes(long long rows) const {
+    char text[40];
+    std::snprintf(text, sizeof text, "%.0f min",
+                  static_cast<double>(rows) * result_.sample_time_min);
+    return text;
+  }
+
+  std::uint32_t rows_for(long long first_row) const {
+    return static_cast<std::uint32_t>(std::min<long long>(rows_, max_rows_ - first_row));
+  }
+
+  SegmentDecision plain_segment(int index, std::string why) const {
+    SegmentDecision d;
+    d.index = index;
+    d.first_row = result_.U.rows();
+    d.rows = rows_for(d.first_row);
+    d.weights = Eigen::VectorXd::Ones(prior_.input_count());
+    d.why = std::move(why);
+    d.plan = cut_segment(*sources_.plain.plan, static_cast<std::uint64_t>(d.first_row), d.rows);
+    d.scale = options_.first_scale;
+    scale_mix(d.plan, d.scale);
+    set_provenance(d.plan,
+                   "excite test segment " + std::to_string(index) + ": plain; " + prior_.plant);
+    return d;
+  }
+
+  void record(SegmentDecision segment) {
+    result_.segments.push_back(std::move(segment));
+    if (observer_ != nullptr) observer_->decided(result_);
+  }
+
+  const Reestimate* reestimate(int after_segment) {
+    const int n = prior_.input_count();
+    if (result_.U.rows() < minimum_samples(n, result_.sample_time_min, identify_)) return nullptr;
+    Reestimate e;
+    e.after_segment = after_segment;
+    e.samples = result_.U.rows();
+    e.length_min = result_.length_min();
+    e.result = identify(result_.U, result_.Y, result_.sample_time_min, identify_);
+    const double settling_min = prior_.beta * prior_.tau_high_min;
+    e.colour = long_run_variance_ratio(
+        e.result.model, result_.U, result_.Y,
+        std::max(1, static_cast<int>(std::ceil(settling_min / result_.sample_time_min))));
+    if (options_.rule.colour) {
+      e.uncertainty = inflated_gain_uncertainty(e.result, e.colour);
+    } else {
+      e.uncertainty = e.result.gain_uncertainty;
+    }
+    const int earlier = latest_aimable();
+    const GainEvidence previous =
+        earlier >= 0 ? evidence_of(result_.estimates[static_cast<std::size_t>(earlier)])
+                     : GainEvidence{};
+    e.confidence = confidence_of(evidence_of(e), earlier >= 0 ? &previous : nullptr, options_.rule);
+    e.predicted_stop_min = predicted_stop_min(e.confidence, e.length_min);
+    result_.estimates.push_back(std::move(e));
+    if (observer_ != nullptr) observer_->estimated(result_);
+    return &result_.estimates.back();
+  }
+
+  AdaptiveResult stop(bool met, std::string reason) {
+    result_.criterion_met = met;
+    result_.stop_reason = std::move(reason);
+    if (observer_ != nullptr) observer_->stopped(result_);
+    return std::move(result_);
+  }
+
+  // The latest estimate with a usable G(0) uncertainty, at or before the last one; -1: none.
+  int latest_aimable() const {
+    for (int i = static_cast<int>(result_.estimates.size()) - 1; i >= 0; --i) {
+      if (result_.estimates[static_cast<std::size_t>(i)].confidence.gain_identified) return i;
+    }
+    return -1;
+  }
+
+  // The segment after the estimate `e` (null: the record is still too short to identify),
+  // sized for the CV limits; nullopt when amplitude control stops the test (refused_ says
+  // why). An estimate without a usable G(0) (an element gone integrating, a gain on a bound)
+  // aims with the latest one that had it; with none, plain.
+  std::optional<SegmentDecision> next_segment(int index, const Reestimate* e) {
+    if (e == nullptr)
+      return plain_segment(index, "plain: the record is still too short to identify");
+    SegmentDecision d = aimed_segment(index, *e);
+    if (!options_.limits) return d;
+    const Eigen::MatrixXd table = make_table(d.plan.recipe);
+    const SegmentScale s =
+        scale_segment(e->result.model, result_.U, table, *options_.limits, options_.scale);
+    if (!(s.scale > 0.0)) {
+      if (s.history_leaves) {
+        refused_ = "amplitude control: " + s.reason;
+        return std::nullopt;
+      }
+      if (d.directional) {
+        return plain_segment(index,
+                             "plain at the engineer's amplitude: amplitude control "
+                             "cannot size a directional segment (" +
+                                 s.reason + ")");
+      }
+      d.why += "; at the engineer's amplitude: amplitude control cannot size it (" + s.reason + ")";
+      return d;
+    }
+    d.scale *= s.scale;
+    scale_mix(d.plan, s.scale);
+    char text[80];
+    std::snprintf(text, sizeof text, "; scale %.3g", s.scale);
+    d.why += text + (s.reason.empty() ? std::string() : " (" + s.reason + ")");
+    char provenance[96];
+    std::snprintf(provenance, sizeof provenance, "excite test segment %d: %s, scale %.4g; ", index,
+                  d.directional ? "directions" : "plain", d.scale);
+    set_provenance(d.plan, provenance + prior_.plant);
+    return d;
+  }
+
+  // Along V̂ Σ̂⁻¹ of the latest usable estimate, weighted by need; plain without one.
+  SegmentDecision aimed_segment(int index, const Reestimate& e) const {
+    const int estimate = latest_aimable();
+    if (estimate < 0) {
+      return plain_segment(index, "plain: no usable G(0) yet (" + e.confidence.missing + ")");
+    }
+    const Reestimate& aim = result_.estimates[static_cast<std::size_t>(estimate)];
+    Design aimed;
+    try {
+      aimed = directional_design(prior_, aim.result.gain->gain);
+    } catch (const std::invalid_argument& error) {
+      return plain_segment(
+          index, std::string("plain: no directions from the estimate (") + error.what() + ")");
+    }
+    SegmentDecision d;
+    d.index = index;
+    d.first_row = result_.U.rows();
+    d.rows = rows_for(d.first_row);
+    d.directional = true;
+    d.from_estimate = estimate;
+    d.weights = direction_weights(aim.confidence, n_sources(*aimed.plan), options_.weight_floor);
+    d.plan = cut_segment(*aimed.plan, static_cast<std::uint64_t>(d.first_row), d.rows);
+    weight_sources(d.plan, d.weights);
+    d.why = "along V Sigma^-1 of the estimate at " + minutes(aim.samples) + ", weights " +
+            vector_text(d.weights) + " (the need of each direction over the largest)";
+    if (&aim != &e) d.why += "; the latest estimate has no usable G(0): " + e.confidence.missing;
+    set_provenance(
+        d.plan, "excite test segment " + std::to_string(index) + ": directions; " + prior_.plant);
+    return d;
+  }
+
+  static int n_sources(const plan::Plan& plan) {
+    return static_cast<int>(plan.recipe.source_count);
+  }
+
+  const PriorKnowledge& prior_;
+  SegmentRunner& runner_;
+  const AdaptiveOptions& options_;
+  AdaptiveObserver* observer_;
+  SegmentSources sources_;
+  IdentifyOptions identify_;
+  std::uint32_t rows_ = 0;        // H in rows
+  std::uint32_t first_rows_ = 0;  // the first segment's
+  long long max_rows_ = 0;
+  AdaptiveResult result_;
+  std::string refused_;  // why amplitude control stopped the test
+};
+
+}  // namespace
+
+GainEvidence evidence_of(const Reestimate& e) {
+  GainEvidence g;
+  g.gain = e.result.gain ? &*e.result.gain : nullptr;
+  g.uncertainty = e.uncertainty ? &*e.uncertainty : nullptr;
+  g.fits = &e.result.fits;
+  if (!e.result.gain) {
+    g.unavailable = e.result.gain_unavailable_reason;
+  } else if (!e.uncertainty) {
+    g.unavailable = "no G(0) uncertainty (a gain on a bound, or a residual not finite)";
+  }
+  return g;
+}
+
+AdaptiveResult run_adaptive_test(const PriorKnowledge& prior, SegmentRunner& runner,
+                                 const AdaptiveOptions& options, AdaptiveObserver* observer) {
+  return Test(prior, runner, options, observer).run();
+}
+
+}  // namespace excite::host

@@ -1,0 +1,129 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The adaptive plant test (issue 26 §3): excite, re-estimate, re-aim, resize, until the model
+// is good enough.
+//
+//   segment 0   the prior's plain PRBS (prbsUnc, at the engineer's amplitude: the design's
+//               times first_scale), H rows, or
+//               the shortest record identify takes (minimum_samples) when that is longer;
+//   after each segment, once the record is long enough to identify (identify.hpp
+//   minimum_samples):
+//     1. identify from all data so far (structures chosen per element, SPEC §6 bound β·τ_H);
+//     2. the stop rule (confidence.hpp): the Monte Carlo accuracy criterion at 95 %
+//        confidence from the identified gains' covariance, widened for coloured residuals
+//        (residual_colour.hpp, Bartlett window of one settling time β·τ_H), agreeing with
+//        the previous estimate → stop when it holds;
+//     3. the next segment: the next H rows of the same m-sequences, mixed along V̂ Σ̂⁻¹ of the
+//        identified G(0), direction i weighted by its need (the least certain direction at
+//        full amplitude, none below the floor), then sized by predictive amplitude control
+//        (amplitude_control.hpp) when CV limits are given;
+//   stop at the maximum length otherwise.
+// A record too short to identify, or an identified G(0) without a usable uncertainty,
+// continues plain. When amplitude control cannot judge a directional segment (an element
+// not estimated, an unbounded uncertainty) the next segment is plain at the engineer's
+// amplitude; when it predicts that the history alone leaves a limit, the test stops.
+//
+// Everything decided is in the result (each re-estimate, each segment's mix, weights, scale
+// and why, why it stopped) and reported as it happens to an observer (the decision log and the
+// operator's view, decision_log.hpp).
+
+#include <Eigen/Core>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "firmware/plan/plan.hpp"
+#include "host/adaptive/amplitude_control.hpp"
+#include "host/adaptive/confidence.hpp"
+#include "host/design/prior_knowledge.hpp"
+#include "host/identify/identify.hpp"
+
+namespace excite::host {
+
+/// What one segment did to the plant: rows × inputs and rows × outputs, deviations from the
+/// baselines; dy as measured. dy_true: the outputs without measurement noise where the
+/// runner knows them (a simulation), else empty.
+struct MeasuredSegment {
+  Eigen::MatrixXd du, dy, dy_true;
+};
+
+/// Applies segments to a plant, one after the other without a pause, and measures them.
+class SegmentRunner {
+ public:
+  virtual ~SegmentRunner() = default;
+  /// Runs `segment` (its table, row by row, on top of the operating point) and returns what
+  /// was measured over its rows. Throws std::runtime_error when the plant cannot take it.
+  virtual MeasuredSegment run(const plan::Plan& segment) = 0;
+};
+
+struct AdaptiveOptions {
+  double segment_min = 0.0;     // H: re-estimate after every H minutes (0: 4 τ_H), rounded up
+                                // to whole PRBS bits
+  double max_length_min = 0.0;  // stop here at the latest (0: the prior's prbsUnc length)
+  StopRule rule;
+  double first_scale = 1.0;        // the plain segments' amplitude, a share of the prior's
+                                   // prbsUnc (the engineer's choice; not resized)
+  double weight_floor = 0.25;      // no direction's weight below this (confidence.hpp)
+  std::optional<CvLimits> limits;  // CV test limits; none: segments are not resized
+  ScaleOptions scale;
+  IdentifyOptions identify;  // max_time_constant_min 0 → β·τ_H of the prior
+};
+
+/// One identification of the data so far.
+struct Reestimate {
+  int after_segment = 0;    // the segments 0 … after_segment are in it
+  long long samples = 0;    // rows identified
+  double length_min = 0.0;  // samples · T
+  IdentificationResult result;
+  Eigen::VectorXd colour;                      // long-run variance ratio per output (NaN: none)
+  std::optional<GainUncertainty> uncertainty;  // the G(0) uncertainty the rule reads: the
+                                               // result's, rows inflated by colour (rule.colour)
+  Confidence confidence;
+  std::optional<double> predicted_stop_min;  // confidence.hpp: length · need²
+};
+
+/// How one segment was made.
+struct SegmentDecision {
+  int index = 0;
+  long long first_row = 0;  // in the whole test
+  std::uint32_t rows = 0;
+  bool directional = false;  // along V̂ Σ̂⁻¹ of estimate `from_estimate`; else plain
+  int from_estimate = -1;    // index into AdaptiveResult::estimates; -1: none
+  Eigen::VectorXd weights;   // per direction (directional) or per input (plain: all 1)
+  double scale = 1.0;        // amplitude control's α (1 without limits)
+  std::string why;           // the decision in words
+  plan::Plan plan;           // what goes to the gateway
+};
+
+/// What the stop rule reads of an estimate (pointers into it).
+GainEvidence evidence_of(const Reestimate& estimate);
+
+struct AdaptiveResult {
+  std::vector<SegmentDecision> segments;
+  std::vector<Reestimate> estimates;
+  bool criterion_met = false;  // stopped because the stop rule held
+  std::string stop_reason;
+  double sample_time_min = 0.0;
+  Eigen::MatrixXd U, Y, Y_true;  // the whole test so far (Y_true empty unless the runner knows)
+
+  double length_min() const { return static_cast<double>(U.rows()) * sample_time_min; }
+};
+
+/// Told of every step as it happens (the result so far, with the new entry last).
+class AdaptiveObserver {
+ public:
+  virtual ~AdaptiveObserver() = default;
+  virtual void decided(const AdaptiveResult& /*so_far*/) {}    // a segment about to run
+  virtual void estimated(const AdaptiveResult& /*so_far*/) {}  // a re-estimate
+  virtual void stopped(const AdaptiveResult& /*result*/) {}
+};
+
+/// Runs the adaptive test on `runner` from validated prior knowledge (τ_L, τ_H, the
+/// inputs' amplitudes and limits; G(0) only sizes the first, plain segment). Throws
+/// std::invalid_argument for bad options or a prior the designs refuse.
+AdaptiveResult run_adaptive_test(const PriorKnowledge& prior, SegmentRunner& runner,
+                                 const AdaptiveOptions& options,
+                                 AdaptiveObserver* observer = nullptr);
+
+}  // namespace excite::host

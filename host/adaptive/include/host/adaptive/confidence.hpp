@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// When may an adaptive test stop, and which gain directions does it still need (issue 26 §3)?
+//
+// The stop rule is the Monte Carlo accuracy criterion (host/montecarlo/accuracy.hpp: every
+// principal minor's sign right, σ_n within ±20 %, v_n within 10°) asked of the model itself
+// instead of the truth, which a plant test never knows: it holds "with the grades'
+// confidence" when, from the identified gains' covariance (gain_uncertainty.hpp, first-order
+// propagation),
+//   - every principal minor's 95 % interval excludes 0        |m| ≥ z·SE(m),
+//   - σ_n's 95 % interval lies within ±20 % of σ̂_n            z·SE(σ_n) ≤ 0.20 σ̂_n,
+//   - v_n's 95 % angle lies within 10°                        z·SE∠(v_n) ≤ 10°,
+// z = 1.96, and the estimate agrees with the previous one (the latest earlier estimate
+// with a usable uncertainty):
+//   - σ̂_n within the previous one's z·SE, v̂_n within its z·SE∠, every minor's sign the same.
+// The covariance assumes every element's structure and optimum are right: a row that fell
+// into a wrong optimum has tight intervals around wrong gains (alatiqi4x4 seed 15: σ̂_n
+// 0.41 ± 0.04 at 624 min, true 0.1635, after 1.31 ± 0.43 at 208 min). Estimates from nested
+// records differ by less than the earlier one's SE when both are right (for efficient
+// estimates Var(x̂_k − x̂_{k−1}) = Var x̂_{k−1} − Var x̂_k), so a jump beyond it says one of
+// them is wrong; the test waits for the next estimate. Optionally (`residual_tests`) every
+// output's residual must also pass the tests that grade its elements (grade.hpp step 2,
+// whiteness and independence at 1 %): right for linear plants, never met on a nonlinear
+// column with little noise (colaA: the tests fail on every seed at every length while the
+// G(0) is within 6 % and 0.1°). Each interval part is a *need*: its half-width over its
+// tolerance (a minor's: z·SE/|m|); the rule holds when the largest need, `need`, is ≤ 1,
+// the estimate agrees with the previous one and (when asked) no residual test fails.
+//
+// The need of every direction i (the same two ratios for σ_i and v_i) weights the next
+// segment's excitation along v_i (direction_weights). Half-widths shrink about as 1/√length
+// for a stationary excitation, so the test is predicted to stop at length · need².
+
+#include <Eigen/Core>
+
+#include <optional>
+#include <string>
+
+#include "host/identify/identify.hpp"
+
+namespace excite::host {
+
+struct StopRule {
+  double sigma_tolerance = 0.20;      // of σ_n, relative (montecarlo::kSigmaTolerance)
+  double angle_tolerance_deg = 10.0;  // of v_n (montecarlo::kAngleToleranceDeg)
+  double z = 1.96;                    // the interval: ±z SE (95 %)
+  bool residual_tests = false;        // every output's residual tests must pass too
+  bool colour = false;                // gain covariances inflated for coloured residuals
+};
+
+struct Confidence {
+  bool gain_identified = false;    // every gain estimated with a covariance; else all NaN
+  double sigma_n_need = 0.0;       // z·SE(σ_n) / (tolerance · σ̂_n)
+  double angle_need = 0.0;         // z·SE∠(v_n) / angle tolerance
+  double minor_need = 0.0;         // max over minors of z·SE(m) / |m|
+  double need = 0.0;               // the largest of the three: the rule holds when ≤ 1
+  int sign_uncertain_minors = 0;   // minors with |m| < z·SE(m)
+  int failed_residual_tests = 0;   // over outputs: whiteness, independence of each input
+  bool agrees = false;             // with the previous estimate (true: none to compare)
+  bool has_previous = false;       // there was a previous usable estimate
+  Eigen::VectorXd direction_need;  // per direction i: max(σ_i's, v_i's ratio), as above
+  bool met = false;                // need ≤ 1, agrees, has_previous, (asked) residuals pass
+  std::string missing;             // what keeps the rule from holding, in words; "" when met
+};
+
+/// What the stop rule reads of one estimate.
+struct GainEvidence {
+  const GainAnalysis* gain = nullptr;            // the identified G(0); null: none
+  const GainUncertainty* uncertainty = nullptr;  // its uncertainty (inflated for colour,
+                                                 // residual_colour.hpp); null: none usable
+  const std::vector<OutputFit>* fits = nullptr;  // residual tests; null: not judged
+  std::string unavailable;                       // why gain or uncertainty is null
+};
+
+/// The stop rule applied to an estimate, `previous` the latest earlier one with a usable
+/// uncertainty (null: none; the rule then does not hold). Without G(0) or its uncertainty
+/// → gain_identified false, not met.
+Confidence confidence_of(const GainEvidence& now, const GainEvidence* previous,
+                         const StopRule& rule = {});
+
+/// Weights of the directions for the next segment: w_i = max(floor, need_i / max_k need_k),
+/// so the least certain direction gets the full amplitude and none less than `floor` (every
+/// direction stays excited: the fit needs all inputs to move). All 1 when the needs are not
+/// known. Throws std::invalid_argument for floor outside (0, 1].
+Eigen::VectorXd direction_weights(const Confidence& confidence, int directions, double floor);
+
+/// The length at which the rule is predicted to hold: length · need² (length when met);
+/// nullopt when the needs are not known.
+std::optional<double> predicted_stop_min(const Confidence& confidence, double length_min);
+
+}  // namespace excite::host

@@ -1,0 +1,152 @@
+// SPDX-License-Identifier: MIT
+#include "host/adaptive/study.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+
+#include "host/adaptive/plant_runner.hpp"
+#include "host/adaptive/segments.hpp"
+#include "host/campaign/parallel.hpp"
+#include "host/design/case_studies.hpp"
+#include "host/design/table.hpp"
+#include "host/montecarlo/accuracy.hpp"
+#include "host/montecarlo/perturb.hpp"
+#include "host/montecarlo/summary.hpp"
+#include "sim/library/library.hpp"
+#include "sim/plants/plant.hpp"
+
+namespace excite::host {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// max over CVs and rows of dy / limit on its side (0 without limits).
+double peak_ratio(const Eigen::MatrixXd& dy, const CvLimits& limits) {
+  double peak = 0.0;
+  for (Eigen::Index j = 0; j < dy.cols(); ++j) {
+    for (Eigen::Index k = 0; k < dy.rows(); ++k) {
+      const double y = dy(k, j);
+      const double bound = y >= 0.0 ? limits.high(j) : limits.low(j);
+      if (std::isfinite(bound)) peak = std::max(peak, y / bound);
+    }
+  }
+  return peak;
+}
+
+SeedOutcome run_seed(const StudyOptions& o, const PriorKnowledge& prior, double noise_variance,
+                     std::uint64_t seed) {
+  auto plant = true_plant(o.plant, o.perturb_percent, seed);
+  const montecarlo::TruePlant truth = montecarlo::true_plant_of(plant->static_gain());
+  PlantRunner runner(*plant, prior.sample_time_min, noise_variance, seed);
+  AdaptiveOptions adaptive = o.adaptive;
+  adaptive.identify.threads = 1;
+  const AdaptiveResult r = run_adaptive_test(prior, runner, adaptive);
+
+  SeedOutcome s;
+  s.seed = seed;
+  s.stopped_by_rule = r.criterion_met;
+  s.stop_min = r.length_min();
+  s.stop_reason = r.stop_reason;
+  s.sigma_n_error_at_stop = s.angle_at_stop_deg = kNaN;
+  for (const Reestimate& e : r.estimates) {
+    const montecarlo::Accuracy a = montecarlo::judge(truth, e.result.gain);
+    s.estimate_min.push_back(e.length_min);
+    s.estimate_met.push_back(a.met);
+    s.estimate_need.push_back(e.confidence.need);
+    s.met_at_stop = a.met;
+    s.sigma_n_error_at_stop = a.sigma_n_error;
+    s.angle_at_stop_deg = a.weakest_angle_deg;
+  }
+  s.segments = static_cast<int>(r.segments.size());
+  for (const SegmentDecision& d : r.segments) {
+    if (d.directional) ++s.directional_segments;
+    s.smallest_scale = std::min(s.smallest_scale, d.scale);
+  }
+  if (adaptive.limits) {
+    s.peak_limit_ratio = peak_ratio(r.Y_true, *adaptive.limits);
+    s.violated = s.peak_limit_ratio > 1.0;
+  }
+  return s;
+}
+
+// The model in force at length L: the latest estimate at or before L.
+bool met_at(const SeedOutcome& s, double length_min) {
+  bool met = false;
+  for (std::size_t i = 0; i < s.estimate_min.size(); ++i) {
+    if (s.estimate_min[i] <= length_min + 1e-9) met = s.estimate_met[i];
+  }
+  return met;
+}
+
+}  // namespace
+
+std::unique_ptr<sim::Plant> true_plant(const std::string& plant, double perturb_percent,
+                                       std::uint64_t seed) {
+  if (perturb_percent <= 0.0) return sim::make_plant(plant);
+  return sim::make_linear_plant(
+      plant, montecarlo::perturbed_plant(sim::library_plant(plant), perturb_percent, seed));
+}
+
+StudyResult run_study(const StudyOptions& o) {
+  if (o.seeds < 1 || o.seeds > 1'000'000) {
+    throw std::invalid_argument("seeds = " + std::to_string(o.seeds) + ", expected 1 to 1000000");
+  }
+  if (o.threads < 1) {
+    throw std::invalid_argument("threads = " + std::to_string(o.threads) + ", expected >= 1");
+  }
+  montecarlo::check_perturb(o.perturb_percent);
+  const PriorKnowledge prior = case_study(o.plant);
+  if (o.perturb_percent > 0.0) sim::library_plant(o.plant);  // refuses a plant without one
+  const double noise_variance =
+      o.noise_variance >= 0.0 ? o.noise_variance : case_study_noise_variance(o.plant);
+
+  StudyResult result;
+  result.options = o;
+  result.seeds.resize(static_cast<std::size_t>(o.seeds));
+  parallel_for(o.seeds, o.threads, [&](int i) {
+    result.seeds[static_cast<std::size_t>(i)] =
+        run_seed(o, prior, noise_variance, o.first_seed + static_cast<std::uint64_t>(i));
+  });
+
+  const SegmentSources sources = segment_sources(prior);
+  result.segment_min =
+      whole_bit_rows(*sources.plain.plan, o.adaptive.segment_min > 0.0 ? o.adaptive.segment_min
+                                                                       : 4.0 * prior.tau_high_min) *
+      prior.sample_time_min;
+  double longest = 0.0;
+  for (const SeedOutcome& s : result.seeds) longest = std::max(longest, s.stop_min);
+  for (double L = result.segment_min; L < longest + result.segment_min - 1e-9;
+       L += result.segment_min) {
+    const double at = std::min(L, longest);
+    result.grid_min.push_back(at);
+    int stopped_met = 0, met = 0;
+    for (const SeedOutcome& s : result.seeds) {
+      if (s.stopped_by_rule && s.met_at_stop && s.stop_min <= at + 1e-9) ++stopped_met;
+      if (met_at(s, at)) ++met;
+    }
+    result.share_stopped_met.push_back(static_cast<double>(stopped_met) / o.seeds);
+    result.share_met.push_back(static_cast<double>(met) / o.seeds);
+  }
+  for (std::size_t i = 0; i < result.grid_min.size(); ++i) {
+    if (result.share_stopped_met[i] >= montecarlo::kT90Share) {
+      result.t90_stop = i;
+      break;
+    }
+  }
+  result.t90_oracle = montecarlo::t90_index(result.share_met);
+  return result;
+}
+
+double fixed_design_peak_ratio(const std::string& plant, const std::string& design,
+                               const CvLimits& limits, double perturb_percent, std::uint64_t seed) {
+  const PriorKnowledge prior = case_study(plant);
+  const Design d = design_preset(prior, find_preset(design), 0);
+  auto truth = true_plant(plant, perturb_percent, seed);
+  const Eigen::MatrixXd du = make_table(d.plan->recipe);
+  return peak_ratio(truth->simulate(du, prior.sample_time_min), limits);
+}
+
+}  // namespace excite::host

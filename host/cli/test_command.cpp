@@ -1,0 +1,255 @@
+// SPDX-License-Identifier: MIT
+// excite test --plant NAME -o DIR [--seed S] [--noise-var V] [--perturb X] [--segment-min H]
+//             [--max-min M] [--limit CV=LOW:HIGH …] [--k-sigma K] [--first-scale S]
+//             [--weight-floor F]
+//             [--residual-tests] [--colour]
+// excite test --plant NAME --seeds N [--first-seed S] [--threads T] … -o DIR
+// The adaptive plant test (issue 26 §3–§5, host/adaptive/README.md) on a simulated plant,
+// in-process: one test with its decision log and operator's view, or a study over seeds
+// measured against the truth (T90).
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+
+#include "host/adaptive/adaptive_test.hpp"
+#include "host/adaptive/decision_log.hpp"
+#include "host/adaptive/plant_runner.hpp"
+#include "host/adaptive/study.hpp"
+#include "host/cli/commands.hpp"
+#include "host/cli/cv_limit_option.hpp"
+#include "host/cli/model_file.hpp"
+#include "host/cli/number_checks.hpp"
+#include "host/design/case_studies.hpp"
+#include "host/design/plan_file.hpp"
+#include "host/montecarlo/perturb.hpp"
+#include "host/output/whole_file.hpp"
+#include "host/simulate/simulate.hpp"
+#include "sim/plants/plant.hpp"
+
+namespace excite::host::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct TestCommandOptions {
+  std::string plant;
+  std::string output;
+  std::uint64_t seed = 1;
+  int seeds = 0;  // > 0: a study
+  int threads = 1;
+  double noise_variance = -1.0;
+  std::string perturb = "0";
+  std::vector<std::string> limits;
+  double k_sigma = 2.0;
+  AdaptiveOptions adaptive;
+};
+
+// Refuses a folder that already holds a test's record (nothing is overwritten).
+void prepare_folder(const fs::path& dir, const char* record) {
+  if (fs::exists(dir / record)) {
+    throw std::invalid_argument(dir.string() + ": already holds " + record +
+                                ", expected a new or empty folder (a test's record is not "
+                                "overwritten)");
+  }
+  fs::create_directories(dir / "segments");
+}
+
+// Writes each event to DIR/decisions.jsonl as it happens (flushed), the operator's view to
+// DIR/status.txt (whole), every segment's plan to DIR/segments/, and prints the view.
+class FolderLog final : public AdaptiveObserver {
+ public:
+  FolderLog(fs::path dir, std::vector<std::string> inputs, std::vector<std::string> outputs)
+      : dir_(std::move(dir)),
+        inputs_(std::move(inputs)),
+        outputs_(std::move(outputs)),
+        log_(dir_ / "decisions.jsonl") {
+    if (!log_) throw std::runtime_error((dir_ / "decisions.jsonl").string() + ": cannot write");
+  }
+
+  void decided(const AdaptiveResult& r) override {
+    const SegmentDecision& s = r.segments.back();
+    write(segment_event(s, r.sample_time_min));
+    write_plan_file(s.plan, dir_ / "segments" / ("segment-" + std::to_string(s.index) + ".plan"));
+    show(r, true);
+  }
+  void estimated(const AdaptiveResult& r) override {
+    write(estimate_event(r.estimates.back(), static_cast<int>(r.estimates.size()) - 1));
+  }
+  void stopped(const AdaptiveResult& r) override {
+    write(stop_event(r));
+    show(r, false);
+  }
+
+ private:
+  void write(const nlohmann::json& event) {
+    log_ << event.dump() << '\n';
+    log_.flush();
+    if (!log_) throw std::runtime_error((dir_ / "decisions.jsonl").string() + ": write failed");
+  }
+  void show(const AdaptiveResult& r, bool pending) {
+    const std::string view = operator_view(r, inputs_, outputs_, pending);
+    write_whole_file(dir_ / "status.txt", view);
+    std::cout << view << std::flush;
+  }
+
+  fs::path dir_;
+  std::vector<std::string> inputs_, outputs_;
+  std::ofstream log_;
+};
+
+void run_one(const TestCommandOptions& opt, const PriorKnowledge& prior, double perturb) {
+  const fs::path dir = opt.output;
+  prepare_folder(dir, "decisions.jsonl");
+  auto plant = true_plant(opt.plant, perturb, opt.seed);
+  AdaptiveOptions adaptive = opt.adaptive;
+  if (!opt.limits.empty()) {
+    adaptive.limits = parse_cv_limits(opt.limits, plant->output_names(), "the plant's");
+  }
+  const double noise =
+      opt.noise_variance >= 0.0 ? opt.noise_variance : case_study_noise_variance(opt.plant);
+  PlantRunner runner(*plant, prior.sample_time_min, noise, opt.seed);
+  FolderLog log(dir, plant->input_names(), plant->output_names());
+  const AdaptiveResult r = run_adaptive_test(prior, runner, adaptive, &log);
+
+  // The whole test as one run log, and the last model.
+  SimulatedRun run;
+  run.plant = plant->name();
+  run.plan = "excite test";
+  run.producer = "excite test " + std::string(runlog::kVersion);
+  run.sample_time_min = r.sample_time_min;
+  run.time_scales = {prior.tau_high_min, prior.beta, 0.0};
+  run.input_names = plant->input_names();
+  run.input_units = plant->input_units();
+  run.output_names = plant->output_names();
+  run.output_units = plant->output_units();
+  run.input_baseline = plant->input_baseline();
+  run.du = r.U;
+  run.dy = r.Y;
+  write_run_log(run, dir / "run.csv");
+  if (!r.estimates.empty()) {
+    write_whole_file(
+        dir / "model.json",
+        model_json(r.estimates.back().result, run.input_names, run.output_names).dump(2) + "\n");
+  }
+  std::cout << "wrote " << (dir / "decisions.jsonl").string() << ", status.txt, run.csv"
+            << (r.estimates.empty() ? "" : ", model.json") << " and " << r.segments.size()
+            << " segment plan(s)\n";
+}
+
+void run_study_command(const TestCommandOptions& opt, double perturb) {
+  const fs::path dir = opt.output;
+  prepare_folder(dir, "study.json");
+  StudyOptions s;
+  s.plant = opt.plant;
+  s.seeds = opt.seeds;
+  s.first_seed = opt.seed;
+  s.threads = opt.threads;
+  s.noise_variance = opt.noise_variance;
+  s.perturb_percent = perturb;
+  s.adaptive = opt.adaptive;
+  if (!opt.limits.empty()) {
+    s.adaptive.limits =
+        parse_cv_limits(opt.limits, sim::make_plant(opt.plant)->output_names(), "the plant's");
+  }
+  const StudyResult result = run_study(s);
+  nlohmann::json j = study_json(result);
+  std::string text = study_text(result);
+  if (s.adaptive.limits) {
+    // The fixed designs at their designed amplitude on the same plants: do they stay inside?
+    nlohmann::json fixed = nlohmann::json::array();
+    for (const char* design : {"prbsUnc", "prbsSimDir", "prbsDirCorrSim", "msGlmZipm"}) {
+      int violated = 0;
+      double worst = 0.0;
+      for (int i = 0; i < s.seeds; ++i) {
+        const double ratio = fixed_design_peak_ratio(s.plant, design, *s.adaptive.limits, perturb,
+                                                     s.first_seed + static_cast<std::uint64_t>(i));
+        worst = std::max(worst, ratio);
+        if (ratio > 1.0) ++violated;
+        if (perturb <= 0.0) {  // the same plant for every seed: one simulation says it
+          violated *= s.seeds;
+          break;
+        }
+      }
+      fixed.push_back({{"design", design}, {"violated_seeds", violated}, {"worst_ratio", worst}});
+      text += "  fixed " + std::string(design) + ": leaves the limits in " +
+              std::to_string(violated) + " of " + std::to_string(s.seeds) + " seeds (worst peak " +
+              std::to_string(worst) + " of the limit)\n";
+    }
+    j["fixed_designs_limits"] = fixed;
+  }
+  write_whole_file(dir / "study.json", j.dump(1) + "\n");
+  std::cout << text << "wrote " << (dir / "study.json").string() << '\n';
+}
+
+void run(const TestCommandOptions& opt) {
+  const double perturb = montecarlo::parse_perturb(opt.perturb);
+  const PriorKnowledge prior = case_study(opt.plant);
+  if (opt.seeds > 0) {
+    run_study_command(opt, perturb);
+  } else {
+    run_one(opt, prior, perturb);
+  }
+}
+
+}  // namespace
+
+void add_test_command(CLI::App& app) {
+  auto opt = std::make_shared<TestCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "test",
+      "The adaptive plant test on a simulated plant: excite, re-estimate, re-aim along the least "
+      "certain gain directions, resize for the CV limits, stop when the model is good enough");
+  cmd->add_option("--plant", opt->plant, "a plant with a case study (its prior knowledge)")
+      ->required();
+  cmd->add_option("-o,--output", opt->output,
+                  "the test's folder: decisions.jsonl, status.txt, segments/, run.csv, model.json "
+                  "(a study: study.json)")
+      ->required();
+  cmd->add_option("--seed", opt->seed, "the noise seed (a study: the first seed)")
+      ->capture_default_str();
+  cmd->add_option("--seeds", opt->seeds,
+                  "run a study over this many seeds, judged against the truth")
+      ->check(CLI::Range(1, 1'000'000));
+  cmd->add_option("--threads", opt->threads, "a study's seeds in parallel")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 256));
+  cmd->add_option("--noise-var", opt->noise_variance,
+                  "measurement noise variance per output (default: the case study's)")
+      ->check(finite_non_negative());
+  cmd->add_option("--perturb", opt->perturb,
+                  "percent: the true plant's gains, time constants and delays drawn within +-X % "
+                  "from the seed (linear plants); the prior stays nominal")
+      ->capture_default_str();
+  cmd->add_option("--segment-min", opt->adaptive.segment_min,
+                  "re-estimate after every H minutes (default 4 tau_H; whole PRBS bits)")
+      ->check(finite_positive());
+  cmd->add_option("--max-min", opt->adaptive.max_length_min,
+                  "stop here at the latest (default: the plain PRBS design's length)")
+      ->check(finite_positive());
+  cmd->add_option("--limit", opt->limits,
+                  "a CV's test limits as deviations from its baseline: CV=LOW:HIGH (repeat); "
+                  "segments are then sized by predictive amplitude control");
+  cmd->add_option("--k-sigma", opt->adaptive.scale.k_sigma,
+                  "amplitude control's band: prediction +- k sigma")
+      ->capture_default_str()
+      ->check(finite_non_negative());
+  cmd->add_option("--first-scale", opt->adaptive.first_scale,
+                  "the plain segments' amplitude as a share of the prior's prbsUnc design "
+                  "(0 < S <= 1)")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 1.0));
+  cmd->add_option("--weight-floor", opt->adaptive.weight_floor,
+                  "no gain direction's weight below this (0 < F <= 1)")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 1.0));
+  cmd->add_flag("--residual-tests", opt->adaptive.rule.residual_tests,
+                "stop only when every output's residual tests pass (1 %) too");
+  cmd->add_flag("--colour", opt->adaptive.rule.colour,
+                "widen the gain intervals by the residuals' long-run variance ratio");
+  cmd->callback([opt] { run(*opt); });
+}
+
+}  // namespace excite::host::cli
