@@ -189,15 +189,30 @@ class Test {
   std::optional<SegmentDecision> next_segment(int index, const Reestimate* e) {
     if (e == nullptr)
       return plain_segment(index, "plain: the record is still too short to identify");
+    if (options_.limits && !e->confidence.agrees) {
+      return plain_segment(index,
+                           "plain at the engineer's amplitude: amplitude control trusts a "
+                           "model only once it agrees with the estimate before it (" +
+                               e->confidence.missing + ")");
+    }
     SegmentDecision d = aimed_segment(index, *e);
     if (!options_.limits) return d;
     const Eigen::MatrixXd table = make_table(d.plan.recipe);
-    const SegmentScale s =
-        scale_segment(e->result.model, result_.U, table, *options_.limits, options_.scale);
+    const SegmentScale s = hedged_scale(table);
     if (!(s.scale > 0.0)) {
       if (s.history_leaves) {
-        refused_ = "amplitude control: " + s.reason;
-        return std::nullopt;
+        // Hold the operating point for one segment (the data still sharpen the model); a
+        // second hold in a row stops the test.
+        if (!result_.segments.empty() && result_.segments.back().scale == 0.0) {
+          refused_ = "amplitude control: " + s.reason + ", after a hold";
+          return std::nullopt;
+        }
+        d.scale = 0.0;
+        scale_mix(d.plan, 0.0);
+        d.why = "hold (no excitation): amplitude control predicts " + s.reason;
+        set_provenance(d.plan,
+                       "excite test segment " + std::to_string(index) + ": hold; " + prior_.plant);
+        return d;
       }
       if (d.directional) {
         return plain_segment(index,
@@ -218,6 +233,25 @@ class Test {
                   d.directional ? "directions" : "plain", d.scale);
     set_provenance(d.plan, provenance + prior_.plant);
     return d;
+  }
+
+  // Amplitude control with the latest model, hedged by the one before it: a young model can
+  // sit in a wrong optimum with a tight band (alatiqi4x4 seed 15, limits ±1: the model at
+  // 416 min sized a segment that took y4 to 1.8), so when the earlier model can judge the
+  // segment too, the smaller scale is taken. The earlier model is used only to lower the
+  // scale: its "no prediction" or "history leaves" verdicts are not acted on.
+  SegmentScale hedged_scale(const Eigen::MatrixXd& table) const {
+    const std::size_t last = result_.estimates.size() - 1;
+    SegmentScale now = scale_segment(result_.estimates[last].result.model, result_.U, table,
+                                     *options_.limits, options_.scale);
+    if (last == 0 || !(now.scale > 0.0)) return now;
+    const SegmentScale before = scale_segment(result_.estimates[last - 1].result.model, result_.U,
+                                              table, *options_.limits, options_.scale);
+    if (before.scale > 0.0 && before.scale < now.scale) {
+      now = before;
+      now.reason += " by the previous estimate's model";
+    }
+    return now;
   }
 
   // Along V̂ Σ̂⁻¹ of the latest usable estimate, weighted by need; plain without one.

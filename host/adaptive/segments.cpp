@@ -21,9 +21,11 @@ plan::Plan cut_segment(const plan::Plan& design, std::uint64_t first_row, std::u
   for (std::uint32_t i = 0; i < design.recipe.source_count; ++i) {
     const signal::Source& s = design.recipe.sources[i];
     if (s.kind != signal::SourceKind::prbs || s.start != 0 || s.length != design.recipe.samples) {
-      throw std::invalid_argument(source_field(i, "kind") +
-                                  ": expected a PRBS over the whole table from row 0 (an "
-                                  "adaptive test cuts its segments from such designs)");
+      throw std::invalid_argument(
+          source_field(i, "kind") + " = " + std::to_string(static_cast<int>(s.kind)) +
+          " from row " + std::to_string(s.start) + " for " + std::to_string(s.length) +
+          " rows, expected a PRBS (2) over the whole table from row 0 (an adaptive test cuts "
+          "its segments from such designs)");
     }
     if (first_row % s.prbs.hold_samples != 0) {
       throw std::invalid_argument("segment first row = " + std::to_string(first_row) +

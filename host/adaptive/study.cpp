@@ -85,6 +85,7 @@ bool met_at(const SeedOutcome& s, double length_min) {
 
 std::unique_ptr<sim::Plant> true_plant(const std::string& plant, double perturb_percent,
                                        std::uint64_t seed) {
+  montecarlo::check_perturbable(plant, perturb_percent);
   if (perturb_percent <= 0.0) return sim::make_plant(plant);
   return sim::make_linear_plant(
       plant, montecarlo::perturbed_plant(sim::library_plant(plant), perturb_percent, seed));
@@ -97,9 +98,8 @@ StudyResult run_study(const StudyOptions& o) {
   if (o.threads < 1) {
     throw std::invalid_argument("threads = " + std::to_string(o.threads) + ", expected >= 1");
   }
-  montecarlo::check_perturb(o.perturb_percent);
   const PriorKnowledge prior = case_study(o.plant);
-  if (o.perturb_percent > 0.0) sim::library_plant(o.plant);  // refuses a plant without one
+  montecarlo::check_perturbable(o.plant, o.perturb_percent);
   const double noise_variance =
       o.noise_variance >= 0.0 ? o.noise_variance : case_study_noise_variance(o.plant);
 

@@ -102,12 +102,12 @@ class FolderLog final : public AdaptiveObserver {
 
 void run_one(const TestCommandOptions& opt, const PriorKnowledge& prior, double perturb) {
   const fs::path dir = opt.output;
-  prepare_folder(dir, "decisions.jsonl");
   auto plant = true_plant(opt.plant, perturb, opt.seed);
   AdaptiveOptions adaptive = opt.adaptive;
   if (!opt.limits.empty()) {
     adaptive.limits = parse_cv_limits(opt.limits, plant->output_names(), "the plant's");
   }
+  prepare_folder(dir, "decisions.jsonl");
   const double noise =
       opt.noise_variance >= 0.0 ? opt.noise_variance : case_study_noise_variance(opt.plant);
   PlantRunner runner(*plant, prior.sample_time_min, noise, opt.seed);
@@ -141,7 +141,6 @@ void run_one(const TestCommandOptions& opt, const PriorKnowledge& prior, double 
 
 void run_study_command(const TestCommandOptions& opt, double perturb) {
   const fs::path dir = opt.output;
-  prepare_folder(dir, "study.json");
   StudyOptions s;
   s.plant = opt.plant;
   s.seeds = opt.seeds;
@@ -154,6 +153,7 @@ void run_study_command(const TestCommandOptions& opt, double perturb) {
     s.adaptive.limits =
         parse_cv_limits(opt.limits, sim::make_plant(opt.plant)->output_names(), "the plant's");
   }
+  prepare_folder(dir, "study.json");
   const StudyResult result = run_study(s);
   nlohmann::json j = study_json(result);
   std::string text = study_text(result);
@@ -185,8 +185,10 @@ void run_study_command(const TestCommandOptions& opt, double perturb) {
 }
 
 void run(const TestCommandOptions& opt) {
+  // Everything checked before the folder is made.
   const double perturb = montecarlo::parse_perturb(opt.perturb);
   const PriorKnowledge prior = case_study(opt.plant);
+  montecarlo::check_perturbable(opt.plant, perturb);
   if (opt.seeds > 0) {
     run_study_command(opt, perturb);
   } else {

@@ -1,11 +1,15 @@
 // SPDX-License-Identifier: MIT
 #include "host/montecarlo/perturb.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 #include <system_error>
+#include <vector>
+
+#include "sim/library/library.hpp"
 
 namespace excite::host::montecarlo {
 namespace {
@@ -56,6 +60,19 @@ std::string percent_text(double percent) {
 
 void check_perturb(double percent) {
   check(percent, percent_text(percent));
+}
+
+void check_perturbable(const std::string& plant, double percent) {
+  check_perturb(percent);
+  if (percent > 0.0) {
+    const std::vector<std::string> linear = sim::library_plant_names();
+    if (std::find(linear.begin(), linear.end(), plant) == linear.end()) {
+      throw std::invalid_argument(
+          "--perturb = " + percent_text(percent) + " on plant " + plant +
+          ", expected 0 (only a linear library plant has gains, time constants and delays to "
+          "perturb)");
+    }
+  }
 }
 
 double parse_perturb(const std::string& text) {

@@ -70,16 +70,7 @@ void normalise(Config& config) {
   if (!std::isfinite(config.noise_variance) || config.noise_variance < 0.0)
     throw std::invalid_argument("--noise-var = " + std::to_string(config.noise_variance) +
                                 ", expected a finite number >= 0");
-  check_perturb(config.perturb_percent);
-  if (config.perturb_percent > 0.0) {
-    const std::vector<std::string> linear = sim::library_plant_names();
-    if (std::find(linear.begin(), linear.end(), config.plant) == linear.end()) {
-      throw std::invalid_argument(
-          "--perturb = " + percent_text(config.perturb_percent) + " on plant " + config.plant +
-          ", expected 0 (only a linear library plant has gains, time constants and delays to "
-          "perturb)");
-    }
-  }
+  check_perturbable(config.plant, config.perturb_percent);
 }
 
 std::vector<Unit> all_units(const Config& config) {

@@ -172,24 +172,35 @@ TEST(AdaptiveLoop, WoodBerryStopsByTheRuleWithAModelThatMeetsTheCriterion) {
 TEST(AdaptiveLoop, CvLimitsSizeTheSegmentsAfterTheFirstAndThePlantStaysInside) {
   const PriorKnowledge prior = case_study("woodberry2x2");
   auto plant = sim::make_plant("woodberry2x2");
-  // The engineer starts at a quarter of the plain design (its CVs peak at 0.44); the
-  // directional segments that follow would swing the CVs beyond ±0.45 unsized.
+  // The engineer starts at a tenth of the plain design; the directional segments that follow
+  // would swing the CVs beyond ±0.45 unsized.
   AdaptiveOptions options;
-  options.first_scale = 0.25;
+  options.first_scale = 0.1;
   const double noise = case_study_noise_variance("woodberry2x2");
-  PlantRunner free_runner(*plant, prior.sample_time_min, noise, 3);
+  PlantRunner free_runner(*plant, prior.sample_time_min, noise, 1);
   const AdaptiveResult unsized = run_adaptive_test(prior, free_runner, options);
   EXPECT_GT(unsized.Y_true.cwiseAbs().maxCoeff(), 0.45);
 
   options.limits = CvLimits{Eigen::Vector2d(-0.45, -0.45), Eigen::Vector2d(0.45, 0.45)};
-  PlantRunner runner(*plant, prior.sample_time_min, noise, 3);
+  PlantRunner runner(*plant, prior.sample_time_min, noise, 1);
   const AdaptiveResult r = run_adaptive_test(prior, runner, options);
   ASSERT_GE(r.segments.size(), 2u);
-  EXPECT_DOUBLE_EQ(r.segments[0].scale, 0.25);
+  EXPECT_DOUBLE_EQ(r.segments[0].scale, 0.1);
+  // After the first: plain at the engineer's amplitude until a model agrees with the one
+  // before it, then directional and sized.
+  int sized = 0;
   for (std::size_t i = 1; i < r.segments.size(); ++i) {
-    EXPECT_LT(r.segments[i].scale, 1.0) << r.segments[i].why;
-    EXPECT_NE(r.segments[i].why.find("; scale "), std::string::npos) << r.segments[i].why;
+    const SegmentDecision& d = r.segments[i];
+    if (d.directional) {
+      EXPECT_NE(d.why.find("; scale "), std::string::npos) << d.why;
+      EXPECT_LT(d.scale, 1.0) << d.why;
+      ++sized;
+    } else {
+      EXPECT_DOUBLE_EQ(d.scale, 0.1) << d.why;
+      EXPECT_NE(d.why.find("trusts a model only once it agrees"), std::string::npos) << d.why;
+    }
   }
+  EXPECT_GE(sized, 1);
   EXPECT_LE(r.Y_true.cwiseAbs().maxCoeff(), 0.45);
   EXPECT_TRUE(r.criterion_met) << r.stop_reason;
 }

@@ -19,9 +19,15 @@
 //        (amplitude_control.hpp) when CV limits are given;
 //   stop at the maximum length otherwise.
 // A record too short to identify, or an identified G(0) without a usable uncertainty,
-// continues plain. When amplitude control cannot judge a directional segment (an element
+// continues plain. Under CV limits, a model sizes a segment only once it agrees with the
+// estimate before it (confidence.hpp; a young model in a wrong optimum has a tight band around
+// a wrong response): until then the segments are plain at the engineer's amplitude, and the
+// scale is the smaller of the latest two models'. When amplitude control cannot judge a
+// directional segment (an element
 // not estimated, an unbounded uncertainty) the next segment is plain at the engineer's
-// amplitude; when it predicts that the history alone leaves a limit, the test stops.
+// amplitude; when it predicts that the history alone leaves a limit (± k σ of a young
+// model), the next segment holds the operating point (scale 0) while the data still come
+// in, and a second such prediction in a row stops the test.
 //
 // Everything decided is in the result (each re-estimate, each segment's mix, weights, scale
 // and why, why it stopped) and reported as it happens to an observer (the decision log and the
@@ -91,7 +97,8 @@ struct SegmentDecision {
   bool directional = false;  // along V̂ Σ̂⁻¹ of estimate `from_estimate`; else plain
   int from_estimate = -1;    // index into AdaptiveResult::estimates; -1: none
   Eigen::VectorXd weights;   // per direction (directional) or per input (plain: all 1)
-  double scale = 1.0;        // amplitude control's α (1 without limits)
+  double scale = 1.0;        // the mix's factor: first_scale for plain segments, amplitude
+                             // control's α for sized ones, 0 for a hold
   std::string why;           // the decision in words
   plan::Plan plan;           // what goes to the gateway
 };

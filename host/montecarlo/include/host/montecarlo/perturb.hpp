@@ -36,6 +36,10 @@ void check_perturb(double percent);
 /// X as the shortest text that reads back the same ("12.5").
 std::string percent_text(double percent);
 
+/// check_perturb, and a perturbation (percent > 0) only of a linear library plant: otherwise
+/// std::invalid_argument "--perturb = X on plant P, expected 0 (only a linear library plant …)".
+void check_perturbable(const std::string& plant, double percent);
+
 /// "--perturb = TEXT" parsed: a finite number of percent, 0 ≤ X < 100; throws
 /// std::invalid_argument "--perturb = TEXT, expected …" otherwise.
 double parse_perturb(const std::string& text);

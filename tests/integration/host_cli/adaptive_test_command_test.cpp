@@ -1,0 +1,127 @@
+// SPDX-License-Identifier: MIT
+// Issue 26 §3, §5: `excite test` runs the adaptive test on a simulated plant and leaves its
+// record in a folder — the decision log as it happened, the operator's view, every segment
+// as a plan the gateway takes, the whole run log and the last model — and a study over seeds
+// judged against the truth.
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cli_process.hpp"
+#include "firmware/runlog/reader.hpp"
+
+namespace {
+
+using excite_cli_test::excite;
+using excite_cli_test::ExciteCli;
+using excite_cli_test::Result;
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+std::vector<nlohmann::json> json_lines(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<nlohmann::json> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(nlohmann::json::parse(line));
+  return lines;
+}
+
+using AdaptiveTestCommand = ExciteCli;
+
+TEST_F(AdaptiveTestCommand, OneTestLeavesItsDecisionsViewSegmentsRunAndModel) {
+  const Result r = excite(
+      "test --plant woodberry2x2 --seed 3 --first-scale 0.25 --limit "
+      "y1=-0.45:0.45 --limit y2=-0.45:0.45 -o " +
+      path("t"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_TRUE(contains(r.out, "stopped: the stop rule holds")) << r.out;
+  EXPECT_TRUE(contains(r.out, "grades (rows: outputs, columns: inputs)")) << r.out;
+
+  // The decision log: segment 0 first, each estimate after the segment it follows, the stop
+  // last; every segment's plan is in segments/.
+  const std::vector<nlohmann::json> events = json_lines(path("t/decisions.jsonl"));
+  ASSERT_GE(events.size(), 4u);
+  EXPECT_EQ(events.front()["event"], "segment");
+  EXPECT_EQ(events.front()["kind"], "plain");
+  EXPECT_EQ(events.front()["scale"], 0.25);
+  EXPECT_EQ(events.back()["event"], "stop");
+  EXPECT_EQ(events.back()["criterion_met"], true);
+  long long rows = 0;
+  int segments = 0;
+  for (const nlohmann::json& e : events) {
+    if (e["event"] != "segment") continue;
+    EXPECT_EQ(e["first_row"], rows);
+    rows += e["rows"].get<long long>();
+    EXPECT_TRUE(std::filesystem::exists(
+        path(("t/segments/segment-" + std::to_string(segments) + ".plan").c_str())));
+    if (segments > 0) {
+      EXPECT_LT(e["scale"].get<double>(), 1.0) << e.dump();
+    }
+    ++segments;
+  }
+  // The run log holds every row, and the plant stayed inside the limits it was given
+  // (measured values: noise-free inside ±0.45, the noise adds ≈ 0.07 at 3 σ).
+  const excite::runlog::ReadResult log = excite::runlog::read_run_log(path("t/run.csv"));
+  ASSERT_TRUE(log.ok());
+  ASSERT_EQ(static_cast<long long>(log.log.dy.at(0).size()), rows);
+  // Every segment is a plan the gateway reads: `excite inspect` decodes the last one.
+  const Result inspect = excite(
+      "inspect " + path(("t/segments/segment-" + std::to_string(segments - 1) + ".plan").c_str()));
+  EXPECT_EQ(inspect.exit_code, 0) << inspect.out;
+  EXPECT_TRUE(contains(inspect.out, "excite test segment")) << inspect.out;
+  // The operator's view and the model.
+  std::ifstream view(path("t/status.txt"));
+  const std::string status((std::istreambuf_iterator<char>(view)), {});
+  EXPECT_TRUE(contains(status, "stopped: the stop rule holds")) << status;
+  const nlohmann::json model = nlohmann::json::parse(std::ifstream(path("t/model.json")));
+  EXPECT_EQ(model["format"], "excite model v2");
+
+  // A folder that holds a test's record is not overwritten.
+  const Result again = excite("test --plant woodberry2x2 -o " + path("t"));
+  EXPECT_NE(again.exit_code, 0);
+  EXPECT_TRUE(contains(again.out, "already holds decisions.jsonl")) << again.out;
+}
+
+TEST_F(AdaptiveTestCommand, AStudyJudgesEverySeedAgainstTheTruth) {
+  const Result r = excite("test --plant woodberry2x2 --seeds 4 --threads 2 -o " + path("s"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_TRUE(contains(r.out, "T90 (stopped with a good model):")) << r.out;
+  const nlohmann::json s = nlohmann::json::parse(std::ifstream(path("s/study.json")));
+  EXPECT_EQ(s["format"], "excite adaptive study v1");
+  ASSERT_EQ(s["per_seed"].size(), 4u);
+  EXPECT_EQ(s["grid_min"].size(), s["share_met"].size());
+  for (const nlohmann::json& seed : s["per_seed"]) {
+    EXPECT_EQ(seed["stopped_by_rule"], true) << seed.dump();
+    EXPECT_EQ(seed["met_at_stop"], true) << seed.dump();
+  }
+}
+
+TEST_F(AdaptiveTestCommand, BadOptionsAreRefusedByName) {
+  struct Case {
+    std::string args, message;
+  };
+  const std::vector<Case> cases = {
+      {"--plant nosuch", "plant = \"nosuch\", expected one of: alatiqi4x4"},
+      {"--plant woodberry2x2 --limit y9=-1:1",
+       "--limit \"y9=-1:1\": CV \"y9\", expected one of "
+       "the plant's outputs: y1, y2"},
+      {"--plant woodberry2x2 --first-scale 2", "--first-scale"},
+      {"--plant woodberry2x2 --perturb abc", "--perturb = abc"},
+      {"--plant colaA --perturb 5 --seeds 2",
+       "--perturb = 5 on plant colaA, expected 0 (only a linear library plant"},
+  };
+  for (const Case& c : cases) {
+    const Result r = excite("test " + c.args + " -o " + path("bad"));
+    EXPECT_NE(r.exit_code, 0) << c.args;
+    EXPECT_TRUE(contains(r.out, c.message)) << c.args << "\n" << r.out;
+    EXPECT_FALSE(std::filesystem::exists(path("bad"))) << c.args << ": nothing is made";
+  }
+}
+
+}  // namespace
