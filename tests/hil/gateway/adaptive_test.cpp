@@ -100,6 +100,9 @@ class AdaptiveThroughTheGateway : public LoopTest, public ::testing::WithParamIn
     const std::string waits =
         "rows holding the baseline 0; waits without ticking " + std::to_string(segments);
     EXPECT_NE(err.find(waits), std::string::npos) << err;
+    if (const std::size_t at = err.find("excite-gateway: awaiting segments");
+        at != std::string::npos)
+      std::printf("[ measured ] %s\n", err.substr(at, err.find('\n', at) - at).c_str());
     for (std::size_t k = 1; k < segments; ++k) {
       EXPECT_NE(err.find("segment " + std::to_string(k - 1) + " -> " + std::to_string(k)),
                 std::string::npos)
@@ -215,7 +218,11 @@ TEST_P(AdaptiveThroughTheGateway, StopsByItsRuleWithAnAccurateModelAndDecidesAsI
 
 INSTANTIATE_TEST_SUITE_P(Seeds, AdaptiveThroughTheGateway,
                          ::testing::Values(Case{3, false}, Case{11, false}, Case{21, false},
-                                           Case{11, true}));
+                                           Case{11, true}),
+                         [](const ::testing::TestParamInfo<Case>& info) {
+                           return "seed" + std::to_string(info.param.seed) +
+                                  (info.param.short_segments ? "_short" : "");
+                         });
 
 }  // namespace
 }  // namespace excite::test

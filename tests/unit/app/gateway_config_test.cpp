@@ -124,6 +124,25 @@ TEST(GatewayConfigTest, SegmentsAwaitSecondsBecomeTicksAndAreRangeChecked) {
                 .find("segments.await_s = -1, expected 0 … 1e+06 seconds (0: the run ends at the "
                       "table's end)"),
             std::string::npos);
+  // The example's commented [segments] block, uncommented, parses with its values.
+  std::string example = example_text();
+  const std::size_t from = example.find("# [segments]");
+  ASSERT_NE(from, std::string::npos);
+  std::string block;
+  for (std::size_t at = from; at < example.size();) {
+    const std::size_t eol = example.find('\n', at);
+    std::string line = example.substr(at, eol - at);
+    if (line.rfind("# ", 0) == 0 && line.find("#  ") != 0 && line.find('=') != std::string::npos)
+      block += line.substr(2) + "\n";
+    else if (line == "# [segments]")
+      block += "[segments]\n";
+    if (eol == std::string::npos) break;
+    at = eol + 1;
+  }
+  const ConfigResult ex = parse_gateway_config(example_text() + "\n" + block, "gw.toml");
+  ASSERT_TRUE(ex.config) << ex.error << "\n" << block;
+  EXPECT_EQ(ex.config->segment_await_s, 600.0);
+  EXPECT_EQ(ex.config->segment_period_rows, 255U);
   // The longest wait at the shortest period is the engine's longest duration, 1e9 ticks.
   GatewayConfig c = *r.config;
   c.segment_await_s = 1e6;
