@@ -51,6 +51,10 @@ struct Case {
                                 // N in buffer N mod 2) and awaits more often
 };
 
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << "seed " << c.seed << (c.short_segments ? ", short segments" : "");
+}
+
 class AdaptiveThroughTheGateway : public LoopTest, public ::testing::WithParamInterface<Case> {
  protected:
   // The loop for `seed`: loop-config's pair (the case study's noise, this seed; setpoint
@@ -219,9 +223,9 @@ TEST_P(AdaptiveThroughTheGateway, StopsByItsRuleWithAnAccurateModelAndDecidesAsI
 INSTANTIATE_TEST_SUITE_P(Seeds, AdaptiveThroughTheGateway,
                          ::testing::Values(Case{3, false}, Case{11, false}, Case{21, false},
                                            Case{11, true}),
-                         [](const ::testing::TestParamInfo<Case>& info) {
-                           return "seed" + std::to_string(info.param.seed) +
-                                  (info.param.short_segments ? "_short" : "");
+                         [](const ::testing::TestParamInfo<Case>& param_info) {
+                           return "seed" + std::to_string(param_info.param.seed) +
+                                  (param_info.param.short_segments ? "_short" : "");
                          });
 
 }  // namespace
