@@ -21,8 +21,12 @@ plan::Plan cut_segment(const plan::Plan& design, std::uint64_t first_row, std::u
   for (std::uint32_t i = 0; i < design.recipe.source_count; ++i) {
     const signal::Source& s = design.recipe.sources[i];
     if (s.kind != signal::SourceKind::prbs || s.start != 0 || s.length != design.recipe.samples) {
-      throw std::invalid_argument(source_field(i, "kind") +
-                                  ": expected a PRBS over the whole table from row 0 (an "
+      const std::string what = s.kind != signal::SourceKind::prbs
+                                   ? std::string("not a PRBS")
+                                   : "a PRBS over rows " + std::to_string(s.start) + " … " +
+                                         std::to_string(s.start + s.length);
+      throw std::invalid_argument(source_field(i, "kind") + " = " + what +
+                                  ", expected a PRBS over the whole table from row 0 (an "
                                   "adaptive test cuts its segments from such designs)");
     }
     if (first_row % s.prbs.hold_samples != 0) {
