@@ -132,6 +132,11 @@ RunStats Gateway::run(CommandMailbox& commands, const std::atomic<bool>* stop,
                       std::uint64_t max_ticks) noexcept {
   runner_->set_observer(observer_);
   runner_->pace_retries(pacing_clock_, retry_interval_);
+  if (await_clock_ != nullptr && config_.segment_await_s > 0.0) {
+    runner_->await_segments_on(await_clock_,
+                               std::chrono::round<hal::Nanoseconds>(
+                                   std::chrono::duration<double>(config_.segment_await_s)));
+  }
   runner_->set_lateness_histogram(lateness_);
   return runner_->run(commands, stop, max_ticks);
 }

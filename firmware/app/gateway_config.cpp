@@ -370,7 +370,7 @@ void cross_check(GatewayConfig& c, const hal::TransportConfig& transport) {
 // [segments]: how a running gateway takes the next plan segment (README "Plan segments").
 void parse_segments(const toml::table& t, GatewayConfig& c) {
   const std::string w = "segments";
-  check_keys(t, w, {"period_rows", "preapproved_from"});
+  check_keys(t, w, {"period_rows", "preapproved_from", "await_s"});
   if (auto v = integer(t, w, "period_rows", 0, 1 << 24)) {
     c.segment_period_rows = static_cast<std::uint32_t>(*v);
   }
@@ -381,6 +381,14 @@ void parse_segments(const toml::table& t, GatewayConfig& c) {
                         "contains)");
     }
     c.segment_preapproved_from = *s;
+  }
+  if (auto v = number(t, w, "await_s")) {
+    if (!(*v >= 0.0 && *v <= kMaxDurationS)) {
+      throw ConfigError(w + ".await_s", config::format_number(*v),
+                        "0 … " + config::format_number(kMaxDurationS) +
+                            " seconds (0: the run ends at the table's end)");
+    }
+    c.segment_await_s = *v;
   }
 }
 
@@ -466,17 +474,20 @@ std::string check_timing(const GatewayConfig& c, std::chrono::duration<double> p
     double seconds;
     double max_ticks;
   } durations[] = {
-      {"ramp_s", c.ramp_s, static_cast<double>(engine::kMaxDurationTicks)},
-      {"resume_dwell_s", c.resume_dwell_s, static_cast<double>(engine::kMaxDurationTicks)},
-      {"suspend_timeout_s", c.suspend_timeout_s, static_cast<double>(engine::kMaxDurationTicks)},
-      {"confirm_timeout_s", c.confirm_timeout_s, static_cast<double>(engine::kMaxDurationTicks)},
-      {"heartbeat_max_lag_s", c.heartbeat_max_lag_s,
+      {"gateway.ramp_s", c.ramp_s, static_cast<double>(engine::kMaxDurationTicks)},
+      {"gateway.resume_dwell_s", c.resume_dwell_s, static_cast<double>(engine::kMaxDurationTicks)},
+      {"gateway.suspend_timeout_s", c.suspend_timeout_s,
+       static_cast<double>(engine::kMaxDurationTicks)},
+      {"gateway.confirm_timeout_s", c.confirm_timeout_s,
+       static_cast<double>(engine::kMaxDurationTicks)},
+      {"gateway.heartbeat_max_lag_s", c.heartbeat_max_lag_s,
        static_cast<double>(engine::kMaxHeartbeatLagTicks)},
+      {"segments.await_s", c.segment_await_s, static_cast<double>(engine::kMaxDurationTicks)},
   };
   for (const auto& d : durations) {
     const double ticks = std::ceil(d.seconds / p - 1e-9);
     if (!std::isfinite(d.seconds) || d.seconds < 0.0 || !(ticks <= d.max_ticks)) {
-      return c.source + ": gateway." + d.key + " = " + config::format_number(d.seconds) + " (" +
+      return c.source + ": " + d.key + " = " + config::format_number(d.seconds) + " (" +
              config::format_number(ticks) + " ticks of " + config::format_number(p) +
              " s), expected 0 … " + config::format_number(d.max_ticks * p) + " seconds (" +
              config::format_number(d.max_ticks) + " ticks) at this period";
@@ -510,6 +521,7 @@ engine::EngineConfig to_engine_config(const GatewayConfig& c,
   }
   e.ramp_ticks = ticks(c.ramp_s);
   e.segment_period_rows = c.segment_period_rows;
+  e.segment_await_ticks = ticks(c.segment_await_s);
   e.resume_dwell_ticks = std::max<std::uint32_t>(1, ticks(c.resume_dwell_s));
   e.suspend_timeout_ticks = ticks(c.suspend_timeout_s);
   // Confirmation: two readbacks of the baseline at least one tick and twice the response

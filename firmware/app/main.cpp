@@ -198,11 +198,13 @@ excite::app::StageResult load_plan(excite::app::Gateway& gw, const Options& opt)
 // sleep_until returns at once: the peer paces), with the baseline not written at arm
 // (README: verified writes, lock-step) and, since lock-step never sleeps out a period,
 // retries after a failed exchange paced on the real clock: at most 4 a second and never
-// sooner than the period (README: paced retries).
+// sooner than the period (README: paced retries); a segment awaited at the table's end
+// (segments.await_s) is awaited without ticking, timed on the real clock.
 excite::hal::Clock& tick_clock(excite::app::Gateway& gw, const Options& opt,
                                excite::hal::PosixClock& real, excite::hal::VirtualClock& lockstep) {
   gw.set_verify_at_arm(!opt.lockstep());
   if (!opt.lockstep()) return real;
+  gw.await_segments_on(&real);  // [segments] await_s: stop ticking, timed on the real clock
   gw.pace_retries(&real,
                   std::max<excite::hal::Nanoseconds>(gw.period(), std::chrono::milliseconds(250)));
   return lockstep;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "firmware/app/run_summary.hpp"
 
+#include <chrono>
+
 #include "firmware/app/proc_status.hpp"
 #include "firmware/engine/engine.hpp"
 #include "firmware/runlog/format.hpp"
@@ -38,6 +40,8 @@ RunSummary finish_run(Gateway& gw, const RunStats& stats, const BusResult& made,
   s.rows_stale = eng.rows_flagged(runlog::kStale);
   s.rows_skipped = eng.rows_flagged(runlog::kSkipped);
   s.rows_discontinuity = eng.rows_flagged(runlog::kDiscontinuity);
+  s.segment_await_s = gw.config().segment_await_s;
+  s.rows_awaiting = eng.awaited_ticks();
   s.exceptions = gw.exception_report(*made.bus);
   s.bus_counts = bus_counts_report(made);
   s.refusal = gw.refusal_report();
@@ -67,6 +71,16 @@ void print_summary(std::FILE* out, const RunSummary& s) {
                n(s.rows_clamped), n(s.rows_rate_limited), n(s.rows_suspended), n(s.rows_comm_lost),
                n(s.rows_stale), n(s.rows_skipped), n(s.ticks_skipped), n(s.rows_discontinuity),
                n(st.reverified), n(s.stale_writes_undone), n(st.paced));
+  if (s.segment_await_s > 0.0) {
+    const auto seconds = [](hal::Nanoseconds t) {
+      return std::chrono::duration<double>(t).count();
+    };
+    std::fprintf(out,
+                 "excite-gateway: awaiting segments (segments.await_s = %g s): rows holding the "
+                 "baseline %llu; waits without ticking %llu, %.3f s in all, longest %.3f s\n",
+                 s.segment_await_s, n(s.rows_awaiting), n(st.segment_waits),
+                 seconds(st.segment_wait), seconds(st.longest_segment_wait));
+  }
   std::fprintf(out, "excite-gateway: exception replies by code: %s\n", s.exceptions.c_str());
   if (!s.bus_counts.empty()) std::fprintf(out, "excite-gateway: %s\n", s.bus_counts.c_str());
   if (!s.refusal.empty()) std::fprintf(out, "excite-gateway: fault: %s\n", s.refusal.c_str());

@@ -33,17 +33,47 @@ engine::Status Runner::arm() noexcept {
   return engine_.verify_arm(std::span<const double>(values_.data(), n));
 }
 
+void Runner::stage_published() noexcept {
+  if (segments_ == nullptr) return;
+  const std::uint32_t id = segments_->published.load(std::memory_order_acquire);
+  if (id == segment_seen_) return;
+  segment_seen_ = id;
+  if (!engine_.stage(segments_->table, segments_->approved)) {
+    segments_->stage_refused.store(true, std::memory_order_release);
+  }
+}
+
+// False when `stop` was raised while waiting.
+bool Runner::await_segment(CommandMailbox& commands, const std::atomic<bool>* stop) noexcept {
+  if (await_clock_ == nullptr || !engine_.awaiting_segment()) return true;
+  const hal::Nanoseconds from = await_clock_->now();
+  ++segment_waits_;
+  bool stopped = false;
+  while (engine_.awaiting_segment()) {
+    if (stop != nullptr && stop->load(std::memory_order_acquire)) {
+      stopped = true;
+      break;
+    }
+    const hal::Nanoseconds now = await_clock_->now();
+    if (now - from >= await_limit_) {
+      engine_.end_await();
+      break;
+    }
+    stage_published();
+    const engine::Command c = commands.take();
+    if (c == engine::Command::approve && !engine_.segment_staged()) continue;
+    if (c != engine::Command::none) engine_.command(c);
+    if (engine_.awaiting_segment()) await_clock_->sleep_until(now + std::chrono::milliseconds(1));
+  }
+  const hal::Nanoseconds waited = await_clock_->now() - from;
+  segment_wait_ += waited;
+  if (waited > longest_wait_) longest_wait_ = waited;
+  return !stopped;
+}
+
 void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t skipped) noexcept {
   if (command != engine::Command::none) engine_.command(command);
-  if (segments_ != nullptr) {
-    const std::uint32_t id = segments_->published.load(std::memory_order_acquire);
-    if (id != segment_seen_) {
-      segment_seen_ = id;
-      if (!engine_.stage(segments_->table, segments_->approved)) {
-        segments_->stage_refused.store(true, std::memory_order_release);
-      }
-    }
-  }
+  stage_published();
   const engine::TickOutput& out = engine_.compute(skipped);
   if (segments_ != nullptr) segments_->running.store(engine_.segment(), std::memory_order_release);
   const std::uint32_t n = engine_.config().values;
@@ -101,6 +131,7 @@ RunStats Runner::run(CommandMailbox& commands, const std::atomic<bool>* stop,
   while (true) {
     if (stop != nullptr && stop->load(std::memory_order_acquire)) break;
     if (max_ticks != 0 && ticks_ - first >= max_ticks) break;
+    if (!await_segment(commands, stop)) break;
     const std::uint64_t overruns_before = schedule.overruns();
     const hal::Nanoseconds nominal = schedule.wait_next();
     const std::uint64_t skipped = schedule.overruns() - overruns_before;
@@ -127,6 +158,9 @@ RunStats Runner::run(CommandMailbox& commands, const std::atomic<bool>* stop,
   stats.ring_overruns = ring_.overruns();
   stats.reverified = reverified_;
   stats.paced = paced_;
+  stats.segment_waits = segment_waits_;
+  stats.segment_wait = segment_wait_;
+  stats.longest_segment_wait = longest_wait_;
   stats.final_state = engine_.state();
   stats.outcome = engine_.outcome();
   return stats;

@@ -86,6 +86,12 @@ Status validate(const EngineConfig& config) {
     return Status::error(StatusCode::invalid_field, "confirm_hold_ticks = %u, expected 1…%u",
                          config.confirm_hold_ticks, kMaxDurationTicks);
   }
+  if (config.segment_await_ticks > kMaxDurationTicks) {
+    return Status::error(StatusCode::invalid_field,
+                         "segment_await_ticks = %u, expected 0 (complete at the table's end) "
+                         "or 1…%u",
+                         config.segment_await_ticks, kMaxDurationTicks);
+  }
   if (config.comm_fail_limit < 1) {
     return Status::error(StatusCode::invalid_field, "comm_fail_limit = 0, expected >= 1");
   }

@@ -151,6 +151,31 @@ bool Engine::at_segment_boundary() const noexcept {
   return config_.segment_period_rows != 0 && row_ % config_.segment_period_rows == 0;
 }
 
+bool Engine::awaiting_segment() const noexcept {
+  if (config_.segment_await_ticks == 0 || await_over_) return false;
+  if (state_ != State::running || reasons_ != 0) return false;
+  if (pending_ == Command::abort || pending_ == Command::suspend) return false;
+  if (!row_started_ || row_ + 1 < table_.samples) return false;
+  const bool staged = staged_.data != nullptr;
+  return !(staged && (staged_approved_ || pending_ == Command::approve));
+}
+
+// At the running table's end with no approved segment: hold (true) while the wait lasts,
+// counted on the clock; false when it is off or over (the run completes).
+bool Engine::hold_for_segment() noexcept {
+  if (config_.segment_await_ticks == 0 || await_over_) return false;
+  if (!awaiting_) {
+    awaiting_ = true;
+    awaited_ = 0;
+  }
+  awaited_ += elapsed_;
+  if (awaited_ > config_.segment_await_ticks) {
+    await_over_ = true;
+    return false;
+  }
+  return true;
+}
+
 void Engine::fault(Outcome why) noexcept {
   if (state_ == State::armed || state_ == State::running || state_ == State::suspended) {
     state_ = State::aborted;
@@ -230,11 +255,19 @@ const TickOutput& Engine::compute(std::uint64_t skipped_ticks) noexcept {
       staged_approved_ = false;
       row_ = 0;
       ++segment_;
+      awaiting_ = false;
+      await_over_ = false;  // the new table's end has a wait of its own
     }
     if (row_ >= table_.samples) {  // the last row was written last tick
       row_ = table_.samples - 1;
-      state_ = State::completed;
-      outcome_ = Outcome::completed;
+      if (hold_for_segment()) {  // the operating point, until a segment or the wait's end
+        for (std::uint32_t c = 0; c < config_.inputs; ++c) excitation_[c] = 0.0;
+        flags_ |= runlog::kSuspended;
+        ++awaited_total_;
+      } else {
+        state_ = State::completed;
+        outcome_ = Outcome::completed;
+      }
     } else {
       for (std::uint32_t c = 0; c < config_.inputs; ++c) excitation_[c] = table_.at(row_, c);
     }

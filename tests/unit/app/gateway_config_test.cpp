@@ -109,6 +109,50 @@ TEST(GatewayConfigTest, SegmentsSectionSetsThePeriodAndThePreApproval) {
             std::string::npos);
 }
 
+// Issue 26 §4: [segments] await_s — wait at the table's end for the next segment.
+TEST(GatewayConfigTest, SegmentsAwaitSecondsBecomeTicksAndAreRangeChecked) {
+  const ConfigResult plain = parse_gateway_config(example_text(), "gw.toml");
+  ASSERT_TRUE(plain.config) << plain.error;
+  EXPECT_EQ(plain.config->segment_await_s, 0.0);
+  EXPECT_EQ(to_engine_config(*plain.config, std::chrono::seconds(1)).segment_await_ticks, 0U);
+  const ConfigResult r =
+      parse_gateway_config(example_text() + "\n[segments]\nawait_s = 2.5\n", "gw.toml");
+  ASSERT_TRUE(r.config) << r.error;
+  EXPECT_EQ(r.config->segment_await_s, 2.5);
+  EXPECT_EQ(to_engine_config(*r.config, std::chrono::seconds(1)).segment_await_ticks, 3U);
+  EXPECT_NE(error_of(example_text() + "\n[segments]\nawait_s = -1\n")
+                .find("segments.await_s = -1, expected 0 … 1e+06 seconds (0: the run ends at the "
+                      "table's end)"),
+            std::string::npos);
+  // The example's commented [segments] block, uncommented, parses with its values.
+  std::string example = example_text();
+  const std::size_t from = example.find("# [segments]");
+  ASSERT_NE(from, std::string::npos);
+  std::string block;
+  for (std::size_t at = from; at < example.size();) {
+    const std::size_t eol = example.find('\n', at);
+    std::string line = example.substr(at, eol - at);
+    if (line.rfind("# ", 0) == 0 && line.find("#  ") != 0 && line.find('=') != std::string::npos)
+      block += line.substr(2) + "\n";
+    else if (line == "# [segments]")
+      block += "[segments]\n";
+    if (eol == std::string::npos) break;
+    at = eol + 1;
+  }
+  const ConfigResult ex = parse_gateway_config(example_text() + "\n" + block, "gw.toml");
+  ASSERT_TRUE(ex.config) << ex.error << "\n" << block;
+  EXPECT_EQ(ex.config->segment_await_s, 600.0);
+  EXPECT_EQ(ex.config->segment_period_rows, 255U);
+  // The longest wait at the shortest period is the engine's longest duration, 1e9 ticks.
+  GatewayConfig c = *r.config;
+  c.segment_await_s = 1e6;
+  c.heartbeat_max_lag_s = 0.01;
+  EXPECT_EQ(check_timing(c, std::chrono::milliseconds(1)), "");
+  const engine::EngineConfig e = to_engine_config(c, std::chrono::milliseconds(1));
+  EXPECT_EQ(e.segment_await_ticks, engine::kMaxDurationTicks);
+  EXPECT_TRUE(engine::validate(e)) << engine::validate(e).message();
+}
+
 TEST(GatewayConfigTest, SimulatorFlag) {
   std::string text = example_text();
   text.replace(text.find("# simulator = false"), 19, "simulator = true");

@@ -156,6 +156,79 @@ TEST_F(SegmentTest, ASecondStageWhileOneWaitsIsRefused) {
   EXPECT_NE(std::string(s.message()).find("expected none waiting"), std::string::npos);
 }
 
+// Awaiting the next segment (segment_await_ticks): at the table's end the baseline is held,
+// each row flagged suspended in state running, until a segment is approved or the wait ends.
+TEST_F(SegmentTest, AtTheTablesEndTheBaselineIsHeldUntilASegmentIsApproved) {
+  EngineConfig c = small_config();
+  c.input[0].max_move = 100.0;
+  c.input[1].max_move = 100.0;
+  c.segment_await_ticks = 50;
+  configure_arm_start(c);
+  ticks(static_cast<int>(kRows) - 1);
+  EXPECT_FALSE(engine_.awaiting_segment());  // the last row is not written yet
+  tick();
+  EXPECT_EQ(engine_.row(), kRows - 1);
+  EXPECT_TRUE(engine_.awaiting_segment());  // a lock-step loop stops ticking here
+  for (int i = 0; i < 5; ++i) {
+    tick();
+    EXPECT_EQ(engine_.state(), State::running);
+    EXPECT_NE(engine_.flags() & runlog::kSuspended, 0U);
+    EXPECT_DOUBLE_EQ(last_.setpoint[0], 40.0);  // the baseline
+    EXPECT_DOUBLE_EQ(last_.setpoint[1], 5.0);
+    EXPECT_EQ(engine_.record(0).segment, 0U);
+  }
+  EXPECT_EQ(engine_.awaited_ticks(), 5U);
+  ASSERT_TRUE(engine_.stage(next(), false));
+  EXPECT_TRUE(engine_.awaiting_segment());  // staged, not approved
+  engine_.command(Command::approve);
+  EXPECT_FALSE(engine_.awaiting_segment());  // an approve pending counts
+  tick();
+  EXPECT_EQ(engine_.segment(), 1U);
+  EXPECT_EQ(engine_.row(), 0U);
+  EXPECT_EQ(engine_.flags() & runlog::kSuspended, 0U);
+  EXPECT_DOUBLE_EQ(last_.setpoint[0], 50.0);
+  ticks(static_cast<int>(kRows) - 1);
+  EXPECT_TRUE(engine_.awaiting_segment());  // the new table's end awaits again
+}
+
+TEST_F(SegmentTest, TheWaitEndsAfterItsTicksOrEndAwaitAndTheRunCompletes) {
+  EngineConfig c = small_config();
+  c.segment_await_ticks = 3;
+  configure_arm_start(c);
+  ticks(static_cast<int>(kRows));
+  ticks(3);  // three rows holding the baseline
+  EXPECT_EQ(engine_.state(), State::running);
+  EXPECT_EQ(engine_.awaited_ticks(), 3U);
+  tick();
+  EXPECT_EQ(engine_.state(), State::completed);
+  EXPECT_EQ(engine_.outcome(), Outcome::completed);
+
+  // Timed by the loop (lock-step): end_await() and the next tick completes, no row held.
+  field_ = Field{};
+  configure_arm_start(c);  // a fresh run
+  ticks(static_cast<int>(kRows));
+  EXPECT_TRUE(engine_.awaiting_segment());
+  engine_.end_await();
+  EXPECT_FALSE(engine_.awaiting_segment());
+  tick();
+  EXPECT_EQ(engine_.state(), State::completed);
+  EXPECT_EQ(engine_.awaited_ticks(), 0U);
+}
+
+TEST_F(SegmentTest, AnAbortOrSuspendPendingEndsTheWaitWithoutASegment) {
+  EngineConfig c = small_config();
+  c.segment_await_ticks = 100;
+  configure_arm_start(c);
+  ticks(static_cast<int>(kRows));
+  EXPECT_TRUE(engine_.awaiting_segment());
+  engine_.command(Command::approve);  // nothing staged: still awaiting
+  EXPECT_TRUE(engine_.awaiting_segment());
+  engine_.command(Command::abort);
+  EXPECT_FALSE(engine_.awaiting_segment());
+  tick();
+  EXPECT_EQ(engine_.state(), State::aborted);
+}
+
 TEST(SegmentCheck, ChannelsLimitsAndSampleTimeMustBeTheRunningPlans) {
   plan::Plan running;
   running.recipe.channels = 2;

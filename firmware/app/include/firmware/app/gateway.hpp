@@ -143,6 +143,10 @@ class Gateway {
   /// one sample per heartbeat, so that write would shift the run by one sample); the
   /// cyclic readback check still applies from the first tick.
   void set_verify_at_arm(bool on) noexcept { verify_at_arm_ = on; }
+  /// Before run(): with [segments] await_s > 0, awaits a segment without ticking, timed on
+  /// `real` (Runner::await_segments_on; lock-step). null (the default): the engine holds the
+  /// baseline, ticking (real time).
+  void await_segments_on(hal::Clock* real) noexcept { await_clock_ = real; }
   /// Before run(): Runner::pace_retries (lock-step: retries after a failure on `real`, at
   /// most one per `interval`).
   void pace_retries(hal::Clock* real, hal::Nanoseconds interval) noexcept {
@@ -174,6 +178,7 @@ class Gateway {
   std::vector<runlog::Channel> outputs_;
   std::unique_ptr<LogDrain> drain_;
   TickObserver* observer_ = nullptr;
+  hal::Clock* await_clock_ = nullptr;
   std::span<std::uint64_t> lateness_{};
   std::FILE* events_ = nullptr;
   std::chrono::microseconds row_delay_{0};

@@ -83,6 +83,11 @@ struct GatewayConfig {
   // operator approval ("": every segment needs one).
   std::uint32_t segment_period_rows = 0;
   std::string segment_preapproved_from;
+  // [segments] await_s: at the running table's end with no approved segment, wait this long
+  // for one instead of ending the run (0: end it). Real time: the baseline is held and
+  // logged (rows flagged suspended, state running); lock-step: the gateway stops ticking,
+  // timed on the real clock. 0 … 1e6 s.
+  double segment_await_s = 0.0;
   // [device] transport: its device, sections and per-entry mapping as it read them; null
   // when the bus is handed over built (the in-process tests).
   std::shared_ptr<const hal::TransportConfig> transport;

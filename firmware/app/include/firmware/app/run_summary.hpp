@@ -36,6 +36,10 @@ struct RunSummary {
   std::uint64_t rows_stale = 0;
   std::uint64_t rows_skipped = 0;
   std::uint64_t rows_discontinuity = 0;
+  // [segments] await_s (0: no wait) and the rows that held the baseline awaiting a segment
+  // (among rows_suspended; real time — lock-step waits without ticking, RunStats).
+  double segment_await_s = 0.0;
+  std::uint64_t rows_awaiting = 0;
   // In words ("": nothing to say).
   std::string exceptions;      // exception replies by code ("none" when there were none)
   std::string bus_counts;      // the transport's own counts

@@ -35,9 +35,13 @@ struct RunStats {
   std::uint64_t schedule_overruns = 0;  // grid points skipped because a tick ran late (the
                                         // log's k jumps over them; rows flagged skipped)
   std::uint64_t failed_exchanges = 0;
-  std::uint64_t ring_overruns = 0;  // records dropped because the log ring was full
-  std::uint64_t reverified = 0;     // ticks after a failed exchange that read the peer first
-  std::uint64_t paced = 0;          // retries held back by the retry pacing (pace_retries)
+  std::uint64_t ring_overruns = 0;   // records dropped because the log ring was full
+  std::uint64_t reverified = 0;      // ticks after a failed exchange that read the peer first
+  std::uint64_t paced = 0;           // retries held back by the retry pacing (pace_retries)
+  std::uint64_t segment_waits = 0;   // times the loop stopped ticking to await a segment
+                                     // (await_segments_on)
+  hal::Nanoseconds segment_wait{0};  // how long, in all, on the real clock
+  hal::Nanoseconds longest_segment_wait{0};
   engine::State final_state = engine::State::configured;
   engine::Outcome outcome = engine::Outcome::none;
 };
@@ -106,6 +110,18 @@ class Runner {
   /// tick; null: no segments.
   void watch_segments(SegmentHandoff* handoff) noexcept { segments_ = handoff; }
 
+  /// Awaiting a segment without ticking (lock-step, README "Plan segments"): while the engine
+  /// awaits the next segment (Engine::awaiting_segment) run() does not tick — the peer's
+  /// time stands still — but every millisecond on `real` stages a segment the inbox
+  /// published and takes operator commands (an approve with nothing staged is dropped, as
+  /// the engine would), until a segment is approved, an abort or suspend is posted, `stop`
+  /// is raised, or `limit` has passed (then Engine::end_await(): the run completes with its
+  /// ramp-out). null: no such wait (real time: the engine holds the baseline, ticking).
+  void await_segments_on(hal::Clock* real, hal::Nanoseconds limit) noexcept {
+    await_clock_ = real;
+    await_limit_ = limit;
+  }
+
   /// Whether arm() writes the baseline once and reads it back (default true). Off only for
   /// a lock-step simulated peer, where that write would be a plant sample of its own.
   void set_verify_at_arm(bool on) noexcept { verify_at_arm_ = on; }
@@ -128,6 +144,9 @@ class Runner {
   [[nodiscard]] const Refusal& refusal() const noexcept { return refusal_; }
 
  private:
+  void stage_published() noexcept;
+  bool await_segment(CommandMailbox& commands, const std::atomic<bool>* stop) noexcept;
+
   engine::Engine& engine_;
   hal::FieldBus& bus_;
   hal::Clock& clock_;
@@ -137,6 +156,11 @@ class Runner {
   const std::atomic<bool>* log_failed_ = nullptr;
   SegmentHandoff* segments_ = nullptr;
   std::uint32_t segment_seen_ = 0;  // the last published segment handed to the engine
+  hal::Clock* await_clock_ = nullptr;
+  hal::Nanoseconds await_limit_{0};
+  std::uint64_t segment_waits_ = 0;
+  hal::Nanoseconds segment_wait_{0};
+  hal::Nanoseconds longest_wait_{0};
   std::span<std::uint64_t> lateness_{};
   std::span<const RangeEnd> range_ends_{};
   std::span<std::uint64_t> range_counts_{};

@@ -84,6 +84,12 @@ struct EngineConfig {
   // of the running table — after a row r with (r + 1) % segment_period_rows == 0 — or
   // after its last row. 0: at the end of the running table only.
   std::uint32_t segment_period_rows = 0;
+  // Awaiting the next segment (Engine::awaiting_segment): when the running table's last row
+  // has been written and no approved segment is staged, the run does not complete at once
+  // but holds the operating point (excitation 0: the baseline, max_move still applying) for
+  // up to this many ticks, counted on the clock, each row flagged kSuspended, and switches
+  // to a segment approved meanwhile; then it completes as without. 0: it completes at once.
+  std::uint32_t segment_await_ticks = 0;
 };
 
 /// Ok, or the first broken rule naming the field ("input[1].max_move = 0, expected > 0").

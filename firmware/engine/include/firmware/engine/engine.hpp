@@ -80,6 +80,20 @@ class Engine {
   /// Cyclic path: O(1), no allocation.
   Status stage(signal::ConstTableView next, bool approved) noexcept;
 
+  /// Whether the next compute() would hold for the next segment instead of writing a table
+  /// row (EngineConfig::segment_await_ticks ≠ 0): running with no suspension reason, the
+  /// running table's last row written, no approved segment staged (an approve pending for a
+  /// staged one counts as approved), no abort or suspend pending, and the wait not ended.
+  /// A loop whose peer owns the clock (lock-step) stops ticking while this holds, so the
+  /// simulated plant's time stands still; in real time the loop keeps ticking and the
+  /// engine holds the baseline. Cyclic path: O(1).
+  [[nodiscard]] bool awaiting_segment() const noexcept;
+
+  /// Ends the wait for a segment: the next compute() that finds the running table's end
+  /// completes the run (ramp out, baseline confirmed) as without segment_await_ticks. For a
+  /// loop that times the wait itself (lock-step: on the real clock). Cyclic path.
+  void end_await() noexcept { await_over_ = true; }
+
   /// A fault found outside the engine (the run log cannot be written, the device refused a
   /// write) stops the excitation at once: armed, running or suspended → aborted (ramp out,
   /// baseline confirmed by readback as after any abort) with outcome `why`. The first fault
@@ -123,6 +137,9 @@ class Engine {
   [[nodiscard]] bool segment_approved() const noexcept { return staged_approved_; }
   [[nodiscard]] std::uint64_t ticks() const noexcept { return ticks_; }  // since arm, on the clock
   [[nodiscard]] std::uint64_t skipped_ticks() const noexcept { return skipped_total_; }
+  /// Ticks written holding the baseline while awaiting a segment (rows flagged kSuspended
+  /// in state running), since arm.
+  [[nodiscard]] std::uint64_t awaited_ticks() const noexcept { return awaited_total_; }
   [[nodiscard]] std::uint64_t discontinuities() const noexcept { return discontinuities_; }
   [[nodiscard]] std::uint32_t flags() const noexcept { return flags_; }
   [[nodiscard]] double ramp() const noexcept { return ramp_; }  // 0 … 1
@@ -157,6 +174,7 @@ class Engine {
   void count_flags() noexcept;
   [[nodiscard]] bool at_segment_boundary() const noexcept;
   void confirm(bool out_at_baseline) noexcept;
+  [[nodiscard]] bool hold_for_segment() noexcept;
 
   EngineConfig config_{};
   signal::ConstTableView table_{};
@@ -177,6 +195,10 @@ class Engine {
   std::uint32_t segment_ = 0;        // plan segment of table_
   signal::ConstTableView staged_{};  // the next segment's table; data == nullptr: none
   bool staged_approved_ = false;
+  bool awaiting_ = false;      // holding the baseline at the table's end for a segment
+  bool await_over_ = false;    // the wait ended (timed out, end_await): complete
+  std::uint64_t awaited_ = 0;  // ticks of the clock in the current wait
+  std::uint64_t awaited_total_ = 0;
   bool row_started_ = false;   // row_ has been written at least once
   std::uint64_t ticks_ = 0;    // ticks since arm: ticks written + ticks skipped
   std::uint64_t writes_ = 0;   // ticks written since arm (the heartbeat and readback ring)
