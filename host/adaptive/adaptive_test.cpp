@@ -81,11 +81,11 @@ class Test {
   AdaptiveResult run() {
     int next = 0;
     SegmentDecision segment = plain_segment(
-        next, "the first segment: plain PRBS on every input, long enough to identify",
-        first_rows_);
+        next, "the first segment: plain PRBS on every input, long enough to identify", first_rows_);
     for (;;) {
       record(std::move(segment));
       const MeasuredSegment m = runner_.run(result_.segments.back().plan);
+      sequence_row_ += result_.segments.back().rows;
       append_rows(result_.U, m.du);
       append_rows(result_.Y, m.dy);
       append_rows(result_.Y_true, m.dy_true);
@@ -113,7 +113,8 @@ class Test {
   }
 
   std::uint32_t rows_for(long long first_row) const {
-    return static_cast<std::uint32_t>(std::min<long long>(rows_, max_rows_ - first_row));
+    return static_cast<std::uint32_t>(
+        std::max<long long>(1, std::min<long long>(rows_, max_rows_ - first_row)));
   }
 
   // The next rows (H, or `rows` when given) of the prior's plain design at first_scale.
@@ -124,7 +125,7 @@ class Test {
     d.rows = rows > 0 ? rows : rows_for(d.first_row);
     d.weights = Eigen::VectorXd::Ones(prior_.input_count());
     d.why = std::move(why);
-    d.plan = cut_segment(*sources_.plain.plan, static_cast<std::uint64_t>(d.first_row), d.rows);
+    d.plan = cut_segment(*sources_.plain.plan, sequence_row_, d.rows);
     d.scale = options_.first_scale;
     scale_mix(d.plan, d.scale);
     set_provenance(d.plan,
@@ -274,7 +275,7 @@ class Test {
     d.directional = true;
     d.from_estimate = estimate;
     d.weights = direction_weights(aim.confidence, n_sources(*aimed.plan), options_.weight_floor);
-    d.plan = cut_segment(*aimed.plan, static_cast<std::uint64_t>(d.first_row), d.rows);
+    d.plan = cut_segment(*aimed.plan, sequence_row_, d.rows);
     weight_sources(d.plan, d.weights);
     d.why = "along V Sigma^-1 of the estimate at " + minutes(aim.samples) + ", weights " +
             vector_text(d.weights) + " (the need of each direction over the largest)";
@@ -294,8 +295,11 @@ class Test {
   AdaptiveObserver* observer_;
   SegmentSources sources_;
   IdentifyOptions identify_;
-  std::uint32_t rows_ = 0;        // H in rows
-  std::uint32_t first_rows_ = 0;  // the first segment's
+  std::uint32_t rows_ = 0;          // H in rows
+  std::uint32_t first_rows_ = 0;    // the first segment's
+  std::uint64_t sequence_row_ = 0;  // where the next segment continues the m-sequences: the
+                                    // segments' rows so far (a gateway's held rows, in real
+                                    // time, are in the record but not in the sequence)
   long long max_rows_ = 0;
   AdaptiveResult result_;
   std::string refused_;  // why amplitude control stopped the test

@@ -92,7 +92,8 @@ struct Reestimate {
 /// How one segment was made.
 struct SegmentDecision {
   int index = 0;
-  long long first_row = 0;  // in the whole test
+  long long first_row = 0;  // in the whole record, when decided (a gateway in real time may
+                            // log held rows before the segment's first row: InboxRunner)
   std::uint32_t rows = 0;
   bool directional = false;  // along V̂ Σ̂⁻¹ of estimate `from_estimate`; else plain
   int from_estimate = -1;    // index into AdaptiveResult::estimates; -1: none
