@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 
 #include "host/adaptive/residual_colour.hpp"
@@ -155,7 +156,7 @@ class Test {
     } else {
       e.uncertainty = e.result.gain_uncertainty;
     }
-    const int earlier = latest_aimable();
+    const int earlier = latest_aimable(e.length_min - settling_min);
     const GainEvidence previous =
         earlier >= 0 ? evidence_of(result_.estimates[static_cast<std::size_t>(earlier)])
                      : GainEvidence{};
@@ -173,10 +174,12 @@ class Test {
     return std::move(result_);
   }
 
-  // The latest estimate with a usable G(0) uncertainty, at or before the last one; -1: none.
-  int latest_aimable() const {
+  // The latest estimate with a usable G(0) uncertainty made on at most `longest_min` of data
+  // (default: any); -1: none.
+  int latest_aimable(double longest_min = std::numeric_limits<double>::infinity()) const {
     for (int i = static_cast<int>(result_.estimates.size()) - 1; i >= 0; --i) {
-      if (result_.estimates[static_cast<std::size_t>(i)].confidence.gain_identified) return i;
+      const Reestimate& e = result_.estimates[static_cast<std::size_t>(i)];
+      if (e.confidence.gain_identified && e.length_min <= longest_min + 1e-9) return i;
     }
     return -1;
   }

@@ -169,6 +169,24 @@ TEST(AdaptiveLoop, WoodBerryStopsByTheRuleWithAModelThatMeetsTheCriterion) {
   EXPECT_EQ(recorder.events.size(), r.segments.size() + r.estimates.size() + 1);
 }
 
+TEST(AdaptiveLoop, ShortSegmentsDoNotStopOnTwoEstimatesOfNearlyTheSameRecord) {
+  // Wood and Berry at a quarter amplitude, re-estimated every 30 min (β·τ_H = 63 min): seed 3
+  // stopped at 135 min with σ_n 46 % off when the estimate 30 min earlier counted as the one
+  // to agree with. The earlier estimate must be a settling time of data back.
+  const PriorKnowledge prior = case_study("woodberry2x2");
+  auto plant = sim::make_plant("woodberry2x2");
+  AdaptiveOptions options;
+  options.first_scale = 0.25;
+  options.segment_min = 21.0;
+  PlantRunner runner(*plant, prior.sample_time_min, case_study_noise_variance("woodberry2x2"), 3);
+  const AdaptiveResult r = run_adaptive_test(prior, runner, options);
+  ASSERT_TRUE(r.criterion_met) << r.stop_reason;
+  const montecarlo::Accuracy a = montecarlo::judge(montecarlo::true_plant_of(plant->static_gain()),
+                                                   r.estimates.back().result.gain);
+  EXPECT_TRUE(a.met) << "sigma_n error " << a.sigma_n_error << " at " << r.length_min() << " min";
+  EXPECT_GT(r.length_min(), 135.0);
+}
+
 TEST(AdaptiveLoop, CvLimitsSizeTheSegmentsAfterTheFirstAndThePlantStaysInside) {
   const PriorKnowledge prior = case_study("woodberry2x2");
   auto plant = sim::make_plant("woodberry2x2");
