@@ -100,13 +100,10 @@ TEST_F(GatewayLoop, TenThousandTicksOfTheCyclicPathAllocateNothing) {
   EXPECT_EQ(ring.overruns(), 0U);
 }
 
-// Plan segments: a segment staged by the inbox thread (which allocates: it decodes and
-// generates; stopped before counting) is handed to the tick, approved and switched to at the
-// end of the running table, on the cyclic path without an allocation.
-TEST_F(GatewayLoop, ASegmentSwitchOnTheCyclicPathAllocatesNothing) {
-  config_.suspend_timeout_s = 0.0;
-  ASSERT_TRUE(start_up());  // the example plan: 4080 rows
-  const std::filesystem::path inbox = std::filesystem::path(log_path_).replace_extension(".inbox");
+// A copy of the example plan staged as the next segment by the gateway's inbox thread (which
+// allocates: it decodes and generates), the thread stopped before anything is counted.
+bool stage_a_copy_of_the_plan(app::Gateway* gateway, const std::string& log_path) {
+  const std::filesystem::path inbox = std::filesystem::path(log_path).replace_extension(".inbox");
   std::filesystem::create_directories(inbox);
   {
     const std::vector<std::uint8_t> next = example_plan_file();
@@ -114,13 +111,23 @@ TEST_F(GatewayLoop, ASegmentSwitchOnTheCyclicPathAllocatesNothing) {
         .write(reinterpret_cast<const char*>(next.data()),
                static_cast<std::streamsize>(next.size()));
   }
-  gateway_->start_segments(inbox.string(), true, nullptr);
-  for (int i = 0; i < 500 && gateway_->segments()->staged() == 0; ++i) {
+  gateway->start_segments(inbox.string(), true, nullptr);
+  for (int i = 0; i < 500 && gateway->segments()->staged() == 0; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  gateway_->stop_segments();
+  gateway->stop_segments();
   std::filesystem::remove_all(inbox);
-  ASSERT_EQ(gateway_->segments()->staged(), 1U);
+  EXPECT_EQ(gateway->segments()->staged(), 1U);
+  return gateway->segments()->staged() == 1U;
+}
+
+// Plan segments: a segment staged by the inbox thread (which allocates: it decodes and
+// generates; stopped before counting) is handed to the tick, approved and switched to at the
+// end of the running table, on the cyclic path without an allocation.
+TEST_F(GatewayLoop, ASegmentSwitchOnTheCyclicPathAllocatesNothing) {
+  config_.suspend_timeout_s = 0.0;
+  ASSERT_TRUE(start_up());  // the example plan: 4080 rows
+  ASSERT_TRUE(stage_a_copy_of_the_plan(gateway_.get(), log_path_));
   engine::LogRingBase& ring = gateway_->log_ring();
   engine::TickRecord sink;
   commands_.post(engine::Command::start);
@@ -184,22 +191,7 @@ class AwaitLoop : public GatewayLoop {
   bool start_with_a_staged_segment() {
     config_.suspend_timeout_s = 0.0;
     config_.segment_await_s = 3600.0;
-    if (!start_up()) return false;
-    const std::filesystem::path inbox =
-        std::filesystem::path(log_path_).replace_extension(".inbox");
-    std::filesystem::create_directories(inbox);
-    const std::vector<std::uint8_t> next = example_plan_file();
-    std::ofstream(inbox / "next.plan", std::ios::binary)
-        .write(reinterpret_cast<const char*>(next.data()),
-               static_cast<std::streamsize>(next.size()));
-    gateway_->start_segments(inbox.string(), true, nullptr);
-    for (int i = 0; i < 500 && gateway_->segments()->staged() == 0; ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    gateway_->stop_segments();
-    std::filesystem::remove_all(inbox);
-    EXPECT_EQ(gateway_->segments()->staged(), 1U);
-    return gateway_->segments()->staged() == 1U;
+    return start_up() && stage_a_copy_of_the_plan(gateway_.get(), log_path_);
   }
 
   // Runs 10 batches of 500 ticks, draining the ring between them; allocations counted.
