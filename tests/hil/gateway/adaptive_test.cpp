@@ -49,10 +49,15 @@ struct Case {
   bool short_segments = false;  // first_scale 0.25 and a re-estimate after every τ_H: more
                                 // segments, so the gateway reuses its table buffers (segment
                                 // N in buffer N mod 2) and awaits more often
+  bool limited = false;         // CV limits ±0.45 and first_scale 0.1: segments sized by
+                                // predictive amplitude control (issue 26 §2) on their way
 };
 
+constexpr double kLimit = 0.45;
+
 void PrintTo(const Case& c, std::ostream* os) {
-  *os << "seed " << c.seed << (c.short_segments ? ", short segments" : "");
+  *os << "seed " << c.seed << (c.short_segments ? ", short segments" : "")
+      << (c.limited ? ", CV limits" : "");
 }
 
 class AdaptiveThroughTheGateway : public LoopTest, public ::testing::WithParamInterface<Case> {
@@ -119,6 +124,11 @@ class AdaptiveThroughTheGateway : public LoopTest, public ::testing::WithParamIn
     if (GetParam().short_segments) {
       o.segment_min = host::case_study(kPlant).tau_high_min;
       o.first_scale = 0.25;
+    }
+    if (GetParam().limited) {
+      o.first_scale = 0.1;
+      o.limits =
+          host::CvLimits{Eigen::Vector2d::Constant(-kLimit), Eigen::Vector2d::Constant(kLimit)};
     }
     return o;
   }
@@ -194,7 +204,9 @@ TEST_P(AdaptiveThroughTheGateway, StopsByItsRuleWithAnAccurateModelAndDecidesAsI
     for (std::size_t i = 0; i < p.segments.size(); ++i) {
       EXPECT_EQ(p.segments[i].rows, r.segments[i].rows) << "segment " << i;
       EXPECT_EQ(p.segments[i].directional, r.segments[i].directional) << "segment " << i;
-      EXPECT_NEAR(p.segments[i].scale, r.segments[i].scale, 1e-6) << "segment " << i;
+      // A sized segment's scale follows the model, which the float32 registers move: 6.9e-6
+      // measured (seed 1, limited).
+      EXPECT_NEAR(p.segments[i].scale, r.segments[i].scale, 1e-4) << "segment " << i;
       largest_scale_gap =
           std::max(largest_scale_gap, std::abs(p.segments[i].scale - r.segments[i].scale));
       if (p.segments[i].weights.size() == r.segments[i].weights.size()) {
@@ -204,6 +216,20 @@ TEST_P(AdaptiveThroughTheGateway, StopsByItsRuleWithAnAccurateModelAndDecidesAsI
       }
     }
     EXPECT_EQ(p.criterion_met, r.criterion_met);
+    if (GetParam().limited) {
+      // Sized on the way: a directional segment below full scale; on the plant's side its
+      // measured CVs stay inside the limits but for the noise (4 σ), and the same decisions
+      // in process keep the noise-free CVs inside.
+      bool sized = false;
+      for (const host::SegmentDecision& d : r.segments)
+        sized = sized || (d.directional && d.scale < 1.0);
+      EXPECT_TRUE(sized);
+      const double margin = 4.0 * std::sqrt(noise);
+      for (std::size_t j = 0; j < plant.dy.size(); ++j) {
+        for (const double y : plant.dy[j]) EXPECT_LE(std::abs(y), kLimit + margin) << "y" << j + 1;
+      }
+      EXPECT_LE(p.Y_true.cwiseAbs().maxCoeff(), kLimit);
+    }
     // The decisions agree; the directional mixes follow the identified G(0), which the float32
     // registers move a little (dy to ~1e-6): measured, and bounded loosely.
     const double dy_gap = (p.Y - r.Y).cwiseAbs().maxCoeff();
@@ -222,10 +248,11 @@ TEST_P(AdaptiveThroughTheGateway, StopsByItsRuleWithAnAccurateModelAndDecidesAsI
 
 INSTANTIATE_TEST_SUITE_P(Seeds, AdaptiveThroughTheGateway,
                          ::testing::Values(Case{3, false}, Case{11, false}, Case{21, false},
-                                           Case{11, true}),
+                                           Case{11, true}, Case{1, false, true}),
                          [](const ::testing::TestParamInfo<Case>& param_info) {
                            return "seed" + std::to_string(param_info.param.seed) +
-                                  (param_info.param.short_segments ? "_short" : "");
+                                  (param_info.param.short_segments ? "_short" : "") +
+                                  (param_info.param.limited ? "_limited" : "");
                          });
 
 }  // namespace

@@ -25,9 +25,9 @@
 // output's residual must also pass the tests that grade its elements (grade.hpp step 2,
 // whiteness and independence at 1 %): right for linear plants, never met on a nonlinear
 // column with little noise (colaA: the tests fail on every seed at every length while the
-// G(0) is within 6 % and 0.1°). Each interval part is a *need*: its half-width over its
+// G(0) is within 7 % and 0.2°, 10 seeds). Each interval part is a *need*: its half-width over its
 // tolerance (a minor's: z·SE/|m|); the rule holds when the largest need, `need`, is ≤ 1,
-// the estimate agrees with the previous one and (when asked) no residual test fails.
+// the estimate agrees with the earlier one and (when asked) no residual test fails.
 //
 // The need of every direction i (the same two ratios for σ_i and v_i) weights the next
 // segment's excitation along v_i (direction_weights). Half-widths shrink about as 1/√length
@@ -58,8 +58,8 @@ struct Confidence {
   double need = 0.0;               // the largest of the three: the rule holds when ≤ 1
   int sign_uncertain_minors = 0;   // minors with |m| < z·SE(m)
   int failed_residual_tests = 0;   // over outputs: whiteness, independence of each input
-  bool agrees = false;             // with the previous estimate (true: none to compare)
-  bool has_previous = false;       // there was a previous usable estimate
+  bool agrees = false;             // with the earlier estimate (false without one)
+  bool has_previous = false;       // there was an earlier estimate to agree with
   Eigen::VectorXd direction_need;  // per direction i: max(σ_i's, v_i's ratio), as above
   bool met = false;                // need ≤ 1, agrees, has_previous, (asked) residuals pass
   std::string missing;             // what keeps the rule from holding, in words; "" when met
