@@ -4,9 +4,12 @@
 //             [--weight-floor F]
 //             [--residual-tests] [--colour]
 // excite test --plant NAME --seeds N [--first-seed S] [--threads T] … -o DIR
-// The adaptive plant test (issue 26 §3–§5, host/adaptive/README.md) on a simulated plant,
-// in-process: one test with its decision log and operator's view, or a study over seeds
-// measured against the truth (T90).
+// excite test --plant NAME | --spec FILE --inbox DIR --run-log FILE [--segment-timeout-min M]
+//             … -o OUT
+// The adaptive plant test (issue 26 §3–§5, host/adaptive/README.md): on a simulated plant
+// in-process, one test with its decision log and operator's view or a study over seeds
+// measured against the truth (T90); or through a running excite-gateway (its segment inbox
+// and its run log), the same loop on whatever plant the gateway drives.
 
 #include <filesystem>
 #include <fstream>
@@ -16,7 +19,9 @@
 
 #include "host/adaptive/adaptive_test.hpp"
 #include "host/adaptive/decision_log.hpp"
+#include "host/adaptive/inbox_runner.hpp"
 #include "host/adaptive/plant_runner.hpp"
+#include "host/adaptive/segments.hpp"
 #include "host/adaptive/study.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/cv_limit_option.hpp"
@@ -24,6 +29,7 @@
 #include "host/cli/number_checks.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/plan_file.hpp"
+#include "host/design/spec.hpp"
 #include "host/montecarlo/perturb.hpp"
 #include "host/output/whole_file.hpp"
 #include "host/simulate/simulate.hpp"
@@ -36,6 +42,9 @@ namespace fs = std::filesystem;
 
 struct TestCommandOptions {
   std::string plant;
+  std::string spec;  // the prior from a design spec (through a gateway only)
+  std::string inbox, run_log;
+  double segment_timeout_min = 0.0;  // 0: the plain design's length
   std::string output;
   std::uint64_t seed = 1;
   int seeds = 0;  // > 0: a study
@@ -139,6 +148,62 @@ void run_one(const TestCommandOptions& opt, const PriorKnowledge& prior, double 
             << " segment plan(s)\n";
 }
 
+// Through a running gateway: each segment into its inbox, the rows read back from its run
+// log (InboxRunner). The operator starts the gateway on segment 0 and approves each next one
+// at the gateway, unless its configuration pre-approves "excite test segment".
+void run_through_gateway(const TestCommandOptions& opt, const PriorKnowledge& prior) {
+  const fs::path dir = opt.output;
+  std::vector<std::string> inputs, outputs;
+  for (const InputSpec& in : prior.inputs) inputs.push_back(in.name);
+  for (Eigen::Index j = 0; j < prior.gain.rows(); ++j)
+    outputs.push_back("y" + std::to_string(j + 1));
+  AdaptiveOptions adaptive = opt.adaptive;
+  if (!opt.limits.empty()) {
+    if (outputs.empty()) {
+      throw std::invalid_argument(
+          "--limit: the prior has no G(0), expected one to name its "
+          "outputs (y1, y2, … by row) and size the segments");
+    }
+    adaptive.limits = parse_cv_limits(opt.limits, outputs, "the prior's");
+  }
+  InboxRunnerOptions runner_options;
+  runner_options.inbox = opt.inbox;
+  runner_options.run_log = opt.run_log;
+  const double timeout_min =
+      opt.segment_timeout_min > 0.0
+          ? opt.segment_timeout_min
+          : segment_sources(prior).plain.plan->recipe.samples * prior.sample_time_min;
+  runner_options.segment_timeout =
+      std::chrono::milliseconds(static_cast<long long>(timeout_min * 60'000.0));
+  InboxHooks hooks;
+  hooks.start = [&](const plan::Plan&) {
+    std::cout << "start the gateway on the first segment: excite-gateway --plan "
+              << (dir / "segments" / "segment-0.plan").string() << " --segment-inbox " << opt.inbox
+              << " --log " << opt.run_log
+              << " (its configuration with [segments] await_s longer than an identification)\n"
+              << std::flush;
+  };
+  hooks.approve = [&](int k) {
+    std::cout << "segment " << k << " is in " << (fs::path(opt.inbox) / "next.plan").string()
+              << ": approve it at the gateway (stdin approve, command register 5) unless its "
+                 "[segments] preapproved_from is \"excite test segment\"\n"
+              << std::flush;
+  };
+  prepare_folder(dir, "decisions.jsonl");
+  InboxRunner runner(runner_options, hooks);
+  FolderLog log(dir, inputs, outputs);
+  const AdaptiveResult r = run_adaptive_test(prior, runner, adaptive, &log);
+  if (!r.estimates.empty()) {
+    write_whole_file(dir / "model.json",
+                     model_json(r.estimates.back().result, inputs, outputs).dump(2) + "\n");
+  }
+  std::cout << "the test has stopped; the gateway awaits a segment that will not come: end its "
+               "run (stdin abort, or let await_s run out). The record is "
+            << opt.run_log << "; wrote " << (dir / "decisions.jsonl").string() << ", status.txt"
+            << (r.estimates.empty() ? "" : ", model.json") << " and " << r.segments.size()
+            << " segment plan(s)\n";
+}
+
 void run_study_command(const TestCommandOptions& opt, double perturb) {
   const fs::path dir = opt.output;
   StudyOptions s;
@@ -186,6 +251,21 @@ void run_study_command(const TestCommandOptions& opt, double perturb) {
 
 void run(const TestCommandOptions& opt) {
   // Everything checked before the folder is made.
+  if (!opt.inbox.empty()) {
+    if (opt.plant.empty() == opt.spec.empty()) {
+      throw std::invalid_argument("--plant = \"" + opt.plant + "\" and --spec = \"" + opt.spec +
+                                  "\", expected one of them: the prior knowledge of the test");
+    }
+    const PriorKnowledge prior =
+        opt.spec.empty() ? case_study(opt.plant) : load_design_spec(opt.spec).prior;
+    run_through_gateway(opt, prior);
+    return;
+  }
+  if (opt.plant.empty()) {
+    throw std::invalid_argument(
+        "--plant missing, expected the simulated plant (or --inbox and "
+        "--run-log to run through a gateway)");
+  }
   const double perturb = montecarlo::parse_perturb(opt.perturb);
   const PriorKnowledge prior = case_study(opt.plant);
   montecarlo::check_perturbable(opt.plant, perturb);
@@ -204,27 +284,53 @@ void add_test_command(CLI::App& app) {
       "test",
       "The adaptive plant test on a simulated plant: excite, re-estimate, re-aim along the least "
       "certain gain directions, resize for the CV limits, stop when the model is good enough");
-  cmd->add_option("--plant", opt->plant, "a plant with a case study (its prior knowledge)")
-      ->required();
+  CLI::Option* plant = cmd->add_option(
+      "--plant", opt->plant,
+      "the simulated plant, with its case study as the prior knowledge (through a gateway: the "
+      "case study only)");
+  CLI::Option* spec = cmd->add_option("--spec", opt->spec,
+                                      "through a gateway: the prior knowledge from a design spec")
+                          ->check(CLI::ExistingFile);
+  spec->excludes(plant);
+  CLI::Option* inbox =
+      cmd->add_option("--inbox", opt->inbox,
+                      "run through a running excite-gateway: its --segment-inbox folder")
+          ->check(CLI::ExistingDirectory);
+  CLI::Option* run_log = cmd->add_option("--run-log", opt->run_log,
+                                         "through a gateway: its --log file (read as it grows)");
+  inbox->needs(run_log);
+  run_log->needs(inbox);
+  spec->needs(inbox);
+  cmd->add_option("--segment-timeout-min", opt->segment_timeout_min,
+                  "through a gateway: the longest wait for one segment's rows, real minutes "
+                  "(default: the plain design's length)")
+      ->check(finite_positive())
+      ->needs(inbox);
   cmd->add_option("-o,--output", opt->output,
                   "the test's folder: decisions.jsonl, status.txt, segments/, run.csv, model.json "
                   "(a study: study.json)")
       ->required();
+  // The simulation's options: not through a gateway.
   cmd->add_option("--seed", opt->seed, "the noise seed (a study: the first seed)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->excludes(inbox);
   cmd->add_option("--seeds", opt->seeds,
                   "run a study over this many seeds, judged against the truth")
-      ->check(CLI::Range(1, 1'000'000));
+      ->check(CLI::Range(1, 1'000'000))
+      ->excludes(inbox);
   cmd->add_option("--threads", opt->threads, "a study's seeds in parallel")
       ->capture_default_str()
-      ->check(CLI::Range(1, 256));
+      ->check(CLI::Range(1, 256))
+      ->excludes(inbox);
   cmd->add_option("--noise-var", opt->noise_variance,
                   "measurement noise variance per output (default: the case study's)")
-      ->check(finite_non_negative());
+      ->check(finite_non_negative())
+      ->excludes(inbox);
   cmd->add_option("--perturb", opt->perturb,
                   "percent: the true plant's gains, time constants and delays drawn within +-X % "
                   "from the seed (linear plants); the prior stays nominal")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->excludes(inbox);
   cmd->add_option("--segment-min", opt->adaptive.segment_min,
                   "re-estimate after every H minutes (default 4 tau_H; whole PRBS bits)")
       ->check(finite_positive());

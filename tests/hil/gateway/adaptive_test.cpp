@@ -22,6 +22,8 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "../loop/loop_fixture.hpp"
 #include "firmware/runlog/format.hpp"
@@ -244,6 +246,61 @@ TEST_P(AdaptiveThroughTheGateway, StopsByItsRuleWithAnAccurateModelAndDecidesAsI
         seconds_, a.sigma_n_error, a.weakest_angle_deg, dy_gap, du_gap, largest_weight_gap,
         largest_scale_gap);
   }
+}
+
+// `excite test --inbox … --run-log …` as the engineer runs it: the tool and the gateway as two
+// processes, the tool writing segment 0 for the operator to start the gateway on, then
+// handing every next segment to the gateway's inbox (pre-approved here) until its rule stops
+// it; its decision log names the segments the gateway's log carries.
+class ExciteTestThroughTheGateway : public LoopTest {};
+
+TEST_F(ExciteTestThroughTheGateway, TheCommandDrivesARunningGatewayToItsStop) {
+  start_loop(kPlant, "--input-range 20 --seed 3");
+  std::ofstream(path("gateway.toml"), std::ios::app)
+      << "\n[segments]\nawait_s = 60\npreapproved_from = \"excite test segment\"\n";
+  fs::create_directories(path("inbox"));
+  GatewayProcess tool(
+      EXCITE_TOOL,
+      {"test", "--plant", kPlant, "--inbox", path("inbox").string(), "--run-log",
+       path("gw.csv").string(), "--segment-timeout-min", "1", "-o", path("out").string()},
+      path("tool").string());
+  const fs::path first = path("out") / "segments" / "segment-0.plan";
+  for (int i = 0; i < 3000 && !fs::exists(first); ++i) std::this_thread::sleep_for(10ms);
+  ASSERT_TRUE(fs::exists(first)) << tool.out() << tool.err();  // whole: written and renamed
+  auto gateway = start_gateway(
+      first, {"--clock", "lockstep", "--start", "--segment-inbox", path("inbox").string()});
+  const auto rc = tool.wait(120s);
+  ASSERT_TRUE(rc.has_value()) << tool.out() << tool.err();
+  EXPECT_EQ(*rc, 0) << tool.out() << tool.err();
+  const std::string out = tool.out();
+  EXPECT_NE(out.find("start the gateway on the first segment"), std::string::npos) << out;
+  EXPECT_NE(out.find("stopped: the stop rule holds"), std::string::npos) << out;
+  EXPECT_NE(out.find("the test has stopped; the gateway awaits a segment"), std::string::npos)
+      << out;
+  gateway->send_line("abort");
+  const auto grc = gateway->wait(30s);
+  ASSERT_TRUE(grc.has_value()) << gateway->err();
+  EXPECT_EQ(*grc, 6) << gateway->err();
+
+  // The decision log's segments are the gateway log's, in order, each its rows long.
+  std::ifstream decisions(path("out") / "decisions.jsonl");
+  std::vector<std::uint32_t> rows;
+  for (std::string line; std::getline(decisions, line);) {
+    if (line.find("\"event\":\"segment\"") == std::string::npos) continue;
+    const std::size_t at = line.find("\"rows\":");
+    rows.push_back(static_cast<std::uint32_t>(std::stoul(line.substr(at + 7))));
+  }
+  ASSERT_GE(rows.size(), 2U);
+  const runlog::RunLog gwl = read_log_or_fail(path("gw.csv"));
+  std::vector<std::uint32_t> logged(rows.size(), 0);
+  for (std::size_t r = 0; r < gwl.rows(); ++r) {
+    if (gwl.state[r] != runlog::RunState::running) continue;
+    ASSERT_LT(gwl.segment[r], logged.size()) << "row " << r;
+    ++logged[gwl.segment[r]];
+  }
+  EXPECT_EQ(logged, rows);
+  EXPECT_TRUE(fs::exists(path("out") / "model.json"));
+  (void)stop_plant_and_read_its_log();
 }
 
 INSTANTIATE_TEST_SUITE_P(Seeds, AdaptiveThroughTheGateway,
