@@ -14,11 +14,14 @@
 //  (d) a switch whose jump exceeds max_move: no move the plant receives exceeds max_move, and
 //      the gateway flags the switch row rate_limited.
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <thread>
+
+#include <modbus.h>
 
 #include "../loop/loop_fixture.hpp"
 #include "firmware/engine/load_plan.hpp"
@@ -197,6 +200,35 @@ TEST_F(Segments, AnApprovedSegmentIsTakenAtTheEndAndThePlantFollowsTheNewTable) 
   }
   std::printf("[ measured ] switch at gateway row %zu of %zu; plant rows %zu\n", r1, gwl.rows(),
               plant.rows());
+}
+
+// The operator's other way to approve: value 5 in the command register, written by a Modbus
+// client of the plant (as an operator station would write it) while the gateway, armed,
+// reads the register every tick.
+TEST_F(Segments, ASegmentApprovedByTheCommandRegisterIsTaken) {
+  const std::uint16_t port = start_loop(kPlant, "--input-range 2");
+  drop(encoded(step_segment(level())));
+  auto gw = start_waiting();
+  ASSERT_TRUE(wait_for(*gw, "segment 1 staged")) << gw->err();
+  modbus_t* operator_station = modbus_new_tcp("127.0.0.1", port);
+  ASSERT_NE(operator_station, nullptr);
+  ASSERT_EQ(modbus_connect(operator_station), 0) << modbus_strerror(errno);
+  constexpr int kCommandRegister = 301;  // loop-config's command value (sim/server default map)
+  constexpr std::uint16_t kApprove = 5;
+  ASSERT_EQ(modbus_write_register(operator_station, kCommandRegister, kApprove), 1)
+      << modbus_strerror(errno);
+  modbus_close(operator_station);
+  modbus_free(operator_station);
+  std::this_thread::sleep_for(500ms);  // the armed gateway reads it on its next ticks
+  gw->send_line("start");
+  const auto rc = gw->wait(120s);
+  ASSERT_TRUE(rc.has_value()) << gw->err();
+  EXPECT_EQ(*rc, 0) << gw->err();
+  EXPECT_NE(gw->err().find("segments: 1 staged, 0 refused, 1 taken"), std::string::npos)
+      << gw->err();
+  const runlog::RunLog gwl = read_log_or_fail(path("gw.csv"));
+  EXPECT_LT(first_row_of_segment_1(gwl), gwl.rows());
+  (void)stop_plant_and_read_its_log();
 }
 
 TEST_F(Segments, ASegmentFromThePreApprovedToolIsTakenWithoutApproval) {
