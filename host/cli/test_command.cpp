@@ -3,7 +3,7 @@
 //             [--max-min M] [--limit CV=LOW:HIGH …] [--k-sigma K] [--first-scale S]
 //             [--weight-floor F]
 //             [--residual-tests] [--colour]
-// excite test --plant NAME --seeds N [--first-seed S] [--threads T] … -o DIR
+// excite test --plant NAME --seeds N [--seed FIRST] [--threads T] … -o DIR
 // excite test --plant NAME | --spec FILE --inbox DIR --run-log FILE [--segment-timeout-min M]
 //             … -o OUT
 // The adaptive plant test (issue 26 §3–§5, host/adaptive/README.md): on a simulated plant
@@ -52,7 +52,6 @@ struct TestCommandOptions {
   double noise_variance = -1.0;
   std::string perturb = "0";
   std::vector<std::string> limits;
-  double k_sigma = 2.0;
   AdaptiveOptions adaptive;
 };
 
@@ -63,7 +62,7 @@ void prepare_folder(const fs::path& dir, const char* record) {
                                 ", expected a new or empty folder (a test's record is not "
                                 "overwritten)");
   }
-  fs::create_directories(dir / "segments");
+  fs::create_directories(dir);
 }
 
 // Writes each event to DIR/decisions.jsonl as it happens (flushed), the operator's view to
@@ -71,10 +70,9 @@ void prepare_folder(const fs::path& dir, const char* record) {
 class FolderLog final : public AdaptiveObserver {
  public:
   FolderLog(fs::path dir, std::vector<std::string> inputs, std::vector<std::string> outputs)
-      : dir_(std::move(dir)),
-        inputs_(std::move(inputs)),
-        outputs_(std::move(outputs)),
-        log_(dir_ / "decisions.jsonl") {
+      : dir_(std::move(dir)), inputs_(std::move(inputs)), outputs_(std::move(outputs)), log_() {
+    fs::create_directories(dir_ / "segments");
+    log_.open(dir_ / "decisions.jsonl");
     if (!log_) throw std::runtime_error((dir_ / "decisions.jsonl").string() + ": cannot write");
   }
 
