@@ -93,7 +93,19 @@ class Test {
       ++next;
       const Reestimate* e = reestimate(next - 1);
       if (e != nullptr && e->confidence.met) {
-        return stop(true, "the stop rule holds: the accuracy criterion at 95 % confidence");
+        std::string reason = "the stop rule holds: the accuracy criterion at 95 % confidence";
+        if (e->confidence.failed_residual_tests > 0) {
+          // The intervals assume the identified structures; the residuals say the data reject
+          // them somewhere (colaA with 315-min segments: 37 of 40 such stops missed the
+          // criterion). Said, not hidden: --residual-tests makes it a condition.
+          const int tests = e->result.model.outputs * (1 + e->result.model.inputs);
+          reason += "; caution: " + std::to_string(e->confidence.failed_residual_tests) + " of " +
+                    std::to_string(tests) +
+                    " residual tests fail at 1 % (chance alone fails about 1 in 100); when many "
+                    "fail, the data reject the identified structures (a nonlinear plant, a "
+                    "structure missing) and the confidence is less than stated";
+        }
+        return stop(true, reason);
       }
       if (result_.U.rows() >= max_rows_) {
         return stop(false, "the maximum length, " + minutes(max_rows_) + ", is reached" +
