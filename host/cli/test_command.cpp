@@ -280,8 +280,9 @@ void add_test_command(CLI::App& app) {
   auto opt = std::make_shared<TestCommandOptions>();
   CLI::App* cmd = app.add_subcommand(
       "test",
-      "The adaptive plant test on a simulated plant: excite, re-estimate, re-aim along the least "
-      "certain gain directions, resize for the CV limits, stop when the model is good enough");
+      "The adaptive plant test, on a simulated plant or through a running gateway: excite, "
+      "re-estimate, re-aim along the least certain gain directions, resize for the CV limits, "
+      "stop when the model is good enough");
   CLI::Option* plant = cmd->add_option(
       "--plant", opt->plant,
       "the simulated plant, with its case study as the prior knowledge (through a gateway: the "
