@@ -12,7 +12,17 @@
 // (structure_search.cpp) alatiqi4x4 prbsSimDir's rows y2 and y4 did so in 34 of 200.
 //
 // Plants alatiqi4x4 (SPEC §4's case study) and woodberry2x2, designs prbsUnc and prbsSimDir,
-// the case studies' noise (SPEC §4: 5·10⁻⁴), seeds 1 … EXCITE_CALIBRATION_SEEDS (100).
+// the case studies' noise (SPEC §4: 5·10⁻⁴), seeds 1 … EXCITE_CALIBRATION_SEEDS (300: an
+// element's coverage then has a binomial spread of ±1.3 points about 95 %, so the issue's
+// 90 % per element is 4 spreads away; at 100 seeds it was 2.3, and seeds 1–100 alone put
+// alatiqi4x4 prbsSimDir's (y4, u4) at 87 % where seeds 101–200 and 201–300 gave 94 and 94 %,
+// the refit from the truth under-covering alike: the draw, not the intervals).
+// EXCITE_CALIBRATION_CASES="PLANT:PRESET …" runs other cases; PLANT may be a plant file
+// (NAME.toml, sim/lti/README.md) whose `name` is a case study's, whose prior it takes: a
+// plant a little off the library's, as alatiqi4x4_delayed.toml beside this file, the fifth
+// default case (the search was tuned on the library's plants; with two delays of row y4 half
+// a sample longer it ended worse than the truth in 23 of 100 rows y4 before
+// structure_search.cpp's residual restarts).
 // "In structure": the element is one term that one of the identifier's structures represents
 // — a numerator of degree ≤ 1 and at most three stable poles, at most two of them a complex
 // pair — and so is every other element of its output's row (one misfit element biases its
@@ -22,10 +32,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <complex>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -37,6 +49,7 @@
 #include "host/identify/miso_fit.hpp"
 #include "host/simulate/simulate.hpp"
 #include "sim/library/library.hpp"
+#include "sim/lti/plant_toml.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::host {
@@ -44,8 +57,8 @@ namespace {
 
 int seeds() {
   const char* text = std::getenv("EXCITE_CALIBRATION_SEEDS");
-  const int n = text != nullptr ? std::atoi(text) : 100;
-  return n > 0 ? n : 100;
+  const int n = text != nullptr ? std::atoi(text) : 300;
+  return n > 0 ? n : 300;
 }
 
 // The element as the identifier's structure that represents it, with its true parameters;
@@ -109,10 +122,13 @@ class Calibration : public ::testing::TestWithParam<Case> {};
 
 TEST_P(Calibration, NominalNinetyFivePercentGainIntervalsCoverTheTruthInNinetyToNinetyEight) {
   const Case c = GetParam();
-  const PriorKnowledge prior = case_study(c.plant);
+  const sim::PlantDefinition definition =
+      c.plant.ends_with(".toml") ? sim::load_plant_file(c.plant)
+                                 : sim::PlantDefinition{c.plant, "", sim::library_plant(c.plant)};
+  const sim::TransferMatrix& g = definition.g;
+  const PriorKnowledge prior = case_study(definition.name);
   const Design design = design_preset(prior, find_preset(c.preset), 0);
   const auto plant = sim::make_plant(c.plant);
-  const sim::TransferMatrix g = sim::library_plant(c.plant);
   const Eigen::MatrixXd truth = g.static_gain();
   const Eigen::VectorXd true_sigma = Eigen::JacobiSVD<Eigen::MatrixXd>(truth).singularValues();
   const int p = g.outputs(), n = g.inputs();
@@ -136,7 +152,7 @@ TEST_P(Calibration, NominalNinetyFivePercentGainIntervalsCoverTheTruthInNinetyTo
   const int S = seeds();
   for (int s = 1; s <= S; ++s) {
     SimulationOptions sim_options;
-    sim_options.noise_variance = case_study_noise_variance(c.plant);
+    sim_options.noise_variance = case_study_noise_variance(definition.name);
     sim_options.seed = static_cast<std::uint64_t>(s);
     const SimulatedRun run = simulate_plan(*design.plan, c.preset, *plant, sim_options);
     IdentifyOptions options;
@@ -187,7 +203,7 @@ TEST_P(Calibration, NominalNinetyFivePercentGainIntervalsCoverTheTruthInNinetyTo
   }
 
   std::printf("%s %s, %d seeds, noise %g: coverage of K ± 1.96 SE(K), %%\n", c.plant.c_str(),
-              c.preset.c_str(), S, case_study_noise_variance(c.plant));
+              c.preset.c_str(), S, case_study_noise_variance(definition.name));
   Coverage in_structure_total;
   for (int j = 0; j < p; ++j) {
     const bool row_in_structure = true_row[static_cast<std::size_t>(j)].has_value();
@@ -198,9 +214,9 @@ TEST_P(Calibration, NominalNinetyFivePercentGainIntervalsCoverTheTruthInNinetyTo
       if (row_in_structure) {
         in_structure_total.covered += cov.covered;
         in_structure_total.runs += cov.runs;
-        // Each element alone: 100 seeds give a binomial spread of ±2.2 points about 95 %;
-        // below 85 % is a miscalibration, not chance (p < 1e-4).
-        EXPECT_GE(cov.percent(), 85.0) << "element (y" << j + 1 << ", u" << i + 1 << ")";
+        // Each element alone (issue 18 §4): below 90 % of 300 seeds is a miscalibration, not
+        // chance (p < 1e-4 for a calibrated element).
+        EXPECT_GE(cov.percent(), 90.0) << "element (y" << j + 1 << ", u" << i + 1 << ")";
       }
     }
     std::printf("   search ended worse than the refit from the truth: %d of %d seeds\n",
@@ -233,11 +249,17 @@ std::vector<Case> cases() {
   return {{"alatiqi4x4", "prbsUnc"},
           {"alatiqi4x4", "prbsSimDir"},
           {"woodberry2x2", "prbsUnc"},
-          {"woodberry2x2", "prbsSimDir"}};
+          {"woodberry2x2", "prbsSimDir"},
+          {EXCITE_CALIBRATION_DELAYED_PLANT, "prbsSimDir"}};
 }
 
 INSTANTIATE_TEST_SUITE_P(Plants, Calibration, ::testing::ValuesIn(cases()), [](const auto& test) {
-  return test.param.plant + "_" + test.param.preset;
+  // A plant file by its stem; letters, digits and '_' only.
+  std::string name =
+      std::filesystem::path(test.param.plant).stem().string() + "_" + test.param.preset;
+  for (char& ch : name)
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  return name;
 });
 
 }  // namespace

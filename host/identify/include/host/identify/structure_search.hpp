@@ -23,7 +23,10 @@
 // part below 5 % of the row's) from either sign, its lags at the row's other elements' time
 // scale and a quarter of it, in its own structure and in two poles (a forced structure: its
 // own only), each kept when it lowers the row's BIC; and a delay within 0.05 T of a whole
-// sample from across that kink.
+// sample from across that kink. Structures chosen, a row whose residual is then not white
+// and depends on an input has the element(s) of that input restarted from every structure,
+// the others released to two poles, and the rounds run again from a start that is kept
+// (restart_misplaced_dynamics: dynamics that ended on the wrong element).
 
 #include <Eigen/Dense>
 #include <optional>
