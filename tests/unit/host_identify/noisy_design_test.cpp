@@ -24,7 +24,7 @@
 #include "host/simulate/simulate.hpp"
 #include "sim/library/library.hpp"
 #include "sim/lti/discrete_plant.hpp"
-#include "sim/lti/plant_toml.hpp"
+#include "sim/lti/parse_element.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::host {
@@ -108,17 +108,8 @@ INSTANTIATE_TEST_SUITE_P(Woodberry, NoisyDesign,
 // residual is the evidence that restarts the element it depends on
 // (structure_search.cpp, restart_misplaced_dynamics).
 TEST(MisplacedDynamics, AnElementTheResidualDependsOnIsRestartedUntilTheResidualIsWhite) {
-  const sim::TransferMatrix g = sim::plant_from_toml(R"toml(
-name = "alatiqi4x4, (y4, u2) delayed 0.52 min"
-time_unit = "min"
-G = [
-  ["4.09 e^-1.3s / ((33s+1)(8.3s+1))", "6.36 e^-1.2s / ((31.6s+1)(20s+1))", "-0.25 e^-1.4s / (21s+1)", "-0.49 e^-6s / (22s+1)"],
-  ["-4.17 e^-5s / (45s+1)", "6.93 e^-1.02s / (44.6s+1)", "-0.05 e^-6s / (34.5s+1)^2", "1.53 e^-3.8s / (48s+1)"],
-  ["1.73 e^-18s / (13s+1)^2", "5.11 e^-12s / (13.3s+1)^2", "4.61 e^-1.01s / (18.5s+1)", "-5.49 e^-1.5s / (15s+1)"],
-  ["-11.2 e^-2.6s / ((43s+1)(6.5s+1))", "14(10s+1) e^-0.52s / ((45s+1)(17.4s^2+3s+1))", "-0.1 e^-0.05s / ((31.6s+1)(5s+1))", "4.49 e^-0.6s / ((48s+1)(6.3s+1))"],
-]
-)toml")
-                                    .g;
+  sim::TransferMatrix g = sim::library_plant("alatiqi4x4");
+  g.set_element(3, 1, sim::parse_element("14(10s+1) e^-0.52s / ((45s+1)(17.4s^2+3s+1))"));
   const PriorKnowledge prior = case_study("alatiqi4x4");
   const Design design = design_preset(prior, find_preset("prbsSimDir"), 0);
   ASSERT_NE(design.plan, nullptr);
