@@ -319,7 +319,9 @@ std::string parameter_table_html(const Experiment& e, const CampaignResult& r) {
   for (int o = 0; o < m.outputs; ++o) {
     for (int i = 0; i < m.inputs; ++i) {
       const ElementEstimate& est = m.element(o, i);
-      const auto bound = [&](int k) { return est.at_bound[static_cast<std::size_t>(k)]; };
+      const auto bound = [&](int k) {
+        return est.at_bound[static_cast<std::size_t>(k)] != Bound::none;
+      };
       // A parameter of the element's structure with its error; "–" for one it does not have.
       const auto parameter_cell = [&](int k) {
         if (est.estimated() && !is_free(est.value.structure, k)) return std::string("–");

@@ -208,7 +208,7 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
       // data the structure fits) and the grid basin search. The better start is polished;
       // the other too when its output error is within kAmbiguousStart of the better's, and
       // the better end is kept.
-      const MisoBounds bounds{options.max_delay_min, tp_max};
+      const MisoBounds bounds{options.max_delay_min, tp_max, natural_period_floor(T_min)};
       std::vector<std::vector<ElementModel>> starts;
       if (const auto Z = arx.contributions(y_start)) {
         // Each element fitted alone to its own part of the output (a start: few iterations).

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numbers>
 #include <span>
 #include <stdexcept>
 
@@ -236,6 +237,10 @@ ParameterUncertainty standard_errors(const Eigen::MatrixXd& J, Eigen::Index scor
 
 }  // namespace
 
+double natural_period_floor(double T_min) {
+  return T_min / std::numbers::pi;
+}
+
 ParameterRange parameter_range(int parameter, const MisoBounds& bounds) {
   switch (parameter) {
     case kGain:
@@ -246,6 +251,8 @@ ParameterRange parameter_range(int parameter, const MisoBounds& bounds) {
       return {-bounds.max_time_constant_min, bounds.max_time_constant_min};
     case kDamping:
       return {kMinDamping, 1.0};
+    case kNatural:
+      return {bounds.min_natural_min, bounds.max_time_constant_min};
     default:
       return {0.0, bounds.max_time_constant_min};
   }
@@ -331,7 +338,10 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
     for (std::size_t a = 0; a < free.size(); ++a) {
       const Eigen::Index ia = o + static_cast<Eigen::Index>(a);
       est.std_error[free[a]] = se(ia);
-      est.at_bound[static_cast<std::size_t>(free[a])] = on_bound[static_cast<std::size_t>(ia)];
+      est.at_bound[static_cast<std::size_t>(free[a])] =
+          !on_bound[static_cast<std::size_t>(ia)] ? Bound::none
+          : lm.x(ia) <= problem.lower(ia)         ? Bound::lower
+                                                  : Bound::upper;
       for (std::size_t b = 0; b < free.size(); ++b) {
         est.covariance(free[a], free[b]) = uncertainty.cov(ia, o + static_cast<Eigen::Index>(b));
       }

@@ -41,9 +41,10 @@ const char* to_string(Grade grade) {
 std::vector<std::string> ElementEstimate::on_bound() const {
   std::vector<std::string> out;
   for (int k = 0; k < kParameters; ++k) {
-    if (!at_bound[static_cast<std::size_t>(k)]) continue;
+    const Bound b = at_bound[static_cast<std::size_t>(k)];
+    if (b == Bound::none) continue;
     const double v = value[k];
-    const bool lower = k == kDamping ? v < 1.0 : (k == kZero ? v < 0.0 : v == 0.0);
+    const bool lower = b == Bound::lower;
     char text[96];
     std::snprintf(text, sizeof text, "%s = %.4g (%s bound)",
                   parameter_name(static_cast<Parameter>(k)), v, lower ? "lower" : "upper");
@@ -53,10 +54,10 @@ std::vector<std::string> ElementEstimate::on_bound() const {
 }
 
 bool ElementEstimate::on_upper_bound() const {
-  for (const int k : {kDelay, kTp1, kTp2, kZero, kNatural}) {
-    if (at_bound[static_cast<std::size_t>(k)] && value[k] > 0.0) return true;
+  for (const int k : {kDelay, kTp1, kTp2, kNatural}) {
+    if (at_bound[static_cast<std::size_t>(k)] == Bound::upper) return true;
   }
-  return at_bound[kZero] && value.zero_min < 0.0;
+  return at_bound[kZero] != Bound::none;  // |T_z| on its bound, either sign
 }
 
 Eigen::MatrixXd IdentifiedModel::static_gain() const {

@@ -85,8 +85,8 @@ TEST(StepBand, ContainsTheTrueResponseInASeededIdentification) {
       ASSERT_EQ(e.status, ElementStatus::identified) << e.reason;
       for (const int a : free_parameters(e.value.structure)) {  // the structure's parameters
         for (const int b : free_parameters(e.value.structure)) {
-          if (!e.at_bound[static_cast<std::size_t>(a)] &&
-              !e.at_bound[static_cast<std::size_t>(b)]) {
+          if (e.at_bound[static_cast<std::size_t>(a)] == Bound::none &&
+              e.at_bound[static_cast<std::size_t>(b)] == Bound::none) {
             ASSERT_TRUE(std::isfinite(e.covariance(a, b))) << a << ", " << b;
           }
         }

@@ -181,7 +181,7 @@ TEST(Identify, DelayBoundIsRespected) {
   const IdentificationResult r = identify(U, Y, 1.0, o);
   const ElementEstimate& e = r.model.element(0, 0);
   EXPECT_LE(e.value.delay_min, 5.0);
-  EXPECT_TRUE(e.at_bound[kDelay]);
+  EXPECT_EQ(e.at_bound[kDelay], Bound::upper);
   EXPECT_TRUE(std::isnan(e.std_error.delay_min));
 }
 

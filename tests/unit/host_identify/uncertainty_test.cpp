@@ -203,10 +203,10 @@ TEST(Grade, TheGainsRelativeIntervalSetsTheGradeAndEachFailedTestLowersIt) {
 TEST(Grade, AnUpperBoundCapsTheGradeAtCAndANotEstimatedElementIsD) {
   ElementEstimate bound = estimated(10.0, 0.1);
   bound.value.tau1_min = 150.0;
-  bound.at_bound[kTp1] = true;
+  bound.at_bound[kTp1] = Bound::upper;
   ElementEstimate zero_tp2 = estimated(10.0, 0.1);  // T_p2 on its lower bound 0: first order
   zero_tp2.value.tau2_min = 0.0;
-  zero_tp2.at_bound[kTp2] = true;
+  zero_tp2.at_bound[kTp2] = Bound::lower;
   ElementEstimate none;
   none.status = ElementStatus::input_not_moved;
   grade_row({&bound, &zero_tp2, &none}, passing(3));

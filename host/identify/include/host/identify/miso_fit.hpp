@@ -16,11 +16,19 @@ namespace excite::host {
 struct MisoBounds {
   double max_delay_min = 20.0;
   double max_time_constant_min = 1000.0;
+  double min_natural_min = 0.0;  // T_n ≥ this; identify() gives T/π (natural_period_floor)
 };
 
-/// The box a parameter is fitted in: K free; T_d in [0, max_delay]; T_p1, T_p2, T_n in
-/// [0, max_time_constant]; T_z in [−max_time_constant, max_time_constant]; ζ in
-/// [kMinDamping, 1].
+/// The shortest T_n a fit on data sampled every T_min may reach: T/π, an oscillating pair no
+/// faster than the Nyquist frequency π/T. A faster pair's sampled response aliases to a
+/// slower one, which a fit used to bend an element's response between samples: on alatiqi4x4
+/// with its row y4 perturbed by up to ±20 % (noisy_design_test.cpp, `NyquistFloor`), an
+/// element of two lags ended underdamped with T_n = 0.16 min and ζ = 0.05 at T = 1 min.
+double natural_period_floor(double T_min);
+
+/// The box a parameter is fitted in: K free; T_d in [0, max_delay]; T_p1, T_p2 in
+/// [0, max_time_constant]; T_n in [min_natural, max_time_constant]; T_z in
+/// [−max_time_constant, max_time_constant]; ζ in [kMinDamping, 1].
 struct ParameterRange {
   double lower;
   double upper;

@@ -34,11 +34,14 @@ enum class Grade { A, B, C, D };
 /// "A", "B", "C" or "D".
 const char* to_string(Grade grade);
 
+/// Which of its bounds a parameter ended on.
+enum class Bound : unsigned char { none, lower, upper };
+
 struct ElementEstimate {
   ElementModel value;      // structure and parameters; NaN fields when not estimated (status)
   ElementModel std_error;  // 1σ; NaN when not available (not estimated, at a bound, or not a
                            // parameter of the structure)
-  std::array<bool, kParameters> at_bound{};  // parameter ended on its bound (by Parameter)
+  std::array<Bound, kParameters> at_bound{};  // the bound a parameter ended on (by Parameter)
   /// The element's block of the row's parameter covariance σ̂² (JᵀJ)⁺ over the directions
   /// the data determine (indexed by Parameter; its diagonal is std_error² except where
   /// std_error is inf: a direction the output does not depend on is left out). NaN rows and
