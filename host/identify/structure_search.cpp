@@ -22,8 +22,8 @@ constexpr double kWeakRatio = 5.0;
 // An element whose simulated part is below this share of its row's (by norm) is restarted too.
 constexpr double kSmallShare = 0.05;
 constexpr std::array<double, 2> kRestartScales{1.0, 0.25};
-// Elements restarted because the residual depends on their input (restart_misplaced_dynamics),
-// worst first.
+// Elements restarted on a row whose residual is not white (restart_misplaced_dynamics), the
+// most dependent on their input first.
 constexpr std::size_t kMisplacedRestarts = 2;
 // A change of structure must lower the criterion by more than this: a BIC difference below 2
 // is "not worth more than a bare mention" (Kass and Raftery 1995), so a structure that only
@@ -256,7 +256,7 @@ MisoResult leave_local_optima(const Eigen::MatrixXd& U, const Eigen::VectorXd& y
 // lowers the row's criterion. A row whose residual is white, or at rounding (noise-free),
 // costs one residual test. On the 17 case-study runs of alatiqi4x4 four rows are restarted,
 // and each ends at a lower criterion (seven elements in their true structures; msSrdSimDir's
-// row y4 97.48 → 98.43 %), at 1.5 times the CPU time of the 17 identifications.
+// row y4 97.48 → 98.43 %), at 1.6 times the CPU time of the 17 identifications.
 // Returns whether a start was kept. Not for forced structures (it tries them all).
 bool restart_misplaced_dynamics(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                                 const std::vector<int>& inputs, MisoResult& current, double T_min,
