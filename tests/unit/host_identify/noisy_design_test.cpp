@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -100,6 +101,34 @@ INSTANTIATE_TEST_SUITE_P(Woodberry, NoisyDesign,
                                            NoisyCase{"woodberry2x2", "msGlmSimDir", 5e-4, 18}),
                          case_name);
 
+// Output y4 of `g` (alatiqi4x4 with elements of row y4 replaced) under the case study's
+// prbsSimDir design, noise 5e-4 and `seed`, identified alone (its noise is the whole plant's
+// run's), and the true model's noise-free output on the same inputs.
+struct RowFour {
+  IdentificationResult result;
+  Eigen::VectorXd y;       // measured
+  Eigen::VectorXd y_true;  // the true model, noise-free
+  double noise_variance = 5e-4;
+};
+
+RowFour identify_row_four(const sim::TransferMatrix& g, std::uint64_t seed) {
+  const PriorKnowledge prior = case_study("alatiqi4x4");
+  const Design design = design_preset(prior, find_preset("prbsSimDir"), 0);
+  if (design.plan == nullptr) throw std::logic_error("prbsSimDir has no plan");
+  const auto plant = sim::make_linear_plant("alatiqi4x4", g);
+  RowFour out;
+  SimulationOptions sim_options;
+  sim_options.noise_variance = out.noise_variance;
+  sim_options.seed = seed;
+  const SimulatedRun run = simulate_plan(*design.plan, "prbsSimDir", *plant, sim_options);
+  IdentifyOptions options;
+  options.max_time_constant_min = prior.beta * prior.tau_high_min;
+  out.y = run.dy.col(3);
+  out.result = identify(run.du, Eigen::MatrixXd(out.y), run.sample_time_min, options);
+  out.y_true = sim::DiscretePlant(g, run.sample_time_min).simulate(run.du).col(3);
+  return out;
+}
+
 // A plant a little off the library's: alatiqi4x4 with (y4, u2)'s delay 0.52 min instead of
 // 0.02 (the same run otherwise: prbsSimDir, noise 5e-4, seed 8). Under the directional
 // design's correlated inputs the structure search ended with (y4, u2) =
@@ -111,24 +140,12 @@ INSTANTIATE_TEST_SUITE_P(Woodberry, NoisyDesign,
 TEST(MisplacedDynamics, AnElementTheResidualDependsOnIsRestartedUntilTheResidualIsWhite) {
   sim::TransferMatrix g = sim::library_plant("alatiqi4x4");
   g.set_element(3, 1, sim::parse_element("14(10s+1) e^-0.52s / ((45s+1)(17.4s^2+3s+1))"));
-  const PriorKnowledge prior = case_study("alatiqi4x4");
-  const Design design = design_preset(prior, find_preset("prbsSimDir"), 0);
-  ASSERT_NE(design.plan, nullptr);
-  const auto plant = sim::make_linear_plant("alatiqi4x4", g);
-  SimulationOptions sim_options;
-  sim_options.noise_variance = 5e-4;
-  sim_options.seed = 8;
-  const SimulatedRun run = simulate_plan(*design.plan, "prbsSimDir", *plant, sim_options);
-  IdentifyOptions options;
-  options.max_time_constant_min = prior.beta * prior.tau_high_min;
-  const Eigen::MatrixXd y4 = run.dy.col(3);
-  const IdentificationResult r = identify(run.du, y4, run.sample_time_min, options);
+  const RowFour row = identify_row_four(g, 8);
 
-  const Eigen::VectorXd y_true = sim::DiscretePlant(g, run.sample_time_min).simulate(run.du).col(3);
-  const OutputFit& fit = r.fits.front();
-  EXPECT_GE(fit.fit_percent, fit_percent(y4.col(0), y_true) - 0.5);
+  const OutputFit& fit = row.result.fits.front();
+  EXPECT_GE(fit.fit_percent, fit_percent(row.y, row.y_true) - 0.5);
   EXPECT_TRUE(fit.residual_tests.white()) << "Q = " << fit.residual_tests.whiteness;
-  const ElementEstimate& lead = r.model.element(0, 1);
+  const ElementEstimate& lead = row.result.model.element(0, 1);
   EXPECT_EQ(lead.value.structure, Structure::underdamped_lag_zero);
   EXPECT_LE(std::abs(lead.value.gain - 14.0), 1.96 * lead.std_error.gain) << lead.value.gain;
 }
@@ -140,37 +157,26 @@ TEST(MisplacedDynamics, AnElementTheResidualDependsOnIsRestartedUntilTheResidual
 // 73 noise variances worse than the true model; over 50 seeds 4 rows did so.
 TEST(NyquistFloor, NoElementEndsWithAnOscillatingPairFasterThanTheSamples) {
   sim::TransferMatrix g = sim::library_plant("alatiqi4x4");
-  const char* row[] = {"-11.16 e^-3.292s / ((48.7s+1)(6.12s+1))",
-                       "16.14(10.27s+1) e^-0.2537s / ((52.57s+1)(17.4s^2+3s+1))",
-                       "-0.109 e^-0.1606s / ((29.38s+1)(5.399s+1))",
-                       "3.89 e^-0.832s / ((55.9s+1)(5.82s+1))"};
-  for (int i = 0; i < 4; ++i) g.set_element(3, i, sim::parse_element(row[i]));
-  const PriorKnowledge prior = case_study("alatiqi4x4");
-  const Design design = design_preset(prior, find_preset("prbsSimDir"), 0);
-  ASSERT_NE(design.plan, nullptr);
-  const auto plant = sim::make_linear_plant("alatiqi4x4", g);
-  SimulationOptions sim_options;
-  sim_options.noise_variance = 5e-4;
-  sim_options.seed = 20;
-  const SimulatedRun run = simulate_plan(*design.plan, "prbsSimDir", *plant, sim_options);
-  IdentifyOptions options;
-  options.max_time_constant_min = prior.beta * prior.tau_high_min;
-  const Eigen::MatrixXd y4 = run.dy.col(3);
-  const IdentificationResult r = identify(run.du, y4, run.sample_time_min, options);
+  const char* drawn[] = {"-11.16 e^-3.292s / ((48.7s+1)(6.12s+1))",
+                         "16.14(10.27s+1) e^-0.2537s / ((52.57s+1)(17.4s^2+3s+1))",
+                         "-0.109 e^-0.1606s / ((29.38s+1)(5.399s+1))",
+                         "3.89 e^-0.832s / ((55.9s+1)(5.82s+1))"};
+  for (int i = 0; i < 4; ++i) g.set_element(3, i, sim::parse_element(drawn[i]));
+  const RowFour row = identify_row_four(g, 20);
 
   for (int i = 0; i < 4; ++i) {
-    const ElementModel& e = r.model.element(0, i).value;
+    const ElementModel& e = row.result.model.element(0, i).value;
     if (is_free(e.structure, kNatural)) {
-      EXPECT_GE(e.natural_min, run.sample_time_min / std::numbers::pi) << "(y4, u" << i + 1 << ")";
+      EXPECT_GE(e.natural_min, 1.0 / std::numbers::pi) << "(y4, u" << i + 1 << ")";  // T = 1 min
     }
   }
   // The true model is in the structures: the search's end fits at least as well as it, to
   // within the BIC price of one parameter (ln M noise variances).
-  const Eigen::VectorXd y_true = sim::DiscretePlant(g, run.sample_time_min).simulate(run.du).col(3);
-  const auto M = static_cast<double>(y4.rows());
-  const double sse_identified = M * r.fits.front().residual_rms * r.fits.front().residual_rms;
-  const double sse_true = (y4.col(0) - y_true).squaredNorm();
-  EXPECT_LE(sse_identified, sse_true + std::log(M) * sim_options.noise_variance)
+  const auto M = static_cast<double>(row.y.size());
+  const double rms = row.result.fits.front().residual_rms;
+  const double sse_identified = M * rms * rms;
+  const double sse_true = (row.y - row.y_true).squaredNorm();
+  EXPECT_LE(sse_identified, sse_true + std::log(M) * row.noise_variance)
       << "identified " << sse_identified << ", true model " << sse_true;
 }
 
