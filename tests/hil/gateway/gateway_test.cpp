@@ -390,7 +390,9 @@ TEST_F(GatewayHil, TestLimitExcursionSuspendsThenResumesWithHysteresisAndDwell) 
     }
   }
   ASSERT_LT(first, last);
-  EXPECT_GE(last - first, 150U);  // ≥ 0.4 s at 2 ms, allowing skipped ticks on a busy host
+  // ≥ 0.4 s of the gateway's clock at 2 ms a tick (k counts the ticks a busy host skipped,
+  // which rows do not), less the first read's lag.
+  EXPECT_GE(log.k[last] - log.k[first], 150U);
   // After the dwell the excitation resumed: nonzero du after the suspension.
   bool resumed = false;
   for (std::size_t r = last + 1; r < log.rows(); ++r) resumed = resumed || log.du[0][r] != 0.0;
@@ -531,28 +533,32 @@ TEST_F(GatewayHil, LockstepIsRefusedUnlessTheDeviceIsMarkedAsASimulator) {
 }
 
 TEST_F(GatewayHil, LockstepTicksAsSoonAsTheExchangeReturnsAndTheLogNamesItsProducer) {
-  // 10 ms ticks: sleeping out the periods would take 4080+ x 10 ms = 41 s.
+  // 100 ms ticks: sleeping out the periods would take 4080+ x 0.1 s = 408 s, which the wait
+  // below (120 s) cannot see end; lock-step ends in seconds. The wall time is printed, not
+  // compared with a budget (issue 46: a clock measures the machine).
+  // The suspension timeout keeps its 200 ticks of the 10 ms period this test had (a stale
+  // echo of this peer holds the run for a few ticks).
   std::string text = with(config_text(server_->port()), "simulator = true\n");
-  text.replace(text.find("period_s = 0.002"), 16, "period_s = 0.010");
+  text.replace(text.find("period_s = 0.002"), 16, "period_s = 0.100");
+  text.replace(text.find("suspend_timeout_s = 2.0"), 23, "suspend_timeout_s = 20.0");
   write_config(text);
   const auto t0 = std::chrono::steady_clock::now();
   auto gw = start({"--start", "--clock", "lockstep"});
   const auto rc = gw->wait(120s);
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  ASSERT_TRUE(rc.has_value());
+  ASSERT_TRUE(rc.has_value()) << "still running after 120 s: the periods were slept out";
   EXPECT_EQ(*rc, 0) << gw->err();
   const runlog::RunLog log = read_log();
   ASSERT_GT(log.rows(), 4080U);
-  const double realtime_s = static_cast<double>(log.rows()) * 0.010;
+  const double realtime_s = static_cast<double>(log.rows()) * 0.100;
   // (This peer echoes the heartbeat from a thread every 200 us, not in lockstep: when the
   // gateway outruns it the echo goes stale and the run holds for a while, so there are
   // more ticks than rows of the plan. excite-plant --lockstep echoes in step.)
   std::printf(
-      "lockstep: %zu ticks (%zu flagged comm_lost) in %.1f s (sleeping out 10 ms "
+      "lockstep: %zu ticks (%zu flagged comm_lost) in %.1f s (sleeping out 100 ms "
       "periods: %.1f s)\n",
       log.rows(), count_flag(log, runlog::kCommLost), elapsed_s, realtime_s);
-  EXPECT_LT(elapsed_s, 0.5 * realtime_s);
   EXPECT_EQ(log.producer, "excite-gateway " + std::string(runlog::kVersion));
   EXPECT_EQ(log.sample_time_min, 1.0);  // the plan's T, minutes, whatever the tick period
   EXPECT_EQ(log.t_min[100], 100.0);

@@ -7,7 +7,6 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -57,9 +56,9 @@ TEST_F(Bounds, ModelFileWithThousandsOfChannelsIsRefusedBeforeAllocation) {
     big["outputs"].push_back({{"name", "y" + std::to_string(k)}, {"elements", {}}});
   }
   write("big.json", big);
-  const auto start = std::chrono::steady_clock::now();
-  // The 1 GB address-space cap, except under AddressSanitizer, whose shadow memory alone
-  // reserves terabytes of address space (the asan preset builds excite with it too).
+  // Before allocation: the 1 GB address-space cap (never a clock: issue 46), except under
+  // AddressSanitizer, whose shadow memory alone reserves terabytes of address space (the asan
+  // preset builds excite with it too).
 #if defined(__SANITIZE_ADDRESS__)
   const std::string cap;
 #else
@@ -67,7 +66,6 @@ TEST_F(Bounds, ModelFileWithThousandsOfChannelsIsRefusedBeforeAllocation) {
 #endif
   const Result r = shell(cap + std::string(EXCITE_CLI) + " export " + path("big.json") +
                          " --format json -o " + path("x.json"));
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
   EXPECT_EQ(r.exit_code, 1) << r.out;
   EXPECT_TRUE(contains(r.out, path("big.json") + ": inputs = 6000 channels, expected 1 to 64"))
       << r.out;

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -80,7 +79,9 @@ TEST_F(Limits, NanAndNegativeOptionValuesAreRefusedByName) {
   EXPECT_TRUE(contains(plant.out, "--sample-time-s = nan")) << plant.out;
 }
 
-// 99,999 Schroeder lines took 73 s before they were refused; now the sizes come first.
+// 99,999 Schroeder lines took 73 s before they were refused; now the sizes come first: the
+// message below is the spec check's, which runs before any line is synthesised (a clock
+// would only measure the machine: issue 46).
 TEST_F(Limits, OversizedMultisineSpecIsRefusedBeforeSynthesis) {
   const auto spec = [&](const char* period, const char* last_line) {
     std::ofstream(path("ms.toml"))
@@ -91,9 +92,7 @@ TEST_F(Limits, OversizedMultisineSpecIsRefusedBeforeSynthesis) {
         << period << "\nfirst_line = 1\nlast_line = " << last_line << "\nphases = \"schroeder\"\n";
   };
   spec("200000", "99999");
-  const auto start = std::chrono::steady_clock::now();
   const Result lines = excite("design " + path("ms.toml") + " -o " + path("ms.plan"));
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
   EXPECT_EQ(lines.exit_code, 1);
   EXPECT_TRUE(contains(lines.out, "99999 lines, expected at most 4096")) << lines.out;
   spec("300000", "100");
@@ -252,11 +251,11 @@ TEST_F(Limits, MessagesNameThePathAndPrintNumbersShort) {
   EXPECT_EQ(range.exit_code, 1);
   EXPECT_TRUE(contains(range.out, "(0, 1e+308]")) << range.out;
   EXPECT_LT(range.out.size(), 300U) << range.out;
-  // -o naming a file: refused before any design runs.
+  // -o naming a file: refused before any design runs (no "[1/17]" progress line: the
+  // campaign says one after each experiment, the first after the first).
   std::ofstream(path("file")) << "x";
-  const auto start = std::chrono::steady_clock::now();
   const Result camp = excite("campaign --plant woodberry2x2 -o " + path("file"));
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
+  EXPECT_FALSE(contains(camp.out, "[1/")) << camp.out;
   EXPECT_EQ(camp.exit_code, 1);
   EXPECT_TRUE(contains(camp.out, path("file"))) << camp.out;
 }
