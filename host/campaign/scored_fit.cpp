@@ -59,15 +59,13 @@ std::vector<double> scored_fit_of(const Eigen::MatrixXd& Y_hat, const Eigen::Mat
 std::vector<double> scored_fit(const IdentifiedModel& model, const Eigen::MatrixXd& U,
                                const Eigen::MatrixXd& Y, const SampleLayout& layout) {
   if (one_whole_segment(layout)) return fit(model, U, Y);
-  return scored_fit_of(
-      per_segment(U, model.outputs, layout,
-                  [&](const Eigen::MatrixXd& u) { return simulate(model, u); }),
-      Y, layout);
+  return scored_fit_of(per_segment(U, model.outputs, layout,
+                                   [&](const Eigen::MatrixXd& u) { return simulate(model, u); }),
+                       Y, layout);
 }
 
-std::vector<double> truth_fit(sim::Plant& plant, const Eigen::MatrixXd& U,
-                              const Eigen::MatrixXd& Y, double sample_time_min,
-                              const SampleLayout& layout) {
+std::vector<double> truth_fit(sim::Plant& plant, const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y,
+                              double sample_time_min, const SampleLayout& layout) {
   return scored_fit_of(
       per_segment(U, Y.cols(), layout,
                   [&](const Eigen::MatrixXd& u) { return plant.simulate(u, sample_time_min); }),

@@ -158,7 +158,8 @@ void add_campaign_command(CLI::App& app) {
                 "compare designs of different lengths (refused by default, naming every "
                 "length: SPEC §4 judges every design on equally long data)");
   std::vector<std::string> structures{"auto"};
-  for (int k = 0; k < kStructures; ++k) structures.emplace_back(to_string(static_cast<Structure>(k)));
+  for (int k = 0; k < kStructures; ++k)
+    structures.emplace_back(to_string(static_cast<Structure>(k)));
   cmd->add_option("--structure", opt->structure,
                   "every element of every model in this structure, as excite identify "
                   "--structure: auto (chosen per element by BIC) or one for all; two_poles is "

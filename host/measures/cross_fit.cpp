@@ -16,8 +16,8 @@ CrossFitFigures cross_fit_figures(const Eigen::Ref<const Eigen::VectorXd>& fit_r
                                 ", expected at least 2 (a model's own run and another)");
   }
   if (own < 0 || own >= R) {
-    throw std::invalid_argument("cross-fit own run = " + std::to_string(own) +
-                                ", expected 0 … " + std::to_string(R - 1));
+    throw std::invalid_argument("cross-fit own run = " + std::to_string(own) + ", expected 0 … " +
+                                std::to_string(R - 1));
   }
   if (truth.size() != 0 && truth.size() != R) {
     throw std::invalid_argument("cross-fit truth runs = " + std::to_string(truth.size()) +

@@ -51,7 +51,9 @@ std::unique_ptr<sim::Plant> static_plant() {
   return sim::make_linear_plant("static", sim::TransferMatrix::parse({{"2"}}));
 }
 
-double truth_by_hand(double a) { return 100.0 * (1.0 - a / std::sqrt(4.0 + a * a)); }
+double truth_by_hand(double a) {
+  return 100.0 * (1.0 - a / std::sqrt(4.0 + a * a));
+}
 double model_by_hand(double a) {
   return 100.0 * (1.0 - std::sqrt(0.25 + a * a) / std::sqrt(4.0 + a * a));
 }

@@ -48,8 +48,8 @@ TEST(CrossFitFigures, WithoutTruthNamesTheRunThatBoundsTheWorstCrossFit) {
 // truth is unknown leaves the loss unknown but not the cross-fit.
 TEST(CrossFitFigures, NaNFitOrTruthPropagates) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const CrossFitFigures no_fit = cross_fit_figures(Eigen::Vector3d(80.0, 99.0, nan),
-                                                   Eigen::Vector3d(90.0, 97.0, 62.0), 1);
+  const CrossFitFigures no_fit =
+      cross_fit_figures(Eigen::Vector3d(80.0, 99.0, nan), Eigen::Vector3d(90.0, 97.0, 62.0), 1);
   EXPECT_TRUE(std::isnan(no_fit.average));
   EXPECT_TRUE(std::isnan(no_fit.worst));
   EXPECT_EQ(no_fit.worst_on, -1);

@@ -27,9 +27,8 @@ std::vector<double> scored_fit_of(const Eigen::MatrixXd& Y_hat, const Eigen::Mat
 
 /// The true plant's fit % per output on U, Y: `plant` simulated (sim::Plant::simulate, no
 /// noise) from rest at each segment's start, sampled every sample_time_min minutes.
-std::vector<double> truth_fit(sim::Plant& plant, const Eigen::MatrixXd& U,
-                              const Eigen::MatrixXd& Y, double sample_time_min,
-                              const SampleLayout& layout);
+std::vector<double> truth_fit(sim::Plant& plant, const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y,
+                              double sample_time_min, const SampleLayout& layout);
 
 /// The mean of the finite entries; NaN when there is none.
 double mean_finite(const std::vector<double>& v);

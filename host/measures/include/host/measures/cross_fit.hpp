@@ -22,9 +22,9 @@ namespace excite::host {
 
 struct CrossFitFigures {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  double average = kNaN;  // mean of fit(a, b) over b ≠ a, %
-  double best = kNaN;     // max over b ≠ a, %
-  double worst = kNaN;    // min over b ≠ a, %
+  double average = kNaN;                     // mean of fit(a, b) over b ≠ a, %
+  double best = kNaN;                        // max over b ≠ a, %
+  double worst = kNaN;                       // min over b ≠ a, %
   Eigen::Index best_on = -1, worst_on = -1;  // the run b of best and worst; -1 when NaN
   double truth_on_worst = kNaN;              // truth(worst_on), %; NaN without truth
   double loss_average = kNaN;                // mean of loss(a, b) over b ≠ a, points
@@ -39,7 +39,6 @@ struct CrossFitFigures {
 /// in order divided by R − 1. Throws std::invalid_argument when `own` is outside the row, the
 /// row has fewer than two runs, or truth is neither empty nor as long as the row.
 CrossFitFigures cross_fit_figures(const Eigen::Ref<const Eigen::VectorXd>& fit_row,
-                                  const Eigen::Ref<const Eigen::VectorXd>& truth,
-                                  Eigen::Index own);
+                                  const Eigen::Ref<const Eigen::VectorXd>& truth, Eigen::Index own);
 
 }  // namespace excite::host
