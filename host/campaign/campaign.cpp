@@ -8,30 +8,17 @@
 #include <stdexcept>
 
 #include "host/campaign/parallel.hpp"
+#include "host/campaign/scored_fit.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/presets.hpp"
 #include "host/identify/balance.hpp"
-#include "host/identify/validate.hpp"
+#include "host/measures/cross_fit.hpp"
 #include "host/measures/input_measures.hpp"
 #include "host/simulate/simulate.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::host {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-double mean_finite(const std::vector<double>& v) {
-  double sum = 0.0;
-  int n = 0;
-  for (const double x : v) {
-    if (std::isfinite(x)) {
-      sum += x;
-      ++n;
-    }
-  }
-  return n > 0 ? sum / n : kNaN;
-}
 
 // The first `rows` rows of `layout` (a gateway's closing ticks past the plan dropped); an
 // empty layout is one segment over every row.
@@ -47,25 +34,6 @@ SampleLayout first_rows(const SampleLayout& layout, Eigen::Index rows) {
     if (s.begin < rows) out.segments.push_back({s.begin, std::min(s.end, rows)});
   }
   out.check();
-  return out;
-}
-
-// Fit % (5.5.1) of `model` on data U, Y per output, over the rows `layout` scores, the model
-// simulated from rest at every segment's start; one segment scoring every row gives fit().
-std::vector<double> scored_fit(const IdentifiedModel& model, const Eigen::MatrixXd& U,
-                               const Eigen::MatrixXd& Y, const SampleLayout& layout) {
-  if (layout.segments.size() == 1 && layout.scored() == layout.rows()) return fit(model, U, Y);
-  Eigen::MatrixXd Y_hat = Eigen::MatrixXd::Zero(U.rows(), model.outputs);
-  for (const Segment& s : layout.segments) {
-    Y_hat.middleRows(s.begin, s.end - s.begin) =
-        simulate(model, U.middleRows(s.begin, s.end - s.begin));
-  }
-  const Eigen::MatrixXd y = layout.scored_rows(Y, 0, Y.rows());
-  const Eigen::MatrixXd y_hat = layout.scored_rows(Y_hat, 0, Y.rows());
-  std::vector<double> out;
-  for (Eigen::Index j = 0; j < Y.cols(); ++j) {
-    out.push_back(y.rows() > 0 ? fit_percent(y.col(j), y_hat.col(j)) : kNaN);
-  }
   return out;
 }
 
@@ -126,10 +94,20 @@ Experiment run_experiment(const Design& design, const PresetInfo& preset,
   IdentifyOptions identify_options;
   identify_options.threads = 1;  // the campaign's pool runs experiments in parallel
   identify_options.max_time_constant_min = max_time_constant_min;  // SPEC §6: β·τ_H
+  identify_options.structure = options.structure;                  // issue 45
   e.identified = identify(e.U, e.Y, e.sample_time_min, e.layout, identify_options);
   std::vector<double> fits;
   for (const OutputFit& f : e.identified.fits) fits.push_back(f.fit_percent);
   e.fit_avg = mean_finite(fits);
+  if (options.truth_known) {
+    // The truth's prediction of the run as a model's is scored: from rest at each segment.
+    // Simulated here, the measured run is the noise-free one plus noise (same inputs, one
+    // segment), so its prediction is Y_clean; any other run is simulated afresh.
+    const bool in_process = !options.measured_run;
+    e.truth_fit = mean_finite(
+        in_process ? scored_fit_of(e.Y_clean, e.Y, e.layout)
+                   : truth_fit(*plant(), e.U, e.Y, e.sample_time_min, e.layout));
+  }
   e.balance_clean = balance_of(e.Y_clean, true_gain);
   e.balance_noisy = balance_of(scored_about_segment_means(e.Y, e.layout), true_gain);
   return e;
@@ -152,26 +130,20 @@ void cross_validate_parallel(CampaignResult& result, int threads) {
       result.crossfit(a, b) = sum / static_cast<double>(f.size());
     }
   });
+  Eigen::VectorXd truth(result.truth_known ? R : 0);
+  for (Eigen::Index b = 0; b < truth.size(); ++b)
+    truth(b) = result.experiments[static_cast<std::size_t>(b)].truth_fit;
   for (Eigen::Index a = 0; a < R; ++a) {
     Experiment& e = result.experiments[static_cast<std::size_t>(a)];
-    double sum = 0.0;
-    double best = -std::numeric_limits<double>::infinity();
-    double worst = std::numeric_limits<double>::infinity();
-    bool any_nan = false;
-    for (Eigen::Index b = 0; b < R; ++b) {
-      if (b == a) continue;
-      const double v = result.crossfit(a, b);
-      if (std::isnan(v)) {
-        any_nan = true;
-        continue;
-      }
-      sum += v;
-      best = std::max(best, v);
-      worst = std::min(worst, v);
-    }
-    e.crossfit_avg = any_nan ? kNaN : sum / static_cast<double>(R - 1);
-    e.crossfit_best = any_nan ? kNaN : best;
-    e.crossfit_worst = any_nan ? kNaN : worst;
+    const CrossFitFigures f = cross_fit_figures(result.crossfit.row(a).transpose(), truth, a);
+    e.crossfit_avg = f.average;
+    e.crossfit_best = f.best;
+    e.crossfit_worst = f.worst;
+    e.crossfit_worst_on = static_cast<int>(f.worst_on);
+    e.truth_fit_on_worst = f.truth_on_worst;
+    e.loss_avg = f.loss_average;
+    e.loss_worst = f.loss_worst;
+    e.loss_worst_on = static_cast<int>(f.loss_worst_on);
   }
 }
 
@@ -221,6 +193,8 @@ CampaignResult run_campaign(const CampaignOptions& options,
   result.noise_variance = options.noise_variance >= 0.0 ? options.noise_variance
                                                         : case_study_noise_variance(options.plant);
   result.sized_by_static_output = true_prior.sized_by_static_output();
+  result.structure = options.structure;
+  result.truth_known = options.truth_known;
   result.true_gain = analyse_gain(true_prior.gain);
   const auto& all = presets();
   const auto total = std::to_string(all.size());

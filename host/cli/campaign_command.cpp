@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // excite campaign --plant NAME -o DIR [--design-gain true|step-test] [--noise-var V] [--seed S]
 //                 [--threads N] [--loop] [--overwrite] [--allow-unequal-length]
+//                 [--structure auto|NAME]
 // The chapter-6 study: DIR/summary.json, the report DIR/index.html, every identified model
 // in DIR/models/NN-name.json and every measured run's log in DIR/runs/NN-name/run.csv, both
 // linked from the report. With --loop every plan is streamed through the real
@@ -16,7 +17,9 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "firmware/runlog/format.hpp"
 #include "host/campaign/campaign.hpp"
@@ -25,6 +28,7 @@
 #include "host/cli/model_file.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/design/plan_file.hpp"
+#include "host/identify/element.hpp"
 #include "host/loop/campaign_runs.hpp"
 #include "host/output/whole_file.hpp"
 #include "host/output/whole_folder.hpp"
@@ -37,6 +41,7 @@ namespace fs = std::filesystem;
 
 struct CampaignCommandOptions {
   CampaignOptions campaign;
+  std::string structure = "auto";  // or a name excite identify --structure takes
   std::string output_dir;
   bool loop = false;
   bool overwrite = false;
@@ -95,6 +100,7 @@ void run(CampaignCommandOptions opt) {
     const std::lock_guard<std::mutex> lock(say_mutex);
     std::cerr << "[" << static_cast<int>(elapsed() * 10) / 10.0 << " s] " << line << std::endl;
   };
+  if (opt.structure != "auto") opt.campaign.structure = structure_from_string(opt.structure);
   WholeFolder folder(opt.output_dir, opt.overwrite, is_campaign_folder,
                      "a previous campaign's (no summary.json of one)");
   const fs::path& out = folder.staging();
@@ -151,6 +157,15 @@ void add_campaign_command(CLI::App& app) {
   cmd->add_flag("--allow-unequal-length", opt->campaign.allow_unequal_length,
                 "compare designs of different lengths (refused by default, naming every "
                 "length: SPEC §4 judges every design on equally long data)");
+  std::vector<std::string> structures{"auto"};
+  for (int k = 0; k < kStructures; ++k)
+    structures.emplace_back(to_string(static_cast<Structure>(k)));
+  cmd->add_option("--structure", opt->structure,
+                  "every element of every model in this structure, as excite identify "
+                  "--structure: auto (chosen per element by BIC) or one for all; two_poles is "
+                  "the thesis's model class (two poles and a delay, 6.1.1)")
+      ->capture_default_str()
+      ->check(CLI::IsMember(structures));
   cmd->add_flag("--overwrite", opt->overwrite,
                 "replace DIR whole even when it holds files that are not a previous campaign's");
   cmd->callback([opt] { run(*opt); });

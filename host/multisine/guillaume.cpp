@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -83,9 +84,13 @@ std::uint32_t next_power_of_two(std::uint64_t wanted) {
 
 class CrestObjective {
  public:
+  // Variables at or past `held_from` keep their start (their gradient is zero).
   CrestObjective(const MultisineSet& set, const GuillaumeOptions& options,
-                 std::uint32_t oversampling)
-      : set_(set), options_(options), mean_(options.aggregate == ChannelAggregate::mean) {
+                 std::uint32_t oversampling, Eigen::Index held_from)
+      : set_(set),
+        options_(options),
+        mean_(options.aggregate == ChannelAggregate::mean),
+        held_from_(held_from) {
     const std::size_t n = set.channels.size();
     channels_.resize(n);
     std::uint32_t top = 0;
@@ -295,6 +300,7 @@ class CrestObjective {
         gradient(s.var + 1) += beta * (g[2 * k + 1] - v(s.var + 1) * g_dot_w / (1.0 + norm2));
       }
     }
+    if (held_from_ < gradient.size()) gradient.tail(gradient.size() - held_from_).setZero();
     return value;
   }
 
@@ -362,6 +368,7 @@ class CrestObjective {
   std::vector<double> sin_table_;
   std::vector<double> cf_;  // per channel, of the last synthesis
   bool mean_ = false;       // ChannelAggregate::mean
+  Eigen::Index held_from_;  // variables from here on are held at their start
   double best_cf_ = INFINITY;
   Eigen::VectorXd best_;
   int evaluations_ = 0;
@@ -384,6 +391,8 @@ void check_options(const GuillaumeOptions& options) {
         "guillaume: snow_power_fraction = " + std::to_string(options.snow_power_fraction) +
         ", expected within [0, 1]");
   }
+  if (options.starts.empty())
+    throw std::invalid_argument("guillaume: starts = {} (none), expected at least one");
   if (options.iterations_per_norm < 1) {
     throw std::invalid_argument("guillaume: iterations_per_norm = " +
                                 std::to_string(options.iterations_per_norm) + ", expected >= 1");
@@ -391,12 +400,16 @@ void check_options(const GuillaumeOptions& options) {
 }
 
 // All channels together (coupled through shared sources, or a single channel).
+// Variables at or past `held_from` (in the objective's order: own lines channel by channel,
+// then shared lines, then snow) are held at their start.
 MultisineSet optimise_jointly(const MultisineSet& start, const GuillaumeOptions& options,
-                              GuillaumeReport* report) {
+                              GuillaumeReport* report,
+                              Eigen::Index held_from = std::numeric_limits<Eigen::Index>::max()) {
   // Low p shapes the signal as a whole and is run on a coarse grid; the high p that set the
   // peak run on the fine grid, which also judges every iterate (the best is kept).
-  CrestObjective objective(start, options, options.oversampling);
-  CrestObjective coarse(start, options, std::max<std::uint32_t>(options.coarse_oversampling, 1));
+  CrestObjective objective(start, options, options.oversampling, held_from);
+  CrestObjective coarse(start, options, std::max<std::uint32_t>(options.coarse_oversampling, 1),
+                        held_from);
   Eigen::VectorXd v = objective.start();
   Eigen::VectorXd gradient(v.size());
   objective.evaluate(v, gradient, PowerKernel(options.norms.front()));  // the start is a candidate
@@ -424,15 +437,95 @@ MultisineSet optimise_jointly(const MultisineSet& start, const GuillaumeOptions&
   return objective.to_set(best);
 }
 
+double aggregate_of(const std::vector<double>& cf, ChannelAggregate aggregate) {
+  double worst = 0.0, sum = 0.0;
+  for (const double v : cf) {
+    worst = std::max(worst, v);
+    sum += v;
+  }
+  return aggregate == ChannelAggregate::mean ? sum / static_cast<double>(cf.size()) : worst;
+}
+
+// Each channel's own lines optimised for its own crest factor, the shared lines it carries
+// held (GuillaumeOptions::polish_own_lines). Never worse for any channel (best iterate).
+MultisineSet polish_own_lines(const MultisineSet& set, const GuillaumeOptions& options) {
+  MultisineSet out = set;
+  GuillaumeOptions one_channel = options;
+  one_channel.snow_power_fraction = 0.0;  // snow the joint run used is now own lines
+  one_channel.aggregate = ChannelAggregate::worst;
+  for (std::size_t c = 0; c < set.channels.size(); ++c) {
+    MultisineSet one;
+    one.period = set.period;
+    one.channels = {set.channels[c]};
+    one.snow = {{}};
+    const auto own = static_cast<Eigen::Index>(set.channels[c].size());
+    for (const SharedSource& source : set.shared) {
+      const double d = source.direction[c];
+      if (d == 0.0) continue;
+      for (const Line& line : source.lines) {
+        one.channels[0].push_back({line.index, std::abs(d) * line.amplitude,
+                                   line.phase + (d < 0.0 ? std::numbers::pi : 0.0)});
+      }
+    }
+    const MultisineSet polished = optimise_jointly(one, one_channel, nullptr, own);
+    std::copy_n(polished.channels[0].begin(), own, out.channels[c].begin());
+  }
+  return out;
+}
+
+// Channels coupled by shared sources: every start of options.starts optimised jointly, the
+// best end by the aggregate kept, then (options.polish_own_lines) each channel's own lines.
+MultisineSet optimise_coupled(const MultisineSet& start, const GuillaumeOptions& options,
+                              GuillaumeReport* report) {
+  MultisineSet best;
+  GuillaumeReport best_report;
+  double best_aggregate = INFINITY;
+  std::vector<std::vector<double>> cf_by_start;
+  std::vector<double> cf_given;
+  std::size_t best_start = 0;
+  int evaluations = 0;
+  for (std::size_t k = 0; k < options.starts.size(); ++k) {
+    GuillaumeReport part;
+    MultisineSet result =
+        optimise_jointly(with_start_phases(start, options.starts[k], k), options, &part);
+    evaluations += part.evaluations;
+    if (k == 0) cf_given = part.cf_start;
+    cf_by_start.push_back(part.cf_final);
+    const double aggregate = aggregate_of(part.cf_final, options.aggregate);
+    if (aggregate < best_aggregate) {
+      best_aggregate = aggregate;
+      best = std::move(result);
+      best_report = std::move(part);
+      best_start = k;
+    }
+  }
+  if (options.polish_own_lines) best = polish_own_lines(best, options);
+  if (report != nullptr) {
+    *report = best_report;
+    report->cf_start = cf_given;
+    report->evaluations = evaluations;
+    report->cf_by_start = std::move(cf_by_start);
+    report->best_start = best_start;
+    if (options.polish_own_lines) {
+      GuillaumeOptions measure = options;
+      measure.snow_power_fraction = 0.0;
+      CrestObjective objective(best, measure, options.oversampling,
+                               std::numeric_limits<Eigen::Index>::max());
+      std::vector<double> unused;
+      objective.channel_measures(objective.start(), report->cf_final, unused);
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 MultisineSet guillaume(const MultisineSet& start, const GuillaumeOptions& options,
                        GuillaumeReport* report) {
   validate_set(start);
   check_options(options);
-  if (!start.shared.empty() || start.channels.size() == 1) {
-    return optimise_jointly(start, options, report);
-  }
+  if (!start.shared.empty()) return optimise_coupled(start, options, report);
+  if (start.channels.size() == 1) return optimise_jointly(start, options, report);
   // Without shared sources the channels do not interact: the worst channel's crest factor
   // is least when every channel's is, so each is optimised on its own.
   MultisineSet result = start;

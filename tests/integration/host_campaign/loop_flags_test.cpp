@@ -20,6 +20,7 @@
 #include "host/campaign/campaign.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/presets.hpp"
+#include "host/identify/validate.hpp"
 #include "host/loop/campaign_runs.hpp"
 #include "host/simulate/simulate.hpp"
 #include "sim/plants/plant.hpp"
@@ -122,6 +123,28 @@ TEST_F(LoopFlags, RowsFlaggedCommLostAreNotScored) {
             std::max(0.1, 2.0 * largest_relative_gain_error(clean, truth_)))
       << "largest relative error of an identified gain, expected at most twice the "
          "unflagged log's (or 10 %)";
+}
+
+// Issue 45: in the loop the truth is the plant simulated on the gateway's inputs, scored by
+// the cross-fit's rule: on an unflagged log it is the fit of the noisy outputs against the
+// noise-free ones; with a drop-out the frozen rows count for the truth no more than for the
+// model, so its fit stays where it was (scored on every row, the frozen outputs would cost
+// it points).
+TEST_F(LoopFlags, TheTruthIsThePlantOnTheGatewaysInputsScoredOnTheRowsTheModelIs) {
+  const Experiment clean = experiment_on(log_);
+  double expected = 0.0;
+  for (Eigen::Index j = 0; j < clean.Y.cols(); ++j)
+    expected +=
+        fit_percent(clean.Y.col(j), clean.Y_clean.col(j)) / static_cast<double>(clean.Y.cols());
+  EXPECT_NEAR(clean.truth_fit, expected, 1e-3) << "the log's inputs are the plan's, to its digits";
+  EXPECT_LT(clean.fit_avg - clean.truth_fit, 0.5) << "no model predicts the noise";
+  runlog::RunLog dropped = log_;
+  lose_communication(dropped, 300, 200);
+  const Experiment e = experiment_on(dropped);
+  std::printf("[ measured ] truth's fit %.2f %% (unflagged %.2f %%), own fit %.2f %%\n",
+              e.truth_fit, clean.truth_fit, e.fit_avg);
+  EXPECT_NEAR(e.truth_fit, clean.truth_fit, 1.0);
+  EXPECT_LT(e.fit_avg - e.truth_fit, 0.5);
 }
 
 TEST_F(LoopFlags, APlantRestartStartsANewSegment) {

@@ -65,6 +65,8 @@ TEST_F(Limits, NanAndNegativeOptionValuesAreRefusedByName) {
       {"identify --max-delay 0 " + path("wb.csv"), "--max-delay: 0, expected"},
       {"identify --tau-high inf " + path("wb.csv"), "--tau-high: inf, expected"},
       {"campaign --plant woodberry2x2 --noise-var nan -o " + path("c"), "--noise-var: nan"},
+      {"campaign --plant woodberry2x2 --structure three_poles -o " + path("c"),
+       "--structure: three_poles not in {auto,first_order,two_poles,"},
       {"loop-config --plant woodberry2x2 --input-range nan -o " + path("l"), "--input-range: nan"},
   };
   for (const auto& [args, message] : cases) {

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -72,6 +73,15 @@ struct CampaignOptions {
   /// runs a seed's perturbed "true" plant while the designs keep the nominal one. Called from
   /// the pool's threads; each call gives a plant of its own.
   std::function<std::unique_ptr<sim::Plant>()> true_plant;
+  /// Every element of every model in this structure (issue 45: `two_poles` is the thesis's
+  /// model class, two poles and a delay, 6.1.1, in which its Tables 6.3–6.5 were drawn);
+  /// nullopt: each element's structure chosen by BIC (host/identify/structure_search.hpp).
+  std::optional<Structure> structure;
+  /// The measured runs are runs of the plant simulated here (true_plant, else plant), so
+  /// the true plant's fit on each run is known and every cross-fit is measured against it
+  /// (host/measures/cross_fit.hpp). False for a measured_run from a real unit: no truth;
+  /// the report still names the run that bounds each model's worst cross-fit.
+  bool truth_known = true;
 };
 
 /// Output balance of one experiment's outputs (5.5.2, 6.2.1).
@@ -96,6 +106,17 @@ struct Experiment {
   IdentificationResult identified;  // on the rows `layout` scores
   double fit_avg = 0.0;             // own data, averaged over outputs (5.5.1)
   double crossfit_avg = 0.0, crossfit_best = 0.0, crossfit_worst = 0.0;
+  /// Issue 45 (host/measures/cross_fit.hpp): the true plant's fit on this run (5.5.1, the
+  /// rows and the rule of a cross-fit, averaged over outputs; the bound its noise sets), the
+  /// run that gives this model's worst cross-fit and the truth's fit there, and this model's
+  /// loss against the truth over the other runs, in points of fit %. NaN (and -1) when the
+  /// truth is not known or a fit is NaN.
+  static constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
+  double truth_fit = kUnknown;
+  int crossfit_worst_on = -1;  // index into CampaignResult::experiments
+  double truth_fit_on_worst = kUnknown;
+  double loss_avg = kUnknown, loss_worst = kUnknown;
+  int loss_worst_on = -1;  // index into CampaignResult::experiments
   Balance balance_clean;  // on the noise-free outputs: a property of the excitation
   Balance balance_noisy;  // on the measured (noisy) outputs: the scored rows, each segment
                           // about its own mean
@@ -118,6 +139,8 @@ struct CampaignResult {
   GainAnalysis design_gain;               // what the designs used
   std::string design_gain_source;         // "true G(0)" or "step test (stepSeq)"
   std::optional<GainAnalysis> step_gain;  // the step test's estimate, when it has one
+  std::optional<Structure> structure;  // forced on every element (options.structure), or BIC's
+  bool truth_known = true;             // options.truth_known
   std::vector<Experiment> experiments;
   Eigen::MatrixXd crossfit;  // fit(a, b): model a on data b, averaged over outputs (b's
                              // scored rows, the model from rest at each of b's segments)
@@ -129,8 +152,9 @@ struct PresetInfo;
 /// One experiment of the campaign (what run_campaign does per design, also used by
 /// host/montecarlo): `design` run noise-free and measured (options.measured_run, or
 /// simulated on options.plant with the noise of seed options.seed + preset.number),
-/// identified on one thread with T_p ≤ max_time_constant_min, balance on both runs along
-/// `true_gain`'s output directions. The cross-fit fields stay 0. Uses a plant of its own:
+/// identified on one thread with T_p ≤ max_time_constant_min (in options.structure, if
+/// set), balance on both runs along `true_gain`'s output directions, and (options.truth_known)
+/// the true plant's fit on the measured run. The cross-fit fields stay 0. Uses a plant of its own:
 /// callable from several threads at once.
 Experiment run_experiment(const Design& design, const PresetInfo& preset,
                           const CampaignOptions& options, double noise_variance,

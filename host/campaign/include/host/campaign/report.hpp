@@ -18,8 +18,11 @@ namespace excite::host {
 const char* report_style();
 
 /// DIR/summary.json: [{"name","cf_avg","pips_avg","fit_avg","crossfit_avg","crossfit_best",
-/// "crossfit_worst","singular_values","projection_std","ratio","upsilon"}…] inside
-/// {"plant", "design_gain_source", "true_singular_values", "experiments": […]}.
+/// "crossfit_worst","singular_values","projection_std","ratio","upsilon", and (issue 45)
+/// "truth_fit","crossfit_worst_on","truth_fit_on_worst","loss_avg","loss_worst",
+/// "loss_worst_on"}…] inside {"plant", "design_gain_source", "true_singular_values",
+/// "structure" ("auto" or the forced one), "truth_known", "experiments": […]}. Unknown
+/// figures are null (no truth: the truth and loss fields).
 void write_summary(const CampaignResult& result, const std::filesystem::path& dir);
 
 /// Whether `dir` holds a previous campaign's output: a regular DIR/summary.json that is a

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "host/multisine/multisine_set.hpp"
+#include "host/multisine/start_phases.hpp"
 
 namespace excite::host::multisine {
 
@@ -32,6 +33,7 @@ enum class Evaluation { fft, direct };
 /// sources): the worst channel's crest factor, or the average of the channels' (both through
 /// L_p norms, see the file comment).
 enum class ChannelAggregate { worst, mean };
+
 
 struct GuillaumeOptions {
   std::vector<double> norms{4, 8, 16, 32, 64, 128, 256, 512};  // p, increasing
@@ -51,6 +53,13 @@ struct GuillaumeOptions {
   /// log crest factors). The best iterate is judged by the same aggregate.
   ChannelAggregate aggregate = ChannelAggregate::worst;
   Evaluation evaluation = Evaluation::fft;
+  /// Sets with shared sources: the starts tried, in order (ties keep the earlier). Sets
+  /// without are optimised channel by channel from the given phases.
+  std::vector<StartPhases> starts{StartPhases::given};
+  /// Sets with shared sources, after the joint optimisation: each channel's own lines
+  /// optimised again for that channel's crest factor alone, the shared phases held (a
+  /// channel's own lines move no other channel, so no channel gets worse).
+  bool polish_own_lines = false;
 };
 
 struct GuillaumeReport {
@@ -59,6 +68,10 @@ struct GuillaumeReport {
   std::vector<double> cf_start;       // per channel, on the optimisation grid
   std::vector<double> cf_final;       // per channel, on the optimisation grid
   std::vector<double> snow_fraction;  // per channel: snow power / band power
+  /// Per start tried (GuillaumeOptions::starts, in order): each channel's crest factor on the
+  /// optimisation grid at the end of that start's optimisation (before any polish).
+  std::vector<std::vector<double>> cf_by_start;
+  std::size_t best_start = 0;  // the start kept
 };
 
 /// Optimises the free phases (and snow) of `start`, whose phases are the starting point
