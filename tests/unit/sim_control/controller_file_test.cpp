@@ -189,6 +189,8 @@ TEST(ControllerFile, RefusesWhatDoesNotFitTheModelByName) {
   EXPECT_EQ(make_refusal(std::string(kPiFile).replace(pi.find("kc = -0.075"), 11, "kc = 0.075")),
             "c.toml: pairing[1].kc = 0.075, expected a gain of the sign of the paired G(0) element "
             "(-19.4): the other sign is positive feedback");
+  EXPECT_EQ(make_refusal(std::string(kPiFile).replace(pi.find("[[mv]]\n[[pairing]]"), 7, "")),
+            "c.toml: mv = 1 entries, expected 2 (one per input (MV) of the model, in its order)");
   EXPECT_EQ(make_refusal(std::string(kDmcFile) + "\n[[cv]]\nweight = 1.0\n"),
             "c.toml: cv = 3 entries, expected 2 (one per output (CV) of the model, in its order)");
   EXPECT_EQ(make_refusal(dmc_with("plant", "model_file = \"m.json\"")),

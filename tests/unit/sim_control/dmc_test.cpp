@@ -147,6 +147,33 @@ TEST(Dmc, AnMvBoxLimitHoldsTheMvAtItsLimit) {
   EXPECT_NEAR(first_move(with_offset, 0.0, 1.0, 0.2), 0.3, 1e-14);
 }
 
+TEST(Dmc, AnMvPushedOutOfItsBoxWalksBackAtItsLargestMove) {
+  // max = 0.5, |Δu| ≤ 0.1; a known offset of 0.8 puts the applied MV at 0.8: the box is out
+  // of reach this sample, so it is widened to what the move limit reaches (0.7) and the
+  // controller moves −0.1 — no infeasible QP.
+  DmcSettings s = siso_settings();
+  s.mv[0].max = 0.5;
+  s.mv[0].max_move = 0.1;
+  DmcController dmc(siso_model(), s);
+  double y = 0.0, sp = 0.0, offset = 0.8, u = 0.0;
+  const StepReport r = dmc.step({&y, 1}, {&sp, 1}, {&offset, 1}, {&u, 1});
+  EXPECT_EQ(r.status, StepStatus::ok);
+  EXPECT_NEAR(u, -0.1, 1e-14);
+}
+
+TEST(Dmc, AtTheQpIterationCapTheMoveIsTheUnconstrainedOneClipped) {
+  // The box case above needs two active constraints; a cap of one iteration stops the QP,
+  // and the move falls back to the unconstrained 0.6593… clipped to max = 0.5.
+  DmcSettings s = siso_settings();
+  s.mv[0].max = 0.5;
+  s.max_qp_iterations = 1;
+  DmcController dmc(siso_model(), s);
+  double y = 0.0, sp = 1.0, offset = 0.0, u = 0.0;
+  EXPECT_EQ(dmc.step({&y, 1}, {&sp, 1}, {&offset, 1}, {&u, 1}).status,
+            StepStatus::qp_iteration_limit);
+  EXPECT_EQ(u, 0.5);
+}
+
 TEST(Dmc, AZoneCvMovesOnlyWhenItsPredictionLeavesTheZone) {
   // A zone CV: no tracking; zone [−0.2, 0.2] about the setpoint 0, slack weight 1e8.
   DmcSettings s = siso_settings();
