@@ -7,7 +7,7 @@ const char* to_string(StepStatus s) noexcept {
   switch (s) {
     case StepStatus::ok: return "ok";
     case StepStatus::held: return "held";
-    case StepStatus::qp_iteration_limit: return "qp_iteration_limit";
+    case StepStatus::qp_fallback: return "qp_fallback";
   }
   return "?";
 }

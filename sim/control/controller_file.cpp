@@ -99,7 +99,7 @@ ControllerFile controller_from_toml(std::string_view text, std::string_view sour
         "an integer 1.." + std::to_string(file.dmc.prediction_horizon) +
             " (at most prediction_horizon)"));
     file.dmc.slack_weight = dmc.positive("slack_weight").value_or(1e4);
-    file.dmc.max_qp_iterations = static_cast<int>(dmc.integer("max_qp_iterations", 1, 100000).value_or(500));
+    file.dmc.max_qp_iterations = static_cast<int>(dmc.integer("max_qp_iterations", 1, 100000).value_or(100));
     for (const config::Table& t : root.tables("cv")) file.dmc.cv.push_back(read_cv(t));
     file.cv_given = !file.dmc.cv.empty();
   } else {

@@ -286,7 +286,7 @@ StepReport DmcController::step(std::span<const double> y, std::span<const double
   report.active_constraints = qp.active;
   if (qp.status != QpStatus::optimal) {
     // The safe fallback: the unconstrained first move, clipped into the move limits and box.
-    report.status = StepStatus::qp_iteration_limit;
+    report.status = StepStatus::qp_fallback;
     x_.head(n_).noalias() = K_ * e_;
     qp_->forget();
   }

@@ -60,6 +60,11 @@ std::unique_ptr<Controller> make_controller(const ControllerFile& file, Plant& m
   if (file.kind == ControllerKind::dmc) {
     check_count(file, "cv", file.cv_given, file.dmc.cv.size(), p, "output (CV)");
     if (plant_gain != nullptr) {
+      if (plant_gain->rows() != p || plant_gain->cols() != n) {
+        refuse(file, "model", "\"" + model_name + "\" (" + std::to_string(p) + "×" + std::to_string(n) + ")",
+               "the plant's size, " + std::to_string(plant_gain->rows()) + "×" +
+                   std::to_string(plant_gain->cols()) + " (outputs × inputs)");
+      }
       const config::Check ic =
           check_integral_controllability(model.static_gain(), *plant_gain, model_name);
       if (!ic.ok()) throw config::Error(ic).with_source(file.source);

@@ -244,6 +244,15 @@ G = [["12.8 e^-1s / (16.7s+1)", "-40 e^-3s / (21s+1)"],
   auto right = make_plant("woodberry2x2");
   EXPECT_NO_THROW(make_controller(f, *right, &plant_gain));
   EXPECT_NO_THROW(make_controller(f, *model, nullptr));
+  // A plant of another size cannot be run by this model's controller.
+  const Eigen::MatrixXd other = library_plant("alatiqi4x4").static_gain();
+  try {
+    make_controller(f, *right, &other);
+    FAIL() << "a 2×2 model's controller cannot run a 4×4 plant";
+  } catch (const config::Error& e) {
+    EXPECT_THAT(e.what(), HasSubstr(": model = \"" + f.model.plant +
+                                    "\" (2×2), expected the plant's size, 4×4 (outputs × inputs)"));
+  }
 }
 
 TEST(ControllerFile, AModelThatNeverSettlesIsRefusedForDmc) {

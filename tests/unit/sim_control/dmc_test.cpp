@@ -170,7 +170,7 @@ TEST(Dmc, AtTheQpIterationCapTheMoveIsTheUnconstrainedOneClipped) {
   DmcController dmc(siso_model(), s);
   double y = 0.0, sp = 1.0, offset = 0.0, u = 0.0;
   EXPECT_EQ(dmc.step({&y, 1}, {&sp, 1}, {&offset, 1}, {&u, 1}).status,
-            StepStatus::qp_iteration_limit);
+            StepStatus::qp_fallback);
   EXPECT_EQ(u, 0.5);
 }
 

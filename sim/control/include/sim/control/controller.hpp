@@ -23,9 +23,10 @@ namespace excite::sim::control {
 
 /// What one step did. `held`: an input was not finite or had the wrong size, and u_ctrl is
 /// the previous output (the model's state advances as if the controller had not moved).
-/// `qp_iteration_limit`: the QP stopped at its iteration cap; u_ctrl is the unconstrained
-/// move clipped into the MV limits (a safe, not an optimal, move).
-enum class StepStatus : std::uint8_t { ok, held, qp_iteration_limit };
+/// `qp_fallback`: the QP stopped at its iteration cap (or, not expected by construction,
+/// found its constraints contradictory); u_ctrl is the unconstrained move clipped into the
+/// MV limits (a safe, not an optimal, move).
+enum class StepStatus : std::uint8_t { ok, held, qp_fallback };
 
 /// Each MV's status after a step (what a commercial stepper reads and logs).
 enum class MvStatus : std::uint8_t {

@@ -58,7 +58,7 @@ struct DmcSettings {
   int prediction_horizon = 30;  // P ≥ 1 samples
   int control_horizon = 3;      // M, 1 … P moves
   double slack_weight = 1e4;    // ρ > 0
-  int max_qp_iterations = 500;  // the real-time cap of the active-set solver
+  int max_qp_iterations = 100;  // the real-time cap of the active-set solver
   std::vector<MvSettings> mv;   // n entries
   std::vector<CvSettings> cv;   // p entries
 };
