@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <vector>
 
 #include "sim/control/dmc.hpp"
@@ -23,12 +24,16 @@ namespace {
 struct LoopRecord {
   Eigen::MatrixXd y;  // samples × p
   Eigen::MatrixXd u;  // samples × n, the MVs the plant received
+  Eigen::MatrixXd u_ctrl;  // samples × n, the controller's outputs
   int clamped = 0;    // MV-samples on a box limit
   int move_limited = 0;
 };
 
+// The known MV offsets of sample k (a test signal the plant receives on top of u_ctrl).
+using Offsets = std::function<void(int k, std::vector<double>& offsets)>;
+
 LoopRecord run_loop(Plant& plant, Controller& controller, const Eigen::VectorXd& setpoint,
-                    int samples) {
+                    int samples, const Offsets& offsets_of = {}) {
   const auto n = static_cast<std::size_t>(plant.inputs());
   const auto p = static_cast<std::size_t>(plant.outputs());
   plant.reset(controller.sample_time_min());
@@ -37,7 +42,9 @@ LoopRecord run_loop(Plant& plant, Controller& controller, const Eigen::VectorXd&
   LoopRecord r;
   r.y.resize(samples, static_cast<Eigen::Index>(p));
   r.u.resize(samples, static_cast<Eigen::Index>(n));
+  r.u_ctrl.resize(samples, static_cast<Eigen::Index>(n));
   for (int k = 0; k < samples; ++k) {
+    if (offsets_of) offsets_of(k, offsets);
     plant.step(applied, y);  // y(k); the previous output held over [kT, (k+1)T)
     for (std::size_t c = 0; c < p; ++c) r.y(k, static_cast<Eigen::Index>(c)) = y[c];
     for (std::size_t j = 0; j < n; ++j) r.u(k, static_cast<Eigen::Index>(j)) = applied[j];
@@ -45,6 +52,7 @@ LoopRecord run_loop(Plant& plant, Controller& controller, const Eigen::VectorXd&
         controller.step(y, std::span<const double>(setpoint.data(), p), offsets, u);
     EXPECT_EQ(report.status, StepStatus::ok) << "sample " << k;
     for (std::size_t j = 0; j < n; ++j) {
+      r.u_ctrl(k, static_cast<Eigen::Index>(j)) = u[j];
       applied[j] = u[j] + offsets[j];
       const MvStatus s = controller.mv_status()[j];
       r.clamped += s == MvStatus::clamped_low || s == MvStatus::clamped_high ? 1 : 0;
@@ -96,6 +104,72 @@ TEST(ClosedLoop, Alatiqi4x4UnderDmcTracksASetpointStepWithinItsMvLimits) {
   EXPECT_LE((r.u.bottomRows(r.u.rows() - 1) - r.u.topRows(r.u.rows() - 1)).cwiseAbs().maxCoeff(),
             0.1 * reach * (1 + 1e-12));
   EXPECT_GT(r.move_limited + r.clamped, 0) << "the limits must have been reached to test them";
+}
+
+TEST(ClosedLoop, QdmcKeepsAnotherCvInsideItsSoftLimitsWhileTrackingASetpointStep) {
+  auto plant = make_plant("alatiqi4x4");
+  // GIVEN a DMC on the plant's model, a setpoint step of 0.5 in CV 1, the other CVs at 0.
+  DmcSettings s;
+  s.prediction_horizon = 150;
+  s.control_horizon = 5;
+  s.mv.assign(4, MvSettings{-kUnlimited, kUnlimited, kUnlimited, 0.1});
+  s.cv.assign(4, CvSettings{});
+  s.slack_weight = 1e6;
+  const StepModel model = step_model(*plant, 1.0).delayed(1);
+  const Eigen::Vector4d setpoint(0.5, 0.0, 0.0, 0.0);
+  DmcController free_cvs(model, s);
+  const LoopRecord unlimited = run_loop(*plant, free_cvs, setpoint, 600);
+  const double swing = unlimited.y.col(3).cwiseAbs().maxCoeff();
+  // WHEN CV 4 gets soft limits at a third of the swing it had without them
+  const double limit = swing / 3.0;
+  s.cv[3].limit_low = -limit;
+  s.cv[3].limit_high = limit;
+  DmcController limited_cv(model, s);
+  const LoopRecord limited = run_loop(*plant, limited_cv, setpoint, 600);
+  // THEN CV 4 stays inside them (to 1 % of the limit: the slack's give), CV 1 still
+  // reaches its setpoint.
+  EXPECT_GT(swing, 0.01) << "the step must move CV 4 for the limit to mean something";
+  EXPECT_LE(limited.y.col(3).cwiseAbs().maxCoeff(), 1.01 * limit);
+  EXPECT_LT(std::abs(limited.y(599, 0) - 0.5), 1e-4);
+}
+
+TEST(ClosedLoop, ZoneCvsLetAKnownMvDitherThroughThatTrackingCvsCancel) {
+  auto plant = make_plant("alatiqi4x4");
+  // GIVEN a ±0.05 dither on MV 1 (switching every 20 min), known to the controller.
+  const Offsets dither = [](int k, std::vector<double>& offsets) {
+    offsets[0] = (k / 20) % 2 ? 0.05 : -0.05;
+  };
+  DmcSettings s;
+  s.prediction_horizon = 150;
+  s.control_horizon = 5;
+  s.mv.assign(4, MvSettings{-kUnlimited, kUnlimited, kUnlimited, 0.1});
+  s.cv.assign(4, CvSettings{});
+  const StepModel model = step_model(*plant, 1.0).delayed(1);
+  const Eigen::Vector4d setpoint = Eigen::Vector4d::Zero();
+  // WHEN every CV tracks its setpoint, the controller works against the dither …
+  DmcController tracking(model, s);
+  const LoopRecord tracked = run_loop(*plant, tracking, setpoint, 400, dither);
+  EXPECT_GT(tracked.u_ctrl.cwiseAbs().maxCoeff(), 0.01);
+  // … and when every CV is a zone wide enough for the dither's effect, it never moves.
+  const double effect = 0.05 * plant->static_gain().col(0).cwiseAbs().maxCoeff();
+  for (CvSettings& c : s.cv) {
+    c.zone = true;
+    c.zone_low = -2.0 * effect;
+    c.zone_high = 2.0 * effect;
+  }
+  DmcController zones(model, s);
+  const LoopRecord zoned = run_loop(*plant, zones, setpoint, 400, dither);
+  EXPECT_EQ(zoned.u_ctrl.cwiseAbs().maxCoeff(), 0.0);
+  // The CVs are then the open-loop response to the dither (applied one sample late).
+  Eigen::MatrixXd du = Eigen::MatrixXd::Zero(400, 4);
+  std::vector<double> offsets(4, 0.0);
+  for (int k = 0; k + 1 < 400; ++k) {
+    dither(k, offsets);
+    du(k + 1, 0) = offsets[0];
+  }
+  const Eigen::MatrixXd open_loop = plant->simulate(du, 1.0);
+  EXPECT_LT((zoned.y - open_loop).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_GT(zoned.y.cwiseAbs().maxCoeff(), 0.1 * effect) << "the dither must reach the CVs";
 }
 
 TEST(ClosedLoop, WoodBerryUnderDecentralisedPiTracksASetpointStepWithinItsMvLimits) {
