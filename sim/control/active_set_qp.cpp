@@ -61,6 +61,7 @@ ActiveSetQp::ActiveSetQp(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, int
   rhs_.assign(n, 0.0);
   r_.assign(n, 0.0);
   active_.assign(n, -1);
+  is_active_.assign(static_cast<std::size_t>(A.rows()), 0);
   lambda_.assign(n, 0.0);
 }
 
@@ -102,7 +103,13 @@ void ActiveSetQp::point_from_multipliers() noexcept {
   }
 }
 
+void ActiveSetQp::forget() noexcept {
+  for (int i = 0; i < active_count_; ++i) is_active_[static_cast<std::size_t>(active_[static_cast<std::size_t>(i)])] = 0;
+  active_count_ = 0;
+}
+
 void ActiveSetQp::drop(int position) noexcept {
+  is_active_[static_cast<std::size_t>(active_[static_cast<std::size_t>(position)])] = 0;
   for (int i = position; i + 1 < active_count_; ++i) {
     active_[static_cast<std::size_t>(i)] = active_[static_cast<std::size_t>(i + 1)];
     lambda_[static_cast<std::size_t>(i)] = lambda_[static_cast<std::size_t>(i + 1)];
@@ -132,7 +139,7 @@ QpResult ActiveSetQp::solve(const Eigen::Ref<const Eigen::VectorXd>& g,
       rhs_[static_cast<std::size_t>(i)] = -C_.col(j).dot(h_) - b(j);
     }
     if (!solve_gram(rhs_.data(), lambda_.data())) {
-      active_count_ = 0;
+      forget();
       break;
     }
     int most_negative = -1;
@@ -166,7 +173,8 @@ QpResult ActiveSetQp::solve(const Eigen::Ref<const Eigen::VectorXd>& g,
     double worst = 0.0;
     for (Eigen::Index j = 0; j < m; ++j) {
       slack_(j) = b(j) - C_.col(j).dot(xi_);
-      if (slack_(j) < -kFeasibilityTolerance * (1.0 + std::abs(b(j)))) {
+      if (is_active_[static_cast<std::size_t>(j)] == 0 &&
+          slack_(j) < -kFeasibilityTolerance * (1.0 + std::abs(b(j)))) {
         const double violation = -slack_(j) / row_norm_(j);
         if (violation > worst) {
           worst = violation;
@@ -220,6 +228,7 @@ QpResult ActiveSetQp::solve(const Eigen::Ref<const Eigen::VectorXd>& g,
       ++result.iterations;
       if (full_step <= partial_step) {  // p becomes active
         active_[static_cast<std::size_t>(q)] = p;
+        is_active_[static_cast<std::size_t>(p)] = 1;
         lambda_[static_cast<std::size_t>(q)] = lambda_p;
         ++active_count_;
         break;

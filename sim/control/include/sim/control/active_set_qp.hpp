@@ -56,7 +56,7 @@ class ActiveSetQp {
                  const Eigen::Ref<const Eigen::VectorXd>& b, Eigen::Ref<Eigen::VectorXd> x) noexcept;
 
   /// The next solve starts cold (from the unconstrained minimum).
-  void forget() noexcept { active_count_ = 0; }
+  void forget() noexcept;
 
   /// Indices (rows of A) active at the last solution, and their multipliers λ ≥ 0 (KKT:
   /// H x + g + Aᵀλ = 0 over these rows).
@@ -88,6 +88,7 @@ class ActiveSetQp {
   Eigen::MatrixXd gram_;   // Cholesky factor of C_Aᵀ C_A, nv × nv used top-left
   std::vector<double> rhs_, r_;
   std::vector<int> active_;
+  std::vector<unsigned char> is_active_;  // per row: in active_ (never picked as violated)
   std::vector<double> lambda_;
   int active_count_ = 0;
 };
