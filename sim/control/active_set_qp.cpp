@@ -74,7 +74,8 @@ bool ActiveSetQp::solve_gram(const double* rhs, double* out) noexcept {
                      .dot(C_.col(active_[static_cast<std::size_t>(j)]));
       for (int k = 0; k < j; ++k) s -= gram_(i, k) * gram_(j, k);
       if (i == j) {
-        if (!(s > kDependenceTolerance * C_.col(active_[static_cast<std::size_t>(i)]).squaredNorm()))
+        if (!(s >
+              kDependenceTolerance * C_.col(active_[static_cast<std::size_t>(i)]).squaredNorm()))
           return false;
         gram_(i, i) = std::sqrt(s);
       } else {
@@ -98,13 +99,14 @@ bool ActiveSetQp::solve_gram(const double* rhs, double* out) noexcept {
 void ActiveSetQp::point_from_multipliers() noexcept {
   xi_ = -h_;
   for (int i = 0; i < active_count_; ++i) {
-    xi_.noalias() -= lambda_[static_cast<std::size_t>(i)] *
-                     C_.col(active_[static_cast<std::size_t>(i)]);
+    xi_.noalias() -=
+        lambda_[static_cast<std::size_t>(i)] * C_.col(active_[static_cast<std::size_t>(i)]);
   }
 }
 
 void ActiveSetQp::forget() noexcept {
-  for (int i = 0; i < active_count_; ++i) is_active_[static_cast<std::size_t>(active_[static_cast<std::size_t>(i)])] = 0;
+  for (int i = 0; i < active_count_; ++i)
+    is_active_[static_cast<std::size_t>(active_[static_cast<std::size_t>(i)])] = 0;
   active_count_ = 0;
 }
 
@@ -189,14 +191,16 @@ QpResult ActiveSetQp::solve(const Eigen::Ref<const Eigen::VectorXd>& g,
       if (result.iterations >= max_iterations_) return finish(QpStatus::iteration_limit);
       const int q = active_count_;
       for (int i = 0; i < q; ++i) {
-        rhs_[static_cast<std::size_t>(i)] = C_.col(active_[static_cast<std::size_t>(i)]).dot(C_.col(p));
+        rhs_[static_cast<std::size_t>(i)] =
+            C_.col(active_[static_cast<std::size_t>(i)]).dot(C_.col(p));
       }
       if (q > 0 && !solve_gram(rhs_.data(), r_.data())) return finish(QpStatus::infeasible);
       // d: −c_p projected on the null space of the active normals (keeps them active and
       // raises the slack of p); r: how the active multipliers fall per unit step.
       d_ = -C_.col(p);
       for (int i = 0; i < q; ++i) {
-        d_.noalias() += r_[static_cast<std::size_t>(i)] * C_.col(active_[static_cast<std::size_t>(i)]);
+        d_.noalias() +=
+            r_[static_cast<std::size_t>(i)] * C_.col(active_[static_cast<std::size_t>(i)]);
       }
       const double dd = d_.squaredNorm();
       const double full_step =

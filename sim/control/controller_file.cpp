@@ -40,7 +40,8 @@ MvSettings read_mv(const config::Table& t, ControllerKind kind) {
            "a number above min (" + config::format_number(m.min) + ")");
   }
   m.max_move = t.positive("max_move").value_or(kUnlimited);
-  if (kind == ControllerKind::dmc) m.move_suppression = t.positive("move_suppression").value_or(1.0);
+  if (kind == ControllerKind::dmc)
+    m.move_suppression = t.positive("move_suppression").value_or(1.0);
   return m;
 }
 
@@ -87,24 +88,26 @@ ControllerFile controller_from_toml(std::string_view text, std::string_view sour
                "either plant or model_file, not both");
   }
   file.model.probe_step = model.positive("probe_step").value_or(1.0);
-  file.model.delay_samples =
-      static_cast<int>(model.integer("delay_samples", 0, 1000).value_or(0));
+  file.model.delay_samples = static_cast<int>(model.integer("delay_samples", 0, 1000).value_or(0));
 
   if (file.kind == ControllerKind::dmc) {
     const config::Table dmc = root.required_table("dmc", "a [dmc] table");
     dmc.only_keys({"prediction_horizon", "control_horizon", "slack_weight", "max_qp_iterations"});
-    file.dmc.prediction_horizon = static_cast<int>(dmc.required_integer("prediction_horizon", 1, 100000));
-    file.dmc.control_horizon = static_cast<int>(dmc.required_integer(
-        "control_horizon", 1, file.dmc.prediction_horizon,
-        "an integer 1.." + std::to_string(file.dmc.prediction_horizon) +
-            " (at most prediction_horizon)"));
+    file.dmc.prediction_horizon =
+        static_cast<int>(dmc.required_integer("prediction_horizon", 1, 100000));
+    file.dmc.control_horizon = static_cast<int>(
+        dmc.required_integer("control_horizon", 1, file.dmc.prediction_horizon,
+                             "an integer 1.." + std::to_string(file.dmc.prediction_horizon) +
+                                 " (at most prediction_horizon)"));
     file.dmc.slack_weight = dmc.positive("slack_weight").value_or(1e4);
-    file.dmc.max_qp_iterations = static_cast<int>(dmc.integer("max_qp_iterations", 1, 100000).value_or(100));
+    file.dmc.max_qp_iterations =
+        static_cast<int>(dmc.integer("max_qp_iterations", 1, 100000).value_or(100));
     for (const config::Table& t : root.tables("cv")) file.dmc.cv.push_back(read_cv(t));
     file.cv_given = !file.dmc.cv.empty();
   } else {
     const std::vector<config::Table> pairs = root.tables("pairing");
-    if (pairs.empty()) root.fail_missing("pairing", "one [[pairing]] per loop (cv, mv, kc, ti_min)");
+    if (pairs.empty())
+      root.fail_missing("pairing", "one [[pairing]] per loop (cv, mv, kc, ti_min)");
     for (const config::Table& t : pairs) {
       t.only_keys({"cv", "mv", "kc", "ti_min"});
       PiLoop l;

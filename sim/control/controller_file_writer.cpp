@@ -56,8 +56,7 @@ std::string controller_file_toml(const ControllerFile& file) {
   }
   for (const PiLoop& l : file.pairing) {
     out << "\n[[pairing]]\ncv = " << l.cv + 1 << "\nmv = " << l.mv + 1
-        << "\nkc = " << toml_number(l.gain) << "\nti_min = " << toml_number(l.integral_min)
-        << "\n";
+        << "\nkc = " << toml_number(l.gain) << "\nti_min = " << toml_number(l.integral_min) << "\n";
   }
   return out.str();
 }

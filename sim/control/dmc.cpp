@@ -58,9 +58,10 @@ void check_settings(const StepModel& model, const DmcSettings& s) {
   for (std::size_t c = 0; c < s.cv.size(); ++c) {
     const CvSettings& v = s.cv[c];
     const std::string at = "cv[" + std::to_string(c) + "].";
-    if (!(std::isfinite(v.weight) && v.weight >= 0.0)) refuse(at + "weight", v.weight, "a finite number >= 0");
-    if (v.zone && !(std::isfinite(v.zone_low) && std::isfinite(v.zone_high) &&
-                    v.zone_low <= 0.0 && 0.0 <= v.zone_high && v.zone_low < v.zone_high)) {
+    if (!(std::isfinite(v.weight) && v.weight >= 0.0))
+      refuse(at + "weight", v.weight, "a finite number >= 0");
+    if (v.zone && !(std::isfinite(v.zone_low) && std::isfinite(v.zone_high) && v.zone_low <= 0.0 &&
+                    0.0 <= v.zone_high && v.zone_low < v.zone_high)) {
       refuse(at + "zone", v.zone_low,
              "[low, high] about the setpoint with low <= 0 <= high, low < high");
     }
@@ -104,7 +105,8 @@ DmcController::DmcController(StepModel model, DmcSettings settings)
   Eigen::VectorXd r(moves);
   for (int i = 0; i < M_; ++i) {
     for (int m = 0; m < n_; ++m) {
-      r(static_cast<Eigen::Index>(i) * n_ + m) = settings_.mv[static_cast<std::size_t>(m)].move_suppression;
+      r(static_cast<Eigen::Index>(i) * n_ + m) =
+          settings_.mv[static_cast<std::size_t>(m)].move_suppression;
     }
   }
   SuT_Q_ = Su_.transpose() * q.asDiagonal();
@@ -172,7 +174,8 @@ DmcController::DmcController(StepModel model, DmcSettings settings)
     add(RowKind::slack, c, 0, a);
   }
   Eigen::MatrixXd A(static_cast<Eigen::Index>(normals.size()), nv);
-  for (std::size_t i = 0; i < normals.size(); ++i) A.row(static_cast<Eigen::Index>(i)) = normals[i].transpose();
+  for (std::size_t i = 0; i < normals.size(); ++i)
+    A.row(static_cast<Eigen::Index>(i)) = normals[i].transpose();
   qp_.emplace(H, A, settings_.max_qp_iterations);
 
   prediction_.setZero(static_cast<Eigen::Index>(window_ + 1) * p_);
@@ -227,12 +230,13 @@ StepReport DmcController::step(std::span<const double> y, std::span<const double
   applied_move_ = offset - offset_prev_;  // the known part of this sample's move
   for (int j = 1; j <= P_; ++j) {
     const Eigen::Index at = static_cast<Eigen::Index>(j - 1) * stride;
-    f_.segment(at, stride) = prediction_.segment(static_cast<Eigen::Index>(j) * stride, stride) + ym -
-                             prediction_.head(stride);
+    f_.segment(at, stride) = prediction_.segment(static_cast<Eigen::Index>(j) * stride, stride) +
+                             ym - prediction_.head(stride);
     f_.segment(at, stride).noalias() += model_.at(j) * applied_move_;
   }
   for (int j = 0; j < P_; ++j) {
-    e_.segment(static_cast<Eigen::Index>(j) * stride, stride) = sp - f_.segment(static_cast<Eigen::Index>(j) * stride, stride);
+    e_.segment(static_cast<Eigen::Index>(j) * stride, stride) =
+        sp - f_.segment(static_cast<Eigen::Index>(j) * stride, stride);
   }
   const Eigen::Index moves = static_cast<Eigen::Index>(M_) * n_;
   g_.head(moves).noalias() = -SuT_Q_ * e_;

@@ -69,8 +69,8 @@ config::Check check_integral_controllability(const Eigen::MatrixXd& model_gain,
     const auto mask = static_cast<unsigned>(i + 1);
     return config::Check::invalid(
         "model",
-        "\"" + std::string(model_name) + "\" with det G(0)[" + indices(mask) + "] = " +
-            short_number(model[i]) + " where the plant's is " + short_number(plant[i]),
+        "\"" + std::string(model_name) + "\" with det G(0)[" + indices(mask) +
+            "] = " + short_number(model[i]) + " where the plant's is " + short_number(plant[i]),
         "a model whose principal minors of G(0) all have the plant's signs (this one is not "
         "integrally controllable: under integral action the loop would be unstable)");
   }

@@ -55,13 +55,15 @@ std::unique_ptr<Controller> make_controller(const ControllerFile& file, Plant& m
   const int n = model.inputs();
   const int p = model.outputs();
   check_count(file, "mv", file.mv_given, file.dmc.mv.size(), n, "input (MV)");
-  std::vector<MvSettings> mv = file.mv_given ? file.dmc.mv : std::vector<MvSettings>(static_cast<std::size_t>(n));
+  std::vector<MvSettings> mv =
+      file.mv_given ? file.dmc.mv : std::vector<MvSettings>(static_cast<std::size_t>(n));
   const std::string model_name = file.model.plant.empty() ? model.name() : file.model.plant;
   if (file.kind == ControllerKind::dmc) {
     check_count(file, "cv", file.cv_given, file.dmc.cv.size(), p, "output (CV)");
     if (plant_gain != nullptr) {
       if (plant_gain->rows() != p || plant_gain->cols() != n) {
-        refuse(file, "model", "\"" + model_name + "\" (" + std::to_string(p) + "×" + std::to_string(n) + ")",
+        refuse(file, "model",
+               "\"" + model_name + "\" (" + std::to_string(p) + "×" + std::to_string(n) + ")",
                "the plant's size, " + std::to_string(plant_gain->rows()) + "×" +
                    std::to_string(plant_gain->cols()) + " (outputs × inputs)");
       }
@@ -75,7 +77,8 @@ std::unique_ptr<Controller> make_controller(const ControllerFile& file, Plant& m
     return in_file(file, [&]() -> std::unique_ptr<Controller> {
       StepModelOptions options;
       options.probe_step = file.model.probe_step;
-      StepModel s = step_model(model, file.sample_time_min, options).delayed(file.model.delay_samples);
+      StepModel s =
+          step_model(model, file.sample_time_min, options).delayed(file.model.delay_samples);
       return std::make_unique<DmcController>(std::move(s), std::move(settings));
     });
   }

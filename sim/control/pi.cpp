@@ -38,7 +38,8 @@ PiController::PiController(PiSettings settings) : settings_(std::move(settings))
     if (!(m.max_move > 0.0)) refuse(at + "max_move", m.max_move, "a move > 0");
   }
   if (s.loops.empty()) refuse("pairing", 0, "at least one [[pairing]]");
-  std::vector<bool> cv_used(static_cast<std::size_t>(s.outputs)), mv_used(static_cast<std::size_t>(s.inputs));
+  std::vector<bool> cv_used(static_cast<std::size_t>(s.outputs)),
+      mv_used(static_cast<std::size_t>(s.inputs));
   for (std::size_t i = 0; i < s.loops.size(); ++i) {
     const PiLoop& l = s.loops[i];
     const std::string at = "pairing[" + std::to_string(i) + "].";
@@ -56,7 +57,8 @@ PiController::PiController(PiSettings settings) : settings_(std::move(settings))
     }
     cv_used[static_cast<std::size_t>(l.cv)] = true;
     mv_used[static_cast<std::size_t>(l.mv)] = true;
-    if (!(std::isfinite(l.gain) && l.gain != 0.0)) refuse(at + "kc", l.gain, "a finite gain other than 0");
+    if (!(std::isfinite(l.gain) && l.gain != 0.0))
+      refuse(at + "kc", l.gain, "a finite gain other than 0");
     if (!(std::isfinite(l.integral_min) && l.integral_min > 0.0)) {
       refuse(at + "ti_min", l.integral_min, "a finite integral time > 0 minutes");
     }

@@ -78,7 +78,8 @@ class NaiveDmc {
     const Eigen::MatrixXd& Su = dmc_.dynamic_matrix();
     const Eigen::VectorXd& f = dmc_.free_response();
     Eigen::VectorXd e(f.size());
-    for (Eigen::Index i = 0; i < f.size(); ++i) e(i) = s_.setpoint[static_cast<std::size_t>(i % 4)] - f(i);
+    for (Eigen::Index i = 0; i < f.size(); ++i)
+      e(i) = s_.setpoint[static_cast<std::size_t>(i % 4)] - f(i);
     Eigen::MatrixXd H = Su.transpose() * Su;
     H.diagonal().array() += 0.1;
     const Eigen::VectorXd du = H.llt().solve(Su.transpose() * e);
@@ -102,7 +103,8 @@ void BM_DmcStepConstrained(benchmark::State& state) {
       k = 0;
       dmc.reset();
     }
-    iterations += dmc.step(s.y[static_cast<std::size_t>(k++)], s.setpoint, offsets, u).qp_iterations;
+    iterations +=
+        dmc.step(s.y[static_cast<std::size_t>(k++)], s.setpoint, offsets, u).qp_iterations;
     benchmark::DoNotOptimize(u.data());
   }
   state.counters["qp_rows"] = dmc.constraint_rows();
@@ -169,7 +171,8 @@ void compare_with_naive() {
     for (int k = 0; k < kSamples; ++k) {
       const double t0 = cpu_seconds();
       const StepReport report = dmc.step(s.y[static_cast<std::size_t>(k)], s.setpoint, offsets, u);
-      single[static_cast<std::size_t>(k)] = std::min(single[static_cast<std::size_t>(k)], cpu_seconds() - t0);
+      single[static_cast<std::size_t>(k)] =
+          std::min(single[static_cast<std::size_t>(k)], cpu_seconds() - t0);
       single_iterations[static_cast<std::size_t>(k)] = report.qp_iterations;
     }
   }
@@ -177,7 +180,8 @@ void compare_with_naive() {
   DmcController plain(s.model, unconstrained(s.settings));
   const double prediction_only = per_step([&] {
     plain.reset();
-    for (int k = 0; k < kSamples; ++k) plain.step(s.y[static_cast<std::size_t>(k)], s.setpoint, offsets, u);
+    for (int k = 0; k < kSamples; ++k)
+      plain.step(s.y[static_cast<std::size_t>(k)], s.setpoint, offsets, u);
   });
   double v[4];
   const double slow = per_step([&] {
@@ -191,8 +195,8 @@ void compare_with_naive() {
       "law) %.1f us;\n  naive (that prediction, then the normal equations formed and factored "
       "every step, unconstrained) %.1f us; ratio naive/QDMC %.1fx\n",
       s.model.horizon(), dmc.constraint_rows(), kSamples, constrained,
-      static_cast<double>(qp_iterations) / kSamples, ours * 1e6, prediction_only * 1e6,
-      slow * 1e6, slow / ours);
+      static_cast<double>(qp_iterations) / kSamples, ours * 1e6, prediction_only * 1e6, slow * 1e6,
+      slow / ours);
   std::printf("  slowest single QDMC step %.1f us (sample %ld, %d QP iterations)\n",
               single[static_cast<std::size_t>(slowest)] * 1e6, static_cast<long>(slowest),
               single_iterations[static_cast<std::size_t>(slowest)]);

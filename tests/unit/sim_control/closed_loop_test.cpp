@@ -22,10 +22,10 @@ namespace excite::sim::control {
 namespace {
 
 struct LoopRecord {
-  Eigen::MatrixXd y;  // samples × p
-  Eigen::MatrixXd u;  // samples × n, the MVs the plant received
+  Eigen::MatrixXd y;       // samples × p
+  Eigen::MatrixXd u;       // samples × n, the MVs the plant received
   Eigen::MatrixXd u_ctrl;  // samples × n, the controller's outputs
-  int clamped = 0;    // MV-samples on a box limit
+  int clamped = 0;         // MV-samples on a box limit
   int move_limited = 0;
 };
 
@@ -187,7 +187,8 @@ TEST(ClosedLoop, WoodBerryUnderDecentralisedPiTracksASetpointStepWithinItsMvLimi
   const LoopRecord r = run_loop(*plant, pi, setpoint, 1000);
   // THEN no offset, the MVs at G(0)⁻¹·setpoint, within ±0.3, which the first move reached.
   for (Eigen::Index c = 0; c < 2; ++c) {
-    EXPECT_LT((r.y.col(c).tail(100).array() - setpoint(c)).abs().maxCoeff(), 1e-4) << "CV " << c + 1;
+    EXPECT_LT((r.y.col(c).tail(100).array() - setpoint(c)).abs().maxCoeff(), 1e-4)
+        << "CV " << c + 1;
   }
   const Eigen::VectorXd u_final = plant->static_gain().lu().solve(setpoint);
   EXPECT_LT((r.u.bottomRows(1).transpose() - u_final).cwiseAbs().maxCoeff(), 1e-4);

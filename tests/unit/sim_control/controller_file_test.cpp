@@ -145,24 +145,28 @@ TEST(ControllerFile, RefusesBadValuesByName) {
                         "low <= 0 <= high, low < high"));
   EXPECT_THAT(refusal(dmc_with("limits", "limits = [1.5, -1.5]")),
               HasSubstr("cv[0].limits = [1.5, -1.5], expected [low, high] with low < high"));
-  EXPECT_THAT(refusal(dmc_with("weight", "weight = -2.0")), HasSubstr("cv[0].weight = -2.0, expected"));
+  EXPECT_THAT(refusal(dmc_with("weight", "weight = -2.0")),
+              HasSubstr("cv[0].weight = -2.0, expected"));
   EXPECT_THAT(refusal(dmc_with("slack_weight", "slack_weigth = 1000.0")),
               HasSubstr("dmc.slack_weigth = 1000.0 (unknown key), expected one of the known keys"));
-  EXPECT_THAT(refusal(dmc_with("plant", "plant = \"woodberry2x2\"\nmodel_file = \"m.json\"")),
-              HasSubstr("model.model_file = \"m.json\", expected either plant or model_file, not both"));
+  EXPECT_THAT(
+      refusal(dmc_with("plant", "plant = \"woodberry2x2\"\nmodel_file = \"m.json\"")),
+      HasSubstr("model.model_file = \"m.json\", expected either plant or model_file, not both"));
   EXPECT_THAT(refusal(dmc_with("plant", "probe_step = 1.0")),
               HasSubstr("model.plant = (missing), expected a plant name, a plant file (.toml) or "
                         "model_file = MODEL.json"));
   // A PI file takes no [dmc], [[cv]] or move suppression, and needs its pairings.
   std::string pi = kPiFile;
-  EXPECT_THAT(refusal(pi + "[dmc]\nprediction_horizon = 3\n"), HasSubstr("dmc = (a table) (unknown key)"));
+  EXPECT_THAT(refusal(pi + "[dmc]\nprediction_horizon = 3\n"),
+              HasSubstr("dmc = (a table) (unknown key)"));
   EXPECT_THAT(refusal(std::string(kPiFile).replace(pi.find("kc = 0.375"), 10, "kc = 0")),
               HasSubstr("pairing[0].kc = 0, expected a gain other than 0"));
   EXPECT_THAT(refusal(std::string(kPiFile).replace(pi.find("ti_min = 8.29"), 13, "ti_min = -1")),
               HasSubstr("pairing[0].ti_min = -1, expected"));
   EXPECT_THAT(refusal(std::string(kPiFile).replace(pi.find("cv = 1"), 6, "cv = 0")),
               HasSubstr("pairing[0].cv = 0, expected a CV number 1.. (1-based)"));
-  EXPECT_THAT(refusal(std::string(kPiFile).replace(pi.find("max = 0.3"), 9, "max = 0.3\nmove_suppression = 1.0")),
+  EXPECT_THAT(refusal(std::string(kPiFile).replace(pi.find("max = 0.3"), 9,
+                                                   "max = 0.3\nmove_suppression = 1.0")),
               HasSubstr("mv[0].move_suppression = 1.0 (unknown key)"));
   EXPECT_THAT(refusal(pi.substr(0, pi.find("[[pairing]]"))),
               HasSubstr("pairing = (missing), expected one [[pairing]] per loop"));
@@ -203,8 +207,9 @@ TEST(ControllerFile, RefusesWhatDoesNotFitTheModelByName) {
 // A plant file in a temporary folder, removed at the end.
 class TempFolder {
  public:
-  TempFolder() : path_(std::filesystem::temp_directory_path() /
-                       ("sim_control_" + std::to_string(::getpid()))) {
+  TempFolder()
+      : path_(std::filesystem::temp_directory_path() /
+              ("sim_control_" + std::to_string(::getpid()))) {
     std::filesystem::create_directories(path_);
   }
   ~TempFolder() { std::filesystem::remove_all(path_); }

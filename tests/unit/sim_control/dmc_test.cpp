@@ -19,7 +19,8 @@ StepModel siso_model() {
   StepModel m;
   m.inputs = 1;
   m.outputs = 1;
-  for (const double s : {0.0, 1.0, 1.5, 1.75, 1.875}) m.coefficients.push_back(Eigen::MatrixXd::Constant(1, 1, s));
+  for (const double s : {0.0, 1.0, 1.5, 1.75, 1.875})
+    m.coefficients.push_back(Eigen::MatrixXd::Constant(1, 1, s));
   return m;
 }
 
@@ -48,8 +49,7 @@ constexpr double kSisoFirstMove = 5.625 / 8.53125;  // 0.659340…
 
 TEST(Dmc, SisoUnconstrainedMoveIsTheHandComputedOne) {
   DmcController dmc(siso_model(), siso_settings());
-  const Eigen::MatrixXd expected_su =
-      (Eigen::MatrixXd(3, 2) << 1, 0, 1.5, 1, 1.75, 1.5).finished();
+  const Eigen::MatrixXd expected_su = (Eigen::MatrixXd(3, 2) << 1, 0, 1.5, 1, 1.75, 1.5).finished();
   EXPECT_EQ(dmc.dynamic_matrix(), expected_su);
   EXPECT_NEAR(first_move(dmc, 0.0, 1.0), kSisoFirstMove, 1e-14);
 }
@@ -66,8 +66,9 @@ TEST(Dmc, TheFreeResponseCarriesTheLastMoveThroughTheStepModel) {
   DmcController biased(siso_model(), siso_settings());
   first_move(biased, 0.0, 1.0);
   first_move(biased, 1.0 * du + 0.1, 1.0);
-  EXPECT_LT((biased.free_response() - expected - Eigen::Vector3d::Constant(0.1)).cwiseAbs().maxCoeff(),
-            1e-14);
+  EXPECT_LT(
+      (biased.free_response() - expected - Eigen::Vector3d::Constant(0.1)).cwiseAbs().maxCoeff(),
+      1e-14);
 }
 
 TEST(Dmc, AKnownOffsetIsAKnownMoveInThePrediction) {
@@ -85,7 +86,8 @@ TEST(Dmc, TwoByTwoUnconstrainedMoveIsTheHandComputedOne) {
   StepModel m;
   m.inputs = 2;
   m.outputs = 2;
-  m.coefficients = {Eigen::MatrixXd::Zero(2, 2), (Eigen::MatrixXd(2, 2) << 1, 0.5, 0.2, 2).finished(),
+  m.coefficients = {Eigen::MatrixXd::Zero(2, 2),
+                    (Eigen::MatrixXd(2, 2) << 1, 0.5, 0.2, 2).finished(),
                     (Eigen::MatrixXd(2, 2) << 1.5, 0.8, 0.4, 3).finished()};
   DmcSettings s;
   s.prediction_horizon = 2;
@@ -169,8 +171,7 @@ TEST(Dmc, AtTheQpIterationCapTheMoveIsTheUnconstrainedOneClipped) {
   s.max_qp_iterations = 1;
   DmcController dmc(siso_model(), s);
   double y = 0.0, sp = 1.0, offset = 0.0, u = 0.0;
-  EXPECT_EQ(dmc.step({&y, 1}, {&sp, 1}, {&offset, 1}, {&u, 1}).status,
-            StepStatus::qp_fallback);
+  EXPECT_EQ(dmc.step({&y, 1}, {&sp, 1}, {&offset, 1}, {&u, 1}).status, StepStatus::qp_fallback);
   EXPECT_EQ(u, 0.5);
 }
 

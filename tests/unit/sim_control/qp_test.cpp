@@ -91,7 +91,8 @@ TEST(ActiveSetQp, RandomProblemsMatchBruteForceAndSatisfyKkt) {
       const QpResult r = qp.solve(p.g, p.b, x);
       ASSERT_EQ(r.status, QpStatus::optimal) << "trial " << trial;
       const Eigen::VectorXd expected = brute_force(p);
-      EXPECT_LT((x - expected).cwiseAbs().maxCoeff(), 1e-7) << "trial " << trial << " solve " << solve;
+      EXPECT_LT((x - expected).cwiseAbs().maxCoeff(), 1e-7)
+          << "trial " << trial << " solve " << solve;
       // KKT: stationarity over the active rows, primal and dual feasibility.
       Eigen::VectorXd stationarity = p.H * x + p.g;
       const auto active = qp.active_set();
@@ -163,8 +164,9 @@ TEST(ActiveSetQp, RefusesAHessianThatIsNotPositiveDefiniteAndAZeroRow) {
     ActiveSetQp(semidefinite, Eigen::MatrixXd::Zero(0, 2), 10);
     FAIL() << "a singular H must be refused";
   } catch (const std::invalid_argument& e) {
-    EXPECT_STREQ(e.what(), "H = (not positive definite), expected a positive definite Hessian "
-                           "(every move weighted)");
+    EXPECT_STREQ(e.what(),
+                 "H = (not positive definite), expected a positive definite Hessian "
+                 "(every move weighted)");
   }
   try {
     ActiveSetQp(Eigen::MatrixXd::Identity(2, 2), Eigen::MatrixXd::Zero(1, 2), 10);

@@ -53,7 +53,8 @@ class ActiveSetQp {
   /// solve (empty at first and after forget()). Sizes are the caller's contract (checked
   /// only by assertions of Eigen in debug builds).
   QpResult solve(const Eigen::Ref<const Eigen::VectorXd>& g,
-                 const Eigen::Ref<const Eigen::VectorXd>& b, Eigen::Ref<Eigen::VectorXd> x) noexcept;
+                 const Eigen::Ref<const Eigen::VectorXd>& b,
+                 Eigen::Ref<Eigen::VectorXd> x) noexcept;
 
   /// The next solve starts cold (from the unconstrained minimum).
   void forget() noexcept;

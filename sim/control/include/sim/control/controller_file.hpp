@@ -42,9 +42,9 @@ struct ControllerFile {
   ControllerKind kind = ControllerKind::dmc;
   double sample_time_min = 1.0;
   ModelSource model;
-  DmcSettings dmc;  // dmc: horizons and weights; both kinds: dmc.mv (MV limits)
-  bool mv_given = false;  // [[mv]] present (else one default entry per model MV)
-  bool cv_given = false;  // [[cv]] present (dmc)
+  DmcSettings dmc;              // dmc: horizons and weights; both kinds: dmc.mv (MV limits)
+  bool mv_given = false;        // [[mv]] present (else one default entry per model MV)
+  bool cv_given = false;        // [[cv]] present (dmc)
   std::vector<PiLoop> pairing;  // pi; cv and mv 0-based here, 1-based in the file
 };
 

@@ -39,18 +39,18 @@ namespace excite::sim::control {
 inline constexpr double kUnlimited = std::numeric_limits<double>::infinity();
 
 struct MvSettings {
-  double min = -kUnlimited;       // MV deviation limits (plant's units)
+  double min = -kUnlimited;  // MV deviation limits (plant's units)
   double max = kUnlimited;
   double max_move = kUnlimited;   // largest |move| per sample (> 0)
   double move_suppression = 1.0;  // λ_j > 0 (DMC)
 };
 
 struct CvSettings {
-  double weight = 1.0;            // w_c ≥ 0 (DMC)
-  bool zone = false;              // a zone CV: soft bounds about the setpoint, no tracking
-  double zone_low = 0.0;          // ≤ zone_high, relative to y_sp
+  double weight = 1.0;    // w_c ≥ 0 (DMC)
+  bool zone = false;      // a zone CV: soft bounds about the setpoint, no tracking
+  double zone_low = 0.0;  // ≤ zone_high, relative to y_sp
   double zone_high = 0.0;
-  double limit_low = -kUnlimited; // absolute soft limits (deviations)
+  double limit_low = -kUnlimited;  // absolute soft limits (deviations)
   double limit_high = kUnlimited;
 };
 
@@ -73,7 +73,8 @@ class DmcController final : public Controller {
   double sample_time_min() const noexcept override { return model_.sample_time_min; }
   void reset() noexcept override;
   StepReport step(std::span<const double> y, std::span<const double> y_sp,
-                  std::span<const double> known_offsets, std::span<double> u_ctrl) noexcept override;
+                  std::span<const double> known_offsets,
+                  std::span<double> u_ctrl) noexcept override;
   std::span<const MvStatus> mv_status() const noexcept override { return status_; }
 
   const StepModel& model() const noexcept { return model_; }
@@ -88,7 +89,15 @@ class DmcController final : public Controller {
   int constraint_rows() const noexcept { return static_cast<int>(rows_.size()); }
 
  private:
-  enum class RowKind : unsigned char { move_up, move_down, box_up, box_down, cv_up, cv_down, slack };
+  enum class RowKind : unsigned char {
+    move_up,
+    move_down,
+    box_up,
+    box_down,
+    cv_up,
+    cv_down,
+    slack
+  };
   struct Row {
     RowKind kind;
     int index;  // MV j or CV c

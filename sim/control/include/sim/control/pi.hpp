@@ -27,9 +27,9 @@ struct PiLoop {
 
 struct PiSettings {
   double sample_time_min = 1.0;
-  int inputs = 0;   // n
-  int outputs = 0;  // p
-  std::vector<PiLoop> loops;  // each CV and each MV in at most one loop
+  int inputs = 0;              // n
+  int outputs = 0;             // p
+  std::vector<PiLoop> loops;   // each CV and each MV in at most one loop
   std::vector<MvSettings> mv;  // n entries (move_suppression unused)
 };
 
@@ -43,7 +43,8 @@ class PiController final : public Controller {
   double sample_time_min() const noexcept override { return settings_.sample_time_min; }
   void reset() noexcept override;
   StepReport step(std::span<const double> y, std::span<const double> y_sp,
-                  std::span<const double> known_offsets, std::span<double> u_ctrl) noexcept override;
+                  std::span<const double> known_offsets,
+                  std::span<double> u_ctrl) noexcept override;
   std::span<const MvStatus> mv_status() const noexcept override { return status_; }
 
   const PiSettings& settings() const noexcept { return settings_; }

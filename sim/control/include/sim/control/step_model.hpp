@@ -33,9 +33,9 @@ struct StepModel {
 
 /// How a plant's step responses are taken and where they are cut.
 struct StepModelOptions {
-  double probe_step = 1.0;          // MV step of each probe; S = response / probe_step
-  double settle_tolerance = 1e-3;   // settled: every |S_k − S_final| ≤ this · max |S| per MV
-  int max_horizon = 1 << 15;        // samples; a model not settled by then is refused
+  double probe_step = 1.0;         // MV step of each probe; S = response / probe_step
+  double settle_tolerance = 1e-3;  // settled: every |S_k − S_final| ≤ this · max |S| per MV
+  int max_horizon = 1 << 15;       // samples; a model not settled by then is refused
 };
 
 /// Step responses of `model` (deviations from its operating point) at T minutes, one
