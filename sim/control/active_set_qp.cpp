@@ -52,17 +52,16 @@ ActiveSetQp::ActiveSetQp(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, int
       refuse("A row " + std::to_string(j), "0", "a constraint that involves a variable");
     }
   }
-  const auto n = static_cast<std::size_t>(nv);
   h_.setZero(nv);
   xi_.setZero(nv);
   slack_.setZero(A.rows());
   d_.setZero(nv);
   gram_.setZero(nv, nv);
-  rhs_.assign(n, 0.0);
-  r_.assign(n, 0.0);
-  active_.assign(n, -1);
+  rhs_.setZero(nv);
+  r_.setZero(nv);
+  active_.setConstant(nv, -1);
   is_active_.assign(static_cast<std::size_t>(A.rows()), 0);
-  lambda_.assign(n, 0.0);
+  lambda_.setZero(nv);
 }
 
 bool ActiveSetQp::solve_gram(const double* rhs, double* out) noexcept {
@@ -70,13 +69,10 @@ bool ActiveSetQp::solve_gram(const double* rhs, double* out) noexcept {
   // Lower Cholesky factor of G = C_Aᵀ C_A, in gram_.
   for (int i = 0; i < q; ++i) {
     for (int j = 0; j <= i; ++j) {
-      double s = C_.col(active_[static_cast<std::size_t>(i)])
-                     .dot(C_.col(active_[static_cast<std::size_t>(j)]));
+      double s = C_.col(active_(i)).dot(C_.col(active_(j)));
       for (int k = 0; k < j; ++k) s -= gram_(i, k) * gram_(j, k);
       if (i == j) {
-        if (!(s >
-              kDependenceTolerance * C_.col(active_[static_cast<std::size_t>(i)]).squaredNorm()))
-          return false;
+        if (!(s > kDependenceTolerance * C_.col(active_(i)).squaredNorm())) return false;
         gram_(i, i) = std::sqrt(s);
       } else {
         gram_(i, j) = s / gram_(j, j);
@@ -99,22 +95,20 @@ bool ActiveSetQp::solve_gram(const double* rhs, double* out) noexcept {
 void ActiveSetQp::point_from_multipliers() noexcept {
   xi_ = -h_;
   for (int i = 0; i < active_count_; ++i) {
-    xi_.noalias() -=
-        lambda_[static_cast<std::size_t>(i)] * C_.col(active_[static_cast<std::size_t>(i)]);
+    xi_.noalias() -= lambda_(i) * C_.col(active_(i));
   }
 }
 
 void ActiveSetQp::forget() noexcept {
-  for (int i = 0; i < active_count_; ++i)
-    is_active_[static_cast<std::size_t>(active_[static_cast<std::size_t>(i)])] = 0;
+  for (int i = 0; i < active_count_; ++i) is_active_[static_cast<std::size_t>(active_(i))] = 0;
   active_count_ = 0;
 }
 
 void ActiveSetQp::drop(int position) noexcept {
-  is_active_[static_cast<std::size_t>(active_[static_cast<std::size_t>(position)])] = 0;
+  is_active_[static_cast<std::size_t>(active_(position))] = 0;
   for (int i = position; i + 1 < active_count_; ++i) {
-    active_[static_cast<std::size_t>(i)] = active_[static_cast<std::size_t>(i + 1)];
-    lambda_[static_cast<std::size_t>(i)] = lambda_[static_cast<std::size_t>(i + 1)];
+    active_(i) = active_(i + 1);
+    lambda_(i) = lambda_(i + 1);
   }
   --active_count_;
 }
@@ -137,8 +131,8 @@ QpResult ActiveSetQp::solve(const Eigen::Ref<const Eigen::VectorXd>& g,
   // ξ optimal subject to those constraints as equalities, λ ≥ 0.
   while (active_count_ > 0) {
     for (int i = 0; i < active_count_; ++i) {
-      const int j = active_[static_cast<std::size_t>(i)];
-      rhs_[static_cast<std::size_t>(i)] = -C_.col(j).dot(h_) - b(j);
+      const int j = active_(i);
+      rhs_(i) = -C_.col(j).dot(h_) - b(j);
     }
     if (!solve_gram(rhs_.data(), lambda_.data())) {
       forget();
@@ -146,9 +140,7 @@ QpResult ActiveSetQp::solve(const Eigen::Ref<const Eigen::VectorXd>& g,
     }
     int most_negative = -1;
     for (int i = 0; i < active_count_; ++i) {
-      if (lambda_[static_cast<std::size_t>(i)] < 0.0 &&
-          (most_negative < 0 || lambda_[static_cast<std::size_t>(i)] <
-                                    lambda_[static_cast<std::size_t>(most_negative)])) {
+      if (lambda_(i) < 0.0 && (most_negative < 0 || lambda_(i) < lambda_(most_negative))) {
         most_negative = i;
       }
     }
@@ -191,16 +183,14 @@ QpResult ActiveSetQp::solve(const Eigen::Ref<const Eigen::VectorXd>& g,
       if (result.iterations >= max_iterations_) return finish(QpStatus::iteration_limit);
       const int q = active_count_;
       for (int i = 0; i < q; ++i) {
-        rhs_[static_cast<std::size_t>(i)] =
-            C_.col(active_[static_cast<std::size_t>(i)]).dot(C_.col(p));
+        rhs_(i) = C_.col(active_(i)).dot(C_.col(p));
       }
       if (q > 0 && !solve_gram(rhs_.data(), r_.data())) return finish(QpStatus::infeasible);
       // d: −c_p projected on the null space of the active normals (keeps them active and
       // raises the slack of p); r: how the active multipliers fall per unit step.
       d_ = -C_.col(p);
       for (int i = 0; i < q; ++i) {
-        d_.noalias() +=
-            r_[static_cast<std::size_t>(i)] * C_.col(active_[static_cast<std::size_t>(i)]);
+        d_.noalias() += r_(i) * C_.col(active_(i));
       }
       const double dd = d_.squaredNorm();
       const double full_step =
@@ -208,9 +198,9 @@ QpResult ActiveSetQp::solve(const Eigen::Ref<const Eigen::VectorXd>& g,
       double partial_step = kInfinity;
       int blocking = -1;
       for (int i = 0; i < q; ++i) {
-        const double ri = r_[static_cast<std::size_t>(i)];
+        const double ri = r_(i);
         if (ri > 0.0) {
-          const double t = lambda_[static_cast<std::size_t>(i)] / ri;
+          const double t = lambda_(i) / ri;
           if (t < partial_step) {
             partial_step = t;
             blocking = i;
@@ -226,18 +216,18 @@ QpResult ActiveSetQp::solve(const Eigen::Ref<const Eigen::VectorXd>& g,
         slack_p += t * dd;
       }
       for (int i = 0; i < q; ++i) {
-        lambda_[static_cast<std::size_t>(i)] -= t * r_[static_cast<std::size_t>(i)];
+        lambda_(i) -= t * r_(i);
       }
       lambda_p += t;
       ++result.iterations;
       if (full_step <= partial_step) {  // p becomes active
-        active_[static_cast<std::size_t>(q)] = p;
+        active_(q) = p;
         is_active_[static_cast<std::size_t>(p)] = 1;
-        lambda_[static_cast<std::size_t>(q)] = lambda_p;
+        lambda_(q) = lambda_p;
         ++active_count_;
         break;
       }
-      lambda_[static_cast<std::size_t>(blocking)] = 0.0;
+      lambda_(blocking) = 0.0;
       drop(blocking);
     }
   }

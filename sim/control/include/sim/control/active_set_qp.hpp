@@ -87,10 +87,10 @@ class ActiveSetQp {
   Eigen::VectorXd slack_;  // b − C ᵀξ
   Eigen::VectorXd d_;      // step direction in ξ-space
   Eigen::MatrixXd gram_;   // Cholesky factor of C_Aᵀ C_A, nv × nv used top-left
-  std::vector<double> rhs_, r_;
-  std::vector<int> active_;
+  Eigen::VectorXd rhs_, r_;
+  Eigen::VectorXi active_;                // the active rows, active_count_ of them used
   std::vector<unsigned char> is_active_;  // per row: in active_ (never picked as violated)
-  std::vector<double> lambda_;
+  Eigen::VectorXd lambda_;
   int active_count_ = 0;
 };
 
