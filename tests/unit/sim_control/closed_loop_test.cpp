@@ -14,6 +14,7 @@
 
 #include "sim/control/dmc.hpp"
 #include "sim/control/integral_controllability.hpp"
+#include "sim/control/make_controller.hpp"
 #include "sim/control/pi.hpp"
 #include "sim/control/step_model.hpp"
 #include "sim/plants/plant.hpp"
@@ -195,6 +196,30 @@ TEST(ClosedLoop, WoodBerryUnderDecentralisedPiTracksASetpointStepWithinItsMvLimi
   EXPECT_LE(r.u.cwiseAbs().maxCoeff(), 0.3);
   EXPECT_GT(r.clamped, 0);
 }
+
+// The example controller files (sim/control/examples) run as written: read, built on their
+// model for their plant, and closing the loop on a setpoint step.
+class ExampleFile : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ExampleFile, RunsItsPlantToASetpointStep) {
+  const ControllerFile file =
+      load_controller_file(std::string(EXCITE_CONTROL_EXAMPLES) + "/" + GetParam());
+  auto model = load_model(file);
+  auto plant = make_plant(file.model.plant);
+  const Eigen::MatrixXd g0 = plant->static_gain();
+  auto controller = make_controller(file, *model, &g0);
+  Eigen::VectorXd setpoint = Eigen::VectorXd::Zero(plant->outputs());
+  setpoint(0) = 0.5;
+  const LoopRecord r = run_loop(*plant, *controller, setpoint, 1000);
+  EXPECT_LT((r.y.bottomRows(1).transpose() - setpoint).cwiseAbs().maxCoeff(), 1e-3);
+}
+
+INSTANTIATE_TEST_SUITE_P(SimControlExamples, ExampleFile,
+                         ::testing::Values("alatiqi4x4.dmc.toml", "woodberry2x2.pi.toml"),
+                         [](const auto& param_info) {
+                           return std::string(param_info.param).substr(
+                               0, std::string(param_info.param).find('.'));
+                         });
 
 }  // namespace
 }  // namespace excite::sim::control
