@@ -95,8 +95,7 @@ void run(CampaignCommandOptions opt) {
     const std::lock_guard<std::mutex> lock(say_mutex);
     std::cerr << "[" << static_cast<int>(elapsed() * 10) / 10.0 << " s] " << line << std::endl;
   };
-  WholeFolder folder(opt.output_dir, opt.overwrite, is_campaign_folder,
-                     "a previous campaign's (no summary.json of one)");
+  WholeFolder folder(opt.output_dir, opt.overwrite, "campaign");
   const fs::path& out = folder.staging();
   if (opt.loop) {
     opt.campaign.measured_run = measured_runs_in_the_loop(opt.campaign.plant, out / "runs",
