@@ -9,6 +9,7 @@
 #include "host/campaign/parallel.hpp"
 #include "host/montecarlo/records.hpp"
 #include "host/output/whole_file.hpp"
+#include "sim/plants/plant.hpp"
 
 namespace excite::host::montecarlo {
 namespace fs = std::filesystem;
@@ -99,6 +100,7 @@ Outcome run_into(const Config& config, const fs::path& dir, int threads,
 }
 
 std::vector<UnitResult> read_units(const Config& config, const fs::path& dir) {
+  const std::unique_ptr<sim::Plant> plant = sim::make_plant(config.plant);
   std::vector<UnitResult> out;
   for (const Unit& u : shard_units(config)) {
     const fs::path file = unit_path(dir, config, u);
@@ -110,12 +112,7 @@ std::vector<UnitResult> read_units(const Config& config, const fs::path& dir) {
           std::to_string(config.shard.count) + "; rerun it to finish");
     }
     UnitResult r = read_unit(file);
-    if (r.design != config.designs[static_cast<std::size_t>(u.design)] || r.seed != u.seed) {
-      throw std::runtime_error(file.string() + ": holds " + r.design + " seed " +
-                               std::to_string(r.seed) + ", expected " +
-                               config.designs[static_cast<std::size_t>(u.design)] + " seed " +
-                               std::to_string(u.seed));
-    }
+    check_unit(r, config, u, plant->outputs(), plant->inputs(), file);
     out.push_back(std::move(r));
   }
   return out;
