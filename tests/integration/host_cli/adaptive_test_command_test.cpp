@@ -125,3 +125,30 @@ TEST_F(AdaptiveTestCommand, BadOptionsAreRefusedByName) {
 }
 
 }  // namespace
+
+namespace {
+
+// Issue 40 §3: no link is followed when a test writes its folder. A dangling link planted at
+// DIR/decisions.jsonl (or any name the test writes) made the test create its target outside
+// DIR; the folder is now refused naming it, before any work, and nothing is created.
+TEST_F(AdaptiveTestCommand, PlantedLinkInTheFolderIsRefusedNotFollowed) {
+  std::filesystem::create_directories(dir_ / "t");
+  for (const char* name : {"decisions.jsonl", "status.txt", "run.csv", "model.json"}) {
+    SCOPED_TRACE(name);
+    std::filesystem::create_symlink(dir_ / "outside", dir_ / "t" / name);
+    const Result r = excite("test --plant woodberry2x2 --seed 3 -o " + path("t"));
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_TRUE(contains(r.out, "t: already holds " + std::string(name) +
+                                    " (a link), expected a new or empty folder"))
+        << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir_ / "outside")) << r.out;
+    std::filesystem::remove(dir_ / "t" / name);
+  }
+  std::filesystem::create_directories(dir_ / "elsewhere");
+  std::filesystem::create_directory_symlink(dir_ / "elsewhere", dir_ / "t/segments");
+  const Result r = excite("test --plant woodberry2x2 --seed 3 -o " + path("t"));
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_TRUE(std::filesystem::is_empty(dir_ / "elsewhere")) << r.out;
+}
+
+}  // namespace
