@@ -125,6 +125,7 @@ void run_one(const TestCommandOptions& opt, const PriorKnowledge& prior, double 
   if (!opt.limits.empty()) {
     adaptive.limits = parse_cv_limits(opt.limits, plant->output_names(), "the plant's");
   }
+  check_adaptive_test(prior, adaptive);
   prepare_folder(dir, kTestNames);
   const double noise =
       opt.noise_variance >= 0.0 ? opt.noise_variance : case_study_noise_variance(opt.plant);
@@ -198,6 +199,7 @@ void run_through_gateway(const TestCommandOptions& opt, const PriorKnowledge& pr
                  "[segments] preapproved_from is \"excite test segment\"\n"
               << std::flush;
   };
+  check_adaptive_test(prior, adaptive);
   prepare_folder(dir, kTestNames);
   InboxRunner runner(runner_options, hooks);
   FolderLog log(dir, inputs, outputs);
@@ -227,6 +229,7 @@ void run_study_command(const TestCommandOptions& opt, double perturb) {
     s.adaptive.limits =
         parse_cv_limits(opt.limits, sim::make_plant(opt.plant)->output_names(), "the plant's");
   }
+  check_adaptive_test(case_study(opt.plant), s.adaptive);
   prepare_folder(dir, {"study.json"});
   const StudyResult result = run_study(s);
   nlohmann::json j = study_json(result);
