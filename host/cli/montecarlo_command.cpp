@@ -157,6 +157,8 @@ void run(Options opt) {
   ProgressPrinter printer;
   const mc::Outcome outcome = mc::run_into(
       opt.config, opt.output_dir, opt.threads, [&](const mc::Progress& p) { printer(p); }, g_stop);
+  for (const std::string& why : outcome.redone)
+    std::cerr << "montecarlo: run again, its file does not read back: " << why << std::endl;
   const int ran = outcome.done - outcome.done_before;
   if (ran > 0) {
     const UnitTimes& t = outcome.unit_cpu;

@@ -1,7 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include "host/montecarlo/run.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <ctime>
 #include <mutex>
 #include <stdexcept>
@@ -45,6 +52,38 @@ void claim_folder(const Config& config, const fs::path& dir) {
   write_whole_file(run_file, config_json(config).dump(2) + "\n");
 }
 
+// One process per folder: an exclusive flock on DIR/.excite-lock, held until the process
+// ends (two resumes of one folder once ran the same units twice, racing on their files).
+// The holder's pid is written into it for the message.
+class FolderLock {
+ public:
+  explicit FolderLock(const fs::path& dir) {
+    const fs::path file = dir / ".excite-lock";
+    fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd_ < 0) {
+      throw std::runtime_error(file.string() + ": cannot be opened (" + std::strerror(errno) +
+                               "), expected a lock file excite can write");
+    }
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      char pid[32] = {};
+      const ssize_t n = ::pread(fd_, pid, sizeof pid - 1, 0);
+      ::close(fd_);
+      throw std::runtime_error(dir.string() + ": locked = by process " +
+                               std::string(pid, static_cast<std::size_t>(std::max<ssize_t>(n, 0))) +
+                               ", expected one excite montecarlo per folder (wait for it, or "
+                               "end it: what finished is kept)");
+    }
+    const std::string pid = std::to_string(::getpid());
+    if (::ftruncate(fd_, 0) == 0) (void)!::pwrite(fd_, pid.data(), pid.size(), 0);
+  }
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+  ~FolderLock() { ::close(fd_); }
+
+ private:
+  int fd_ = -1;
+};
+
 }  // namespace
 
 Outcome run_into(const Config& config, const fs::path& dir, int threads,
@@ -53,13 +92,29 @@ Outcome run_into(const Config& config, const fs::path& dir, int threads,
   if (threads < 1)
     throw std::invalid_argument("--threads = " + std::to_string(threads) + ", expected >= 1");
   claim_folder(config, dir);
+  const FolderLock one_process(dir);
   const auto start = std::chrono::steady_clock::now();
   const std::vector<Unit> units = shard_units(config);
+  const std::unique_ptr<sim::Plant> plant = sim::make_plant(config.plant);
   std::vector<Unit> pending;
-  for (const Unit& u : units) {
-    if (!fs::exists(unit_path(dir, config, u))) pending.push_back(u);
-  }
   Outcome outcome;
+  for (const Unit& u : units) {
+    const fs::path file = unit_path(dir, config, u);
+    std::error_code ec;
+    if (!fs::exists(fs::symlink_status(file, ec))) {
+      pending.push_back(u);
+      continue;
+    }
+    // A unit file that does not read back (cut short by a copy, a full disk elsewhere) is run
+    // again, said, not counted as done: it once blocked every resume without a hint.
+    try {
+      check_unit(read_unit(file), config, u, plant->outputs(), plant->inputs(), file);
+    } catch (const std::exception& e) {
+      outcome.redone.emplace_back(e.what());
+      fs::remove(file, ec);
+      pending.push_back(u);
+    }
+  }
   outcome.total = static_cast<int>(units.size());
   outcome.done_before = outcome.total - static_cast<int>(pending.size());
   outcome.done = outcome.done_before;

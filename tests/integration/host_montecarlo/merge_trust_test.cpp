@@ -7,8 +7,11 @@
 // size bound, values a run never writes. And `merge -o OUT` writes only its own entries
 // (summary.json, index.html, figures/), never over the user's files nor through a link.
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -24,16 +27,17 @@ using excite_cli_test::bytes_of;
 using excite_cli_test::excite;
 using excite_cli_test::Result;
 
+const char* const kRun =
+    "montecarlo --plant woodberry2x2 --designs prbsUnc,prbsSimDir --seeds 2 --length-step 50 "
+    "--threads 2";
+
 class MergeTrust : public excite_cli_test::ExciteCli {
  protected:
   // One real run for the whole suite, copied per test.
   static void SetUpTestSuite() {
     source_ = fs::temp_directory_path() / ("excite_merge_trust_" + std::to_string(::getpid()));
     fs::remove_all(source_);
-    const Result r = excite(
-        "montecarlo --plant woodberry2x2 --designs prbsUnc,prbsSimDir --seeds 2 --length-step 50 "
-        "--threads 2 -o " +
-        source_.string());
+    const Result r = excite(std::string(kRun) + " -o " + source_.string());
     ASSERT_EQ(r.exit_code, 0) << r.out;
   }
   static void TearDownTestSuite() { fs::remove_all(source_); }
@@ -202,6 +206,40 @@ TEST_F(MergeTrust, OutputFolderKeepsTheUsersFilesAndFollowsNoLink) {
   EXPECT_EQ(bytes_of(path("out/figures/notes.txt")), "mine\n");
   for (const auto& e : fs::directory_iterator(dir_ / "out"))
     EXPECT_NE(e.path().filename().string().rfind(".excite-montecarlo", 0), 0U) << e.path();
+}
+
+// Issue 40 §5: a unit file cut short blocked every resume (counted as done, then unreadable
+// at the summary) with no hint; it is now run again, and said. Two processes on one folder
+// ran the same units twice; the second is now refused naming the first.
+TEST_F(MergeTrust, AResumeRedoesAUnitCutShortAndOneProcessHoldsTheFolder) {
+  const fs::path s = shard();
+  const fs::path unit = s / "units/prbsUnc/seed-1.json";
+  const std::string whole = bytes_of(unit.string());
+  std::ofstream(unit) << whole.substr(0, 100);
+  Result r = excite(std::string(kRun) + " -o " + s.string());
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("montecarlo: run again, its file does not read back: " + unit.string() +
+                       ": text = not JSON"),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(bytes_of(unit.string()), whole);  // the same unit, run again
+  EXPECT_EQ(bytes_of((s / "summary.json").string()), bytes_of((source_ / "summary.json").string()));
+
+  // Another process holds the folder (here: this test, as excite would).
+  const int fd = ::open((s / ".excite-lock").c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  ASSERT_EQ(::ftruncate(fd, 0), 0);
+  ASSERT_EQ(::pwrite(fd, "4242", 4, 0), 4);
+  fs::remove(unit);
+  r = excite(std::string(kRun) + " -o " + s.string());
+  ::close(fd);
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.out.find(s.string() + ": locked = by process 4242, expected one excite montecarlo "
+                                    "per folder"),
+            std::string::npos)
+      << r.out;
+  EXPECT_FALSE(fs::exists(unit)) << "the refused process ran a unit";
 }
 
 }  // namespace
