@@ -9,9 +9,11 @@
 #include <sys/stat.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <tuple>
 
 #include "cli_process.hpp"
 
@@ -120,6 +122,51 @@ TEST_F(InputHygiene, ADashNameIsAnUnknownOptionNotHelp) {
       << r.out;
   EXPECT_FALSE(contains(r.out, "Usage:")) << r.out;
   EXPECT_EQ(excite("import -h").exit_code, 0);
+}
+
+// A long export without its header row took its first sample as the header (and lost it);
+// UTF-16 and UTF-32 exports were refused as "tag not found" among columns of zero bytes.
+TEST_F(InputHygiene, ImportSaysWhatIsWrongWithTheFilesShape) {
+  std::string rows;
+  for (int k = 0; k < 60; ++k) {
+    char time[32];
+    std::snprintf(time, sizeof time, "2026-01-01 %02d:%02d:00", k / 60, k % 60);
+    rows += "FC101," + std::string(time) + "," + std::to_string(k % 2) + "\n";
+    rows += "TI205," + std::string(time) + "," + std::to_string(0.01 * k) + "\n";
+  }
+  std::ofstream(path("long.csv")) << rows;
+  Result r = excite("import " + path("long.csv") +
+                    " --long --mv FC101 --cv TI205 --sample-time-min 1 -o " + path("o.csv"));
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_TRUE(contains(r.out,
+                       "long.csv:1: header = 'FC101', '2026-01-01 00:00:00', '0' (3 "
+                       "columns), expected column names TAG,TIME,VALUE[,QUALITY] (--long): "
+                       "this row reads as a sample"))
+      << r.out;
+  std::ofstream(path("long.csv")) << "tag,time,value\n" << rows;
+  r = excite("import " + path("long.csv") +
+             " --long --mv FC101 --cv TI205 --sample-time-min 1 -o " + path("o.csv"));
+  EXPECT_EQ(r.exit_code, 0) << r.out;
+
+  const std::string text = "time,FC101,TI205\n2026-01-01 00:00:00,1,2\n";
+  std::string utf16le = "\xFF\xFE", utf16, utf32le = std::string("\xFF\xFE\0\0", 4);
+  for (const char c : text) {
+    utf16le += std::string{c, '\0'};
+    utf16 += std::string{c, '\0'};
+    utf32le += std::string{c, '\0', '\0', '\0'};
+  }
+  for (const auto& [name, bytes, encoding] :
+       {std::tuple{"u16.csv", utf16le, "UTF-16LE (byte order mark FF FE)"},
+        std::tuple{"u16n.csv", utf16, "UTF-16 (no byte order mark)"},
+        std::tuple{"u32.csv", utf32le, "UTF-32LE (byte order mark FF FE 00 00)"}}) {
+    std::ofstream(path(name), std::ios::binary) << bytes;
+    r = excite("import " + path(name) + " --mv FC101 --cv TI205 --sample-time-min 1 -o " +
+               path("o2.csv"));
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_TRUE(contains(
+        r.out, std::string(name) + ":1: encoding = " + encoding + ", expected UTF-8 or ASCII text"))
+        << r.out;
+  }
 }
 
 }  // namespace
