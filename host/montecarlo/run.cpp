@@ -52,29 +52,23 @@ void claim_folder(const Config& config, const fs::path& dir) {
   write_whole_file(run_file, config_json(config).dump(2) + "\n");
 }
 
-// One process per folder: an exclusive flock on DIR/.excite-lock, held until the process
-// ends (two resumes of one folder once ran the same units twice, racing on their files).
-// The holder's pid is written into it for the message.
+// One process per folder: an exclusive flock on the folder itself, held until the call
+// returns or the process ends (two resumes of one folder once ran the same units twice,
+// racing on their files). A lock on the folder leaves no file behind.
 class FolderLock {
  public:
   explicit FolderLock(const fs::path& dir) {
-    const fs::path file = dir / ".excite-lock";
-    fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
+    fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (fd_ < 0) {
-      throw std::runtime_error(file.string() + ": cannot be opened (" + std::strerror(errno) +
-                               "), expected a lock file excite can write");
+      throw std::runtime_error(dir.string() + ": cannot be opened (" + std::strerror(errno) +
+                               "), expected a folder excite can lock");
     }
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-      char pid[32] = {};
-      const ssize_t n = ::pread(fd_, pid, sizeof pid - 1, 0);
       ::close(fd_);
-      throw std::runtime_error(dir.string() + ": locked = by process " +
-                               std::string(pid, static_cast<std::size_t>(std::max<ssize_t>(n, 0))) +
-                               ", expected one excite montecarlo per folder (wait for it, or "
-                               "end it: what finished is kept)");
+      throw std::runtime_error(dir.string() +
+                               ": locked = by another process, expected one excite montecarlo "
+                               "per folder (wait for it, or end it: what finished is kept)");
     }
-    const std::string pid = std::to_string(::getpid());
-    if (::ftruncate(fd_, 0) == 0) (void)!::pwrite(fd_, pid.data(), pid.size(), 0);
   }
   FolderLock(const FolderLock&) = delete;
   FolderLock& operator=(const FolderLock&) = delete;

@@ -8,8 +8,8 @@
 //   - Units already in DIR are not run again; the others run on `threads` threads, each
 //     written whole as soon as it finishes. A unit file that does not read back (records.hpp
 //     check_unit) is removed and run again; Outcome::redone says why.
-//   - One process per folder: DIR/.excite-lock is held (flock) for the whole call; a second
-//     process is refused naming the first's pid.
+//   - One process per folder: DIR itself is locked (flock) for the whole call; a second
+//     process is refused.
 //   - `stop` set (e.g. by SIGINT): no new unit starts; the running ones finish and are kept.
 
 #include <atomic>
