@@ -44,11 +44,24 @@ void check_options(const AdaptiveOptions& o) {
     throw std::invalid_argument("first segment scale = " + std::to_string(o.first_scale) +
                                 ", expected 0 < scale <= 1");
   }
+  if (o.limits) {
+    for (Eigen::Index j = 0; j < o.limits->low.size(); ++j) {
+      if (!(o.limits->low(j) < 0.0 && o.limits->high(j) > 0.0)) {
+        throw std::invalid_argument(
+            "limits of output " + std::to_string(j + 1) + " = " + std::to_string(o.limits->low(j)) +
+            ":" + std::to_string(o.limits->high(j)) +
+            ", expected LOW < 0 < HIGH (deviations from the baseline, which lies inside them)");
+      }
+    }
+  }
   if (!(o.weight_floor > 0.0 && o.weight_floor <= 1.0)) {
     throw std::invalid_argument("direction weight floor = " + std::to_string(o.weight_floor) +
                                 ", expected 0 < floor <= 1");
   }
 }
+
+constexpr long long kMaxRows = 100000000;  // the longest test: 10^8 samples
+constexpr double kMinLimitShare = 0.01;    // the first segment's least share under limits
 
 class Test {
  public:
@@ -64,6 +77,16 @@ class Test {
     result_.sample_time_min = plain.meta.sample_time_min;
     rows_ = whole_bit_rows(
         plain, options.segment_min > 0.0 ? options.segment_min : 4.0 * prior.tau_high_min);
+    if (options.max_length_min / plain.meta.sample_time_min > kMaxRows) {
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    "maximum length (--max-min) = %g min, expected at most %.0f min (%lld samples "
+                    "of %g min)",
+                    options.max_length_min,
+                    static_cast<double>(kMaxRows) * plain.meta.sample_time_min, kMaxRows,
+                    plain.meta.sample_time_min);
+      throw std::invalid_argument(text);
+    }
     max_rows_ = options.max_length_min > 0.0
                     ? static_cast<long long>(
                           std::ceil(options.max_length_min / plain.meta.sample_time_min - 1e-9))
@@ -77,6 +100,23 @@ class Test {
                                 plain.meta.sample_time_min;
     first_rows_ = std::max(rows_, whole_bit_rows(plain, shortest_min));
     first_rows_ = static_cast<std::uint32_t>(std::min<long long>(first_rows_, max_rows_));
+    if (options.limits) {
+      if (prior.gain.rows() != options.limits->low.size() ||
+          prior.gain.cols() != prior.input_count())
+        throw std::invalid_argument(
+            "limits: the prior has no G(0) of its outputs, expected one to size the plain "
+            "segments inside the limits");
+      const SegmentDecision first = plain_segment(0, "", first_rows_);
+      if (first.scale < kMinLimitShare * options.first_scale) {
+        char text[120];
+        std::snprintf(text, sizeof text, "%.3g %% of the first segment's amplitude",
+                      100.0 * first.scale / options.first_scale);
+        throw std::invalid_argument("limits leave room for " + std::string(text) + " (" +
+                                    first.why.substr(2) +
+                                    "), expected at least 1 %: the test cannot excite the plant "
+                                    "inside them; widen the limits");
+      }
+    }
   }
 
   AdaptiveResult run() {
@@ -90,6 +130,7 @@ class Test {
       append_rows(result_.U, m.du);
       append_rows(result_.Y, m.dy);
       append_rows(result_.Y_true, m.dy_true);
+      const std::string outside = count_outside(m.dy);
       ++next;
       const Reestimate* e = reestimate(next - 1);
       if (e != nullptr && e->confidence.met) {
@@ -110,6 +151,14 @@ class Test {
       if (result_.U.rows() >= max_rows_) {
         return stop(false, "the maximum length, " + minutes(max_rows_) + ", is reached" +
                                (e != nullptr ? "; still missing: " + e->confidence.missing : ""));
+      }
+      if (!outside.empty()) {
+        // What is measured binds too: a CV outside its limits holds the operating point for a
+        // segment; outside again after a hold, the test stops.
+        if (result_.segments.back().scale == 0.0)
+          return stop(false, "limits: " + outside + ", after a hold");
+        segment = hold_segment(next, "hold (no excitation): " + outside);
+        continue;
       }
       std::optional<SegmentDecision> decided = next_segment(next, e);
       if (!decided) return stop(false, std::move(refused_));  // amplitude control
@@ -141,8 +190,82 @@ class Test {
     d.plan = cut_segment(*sources_.plain.plan, sequence_row_, d.rows);
     d.scale = options_.first_scale;
     scale_mix(d.plan, d.scale);
+    if (options_.limits) size_by_prior(d);
     set_provenance(d.plan,
                    "excite test segment " + std::to_string(index) + ": plain; " + prior_.plant);
+    return d;
+  }
+
+  // Under CV limits a plain segment goes out no larger than the prior's G(0) allows: with
+  // every element's step response monotone, |y_j| ≤ Σ_i |G0_ji| max|u_i| over the segment
+  // (and its settling after), so α = min_j room_j / that bound, room_j = min(high_j, −low_j).
+  // A model that amplitude control trusts sizes the segments after it (next_segment).
+  void size_by_prior(SegmentDecision& d) const {
+    const Eigen::MatrixXd table = make_table(d.plan.recipe);
+    const Eigen::VectorXd peak_u = table.cwiseAbs().colwise().maxCoeff().transpose();
+    const Eigen::VectorXd bound = prior_.gain.cwiseAbs() * peak_u;
+    double alpha = 1.0;
+    Eigen::Index binding = -1;
+    for (Eigen::Index j = 0; j < bound.size(); ++j) {
+      const double room = std::min(options_.limits->high(j), -options_.limits->low(j));
+      if (bound(j) > 0.0 && room / bound(j) < alpha) {
+        alpha = room / bound(j);
+        binding = j;
+      }
+    }
+    if (binding < 0) return;
+    d.scale *= alpha;
+    scale_mix(d.plan, alpha);
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "; scale %.3g for the limits: the prior's G(0) bounds output %lld by %.3g at the "
+                  "engineer's amplitude against its limit %.3g",
+                  alpha, static_cast<long long>(binding + 1), bound(binding),
+                  std::min(options_.limits->high(binding), -options_.limits->low(binding)));
+    d.why += text;
+  }
+
+  // Counts the rows of the segment just measured in which an output is outside its limits,
+  // into the result; returns the first such output's account for a message ("" when none).
+  std::string count_outside(const Eigen::MatrixXd& dy) {
+    if (!options_.limits) return {};
+    const CvLimits& l = *options_.limits;
+    const auto n = l.low.size();
+    if (result_.rows_outside_limits.empty()) {
+      result_.rows_outside_limits.assign(static_cast<std::size_t>(n), 0);
+      result_.worst_outside_limits = Eigen::VectorXd::Constant(n, std::nan(""));
+    }
+    std::string first;
+    for (Eigen::Index j = 0; j < n && j < dy.cols(); ++j) {
+      long long rows = 0;
+      for (Eigen::Index k = 0; k < dy.rows(); ++k) {
+        const double y = dy(k, j);
+        if (y >= l.low(j) && y <= l.high(j)) continue;
+        ++rows;
+        double& worst = result_.worst_outside_limits(j);
+        if (!(std::abs(y) <= std::abs(worst))) worst = y;
+      }
+      result_.rows_outside_limits[static_cast<std::size_t>(j)] += rows;
+      if (rows > 0 && first.empty()) {
+        char text[200];
+        std::snprintf(text, sizeof text,
+                      "output %lld measured outside its limits %.3g:%.3g in %lld of %lld rows",
+                      static_cast<long long>(j + 1), l.low(j), l.high(j), rows,
+                      static_cast<long long>(dy.rows()));
+        first = text;
+      }
+    }
+    return first;
+  }
+
+  // The next segment holds the operating point (no excitation).
+  SegmentDecision hold_segment(int index, std::string why) const {
+    SegmentDecision d = plain_segment(index, "");
+    d.why = std::move(why);
+    d.scale = 0.0;
+    scale_mix(d.plan, 0.0);
+    set_provenance(d.plan,
+                   "excite test segment " + std::to_string(index) + ": hold; " + prior_.plant);
     return d;
   }
 
@@ -333,6 +456,15 @@ GainEvidence evidence_of(const Reestimate& e) {
     g.unavailable = "no G(0) uncertainty (a gain on a bound, or a residual not finite)";
   }
   return g;
+}
+
+void check_adaptive_test(const PriorKnowledge& prior, const AdaptiveOptions& options) {
+  struct NoPlant final : SegmentRunner {
+    MeasuredSegment run(const plan::Plan& /*segment*/) override {
+      throw std::logic_error("check_adaptive_test runs nothing");
+    }
+  } none;
+  const Test checked(prior, none, options, nullptr);
 }
 
 AdaptiveResult run_adaptive_test(const PriorKnowledge& prior, SegmentRunner& runner,

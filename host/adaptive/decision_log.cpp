@@ -98,7 +98,8 @@ nlohmann::json stop_event(const AdaptiveResult& r) {
           {"reason", r.stop_reason},
           {"length_min", r.length_min()},
           {"segments", r.segments.size()},
-          {"estimates", r.estimates.size()}};
+          {"estimates", r.estimates.size()},
+          {"rows_outside_limits", r.rows_outside_limits}};  // per output; [] without limits
 }
 
 std::string operator_view(const AdaptiveResult& r, const std::vector<std::string>& inputs,
@@ -152,6 +153,12 @@ std::string operator_view(const AdaptiveResult& r, const std::vector<std::string
       v << "; predicted stop at " << fixed(*e.predicted_stop_min, 0) << " min";
     }
     v << "\n";
+  }
+  for (std::size_t j = 0; j < r.rows_outside_limits.size(); ++j) {
+    if (r.rows_outside_limits[j] == 0) continue;
+    v << "  limits: " << outputs.at(j) << " measured outside its limits in "
+      << r.rows_outside_limits[j] << " rows (furthest "
+      << fixed(r.worst_outside_limits(static_cast<Eigen::Index>(j)), 3) << ")\n";
   }
   if (!r.stop_reason.empty()) {
     v << "  stopped: " << r.stop_reason << "\n";

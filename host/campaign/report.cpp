@@ -267,15 +267,6 @@ void write_summary(const CampaignResult& r, const std::filesystem::path& dir) {
   write_whole_file(dir / "summary.json", j.dump(2) + '\n');
 }
 
-bool is_campaign_folder(const std::filesystem::path& dir) {
-  const auto summary = dir / "summary.json";
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(std::filesystem::symlink_status(summary, ec))) return false;
-  std::ifstream in(summary);
-  const nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-  return j.is_object() && j.contains("plant") && j.contains("experiments");
-}
-
 void write_report(const CampaignResult& r, const sim::Plant& plant,
                   const std::filesystem::path& dir, const ReportArtifacts& artifacts, int threads) {
   const auto figures = dir / "figures";

@@ -101,8 +101,7 @@ void run(CampaignCommandOptions opt) {
     std::cerr << "[" << static_cast<int>(elapsed() * 10) / 10.0 << " s] " << line << std::endl;
   };
   if (opt.structure != "auto") opt.campaign.structure = structure_from_string(opt.structure);
-  WholeFolder folder(opt.output_dir, opt.overwrite, is_campaign_folder,
-                     "a previous campaign's (no summary.json of one)");
+  WholeFolder folder(opt.output_dir, opt.overwrite, "campaign");
   const fs::path& out = folder.staging();
   if (opt.loop) {
     opt.campaign.measured_run = measured_runs_in_the_loop(opt.campaign.plant, out / "runs",

@@ -48,6 +48,12 @@ void parse_limit(const std::string& text, const std::vector<std::string>& output
   const auto j = at - outputs.begin();
   limits.low(j) = number(text.substr(eq + 1, colon - eq - 1));
   limits.high(j) = number(text.substr(colon + 1));
+  // Reversed (1:-1), zero-width (0:0) or one-sided (0:1) limits leave the baseline no room.
+  if (!(limits.low(j) < 0.0 && limits.high(j) > 0.0)) {
+    throw std::invalid_argument("--limit \"" + text + "\": LOW:HIGH = " + text.substr(eq + 1) +
+                                ", expected LOW < 0 < HIGH (deviations from the baseline, which "
+                                "lies inside its limits)");
+  }
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 
 #include <iostream>
 #include <sstream>
+#include <utility>
 
 #include "firmware/runlog/reader.hpp"
 #include "host/cli/commands.hpp"
@@ -145,12 +146,26 @@ void print(const IdentificationResult& r, const runlog::RunLog& log) {
 }
 
 void run(const IdentifyCommandOptions& opt) {
-  check_identify_output(opt.model_path, opt.run_paths, opt.json);
+  // Every input file counts, --structures-from's too (it was once replaced by -o).
+  std::vector<std::string> inputs = opt.run_paths;
+  if (!opt.structures_from.empty()) inputs.push_back(opt.structures_from);
+  check_identify_output(opt.model_path, inputs, opt.json);
   const HumanTextAside aside(opt.model_path);
   check_pooled_rows(opt.run_paths);
   std::vector<runlog::RunLog> runs;
   for (const auto& path : opt.run_paths) runs.push_back(read_log(path));
   check_pooled_headers(runs, opt.run_paths, opt.allow_mixed);
+  // The model file's channel limit, before any fit (a 65-input run once took 77 s and wrote a
+  // model no other command reads).
+  for (const auto& [kind, count] : {std::pair{"inputs", runs.front().input_names.size()},
+                                    std::pair{"outputs", runs.front().output_names.size()}}) {
+    if (count > kMaxModelChannels) {
+      throw std::invalid_argument(opt.run_paths.front() + ": " + kind + " = " +
+                                  std::to_string(count) + " channels, expected at most " +
+                                  std::to_string(kMaxModelChannels) +
+                                  " (a model file's limit, host/README.md Limits)");
+    }
+  }
   std::vector<const runlog::RunLog*> logs;
   for (const auto& r : runs) logs.push_back(&r);
   FlagRule rule = opt.rule;

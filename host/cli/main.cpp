@@ -9,6 +9,7 @@
 #include "firmware/runlog/format.hpp"
 
 #include "host/cli/commands.hpp"
+#include "host/cli/error_text.hpp"
 #include "host/cli/short_numbers.hpp"
 
 int main(int argc, char** argv) {
@@ -31,8 +32,22 @@ int main(int argc, char** argv) {
   excite::host::cli::add_scale_command(app);
   excite::host::cli::add_test_command(app);
   app.failure_message([](const CLI::App* a, const CLI::Error& e) {
-    return excite::host::cli::short_numbers(CLI::FailureMessage::simple(a, e));
+    return excite::host::cli::printable(
+        excite::host::cli::short_numbers(CLI::FailureMessage::simple(a, e)));
   });
+  // "-hist.csv" is not -h: CLI11 would read it as -h -i -s … and print the help, exit 0.
+  for (int k = 1; k < argc; ++k) {
+    const std::string arg = argv[k];
+    if (arg == "--") break;
+    if (arg.size() > 2 && arg[0] == '-' && arg[1] == 'h') {
+      std::fprintf(stderr,
+                   "excite: error: option = %s, expected a known option (-h alone asks for "
+                   "help; a file name that starts with '-' goes after --, or as ./%s)\n",
+                   excite::host::cli::printable(arg).c_str(),
+                   excite::host::cli::printable(arg).c_str());
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -42,7 +57,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;  // --version: 0
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "excite: error: %s\n", excite::host::cli::short_numbers(e.what()).c_str());
+    std::fprintf(stderr, "excite: error: %s\n",
+                 excite::host::cli::printable(
+                     excite::host::cli::short_numbers(excite::host::cli::error_text(e)))
+                     .c_str());
     return 1;
   }
   return 0;

@@ -32,6 +32,7 @@
 #include "host/montecarlo/run.hpp"
 #include "host/montecarlo/slurm.hpp"
 #include "host/montecarlo/summary.hpp"
+#include "host/output/own_entries.hpp"
 #include "host/output/whole_file.hpp"
 
 namespace excite::host::cli {
@@ -101,14 +102,15 @@ class ProgressPrinter {
   double printed_at_ = -1e9;
 };
 
-// summary.json, the table on stdout, and the report (index.html with its figures).
+// summary.json, the table on stdout, and the report (index.html with its figures), written
+// into `dir`, named as in `shown` (where they will be).
 void write_summary(const mc::Config& config, const std::vector<mc::UnitResult>& units,
-                   const fs::path& dir, int threads) {
+                   const fs::path& dir, const fs::path& shown, int threads) {
   const nlohmann::json summary = mc::summary_json(config, units);
   write_whole_file(dir / "summary.json", summary.dump(2) + "\n");
-  std::cout << mc::summary_text(summary) << "wrote " << (dir / "summary.json").string() << "\n";
+  std::cout << mc::summary_text(summary) << "wrote " << (shown / "summary.json").string() << "\n";
   mc::write_report(summary, units, dir, threads);
-  std::cout << "wrote " << (dir / "index.html").string() << " (the report)\n";
+  std::cout << "wrote " << (shown / "index.html").string() << " (the report)\n";
 }
 
 struct Options {
@@ -119,6 +121,7 @@ struct Options {
   int threads = 1;
   std::vector<std::string> merge_dirs;
   std::string merge_output;
+  bool merge_overwrite = false;
   std::string emit_slurm;  // script file; empty: run here
   int slurm_tasks = 10;
 };
@@ -154,6 +157,8 @@ void run(Options opt) {
   ProgressPrinter printer;
   const mc::Outcome outcome = mc::run_into(
       opt.config, opt.output_dir, opt.threads, [&](const mc::Progress& p) { printer(p); }, g_stop);
+  for (const std::string& why : outcome.redone)
+    std::cerr << "montecarlo: run again, its file does not read back: " << why << std::endl;
   const int ran = outcome.done - outcome.done_before;
   if (ran > 0) {
     const UnitTimes& t = outcome.unit_cpu;
@@ -176,7 +181,7 @@ void run(Options opt) {
   }
   if (opt.config.shard.count == 1) {
     write_summary(opt.config, mc::read_units(opt.config, opt.output_dir), opt.output_dir,
-                  std::min(opt.threads, 2));
+                  opt.output_dir, std::min(opt.threads, 2));
   } else {
     std::cout << "shard " << opt.shard << " complete: " << outcome.total << " units in "
               << opt.output_dir << "; merge all " << opt.config.shard.count
@@ -186,9 +191,13 @@ void run(Options opt) {
 
 void merge(const Options& opt) {
   std::vector<fs::path> dirs(opt.merge_dirs.begin(), opt.merge_dirs.end());
+  // OUT's own names only: the shards and Slurm's logs may live in OUT
+  // (host/output/own_entries.hpp).
+  OwnEntries out(opt.merge_output, opt.merge_overwrite, "montecarlo merge",
+                 {"summary.json", "index.html", "figures"});
   const mc::Merged merged = mc::merge_shards(dirs);
-  fs::create_directories(opt.merge_output);
-  write_summary(merged.config, merged.units, opt.merge_output, 2);
+  write_summary(merged.config, merged.units, out.staging(), opt.merge_output, 2);
+  out.commit();
 }
 
 }  // namespace
@@ -232,8 +241,14 @@ void add_montecarlo_command(CLI::App& app) {
   CLI::App* merge_cmd = cmd->add_subcommand(
       "merge", "Combine the folders of all shards of a run into OUT/summary.json");
   merge_cmd->add_option("dirs", opt->merge_dirs, "the shards' folders")->required();
-  merge_cmd->add_option("-o,--output-dir", opt->merge_output, "folder for summary.json")
+  merge_cmd
+      ->add_option("-o,--output-dir", opt->merge_output,
+                   "folder for summary.json, index.html, figures/ (new, or a previous "
+                   "merge's; anything else in it is kept)")
       ->required();
+  merge_cmd->add_flag("--overwrite", opt->merge_overwrite,
+                      "replace OUT's summary.json, index.html and figures/ even when excite did "
+                      "not write them");
   merge_cmd->callback([opt] { merge(*opt); });
   cmd->callback([opt, merge_cmd, cmd] {
     if (merge_cmd->parsed()) return;

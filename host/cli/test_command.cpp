@@ -13,6 +13,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <iostream>
 #include <memory>
 #include <stdexcept>
@@ -55,15 +56,25 @@ struct TestCommandOptions {
   AdaptiveOptions adaptive;
 };
 
-// Refuses a folder that already holds a test's record (nothing is overwritten).
-void prepare_folder(const fs::path& dir, const char* record) {
-  if (fs::exists(dir / record)) {
-    throw std::invalid_argument(dir.string() + ": already holds " + record +
-                                ", expected a new or empty folder (a test's record is not "
-                                "overwritten)");
+// Refuses a folder that already holds any of the names a test writes there (nothing is
+// overwritten), a link among them too, even one to nothing: no link is followed when
+// writing (a planted dangling DIR/decisions.jsonl once made the test create its target
+// outside DIR).
+void prepare_folder(const fs::path& dir, std::initializer_list<const char*> names) {
+  std::error_code ec;
+  for (const char* name : names) {
+    const fs::file_status st = fs::symlink_status(dir / name, ec);
+    if (!fs::exists(st)) continue;
+    throw std::invalid_argument(
+        dir.string() + ": already holds " + name + (fs::is_symlink(st) ? " (a link)" : "") +
+        ", expected a new or empty folder (a test's record is not overwritten, no link is "
+        "followed)");
   }
   fs::create_directories(dir);
 }
+// What a test writes into its folder.
+constexpr std::initializer_list<const char*> kTestNames = {"decisions.jsonl", "status.txt",
+                                                           "run.csv", "model.json", "segments"};
 
 // Writes each event to DIR/decisions.jsonl as it happens (flushed), the operator's view to
 // DIR/status.txt (whole), every segment's plan to DIR/segments/, and prints the view.
@@ -114,7 +125,8 @@ void run_one(const TestCommandOptions& opt, const PriorKnowledge& prior, double 
   if (!opt.limits.empty()) {
     adaptive.limits = parse_cv_limits(opt.limits, plant->output_names(), "the plant's");
   }
-  prepare_folder(dir, "decisions.jsonl");
+  check_adaptive_test(prior, adaptive);
+  prepare_folder(dir, kTestNames);
   const double noise =
       opt.noise_variance >= 0.0 ? opt.noise_variance : case_study_noise_variance(opt.plant);
   PlantRunner runner(*plant, prior.sample_time_min, noise, opt.seed);
@@ -187,7 +199,8 @@ void run_through_gateway(const TestCommandOptions& opt, const PriorKnowledge& pr
                  "[segments] preapproved_from is \"excite test segment\"\n"
               << std::flush;
   };
-  prepare_folder(dir, "decisions.jsonl");
+  check_adaptive_test(prior, adaptive);
+  prepare_folder(dir, kTestNames);
   InboxRunner runner(runner_options, hooks);
   FolderLog log(dir, inputs, outputs);
   const AdaptiveResult r = run_adaptive_test(prior, runner, adaptive, &log);
@@ -216,7 +229,8 @@ void run_study_command(const TestCommandOptions& opt, double perturb) {
     s.adaptive.limits =
         parse_cv_limits(opt.limits, sim::make_plant(opt.plant)->output_names(), "the plant's");
   }
-  prepare_folder(dir, "study.json");
+  check_adaptive_test(case_study(opt.plant), s.adaptive);
+  prepare_folder(dir, {"study.json"});
   const StudyResult result = run_study(s);
   nlohmann::json j = study_json(result);
   std::string text = study_text(result);

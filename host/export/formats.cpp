@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "host/export/code_text.hpp"
 #include "host/export/step_response.hpp"
 
 namespace excite::host {
@@ -52,21 +53,34 @@ std::string list(const std::vector<double>& v, const char* separator) {
   return out;
 }
 
-// 'it''s' for MATLAB; the names come from run logs, but quote them properly anyway.
-std::string matlab_string(const std::string& s) {
-  std::string out = "'";
-  for (const char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
-  return out + "'";
+// Every name and the source as text the exports can carry: valid UTF-8 (Python source and
+// JSON are), each refused naming its field otherwise.
+void require_utf8_names(const NamedModel& m) {
+  require_utf8("source (the model file's name)", m.source);
+  for (const auto& [key, names] :
+       {std::pair{"inputs", &m.inputs}, std::pair{"outputs", &m.outputs}}) {
+    for (std::size_t k = 0; k < names->size(); ++k) {
+      require_utf8(comment_text(m.source) + ": " + key + "[" + std::to_string(k) + "]",
+                   (*names)[k]);
+    }
+  }
 }
 
-std::string matlab_cell(const std::vector<std::string>& names) {
+// {'a', 'it''s'}: each name a MATLAB char literal, refused naming its field when it cannot
+// be one (code_text.hpp).
+std::string matlab_cell(const NamedModel& m, const char* key,
+                        const std::vector<std::string>& names) {
   std::string out = "{";
-  for (std::size_t i = 0; i < names.size(); ++i) out += (i ? ", " : "") + matlab_string(names[i]);
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    out += (i ? ", " : "") +
+           matlab_string_literal(
+               comment_text(m.source) + ": " + key + "[" + std::to_string(i) + "]", names[i]);
+  }
   return out + "}";
 }
 
 std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
   std::string out = "\"";
   for (const char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
   return out + "\"";
@@ -154,11 +168,12 @@ std::string step_csv(const NamedModel& m, int horizon_samples, bool bands) {
                                 " samples, expected at least 1");
   }
   require_every_element(m);
+  require_utf8_names(m);
   const double T = m.model.sample_time_min;
   std::ostringstream out;
-  out << "# excite step response v1\n# source: " << m.source << "\n# sample_time_min: " << exact(T)
-      << "\n# horizon: " << horizon_samples << " samples (" << exact(horizon_samples * T)
-      << " min)\n"
+  out << "# excite step response v1\n# source: " << comment_text(m.source)
+      << "\n# sample_time_min: " << exact(T) << "\n# horizon: " << horizon_samples << " samples ("
+      << exact(horizon_samples * T) << " min)\n"
       << "# s_k = y(kT) after a unit step of the MV at t = 0, k = 1 ... horizon (CV units per "
          "MV unit); element "
       << kElementFormula << "\n";
@@ -207,10 +222,13 @@ std::string step_csv(const NamedModel& m, int horizon_samples, bool bands) {
 
 std::string matlab_script(const NamedModel& m) {
   require_every_element(m);
+  require_utf8_names(m);
+  const std::string input_names = matlab_cell(m, "inputs", m.inputs);
+  const std::string output_names = matlab_cell(m, "outputs", m.outputs);
   const int p = m.model.outputs, n = m.model.inputs;
   std::ostringstream s;
   s << "% excite model export (MATLAB Control System Toolbox; Octave control package)\n"
-    << "% source: " << m.source << "\n"
+    << "% source: " << comment_text(m.source) << "\n"
     << "% G(s) per CV x MV: " << kElementFormula << ", time in minutes\n"
     << "% identified at sample time " << exact(m.model.sample_time_min) << " min\n";
   const double T = m.model.sample_time_min;
@@ -235,8 +253,7 @@ std::string matlab_script(const NamedModel& m) {
     }
     s << (o + 1 < p ? "; " : "");
   }
-  s << "];\ninput_names = " << matlab_cell(m.inputs)
-    << ";\noutput_names = " << matlab_cell(m.outputs) << ";\n"
+  s << "];\ninput_names = " << input_names << ";\noutput_names = " << output_names << ";\n"
     << "if exist('OCTAVE_VERSION', 'builtin')\n"
     << "  pkg load control\n"
     << "  % The control package has no delay properties: G holds the rational part; the\n"
@@ -251,14 +268,19 @@ std::string matlab_script(const NamedModel& m) {
 
 std::string python_control_script(const NamedModel& m) {
   require_every_element(m);
+  require_utf8_names(m);
   std::ostringstream s;
   s << "#!/usr/bin/env python3\n"
-    << "\"\"\"excite model export for python-control; source: " << m.source << ".\n\n"
+    << "\"\"\"excite model export for python-control; source: "
+    << python_triple_quoted_body(m.source, '"') << ".\n\n"
     << "G(s) per CV x MV: " << kElementFormula << ", time in minutes.\n"
     << "G is the rational part (python-control's tf has no delay); DELAYS_MIN holds the\n"
     << "delays, with_pade(order) gives G with every delay by a Pade approximation.\n\"\"\"\n"
     << "import json\n\nimport control\n\n"
-    << "MODEL = json.loads(r'''" << transfer(m).dump(1) << "''')\n\n"
+    // The model's JSON (pure ASCII) in a literal no name can close.
+    << "MODEL = json.loads('''"
+    << python_triple_quoted_body(transfer(m).dump(1, ' ', /*ensure_ascii=*/true), '\'')
+    << "''')\n\n"
     << "INPUTS = MODEL['inputs']\nOUTPUTS = MODEL['outputs']\n"
     << "ELEMENTS = MODEL['elements']  # rows = CVs, columns = MVs\n"
     << "DELAYS_MIN = [[e['Td'] for e in row] for row in ELEMENTS]\n\n"
@@ -286,6 +308,7 @@ std::string python_control_script(const NamedModel& m) {
 
 std::string transfer_json(const NamedModel& m) {
   require_every_element(m);
+  require_utf8_names(m);
   return transfer(m).dump(2) + "\n";
 }
 

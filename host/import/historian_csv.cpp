@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "host/import/historian_csv.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -125,9 +126,35 @@ class Reader {
   HistorianData d_;
 };
 
+// The encoding of a first line that is not UTF-8 or ASCII text, by its byte order mark or
+// its zero bytes (UTF-16 has one in every pair for ASCII text, UTF-32 three in four); empty
+// when it reads as 8-bit text.
+std::string wide_encoding(const std::string& line) {
+  if (line.rfind(std::string("\xFF\xFE\0\0", 4), 0) == 0)
+    return "UTF-32LE (byte order mark FF FE 00 00)";
+  if (line.rfind(std::string("\0\0\xFE\xFF", 4), 0) == 0)
+    return "UTF-32BE (byte order mark 00 00 FE FF)";
+  if (line.rfind("\xFF\xFE", 0) == 0) return "UTF-16LE (byte order mark FF FE)";
+  if (line.rfind("\xFE\xFF", 0) == 0) return "UTF-16BE (byte order mark FE FF)";
+  const auto zeros = static_cast<std::size_t>(std::count(line.begin(), line.end(), '\0'));
+  if (line.size() >= 4 && zeros * 4 >= line.size() * 3 - 3) return "UTF-32 (no byte order mark)";
+  if (line.size() >= 2 && zeros * 2 >= line.size() - 1) return "UTF-16 (no byte order mark)";
+  return {};
+}
+
 void Reader::read_header() {
   std::string line;
   while (lines_.next(line)) {
+    if (lines_.line_number() == 1) {
+      const std::string encoding = wide_encoding(line);
+      if (!encoding.empty()) {
+        throw std::invalid_argument(
+            at(1) + "encoding = " + encoding +
+            ", expected UTF-8 or ASCII text: save the export as UTF-8 (Excel: CSV UTF-8), or "
+            "convert it (iconv -f " +
+            encoding.substr(0, encoding.find(' ')) + " -t UTF-8)");
+      }
+    }
     // Excel's "CSV UTF-8" starts the file with a byte order mark.
     if (lines_.line_number() == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     const std::string t = trim(line);
@@ -434,6 +461,14 @@ HistorianData Reader::read() {
     if (header_.size() < 3 || header_.size() > 4) {
       throw std::invalid_argument(at(header_line_) + "header = " + column_list(header_) +
                                   ", expected TAG,TIME,VALUE[,QUALITY] (--long)");
+    }
+    // A long export without its header row: the first sample is not column names.
+    if (parse_number(trim(header_[2]), o_.decimal_comma)) {
+      throw std::invalid_argument(
+          at(header_line_) + "header = " + column_list(header_) +
+          ", expected column names TAG,TIME,VALUE[,QUALITY] (--long): this row reads as a "
+          "sample (its VALUE " +
+          quote_cell(header_[2]) + " is a number); export with the header row, or add one");
     }
     for (std::size_t g = 0; g < n_tags; ++g) long_tag.emplace(tags_[g], g);
     if (header_.size() == 4) {

@@ -1,12 +1,16 @@
 // SPDX-License-Identifier: MIT
 #include "host/montecarlo/records.hpp"
 
+#include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <iterator>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
+
+#include "host/design/case_studies.hpp"
+#include "host/design/presets.hpp"
+#include "host/output/input_file.hpp"
 
 namespace excite::host::montecarlo {
 namespace {
@@ -17,18 +21,22 @@ json number(double v) {
   return std::isfinite(v) ? json(v) : json(nullptr);
 }
 
-std::string text_of(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(file.string() + ": cannot be read");
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+// A run.json or a unit file is about 1 KB (a 100-point length grid on a 4×4 plant: 6 KB).
+constexpr std::uintmax_t kMaxRecordBytes = 1 << 20;
 
-json parse(const std::filesystem::path& file) {
+// A regular file of bounded size (a FIFO is refused, not waited on; /dev/zero is refused,
+// not read into memory), parsed as JSON.
+json parse(const std::filesystem::path& file, const char* what) {
+  std::string text;
   try {
-    return json::parse(text_of(file));
-  } catch (const json::parse_error& e) {
-    throw std::runtime_error(file.string() + ": not JSON (" + e.what() + ")");
+    text = read_input_file(file, kMaxRecordBytes, what);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(e.what());
   }
+  const json j = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded())
+    throw std::runtime_error(file.string() + ": text = not JSON, expected " + what);
+  return j;
 }
 
 // Reads field `key` of `object`, naming the file and the field when it is missing or of the
@@ -42,11 +50,13 @@ class Reader {
   }
   const json& at(const char* key) const {
     if (!object_.contains(key))
-      throw std::runtime_error(file_.string() + ": " + key + " missing, expected a value");
+      throw std::runtime_error(file_.string() + ": " + key + " = (missing), expected a value");
     return object_.at(key);
   }
   [[noreturn]] void wrong(const char* key, const char* expected) const {
-    throw std::runtime_error(file_.string() + ": " + key + " = " + at(key).dump() + ", expected " +
+    std::string value = at(key).dump();  // JSON: control characters escaped
+    if (value.size() > 60) value = value.substr(0, 60) + "…";
+    throw std::runtime_error(file_.string() + ": " + key + " = " + value + ", expected " +
                              expected);
   }
   double real(const char* key) const {
@@ -58,7 +68,18 @@ class Reader {
   long long integer(const char* key) const {
     const json& v = at(key);
     if (!v.is_number_integer()) wrong(key, "an integer");
+    if (v.is_number_unsigned() && v.get<std::uint64_t>() > std::uint64_t{INT64_MAX})
+      wrong(key, "an integer below 2^63");
     return v.get<long long>();
+  }
+  // An integer in [low, high], checked before any use (a seeds of 2e9 once asked for 1.5 GB).
+  long long integer_in(const char* key, long long low, long long high) const {
+    const long long v = integer(key);
+    if (v < low || v > high) {
+      wrong(key,
+            ("an integer from " + std::to_string(low) + " to " + std::to_string(high)).c_str());
+    }
+    return v;
   }
   std::uint64_t unsigned_integer(const char* key) const {
     const json& v = at(key);
@@ -114,27 +135,48 @@ json config_json(const Config& c) {
 }
 
 Config read_config(const std::filesystem::path& file) {
-  const json j = parse(file);
+  const json j = parse(file, "a Monte Carlo run's run.json");
   const Reader r(file, j);
   if (r.string("format") != "excite montecarlo run v1")
     r.wrong("format", "\"excite montecarlo run v1\"");
   Config c;
   c.plant = r.string("plant");
-  if (!r.at("designs").is_array()) r.wrong("designs", "an array of design names");
+  std::string acronyms;
+  for (const PresetInfo& p : presets())
+    acronyms += (acronyms.empty() ? "" : ", ") + std::string(p.acronym);
+  const std::string design_names = "an array of design names from: " + acronyms;
+  if (!r.at("designs").is_array() || r.at("designs").size() > presets().size())
+    r.wrong("designs", design_names.c_str());
   for (const json& d : r.at("designs")) {
-    if (!d.is_string()) r.wrong("designs", "an array of design names");
+    const auto known = [&](const PresetInfo& p) {
+      return d.is_string() && p.acronym == d.get<std::string>();
+    };
+    if (std::none_of(presets().begin(), presets().end(), known))
+      r.wrong("designs", design_names.c_str());
     c.designs.push_back(d.get<std::string>());
   }
-  c.seeds = static_cast<int>(r.integer("seeds"));
+  c.seeds = static_cast<int>(r.integer_in("seeds", 1, 1000000));
   c.first_seed = r.unsigned_integer("first_seed");
   c.noise_variance = r.real("noise_variance");
-  c.length_step_percent = static_cast<int>(r.integer("length_step_percent"));
+  c.length_step_percent = static_cast<int>(r.integer_in("length_step_percent", 0, 100));
   // Absent in the folders of runs before --perturb: the nominal plant.
   if (j.contains("perturb_percent")) c.perturb_percent = r.real("perturb_percent");
   try {
     c.shard = parse_shard(r.string("shard"));
   } catch (const std::invalid_argument&) {
-    r.wrong("shard", "i/N with 1 <= i <= N");
+    r.wrong("shard", "i/N with 1 <= i <= N <= 100000");
+  }
+  // The checks `excite montecarlo` makes of its options, so that a folder holds only what a
+  // run could have written: the plant has a case study, the designs in Table order, each
+  // once, the first seed, the noise and the perturbation in range.
+  try {
+    (void)case_study(c.plant);
+    Config normalised = c;
+    normalise(normalised);
+    if (normalised.designs != c.designs)
+      r.wrong("designs", "Table 6.1 acronyms in Table order, each once");
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(file.string() + ": " + e.what());
   }
   return c;
 }
@@ -169,7 +211,7 @@ json unit_json(const UnitResult& u) {
 }
 
 UnitResult read_unit(const std::filesystem::path& file) {
-  const json j = parse(file);
+  const json j = parse(file, "a Monte Carlo unit file");
   const Reader r(file, j);
   UnitResult u;
   u.design = r.string("design");
@@ -200,6 +242,64 @@ UnitResult read_unit(const std::filesystem::path& file) {
         {static_cast<int>(l.integer("percent")), l.integer("samples"), l.boolean("met")});
   }
   return u;
+}
+
+void check_unit(const UnitResult& u, const Config& config, const Unit& unit, int outputs,
+                int inputs, const std::filesystem::path& file) {
+  const auto wrong = [&](const std::string& field, const std::string& value,
+                         const std::string& expected) {
+    throw std::runtime_error(file.string() + ": " + field + " = " + value + ", expected " +
+                             expected);
+  };
+  const auto text = [](double v) { return json(v).dump(); };
+  const std::string& design = config.designs.at(static_cast<std::size_t>(unit.design));
+  if (u.design != design || u.seed != unit.seed) {
+    wrong("design, seed", json(u.design).dump().substr(0, 60) + ", " + std::to_string(u.seed),
+          json(design).dump() + ", " + std::to_string(unit.seed) + " (the unit of this file name)");
+  }
+  for (const PresetInfo& p : presets()) {
+    if (p.acronym == design && p.number != u.number)
+      wrong("number", std::to_string(u.number),
+            std::to_string(p.number) + " (Table 6.1's for " + design + ")");
+  }
+  constexpr long long kMaxSamples = 100000000;  // the plan file's bound is far below
+  if (u.samples < 1 || u.samples > kMaxSamples)
+    wrong("samples", std::to_string(u.samples), "1 to " + std::to_string(kMaxSamples));
+  if (!(u.sample_time_min > 0.0) || !std::isfinite(u.sample_time_min))
+    wrong("sample_time_min", text(u.sample_time_min), "a number > 0 (minutes)");
+  const auto gains = static_cast<std::size_t>(outputs * inputs);
+  const auto directions = static_cast<std::size_t>(std::min(outputs, inputs));
+  if (!u.singular_values.empty() && u.singular_values.size() != directions)
+    wrong("singular_values", std::to_string(u.singular_values.size()) + " values",
+          std::to_string(directions) + " (" + config.plant + ") or none");
+  for (const double v : u.singular_values) {
+    if (v < 0.0) wrong("singular_values", text(v), "values >= 0");
+  }
+  if (!u.gain.empty() && u.gain.size() != gains)
+    wrong("gain", std::to_string(u.gain.size()) + " values",
+          std::to_string(gains) + " (" + config.plant + "'s G(0)) or none");
+  const bool perturbed = config.perturb_percent > 0.0;
+  if (u.true_gain.size() != gains && (perturbed || !u.true_gain.empty()))
+    wrong("true_gain", std::to_string(u.true_gain.size()) + " values",
+          std::to_string(gains) + " (" + config.plant + "'s G(0) perturbed)" +
+              (perturbed ? "" : " or none"));
+  const double angle = u.accuracy.weakest_angle_deg;
+  if (angle < 0.0 || angle > 90.0)
+    wrong("accuracy.weakest_angle_deg", text(angle), "0 to 90 (degrees) or null");
+  const std::vector<int> grid = length_grid(config);
+  if (u.lengths.size() != grid.size())
+    wrong("lengths", std::to_string(u.lengths.size()) + " points",
+          std::to_string(grid.size()) + " (the length grid of length_step_percent " +
+              std::to_string(config.length_step_percent) + ")");
+  for (std::size_t k = 0; k < grid.size(); ++k) {
+    const LengthPoint& p = u.lengths[k];
+    const std::string at = "lengths[" + std::to_string(k) + "]";
+    if (p.percent != grid[k])
+      wrong(at + ".percent", std::to_string(p.percent), std::to_string(grid[k]));
+    if (p.samples < 0 || p.samples > u.samples)
+      wrong(at + ".samples", std::to_string(p.samples),
+            "0 to the unit's " + std::to_string(u.samples));
+  }
 }
 
 std::filesystem::path unit_path(const std::filesystem::path& dir, const Config& config,

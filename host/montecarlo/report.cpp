@@ -9,6 +9,7 @@
 #include "host/campaign/gnuplot.hpp"
 #include "host/campaign/report.hpp"
 #include "host/campaign/report_figures.hpp"
+#include "host/montecarlo/html_page.hpp"
 #include "host/montecarlo/statistics.hpp"
 #include "host/output/whole_file.hpp"
 
@@ -71,32 +72,6 @@ std::string fixed(double v, int digits) {
 
 double as_double(const json& v) {
   return v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN();
-}
-
-std::string html_escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      case '\'':
-        out += "&#39;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
 }
 
 // The designs as the figures place them: the others first, then the directional ones, each
@@ -338,9 +313,20 @@ std::string share_text(const json& s) {
   return text;
 }
 
-std::string spread_cell(const json& s, int digits) {
-  return "<b>" + fixed(as_double(s["median"]), digits) + "</b> [" +
-         fixed(as_double(s["p10"]), digits) + " – " + fixed(as_double(s["p90"]), digits) + "]";
+// A spread's cell: the median bold, then [p10 – p90].
+struct SpreadCell {
+  const json& spread;
+  int digits;
+};
+HtmlPage& operator<<(HtmlPage& h, const SpreadCell& c) {
+  return h << "<b>" << fixed(as_double(c.spread["median"]), c.digits) << "</b> ["
+           << fixed(as_double(c.spread["p10"]), c.digits) << " – "
+           << fixed(as_double(c.spread["p90"]), c.digits) << "]";
+}
+
+// A table row's class: shaded for a directional design.
+Markup row_class(bool directional) {
+  return directional ? Markup(" class='dir'") : Markup("");
 }
 
 }  // namespace
@@ -368,13 +354,13 @@ void write_report(const json& summary, const std::vector<UnitResult>& units, con
   run_gnuplot_scripts(figures, scripts, threads);
   remove_figure_sources(figures);
 
-  const std::string plant = html_escape(run["plant"].get<std::string>());
+  const std::string plant = run["plant"].get<std::string>();
   const int seeds = run["seeds"].get<int>();
   const auto first_seed = run["first_seed"].get<std::uint64_t>();
   const double perturb = run.value("perturb_percent", 0.0);
-  std::ostringstream h;
+  HtmlPage h;
   h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>excite montecarlo: "
-    << plant << "</title><style>" << report_style()
+    << plant << "</title><style>" << CodeMarkup{report_style()}
     << "table.spreads td{white-space:nowrap}</style></head><body>";
   h << "<h1>Monte Carlo: " << plant << ", " << seeds << " seeds</h1>";
   h << "<p>The campaign's experiment (design → simulate → identify → cross-validate → balance) "
@@ -383,22 +369,22 @@ void write_report(const json& summary, const std::vector<UnitResult>& units, con
     << first_seed + static_cast<std::uint64_t>(seeds) - 1 << "), measurement noise variance "
     << as_double(run["noise_variance"]) << " on every output. Rows of directional designs are "
     << "shaded; in the figures the other designs are orange and the directional ones blue.</p>";
-  h << "<p><b>True plant: " << (perturb > 0.0 ? "perturbed</b> in every seed: " : "nominal</b>: ")
-    << html_escape(run["true_plant"].get<std::string>()) << ".</p>";
-  h << "<p><b>Accuracy criterion:</b> "
-    << html_escape(summary["criterion"]["text"].get<std::string>()) << ". <b>T90:</b> "
-    << html_escape(summary["t90_definition"].get<std::string>())
-    << ". Spreads: " << html_escape(summary["spread"].get<std::string>()) << "; shares with the "
-    << html_escape(summary["intervals"].get<std::string>())
+  h << "<p><b>True plant: "
+    << (perturb > 0.0 ? Markup("perturbed</b> in every seed: ") : Markup("nominal</b>: "))
+    << run["true_plant"].get<std::string>() << ".</p>";
+  h << "<p><b>Accuracy criterion:</b> " << summary["criterion"]["text"].get<std::string>()
+    << ". <b>T90:</b> " << summary["t90_definition"].get<std::string>()
+    << ". Spreads: " << summary["spread"].get<std::string>() << "; shares with the "
+    << summary["intervals"].get<std::string>()
     << ". Numbers: <a href='summary.json'>summary.json</a>.</p>";
 
   h << "<h2>Directional designs against the others</h2><p class='note'>"
-    << html_escape(summary["verdict_definition"].get<std::string>())
+    << summary["verdict_definition"].get<std::string>()
     << ". Shares with the Wilson 95 % interval.</p><table><tr><th>metric</th><th>better</th>"
        "<th>directional median</th><th>others' median</th><th>verdict (by median)</th><th>holds "
        "in (seeds)</th><th>best directional beats best other in (seeds)</th></tr>";
   for (const json& v : summary["verdicts"]) {
-    h << "<tr><td>" << html_escape(v["label"].get<std::string>()) << "</td><td>"
+    h << "<tr><td>" << v["label"].get<std::string>() << "</td><td>"
       << v["better"].get<std::string>() << "</td><td>"
       << fixed(as_double(v["directional_median"]), 3) << "</td><td>"
       << fixed(as_double(v["others_median"]), 3) << "</td>";
@@ -407,11 +393,15 @@ void write_report(const json& summary, const std::vector<UnitResult>& units, con
       continue;
     }
     const json& holds = v["holds_in_seeds"];
-    std::string verdict = v["verdict"].get<std::string>();
-    if (verdict == "directional not better") verdict = "directional <b>not</b> better";
-    h << "<td>" << verdict << " in " << holds["met"].get<int>() << " of " << holds["of"].get<int>()
-      << " seeds</td><td>" << share_text(holds) << "</td><td>"
-      << share_text(v["best_directional_better_in_seeds"]) << "</td></tr>";
+    const std::string verdict = v["verdict"].get<std::string>();
+    if (verdict == "directional not better") {
+      h << "<td>directional <b>not</b> better";
+    } else {
+      h << "<td>" << verdict;
+    }
+    h << " in " << holds["met"].get<int>() << " of " << holds["of"].get<int>() << " seeds</td><td>"
+      << share_text(holds) << "</td><td>" << share_text(v["best_directional_better_in_seeds"])
+      << "</td></tr>";
   }
   h << "</table>";
 
@@ -420,12 +410,14 @@ void write_report(const json& summary, const std::vector<UnitResult>& units, con
     bool drawn = false;
     for (const std::string& k : drawn_metrics) drawn = drawn || k == m.key;
     if (!drawn) {
-      h << "<p class='note'>" << m.title << ": no design has a value"
-        << (std::string(m.key) == "crossfit_worst" ? " (one design: no other runs to fit)" : "")
+      h << "<p class='note'>" << std::string(m.title) << ": no design has a value"
+        << (std::string(m.key) == "crossfit_worst" ? Markup(" (one design: no other runs to fit)")
+                                                   : Markup(""))
         << ".</p>";
       continue;
     }
-    h << "<img src='figures/metric-" << m.key << ".svg' alt='" << m.key << " per design'>";
+    h << "<img src='figures/metric-" << std::string(m.key) << ".svg' alt='" << std::string(m.key)
+      << " per design'>";
   }
 
   h << "<h2>Test length</h2><img src='figures/t90.svg' alt='T90 per design'>"
@@ -435,8 +427,8 @@ void write_report(const json& summary, const std::vector<UnitResult>& units, con
     for (const json& d : summary["designs"]) {
       if (d["design"] != p.name) continue;
       const json& t90 = d["t90"];
-      h << "<tr" << (p.directional ? " class='dir'" : "") << "><td>" << d["number"].get<int>()
-        << ' ' << p.name << "</td><td>" << (p.directional ? "directional" : "other") << "</td><td>"
+      h << "<tr" << row_class(p.directional) << "><td>" << d["number"].get<int>() << ' ' << p.name
+        << "</td><td>" << std::string(p.directional ? "directional" : "other") << "</td><td>"
         << d["samples"].get<long long>() << "</td><td>" << share_text(d["criterion"]) << "</td><td>"
         << (t90.is_null() ? std::string("none") : std::to_string(t90["percent"].get<int>()))
         << "</td><td>" << (t90.is_null() ? std::string("–") : fixed(as_double(t90["minutes"]), 0))
@@ -453,18 +445,19 @@ void write_report(const json& summary, const std::vector<UnitResult>& units, con
   for (const Placed& p : layout.designs) {
     for (const json& d : summary["designs"]) {
       if (d["design"] != p.name) continue;
-      h << "<tr" << (p.directional ? " class='dir'" : "") << "><td>" << p.name << "</td><td>"
-        << spread_cell(d["fit"], 1) << "</td><td>" << spread_cell(d["crossfit_worst"], 1)
-        << "</td><td>" << spread_cell(d["ratio"], 3) << "</td><td>" << spread_cell(d["upsilon"], 3)
-        << "</td><td>" << spread_cell(d["sigma_n_error_percent"], 1) << "</td><td>"
-        << spread_cell(d["weakest_direction_angle_deg"], 1) << "</td></tr>";
+      h << "<tr" << row_class(p.directional) << "><td>" << p.name << "</td><td>"
+        << SpreadCell{d["fit"], 1} << "</td><td>" << SpreadCell{d["crossfit_worst"], 1}
+        << "</td><td>" << SpreadCell{d["ratio"], 3} << "</td><td>" << SpreadCell{d["upsilon"], 3}
+        << "</td><td>" << SpreadCell{d["sigma_n_error_percent"], 1} << "</td><td>"
+        << SpreadCell{d["weakest_direction_angle_deg"], 1} << "</td></tr>";
     }
   }
   h << "</table>";
 
   h << "<h2>Bias against spread, per element of G(0)</h2><p class='note'>"
-    << html_escape(summary["bias_definition"].get<std::string>())
-    << ". Listed: the elements so flagged (true gain " << (perturb > 0.0 ? "nominal; " : "")
+    << summary["bias_definition"].get<std::string>()
+    << ". Listed: the elements so flagged (true gain "
+    << (perturb > 0.0 ? Markup("nominal; ") : Markup(""))
     << "median identified, median error and the error's 10–90 % range).</p><table><tr><th>"
        "design</th><th>elements biased beyond their spread</th></tr>";
   for (const Placed& p : layout.designs) {
@@ -480,7 +473,7 @@ void write_report(const json& summary, const std::vector<UnitResult>& units, con
                       as_double(e["error"]["p90"]) - as_double(e["error"]["p10"]));
         biased += (biased.empty() ? "" : "; ") + std::string(text);
       }
-      h << "<tr" << (p.directional ? " class='dir'" : "") << "><td>" << p.name
+      h << "<tr" << row_class(p.directional) << "><td>" << p.name
         << "</td><td style='text-align:left'>" << (biased.empty() ? "none" : biased)
         << "</td></tr>";
     }

@@ -1,7 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include "host/montecarlo/run.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <ctime>
 #include <mutex>
 #include <stdexcept>
@@ -9,6 +16,7 @@
 #include "host/campaign/parallel.hpp"
 #include "host/montecarlo/records.hpp"
 #include "host/output/whole_file.hpp"
+#include "sim/plants/plant.hpp"
 
 namespace excite::host::montecarlo {
 namespace fs = std::filesystem;
@@ -44,6 +52,32 @@ void claim_folder(const Config& config, const fs::path& dir) {
   write_whole_file(run_file, config_json(config).dump(2) + "\n");
 }
 
+// One process per folder: an exclusive flock on the folder itself, held until the call
+// returns or the process ends (two resumes of one folder once ran the same units twice,
+// racing on their files). A lock on the folder leaves no file behind.
+class FolderLock {
+ public:
+  explicit FolderLock(const fs::path& dir) {
+    fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd_ < 0) {
+      throw std::runtime_error(dir.string() + ": cannot be opened (" + std::strerror(errno) +
+                               "), expected a folder excite can lock");
+    }
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      ::close(fd_);
+      throw std::runtime_error(dir.string() +
+                               ": locked = by another process, expected one excite montecarlo "
+                               "per folder (wait for it, or end it: what finished is kept)");
+    }
+  }
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+  ~FolderLock() { ::close(fd_); }
+
+ private:
+  int fd_ = -1;
+};
+
 }  // namespace
 
 Outcome run_into(const Config& config, const fs::path& dir, int threads,
@@ -52,13 +86,29 @@ Outcome run_into(const Config& config, const fs::path& dir, int threads,
   if (threads < 1)
     throw std::invalid_argument("--threads = " + std::to_string(threads) + ", expected >= 1");
   claim_folder(config, dir);
+  const FolderLock one_process(dir);
   const auto start = std::chrono::steady_clock::now();
   const std::vector<Unit> units = shard_units(config);
+  const std::unique_ptr<sim::Plant> plant = sim::make_plant(config.plant);
   std::vector<Unit> pending;
-  for (const Unit& u : units) {
-    if (!fs::exists(unit_path(dir, config, u))) pending.push_back(u);
-  }
   Outcome outcome;
+  for (const Unit& u : units) {
+    const fs::path file = unit_path(dir, config, u);
+    std::error_code ec;
+    if (!fs::exists(fs::symlink_status(file, ec))) {
+      pending.push_back(u);
+      continue;
+    }
+    // A unit file that does not read back (cut short by a copy, a full disk elsewhere) is run
+    // again, said, not counted as done: it once blocked every resume without a hint.
+    try {
+      check_unit(read_unit(file), config, u, plant->outputs(), plant->inputs(), file);
+    } catch (const std::exception& e) {
+      outcome.redone.emplace_back(e.what());
+      fs::remove(file, ec);
+      pending.push_back(u);
+    }
+  }
   outcome.total = static_cast<int>(units.size());
   outcome.done_before = outcome.total - static_cast<int>(pending.size());
   outcome.done = outcome.done_before;
@@ -99,6 +149,7 @@ Outcome run_into(const Config& config, const fs::path& dir, int threads,
 }
 
 std::vector<UnitResult> read_units(const Config& config, const fs::path& dir) {
+  const std::unique_ptr<sim::Plant> plant = sim::make_plant(config.plant);
   std::vector<UnitResult> out;
   for (const Unit& u : shard_units(config)) {
     const fs::path file = unit_path(dir, config, u);
@@ -110,12 +161,7 @@ std::vector<UnitResult> read_units(const Config& config, const fs::path& dir) {
           std::to_string(config.shard.count) + "; rerun it to finish");
     }
     UnitResult r = read_unit(file);
-    if (r.design != config.designs[static_cast<std::size_t>(u.design)] || r.seed != u.seed) {
-      throw std::runtime_error(file.string() + ": holds " + r.design + " seed " +
-                               std::to_string(r.seed) + ", expected " +
-                               config.designs[static_cast<std::size_t>(u.design)] + " seed " +
-                               std::to_string(u.seed));
-    }
+    check_unit(r, config, u, plant->outputs(), plant->inputs(), file);
     out.push_back(std::move(r));
   }
   return out;

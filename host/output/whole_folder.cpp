@@ -10,7 +10,10 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include "host/output/folder_marker.hpp"
 
 namespace excite::host {
 namespace {
@@ -30,10 +33,8 @@ const mode_t process_umask = [] {
 
 }  // namespace
 
-WholeFolder::WholeFolder(const fs::path& path, bool overwrite,
-                         const std::function<bool(const fs::path&)>& is_previous,
-                         const char* what_previous)
-    : path_(path) {
+WholeFolder::WholeFolder(const fs::path& path, bool overwrite, std::string kind)
+    : path_(path), kind_(std::move(kind)) {
   if (path.empty()) refuse(path, "an empty name");
   std::error_code ec;
   target_ = fs::absolute(path, ec).lexically_normal();
@@ -47,9 +48,13 @@ WholeFolder::WholeFolder(const fs::path& path, bool overwrite,
   mode_t mode = 0777 & ~process_umask;
   if (fs::exists(st)) {
     if (!fs::is_directory(st)) refuse(path, "it is not a folder");
-    if (!fs::is_empty(target_, ec) && !is_previous(target_) && !overwrite) {
-      refuse(path, std::string("a folder with other files, not ") + what_previous +
-                       ", expected a new or empty folder, or --overwrite to replace it whole");
+    if (!fs::is_empty(target_, ec) && !overwrite) {
+      const std::string foreign = foreign_entry(target_, kind_);
+      if (!foreign.empty()) {
+        refuse(path, "a folder with other files: " + foreign +
+                         ", expected a new or empty folder, a previous " + kind_ +
+                         "'s holding only what it wrote, or --overwrite to replace it whole");
+      }
     }
     struct stat info {};
     if (::stat(target_.c_str(), &info) == 0) mode = info.st_mode & 07777;
@@ -74,6 +79,7 @@ WholeFolder::~WholeFolder() {
 
 void WholeFolder::commit() {
   if (staging_.empty()) throw std::logic_error(path_.string() + ": committed twice");
+  write_folder_marker(staging_, kind_, folder_entries(staging_));
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(target_, ec))) {
     if (::rename(staging_.c_str(), target_.c_str()) != 0) refuse(path_, std::strerror(errno));

@@ -115,6 +115,19 @@ TEST_F(AdaptiveTestCommand, BadOptionsAreRefusedByName) {
       {"--plant woodberry2x2 --perturb abc", "--perturb = abc"},
       {"--plant colaA --perturb 5 --seeds 2",
        "--perturb = 5 on plant colaA, expected 0 (only a linear library plant"},
+      // Issue 40 §4: limits that leave the baseline no room, and a length beyond range (it
+      // once ran one row and said "-9223372036854775808 min").
+      {"--plant woodberry2x2 --limit y1=1:-1",
+       "--limit \"y1=1:-1\": LOW:HIGH = 1:-1, expected LOW < 0 < HIGH"},
+      {"--plant woodberry2x2 --limit y2=0:0", "--limit \"y2=0:0\": LOW:HIGH = 0:0, expected"},
+      {"--plant woodberry2x2 --limit y1=0:1", "--limit \"y1=0:1\": LOW:HIGH = 0:1, expected"},
+      {"--plant woodberry2x2 --max-min 1e300",
+       "maximum length (--max-min) = 1e+300 min, expected at most 100000000 min"},
+      {"--plant woodberry2x2 --seeds 2 --max-min 1e300", "maximum length (--max-min) = 1e+300"},
+      // Limits too tight for any excitation: refused before the first row, saying why.
+      {"--plant woodberry2x2 --limit y1=-1e-12:1e-12",
+       "limits leave room for 6.3e-11 % of the first segment's amplitude (scale 6.3e-13 for the "
+       "limits: the prior's G(0) bounds output 1 by 1.59"},
   };
   for (const Case& c : cases) {
     const Result r = excite("test " + c.args + " -o " + path("bad"));
@@ -122,6 +135,70 @@ TEST_F(AdaptiveTestCommand, BadOptionsAreRefusedByName) {
     EXPECT_TRUE(contains(r.out, c.message)) << c.args << "\n" << r.out;
     EXPECT_FALSE(std::filesystem::exists(path("bad"))) << c.args << ": nothing is made";
   }
+}
+
+}  // namespace
+
+namespace {
+
+// Issue 40 §3: no link is followed when a test writes its folder. A dangling link planted at
+// DIR/decisions.jsonl (or any name the test writes) made the test create its target outside
+// DIR; the folder is now refused naming it, before any work, and nothing is created.
+TEST_F(AdaptiveTestCommand, PlantedLinkInTheFolderIsRefusedNotFollowed) {
+  std::filesystem::create_directories(dir_ / "t");
+  for (const char* name : {"decisions.jsonl", "status.txt", "run.csv", "model.json"}) {
+    SCOPED_TRACE(name);
+    std::filesystem::create_symlink(dir_ / "outside", dir_ / "t" / name);
+    const Result r = excite("test --plant woodberry2x2 --seed 3 -o " + path("t"));
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_TRUE(contains(r.out, "t: already holds " + std::string(name) +
+                                    " (a link), expected a new or empty folder"))
+        << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir_ / "outside")) << r.out;
+    std::filesystem::remove(dir_ / "t" / name);
+  }
+  std::filesystem::create_directories(dir_ / "elsewhere");
+  std::filesystem::create_directory_symlink(dir_ / "elsewhere", dir_ / "t/segments");
+  const Result r = excite("test --plant woodberry2x2 --seed 3 -o " + path("t"));
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_TRUE(std::filesystem::is_empty(dir_ / "elsewhere")) << r.out;
+}
+
+}  // namespace
+
+namespace {
+
+// Issue 40 §4: limits limit from the first row. The first segment is sized by the prior's
+// G(0) (before: at the engineer's amplitude whatever the limits; y1 reached 1.53 against
+// ±1e-12 and the run exited 0 without a word); what is measured outside the limits is
+// counted per CV, in the decision log, the operator's view and the output, and a CV
+// measured outside holds the next segment (outside again after the hold: the test stops).
+TEST_F(AdaptiveTestCommand, LimitsBindFromTheFirstRowAndViolationsAreCounted) {
+  const Result r = excite(
+      "test --plant woodberry2x2 --seed 3 --limit y1=-0.06:0.06 --limit "
+      "y2=-0.06:0.06 -o " +
+      path("t"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const std::vector<nlohmann::json> events = json_lines(path("t/decisions.jsonl"));
+  ASSERT_GE(events.size(), 3u);
+  EXPECT_EQ(events.front()["event"], "segment");
+  EXPECT_LT(events.front()["scale"].get<double>(), 0.04) << events.front().dump();
+  EXPECT_TRUE(contains(events.front()["why"].get<std::string>(),
+                       "for the limits: the prior's G(0) bounds output 1 by 1.59"))
+      << events.front().dump();
+  const nlohmann::json& stop = events.back();
+  ASSERT_EQ(stop["event"], "stop");
+  ASSERT_EQ(stop["rows_outside_limits"].size(), 2u) << stop.dump();
+  const long long outside = stop["rows_outside_limits"][0].get<long long>() +
+                            stop["rows_outside_limits"][1].get<long long>();
+  EXPECT_GT(outside, 0) << stop.dump();  // the noise (s = 0.022) alone leaves ±0.06 at times
+  bool held = false;
+  for (const nlohmann::json& e : events) {
+    if (e["event"] == "segment" && e["scale"] == 0.0)
+      held = held || contains(e["why"].get<std::string>(), "measured outside its limits");
+  }
+  EXPECT_TRUE(held) << r.out;
+  EXPECT_TRUE(contains(r.out, "limits: y1 measured outside its limits in ")) << r.out;
 }
 
 }  // namespace

@@ -64,18 +64,53 @@ TEST_F(CampaignOutput, FolderNameWithAnApostropheWorks) {
     EXPECT_EQ(entry.path().extension(), ".svg") << entry.path();
 }
 
-// A *.gp someone else put into a previous report's figures folder is never run.
+// A *.gp someone else put into a report's figures folder is never run: the folder is
+// refused (a file excite did not write), and with --overwrite replaced whole.
 TEST_F(CampaignOutput, PlantedGnuplotScriptIsNeverRun) {
-  fs::create_directories(dir_ / "report/figures");
-  std::ofstream(path("report/summary.json")) << R"({"plant": "x", "experiments": []})" << '\n';
+  ASSERT_EQ(excite_here(std::string(kCampaign) + " -o report").exit_code, 0);
   std::ofstream(path("report/figures/aaa.gp")) << "system(\"touch " << path("CANARY") << "\")\n";
   std::ofstream(path("report/figures/zzz.gp")) << "system(\"touch " << path("CANARY2") << "\")\n";
-  const Result r = excite_here(std::string(kCampaign) + " -o report");
+  const Result refused = excite_here(std::string(kCampaign) + " -o report");
+  EXPECT_EQ(refused.exit_code, 1) << refused.out;
+  EXPECT_TRUE(contains(refused.out, "figures/aaa.gp is not a file excite wrote")) << refused.out;
+  const Result r = excite_here(std::string(kCampaign) + " -o report --overwrite");
   EXPECT_EQ(r.exit_code, 0) << r.out;
   EXPECT_FALSE(fs::exists(path("CANARY"))) << r.out;
   EXPECT_FALSE(fs::exists(path("CANARY2"))) << r.out;
   EXPECT_FALSE(fs::exists(path("report/figures/aaa.gp")));  // the folder was replaced whole
   EXPECT_TRUE(fs::exists(path("report/figures/sigma.svg")));
+}
+
+// Issue 40 §3: a previous campaign's folder to which the user added a file is not replaced
+// (the file was deleted before): refused naming the file, which stays; the folder is the
+// tool's by its marker (.excite-output, listing what it wrote), not by the shape of its
+// summary.json — one shaped like a campaign's without the marker is refused too. An
+// untouched previous campaign is replaced.
+TEST_F(CampaignOutput, PreviousCampaignWithTheUsersFileIsKept) {
+  ASSERT_EQ(excite_here(std::string(kCampaign) + " --seed 7 -o report").exit_code, 0);
+  const std::string summary = bytes_of(path("report/summary.json"));
+  std::ofstream(path("report/models/notes.txt")) << "mine\n";
+  const Result r = excite_here(std::string(kCampaign) + " --seed 8 -o report");
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_TRUE(contains(r.out,
+                       "report: cannot be written (a folder with other files: "
+                       "models/notes.txt is not a file excite wrote"))
+      << r.out;
+  EXPECT_EQ(bytes_of(path("report/models/notes.txt")), "mine\n");
+  EXPECT_EQ(bytes_of(path("report/summary.json")), summary);
+  EXPECT_EQ(hidden_entries(), "");
+
+  fs::remove(path("report/models/notes.txt"));
+  ASSERT_EQ(excite_here(std::string(kCampaign) + " --seed 8 -o report").exit_code, 0);
+  EXPECT_NE(bytes_of(path("report/summary.json")), summary);
+
+  fs::create_directories(dir_ / "shaped");
+  std::ofstream(path("shaped/summary.json")) << R"({"plant": "x", "experiments": []})" << '\n';
+  std::ofstream(path("shaped/data.csv")) << "mine\n";
+  const Result shaped = excite_here(std::string(kCampaign) + " -o shaped");
+  EXPECT_EQ(shaped.exit_code, 1) << shaped.out;
+  EXPECT_TRUE(contains(shaped.out, "no .excite-output of an excite campaign")) << shaped.out;
+  EXPECT_EQ(bytes_of(path("shaped/data.csv")), "mine\n");
 }
 
 // A used folder that is not a previous campaign's (here: summary.json is a folder, figures a

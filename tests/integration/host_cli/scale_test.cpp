@@ -98,9 +98,8 @@ TEST_F(Scale, BadLimitsAreRefusedByName) {
        "--limit \"xD=-1:1\": CV \"xD\", expected one of the model's "
        "outputs: y1, y2"},
       {" --limit y1=-1:abc", "--limit \"y1=-1:abc\": \"abc\", expected a finite number"},
-      {" --limit y1=0.5:1",
-       "output 1 limits = [0.5, 1] (deviation from the baseline), expected "
-       "low < 0 < high"},
+      {" --limit y1=0.5:1",  // named by the option since issue 40 §4 (was: output 1 limits)
+       "--limit \"y1=0.5:1\": LOW:HIGH = 0.5:1, expected LOW < 0 < HIGH"},
       {" --limit y1", "--limit \"y1\", expected CV=LOW:HIGH"},
   };
   for (const auto& [args, message] : cases) {

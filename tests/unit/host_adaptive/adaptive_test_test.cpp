@@ -223,6 +223,36 @@ TEST(AdaptiveLoop, CvLimitsSizeTheSegmentsAfterTheFirstAndThePlantStaysInside) {
   EXPECT_TRUE(r.criterion_met) << r.stop_reason;
 }
 
+// Issue 40 §4: CV limits bind from the first row. At the engineer's full amplitude the first,
+// plain segment would swing y1 to about 1.5 (the prior's G(0) times the PRBS amplitudes);
+// under ±0.3 it goes out scaled so that the prior's static bound is the limit, and the plant
+// (here the prior's own) stays inside it over the segment's rows. Before: scale 1, y1 ≈ 1.5.
+TEST(AdaptiveLoop, CvLimitsSizeTheFirstSegmentByThePriorsGain) {
+  const PriorKnowledge prior = case_study("woodberry2x2");
+  auto plant = sim::make_plant("woodberry2x2");
+  AdaptiveOptions options;
+  options.limits = CvLimits{Eigen::Vector2d(-0.3, -0.3), Eigen::Vector2d(0.3, 0.3)};
+  options.max_length_min = 400.0;
+  PlantRunner runner(*plant, prior.sample_time_min, 0.0, 1);
+  const AdaptiveResult r = run_adaptive_test(prior, runner, options);
+  ASSERT_GE(r.segments.size(), 1u);
+  const SegmentDecision& first = r.segments.front();
+  EXPECT_LT(first.scale, 0.3 / 1.5) << first.why;
+  EXPECT_NE(first.why.find("for the limits: the prior's G(0) bounds output 1"), std::string::npos)
+      << first.why;
+  const Eigen::MatrixXd y0 = r.Y_true.topRows(first.rows);
+  EXPECT_LE(y0.cwiseAbs().maxCoeff(), 0.3 + 1e-12);
+  EXPECT_GT(y0.cwiseAbs().maxCoeff(), 0.15);  // sized to the limit, not far below it
+  ASSERT_EQ(r.rows_outside_limits.size(), 2u);
+  EXPECT_EQ(r.rows_outside_limits[0] + r.rows_outside_limits[1], 0);  // noise-free: none
+
+  // Limits that leave the first segment no room refuse the test before anything runs.
+  options.limits = CvLimits{Eigen::Vector2d(-1e-6, -1.0), Eigen::Vector2d(1e-6, 1.0)};
+  EXPECT_THROW(check_adaptive_test(prior, options), std::invalid_argument);
+  options.limits = CvLimits{Eigen::Vector2d(0.1, -1.0), Eigen::Vector2d(0.2, 1.0)};
+  EXPECT_THROW(check_adaptive_test(prior, options), std::invalid_argument);
+}
+
 TEST(AdaptiveLog, EventsAndTheOperatorsViewSayWhatWasDecided) {
   const PriorKnowledge prior = case_study("woodberry2x2");
   auto plant = sim::make_plant("woodberry2x2");

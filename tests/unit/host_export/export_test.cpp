@@ -326,11 +326,16 @@ TEST(MatlabScript, RunsUnderOctaveWithTheControlPackage) {
 TEST(PythonControlScript, CompilesAndItsEmbeddedModelStepsAsTheStepTableUnderScipy) {
   const NamedModel m = known_model();
   const std::string script = python_control_script(m);
-  const auto begin = script.find("json.loads(r'''");
+  const auto begin = script.find("json.loads('''");
   const auto end = script.find("''')", begin);
   ASSERT_NE(begin, std::string::npos);
   ASSERT_NE(end, std::string::npos);
-  const auto embedded = nlohmann::json::parse(script.substr(begin + 15, end - begin - 15));
+  std::string body;  // the literal's text with Python's \\ and \' read back
+  for (std::size_t k = begin + 14; k < end; ++k) {
+    if (script[k] == '\\') ++k;
+    body += script[k];
+  }
+  const auto embedded = nlohmann::json::parse(body);
   EXPECT_EQ(embedded, nlohmann::json::parse(transfer_json(m)));
   const NamedModel back = read_transfer_json(embedded.dump(), "embedded");
   EXPECT_EQ(back.model.element(1, 2).value.tau2_min, 8.3);

@@ -23,10 +23,6 @@ std::string read(const fs::path& p) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-bool has_marker(const fs::path& dir) {
-  return fs::exists(dir / "marker");
-}
-
 class WholeFolderTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -48,7 +44,7 @@ class WholeFolderTest : public ::testing::Test {
 };
 
 TEST_F(WholeFolderTest, NewFolderAppearsOnlyAtCommit) {
-  WholeFolder folder(dir_ / "out", false, has_marker, "a previous one");
+  WholeFolder folder(dir_ / "out", false, "test");
   std::ofstream(folder.staging() / "a.txt") << "new\n";
   EXPECT_FALSE(fs::exists(dir_ / "out"));
   folder.commit();
@@ -56,24 +52,61 @@ TEST_F(WholeFolderTest, NewFolderAppearsOnlyAtCommit) {
   EXPECT_EQ(others(), "");
 }
 
+// The output of an earlier run of the same kind (its marker lists everything in it).
+void write_previous(const fs::path& out) {
+  WholeFolder folder(out, false, "test");
+  std::ofstream(folder.staging() / "marker") << "old\n";
+  fs::create_directories(folder.staging() / "sub");
+  std::ofstream(folder.staging() / "sub/old.txt") << "old\n";
+  folder.commit();
+}
+
 TEST_F(WholeFolderTest, PreviousOutputIsReplacedWhole) {
-  fs::create_directories(dir_ / "out");
-  std::ofstream(dir_ / "out/marker") << "old\n";
-  std::ofstream(dir_ / "out/old.txt") << "old\n";
-  WholeFolder folder(dir_ / "out", false, has_marker, "a previous one");
+  write_previous(dir_ / "out");
+  EXPECT_EQ(read(dir_ / "out/.excite-output"),
+            "excite output v1 test\nmarker\nsub/\nsub/old.txt\n");
+  WholeFolder folder(dir_ / "out", false, "test");
   std::ofstream(folder.staging() / "marker") << "new\n";
   EXPECT_EQ(read(dir_ / "out/marker"), "old\n");
   folder.commit();
   EXPECT_EQ(read(dir_ / "out/marker"), "new\n");
-  EXPECT_FALSE(fs::exists(dir_ / "out/old.txt"));
+  EXPECT_FALSE(fs::exists(dir_ / "out/sub"));
   EXPECT_EQ(others(), "");
 }
 
+// Issue 40 §3: a previous output to which the user added a file is not the tool's to
+// replace: refused naming the file, nothing touched (before: replaced whole, the file
+// deleted). So is a folder shaped like a previous output without the marker, or with a
+// marker of another kind, or a marker that is a link.
+TEST_F(WholeFolderTest, PreviousOutputWithTheUsersFilesIsRefusedNamingOne) {
+  write_previous(dir_ / "out");
+  std::ofstream(dir_ / "out/sub/notes.txt") << "mine\n";
+  try {
+    WholeFolder folder(dir_ / "out", false, "test");
+    FAIL() << "accepted a previous output holding the user's file";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("out: cannot be written (a folder with other files: "
+                                         "sub/notes.txt is not a file excite wrote, expected"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(read(dir_ / "out/sub/notes.txt"), "mine\n");
+  EXPECT_EQ(others(), "");
+
+  fs::remove(dir_ / "out/sub/notes.txt");
+  EXPECT_THROW(WholeFolder(dir_ / "out", false, "other kind"), std::runtime_error);
+  fs::rename(dir_ / "out/.excite-output", dir_ / "marker-elsewhere");
+  fs::create_symlink(dir_ / "marker-elsewhere", dir_ / "out/.excite-output");
+  EXPECT_THROW(WholeFolder(dir_ / "out", false, "test"), std::runtime_error);
+  fs::remove(dir_ / "out/.excite-output");
+  EXPECT_THROW(WholeFolder(dir_ / "out", false, "test"), std::runtime_error);
+  EXPECT_EQ(read(dir_ / "out/marker"), "old\n");
+}
+
 TEST_F(WholeFolderTest, WithoutCommitThePreviousFolderStaysAndNothingIsLeft) {
-  fs::create_directories(dir_ / "out");
-  std::ofstream(dir_ / "out/marker") << "old\n";
+  write_previous(dir_ / "out");
   {
-    WholeFolder folder(dir_ / "out", false, has_marker, "a previous one");
+    WholeFolder folder(dir_ / "out", false, "test");
     std::ofstream(folder.staging() / "marker") << "half\n";
   }
   EXPECT_EQ(read(dir_ / "out/marker"), "old\n");
@@ -85,17 +118,17 @@ TEST_F(WholeFolderTest, ForeignFolderOrFileIsRefusedUnlessOverwrite) {
   std::ofstream(dir_ / "out/mine.txt") << "mine\n";
   std::ofstream(dir_ / "file") << "x\n";
   try {
-    WholeFolder folder(dir_ / "out", false, has_marker, "a previous one");
+    WholeFolder folder(dir_ / "out", false, "test");
     FAIL() << "accepted a folder of other files";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("out: cannot be written (a folder with other files, not "
-                                         "a previous one"),
+    EXPECT_NE(std::string(e.what()).find("out: cannot be written (a folder with other files: no "
+                                         ".excite-output of an excite test"),
               std::string::npos)
         << e.what();
   }
-  EXPECT_THROW(WholeFolder(dir_ / "file", true, has_marker, "a previous one"), std::runtime_error);
+  EXPECT_THROW(WholeFolder(dir_ / "file", true, "test"), std::runtime_error);
   EXPECT_EQ(others(), "file ");
-  WholeFolder folder(dir_ / "out", true, has_marker, "a previous one");
+  WholeFolder folder(dir_ / "out", true, "test");
   folder.commit();
   EXPECT_FALSE(fs::exists(dir_ / "out/mine.txt"));
 }
@@ -104,7 +137,7 @@ TEST_F(WholeFolderTest, ForeignFolderOrFileIsRefusedUnlessOverwrite) {
 TEST_F(WholeFolderTest, LinkToAFolderIsFollowed) {
   fs::create_directories(dir_ / "real");
   fs::create_directory_symlink("real", dir_ / "out");
-  WholeFolder folder(dir_ / "out", false, has_marker, "a previous one");
+  WholeFolder folder(dir_ / "out", false, "test");
   std::ofstream(folder.staging() / "marker") << "new\n";
   folder.commit();
   EXPECT_TRUE(fs::is_symlink(dir_ / "out"));

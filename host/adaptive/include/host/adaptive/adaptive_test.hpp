@@ -114,6 +114,10 @@ struct AdaptiveResult {
   std::string stop_reason;
   double sample_time_min = 0.0;
   Eigen::MatrixXd U, Y, Y_true;  // the whole test so far (Y_true empty unless the runner knows)
+  // Under CV limits, per output: the measured rows outside its limits, and the measured
+  // deviation furthest outside them (NaN: none). Empty without limits.
+  std::vector<long long> rows_outside_limits;
+  Eigen::VectorXd worst_outside_limits;
 
   double length_min() const { return static_cast<double>(U.rows()) * sample_time_min; }
 };
@@ -126,6 +130,12 @@ class AdaptiveObserver {
   virtual void estimated(const AdaptiveResult& /*so_far*/) {}  // a re-estimate
   virtual void stopped(const AdaptiveResult& /*result*/) {}
 };
+
+/// What run_adaptive_test checks before its first segment, without running anything: the
+/// options (CV limits LOW < 0 < HIGH, at most 10⁸ samples), and under CV limits that the
+/// plain segments sized by the prior's G(0) keep at least 1 % of the engineer's amplitude
+/// (else the test could not excite the plant inside them). Throws std::invalid_argument.
+void check_adaptive_test(const PriorKnowledge& prior, const AdaptiveOptions& options);
 
 /// Runs the adaptive test on `runner` from validated prior knowledge (τ_L, τ_H, the
 /// inputs' amplitudes and limits; G(0) only sizes the first, plain segment). Throws

@@ -25,10 +25,6 @@ const char* report_style();
 /// figures are null (no truth: the truth and loss fields).
 void write_summary(const CampaignResult& result, const std::filesystem::path& dir);
 
-/// Whether `dir` holds a previous campaign's output: a regular DIR/summary.json that is a
-/// JSON object with "plant" and "experiments" (what write_summary writes).
-bool is_campaign_folder(const std::filesystem::path& dir);
-
 /// What the campaign kept beside its report, per experiment (paths relative to DIR, in the
 /// order of CampaignResult::experiments; empty: not kept, not linked).
 struct ReportArtifacts {

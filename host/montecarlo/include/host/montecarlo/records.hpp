@@ -25,6 +25,15 @@ nlohmann::json unit_json(const UnitResult& unit);
 /// Throws std::runtime_error "FILE: FIELD …, expected …" for a malformed file.
 UnitResult read_unit(const std::filesystem::path& file);
 
+/// Checks what read_unit() read against the run it belongs to, so a unit file holds only what
+/// a run could have written: the unit's design, seed and Table 6.1 number, 1 … 10⁸ samples,
+/// a sample time > 0, G(0) and its singular values of the plant's size (`outputs` ×
+/// `inputs`) or none, the true G(0) when the plant is perturbed, the v_n angle in 0 … 90°,
+/// the length grid of the run with prefixes within the run. Throws std::runtime_error
+/// "FILE: FIELD = VALUE, expected …".
+void check_unit(const UnitResult& unit_result, const Config& config, const Unit& unit, int outputs,
+                int inputs, const std::filesystem::path& file);
+
 /// DIR/units/DESIGN/seed-S.json for a unit.
 std::filesystem::path unit_path(const std::filesystem::path& dir, const Config& config,
                                 const Unit& unit);

@@ -6,12 +6,16 @@
 //     configuration (else the first differing field is named); any other non-empty DIR is
 //     refused.
 //   - Units already in DIR are not run again; the others run on `threads` threads, each
-//     written whole as soon as it finishes.
+//     written whole as soon as it finishes. A unit file that does not read back (records.hpp
+//     check_unit) is removed and run again; Outcome::redone says why.
+//   - One process per folder: DIR itself is locked (flock) for the whole call; a second
+//     process is refused.
 //   - `stop` set (e.g. by SIGINT): no new unit starts; the running ones finish and are kept.
 
 #include <atomic>
 #include <filesystem>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "host/montecarlo/unit.hpp"
@@ -36,6 +40,7 @@ struct Outcome {
   double design_cpu_s = 0.0;
   UnitTimes unit_cpu;
   double wall_s = 0.0;
+  std::vector<std::string> redone;  // unit files found that did not read back: why (run again)
 };
 
 /// Runs config.shard's units into `dir` (config normalised, work.hpp). `progress` (may be

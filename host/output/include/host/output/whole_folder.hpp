@@ -7,21 +7,22 @@
 // throws also removes its temporary folder (one killed by a signal leaves it behind, hidden).
 //
 // Before any work the constructor checks the name: it must be a folder or not exist yet (a
-// symbolic link is followed to its target); a non-empty folder is refused unless
-// `is_previous` says it is a previous output of the same kind or `overwrite` is set — then
-// the whole folder, anything else in it included, is replaced. Errors are
-// std::runtime_error "PATH: cannot be written (REASON)".
+// symbolic link is followed to its target); a non-empty folder is refused unless it is a
+// previous output of the same `kind` holding nothing but what that run wrote (its marker,
+// folder_marker.hpp, lists every entry) or `overwrite` is set — then the whole folder,
+// anything else in it included, is replaced. commit() writes the marker of `kind` listing
+// everything in the new folder. Errors are std::runtime_error "PATH: cannot be written
+// (REASON)".
 
 #include <filesystem>
-#include <functional>
+#include <string>
 
 namespace excite::host {
 
 class WholeFolder {
  public:
-  WholeFolder(const std::filesystem::path& path, bool overwrite,
-              const std::function<bool(const std::filesystem::path&)>& is_previous,
-              const char* what_previous);
+  /// `kind` names the tool's output in the marker and in messages ("campaign").
+  WholeFolder(const std::filesystem::path& path, bool overwrite, std::string kind);
   WholeFolder(const WholeFolder&) = delete;
   WholeFolder& operator=(const WholeFolder&) = delete;
   /// Not committed: the temporary folder is removed, the folder is untouched.
@@ -30,13 +31,15 @@ class WholeFolder {
   /// Where to write (the temporary folder until commit()).
   const std::filesystem::path& staging() const { return staging_; }
 
-  /// Puts the temporary folder in the folder's place; the previous one is removed.
+  /// Writes the marker, puts the temporary folder in the folder's place; the previous one
+  /// is removed.
   void commit();
 
  private:
   std::filesystem::path path_;     // as given
   std::filesystem::path target_;   // the symlinks' final target
   std::filesystem::path staging_;  // empty after commit
+  std::string kind_;
 };
 
 }  // namespace excite::host
