@@ -195,18 +195,23 @@ excite::app::StageResult load_plan(excite::app::Gateway& gw, const Options& opt)
 }
 
 // The clock the gateway ticks on: the POSIX clock, or in lock-step `lockstep` (its
-// sleep_until returns at once: the peer paces), with the baseline not written at arm
-// (README: verified writes, lock-step) and, since lock-step never sleeps out a period,
-// retries after a failed exchange paced on the real clock: at most 4 a second and never
-// sooner than the period (README: paced retries); a segment awaited at the table's end
-// (segments.await_s) is awaited without ticking, timed on the real clock.
+// sleep_until returns at once: the peer paces). Whatever the tick clock, the real clock
+// times what is real: the quiet interval before arm (one owner: another master writing is
+// refused). In lock-step also: the baseline is not written at arm (README: verified writes,
+// lock-step); a retry after a failed exchange waits 250 ms on the real clock, never the
+// period — the plant's time stands still while exchanges fail (README: paced retries); the
+// suspension and confirmation timeouts end on the real clock at the latest; a segment
+// awaited at the table's end (segments.await_s) is awaited without ticking, timed on the
+// real clock.
 excite::hal::Clock& tick_clock(excite::app::Gateway& gw, const Options& opt,
                                excite::hal::PosixClock& real, excite::hal::VirtualClock& lockstep) {
   gw.set_verify_at_arm(!opt.lockstep());
+  gw.observe_quiet_on(&real, gw.quiet_interval(opt.lockstep()));
+  gw.read_before_write(!opt.lockstep());  // one owner: a write between two ticks is seen
   if (!opt.lockstep()) return real;
   gw.await_segments_on(&real);  // [segments] await_s: stop ticking, timed on the real clock
-  gw.pace_retries(&real,
-                  std::max<excite::hal::Nanoseconds>(gw.period(), std::chrono::milliseconds(250)));
+  gw.pace_retries(&real, excite::app::kRetryPacing);
+  gw.time_on_real_clock(&real);
   return lockstep;
 }
 
@@ -225,7 +230,8 @@ void go_live(excite::app::Gateway& gw, const Options& opt) {
   read_stdin_commands();
   const std::string pace =
       opt.lockstep()
-          ? "lockstep: each tick as soon as the previous exchange returned"
+          ? "lockstep: each tick as soon as the previous exchange returned; a retry after a "
+            "failure waits 250 ms and the timeouts end on the real clock"
           : "period " + std::to_string(std::chrono::duration<double>(gw.period()).count()) + " s";
   std::fprintf(
       stderr, "excite-gateway: armed (%u setpoints, %u values, %u rows, T = %g min, %s)%s\n",

@@ -85,6 +85,8 @@ const char* to_string(Outcome outcome) noexcept {
       return "fault: the run log could not be written";
     case Outcome::device_refused:
       return "fault: the device refused a setpoint";
+    case Outcome::foreign_writer:
+      return "fault: another writer was seen";
   }
   return "unknown";
 }
