@@ -23,6 +23,7 @@
 #include "firmware/app/exit_codes.hpp"
 #include "firmware/app/gateway.hpp"
 #include "firmware/app/gateway_config.hpp"
+#include "firmware/app/inbox_files.hpp"
 #include "firmware/app/log_drain.hpp"
 #include "firmware/app/proc_status.hpp"
 #include "firmware/app/realtime.hpp"
@@ -129,6 +130,7 @@ struct Options {
   bool dry_run = false;
   bool auto_start = false;
   bool allow_distortion = false;
+  bool take_waiting_segment = false;  // --take-waiting-segment: a next.plan there at start
   [[nodiscard]] bool lockstep() const { return clock_mode == "lockstep"; }
 };
 
@@ -148,6 +150,9 @@ std::optional<int> parse_command_line(int argc, char** argv, Options& opt) {
                  "a folder where the next plan segment appears as next.plan (written to a "
                  "temporary file and renamed); taken at a boundary once approved")
       ->check(CLI::ExistingDirectory);
+  cli.add_flag("--take-waiting-segment", opt.take_waiting_segment,
+               "take a next.plan already in the segment inbox at start (by default it was "
+               "decided before this run and is refused)");
   cli.add_flag("--dry-run", opt.dry_run, "validate everything and print what would be written");
   cli.add_flag("--start", opt.auto_start, "start streaming right after arming (no start command)");
   cli.add_flag("--allow-distortion", opt.allow_distortion,
@@ -162,6 +167,24 @@ std::optional<int> parse_command_line(int argc, char** argv, Options& opt) {
   }
   if (!opt.dry_run && opt.log_path.empty()) {
     return fail(ExitCode::usage, "--log is required (except with --dry-run)");
+  }
+  if (opt.take_waiting_segment && opt.segment_inbox.empty()) {
+    return fail(ExitCode::usage, "--take-waiting-segment = set, expected with --segment-inbox");
+  }
+  return std::nullopt;
+}
+
+// The segment inbox at start (README "Plan segments", inbox rules): a folder of this user's
+// that nobody else can write, and no segment decided before this run left in it.
+excite::app::StageResult check_segment_inbox(const Options& opt) {
+  if (opt.segment_inbox.empty() || opt.dry_run) return std::nullopt;
+  if (std::string e = excite::app::check_inbox_folder(opt.segment_inbox); !e.empty()) {
+    return excite::app::StageError{ExitCode::usage, e};
+  }
+  if (std::string e = excite::app::SegmentInbox::set_aside_waiting(
+          opt.segment_inbox, opt.take_waiting_segment, stderr);
+      !e.empty()) {
+    return excite::app::StageError{ExitCode::usage, e};
   }
   return std::nullopt;
 }
@@ -253,6 +276,7 @@ int main(int argc, char** argv) {
   ignore_file_size_signal();
   Options opt;
   if (const std::optional<int> rc = parse_command_line(argc, argv, opt)) return *rc;
+  if (auto e = check_segment_inbox(opt)) return fail(*e);
   ConfigResult loaded = load_gateway_config(opt.config_path);
   if (!loaded.config) return fail(ExitCode::bad_config, loaded.error);
   if (auto e = check_clock(*loaded.config, opt)) return fail(*e);

@@ -141,8 +141,11 @@ class Segments : public LoopTest {
     return false;
   }
 
+  // The segment was dropped before the gateway started: --take-waiting-segment takes it
+  // (without, it is refused as an earlier run's decision: inbox_rules_test.cpp).
   std::unique_ptr<GatewayProcess> start_waiting(std::vector<std::string> extra = {}) {
-    extra.insert(extra.end(), {"--clock", "lockstep", "--segment-inbox", inbox().string()});
+    extra.insert(extra.end(), {"--clock", "lockstep", "--segment-inbox", inbox().string(),
+                               "--take-waiting-segment"});
     return start_gateway(plan_path_, extra);
   }
 
