@@ -111,7 +111,8 @@ StageResult Gateway::start_log(std::FILE* file, std::string producer) {
   return std::nullopt;
 }
 
-void Gateway::start_segments(std::string dir, bool allow_distortion, std::FILE* events) {
+void Gateway::start_segments(std::string dir, bool allow_distortion, std::FILE* events,
+                             std::string run_id) {
   spare_storage_.assign(signal::kTableCapacity, 0.0);  // sized once, before the run
   SegmentInboxSetup setup;
   setup.dir = std::move(dir);
@@ -123,6 +124,7 @@ void Gateway::start_segments(std::string dir, bool allow_distortion, std::FILE* 
   setup.buffers = {std::span<double>(storage_), std::span<double>(spare_storage_)};
   setup.allow_distortion = allow_distortion;
   setup.events = events;
+  setup.run_id = std::move(run_id);
   inbox_ = std::make_unique<SegmentInbox>(std::move(setup));
   runner_->watch_segments(&inbox_->handoff());
   inbox_->start();

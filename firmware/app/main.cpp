@@ -27,6 +27,7 @@
 #include "firmware/app/log_drain.hpp"
 #include "firmware/app/proc_status.hpp"
 #include "firmware/app/realtime.hpp"
+#include "firmware/app/run_identity.hpp"
 #include "firmware/app/run_log_file.hpp"
 #include "firmware/app/run_summary.hpp"
 #include "firmware/app/small_thread.hpp"
@@ -238,13 +239,19 @@ excite::hal::Clock& tick_clock(excite::app::Gateway& gw, const Options& opt,
   return lockstep;
 }
 
-// Armed: the segment inbox, real time, signals, operator input, and the start-up's last
-// words on stderr.
-void go_live(excite::app::Gateway& gw, const Options& opt) {
+// Armed: the segment inbox (with this run's marker for the host tool), real time, signals,
+// operator input, and the start-up's last words on stderr.
+void go_live(excite::app::Gateway& gw, const Options& opt, const std::string& run_id,
+             excite::app::RunMarker& marker) {
   if (!opt.segment_inbox.empty()) {
-    gw.start_segments(opt.segment_inbox, opt.allow_distortion, stderr);
-    std::fprintf(stderr, "excite-gateway: watching %s/next.plan for the next plan segment\n",
-                 opt.segment_inbox.c_str());
+    gw.start_segments(opt.segment_inbox, opt.allow_distortion, stderr, run_id);
+    std::fprintf(stderr,
+                 "excite-gateway: watching %s/next.plan for the next plan segment (this run's "
+                 "segments name \"%s\")\n",
+                 opt.segment_inbox.c_str(), excite::app::run_tag(run_id).c_str());
+    if (std::string e = marker.write(opt.segment_inbox, run_id, opt.log_path); !e.empty()) {
+      std::fprintf(stderr, "excite-gateway: warning: %s\n", e.c_str());
+    }
   }
   const excite::app::RealtimeResult rt = excite::app::make_realtime(gw.config().realtime_priority);
   for (const auto& w : rt.warnings)
@@ -304,11 +311,17 @@ int main(int argc, char** argv) {
                distortion.report.c_str());
   log.keep();  // the run's record from here on, whatever happens
   gw.set_event_stream(stderr);
-  const std::string producer = "excite-gateway " + std::string(excite::runlog::kVersion);
+  // This run's identity (run_identity.hpp): in the log's producer line, the inbox's marker,
+  // and every segment the host tool writes for this run.
+  const std::string run_id = new_run_id();
+  std::fprintf(stderr, "excite-gateway: %s\n", run_tag(run_id).c_str());
+  const std::string producer = "excite-gateway " + std::string(excite::runlog::kVersion) + " (" +
+                               run_tag(run_id) + ")";
   if (auto e = gw.start_log(log.get(), producer)) {
     return fail(e->code, opt.log_path + ": " + e->message);
   }
-  go_live(gw, opt);
+  RunMarker marker;  // removed at exit
+  go_live(gw, opt, run_id, marker);
   const RunStats stats = gw.run(g_commands, &g_hard_stop);
   gw.stop_segments();
   if (const SegmentInbox* inbox = gw.segments()) {

@@ -5,11 +5,13 @@
 
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <thread>
 #include <vector>
 
 #include "firmware/app/distortion_check.hpp"
 #include "firmware/app/inbox_files.hpp"
+#include "firmware/app/run_identity.hpp"
 #include "firmware/engine/load_plan.hpp"
 #include "firmware/engine/segment.hpp"
 #include "firmware/plan/codec.hpp"
@@ -123,7 +125,22 @@ bool SegmentInbox::poll_once() {
   }
   const std::string_view provenance = plan::text_of(next->meta.provenance);
   const std::string& from = setup_.config->segment_preapproved_from;
-  const bool approved = !from.empty() && provenance.find(from) != std::string_view::npos;
+  const bool preapproval = !from.empty() && provenance.find(from) != std::string_view::npos;
+  // The run a segment was decided for (run_identity.hpp): another run's is refused; only
+  // this run's may be pre-approved.
+  const std::optional<std::string> run = run_named_in(provenance);
+  if (!setup_.run_id.empty() && run && *run != setup_.run_id) {
+    refuse(path,
+           "segment run = " + *run + ", expected this run's " + setup_.run_id +
+               " (a segment decided for another gateway run)",
+           published);
+    return true;
+  }
+  const bool approved = preapproval && (setup_.run_id.empty() || run.has_value());
+  const std::string not_preapproved =
+      preapproval && !approved ? "; not pre-approved: its provenance names no run, expected \"" +
+                                     run_tag(setup_.run_id) + "\""
+                               : "";
   // Kept under a name nobody holds: an earlier run's segment-N.plan is never overwritten.
   std::string error;
   const std::string kept =
@@ -142,7 +159,8 @@ bool SegmentInbox::poll_once() {
       std::string(plan::text_of(next->meta.design_name)) + ", " + std::to_string(table.samples) +
       " rows, provenance \"" + std::string(provenance) + "\"); " +
       (approved ? "pre-approved (segments.preapproved_from = \"" + from + "\")"
-                : std::string("waiting for approval (stdin `approve`, command register 5)")));
+                : "waiting for approval (stdin `approve`, command register 5" + not_preapproved +
+                      ")"));
   return true;
 }
 

@@ -187,6 +187,11 @@ void run_through_gateway(const TestCommandOptions& opt, const PriorKnowledge& pr
                  "[segments] preapproved_from is \"excite test segment\"\n"
               << std::flush;
   };
+  hooks.attached = [&](const std::string& run) {
+    std::cout << "gateway run " << run << " (" << (fs::path(opt.inbox) / "gateway.run").string()
+              << "): reading only its log " << opt.run_log << "\n"
+              << std::flush;
+  };
   prepare_folder(dir, "decisions.jsonl");
   InboxRunner runner(runner_options, hooks);
   FolderLog log(dir, inputs, outputs);

@@ -231,5 +231,50 @@ TEST_F(InboxRules, AnInboxOthersCanWriteIsRefusedAtStart) {
   EXPECT_EQ(rows, 0U) << "the plant received a write";
 }
 
+TEST_F(InboxRules, AnotherRunsSegmentIsRefusedAndOnlyThisRunsIsPreApproved) {
+  start_loop(kPlant, "--input-range 2");
+  std::ofstream(path("gateway.toml"), std::ios::app)
+      << "\n[segments]\npreapproved_from = \"excite test\"\n";
+  auto gw = start_armed();
+  ASSERT_TRUE(wait_for(*gw, "armed")) << gw->err();
+  const std::string err0 = gw->err();
+  const std::size_t at = err0.find("excite-gateway: run ");
+  ASSERT_NE(at, std::string::npos) << err0;
+  const std::string ours = err0.substr(at + 20, 16);
+  const std::string other = ours == "0123456789abcdef" ? "fedcba9876543210" : "0123456789abcdef";
+  EXPECT_TRUE(fs::exists(inbox() / "gateway.run"));
+  EXPECT_NE(std::ifstream(inbox() / "gateway.run").peek(), EOF);
+
+  plan::Plan p;
+  ASSERT_TRUE(engine::load_plan(segment_, 2, signal::kTableCapacity, p));
+  const auto drop_with = [&](const std::string& provenance) {
+    plan::set_text(p.meta.provenance, provenance);
+    std::vector<std::uint8_t> bytes(plan::max_encoded_size());
+    const plan::EncodeResult r = plan::encode(p, bytes);
+    ASSERT_TRUE(r.status);
+    bytes.resize(r.size);
+    write_bytes(inbox() / ".next.plan.tmp", bytes);
+    fs::rename(inbox() / ".next.plan.tmp", inbox() / "next.plan");
+  };
+  drop_with("run " + other + ": excite test segment 1");  // an earlier run's decision
+  ASSERT_TRUE(wait_for(*gw, "segment refused: ")) << gw->err();
+  EXPECT_NE(gw->err().find("segment run = " + other + ", expected this run's " + ours),
+            std::string::npos)
+      << gw->err();
+  drop_with("excite test segment 1");  // names no run: not pre-approved
+  ASSERT_TRUE(wait_for(*gw, "segment 1 staged")) << gw->err();
+  EXPECT_NE(gw->err().find("not pre-approved: its provenance names no run, expected \"run " +
+                           ours + "\""),
+            std::string::npos)
+      << gw->err();
+  gw->send_line("start");  // no approve: nothing is taken
+  const auto rc = gw->wait(60s);
+  ASSERT_TRUE(rc.has_value()) << gw->err();
+  EXPECT_EQ(*rc, 0) << gw->err();
+  EXPECT_NE(gw->err().find("segments: 1 staged, 1 refused, 0 taken"), std::string::npos)
+      << gw->err();
+  EXPECT_FALSE(fs::exists(inbox() / "gateway.run")) << "removed at exit";
+}
+
 }  // namespace
 }  // namespace excite::test

@@ -87,7 +87,8 @@ class Gateway {
   /// 5b. (optional, after arm) Plan segments (README "Plan segments"): allocates the second
   /// table buffer and starts the inbox thread watching `dir`/next.plan; each tick of run()
   /// then stages what it hands over. `allow_distortion`: --allow-distortion.
-  void start_segments(std::string dir, bool allow_distortion, std::FILE* events);
+  void start_segments(std::string dir, bool allow_distortion, std::FILE* events,
+                      std::string run_id = {});
   /// Stops the inbox thread (also done by the destructor); the inbox, or null without one.
   void stop_segments();
   [[nodiscard]] const SegmentInbox* segments() const noexcept { return inbox_.get(); }

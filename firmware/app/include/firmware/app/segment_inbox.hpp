@@ -41,6 +41,9 @@ struct SegmentInboxSetup {
   std::array<std::span<double>, 2> buffers{};         // table storage: segment N uses N % 2
   bool allow_distortion = false;                      // --allow-distortion
   std::FILE* events = nullptr;                        // stderr: staged, refused
+  std::string run_id;  // this gateway run's (run_identity.hpp): a segment naming another run
+                       // is refused, and only one naming this run may be pre-approved;
+                       // "": no run rules (the in-process tests)
 };
 
 class SegmentInbox {
