@@ -132,7 +132,7 @@ void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t s
       if (e.watched && (values[j] <= e.low || values[j] >= e.high)) ++range_counts_[j];
     }
   }
-  engine_.observe(ok, values);
+  engine_.observe(ok, values, refused);
   // After observe(), so this tick's row says `aborted`: the ramp-out starts next tick.
   if (refused) engine_.fault(engine::Outcome::device_refused);
   if (log_failed_ != nullptr && log_failed_->load(std::memory_order_acquire)) {

@@ -560,20 +560,26 @@ bool Engine::at_baseline() const noexcept {
   return true;
 }
 
-void Engine::observe(bool exchange_ok, std::span<const double> values) noexcept {
+void Engine::observe(bool exchange_ok, std::span<const double> values, bool refused) noexcept {
   if (!armed_) return;  // nothing was written, nothing to judge
   exchange_ok_ = exchange_ok && values.size() >= config_.values;
+  refused = refused && !exchange_ok_;
   // With the real time (lock-step), a failed exchange took none of the peer's time: the
   // timeouts count it on the real clock only.
   if (real_clock_ && !exchange_ok_) elapsed_ = 0;
-  check_comm(exchange_ok_, values);
+  if (refused) {  // the device's answer, not a lost link: not the comm guard's
+    ++failed_total_;
+    stale_ = false;
+  } else {
+    check_comm(exchange_ok_, values);
+  }
   if (exchange_ok_) {
     for (std::uint32_t j = 0; j < config_.values; ++j) last_y_[j] = values[j];
   }
   check_limits(exchange_ok_, values);
   read_command_register(exchange_ok_, values);
   check_readbacks(values);
-  if (!exchange_ok_ || (reasons_ & kReasonComm) != 0) flags_ |= runlog::kCommLost;
+  if ((!exchange_ok_ && !refused) || (reasons_ & kReasonComm) != 0) flags_ |= runlog::kCommLost;
   if (stale_) flags_ |= runlog::kStale;
   count_flags();
 

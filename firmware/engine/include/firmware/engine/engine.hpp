@@ -147,7 +147,10 @@ class Engine {
   /// Phase 2: the exchange's result. `values` (config.values of them) is read only when
   /// exchange_ok. Checks the heartbeat echo, the test limits and the command register,
   /// and moves the state (suspend, resume after dwell, abort on timeout, safe).
-  void observe(bool exchange_ok, std::span<const double> values) noexcept;
+  /// `refused`: the exchange failed because the device refused the request (an exception
+  /// reply 1–3): counted as a failed exchange, but the link is fine — the row is not flagged
+  /// comm_lost and the comm guard does not count it (the loop calls fault() next).
+  void observe(bool exchange_ok, std::span<const double> values, bool refused = false) noexcept;
 
   /// Between compute() and the write of a tick that follows a failed exchange: `values` were
   /// read on the (re)connected link before anything was written on it. The heartbeat echo
