@@ -145,8 +145,9 @@ MeasuredSegment InboxRunner::wait_for_rows(const plan::Plan& segment) {
   for (;;) {
     // Asked before the log is read: a gateway that ended after writing every row is not
     // taken for one that ended without them.
+    const std::string marker = check_gateway();  // finds the run on the first look
     std::string gone = hooks_.gone ? hooks_.gone() : std::string();
-    if (gone.empty()) gone = check_gateway();
+    if (gone.empty()) gone = marker;
     // Only a log of the run talked to: an earlier run's log is never taken for it.
     std::optional<runlog::RunLog> log;
     if (!run_id_.empty()) log = read_growing_log(options_.run_log);
