@@ -65,7 +65,11 @@ StageResult Gateway::arm(hal::FieldBus& bus, hal::Clock& clock) {
       std::span<const RangeEnd>(range_ends_.data(), config_.values.size()),
       std::span<std::uint64_t>(range_end_counts_.data(), config_.values.size()));
   runner_->set_verify_at_arm(verify_at_arm_);
+  runner_->observe_quiet(quiet_clock_, quiet_interval_);
   if (auto s = runner_->arm(); !s) {
+    if (engine_->foreign_write().valid) {
+      return StageError{ExitCode::arm_refused, "refused to arm: " + foreign_write_report()};
+    }
     if (engine_->readback_fault().valid) {
       return StageError{ExitCode::arm_refused,
                         "refused to arm: verified write failed: " + readback_fault_report()};
@@ -107,7 +111,8 @@ StageResult Gateway::start_log(std::FILE* file, std::string producer) {
   return std::nullopt;
 }
 
-void Gateway::start_segments(std::string dir, bool allow_distortion, std::FILE* events) {
+void Gateway::start_segments(std::string dir, bool allow_distortion, std::FILE* events,
+                             std::string run_id) {
   spare_storage_.assign(signal::kTableCapacity, 0.0);  // sized once, before the run
   SegmentInboxSetup setup;
   setup.dir = std::move(dir);
@@ -119,6 +124,7 @@ void Gateway::start_segments(std::string dir, bool allow_distortion, std::FILE* 
   setup.buffers = {std::span<double>(storage_), std::span<double>(spare_storage_)};
   setup.allow_distortion = allow_distortion;
   setup.events = events;
+  setup.run_id = std::move(run_id);
   inbox_ = std::make_unique<SegmentInbox>(std::move(setup));
   runner_->watch_segments(&inbox_->handoff());
   inbox_->start();
@@ -132,6 +138,8 @@ RunStats Gateway::run(CommandMailbox& commands, const std::atomic<bool>* stop,
                       std::uint64_t max_ticks) noexcept {
   runner_->set_observer(observer_);
   runner_->pace_retries(pacing_clock_, retry_interval_);
+  runner_->time_on_real_clock(real_time_);
+  runner_->read_before_write(read_before_write_);
   if (await_clock_ != nullptr && config_.segment_await_s > 0.0) {
     runner_->await_segments_on(await_clock_,
                                std::chrono::round<hal::Nanoseconds>(
@@ -155,7 +163,45 @@ std::string Gateway::log_failure() const {
   return drain_ ? drain_->failure() : std::string();
 }
 
-namespace {}  // namespace
+hal::Nanoseconds Gateway::quiet_interval(bool lockstep) const {
+  const hal::Nanoseconds margin = std::chrono::milliseconds(100);
+  return lockstep ? margin : period_ + margin;
+}
+
+std::string Gateway::foreign_write_report() const {
+  const engine::ForeignWrite& f = engine_->foreign_write();
+  if (!f.valid) return "";
+  const std::string value =
+      f.value >= 0 ? config_.values[static_cast<std::size_t>(f.value)].name : std::string("?");
+  const std::string why =
+      " (another master writes this gateway's registers: one gateway owns a register block, "
+      "firmware/app/README.md \"One owner of a register block\")";
+  if (f.at_arm) {
+    const std::string seconds =
+        config::format_number(std::chrono::duration<double>(quiet_interval_).count());
+    const std::string what =
+        f.heartbeat ? "the heartbeat echo " + value
+                    : "setpoint " + config_.setpoints[f.input].name + "'s readback " + value;
+    return "another master is writing: " + what + " = " + config::format_number(f.expected) +
+           " then " + config::format_number(f.read) + " in two reads " + seconds +
+           " s apart before arm, expected unchanged: this gateway wrote nothing" + why;
+  }
+  const std::string at = " at tick " + std::to_string(f.tick);
+  if (f.heartbeat) {
+    return "another writer was seen: heartbeat echo " + value + " = " +
+           config::format_number(f.read) + at +
+           ", expected a heartbeat this gateway sent (the last " +
+           config::format_number(f.expected) + ", an echo only moves forward)" + why;
+  }
+  const std::string where =
+      config_.transport
+          ? " (" + config_.transport->describe_channel(hal::ChannelKind::setpoint, f.input) + ")"
+          : std::string();
+  return "another writer was seen: setpoint " + config_.setpoints[f.input].name + where + " = " +
+         config::format_number(f.read) + " read back from " + value + at + ", expected " +
+         config::format_number(f.expected) +
+         " (a value this gateway wrote; or the device rewrote its own setpoint register)" + why;
+}
 
 std::string Gateway::readback_fault_report() const {
   const engine::ReadbackFault& f = engine_->readback_fault();

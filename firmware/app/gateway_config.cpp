@@ -3,6 +3,7 @@
 
 #include <toml++/toml.h>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -534,6 +535,14 @@ engine::EngineConfig to_engine_config(const GatewayConfig& c,
   e.confirm_timeout_ticks =
       std::max<std::uint32_t>({ticks(c.confirm_timeout_s), e.confirm_hold_ticks + 1,
                                c.readback_lag_ticks + c.readback_mismatch_limit + 1});
+  // The same two timeouts on the real clock, for lock-step (Engine::set_real_time): within
+  // the 1e6 s range (check_timing), so the nanoseconds fit.
+  const auto ns = [](double seconds) {
+    return std::chrono::round<std::chrono::nanoseconds>(std::chrono::duration<double>(seconds))
+        .count();
+  };
+  e.suspend_timeout_ns = ns(c.suspend_timeout_s);
+  e.confirm_timeout_ns = ns(c.confirm_timeout_s);
   e.comm_fail_limit = c.comm_fail_limit;
   e.comm_loss = c.comm_loss;
   // Verified writes: the tolerance is the coarser of the two encodings' resolution — one

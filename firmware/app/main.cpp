@@ -23,9 +23,11 @@
 #include "firmware/app/exit_codes.hpp"
 #include "firmware/app/gateway.hpp"
 #include "firmware/app/gateway_config.hpp"
+#include "firmware/app/inbox_files.hpp"
 #include "firmware/app/log_drain.hpp"
 #include "firmware/app/proc_status.hpp"
 #include "firmware/app/realtime.hpp"
+#include "firmware/app/run_identity.hpp"
 #include "firmware/app/run_log_file.hpp"
 #include "firmware/app/run_summary.hpp"
 #include "firmware/app/small_thread.hpp"
@@ -129,6 +131,7 @@ struct Options {
   bool dry_run = false;
   bool auto_start = false;
   bool allow_distortion = false;
+  bool take_waiting_segment = false;  // --take-waiting-segment: a next.plan there at start
   [[nodiscard]] bool lockstep() const { return clock_mode == "lockstep"; }
 };
 
@@ -148,6 +151,9 @@ std::optional<int> parse_command_line(int argc, char** argv, Options& opt) {
                  "a folder where the next plan segment appears as next.plan (written to a "
                  "temporary file and renamed); taken at a boundary once approved")
       ->check(CLI::ExistingDirectory);
+  cli.add_flag("--take-waiting-segment", opt.take_waiting_segment,
+               "take a next.plan already in the segment inbox at start (by default it was "
+               "decided before this run and is refused)");
   cli.add_flag("--dry-run", opt.dry_run, "validate everything and print what would be written");
   cli.add_flag("--start", opt.auto_start, "start streaming right after arming (no start command)");
   cli.add_flag("--allow-distortion", opt.allow_distortion,
@@ -162,6 +168,24 @@ std::optional<int> parse_command_line(int argc, char** argv, Options& opt) {
   }
   if (!opt.dry_run && opt.log_path.empty()) {
     return fail(ExitCode::usage, "--log is required (except with --dry-run)");
+  }
+  if (opt.take_waiting_segment && opt.segment_inbox.empty()) {
+    return fail(ExitCode::usage, "--take-waiting-segment = set, expected with --segment-inbox");
+  }
+  return std::nullopt;
+}
+
+// The segment inbox at start (README "Plan segments", inbox rules): a folder of this user's
+// that nobody else can write, and no segment decided before this run left in it.
+excite::app::StageResult check_segment_inbox(const Options& opt) {
+  if (opt.segment_inbox.empty() || opt.dry_run) return std::nullopt;
+  if (std::string e = excite::app::check_inbox_folder(opt.segment_inbox); !e.empty()) {
+    return excite::app::StageError{ExitCode::usage, e};
+  }
+  if (std::string e = excite::app::SegmentInbox::set_aside_waiting(
+          opt.segment_inbox, opt.take_waiting_segment, stderr);
+      !e.empty()) {
+    return excite::app::StageError{ExitCode::usage, e};
   }
   return std::nullopt;
 }
@@ -195,28 +219,39 @@ excite::app::StageResult load_plan(excite::app::Gateway& gw, const Options& opt)
 }
 
 // The clock the gateway ticks on: the POSIX clock, or in lock-step `lockstep` (its
-// sleep_until returns at once: the peer paces), with the baseline not written at arm
-// (README: verified writes, lock-step) and, since lock-step never sleeps out a period,
-// retries after a failed exchange paced on the real clock: at most 4 a second and never
-// sooner than the period (README: paced retries); a segment awaited at the table's end
-// (segments.await_s) is awaited without ticking, timed on the real clock.
+// sleep_until returns at once: the peer paces). Whatever the tick clock, the real clock
+// times what is real: the quiet interval before arm (one owner: another master writing is
+// refused). In lock-step also: the baseline is not written at arm (README: verified writes,
+// lock-step); a retry after a failed exchange waits 250 ms on the real clock, never the
+// period — the plant's time stands still while exchanges fail (README: paced retries); the
+// suspension and confirmation timeouts end on the real clock at the latest; a segment
+// awaited at the table's end (segments.await_s) is awaited without ticking, timed on the
+// real clock.
 excite::hal::Clock& tick_clock(excite::app::Gateway& gw, const Options& opt,
                                excite::hal::PosixClock& real, excite::hal::VirtualClock& lockstep) {
   gw.set_verify_at_arm(!opt.lockstep());
+  gw.observe_quiet_on(&real, gw.quiet_interval(opt.lockstep()));
+  gw.read_before_write(!opt.lockstep());  // one owner: a write between two ticks is seen
   if (!opt.lockstep()) return real;
   gw.await_segments_on(&real);  // [segments] await_s: stop ticking, timed on the real clock
-  gw.pace_retries(&real,
-                  std::max<excite::hal::Nanoseconds>(gw.period(), std::chrono::milliseconds(250)));
+  gw.pace_retries(&real, excite::app::kRetryPacing);
+  gw.time_on_real_clock(&real);
   return lockstep;
 }
 
-// Armed: the segment inbox, real time, signals, operator input, and the start-up's last
-// words on stderr.
-void go_live(excite::app::Gateway& gw, const Options& opt) {
+// Armed: the segment inbox (with this run's marker for the host tool), real time, signals,
+// operator input, and the start-up's last words on stderr.
+void go_live(excite::app::Gateway& gw, const Options& opt, const std::string& run_id,
+             excite::app::RunMarker& marker) {
   if (!opt.segment_inbox.empty()) {
-    gw.start_segments(opt.segment_inbox, opt.allow_distortion, stderr);
-    std::fprintf(stderr, "excite-gateway: watching %s/next.plan for the next plan segment\n",
-                 opt.segment_inbox.c_str());
+    gw.start_segments(opt.segment_inbox, opt.allow_distortion, stderr, run_id);
+    std::fprintf(stderr,
+                 "excite-gateway: watching %s/next.plan for the next plan segment (this run's "
+                 "segments name \"%s\")\n",
+                 opt.segment_inbox.c_str(), excite::app::run_tag(run_id).c_str());
+    if (std::string e = marker.write(opt.segment_inbox, run_id, opt.log_path); !e.empty()) {
+      std::fprintf(stderr, "excite-gateway: warning: %s\n", e.c_str());
+    }
   }
   const excite::app::RealtimeResult rt = excite::app::make_realtime(gw.config().realtime_priority);
   for (const auto& w : rt.warnings)
@@ -225,7 +260,8 @@ void go_live(excite::app::Gateway& gw, const Options& opt) {
   read_stdin_commands();
   const std::string pace =
       opt.lockstep()
-          ? "lockstep: each tick as soon as the previous exchange returned"
+          ? "lockstep: each tick as soon as the previous exchange returned; a retry after a "
+            "failure waits 250 ms and the timeouts end on the real clock"
           : "period " + std::to_string(std::chrono::duration<double>(gw.period()).count()) + " s";
   std::fprintf(
       stderr, "excite-gateway: armed (%u setpoints, %u values, %u rows, T = %g min, %s)%s\n",
@@ -247,6 +283,7 @@ int main(int argc, char** argv) {
   ignore_file_size_signal();
   Options opt;
   if (const std::optional<int> rc = parse_command_line(argc, argv, opt)) return *rc;
+  if (auto e = check_segment_inbox(opt)) return fail(*e);
   ConfigResult loaded = load_gateway_config(opt.config_path);
   if (!loaded.config) return fail(ExitCode::bad_config, loaded.error);
   if (auto e = check_clock(*loaded.config, opt)) return fail(*e);
@@ -274,11 +311,17 @@ int main(int argc, char** argv) {
                distortion.report.c_str());
   log.keep();  // the run's record from here on, whatever happens
   gw.set_event_stream(stderr);
-  const std::string producer = "excite-gateway " + std::string(excite::runlog::kVersion);
+  // This run's identity (run_identity.hpp): in the log's producer line, the inbox's marker,
+  // and every segment the host tool writes for this run.
+  const std::string run_id = new_run_id();
+  std::fprintf(stderr, "excite-gateway: %s\n", run_tag(run_id).c_str());
+  const std::string producer = "excite-gateway " + std::string(excite::runlog::kVersion) + " (" +
+                               run_tag(run_id) + ")";
   if (auto e = gw.start_log(log.get(), producer)) {
     return fail(e->code, opt.log_path + ": " + e->message);
   }
-  go_live(gw, opt);
+  RunMarker marker;  // removed at exit
+  go_live(gw, opt, run_id, marker);
   const RunStats stats = gw.run(g_commands, &g_hard_stop);
   gw.stop_segments();
   if (const SegmentInbox* inbox = gw.segments()) {

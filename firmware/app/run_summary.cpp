@@ -46,6 +46,7 @@ RunSummary finish_run(Gateway& gw, const RunStats& stats, const BusResult& made,
   s.bus_counts = bus_counts_report(made);
   s.refusal = gw.refusal_report();
   s.readback_fault = gw.readback_fault_report();
+  s.foreign_write = gw.foreign_write_report();
   s.range_ends = gw.range_end_report();
   s.confirm_timeout_s = gw.config().confirm_timeout_s;
   return s;
@@ -88,6 +89,9 @@ void print_summary(std::FILE* out, const RunSummary& s) {
     std::fprintf(out, "excite-gateway: fault: verified write failed: %s\n",
                  s.readback_fault.c_str());
   }
+  if (!s.foreign_write.empty()) {
+    std::fprintf(out, "excite-gateway: fault: %s\n", s.foreign_write.c_str());
+  }
   if (st.final_state == engine::State::safe_unconfirmed) {
     std::fprintf(out,
                  "excite-gateway: safe, unconfirmed: the baseline was written but not read back "
@@ -104,6 +108,7 @@ StageError verdict(const RunSummary& s) {
   if (s.cut_short) return {ExitCode::hard_stop, ""};
   if (st.final_state == engine::State::safe_unconfirmed) return {ExitCode::unconfirmed, ""};
   if (st.outcome == engine::Outcome::readback_fault) return {ExitCode::fault, ""};
+  if (st.outcome == engine::Outcome::foreign_writer) return {ExitCode::fault, ""};
   if (st.outcome == engine::Outcome::device_refused) return {ExitCode::device_refused, ""};
   if (!s.log_failure.empty()) {
     return {ExitCode::log_fault, "fault: " + s.log_path + ": " + s.log_failure +

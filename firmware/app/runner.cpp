@@ -12,11 +12,26 @@ engine::Status Runner::arm() noexcept {
         engine::StatusCode::invalid_field, "field bus = %zu setpoints, %zu values, expected %u, %u",
         bus_.setpoint_count(), bus_.value_count(), engine_.config().inputs, n);
   }
-  const hal::StatusCode s = bus_.read(std::span<double>(values_.data(), n));
+  hal::StatusCode s = bus_.read(std::span<double>(values_.data(), n));
   if (s != hal::StatusCode::ok) {
     return engine::Status::error(engine::StatusCode::invalid_field,
                                  "first read of the live values = %s (%s), expected ok",
                                  hal::to_string(s), bus_.detail());
+  }
+  if (quiet_clock_ != nullptr) {  // one owner: the same values a quiet interval later
+    const std::array<double, engine::kMaxValues> first = values_;
+    quiet_clock_->sleep_until(quiet_clock_->now() + quiet_interval_);
+    s = bus_.read(std::span<double>(values_.data(), n));
+    if (s != hal::StatusCode::ok) {
+      return engine::Status::error(engine::StatusCode::invalid_field,
+                                   "second read of the live values = %s (%s), expected ok",
+                                   hal::to_string(s), bus_.detail());
+    }
+    if (auto q = engine_.check_quiet(std::span<const double>(first.data(), n),
+                                     std::span<const double>(values_.data(), n));
+        !q) {
+      return q;
+    }
   }
   if (auto a = engine_.arm(std::span<const double>(values_.data(), n)); !a) return a;
   if (!engine_.config().verify_readbacks || !verify_at_arm_) return {};
@@ -72,6 +87,7 @@ bool Runner::await_segment(CommandMailbox& commands, const std::atomic<bool>* st
 }
 
 void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t skipped) noexcept {
+  if (real_time_ != nullptr) engine_.set_real_time(real_time_->now().count());
   if (command != engine::Command::none) engine_.command(command);
   stage_published();
   const engine::TickOutput& out = engine_.compute(skipped);
@@ -86,6 +102,9 @@ void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t s
       ++reverified_;
       last_status_ = bus_.read(values);
       if (last_status_ == hal::StatusCode::ok) engine_.check_peer_continuity(values);
+    } else if (read_before_write_) {  // one owner: nobody else wrote since the last tick
+      last_status_ = bus_.read(values);
+      if (last_status_ == hal::StatusCode::ok) engine_.check_before_write(values);
     }
     if (last_status_ == hal::StatusCode::ok)
       last_status_ = bus_.write(out.setpoints(), out.heartbeat);
@@ -113,7 +132,7 @@ void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t s
       if (e.watched && (values[j] <= e.low || values[j] >= e.high)) ++range_counts_[j];
     }
   }
-  engine_.observe(ok, values);
+  engine_.observe(ok, values, refused);
   // After observe(), so this tick's row says `aborted`: the ramp-out starts next tick.
   if (refused) engine_.fault(engine::Outcome::device_refused);
   if (log_failed_ != nullptr && log_failed_->load(std::memory_order_acquire)) {

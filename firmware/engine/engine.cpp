@@ -66,6 +66,48 @@ Status Engine::arm(std::span<const double> live_values) {
   return {};
 }
 
+Status Engine::check_quiet(std::span<const double> first, std::span<const double> second) {
+  if (first.size() != config_.values || second.size() != config_.values) {
+    return Status::error(StatusCode::invalid_field, "values read before arm = %zu and %zu, expected %u",
+                         first.size(), second.size(), config_.values);
+  }
+  // Not finite: arm() refuses it by name.
+  for (std::uint32_t c = 0; c < config_.inputs; ++c) {
+    const auto j = static_cast<std::uint32_t>(config_.input[c].readback);
+    if (!std::isfinite(first[j]) || !std::isfinite(second[j])) continue;
+    if (readback_agrees(c, first[j], second[j])) continue;
+    foreign_ = {true, true, false, c, config_.input[c].readback, first[j], second[j], 0};
+    return Status::error(StatusCode::limit_violated,
+                         "value[%d] (the readback of input[%u]) = %.9g then %.9g in two reads "
+                         "before arm, expected unchanged (nothing was written)",
+                         config_.input[c].readback, c, first[j], second[j]);
+  }
+  if (config_.heartbeat_echo != kNone) {
+    const auto j = static_cast<std::uint32_t>(config_.heartbeat_echo);
+    if (std::isfinite(first[j]) && std::isfinite(second[j]) && first[j] != second[j]) {
+      foreign_ = {true, true, true, 0, config_.heartbeat_echo, first[j], second[j], 0};
+      return Status::error(StatusCode::limit_violated,
+                           "value[%d] (the heartbeat echo) = %.9g then %.9g in two reads before "
+                           "arm, expected unchanged (nothing was written)",
+                           config_.heartbeat_echo, first[j], second[j]);
+    }
+  }
+  return {};
+}
+
+void Engine::foreign_seen(const ForeignWrite& what) noexcept {
+  if (!foreign_.valid) foreign_ = what;
+  foreign_now_ = true;
+}
+
+// Whether `limit_ns` has passed on the real clock since `since_ns` (started now when -1).
+// Never without the real time (set_real_time) or without a limit.
+bool Engine::real_time_passed(std::int64_t& since_ns, std::int64_t limit_ns) noexcept {
+  if (!real_clock_ || limit_ns <= 0) return false;
+  if (since_ns < 0) since_ns = now_ns_;
+  return now_ns_ - since_ns >= limit_ns;
+}
+
 bool Engine::readback_agrees(std::uint32_t c, double written, double read) const noexcept {
   const InputLimits& in = config_.input[c];
   return std::abs(read - written) <= in.readback_abs_tol + in.readback_rel_tol * std::abs(written);
@@ -186,6 +228,7 @@ void Engine::fault(Outcome why) noexcept {
 void Engine::enter_suspended() noexcept {
   state_ = State::suspended;
   suspended_ticks_ = 0;
+  suspended_since_ns_ = -1;
   ++suspensions_;
 }
 
@@ -194,6 +237,7 @@ void Engine::enter_returning() noexcept {
   returning_ticks_ = 0;
   confirm_ticks_ = 0;
   confirm_elapsed_ = 0;
+  confirming_since_ns_ = -1;
   confirmed_once_ = false;
   stale_episode_ = false;
 }
@@ -203,6 +247,8 @@ void Engine::enter_returning() noexcept {
 void Engine::confirm(bool out_at_baseline) noexcept {
   if (!out_at_baseline) return;  // still ramping out: the confirmation time starts at the baseline
   confirm_elapsed_ += elapsed_;  // on the clock: skipped ticks count
+  // Lock-step: the confirmation time on the real clock too, whichever ends first.
+  const bool real_over = real_time_passed(confirming_since_ns_, config_.confirm_timeout_ns);
   if (!exchange_ok_ || stale_) {
     confirmed_once_ = false;  // a failure means a reconnect: confirm afresh after it
   } else if (baseline_read_back_) {
@@ -221,7 +267,9 @@ void Engine::confirm(bool out_at_baseline) noexcept {
     stale_episode_ = true;
     confirmed_once_ = false;
   }
-  if (confirm_elapsed_ >= config_.confirm_timeout_ticks) state_ = State::safe_unconfirmed;
+  if (confirm_elapsed_ >= config_.confirm_timeout_ticks || real_over) {
+    state_ = State::safe_unconfirmed;
+  }
 }
 
 const TickOutput& Engine::compute(std::uint64_t skipped_ticks) noexcept {
@@ -322,6 +370,17 @@ void Engine::check_comm(bool exchange_ok, std::span<const double> values) noexce
       const auto seen = static_cast<std::uint16_t>(std::lround(echo));
       const auto lag = static_cast<std::uint16_t>(out_.heartbeat - seen);
       stale_ = lag > config_.heartbeat_max_lag;
+      // One owner: on a link without a failure since the last echo, the echo moves forward
+      // by at most the heartbeats sent since (a slow peer lags, it never goes back or ahead);
+      // otherwise another master wrote the heartbeat register. (After a failure the peer
+      // may have restarted: check_peer_continuity's discontinuity. While returning a write
+      // in flight when the peer froze may land late: confirm() undoes it.)
+      const auto moved = static_cast<std::uint16_t>(seen - last_echo_);
+      const auto sent = static_cast<std::uint16_t>(out_.heartbeat - last_echo_);
+      if (have_echo_ && previous_ok_ && state_ != State::returning && moved > sent) {
+        foreign_seen({true, false, true, 0, config_.heartbeat_echo,
+                      static_cast<double>(out_.heartbeat), echo, ticks_ == 0 ? 0 : ticks_ - 1});
+      }
       last_echo_ = seen;
       have_echo_ = true;
     }
@@ -355,6 +414,40 @@ void Engine::check_peer_continuity(std::span<const double> values) noexcept {
   if (!continuous) {
     flags_ |= runlog::kDiscontinuity;
     ++discontinuities_;
+  }
+}
+
+void Engine::check_before_write(std::span<const double> values) noexcept {
+  if (!armed_ || !previous_ok_ || state_ == State::returning || values.size() < config_.values) {
+    return;
+  }
+  const std::uint64_t tick = ticks_ == 0 ? 0 : ticks_ - 1;
+  if (config_.heartbeat_echo != kNone && have_echo_) {
+    const double echo = values[static_cast<std::uint32_t>(config_.heartbeat_echo)];
+    if (echo >= 0.0 && echo <= 65535.0) {
+      const auto seen = static_cast<std::uint16_t>(std::lround(echo));
+      // The heartbeats sent before this tick's (computed, not yet written).
+      const auto last_sent = static_cast<std::uint16_t>(out_.heartbeat - 1U);
+      const auto moved = static_cast<std::uint16_t>(seen - last_echo_);
+      const auto sent = static_cast<std::uint16_t>(last_sent - last_echo_);
+      if (moved > sent) {
+        foreign_seen({true, false, true, 0, config_.heartbeat_echo, static_cast<double>(last_sent),
+                      echo, tick});
+        return;
+      }
+    }
+  }
+  if (!config_.verify_readbacks) return;
+  for (std::uint32_t c = 0; c < config_.inputs; ++c) {
+    if (!last_agreed_[c]) continue;
+    const double read = values[static_cast<std::uint32_t>(config_.input[c].readback)];
+    bool ours = false;
+    for (const auto& w : written_) ours = ours || readback_agrees(c, w[c], read);
+    if (!ours) {
+      foreign_seen({true, false, false, c, config_.input[c].readback, last_compared_[c], read,
+                    tick});
+      return;
+    }
   }
 }
 
@@ -400,7 +493,7 @@ void Engine::read_command_register(bool exchange_ok, std::span<const double> val
 void Engine::check_readbacks(std::span<const double> values) noexcept {
   baseline_read_back_ = false;
   mismatch_now_ = false;
-  if (!exchange_ok_) return;
+  if (!exchange_ok_) return;  // previous_ok_ is false on the next tick
   if (!config_.verify_readbacks) {
     baseline_read_back_ = true;
     return;
@@ -414,7 +507,18 @@ void Engine::check_readbacks(std::span<const double> values) noexcept {
     const double written = after_arm ? written_[slot][c] : base_u_[c];
     const auto j = static_cast<std::uint32_t>(config_.input[c].readback);
     const double read = values[j];
-    if (readback_agrees(c, written, read)) {
+    const bool agrees = readback_agrees(c, written, read);
+    // One owner: the same value written on this tick and the last, read back last tick, now
+    // reads otherwise on a link without a failure — another master wrote it. Not while
+    // returning: a write applied late by a peer that froze is undone there (confirm()).
+    if (previous_ok_ && state_ != State::returning && last_agreed_[c] &&
+        last_compared_[c] == written && !agrees) {
+      foreign_seen({true, false, false, c, config_.input[c].readback, written, read,
+                    ticks_ == 0 ? 0 : ticks_ - 1});
+    }
+    last_compared_[c] = written;
+    last_agreed_[c] = agrees;
+    if (agrees) {
       mismatch_streak_[c] = 0;
       if (written != base_u_[c]) all_at_baseline = false;
       continue;
@@ -456,17 +560,26 @@ bool Engine::at_baseline() const noexcept {
   return true;
 }
 
-void Engine::observe(bool exchange_ok, std::span<const double> values) noexcept {
+void Engine::observe(bool exchange_ok, std::span<const double> values, bool refused) noexcept {
   if (!armed_) return;  // nothing was written, nothing to judge
   exchange_ok_ = exchange_ok && values.size() >= config_.values;
-  check_comm(exchange_ok_, values);
+  refused = refused && !exchange_ok_;
+  // With the real time (lock-step), a failed exchange took none of the peer's time: the
+  // timeouts count it on the real clock only.
+  if (real_clock_ && !exchange_ok_) elapsed_ = 0;
+  if (refused) {  // the device's answer, not a lost link: not the comm guard's
+    ++failed_total_;
+    stale_ = false;
+  } else {
+    check_comm(exchange_ok_, values);
+  }
   if (exchange_ok_) {
     for (std::uint32_t j = 0; j < config_.values; ++j) last_y_[j] = values[j];
   }
   check_limits(exchange_ok_, values);
   read_command_register(exchange_ok_, values);
   check_readbacks(values);
-  if (!exchange_ok_ || (reasons_ & kReasonComm) != 0) flags_ |= runlog::kCommLost;
+  if ((!exchange_ok_ && !refused) || (reasons_ & kReasonComm) != 0) flags_ |= runlog::kCommLost;
   if (stale_) flags_ |= runlog::kStale;
   count_flags();
 
@@ -477,8 +590,10 @@ void Engine::observe(bool exchange_ok, std::span<const double> values) noexcept 
     case State::suspended:
       if ((reasons_ & (kReasonLimit | kReasonComm)) != 0) {
         suspended_ticks_ += elapsed_;  // on the clock: skipped ticks count
-        if (config_.suspend_timeout_ticks != 0 &&
-            suspended_ticks_ >= config_.suspend_timeout_ticks) {
+        const bool real_over = real_time_passed(suspended_since_ns_, config_.suspend_timeout_ns);
+        if ((config_.suspend_timeout_ticks != 0 &&
+             suspended_ticks_ >= config_.suspend_timeout_ticks) ||
+            real_over) {
           state_ = State::aborted;
           outcome_ = Outcome::aborted_on_timeout;
         }
@@ -512,6 +627,16 @@ void Engine::observe(bool exchange_ok, std::span<const double> values) noexcept 
     default:
       break;
   }
+  // Another master's write stops the excitation like any fault; a run already returning
+  // keeps returning, and its outcome says what was seen.
+  if (foreign_now_) {
+    foreign_now_ = false;
+    if (state_ == State::armed || state_ == State::running || state_ == State::suspended) {
+      state_ = State::aborted;
+    }
+    outcome_ = Outcome::foreign_writer;
+  }
+  previous_ok_ = exchange_ok_;
 }
 
 TickRecord Engine::record(std::int64_t time_ns) const noexcept {

@@ -84,7 +84,9 @@ const char* to_string(Outcome outcome) noexcept {
     case Outcome::log_fault:
       return "fault: the run log could not be written";
     case Outcome::device_refused:
-      return "fault: the device refused a setpoint";
+      return "fault: the device refused a request";
+    case Outcome::foreign_writer:
+      return "fault: another writer was seen";
   }
   return "unknown";
 }

@@ -32,6 +32,7 @@ void run(const LoopConfigCommand& command) {
   if (!cmd.plan.empty())
     cmd.config.sample_time_min = read_plan_file(cmd.plan)->meta.sample_time_min;
   const LoopConfigPair pair = make_loop_config(cmd.config);
+  for (const std::string& note : pair.notes) std::cerr << "excite loop-config: " << note << "\n";
   const std::filesystem::path dir(cmd.output_dir);
   std::filesystem::create_directories(dir);
   const auto plant_path = dir / "plant.toml";

@@ -199,6 +199,11 @@ void run_through_gateway(const TestCommandOptions& opt, const PriorKnowledge& pr
                  "[segments] preapproved_from is \"excite test segment\"\n"
               << std::flush;
   };
+  hooks.attached = [&](const std::string& run) {
+    std::cout << "gateway run " << run << " (" << (fs::path(opt.inbox) / "gateway.run").string()
+              << "): reading only its log " << opt.run_log << "\n"
+              << std::flush;
+  };
   check_adaptive_test(prior, adaptive);
   prepare_folder(dir, kTestNames);
   InboxRunner runner(runner_options, hooks);

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "base/config/document.hpp"
 #include "base/config/writer.hpp"
 #include "firmware/app/gateway_config.hpp"
 #include "hal/can/can_transport.hpp"
@@ -255,6 +256,13 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
   // one): a shorter one would trip between writes (issue 28 item 3).
   const double period_s = opt.period_s > 0.0 ? opt.period_s : 60.0 * sample_time;
   server.plant.watchdog_s = opt.watchdog_s > 0.0 ? std::max(opt.watchdog_s, 2.0 * period_s) : 0.0;
+  std::vector<std::string> notes;
+  if (opt.watchdog_s > 0.0 && server.plant.watchdog_s > opt.watchdog_s) {
+    notes.push_back("--watchdog-s " + config::format_number(opt.watchdog_s) + " raised to " +
+                    config::format_number(server.plant.watchdog_s) +
+                    " s: at least two tick periods of " + config::format_number(period_s) +
+                    " s (a shorter watchdog trips between the gateway's writes)");
+  }
   for (std::size_t i = 0; i < u0v.size(); ++i) {
     const double slack = std::abs(u0v[i]) * 0x1p-23;
     server.plant.input_min.push_back(u0v[i] - range - slack);
@@ -270,6 +278,7 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
   pair.gateway_toml = opt.transport == "can" ? gateway_can_toml(opt, *plant, range, u0v, y0v)
                                              : gateway_toml(opt, *plant, server, range, u0v, y0v);
   check_with_partners(pair);
+  pair.notes = std::move(notes);
   return pair;
 }
 

@@ -172,16 +172,21 @@ std::optional<int> parse_command_line(int argc, char** argv, CommandLine& cl) {
                  "close a connection silent this long (never the gateway's), seconds > 0")
       ->capture_default_str();
   app.add_option("--stall-ms", options.faults.stall_ms, "stall duration for --stall-requests");
-  app.add_option("--stall-requests", options.faults.stall_requests,
+  // Request counts: read wide, then checked by name against the control block's 16-bit
+  // registers (before: 65536 failed with CLI11's conversion message, no range named).
+  long long stall_requests = 0;
+  long long drop_requests = 0;
+  long long exception_requests = 0;
+  app.add_option("--stall-requests", stall_requests,
                  "answer this many requests only after --stall-ms");
   app.add_option("--freeze-ms", options.freeze_ms,
                  "freeze this long (nothing read, answered or sampled, as a SIGSTOP) after "
                  "--freeze-after requests");
   app.add_option("--freeze-after", options.freeze_after,
                  "requests served normally before the --freeze-ms freeze");
-  app.add_option("--drop-requests", options.faults.drop_requests,
+  app.add_option("--drop-requests", drop_requests,
                  "answer this many requests by closing the connection");
-  app.add_option("--exception-requests", options.faults.exception_requests,
+  app.add_option("--exception-requests", exception_requests,
                  "answer this many requests with exception 4 (server device failure)");
   app.add_flag("--freeze-echo", options.faults.freeze_echo, "never update the heartbeat echo");
   app.add_option("--watchdog-s", watchdog_s,
@@ -217,6 +222,16 @@ std::optional<int> parse_command_line(int argc, char** argv, CommandLine& cl) {
       check_positive("--sample-time-s", sample_time_s, false, "seconds > 0");
     }
     check_positive("--idle-timeout-s", options.idle_timeout_s, false, "seconds > 0");
+    const auto request_count = [](const char* name, long long value, std::uint16_t& out) {
+      if (value < 0 || value > 65535) {
+        bad(name, std::to_string(value),
+            "a count of requests 0 … 65535 (the control block's 16-bit registers)");
+      }
+      out = static_cast<std::uint16_t>(value);
+    };
+    request_count("--stall-requests", stall_requests, options.faults.stall_requests);
+    request_count("--drop-requests", drop_requests, options.faults.drop_requests);
+    request_count("--exception-requests", exception_requests, options.faults.exception_requests);
     if (app.count("--watchdog-s") > 0) {
       check_positive("--watchdog-s", watchdog_s, true, "wall-clock seconds >= 0 (0: off)");
     }

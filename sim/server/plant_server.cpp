@@ -260,6 +260,10 @@ void PlantServer::serve_rtu(const std::function<bool()>& stop) {
   std::uint8_t query[MODBUS_RTU_MAX_ADU_LENGTH];
   // libmodbus reads the frame (inter-byte timeout) and checks the address and the CRC.
   const int length = modbus_receive(ctx_, query);
+  if (length < 0 && (errno == EIO || errno == EBADF || errno == ENXIO)) {
+    lose_line(std::strerror(errno));  // not a frame: the line itself is gone
+    return;
+  }
   if (length <= 0) {  // another unit's request (0), or a bad CRC / garbage: resynchronise
     if (length < 0) {
       ++rejected_frames_;
@@ -277,6 +281,24 @@ void PlantServer::serve_rtu(const std::function<bool()>& stop) {
     handle(query, length, true, heartbeat);
   }
   // drop on a serial line: no reply (the master times out); there is no connection to close
+}
+
+void PlantServer::lose_line(const char* why) {
+  modbus_close(ctx_);
+  line_lost_ = true;
+  ++line_losses_;
+  std::fprintf(stderr,
+               "excite-plant: serial line %s lost (%s): waiting for it to come back (reopened "
+               "every 0.5 s)\n",
+               options_.rtu_device.c_str(), why);
+}
+
+void PlantServer::wait_for_line(const std::function<bool()>& stop) {
+  const auto until = Clock::now() + std::chrono::milliseconds(500);
+  while (!stop() && Clock::now() < until) std::this_thread::sleep_for(kPollSlice);
+  if (stop() || modbus_connect(ctx_) == -1) return;
+  line_lost_ = false;
+  std::fprintf(stderr, "excite-plant: serial line %s back\n", options_.rtu_device.c_str());
 }
 
 void PlantServer::check_deadlines(Clock::time_point now) {
@@ -459,11 +481,19 @@ void PlantServer::run(const std::function<bool()>& stop) {
     }
     fds.clear();
     if (rtu()) {
+      if (line_lost_) {  // paced: no spinning on a line that is gone
+        wait_for_line(stop);
+        continue;
+      }
       fds.push_back({modbus_get_socket(ctx_), POLLIN, 0});
       const timespec timeout{static_cast<time_t>(wait.count() / 1000000000),
                              static_cast<long>(wait.count() % 1000000000)};
       const int ready = ppoll(fds.data(), fds.size(), &timeout, nullptr);
       if (ready < 0 && errno != EINTR) throw std::runtime_error(system_error("ppoll"));
+      if (ready > 0 && (fds[0].revents & (POLLHUP | POLLERR | POLLNVAL)) != 0) {
+        lose_line((fds[0].revents & POLLHUP) != 0 ? "hang-up" : "error");
+        continue;
+      }
       if (ready > 0) serve_rtu(stop);
       continue;
     }
@@ -496,7 +526,8 @@ void print_summary(const PlantProcess& process, const PlantServer& server,
                    const ServeOptions& options) {
   std::cerr << "excite-plant: stopped after " << process.samples() << " samples, "
             << server.requests() << " requests, " << server.rejected_frames()
-            << " rejected frames, " << server.illegal_functions() << " illegal functions, "
+            << " rejected frames, " << server.line_losses() << " serial line losses, "
+            << server.illegal_functions() << " illegal functions, "
             << server.closed_connections() << " connections closed by the server, "
             << image.clamped_values() << " values did not fit their registers, "
             << server.watchdog_trips() << " watchdog trips, " << server.refused_writes()

@@ -141,8 +141,11 @@ class Segments : public LoopTest {
     return false;
   }
 
+  // The segment was dropped before the gateway started: --take-waiting-segment takes it
+  // (without, it is refused as an earlier run's decision: inbox_rules_test.cpp).
   std::unique_ptr<GatewayProcess> start_waiting(std::vector<std::string> extra = {}) {
-    extra.insert(extra.end(), {"--clock", "lockstep", "--segment-inbox", inbox().string()});
+    extra.insert(extra.end(), {"--clock", "lockstep", "--segment-inbox", inbox().string(),
+                               "--take-waiting-segment"});
     return start_gateway(plan_path_, extra);
   }
 
@@ -235,8 +238,17 @@ TEST_F(Segments, ASegmentFromThePreApprovedToolIsTakenWithoutApproval) {
   start_loop(kPlant, "--input-range 2");
   std::ofstream(path("gateway.toml"), std::ios::app)
       << "\n[segments]\npreapproved_from = \"excite test\"\n";
-  drop(encoded(step_segment(level())));  // provenance "excite test (hil segment)"
+  // Only a segment of this gateway run is pre-approved (issue 39 §3): its provenance names
+  // the run the gateway drew at start (stderr `excite-gateway: run ID`).
   auto gw = start_waiting();
+  ASSERT_TRUE(wait_for(*gw, "armed")) << gw->err();
+  const std::string err0 = gw->err();
+  const std::size_t at = err0.find("excite-gateway: run ");
+  ASSERT_NE(at, std::string::npos) << err0;
+  plan::Plan next = step_segment(level());
+  plan::set_text(next.meta.provenance,
+                 "run " + err0.substr(at + 20, 16) + ": excite test (hil segment)");
+  drop(encoded(next));
   ASSERT_TRUE(wait_for(*gw, "segment 1 staged")) << gw->err();
   gw->send_line("start");  // no approve
   const auto rc = gw->wait(120s);

@@ -66,7 +66,7 @@ TEST_F(Refused, ADeviceThatRefusesAWriteStopsTheRunWithItsOwnExitCode) {
   EXPECT_NE(err.find(": exception 3, illegal data value — the device's own limits?"),
             std::string::npos)
       << err;
-  EXPECT_NE(err.find("fault: the device refused a setpoint"), std::string::npos) << err;
+  EXPECT_NE(err.find("fault: the device refused a request"), std::string::npos) << err;
   EXPECT_NE(err.find("exception replies by code: 3 (illegal data value) 1\n"), std::string::npos)
       << err;
   // The value named is the one the plant refused: beyond its limits.

@@ -26,7 +26,7 @@ namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
 const char* const kHeader =
-    "# excite run log v3\n# producer: test\n# plant: p\n# plan: x\n# sample_time_min: 1\n"
+    "# excite run log v3\n# producer: test (run 0123456789abcdef)\n# plant: p\n# plan: x\n# sample_time_min: 1\n"
     "# inputs: u1 u2\n# outputs: y1 y2\n# units: u1=- u2=- y1=- y2=-\n"
     "t_min,k,du_u1,du_u2,u_u1,u_u2,dy_y1,dy_y2,flags,state,segment\n";
 
@@ -44,6 +44,10 @@ class GrowingLog : public ::testing::Test {
            ("excite_inbox_" + std::to_string(::getpid()) + "_" +
             ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_ / "inbox");
+    // The gateway run the runner talks to (issue 39 §3): this process stands in for it.
+    std::ofstream(dir_ / "inbox" / "gateway.run")
+        << "run 0123456789abcdef\npid " << ::getpid() << "\nlog " << (dir_ / "gw.csv").string()
+        << "\n";
   }
   void TearDown() override { fs::remove_all(dir_); }
   void write(const std::string& text) { std::ofstream(dir_ / "gw.csv", std::ios::binary) << text; }
@@ -128,7 +132,12 @@ TEST_F(GrowingLog, TheInboxRunnerHandsOverAndReturnsTheRowsAsLogged) {
         << e.what();
   }
   EXPECT_EQ(approved, 1);
-  // The gateway never took it: a second hand-over is refused, naming the file.
+  // Stopped on that error, the runner took its segment back (issue 39 §3: nothing a later
+  // gateway would take is left behind).
+  EXPECT_FALSE(fs::exists(dir_ / "inbox" / "next.plan"));
+  // A next.plan the gateway has not taken: a hand-over is refused, naming the file, and
+  // that file (not the runner's) is left alone.
+  std::ofstream(dir_ / "inbox" / "next.plan") << "not taken";
   try {
     (void)runner.run(first);
     ADD_FAILURE() << "handed over twice";
@@ -136,6 +145,7 @@ TEST_F(GrowingLog, TheInboxRunnerHandsOverAndReturnsTheRowsAsLogged) {
     EXPECT_NE(std::string(e.what()).find("next.plan = present, expected absent"), std::string::npos)
         << e.what();
   }
+  EXPECT_TRUE(fs::exists(dir_ / "inbox" / "next.plan"));
   // Refused by the gateway, and a gateway that stopped: named.
   fs::rename(dir_ / "inbox" / "next.plan", dir_ / "inbox" / "next.plan.refused");
   try {

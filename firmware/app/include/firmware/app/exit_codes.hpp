@@ -15,7 +15,8 @@ enum class ExitCode : int {
   bad_plan = 3,         // the plan file is unreadable, corrupt, for another configuration, or
                         // its table leaves the plan's limits
   device = 4,           // the field device is unreachable (connect failed)
-  arm_refused = 5,      // the live values refuse arming (baseline outside limits, read failed)
+  arm_refused = 5,      // the live values refuse arming (baseline outside limits, read failed,
+                        // or another master writing: a readback or the echo moved before arm)
   aborted = 6,          // aborted (operator: SIGTERM, stdin, command register; or a suspension
                         // timeout) and the baseline was written and read back (confirmed)
   log_error = 7,        // the run log cannot be opened or written
@@ -25,7 +26,8 @@ enum class ExitCode : int {
   unconfirmed = 10,     // safe, unconfirmed: the baseline was written but never read back
                         // (link down, or readbacks disagreeing) — the field's state is unknown
   fault = 11,           // a fault stopped the excitation (verified writes: a readback disagreed
-                        // with the setpoint written); the baseline was confirmed afterwards
+                        // with the setpoint written; or another writer was seen); the baseline
+                        // was confirmed afterwards
   distorted = 12,       // refused (dry run or arm, before any excitation): the plan would be
                         // clamped or rate-limited on more than gateway.max_distortion of a
                         // channel's rows (--allow-distortion overrides)

@@ -72,10 +72,12 @@ class Gateway {
   /// run log's `plan:` line.
   StageResult load_plan(std::span<const std::uint8_t> plan_file, std::string plan_name);
 
-  /// 4. Reads the live values once through `bus` and arms the engine on them; then writes
-  /// the baseline once and reads it back (verified writes). arm_refused on any failure,
-  /// naming the setpoint, what was written and what came back. bus and clock must outlive
-  /// the Gateway's run().
+  /// 4. Reads the live values through `bus` — twice, a quiet interval apart, with
+  /// observe_quiet_on(): refused when another master is writing (one owner) — and arms the
+  /// engine on the last reading; then writes the baseline once and reads it back (verified
+  /// writes). arm_refused on any failure, naming the setpoint (or the heartbeat echo), what
+  /// was written or read first and what came back. bus and clock must outlive the
+  /// Gateway's run().
   StageResult arm(hal::FieldBus& bus, hal::Clock& clock);
 
   /// 5. Writes the run log's header to `file` (the caller's; closed by the caller after
@@ -85,7 +87,8 @@ class Gateway {
   /// 5b. (optional, after arm) Plan segments (README "Plan segments"): allocates the second
   /// table buffer and starts the inbox thread watching `dir`/next.plan; each tick of run()
   /// then stages what it hands over. `allow_distortion`: --allow-distortion.
-  void start_segments(std::string dir, bool allow_distortion, std::FILE* events);
+  void start_segments(std::string dir, bool allow_distortion, std::FILE* events,
+                      std::string run_id = {});
   /// Stops the inbox thread (also done by the destructor); the inbox, or null without one.
   void stop_segments();
   [[nodiscard]] const SegmentInbox* segments() const noexcept { return inbox_.get(); }
@@ -121,6 +124,9 @@ class Gateway {
   [[nodiscard]] std::span<const std::uint64_t> readings_at_range_end() const noexcept {
     return {range_end_counts_.data(), config_.values.size()};
   }
+  /// Another master's write in words (Engine::foreign_write()): "setpoint u1 (register 100
+  /// float32 ABCD) = 0.057 read back from u1_sp at tick 52, expected 0.078 …"; "" when none.
+  [[nodiscard]] std::string foreign_write_report() const;
   /// "xD 101 readings (register 200 uint16 raw 0..65535 = 0..1)"; "" when there were none.
   [[nodiscard]] std::string range_end_report() const;
   /// The device's refusal in words (Runner::refusal()): "device refused setpoint u1 = 0.2165
@@ -147,6 +153,22 @@ class Gateway {
   /// `real` (Runner::await_segments_on; lock-step). null (the default): the engine holds the
   /// baseline, ticking (real time).
   void await_segments_on(hal::Clock* real) noexcept { await_clock_ = real; }
+  /// Before arm(): one owner (Runner::observe_quiet) — the live values read twice,
+  /// quiet_interval() apart on `real`. null (the default): one read.
+  void observe_quiet_on(hal::Clock* real, hal::Nanoseconds interval) noexcept {
+    quiet_clock_ = real;
+    quiet_interval_ = interval;
+  }
+  /// The quiet interval observed before arm: long enough to see a master that writes at this
+  /// gateway's pace (a second gateway with the same configuration) — 100 ms in lock-step
+  /// (such a master writes every few milliseconds), one period + 100 ms in real time (it
+  /// writes once per period).
+  [[nodiscard]] hal::Nanoseconds quiet_interval(bool lockstep) const;
+  /// Before run(): Runner::read_before_write (one owner; real time).
+  void read_before_write(bool on) noexcept { read_before_write_ = on; }
+  /// Before run(): Runner::time_on_real_clock (lock-step: the suspension and confirmation
+  /// timeouts on `real`).
+  void time_on_real_clock(hal::Clock* real) noexcept { real_time_ = real; }
   /// Before run(): Runner::pace_retries (lock-step: retries after a failure on `real`, at
   /// most one per `interval`).
   void pace_retries(hal::Clock* real, hal::Nanoseconds interval) noexcept {
@@ -185,6 +207,10 @@ class Gateway {
   bool verify_at_arm_ = true;
   hal::Clock* pacing_clock_ = nullptr;
   hal::Nanoseconds retry_interval_{0};
+  hal::Clock* real_time_ = nullptr;
+  bool read_before_write_ = false;
+  hal::Clock* quiet_clock_ = nullptr;
+  hal::Nanoseconds quiet_interval_{0};
 };
 
 }  // namespace excite::app

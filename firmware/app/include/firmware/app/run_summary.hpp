@@ -45,6 +45,7 @@ struct RunSummary {
   std::string bus_counts;      // the transport's own counts
   std::string refusal;         // the device's refusal (Gateway::refusal_report)
   std::string readback_fault;  // the verified write that failed
+  std::string foreign_write;   // another master's write (Gateway::foreign_write_report)
   std::string range_ends;      // values at the end of their register's range
   std::string memory;          // memory after the run (proc_status.hpp)
   double confirm_timeout_s = 0.0;

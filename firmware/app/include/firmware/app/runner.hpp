@@ -18,6 +18,7 @@
 
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <span>
 
@@ -29,6 +30,12 @@
 #include "firmware/engine/log_ring.hpp"
 
 namespace excite::app {
+
+/// The retry pacing in lock-step (issue 39 §2): after a failed exchange the next one waits
+/// this long on the real clock — never the period, which is the plant's time, standing
+/// still while exchanges fail. Operator commands and signals are taken at every tick, so
+/// they act within it.
+inline constexpr hal::Nanoseconds kRetryPacing = std::chrono::milliseconds(250);
 
 struct RunStats {
   std::uint64_t ticks = 0;              // ticks executed
@@ -122,11 +129,34 @@ class Runner {
     await_limit_ = limit;
   }
 
+  /// Timeouts on the real clock (lock-step, issue 39 §2): each tick hands the engine
+  /// `real`'s time (Engine::set_real_time), so the suspension timeout and the confirmation
+  /// time end on the real clock at the latest. null: ticks only (real time: the tick clock
+  /// is the real clock).
+  void time_on_real_clock(hal::Clock* real) noexcept { real_time_ = real; }
+
+  /// One owner (issue 39 §1): arm() reads the live values twice, `interval` apart on `real`,
+  /// writing nothing between, and refuses when a setpoint's readback or the heartbeat echo
+  /// changed (Engine::check_quiet): it arms on the second reading, one it observed quiet.
+  /// null: one read (the in-process tests, whose plant has no other master).
+  void observe_quiet(hal::Clock* real, hal::Nanoseconds interval) noexcept {
+    quiet_clock_ = real;
+    quiet_interval_ = interval;
+  }
+
+  /// One owner (issue 39 §1): read the values before every write too, not only after a
+  /// failed exchange, so that another master's write between two ticks is seen
+  /// (Engine::check_before_write). One more read per tick; real time only — in lock-step a
+  /// read with no heartbeat sent would wait for an echo that does not come (CAN), and
+  /// arm's quiet interval and the reading after each write watch there.
+  void read_before_write(bool on) noexcept { read_before_write_ = on; }
+
   /// Whether arm() writes the baseline once and reads it back (default true). Off only for
   /// a lock-step simulated peer, where that write would be a plant sample of its own.
   void set_verify_at_arm(bool on) noexcept { verify_at_arm_ = on; }
 
-  /// Reads the live values once and arms the engine with them; then (verified writes)
+  /// Reads the live values (twice, a quiet interval apart: observe_quiet) and arms the engine
+  /// with them; then (verified writes)
   /// writes the baseline once, reads it back and refuses when a readback disagrees
   /// (Engine::verify_arm; the engine is left configured and names the setpoint).
   engine::Status arm() noexcept;
@@ -168,8 +198,12 @@ class Runner {
   hal::StatusCode last_status_ = hal::StatusCode::ok;
   std::uint64_t ticks_ = 0;
   bool verify_at_arm_ = true;
+  bool read_before_write_ = false;
   Refusal refusal_{};
   hal::Clock* pacing_clock_ = nullptr;
+  hal::Clock* real_time_ = nullptr;
+  hal::Clock* quiet_clock_ = nullptr;
+  hal::Nanoseconds quiet_interval_{0};
   hal::Nanoseconds retry_interval_{0};
   hal::Nanoseconds last_failed_at_{0};
   std::uint64_t paced_ = 0;

@@ -9,8 +9,12 @@
 //
 // A segment taken:   next.plan → segment-N.plan (N = its id, 1, 2, …), stderr
 //                    `segment N staged: …; waiting for approval (…)` or `…; pre-approved (…)`
-// A segment refused: next.plan → next.plan.refused, stderr `segment refused: FIELD = VALUE,
-//                    expected …; the running segment M continues` — not retried.
+// A segment refused: next.plan → next.plan.refused (or -2, -3, …: never over another),
+//                    stderr `segment refused: FIELD = VALUE, expected …; the running
+//                    segment M continues (the file is now …; drop a segment atomically: …)`
+//                    — not retried. A link, FIFO, folder, another user's file, a file
+//                    larger than the largest plan: refused by name, never read through.
+// A segment present when the gateway starts (an earlier run's): set_aside_waiting().
 // While a staged segment waits (unapproved, or before its boundary), next.plan waits too.
 
 #include <array>
@@ -37,6 +41,9 @@ struct SegmentInboxSetup {
   std::array<std::span<double>, 2> buffers{};         // table storage: segment N uses N % 2
   bool allow_distortion = false;                      // --allow-distortion
   std::FILE* events = nullptr;                        // stderr: staged, refused
+  std::string run_id;  // this gateway run's (run_identity.hpp): a segment naming another run
+                       // is refused, and only one naming this run may be pre-approved;
+                       // "": no run rules (the in-process tests)
 };
 
 class SegmentInbox {
@@ -53,6 +60,11 @@ class SegmentInbox {
   /// One look at DIR/next.plan: true when a segment was staged or refused.
   bool poll_once();
 
+  /// At start-up, before arm: a DIR/next.plan already there was decided before this run, and
+  /// is moved aside as refused (named on `events`) unless `take` (--take-waiting-segment).
+  /// "" when nothing is left in the way; else the message of a file that could not be moved.
+  static std::string set_aside_waiting(const std::string& dir, bool take, std::FILE* events);
+
   [[nodiscard]] SegmentHandoff& handoff() noexcept { return handoff_; }
   [[nodiscard]] std::uint32_t staged() const noexcept { return staged_.load(); }
   [[nodiscard]] std::uint32_t refused() const noexcept { return refused_.load(); }
@@ -62,6 +74,7 @@ class SegmentInbox {
   std::string check(std::span<const std::uint8_t> bytes, std::uint32_t id, plan::Plan& next,
                     signal::TableView& table);
   void say(const std::string& line);
+  void refuse(const std::string& path, const std::string& why, std::uint32_t running);
 
   SegmentInboxSetup setup_;
   SegmentHandoff handoff_;

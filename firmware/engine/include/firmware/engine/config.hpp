@@ -90,6 +90,14 @@ struct EngineConfig {
   // up to this many ticks, counted on the clock, each row flagged kSuspended, and switches
   // to a segment approved meanwhile; then it completes as without. 0: it completes at once.
   std::uint32_t segment_await_ticks = 0;
+  // Timeouts on the real clock (issue 39 §2), for a loop whose ticks are not real time
+  // (lock-step: the peer owns the clock). Once the loop hands the engine the real time
+  // (Engine::set_real_time), the suspension timeout and the confirmation time end when
+  // these have passed on the real clock or their ticks have passed on the peer's clock,
+  // whichever comes first, and a failed exchange adds no tick (the peer's time stood
+  // still). Nanoseconds; 0: no such limit (the suspension: never, as its ticks).
+  std::int64_t suspend_timeout_ns = 0;
+  std::int64_t confirm_timeout_ns = 0;
 };
 
 /// Ok, or the first broken rule naming the field ("input[1].max_move = 0, expected > 0").

@@ -44,6 +44,23 @@ struct ReadbackFault {
   std::uint64_t tick = 0;      // engine tick of the reading (0 at arm)
 };
 
+/// The first write this gateway did not make (issue 39 §1: one owner of a register block).
+/// Before arm (check_quiet): a setpoint's readback or the heartbeat echo changed between two
+/// reads while nothing was written. While running: the heartbeat echo moved to a value this
+/// gateway never sent, or a setpoint's readback changed away from a value written on this
+/// tick and the last (which it had read back) — another master writes the same registers.
+struct ForeignWrite {
+  bool valid = false;
+  bool at_arm = false;         // found by check_quiet(): the gateway did not arm
+  bool heartbeat = false;      // the heartbeat echo (value `value`), not a setpoint
+  std::uint32_t input = 0;     // setpoint index (heartbeat == false)
+  std::int32_t value = kNone;  // value index read: the setpoint's readback, or the echo
+  double expected = 0.0;       // the first reading (at arm), what this gateway wrote, or the
+                               // last heartbeat it sent
+  double read = 0.0;           // what came back
+  std::uint64_t tick = 0;      // engine tick of the reading (0 at arm)
+};
+
 class Engine {
  public:
   /// Takes the configuration (validate(config) must pass) and the table (not owned; kept
@@ -64,6 +81,22 @@ class Engine {
   /// readback_fault() names the setpoint, and an error is returned. Ok when
   /// config.verify_readbacks is off.
   Status verify_arm(std::span<const double> values);
+
+  /// One owner (issue 39 §1): `first` and `second` (config.values each) were read a quiet
+  /// interval apart with nothing written by this gateway. Every setpoint's readback must
+  /// agree with itself (its readback tolerance) and the heartbeat echo must be unchanged;
+  /// otherwise another master is writing: foreign_write() names the value and an error is
+  /// returned (the caller refuses to arm, and arms on `second` only when this passed).
+  /// Call while configured. Start-up only.
+  Status check_quiet(std::span<const double> first, std::span<const double> second);
+
+  /// The real time, for a loop whose ticks are not real time (lock-step): called before each
+  /// compute() from then on, it turns on EngineConfig::suspend_timeout_ns and
+  /// confirm_timeout_ns, and a failed exchange then adds no tick to those timeouts. Cyclic.
+  void set_real_time(std::int64_t now_ns) noexcept {
+    real_clock_ = true;
+    now_ns_ = now_ns;
+  }
 
   /// Queues an operator command, applied at the next compute() (the last one wins).
   /// Safe to call from the tick's thread only; the app funnels signals through an atomic.
@@ -114,7 +147,10 @@ class Engine {
   /// Phase 2: the exchange's result. `values` (config.values of them) is read only when
   /// exchange_ok. Checks the heartbeat echo, the test limits and the command register,
   /// and moves the state (suspend, resume after dwell, abort on timeout, safe).
-  void observe(bool exchange_ok, std::span<const double> values) noexcept;
+  /// `refused`: the exchange failed because the device refused the request (an exception
+  /// reply 1–3): counted as a failed exchange, but the link is fine — the row is not flagged
+  /// comm_lost and the comm guard does not count it (the loop calls fault() next).
+  void observe(bool exchange_ok, std::span<const double> values, bool refused = false) noexcept;
 
   /// Between compute() and the write of a tick that follows a failed exchange: `values` were
   /// read on the (re)connected link before anything was written on it. The heartbeat echo
@@ -122,6 +158,17 @@ class Engine {
   /// an echo that went backwards or jumped beyond them means the peer restarted or lost its
   /// state: this tick's row is flagged kDiscontinuity (a new segment of plant data).
   void check_peer_continuity(std::span<const double> values) noexcept;
+
+  /// One owner (issue 39 §1), between compute() and the write of a tick on a link without a
+  /// failure since the last exchange (else check_peer_continuity): `values` were read before
+  /// this tick's write. They must be what this gateway left: each setpoint's readback that
+  /// agreed at the last reading must read one of the values written lately (the last
+  /// kMaxReadbackLag writes; a lagging peer shows an older one), and the heartbeat echo may
+  /// only have moved forward, by at most the heartbeats sent. Otherwise another master wrote
+  /// between the two exchanges: foreign_write() names it and this tick's observe() stops the
+  /// excitation (Outcome::foreign_writer). Nothing is judged while returning: a write in
+  /// flight when the peer froze may land late there, and confirm() undoes it. Cyclic path.
+  void check_before_write(std::span<const double> values) noexcept;
 
   /// The tick just completed, for the run log.
   [[nodiscard]] TickRecord record(std::int64_t time_ns) const noexcept;
@@ -155,6 +202,9 @@ class Engine {
   [[nodiscard]] std::uint64_t rows_flagged(std::uint32_t flag) const noexcept;
   [[nodiscard]] std::uint64_t readback_mismatches() const noexcept { return mismatches_total_; }
   [[nodiscard]] const ReadbackFault& readback_fault() const noexcept { return fault_; }
+  /// The first write of another master (check_quiet, or while running: the run's outcome is
+  /// then Outcome::foreign_writer); not valid when none was seen.
+  [[nodiscard]] const ForeignWrite& foreign_write() const noexcept { return foreign_; }
   /// Confirmation (config.confirm_timeout_ticks ≠ 0): episodes in which the device held
   /// another value than the baseline written after the output had reached it — a write
   /// applied late — each undone by the baseline written again.
@@ -170,6 +220,8 @@ class Engine {
   void check_limits(bool exchange_ok, std::span<const double> values) noexcept;
   void read_command_register(bool exchange_ok, std::span<const double> values) noexcept;
   void check_readbacks(std::span<const double> values) noexcept;
+  void foreign_seen(const ForeignWrite& what) noexcept;
+  [[nodiscard]] bool real_time_passed(std::int64_t& since_ns, std::int64_t limit_ns) noexcept;
   [[nodiscard]] bool at_baseline() const noexcept;
   void count_flags() noexcept;
   [[nodiscard]] bool at_segment_boundary() const noexcept;
@@ -230,6 +282,20 @@ class Engine {
   std::uint64_t first_confirm_tick_ = 0;  // … at this tick
   bool stale_episode_ = false;
   std::uint64_t stale_undone_ = 0;
+
+  // One owner: the readback compared on the last good exchange per setpoint, and whether it
+  // agreed (a change away from an unchanged write is another master's).
+  std::array<double, kMaxInputs> last_compared_{};
+  std::array<bool, kMaxInputs> last_agreed_{};
+  ForeignWrite foreign_{};
+  bool foreign_now_ = false;  // this tick saw another master's write
+  bool previous_ok_ = false;  // the last exchange succeeded (no reconnect since)
+
+  // Timeouts on the real clock (set_real_time; EngineConfig::*_timeout_ns): -1 not started.
+  bool real_clock_ = false;
+  std::int64_t now_ns_ = 0;
+  std::int64_t suspended_since_ns_ = -1;
+  std::int64_t confirming_since_ns_ = -1;
 
   std::uint64_t failed_total_ = 0;
   std::uint64_t skipped_total_ = 0;

@@ -63,6 +63,9 @@ enum class Outcome : std::uint8_t {
                    // error): the loop stopped the excitation (Engine::fault)
   device_refused,  // the device answered a setpoint write with a refusal (Modbus exception
                    // 1, 2 or 3): the loop stopped the excitation (Engine::fault)
+  foreign_writer,  // another master wrote this gateway's registers: a setpoint or the
+                   // heartbeat changed to a value this gateway did not write
+                   // (Engine::foreign_write())
 };
 
 const char* to_string(State state) noexcept;

@@ -13,6 +13,15 @@
 //   then:     the run log polled until it holds every table row of segment k; those rows
 //             returned, with any rows logged since the last call before them.
 //
+// The gateway run (issue 39 §3): the runner talks to the gateway run named in
+// DIR/gateway.run (firmware/app run_identity.hpp: its run id, pid and log), which the gateway
+// writes at start and removes at exit. It reads only a run log whose producer line names that
+// run (a stale log of an earlier run is never taken for this one), writes that run into every
+// segment's provenance (`run ID: excite test segment …`: the gateway refuses another run's
+// segment and pre-approves only its own), reports the gateway gone as soon as that pid is,
+// and takes back a next.plan it wrote when it stops on an error (nothing a later gateway
+// would take is left behind).
+//
 // The gateway must await each next segment at its table's end ([segments] await_s > 0),
 // since segment k + 1 is decided only after segment k's data. In lock-step it stops ticking
 // meanwhile, so the record is the segments back to back, as in process. In real time it holds
@@ -43,8 +52,10 @@ struct InboxHooks {
   /// Call k ≥ 1, after DIR/next.plan is in place: approve segment k. Empty: pre-approved.
   std::function<void(int segment)> approve;
   /// "" while the gateway runs; else how it ended (exit code, the end of its stderr). Empty:
-  /// not watched (the timeout still applies).
+  /// not watched (the timeout still applies; the marker's pid is watched either way).
   std::function<std::string()> gone;
+  /// Once, when the gateway's run is found (DIR/gateway.run): its run id. Optional.
+  std::function<void(const std::string& run)> attached;
 };
 
 class InboxRunner final : public SegmentRunner {
@@ -61,14 +72,23 @@ class InboxRunner final : public SegmentRunner {
 
   /// Rows of the run log returned so far (the next call's rows start there).
   [[nodiscard]] std::size_t rows_returned() const noexcept { return consumed_; }
+  /// The gateway run talked to ("" until found).
+  [[nodiscard]] const std::string& run_id() const noexcept { return run_id_; }
 
  private:
   void hand_over(const plan::Plan& segment);
+  MeasuredSegment wait_for_rows(const plan::Plan& segment);
+  // "" while the run named in DIR/gateway.run is the one talked to and its pid lives; else
+  // why not. Finds the run on the first call that sees the marker.
+  std::string check_gateway();
 
   InboxRunnerOptions options_;
   InboxHooks hooks_;
   int next_ = 0;
   std::size_t consumed_ = 0;
+  std::string run_id_;
+  long gateway_pid_ = 0;
+  bool handed_over_ = false;  // this call wrote DIR/next.plan
 };
 
 }  // namespace excite::host

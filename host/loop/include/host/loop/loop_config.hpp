@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace excite::host {
 
@@ -29,6 +30,9 @@ struct LoopConfigOptions {
 struct LoopConfigPair {
   std::string plant_toml;    // excite-plant --config
   std::string gateway_toml;  // excite-gateway --config
+  // What was changed from the options, said to the user (one line each): the watchdog
+  // raised to two tick periods.
+  std::vector<std::string> notes;
 };
 
 /// Both configurations as TOML text. With transport "can" the gateway side is the [can]

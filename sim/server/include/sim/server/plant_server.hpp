@@ -104,6 +104,9 @@ class PlantServer {
   std::uint64_t closed_connections() const { return closed_connections_; }
   /// RTU: frames dropped for a bad CRC or garbage on the line.
   std::uint64_t rejected_frames() const { return rejected_frames_; }
+  /// RTU: times the serial line went away (hang-up, I/O error); each said on stderr, then
+  /// the device reopened every 0.5 s until it is back (issue 39 §4: no spinning).
+  std::uint64_t line_losses() const { return line_losses_; }
   /// Times the watchdog returned the setpoints to the baseline (control block +6).
   std::uint64_t watchdog_trips() const { return watchdog_trips_; }
   /// Setpoint writes refused for the input limits (exception 3; control block +7).
@@ -142,6 +145,8 @@ class PlantServer {
   void answer(std::size_t index, bool stall_done);
   bool rtu() const { return !options_.rtu_device.empty(); }
   void serve_rtu(const std::function<bool()>& stop);
+  void lose_line(const char* why);
+  void wait_for_line(const std::function<bool()>& stop);
   void check_deadlines(Clock::time_point now);
   bool touches_control(const ModbusRequest& request) const;
   void on_heartbeat_written();
@@ -166,6 +171,8 @@ class PlantServer {
   std::uint64_t illegal_functions_ = 0;
   std::uint64_t closed_connections_ = 0;
   std::uint64_t rejected_frames_ = 0;
+  std::uint64_t line_losses_ = 0;
+  bool line_lost_ = false;  // RTU: the serial line went away; reopened every 0.5 s
   std::vector<std::uint64_t> misfits_reported_;  // per output: count when last reported
 
   FaultSettings faults_;
