@@ -6,7 +6,6 @@
 // of both and their ratio.
 //
 // usage: host_loop_campaign_bench [PLANT] [THREADS]   (default alatiqi4x4, the cores)
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -18,19 +17,9 @@
 
 #include "host/campaign/campaign.hpp"
 #include "host/loop/campaign_runs.hpp"
+#include "../cpu_seconds.hpp"
 
 namespace {
-
-double cpu_seconds_with_children() {
-  rusage self{};
-  rusage children{};
-  getrusage(RUSAGE_SELF, &self);
-  getrusage(RUSAGE_CHILDREN, &children);
-  const auto s = [](const timeval& t) {
-    return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) * 1e-6;
-  };
-  return s(self.ru_utime) + s(self.ru_stime) + s(children.ru_utime) + s(children.ru_stime);
-}
 
 struct Timing {
   double wall = 0.0;
@@ -39,11 +28,11 @@ struct Timing {
 
 Timing timed(const excite::host::CampaignOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  const double cpu0 = cpu_seconds_with_children();
+  const double cpu0 = excite::bench::cpu_seconds_with_children();
   const excite::host::CampaignResult result = excite::host::run_campaign(options, {});
   Timing t;
   t.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  t.cpu = cpu_seconds_with_children() - cpu0;
+  t.cpu = excite::bench::cpu_seconds_with_children() - cpu0;
   if (result.experiments.size() != 17) std::abort();
   return t;
 }

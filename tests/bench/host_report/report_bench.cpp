@@ -11,7 +11,6 @@
 // Exit 0 with the figures printed; 1 when the report or Chromium fails (chromium is in
 // toolchain/packages.txt: its absence is a failure, not a skip).
 // usage: host_report_bench
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -29,6 +28,7 @@
 #include "host/campaign/gnuplot.hpp"
 #include "host/campaign/report.hpp"
 #include "host/process/child_process.hpp"
+#include "../cpu_seconds.hpp"
 
 namespace {
 
@@ -36,17 +36,6 @@ namespace fs = std::filesystem;
 using excite::host::CampaignOptions;
 using excite::host::CampaignResult;
 using excite::host::ChildProcess;
-
-double cpu_seconds_with_children() {
-  rusage self{};
-  rusage children{};
-  getrusage(RUSAGE_SELF, &self);
-  getrusage(RUSAGE_CHILDREN, &children);
-  const auto s = [](const timeval& t) {
-    return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) * 1e-6;
-  };
-  return s(self.ru_utime) + s(self.ru_stime) + s(children.ru_utime) + s(children.ru_stime);
-}
 
 struct Cost {
   double wall_s = 1e9;
@@ -56,10 +45,10 @@ struct Cost {
 template <class Work>
 Cost timed(Work&& work) {
   const auto start = std::chrono::steady_clock::now();
-  const double cpu0 = cpu_seconds_with_children();
+  const double cpu0 = excite::bench::cpu_seconds_with_children();
   work();
   return {std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-          cpu_seconds_with_children() - cpu0};
+          excite::bench::cpu_seconds_with_children() - cpu0};
 }
 
 // The fastest of three runs of `work(run)`, each printed.
