@@ -6,10 +6,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 
 #include "base/config/document.hpp"
@@ -421,15 +419,15 @@ ConfigResult parse_gateway_config(std::string_view text_in, std::string_view sou
 }
 
 ConfigResult load_gateway_config(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
+  std::string text;
+  try {
+    text = config::read_file(path);  // a regular file, bounded, never a blocking open
+  } catch (const config::Error& e) {
     ConfigResult r;
-    r.error = path + ": cannot open the configuration file";
+    r.error = e.what();
     return r;
   }
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return parse_gateway_config(buffer.str(), path);
+  return parse_gateway_config(text, path);
 }
 
 namespace {

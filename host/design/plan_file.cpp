@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "host/design/plan_file.hpp"
 
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "firmware/plan/codec.hpp"
+#include "host/output/input_file.hpp"
 #include "host/output/whole_file.hpp"
 
 namespace excite::host {
@@ -22,14 +22,10 @@ void write_plan_file(const plan::Plan& plan, const std::filesystem::path& path) 
 }
 
 std::unique_ptr<plan::Plan> read_plan_file(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw std::invalid_argument(path.string() + ": is a directory, expected a plan file");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::invalid_argument(path.string() + ": cannot be read");
-  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                        std::istreambuf_iterator<char>());
+  // A regular file no larger than the largest plan (issue 40 §5): a FIFO, a folder or
+  // /dev/zero is refused by name, never waited on or read without end.
+  const std::string text = read_input_file(path, plan::max_encoded_size(), "a plan file");
+  const std::vector<std::uint8_t> bytes(text.begin(), text.end());
   auto result = std::make_unique<plan::Plan>();
   const plan::Status status = plan::decode(bytes, *result);
   if (!status) throw std::invalid_argument(path.string() + ": " + status.message());

@@ -10,17 +10,10 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "base/config/document.hpp"
+
 namespace excite::host {
 namespace {
-
-const char* type_name(mode_t mode) {
-  if (S_ISDIR(mode)) return "folder";
-  if (S_ISFIFO(mode)) return "FIFO";
-  if (S_ISCHR(mode)) return "character device";
-  if (S_ISBLK(mode)) return "block device";
-  if (S_ISSOCK(mode)) return "socket";
-  return "not a regular file";
-}
 
 // Closes the descriptor on every path out.
 struct Descriptor {
@@ -46,7 +39,7 @@ std::string read_input_file(const std::filesystem::path& path, std::uintmax_t ma
                                 "), expected " + what);
   }
   if (!S_ISREG(info.st_mode)) {
-    throw std::invalid_argument(name + ": file type = " + type_name(info.st_mode) +
+    throw std::invalid_argument(name + ": file type = " + config::file_type_name(info.st_mode) +
                                 ", expected a regular file (" + what + ")");
   }
   const auto too_large = [&](std::uintmax_t size, const char* at_least) {

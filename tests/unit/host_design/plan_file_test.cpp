@@ -3,12 +3,15 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <vector>
 
+#include "firmware/plan/codec.hpp"
 #include "firmware/signal/generate.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/presets.hpp"
@@ -86,6 +89,35 @@ TEST_F(PlanFile, TruncatedFileIsRefusedNamingThePath) {
 
 TEST_F(PlanFile, MissingFileIsRefused) {
   EXPECT_THROW(read_plan_file(dir_ / "none.plan"), std::invalid_argument);
+}
+
+// Issue 40 §5: a plan is read whole only when it is a regular file no larger than the largest
+// plan; anything else is refused by name, without blocking or reading without end.
+TEST_F(PlanFile, OnlyARegularFileNoLargerThanTheLargestPlanIsRead) {
+  const auto refusal = [](const std::filesystem::path& path) {
+    try {
+      read_plan_file(path);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("read");
+  };
+  const auto fifo = dir_ / "fifo.plan";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_NE(refusal(fifo).find(fifo.string() + ": file type = FIFO, expected a regular file"),
+            std::string::npos)
+      << refusal(fifo);
+  EXPECT_NE(refusal("/dev/zero").find("/dev/zero: file type = character device"),
+            std::string::npos)
+      << refusal("/dev/zero");
+  EXPECT_NE(refusal(dir_).find("expected a regular file"), std::string::npos) << refusal(dir_);
+  const auto large = dir_ / "large.plan";
+  std::ofstream(large).put('x');
+  std::filesystem::resize_file(large, plan::max_encoded_size() + 1);  // sparse: no disk used
+  EXPECT_NE(refusal(large).find("size = " + std::to_string(plan::max_encoded_size() + 1) +
+                                " bytes, expected at most"),
+            std::string::npos)
+      << refusal(large);
 }
 
 }  // namespace

@@ -3,8 +3,10 @@
 // Reading a configuration text: the file's bytes, the TOML document, and how a node is
 // named in messages (its value as written, its position).
 
+#include <sys/types.h>
 #include <toml++/toml.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -17,7 +19,20 @@ namespace excite::config {
 /// "SOURCE:LINE:COL: <description>".
 toml::table parse(std::string_view text, std::string_view source);
 
-/// The whole file as text; throws config::Error "PATH: cannot be read (<reason>)".
+/// What `mode` (stat's st_mode) says a file is, as messages name it: "regular file", "folder",
+/// "FIFO", "character device", "block device", "socket".
+const char* file_type_name(mode_t mode);
+
+/// The largest configuration text read (gateway and plant-server configurations, plant files,
+/// design specs, tag maps, controller files: kilobytes in practice).
+inline constexpr std::uintmax_t kMaxFileBytes = 16u << 20;
+
+/// The whole file as text (issue 40 §5: every input read whole has a bound). What the name
+/// names after its links must be a regular file of at most kMaxFileBytes; it is opened
+/// without blocking and checked on the open descriptor, so a FIFO is refused, never waited
+/// on, and /dev/zero or a file that grows while read is refused at the bound. Throws
+/// config::Error "PATH: cannot be read (<reason>)", "PATH: file type = FIFO, expected a
+/// regular file", "PATH: size = N bytes, expected at most 16777216 bytes".
 std::string read_file(const std::filesystem::path& path);
 
 /// A node's value as messages show it: strings quoted, numbers and booleans as written,
