@@ -239,7 +239,10 @@ void simulate(const sim::DiscreteTerm& g, std::span<const double> u, std::span<d
 }
 
 LagTaps lag_taps(const ElementModel& g, double sample_time_min, std::size_t first_lag) {
-  const sim::DiscreteTerm d = discretise(g, sample_time_min);
+  return lag_taps(discretise(g, sample_time_min), first_lag);
+}
+
+LagTaps lag_taps(const sim::DiscreteTerm& d, std::size_t first_lag) {
   LagTaps t;
   for (std::size_t i = 1; i < static_cast<std::size_t>(d.na) && i <= kMaxPoles; ++i)
     t.a[i - 1] = d.a[i];

@@ -62,23 +62,36 @@ class ParameterMap {
 };
 
 // The row's simulation: unit-gain responses per element, scaled and summed; and its
-// Jacobian by sensitivity filters (see jacobian()).
+// Jacobian by sensitivity filters (see jacobian()). Each element's discretisation is kept for
+// the parameters it was last computed at: the Jacobian at an accepted step reuses the one
+// its residual made (the same values: discretise() is a pure function).
 class RowModel {
  public:
   RowModel(const Eigen::MatrixXd& U, const std::vector<int>& inputs, const ParameterMap& map,
            double T_min, const SampleLayout& layout)
-      : U_(U), inputs_(inputs), map_(map), T_(T_min), layout_(layout), w_(U.rows()), v_(U.rows()) {}
+      : U_(U),
+        inputs_(inputs),
+        map_(map),
+        T_(T_min),
+        layout_(layout),
+        every_row_scored_((layout.weight.array() == 1.0).all()),
+        w_(U.rows()),
+        v_(U.rows()),
+        cache_(static_cast<std::size_t>(map.elements())) {}
+
+  // Whether every row has weight 1 (multiplying by the weights would change nothing).
+  bool every_row_scored() const { return every_row_scored_; }
 
   std::span<const double> input(Eigen::Index e) const {
     const auto col = U_.col(inputs_[static_cast<std::size_t>(e)]);
     return {col.data(), static_cast<std::size_t>(col.size())};
   }
 
-  Eigen::VectorXd output(const Eigen::VectorXd& x) const {
+  Eigen::VectorXd output(const Eigen::VectorXd& x) {
     Eigen::VectorXd y_hat = Eigen::VectorXd::Zero(U_.rows());
     Eigen::VectorXd z(U_.rows());
     for (Eigen::Index e = 0; e < map_.elements(); ++e) {
-      simulate_segments(discretise(map_.unit_element(x, e), T_), input(e), span_of(z),
+      simulate_segments(discretised(e, map_.unit_element(x, e)), input(e), span_of(z),
                         layout_.segments);
       y_hat += map_.gain(x, e) * z;
     }
@@ -100,9 +113,9 @@ class RowModel {
       const ElementModel g = map_.unit_element(x, e);
       // Taps by lag from the element's own whole-sample delay minus one, so a perturbed
       // delay that crosses a sample boundary still fits the window.
-      const sim::DiscreteTerm c = discretise(g, T_);
+      const sim::DiscreteTerm& c = discretised(e, g);
       const auto m0 = static_cast<std::size_t>(std::max(c.delay_samples - 1, 0));
-      const LagTaps base = lag_taps(g, T_, m0);
+      const LagTaps base = lag_taps(c, m0);
       const std::span<const double> u = input(e);
       std::copy(u.begin(), u.end(), w_.data());
       const std::vector<Segment>& segs = layout_.segments;
@@ -152,17 +165,42 @@ class RowModel {
       }
     }
     // Rows outside the cost have no residual, hence no sensitivity.
-    J.array().colwise() *= layout_.weight.array();
+    if (!every_row_scored_) J.array().colwise() *= layout_.weight.array();
   }
 
  private:
+  // discretise(g, T) for element e, from the cache when g is the element it was last made for.
+  const sim::DiscreteTerm& discretised(Eigen::Index e, const ElementModel& g) {
+    Cached& c = cache_[static_cast<std::size_t>(e)];
+    if (!c.valid || !same_element(c.element, g)) {
+      c.term = discretise(g, T_);  // throws before the cache changes
+      c.element = g;
+      c.valid = true;
+    }
+    return c.term;
+  }
+  static bool same_element(const ElementModel& a, const ElementModel& b) {
+    if (a.structure != b.structure) return false;
+    for (int p = 0; p < kParameters; ++p) {
+      if (!(a[p] == b[p])) return false;
+    }
+    return true;
+  }
+
+  struct Cached {
+    bool valid = false;
+    ElementModel element;
+    sim::DiscreteTerm term;
+  };
   const Eigen::MatrixXd& U_;
   const std::vector<int>& inputs_;
   const ParameterMap& map_;
   double T_;
   const SampleLayout& layout_;
+  bool every_row_scored_;
   Eigen::VectorXd w_;  // scratch: u / D
   Eigen::VectorXd v_;  // scratch: z / D
+  std::vector<Cached> cache_;
 };
 
 // A parameter whose squared component in a numerically null direction of JᵀJ exceeds this
@@ -261,7 +299,8 @@ ParameterRange parameter_range(int parameter, const MisoBounds& bounds) {
 MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                     const std::vector<int>& inputs, std::vector<ElementModel> initial, double T_min,
                     const MisoBounds& bounds, int max_iterations, const SampleLayout& layout,
-                    const Eigen::MatrixXd& trend, double cost_tolerance) {
+                    const Eigen::MatrixXd& trend, double cost_tolerance,
+                    MisoUncertainty uncertainty) {
   const ParameterMap map(initial);
   RowModel row(U, inputs, map, T_min, layout);
   const Eigen::Index m = map.elements();
@@ -285,14 +324,31 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                                           : (free[k] == kDamping ? 0.1 : T_min);
     }
   }
+  // The simulation at the lowest cost evaluated so far: the minimiser's end (it accepts only
+  // a lower cost), so the result's y_hat need not be simulated again.
+  Eigen::VectorXd best_x;
+  Eigen::VectorXd best_y_hat;
+  double best_cost = kInf;
   problem.residual = [&](const Eigen::VectorXd& x, Eigen::VectorXd& r) {
+    Eigen::VectorXd y_hat;
     try {
-      r = layout.weight.cwiseProduct(y - row.output(x));
+      y_hat = row.output(x);
     } catch (const std::invalid_argument&) {
       return false;  // parameters the exact discretisation cannot take (poles ≪ T): a
                      // rejected step
     }
+    if (row.every_row_scored()) {
+      r = y - y_hat;
+    } else {
+      r = layout.weight.cwiseProduct(y - y_hat);
+    }
     if (trend.cols() > 0) r -= trend * (trend.transpose() * r);
+    const double cost = r.squaredNorm();
+    if (cost < best_cost) {
+      best_cost = cost;
+      best_x = x;
+      best_y_hat.swap(y_hat);
+    }
     return true;
   };
   problem.jacobian = [&](const Eigen::VectorXd& x, Eigen::MatrixXd& J) {
@@ -307,24 +363,28 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
   MisoResult out;
   out.iterations = lm.iterations;
   out.converged = lm.converged;
-  out.y_hat = row.output(lm.x);
+  const bool simulated = best_x.size() == lm.x.size() && (best_x.array() == lm.x.array()).all();
+  out.y_hat = simulated ? std::move(best_y_hat) : row.output(lm.x);
   if (trend.cols() > 0) {
     out.y_hat += trend * (trend.transpose() * layout.weight.cwiseProduct(y - out.y_hat));
   }
-  Eigen::MatrixXd J;
-  problem.jacobian(lm.x, J);
   std::vector<bool> on_bound(static_cast<std::size_t>(P));
   for (Eigen::Index k = 0; k < P; ++k) {
     on_bound[static_cast<std::size_t>(k)] =
         lm.x(k) <= problem.lower(k) || lm.x(k) >= problem.upper(k);
   }
-  const ParameterUncertainty uncertainty =
-      standard_errors(J, layout.scored() - trend.cols(), lm.cost, on_bound);
-  const Eigen::VectorXd& se = uncertainty.se;
+  ParameterUncertainty errors{Eigen::VectorXd::Constant(P, kNaN),
+                              Eigen::MatrixXd::Constant(P, P, kNaN)};
+  if (uncertainty == MisoUncertainty::standard_errors) {
+    Eigen::MatrixXd J;
+    problem.jacobian(lm.x, J);
+    errors = standard_errors(J, layout.scored() - trend.cols(), lm.cost, on_bound);
+  }
+  const Eigen::VectorXd& se = errors.se;
   out.gain_covariance.resize(m, m);
   for (Eigen::Index a = 0; a < m; ++a) {
     for (Eigen::Index b = 0; b < m; ++b) {
-      out.gain_covariance(a, b) = uncertainty.cov(map.offset(a), map.offset(b));
+      out.gain_covariance(a, b) = errors.cov(map.offset(a), map.offset(b));
     }
   }
 
@@ -343,7 +403,7 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
           : lm.x(ia) <= problem.lower(ia)         ? Bound::lower
                                                   : Bound::upper;
       for (std::size_t b = 0; b < free.size(); ++b) {
-        est.covariance(free[a], free[b]) = uncertainty.cov(ia, o + static_cast<Eigen::Index>(b));
+        est.covariance(free[a], free[b]) = errors.cov(ia, o + static_cast<Eigen::Index>(b));
       }
     }
     // Report T_p1 ≥ T_p2 (the model is symmetric in them).

@@ -113,8 +113,9 @@ AloneFit fit_alone(const Eigen::MatrixXd& U, const Eigen::VectorXd& part, int in
   AloneFit best;
   for (const ElementModel& s : starts) {
     if (!discretisable({s}, T_min)) continue;
-    const MisoResult alone = fit_miso(U, part, {input}, {s}, T_min, bounds, kAloneIterations,
-                                      layout, Eigen::MatrixXd(U.rows(), 0));
+    const MisoResult alone =
+        fit_miso(U, part, {input}, {s}, T_min, bounds, kAloneIterations, layout,
+                 Eigen::MatrixXd(U.rows(), 0), LmOptions{}.cost_tolerance, MisoUncertainty::none);
     const double sse = weighted_sse(alone.y_hat, part, layout);
     if (sse < best.sse) best = {alone.elements.front().value, sse};
   }

@@ -127,6 +127,8 @@ struct LagTaps {
 /// Precondition: the element's taps lie inside the window (its whole-sample delay d and the
 /// up to four further taps satisfy first_lag ≤ d and d + 4 < first_lag + kLagWindow).
 LagTaps lag_taps(const ElementModel& g, double sample_time_min, std::size_t first_lag);
+/// The same taps from the element's discretisation `d` (discretise(g, T)), computed once.
+LagTaps lag_taps(const sim::DiscreteTerm& d, std::size_t first_lag);
 
 /// In place x ← x / (1 + a1 q⁻¹ + a2 q⁻² + a3 q⁻³), from rest.
 void all_pole_filter(const std::array<double, kMaxPoles>& a, std::span<double> x);

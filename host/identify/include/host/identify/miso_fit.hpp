@@ -50,10 +50,16 @@ struct MisoResult {
 /// trend spanned by the orthonormal columns `trend` (trend_basis(); N × 0 for none) fitted
 /// with it by projection. y_hat is the simulation on every row plus the fitted trend.
 /// `cost_tolerance`: LmOptions::cost_tolerance of the fit.
+/// `uncertainty`: MisoUncertainty::none leaves out what only the standard errors need (the
+/// Jacobian at the end and its eigen-decomposition): std_error, covariance and
+/// gain_covariance are NaN, at_bound is still set and status is `identified` (a trial fit
+/// whose estimates and y_hat alone are used: the same values as with them).
+enum class MisoUncertainty { standard_errors, none };
 MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                     const std::vector<int>& inputs, std::vector<ElementModel> initial, double T_min,
                     const MisoBounds& bounds, int max_iterations, const SampleLayout& layout,
                     const Eigen::MatrixXd& trend,
-                    double cost_tolerance = LmOptions{}.cost_tolerance);
+                    double cost_tolerance = LmOptions{}.cost_tolerance,
+                    MisoUncertainty uncertainty = MisoUncertainty::standard_errors);
 
 }  // namespace excite::host
