@@ -22,8 +22,12 @@ void write_plan_file(const plan::Plan& plan, const std::filesystem::path& path) 
 }
 
 std::unique_ptr<plan::Plan> read_plan_file(const std::filesystem::path& path) {
-  // A regular file no larger than the largest plan (issue 40 §5): a FIFO, a folder or
-  // /dev/zero is refused by name, never waited on or read without end.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {  // the message every command gives a folder
+    throw std::invalid_argument(path.string() + ": is a directory, expected a plan file");
+  }
+  // A regular file no larger than the largest plan (issue 40 §5): a FIFO or /dev/zero is
+  // refused by name, never waited on or read without end.
   const std::string text = read_input_file(path, plan::max_encoded_size(), "a plan file");
   const std::vector<std::uint8_t> bytes(text.begin(), text.end());
   auto result = std::make_unique<plan::Plan>();
