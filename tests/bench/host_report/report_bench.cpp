@@ -24,11 +24,11 @@
 #include <string>
 #include <vector>
 
+#include "../cpu_seconds.hpp"
 #include "host/campaign/campaign.hpp"
 #include "host/campaign/gnuplot.hpp"
 #include "host/campaign/report.hpp"
 #include "host/process/child_process.hpp"
-#include "../cpu_seconds.hpp"
 
 namespace {
 
@@ -79,10 +79,9 @@ void draw_empty_figures(const fs::path& folder, int figures, int threads) {
   std::vector<std::string> scripts;
   for (int k = 0; k < figures; ++k) {
     const std::string name = excite::host::source_name("empty-" + std::to_string(k) + ".gp");
-    excite::host::write_figure_source(
-        folder, name,
-        "set terminal svg size 600,300\nset output 'empty-" + std::to_string(k) +
-            ".svg'\nunset key\nplot [0:1] 0\n");
+    excite::host::write_figure_source(folder, name,
+                                      "set terminal svg size 600,300\nset output 'empty-" +
+                                          std::to_string(k) + ".svg'\nunset key\nplot [0:1] 0\n");
     scripts.push_back(name);
   }
   excite::host::run_gnuplot_scripts(folder, scripts, threads);
@@ -109,11 +108,11 @@ double chromium_seconds(const fs::path& page, const fs::path& profile) {
   const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const auto shot = fs::exists(profile / "shot.png") ? fs::file_size(profile / "shot.png") : 0U;
   if (status != std::optional<int>(0) || shot < 10000U) {
-    throw std::runtime_error("chromium " + page.string() + ": exit status " +
-                             (status ? std::to_string(*status) : "none (still running)") +
-                             ", screenshot " + std::to_string(shot) +
-                             " bytes, expected 0 and at least 10000; its stderr: " +
-                             chromium.stderr_text());
+    throw std::runtime_error(
+        "chromium " + page.string() + ": exit status " +
+        (status ? std::to_string(*status) : "none (still running)") + ", screenshot " +
+        std::to_string(shot) +
+        " bytes, expected 0 and at least 10000; its stderr: " + chromium.stderr_text());
   }
   return t;
 }
@@ -158,9 +157,10 @@ int main() try {
     fastest = std::min(fastest, t);
     fastest_blank = std::min(fastest_blank, b);
   }
-  std::printf("  chromium fastest: index.html %.3f s, an empty page %.3f s: rendering %.3f s, "
-              "ratio %.2f\n",
-              fastest, fastest_blank, fastest - fastest_blank, fastest / fastest_blank);
+  std::printf(
+      "  chromium fastest: index.html %.3f s, an empty page %.3f s: rendering %.3f s, "
+      "ratio %.2f\n",
+      fastest, fastest_blank, fastest - fastest_blank, fastest / fastest_blank);
   fs::remove_all(root);
   return 0;
 } catch (const std::exception& e) {

@@ -49,7 +49,8 @@ TEST_F(ReadFile, AFifoIsRefusedWithoutWaitingForAWriter) {
 }
 
 TEST_F(ReadFile, ADeviceOrAFolderIsRefusedByName) {
-  EXPECT_EQ(refusal("/dev/zero"), "/dev/zero: file type = character device, expected a regular file");
+  EXPECT_EQ(refusal("/dev/zero"),
+            "/dev/zero: file type = character device, expected a regular file");
   EXPECT_EQ(refusal(dir_), dir_.string() + ": file type = folder, expected a regular file");
 }
 
