@@ -45,7 +45,10 @@ ActiveSetQp::ActiveSetQp(const Eigen::MatrixXd& H, const Eigen::MatrixXd& A, int
     refuse("H", "(not positive definite)", "a positive definite Hessian (every move weighted)");
   }
   L_ = llt.matrixL();
-  C_ = L_.triangularView<Eigen::Lower>().solve(A.transpose());
+  // No constraint: nothing to solve (Eigen's triangular solve binds a reference to the first
+  // coefficient of an empty right-hand side, which UBSan refuses).
+  C_ = A.rows() == 0 ? Eigen::MatrixXd(L_.rows(), 0)
+                     : Eigen::MatrixXd(L_.triangularView<Eigen::Lower>().solve(A.transpose()));
   row_norm_ = C_.colwise().norm().transpose();
   for (Eigen::Index j = 0; j < A.rows(); ++j) {
     if (!(row_norm_(j) > 0.0)) {
