@@ -441,14 +441,19 @@ void Engine::check_before_write(std::span<const double> values) noexcept {
   for (std::uint32_t c = 0; c < config_.inputs; ++c) {
     if (!last_agreed_[c]) continue;
     const double read = values[static_cast<std::uint32_t>(config_.input[c].readback)];
-    bool ours = false;
-    for (const auto& w : written_) ours = ours || readback_agrees(c, w[c], read);
-    if (!ours) {
+    if (!wrote_lately(c, read)) {
       foreign_seen({true, false, false, c, config_.input[c].readback, last_compared_[c], read,
                     tick});
       return;
     }
   }
+}
+
+bool Engine::wrote_lately(std::uint32_t c, double read) const noexcept {
+  for (const auto& w : written_) {
+    if (readback_agrees(c, w[c], read)) return true;
+  }
+  return false;
 }
 
 void Engine::check_limits(bool exchange_ok, std::span<const double> values) noexcept {
@@ -509,10 +514,12 @@ void Engine::check_readbacks(std::span<const double> values) noexcept {
     const double read = values[j];
     const bool agrees = readback_agrees(c, written, read);
     // One owner: the same value written on this tick and the last, read back last tick, now
-    // reads otherwise on a link without a failure — another master wrote it. Not while
-    // returning: a write applied late by a peer that froze is undone there (confirm()).
+    // reads a value this gateway never wrote lately, on a link without a failure — another
+    // master wrote it. (A peer faster than readback_lag_ticks — CAN frames sent on the
+    // peer's own cycle — shows a newer write of ours: not foreign.) Not while returning: a
+    // write applied late by a peer that froze is undone there (confirm()).
     if (previous_ok_ && state_ != State::returning && last_agreed_[c] &&
-        last_compared_[c] == written && !agrees) {
+        last_compared_[c] == written && !agrees && !wrote_lately(c, read)) {
       foreign_seen({true, false, false, c, config_.input[c].readback, written, read,
                     ticks_ == 0 ? 0 : ticks_ - 1});
     }

@@ -96,6 +96,32 @@ TEST_F(OwnerTest, AReadBeforeTheWriteShowingAnOlderWriteOfOursIsFine) {
   EXPECT_FALSE(engine_.foreign_write().valid);
 }
 
+TEST_F(OwnerTest, AReadbackFasterThanItsLagShowsANewerWriteOfOursAndIsFine) {
+  // CAN: the peer sends its readbacks on its own cycle, so a reading may already hold this
+  // tick's write where readback_lag_ticks = 3 compares the write of two ticks before. The
+  // mismatch is counted (verified writes); it is not another master.
+  EngineConfig c = verified();
+  c.readback_lag_ticks = 3;
+  c.readback_mismatch_limit = 100;
+  configure(c);
+  arm();
+  ticks(3);  // armed: the baseline written and read back
+  engine_.command(Command::start);
+  ticks(6);  // the first move reads back while the baseline is compared
+  EXPECT_GT(engine_.readback_mismatches(), 0U);
+  EXPECT_FALSE(engine_.foreign_write().valid);
+  EXPECT_EQ(engine_.state(), State::running);
+
+  // A value this gateway never wrote, with the write compared held: another master.
+  engine_.command(Command::suspend);
+  ticks(4);  // the setpoints stand still at the baseline
+  engine_.compute();
+  field_.values[kRb1] = 33.0;
+  engine_.observe(true, field_.values);
+  EXPECT_EQ(engine_.outcome(), Outcome::foreign_writer);
+  EXPECT_EQ(engine_.foreign_write().read, 33.0);
+}
+
 TEST_F(OwnerTest, LockstepTimeoutsEndOnTheRealClockAndFailedExchangesAddNoTick) {
   EngineConfig c = verified();
   c.suspend_timeout_ticks = 5;

@@ -221,6 +221,9 @@ class Engine {
   void read_command_register(bool exchange_ok, std::span<const double> values) noexcept;
   void check_readbacks(std::span<const double> values) noexcept;
   void foreign_seen(const ForeignWrite& what) noexcept;
+  /// Whether `read` agrees with one of input c's last kMaxReadbackLag writes (this tick's
+  /// included): a value this gateway wrote lately, whatever the peer's lag.
+  [[nodiscard]] bool wrote_lately(std::uint32_t c, double read) const noexcept;
   [[nodiscard]] bool real_time_passed(std::int64_t& since_ns, std::int64_t limit_ns) noexcept;
   [[nodiscard]] bool at_baseline() const noexcept;
   void count_flags() noexcept;
