@@ -11,10 +11,10 @@
 #include <optional>
 
 #include "host/cli/commands.hpp"
-#include "host/cli/input_path.hpp"
-#include "host/cli/json_file.hpp"
-#include "host/cli/json_util.hpp"
-#include "host/cli/model_file.hpp"
+#include "host/output/input_path.hpp"
+#include "host/output/json_file.hpp"
+#include "host/export/json_util.hpp"
+#include "host/export/model_file.hpp"
 #include "host/cli/run_input.hpp"
 #include "host/cli/run_layout_text.hpp"
 #include "host/cli/segmented_run.hpp"

@@ -25,7 +25,7 @@
 #include "host/campaign/campaign.hpp"
 #include "host/campaign/report.hpp"
 #include "host/cli/commands.hpp"
-#include "host/cli/model_file.hpp"
+#include "host/export/model_file.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/identify/element.hpp"

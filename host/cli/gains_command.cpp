@@ -4,7 +4,7 @@
 #include <iostream>
 
 #include "host/cli/commands.hpp"
-#include "host/cli/json_util.hpp"
+#include "host/export/json_util.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/case_studies.hpp"

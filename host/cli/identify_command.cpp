@@ -19,7 +19,7 @@
 
 #include "firmware/runlog/reader.hpp"
 #include "host/cli/commands.hpp"
-#include "host/cli/model_file.hpp"
+#include "host/export/model_file.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/output_target.hpp"
 #include "host/cli/pooled_runs.hpp"

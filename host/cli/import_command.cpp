@@ -12,7 +12,7 @@
 
 #include "firmware/runlog/format.hpp"
 #include "host/cli/commands.hpp"
-#include "host/cli/input_path.hpp"
+#include "host/output/input_path.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/output_target.hpp"
 #include "host/cli/run_input.hpp"

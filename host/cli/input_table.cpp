@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "host/cli/json_util.hpp"
+#include "host/export/json_util.hpp"
 #include "host/cli/text_table.hpp"
 
 namespace excite::host::cli {

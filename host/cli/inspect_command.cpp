@@ -10,7 +10,7 @@
 
 #include "host/cli/commands.hpp"
 #include "host/cli/input_table.hpp"
-#include "host/cli/json_util.hpp"
+#include "host/export/json_util.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/continuous_crest.hpp"

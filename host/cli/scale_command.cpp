@@ -16,7 +16,7 @@
 #include "host/adaptive/amplitude_control.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/cv_limit_option.hpp"
-#include "host/cli/model_file.hpp"
+#include "host/export/model_file.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/output_target.hpp"
 #include "host/cli/run_input.hpp"

@@ -10,7 +10,7 @@
 
 #include "firmware/runlog/format.hpp"
 #include "host/cli/commands.hpp"
-#include "host/cli/model_file.hpp"
+#include "host/export/model_file.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/output_target.hpp"
 #include "host/cli/run_input.hpp"

@@ -26,7 +26,7 @@
 #include "host/adaptive/study.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/cv_limit_option.hpp"
-#include "host/cli/model_file.hpp"
+#include "host/export/model_file.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/plan_file.hpp"

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "firmware/runlog/reader.hpp"
-#include "host/cli/input_path.hpp"
+#include "host/output/input_path.hpp"
 #include "host/identify/run_data.hpp"
 
 namespace excite::host::cli {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "host/cli/model_file.hpp"
+#include "host/export/model_file.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -10,11 +10,11 @@
 #include <tuple>
 #include <utility>
 
-#include "host/cli/input_path.hpp"
-#include "host/cli/json_file.hpp"
-#include "host/cli/json_util.hpp"
+#include "host/output/input_path.hpp"
+#include "host/output/json_file.hpp"
+#include "host/export/json_util.hpp"
 
-namespace excite::host::cli {
+namespace excite::host {
 namespace {
 
 // v2 added each element's structure, its parameters beyond (6.1.1) and its covariance; a
@@ -340,4 +340,4 @@ void check_same_channels(const ModelChannels& model, const std::string& model_pa
   }
 }
 
-}  // namespace excite::host::cli
+}  // namespace excite::host
