@@ -9,7 +9,7 @@
 
 #include "host/adaptive/plant_runner.hpp"
 #include "host/adaptive/segments.hpp"
-#include "host/campaign/parallel.hpp"
+#include "host/process/parallel.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/table.hpp"
 #include "host/montecarlo/accuracy.hpp"

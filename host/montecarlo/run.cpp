@@ -13,7 +13,7 @@
 #include <mutex>
 #include <stdexcept>
 
-#include "host/campaign/parallel.hpp"
+#include "host/process/parallel.hpp"
 #include "host/montecarlo/records.hpp"
 #include "host/output/whole_file.hpp"
 #include "sim/plants/plant.hpp"

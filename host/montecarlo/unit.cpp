@@ -8,7 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "host/campaign/parallel.hpp"
+#include "host/process/parallel.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/identify/validate.hpp"
 #include "host/montecarlo/perturb.hpp"

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "host/campaign/parallel.hpp"
+#include "host/process/parallel.hpp"
 #include "host/montecarlo/records.hpp"
 #include "host/montecarlo/unit.hpp"
 
