@@ -31,7 +31,7 @@
 #include "host/design/case_studies.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/design/spec.hpp"
-#include "host/montecarlo/perturb.hpp"
+#include "sim/library/perturb.hpp"
 #include "host/output/whole_file.hpp"
 #include "host/simulate/simulate.hpp"
 #include "sim/plants/plant.hpp"
@@ -283,9 +283,9 @@ void run(const TestCommandOptions& opt) {
         "--plant missing, expected the simulated plant (or --inbox and "
         "--run-log to run through a gateway)");
   }
-  const double perturb = montecarlo::parse_perturb(opt.perturb);
+  const double perturb = sim::parse_perturb(opt.perturb);
   const PriorKnowledge prior = case_study(opt.plant);
-  montecarlo::check_perturbable(opt.plant, perturb);
+  sim::check_perturbable(opt.plant, perturb);
   if (opt.seeds > 0) {
     run_study_command(opt, perturb);
   } else {
