@@ -15,7 +15,7 @@
 #include "firmware/plan/plan.hpp"
 #include "host/adaptive/amplitude_control.hpp"
 #include "host/cli/commands.hpp"
-#include "host/cli/cv_limit_option.hpp"
+#include "host/adaptive/cv_limit_text.hpp"
 #include "host/export/model_file.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/output_target.hpp"
