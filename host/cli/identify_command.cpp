@@ -151,9 +151,7 @@ void run(const IdentifyCommandOptions& opt) {
   if (!opt.structures_from.empty()) inputs.push_back(opt.structures_from);
   check_identify_output(opt.model_path, inputs, opt.json);
   const HumanTextAside aside(opt.model_path);
-  check_pooled_rows(opt.run_paths);
-  std::vector<runlog::RunLog> runs;
-  for (const auto& path : opt.run_paths) runs.push_back(read_log(path));
+  const std::vector<runlog::RunLog> runs = read_pooled_logs(opt.run_paths);
   check_pooled_headers(runs, opt.run_paths, opt.allow_mixed);
   // The model file's channel limit, before any fit (a 65-input run once took 77 s and wrote a
   // model no other command reads).
