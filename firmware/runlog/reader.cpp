@@ -510,10 +510,10 @@ ReadResult refused(std::string_view file, std::string message) {
 
 ReadResult over_row_limit(std::string_view file, const ReadOptions& options) {
   const std::string n = std::to_string(options.max_rows);
-  ReadResult r = refused(file, "more than " + n + " data rows, expected at most " + n +
-                                   (options.limits_source.empty()
-                                        ? std::string()
-                                        : " (" + options.limits_source + ")"));
+  ReadResult r = refused(
+      file,
+      "more than " + n + " data rows, expected at most " + n +
+          (options.limits_source.empty() ? std::string() : " (" + options.limits_source + ")"));
   r.over_row_limit = true;
   return r;
 }

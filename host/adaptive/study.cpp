@@ -9,13 +9,13 @@
 
 #include "host/adaptive/plant_runner.hpp"
 #include "host/adaptive/segments.hpp"
-#include "host/process/parallel.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/table.hpp"
 #include "host/measures/accuracy.hpp"
-#include "sim/library/perturb.hpp"
 #include "host/montecarlo/summary.hpp"
+#include "host/process/parallel.hpp"
 #include "sim/library/library.hpp"
+#include "sim/library/perturb.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::host {

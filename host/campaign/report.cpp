@@ -14,9 +14,9 @@
 
 #include "host/campaign/gnuplot.hpp"
 #include "host/campaign/model_views.hpp"
-#include "host/process/parallel.hpp"
 #include "host/campaign/report_figures.hpp"
 #include "host/output/whole_file.hpp"
+#include "host/process/parallel.hpp"
 
 namespace excite::host {
 namespace {

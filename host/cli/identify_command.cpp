@@ -19,7 +19,6 @@
 
 #include "firmware/runlog/reader.hpp"
 #include "host/cli/commands.hpp"
-#include "host/export/model_file.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/output_target.hpp"
 #include "host/cli/pooled_runs.hpp"
@@ -27,6 +26,7 @@
 #include "host/cli/run_layout_text.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/cli/time_constant_bound.hpp"
+#include "host/export/model_file.hpp"
 #include "host/identify/run_layout.hpp"
 #include "host/output/whole_file.hpp"
 

@@ -27,13 +27,13 @@
 #include "host/cli/number_checks.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/montecarlo/merge.hpp"
-#include "sim/library/perturb.hpp"
 #include "host/montecarlo/report.hpp"
 #include "host/montecarlo/run.hpp"
 #include "host/montecarlo/slurm.hpp"
 #include "host/montecarlo/summary.hpp"
 #include "host/output/own_entries.hpp"
 #include "host/output/whole_file.hpp"
+#include "sim/library/perturb.hpp"
 
 namespace excite::host::cli {
 namespace {

@@ -14,14 +14,14 @@
 
 #include "firmware/plan/plan.hpp"
 #include "host/adaptive/amplitude_control.hpp"
-#include "host/cli/commands.hpp"
 #include "host/adaptive/cv_limit_text.hpp"
-#include "host/export/model_file.hpp"
+#include "host/cli/commands.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/output_target.hpp"
 #include "host/cli/run_input.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/design/table.hpp"
+#include "host/export/model_file.hpp"
 
 namespace excite::host::cli {
 namespace {

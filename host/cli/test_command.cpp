@@ -48,10 +48,10 @@ void run(const TestCommandOptions& opt) {
       throw std::invalid_argument("--plant = \"" + opt.plant + "\" and --spec = \"" + opt.spec +
                                   "\", expected one of them: the prior knowledge of the test");
     }
-    run_gateway_test({opt.spec.empty() ? case_study(opt.plant) : load_design_spec(opt.spec).prior,
-                      opt.output, opt.inbox, opt.run_log, opt.segment_timeout_min, opt.limits,
-                      opt.adaptive},
-                     std::cout);
+    run_gateway_test(
+        {opt.spec.empty() ? case_study(opt.plant) : load_design_spec(opt.spec).prior, opt.output,
+         opt.inbox, opt.run_log, opt.segment_timeout_min, opt.limits, opt.adaptive},
+        std::cout);
     return;
   }
   if (opt.plant.empty()) {
@@ -61,13 +61,13 @@ void run(const TestCommandOptions& opt) {
   }
   const double perturb = sim::parse_perturb(opt.perturb);
   if (opt.seeds > 0) {
-    run_recorded_study({opt.plant, opt.output, opt.seed, opt.seeds, opt.threads,
-                        opt.noise_variance, perturb, opt.limits, opt.adaptive},
+    run_recorded_study({opt.plant, opt.output, opt.seed, opt.seeds, opt.threads, opt.noise_variance,
+                        perturb, opt.limits, opt.adaptive},
                        std::cout);
   } else {
-    run_simulated_test({opt.plant, opt.output, opt.seed, opt.noise_variance, perturb, opt.limits,
-                        opt.adaptive},
-                       std::cout);
+    run_simulated_test(
+        {opt.plant, opt.output, opt.seed, opt.noise_variance, perturb, opt.limits, opt.adaptive},
+        std::cout);
   }
 }
 

@@ -10,9 +10,9 @@
 #include <tuple>
 #include <utility>
 
+#include "host/export/json_util.hpp"
 #include "host/output/input_path.hpp"
 #include "host/output/json_file.hpp"
-#include "host/export/json_util.hpp"
 
 namespace excite::host {
 namespace {

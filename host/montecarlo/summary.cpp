@@ -10,8 +10,8 @@
 #include "host/campaign/report_figures.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/measures/accuracy.hpp"
-#include "sim/library/perturb.hpp"
 #include "host/montecarlo/statistics.hpp"
+#include "sim/library/perturb.hpp"
 
 namespace excite::host::montecarlo {
 namespace {

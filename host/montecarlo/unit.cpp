@@ -8,12 +8,12 @@
 #include <limits>
 #include <stdexcept>
 
-#include "host/process/parallel.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/identify/validate.hpp"
-#include "sim/library/perturb.hpp"
+#include "host/process/parallel.hpp"
 #include "host/simulate/simulate.hpp"
 #include "sim/library/library.hpp"
+#include "sim/library/perturb.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::host::montecarlo {

@@ -8,8 +8,8 @@
 #include <stdexcept>
 
 #include "host/design/presets.hpp"
-#include "sim/library/perturb.hpp"
 #include "sim/library/library.hpp"
+#include "sim/library/perturb.hpp"
 
 namespace excite::host::montecarlo {
 namespace {

@@ -22,8 +22,8 @@ namespace {
 AppendFile::AppendFile(const std::filesystem::path& path) : path_(path) {
   // A file-size limit is a write error (EFBIG), not a kill (as whole_file.hpp).
   std::signal(SIGXFSZ, SIG_IGN);
-  fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_APPEND | O_CLOEXEC,
-               0666);
+  fd_ =
+      ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_APPEND | O_CLOEXEC, 0666);
   if (fd_ < 0) fail(path_, errno);
 }
 

@@ -12,31 +12,28 @@
 
 namespace {
 
-using excite_cli_test::bytes_of;
-using excite_cli_test::excite;
-using excite_cli_test::ExciteCli;
-using excite_cli_test::Result;
-using excite_cli_test::shell;
+namespace cli = excite_cli_test;
+using cli::Result;
 
-class OpensOnce : public ExciteCli {
+class OpensOnce : public cli::ExciteCli {
  protected:
   void make_run(const char* name) {
-    ASSERT_EQ(
-        excite("design -q --plant woodberry2x2 --preset prbsUnc -o " + path("wb.plan")).exit_code,
-        0);
-    ASSERT_EQ(excite("simulate " + path("wb.plan") + " --plant woodberry2x2 --noise-var 5e-4 -o " +
-                     path(name))
+    ASSERT_EQ(cli::excite("design -q --plant woodberry2x2 --preset prbsUnc -o " + path("wb.plan"))
+                  .exit_code,
+              0);
+    ASSERT_EQ(cli::excite("simulate " + path("wb.plan") +
+                          " --plant woodberry2x2 --noise-var 5e-4 -o " + path(name))
                   .exit_code,
               0);
   }
   // How often `excite ARGS` opened `file`, the run's result in `r`. ASan's runtime must come
   // first among the preloaded libraries unless told otherwise (the asan preset).
   int opens_of(const std::string& file, const std::string& args, Result& r) {
-    r = shell("EXCITE_COUNT_OPENS_OF='" + file + "' EXCITE_COUNT_OPENS_TO='" +
-              path("opens.txt") + "' LD_PRELOAD='" + EXCITE_COUNTING_OPENS +
-              "' ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}verify_asan_link_order=0\" " +
-              EXCITE_CLI + " " + args);
-    const std::string count = bytes_of(path("opens.txt"));
+    r = cli::shell("EXCITE_COUNT_OPENS_OF='" + file + "' EXCITE_COUNT_OPENS_TO='" +
+                   path("opens.txt") + "' LD_PRELOAD='" + EXCITE_COUNTING_OPENS +
+                   "' ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}verify_asan_link_order=0\" " +
+                   EXCITE_CLI + " " + args);
+    const std::string count = cli::bytes_of(path("opens.txt"));
     return count.empty() ? -1 : std::stoi(count);
   }
 };
@@ -50,7 +47,7 @@ TEST_F(OpensOnce, IdentifyOpensItsRunLogOnce) {
 
 TEST_F(OpensOnce, IdentifyOpensEachPooledRunOnce) {
   make_run("a.csv");
-  ASSERT_EQ(shell("cp " + path("a.csv") + " " + path("b.csv")).exit_code, 0);
+  ASSERT_EQ(cli::shell("cp " + path("a.csv") + " " + path("b.csv")).exit_code, 0);
   Result r;
   EXPECT_EQ(opens_of(path("b.csv"), "identify " + path("a.csv") + " " + path("b.csv"), r), 1)
       << r.out;

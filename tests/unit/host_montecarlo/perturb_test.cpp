@@ -144,7 +144,8 @@ TEST(Perturb, AUnitRunsOnTheSeedsPerturbedPlantWithTheNominalDesign) {
   const mc::UnitResult b_again = mc::run_unit(*perturbed, {1, 4, 0});
   EXPECT_TRUE(a.true_gain.empty());
   const Eigen::MatrixXd truth =
-      excite::sim::perturbed_plant(excite::sim::library_plant("woodberry2x2"), 20.0, 4).static_gain();
+      excite::sim::perturbed_plant(excite::sim::library_plant("woodberry2x2"), 20.0, 4)
+          .static_gain();
   ASSERT_EQ(b.true_gain.size(), 4U);
   for (Eigen::Index k = 0; k < 4; ++k)
     EXPECT_EQ(b.true_gain[static_cast<std::size_t>(k)], truth(k / 2, k % 2));

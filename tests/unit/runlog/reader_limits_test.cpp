@@ -4,33 +4,45 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdio>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
 #include "firmware/runlog/reader.hpp"
+#include "firmware/runlog/writer.hpp"
 
 namespace excite::runlog {
 namespace {
 
-const std::string kHeader =
-    "# excite run log v1\n"
-    "# plant: column A\n"
-    "# plan: plans/prbs.toml\n"
-    "# sample_time_min: 0.5\n"
-    "# inputs: L V\n"
-    "# outputs: xD\n"
-    "# units: L=kmol/min V=kmol/min xD=mol/mol\n";
-const std::string kColumns = "t_min,k,du_L,du_V,u_L,u_V,dy_xD,flags\n";
-
-std::string rows(int count, const std::string& du_v = "-0.1") {
-  std::string s;
+// A two-input, one-output log as the writer writes it (format v3): `count` rows, row 2's du_V
+// replaced by `du_v`, then `tail` (lines past the rows).
+std::string log_text(int count, double du_v = -0.1, const std::string& tail = "") {
+  const Channel inputs[] = {{"L", "kmol/min"}, {"V", "kmol/min"}};
+  const Channel outputs[] = {{"xD", "mol/mol"}};
+  Header header;
+  header.plant = "column A";
+  header.plan = "plans/prbs.toml";
+  header.sample_time_min = 0.5;
+  header.inputs = inputs;
+  header.outputs = outputs;
+  std::string text(4096, '\0');
+  text.resize(format_header(header, text).length);
   for (int k = 0; k < count; ++k) {
-    s += std::to_string(0.5 * k) + "," + std::to_string(k) + ",0.1," + (k == 2 ? du_v : "-0.1") +
-         ",2.8,3.1," + std::to_string(0.01 * k) + ",0\n";
+    const double du[] = {0.1, k == 2 ? du_v : -0.1};
+    const double u[] = {2.8, 3.1};
+    const double dy[] = {0.01 * k};
+    Row row;
+    row.t_min = 0.5 * k;
+    row.k = static_cast<std::uint64_t>(k);
+    row.du = du;
+    row.u = u;
+    row.dy = dy;
+    row.state = RunState::running;
+    char line[max_row_chars(2, 1)];
+    text.append(line, format_row(header, row, line).length);
   }
-  return s;
+  return text + tail;
 }
 
 ReadOptions limited(std::size_t max_rows, double max_abs_value = 0.0) {
@@ -42,8 +54,8 @@ ReadOptions limited(std::size_t max_rows, double max_abs_value = 0.0) {
 }
 
 TEST(RunLogReaderLimits, AtTheRowLimitReadsOneRowPastIsRefused) {
-  EXPECT_TRUE(parse_run_log(kHeader + kColumns + rows(4), "run.csv", limited(4)).ok());
-  const ReadResult r = parse_run_log(kHeader + kColumns + rows(5), "run.csv", limited(4));
+  EXPECT_TRUE(parse_run_log(log_text(4), "run.csv", limited(4)).ok());
+  const ReadResult r = parse_run_log(log_text(5), "run.csv", limited(4));
   ASSERT_FALSE(r.ok());
   EXPECT_TRUE(r.over_row_limit);
   EXPECT_EQ(r.error->to_string(),
@@ -53,9 +65,9 @@ TEST(RunLogReaderLimits, AtTheRowLimitReadsOneRowPastIsRefused) {
 // The rows are counted before they are parsed: a log past the limit is refused for its
 // length even when a row past the limit is malformed (it is never parsed).
 TEST(RunLogReaderLimits, TheRowLimitComesBeforeAnyRowIsParsed) {
-  const std::string text = kHeader + kColumns + rows(5) + "not,a,row\n";
+  const std::string text = log_text(5, -0.1, "not,a,row\n");
   EXPECT_EQ(parse_run_log(text, "run.csv").error->message,
-            "3 fields, expected 8 as in the column header row");
+            "3 fields, expected 10 as in the column header row");
   EXPECT_TRUE(parse_run_log(text, "run.csv", limited(5)).over_row_limit);
 }
 
@@ -64,7 +76,7 @@ TEST(RunLogReaderLimits, ReadRunLogCountsWhileReading) {
       std::filesystem::temp_directory_path() / "excite_reader_limits_test.csv";
   {
     std::ofstream out(path, std::ios::binary);
-    out << kHeader << kColumns << rows(5);
+    out << log_text(5);
     for (int i = 0; i < 20'000; ++i) out << "past the limit, never parsed\n";
   }
   const ReadResult r = read_run_log(path.string(), limited(4));
@@ -77,10 +89,8 @@ TEST(RunLogReaderLimits, ReadRunLogCountsWhileReading) {
 }
 
 TEST(RunLogReaderLimits, AValueBeyondTheBoundIsNamedByRowKAndColumn) {
-  EXPECT_TRUE(parse_run_log(kHeader + kColumns + rows(4, "-1e12"), "run.csv", limited(10, 1e12))
-                  .ok());
-  const ReadResult r =
-      parse_run_log(kHeader + kColumns + rows(4, "-2e12"), "run.csv", limited(10, 1e12));
+  EXPECT_TRUE(parse_run_log(log_text(4, -1e12), "run.csv", limited(10, 1e12)).ok());
+  const ReadResult r = parse_run_log(log_text(4, -2e12), "run.csv", limited(10, 1e12));
   ASSERT_FALSE(r.ok());
   EXPECT_FALSE(r.over_row_limit);
   EXPECT_EQ(r.error->to_string(),
@@ -88,7 +98,7 @@ TEST(RunLogReaderLimits, AValueBeyondTheBoundIsNamedByRowKAndColumn) {
 }
 
 TEST(RunLogReaderLimits, WithoutLimitsAnyLengthAndFiniteValueReads) {
-  const ReadResult r = parse_run_log(kHeader + kColumns + rows(500, "1e300"), "run.csv");
+  const ReadResult r = parse_run_log(log_text(500, 1e300), "run.csv");
   ASSERT_TRUE(r.ok()) << r.error->to_string();
   EXPECT_EQ(r.log.rows(), 500U);
   EXPECT_EQ(r.log.du[1][2], 1e300);

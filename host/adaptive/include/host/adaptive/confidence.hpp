@@ -44,11 +44,11 @@
 namespace excite::host {
 
 struct StopRule {
-  double sigma_tolerance = kSigmaTolerance;      // of σ_n, relative (accuracy.hpp)
+  double sigma_tolerance = kSigmaTolerance;         // of σ_n, relative (accuracy.hpp)
   double angle_tolerance_deg = kAngleToleranceDeg;  // of v_n (accuracy.hpp)
-  double z = 1.96;                    // the interval: ±z SE (95 %)
-  bool residual_tests = false;        // every output's residual tests must pass too
-  bool colour = false;                // gain covariances inflated for coloured residuals
+  double z = 1.96;                                  // the interval: ±z SE (95 %)
+  bool residual_tests = false;                      // every output's residual tests must pass too
+  bool colour = false;  // gain covariances inflated for coloured residuals
 };
 
 struct Confidence {

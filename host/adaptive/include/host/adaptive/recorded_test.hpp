@@ -28,9 +28,9 @@ struct SimulatedTest {
   std::string plant;
   std::filesystem::path folder;
   std::uint64_t seed = 1;
-  double noise_variance = -1.0;      // < 0: the case study's
-  double perturb_percent = 0.0;      // > 0: the true plant perturbed for `seed` (linear plants)
-  std::vector<std::string> limits;   // --limit CV=LOW:HIGH texts (cv_limit_text.hpp)
+  double noise_variance = -1.0;     // < 0: the case study's
+  double perturb_percent = 0.0;     // > 0: the true plant perturbed for `seed` (linear plants)
+  std::vector<std::string> limits;  // --limit CV=LOW:HIGH texts (cv_limit_text.hpp)
   AdaptiveOptions adaptive;
 };
 void run_simulated_test(const SimulatedTest& test, std::ostream& out);

@@ -22,7 +22,8 @@ inline std::vector<runlog::RunLog> read_pooled_logs(const std::vector<std::strin
   std::size_t total = 0;
   for (const std::string& path : paths) {
     refuse_directory(path, "a run log (CSV)");
-    runlog::ReadResult r = runlog::read_run_log(path, limited_read_options({}, kMaxRunRows - total));
+    runlog::ReadResult r =
+        runlog::read_run_log(path, limited_read_options({}, kMaxRunRows - total));
     if (r.over_row_limit) {
       throw std::invalid_argument(
           path + ": more than " + std::to_string(kMaxRunRows) + " data rows in the " +

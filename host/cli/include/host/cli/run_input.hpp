@@ -8,9 +8,9 @@
 #include <string>
 
 #include "firmware/runlog/reader.hpp"
-#include "host/output/input_path.hpp"
 #include "host/identify/run_data.hpp"
 #include "host/identify/run_log_limits.hpp"
+#include "host/output/input_path.hpp"
 
 namespace excite::host::cli {
 
