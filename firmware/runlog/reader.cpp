@@ -485,6 +485,66 @@ class Parser {
   std::vector<std::string> column_names_;
 };
 
+// Data rows (lines neither blank nor `#` comments, less the column header row) counted in
+// chunks as they arrive, in fixed memory.
+class RowCounter {
+ public:
+  void add(std::string_view chunk) {
+    for (const char c : chunk) {
+      if (at_line_start_ && c != '#' && c != '\n' && c != '\r') ++lines_;
+      at_line_start_ = c == '\n';
+    }
+  }
+  std::size_t data_rows() const { return lines_ == 0 ? 0 : lines_ - 1; }
+
+ private:
+  std::size_t lines_ = 0;
+  bool at_line_start_ = true;
+};
+
+ReadResult refused(std::string_view file, std::string message) {
+  ReadResult r;
+  r.error = ReadError{std::string(file), 0, 0, std::move(message)};
+  return r;
+}
+
+ReadResult over_row_limit(std::string_view file, const ReadOptions& options) {
+  const std::string n = std::to_string(options.max_rows);
+  ReadResult r = refused(
+      file,
+      "more than " + n + " data rows, expected at most " + n +
+          (options.limits_source.empty() ? std::string() : " (" + options.limits_source + ")"));
+  r.over_row_limit = true;
+  return r;
+}
+
+// The first du or dy value beyond ±max_abs_value, column by column (inputs first).
+ReadResult check_values(ReadResult read, std::string_view file, const ReadOptions& options) {
+  if (!read.ok() || options.max_abs_value <= 0.0) return read;
+  const RunLog& log = read.log;
+  const auto check = [&](const std::vector<std::vector<double>>& columns,
+                         const std::vector<std::string>& names,
+                         const char* prefix) -> std::optional<ReadResult> {
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      for (std::size_t r = 0; r < columns[c].size(); ++r) {
+        const double v = columns[c][r];
+        if (std::fabs(v) <= options.max_abs_value) continue;
+        char text[160];
+        std::snprintf(text, sizeof text, "data row %zu (k = %llu), column %s", r + 1,
+                      static_cast<unsigned long long>(log.k[r]), prefix);
+        char value[80];
+        std::snprintf(value, sizeof value, " = %.6g, expected |value| <= %g", v,
+                      options.max_abs_value);
+        return refused(file, text + names[c] + value);
+      }
+    }
+    return std::nullopt;
+  };
+  if (auto bad = check(log.du, log.input_names, "du_")) return std::move(*bad);
+  if (auto bad = check(log.dy, log.output_names, "dy_")) return std::move(*bad);
+  return read;
+}
+
 }  // namespace
 
 std::string ReadError::to_string() const {
@@ -497,7 +557,10 @@ std::string ReadError::to_string() const {
 
 ReadResult parse_run_log(std::string_view text, std::string_view file_name,
                          const ReadOptions& options) {
-  return Parser(text, file_name, options).run();
+  RowCounter rows;
+  rows.add(text);
+  if (rows.data_rows() > options.max_rows) return over_row_limit(file_name, options);
+  return check_values(Parser(text, file_name, options).run(), file_name, options);
 }
 
 ReadResult read_run_log(const std::string& path, const ReadOptions& options) {
@@ -510,7 +573,15 @@ ReadResult read_run_log(const std::string& path, const ReadOptions& options) {
   std::string text;
   char buf[65536];
   std::size_t got = 0;
-  while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) text.append(buf, got);
+  RowCounter rows;
+  while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) {
+    rows.add(std::string_view(buf, got));
+    if (rows.data_rows() > options.max_rows) {
+      std::fclose(f);
+      return over_row_limit(path, options);
+    }
+    text.append(buf, got);
+  }
   const bool failed = std::ferror(f) != 0;
   std::fclose(f);
   if (failed) {

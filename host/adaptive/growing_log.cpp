@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "firmware/runlog/format.hpp"
+#include "host/identify/run_log_limits.hpp"
 
 namespace excite::host {
 
@@ -33,7 +34,7 @@ std::optional<runlog::RunLog> read_growing_log(const std::filesystem::path& path
   const std::size_t last = text.rfind('\n');
   text.resize(last == std::string::npos ? 0 : last + 1);  // a row being written is not read
   if (!header_complete(text)) return std::nullopt;
-  runlog::ReadOptions options;
+  runlog::ReadOptions options = limited_read_options();  // the host's row and value limits
   options.min_rows = 0;
   runlog::ReadResult r = runlog::parse_run_log(text, path.string(), options);
   if (!r.ok()) throw std::runtime_error(r.error->to_string());

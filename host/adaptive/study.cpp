@@ -9,13 +9,13 @@
 
 #include "host/adaptive/plant_runner.hpp"
 #include "host/adaptive/segments.hpp"
-#include "host/campaign/parallel.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/table.hpp"
-#include "host/montecarlo/accuracy.hpp"
-#include "host/montecarlo/perturb.hpp"
+#include "host/measures/accuracy.hpp"
 #include "host/montecarlo/summary.hpp"
+#include "host/process/parallel.hpp"
 #include "sim/library/library.hpp"
+#include "sim/library/perturb.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::host {
@@ -39,7 +39,7 @@ double peak_ratio(const Eigen::MatrixXd& dy, const CvLimits& limits) {
 SeedOutcome run_seed(const StudyOptions& o, const PriorKnowledge& prior, double noise_variance,
                      std::uint64_t seed) {
   auto plant = true_plant(o.plant, o.perturb_percent, seed);
-  const montecarlo::TruePlant truth = montecarlo::true_plant_of(plant->static_gain());
+  const TruePlant truth = true_plant_of(plant->static_gain());
   PlantRunner runner(*plant, prior.sample_time_min, noise_variance, seed);
   AdaptiveOptions adaptive = o.adaptive;
   adaptive.identify.threads = 1;
@@ -52,7 +52,7 @@ SeedOutcome run_seed(const StudyOptions& o, const PriorKnowledge& prior, double 
   s.stop_reason = r.stop_reason;
   s.sigma_n_error_at_stop = s.angle_at_stop_deg = kNaN;
   for (const Reestimate& e : r.estimates) {
-    const montecarlo::Accuracy a = montecarlo::judge(truth, e.result.gain);
+    const Accuracy a = judge(truth, e.result.gain);
     s.estimate_min.push_back(e.length_min);
     s.estimate_met.push_back(a.met);
     s.estimate_need.push_back(e.confidence.need);
@@ -85,10 +85,10 @@ bool met_at(const SeedOutcome& s, double length_min) {
 
 std::unique_ptr<sim::Plant> true_plant(const std::string& plant, double perturb_percent,
                                        std::uint64_t seed) {
-  montecarlo::check_perturbable(plant, perturb_percent);
+  sim::check_perturbable(plant, perturb_percent);
   if (perturb_percent <= 0.0) return sim::make_plant(plant);
   return sim::make_linear_plant(
-      plant, montecarlo::perturbed_plant(sim::library_plant(plant), perturb_percent, seed));
+      plant, sim::perturbed_plant(sim::library_plant(plant), perturb_percent, seed));
 }
 
 StudyResult run_study(const StudyOptions& o) {
@@ -99,7 +99,7 @@ StudyResult run_study(const StudyOptions& o) {
     throw std::invalid_argument("threads = " + std::to_string(o.threads) + ", expected >= 1");
   }
   const PriorKnowledge prior = case_study(o.plant);
-  montecarlo::check_perturbable(o.plant, o.perturb_percent);
+  sim::check_perturbable(o.plant, o.perturb_percent);
   const double noise_variance =
       o.noise_variance >= 0.0 ? o.noise_variance : case_study_noise_variance(o.plant);
 

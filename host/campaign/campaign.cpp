@@ -7,7 +7,7 @@
 #include <mutex>
 #include <stdexcept>
 
-#include "host/campaign/parallel.hpp"
+#include "host/process/parallel.hpp"
 #include "host/campaign/scored_fit.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/presets.hpp"

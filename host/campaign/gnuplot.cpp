@@ -10,10 +10,10 @@
 #include <iterator>
 #include <stdexcept>
 
-#include "host/campaign/parallel.hpp"
 #include "host/campaign/svg_compact.hpp"
 #include "host/output/whole_file.hpp"
 #include "host/process/child_process.hpp"
+#include "host/process/parallel.hpp"
 
 namespace excite::host {
 namespace {

@@ -14,9 +14,9 @@
 
 #include "host/campaign/gnuplot.hpp"
 #include "host/campaign/model_views.hpp"
-#include "host/campaign/parallel.hpp"
 #include "host/campaign/report_figures.hpp"
 #include "host/output/whole_file.hpp"
+#include "host/process/parallel.hpp"
 
 namespace excite::host {
 namespace {
@@ -210,6 +210,283 @@ nlohmann::json conventions(const CampaignResult& r) {
           {"text", convention_lines(r)}};
 }
 
+// The report's figures: the gnuplot scripts this run wrote (only these are run), drawn as
+// SVGs; returns the step responses' horizon and sample time the quality section states.
+struct StepHorizon {
+  int samples = 0;
+  double sample_time_min = 1.0;
+};
+StepHorizon draw_figures(const CampaignResult& r, const sim::Plant& plant,
+                         const std::filesystem::path& dir, int threads) {
+  const auto figures = dir / "figures";
+  std::filesystem::create_directories(figures);
+  make_figure_sources(figures);
+  std::vector<std::string> scripts = write_report_figure_scripts(r, plant, figures, threads);
+  const int horizon = report_step_horizon(r);
+  const double T = r.experiments.empty() ? 1.0 : r.experiments.front().sample_time_min;
+  const Eigen::MatrixXd truth = true_unit_steps(*sim::make_plant(r.plant), horizon, T);
+  std::vector<std::vector<std::string>> views(r.experiments.size());
+  parallel_for(static_cast<int>(r.experiments.size()), threads, [&](int k) {
+    views[static_cast<std::size_t>(k)] = write_model_view_scripts(
+        r.experiments[static_cast<std::size_t>(k)], r, truth, horizon, figures);
+  });
+  for (const auto& v : views) scripts.insert(scripts.end(), v.begin(), v.end());
+  run_gnuplot_scripts(figures, scripts, threads);
+  remove_figure_sources(figures);  // the report links the SVGs only
+  return {horizon, T};
+}
+
+// A link to an experiment's file, "–" where there is none.
+std::string link_to(const std::vector<std::string>& paths, std::size_t k, const char* text) {
+  return k < paths.size() && !paths[k].empty()
+             ? "<a href='" + paths[k] + "'>" + std::string(text) + "</a>"
+             : std::string("–");
+}
+
+// Title, what the study is, the true and design singular values, the conventions.
+void head_section(std::ostream& h, const CampaignResult& r, const std::string& out_unit,
+                  const std::string& in_unit) {
+  h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>excite campaign: "
+    << r.plant << "</title><style>" << report_style() << "</style></head><body>";
+  h << "<h1>Identification campaign: " << r.plant << "</h1>";
+  h << "<p>The study of thesis chapter 6 on <b>" << r.plant
+    << "</b>: every design of Table 6.1 simulated with measurement noise, a model identified "
+       "per output with "
+    << model_class_text(r)
+    << ", and every model validated on every other experiment. Directional designs used the "
+       "gain directions of the <b>"
+    << r.design_gain_source << "</b>. Rows of directional designs are shaded.</p>";
+  h << "<p>True singular values of G(0) " << gain_unit(out_unit, in_unit) << ":";
+  for (Eigen::Index i = 0; i < r.true_gain.singular_values.size(); ++i)
+    h << ' ' << general(r.true_gain.singular_values(i));
+  h << " (κ = " << general(r.true_gain.condition_number) << "); used for the designs:";
+  for (Eigen::Index i = 0; i < r.design_gain.singular_values.size(); ++i) {
+    h << ' ' << general(r.design_gain.singular_values(i));
+  }
+  h << "; the step test's estimate:";
+  if (r.step_gain) {
+    for (Eigen::Index i = 0; i < r.step_gain->singular_values.size(); ++i)
+      h << ' ' << general(r.step_gain->singular_values(i));
+  } else {
+    h << " none";
+  }
+  h << ".</p><h2>Conventions</h2><ul>";
+  for (const std::string& line : convention_lines(r)) h << "<li>" << line << "</li>";
+  h << "</ul>";
+}
+
+// What the data show: every metric, median first, for both groups.
+void metrics_section(std::ostream& h, const CampaignResult& r) {
+  struct Metric {
+    const char* name;
+    const char* unit;
+    bool higher_is_better;
+    double (*field)(const Experiment&);
+    int digits;
+  };
+  const Metric metrics[] = {
+      {"output balance, noise-free (ratio min/max of the projection std, 1 = balanced)", "–", true,
+       [](const Experiment& e) { return e.balance_clean.ratio; }, 3},
+      {"Υ = det(corr(Y)), noise-free (1 = uncorrelated outputs)", "–", true,
+       [](const Experiment& e) { return e.balance_clean.upsilon; }, 3},
+      {"own fit", "%", true, [](const Experiment& e) { return e.fit_avg; }, 1},
+      {"cross-fit, average over the other runs", "%", true,
+       [](const Experiment& e) { return e.crossfit_avg; }, 1},
+      {"cross-fit, worst", "%", true, [](const Experiment& e) { return e.crossfit_worst; }, 1},
+      {"loss against the truth, average over the other runs (true plant's fit − cross-fit)",
+       "points", false, [](const Experiment& e) { return e.loss_avg; }, 2},
+      {"loss against the truth, worst", "points", false,
+       [](const Experiment& e) { return e.loss_worst; }, 2},
+      {"crest factor over the experiment", "–", false, [](const Experiment& e) { return e.cf_avg; },
+       3},
+  };
+  h << "<h2>What the data show</h2><p class='note'>Each metric over the directional designs "
+       "and over the others: median (which one outlier cannot move), mean, range and count. "
+       "The verdict compares medians.</p><table><tr><th>metric</th><th>unit</th><th>group</th>"
+       "<th>median</th><th>mean</th><th>min</th><th>max</th><th>designs</th><th>verdict (by "
+       "median)</th></tr>";
+  for (const Metric& m : metrics) {
+    const GroupStats directional_stats = stats_over(r, true, m.field);
+    const GroupStats other = stats_over(r, false, m.field);
+    const bool dir_better = m.higher_is_better ? directional_stats.median > other.median
+                                               : directional_stats.median < other.median;
+    const std::string verdict =
+        !(std::isfinite(directional_stats.median) && std::isfinite(other.median)) ? "–"
+        : directional_stats.median == other.median                                ? "equal"
+        : dir_better ? "directional better"
+                     : "directional <b>not</b> better";
+    int row = 0;
+    for (const auto& [group, g] :
+         {std::pair<const char*, GroupStats>{"directional", directional_stats},
+          std::pair<const char*, GroupStats>{"others", other}}) {
+      h << "<tr" << (row == 0 ? " class='dir'" : "") << ">";
+      if (row == 0)
+        h << "<td rowspan='2'>" << m.name << "</td><td rowspan='2'>" << m.unit << "</td>";
+      h << "<td>" << group << "</td><td><b>" << fixed(g.median, m.digits) << "</b></td><td>"
+        << fixed(g.mean, m.digits) << "</td><td>" << fixed(g.min, m.digits) << "</td><td>"
+        << fixed(g.max, m.digits) << "</td><td>" << g.count
+        << (g.missing ? " (+" + std::to_string(g.missing) + " without a value)" : "") << "</td>";
+      if (row == 0) h << "<td rowspan='2'>" << verdict << "</td>";
+      h << "</tr>";
+      ++row;
+    }
+  }
+  h << "</table>";
+}
+
+// Inputs: plant-friendliness (SPEC §5), one row per design.
+void inputs_section(std::ostream& h, const CampaignResult& r) {
+  h << "<h2>Inputs: plant-friendliness (SPEC §5)</h2><table><tr><th>#</th><th>design</th>"
+       "<th>samples</th><th>duration [h min]</th><th>CF period [–]</th><th>CF per input, "
+       "period [–]</th><th>CF experiment [–]</th><th>PIPS avg [%]</th><th>limit scale "
+       "[–]</th></tr>";
+  for (const Experiment& e : r.experiments) {
+    h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.number << ' '
+      << e.name << "</td><td>" << (directional(e.name) ? "directional" : "inputs") << "</td><td>"
+      << e.U.rows() << "</td><td>"
+      << duration_text(static_cast<double>(e.U.rows()) * e.sample_time_min) << "</td><td>"
+      << fixed(e.cf_period_avg) << "</td><td>" << per_input_crest_factors(e.U) << "</td><td>"
+      << fixed(e.cf_avg) << "</td><td>" << fixed(e.pips_avg, 1) << "</td><td>"
+      << fixed(e.limit_scale, 4) << "</td></tr>";
+  }
+  h << "</table>";
+}
+
+// Models: fit, cross-fit and the loss against the truth, one row per model.
+void models_section(std::ostream& h, const CampaignResult& r, const ReportArtifacts& artifacts) {
+  h << "<h2>Models: fit and cross-fit (5.5.1, SPEC §6)</h2><p class='note'>"
+    << (r.truth_known
+            ? "A cross-fit is bounded by the validation run's noise, which no model predicts: "
+              "'truth' is the true plant's fit on the same run (same rows, same rule), the most "
+              "any model can reach there. The <b>loss against the truth</b>, truth − cross-fit "
+              "in points of fit %, is what a model loses through being wrong, whatever the "
+              "run's noise (host/measures/cross_fit.hpp); the worst cross-fit mostly names the "
+              "noisiest run ('worst on')."
+            : "Measured data: no truth is known, so 'worst on' names the run that bounds each "
+              "model's worst cross-fit — often the noisiest run, which bounds every model "
+              "alike.")
+    << "</p><table><tr><th>model from</th><th>own fit [%]</th><th>truth, own run [%]</th>"
+       "<th>cross-fit avg [%]</th><th>best [%]</th><th>worst [%]</th><th>worst on</th>"
+       "<th>truth there [%]</th><th>loss avg [points]</th><th>loss worst [points]</th>"
+       "<th>loss worst on</th><th>run log</th><th>model file</th></tr>";
+  for (std::size_t k = 0; k < r.experiments.size(); ++k) {
+    const Experiment& e = r.experiments[k];
+    h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.name << "</td><td>"
+      << fixed(e.fit_avg, 1) << "</td><td>" << fixed(e.truth_fit, 1) << "</td><td>"
+      << fixed(e.crossfit_avg, 1) << "</td><td>" << fixed(e.crossfit_best, 1) << "</td><td>"
+      << fixed(e.crossfit_worst, 1) << "</td><td>" << run_name(r, e.crossfit_worst_on)
+      << "</td><td>" << fixed(e.truth_fit_on_worst, 1) << "</td><td>" << fixed(e.loss_avg, 2)
+      << "</td><td>" << fixed(e.loss_worst, 2) << "</td><td>" << run_name(r, e.loss_worst_on)
+      << "</td><td>" << link_to(artifacts.run_logs, k, "run.csv") << "</td><td>"
+      << link_to(artifacts.models, k, "model.json") << "</td></tr>";
+  }
+  h << "</table>";
+}
+
+// The identified G(0)'s singular values beside the true ones.
+void directions_section(std::ostream& h, const CampaignResult& r, const std::string& out_unit,
+                        const std::string& in_unit) {
+  const Eigen::Index n = r.true_gain.singular_values.size();
+  h << "<h2>Identified gain directions</h2><p class='note'>Singular values of the identified "
+       "G(0) in "
+    << gain_unit(out_unit, in_unit) << "; κ = σ₁/σₙ [–].</p><table><tr><th>model from</th>";
+  for (Eigen::Index i = 0; i < n; ++i) h << "<th>σ" << i + 1 << "</th>";
+  h << "<th>κ [–]</th></tr><tr><td><b>true</b></td>";
+  for (Eigen::Index i = 0; i < n; ++i)
+    h << "<td><b>" << general(r.true_gain.singular_values(i)) << "</b></td>";
+  h << "<td><b>" << general(r.true_gain.condition_number) << "</b></td></tr>";
+  for (const Experiment& e : r.experiments) {
+    h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.name << "</td>";
+    for (Eigen::Index i = 0; i < n; ++i) {
+      h << "<td>" << (e.identified.gain ? general(e.identified.gain->singular_values(i)) : "–")
+        << "</td>";
+    }
+    h << "<td>" << (e.identified.gain ? general(e.identified.gain->condition_number) : "–")
+      << "</td></tr>";
+  }
+  h << "</table>";
+}
+
+// Output balance (5.5.2, 6.2.1), noise-free and noisy.
+void balance_section(std::ostream& h, const CampaignResult& r) {
+  const Eigen::Index n = r.true_gain.singular_values.size();
+  h << "<h2>Output balance (5.5.2, 6.2.1)</h2><p class='note'>Standard deviation of the "
+       "projections w_iᵀy on the true output gain directions "
+    << common_unit(r.output_units)
+    << ", their ratio min/max [–], and Υ = det(corr(Y)) [–]: on the noise-free outputs (a "
+       "property of the excitation), and on the noisy outputs beside them.</p><table><tr><th>"
+       "design</th>";
+  for (Eigen::Index i = 0; i < n; ++i) h << "<th>std w" << i + 1 << "ᵀy (noise-free)</th>";
+  h << "<th>ratio noise-free</th><th>ratio noisy</th><th>Υ noise-free</th><th>Υ noisy</th></tr>";
+  for (const Experiment& e : r.experiments) {
+    h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.name << "</td>";
+    for (Eigen::Index i = 0; i < e.balance_clean.projection_std.size(); ++i)
+      h << "<td>" << general(e.balance_clean.projection_std(i)) << "</td>";
+    h << "<td>" << fixed(e.balance_clean.ratio) << "</td><td>" << fixed(e.balance_noisy.ratio)
+      << "</td><td>" << general(e.balance_clean.upsilon) << "</td><td>"
+      << general(e.balance_noisy.upsilon) << "</td></tr>";
+  }
+  h << "</table>";
+}
+
+// The campaign's two summary figures.
+void figures_section(std::ostream& h) {
+  h << "<h2>Figures</h2><h3>Output projections, strongest against weakest direction</h3>"
+       "<img src='figures/projections.svg' alt='projections'>"
+       "<h3>Singular values of G(jω): true plant and identified models</h3><img "
+       "src='figures/sigma.svg' alt='sigma'>";
+}
+
+// Model quality per design: parameters, step responses with bands, residual tests.
+void quality_section(std::ostream& h, const CampaignResult& r, const ReportArtifacts& artifacts,
+                     const StepHorizon& steps) {
+  h << "<h2>Model quality, per design</h2><p class='note'>For each model: its parameters with "
+       "1σ standard errors (σ̂√diag((JᵀJ)⁻¹), SSE/(N−P), host/identify/README.md); its "
+       "unit-step responses with a ±2σ band obtained by <b>linearised propagation</b> of the "
+       "element's 4 × 4 parameter covariance (σ_s(t)² = gᵀCg, g = ∂s/∂θ; a parameter on its "
+       "bound counts as exact, the covariance between elements of a row is left out) over "
+       "the first "
+    << duration_text(steps.samples * steps.sample_time_min)
+    << " (the median settling time of the models), against the true plant's unit step "
+       "(dashed); measured against predicted outputs; and the residual autocorrelation and "
+       "cross-correlation with every input for lags up to "
+    << kResidualLags
+    << " samples, with the 99 % limits ±2.58/√N of a white residual independent of the "
+       "inputs. The standard errors assume the model structure is right.</p>";
+  for (std::size_t k = 0; k < r.experiments.size(); ++k) {
+    const Experiment& e = r.experiments[k];
+    h << "<details><summary>" << e.number << ' ' << e.name << ": own fit " << fixed(e.fit_avg, 1)
+      << " %, worst cross-fit " << fixed(e.crossfit_worst, 1) << " % (on "
+      << run_name(r, e.crossfit_worst_on) << ")"
+      << (std::isfinite(e.loss_avg) ? ", loss against the truth " + fixed(e.loss_avg, 2) +
+                                          " points average, " + fixed(e.loss_worst, 2) + " worst"
+                                    : std::string())
+      << "</summary><p>Run log: " << link_to(artifacts.run_logs, k, "run.csv")
+      << ", model: " << link_to(artifacts.models, k, "model.json") << "</p>"
+      << parameter_table_html(e, r);
+    for (const auto& [view, alt] :
+         {std::pair<const char*, const char*>{"-steps.svg", " step responses"},
+          {"-fit.svg", " measured and predicted"},
+          {"-residuals.svg", " residual correlations"}}) {
+      h << deferred_image("figures/" + e.name + view, e.name + alt);
+    }
+    h << "</details>";
+  }
+  // Loads a section's figures when it is opened (see deferred_image).
+  h << "<script>const load=d=>{if(d.open)for(const i of d.querySelectorAll('img[data-src]'))"
+       "{i.src=i.dataset.src;i.removeAttribute('data-src')}};for(const d of "
+       "document.querySelectorAll('details')){load(d);d.addEventListener('toggle',()=>load(d))}"
+       "</script>";
+}
+
+// Every experiment's inputs and outputs.
+void io_section(std::ostream& h, const CampaignResult& r) {
+  h << "<h2>Inputs and outputs of each experiment</h2>";
+  for (const Experiment& e : r.experiments)
+    h << "<img src='figures/" << e.name << ".svg' alt='" << e.name << "'>";
+  h << "</body></html>\n";
+}
+
 }  // namespace
 
 const char* report_style() {
@@ -269,244 +546,19 @@ void write_summary(const CampaignResult& r, const std::filesystem::path& dir) {
 
 void write_report(const CampaignResult& r, const sim::Plant& plant,
                   const std::filesystem::path& dir, const ReportArtifacts& artifacts, int threads) {
-  const auto figures = dir / "figures";
-  std::filesystem::create_directories(figures);
-  make_figure_sources(figures);
-  // The scripts this run wrote: only these are run.
-  std::vector<std::string> scripts = write_report_figure_scripts(r, plant, figures, threads);
-  const int horizon = report_step_horizon(r);
-  const double T = r.experiments.empty() ? 1.0 : r.experiments.front().sample_time_min;
-  const Eigen::MatrixXd truth = true_unit_steps(*sim::make_plant(r.plant), horizon, T);
-  std::vector<std::vector<std::string>> views(r.experiments.size());
-  parallel_for(static_cast<int>(r.experiments.size()), threads, [&](int k) {
-    views[static_cast<std::size_t>(k)] = write_model_view_scripts(
-        r.experiments[static_cast<std::size_t>(k)], r, truth, horizon, figures);
-  });
-  for (const auto& v : views) scripts.insert(scripts.end(), v.begin(), v.end());
-  run_gnuplot_scripts(figures, scripts, threads);
-  remove_figure_sources(figures);  // the report links the SVGs only
-
+  const StepHorizon steps = draw_figures(r, plant, dir, threads);
   const std::string out_unit = common_unit_token(r.output_units);
   const std::string in_unit = common_unit_token(r.input_units);
   std::ostringstream h;
-  h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>excite campaign: "
-    << r.plant << "</title><style>" << report_style() << "</style></head><body>";
-  h << "<h1>Identification campaign: " << r.plant << "</h1>";
-  h << "<p>The study of thesis chapter 6 on <b>" << r.plant
-    << "</b>: every design of Table 6.1 simulated with measurement noise, a model identified "
-       "per output with "
-    << model_class_text(r)
-    << ", and every model validated on every other experiment. Directional designs used the "
-       "gain directions of the <b>"
-    << r.design_gain_source << "</b>. Rows of directional designs are shaded.</p>";
-  h << "<p>True singular values of G(0) " << gain_unit(out_unit, in_unit) << ":";
-  for (Eigen::Index i = 0; i < r.true_gain.singular_values.size(); ++i)
-    h << ' ' << general(r.true_gain.singular_values(i));
-  h << " (κ = " << general(r.true_gain.condition_number) << "); used for the designs:";
-  for (Eigen::Index i = 0; i < r.design_gain.singular_values.size(); ++i) {
-    h << ' ' << general(r.design_gain.singular_values(i));
-  }
-  h << "; the step test's estimate:";
-  if (r.step_gain) {
-    for (Eigen::Index i = 0; i < r.step_gain->singular_values.size(); ++i)
-      h << ' ' << general(r.step_gain->singular_values(i));
-  } else {
-    h << " none";
-  }
-  h << ".</p><h2>Conventions</h2><ul>";
-  for (const std::string& line : convention_lines(r)) h << "<li>" << line << "</li>";
-  h << "</ul>";
-
-  // What the data show: every metric, median first, for both groups.
-  struct Metric {
-    const char* name;
-    const char* unit;
-    bool higher_is_better;
-    double (*field)(const Experiment&);
-    int digits;
-  };
-  const Metric metrics[] = {
-      {"output balance, noise-free (ratio min/max of the projection std, 1 = balanced)", "–", true,
-       [](const Experiment& e) { return e.balance_clean.ratio; }, 3},
-      {"Υ = det(corr(Y)), noise-free (1 = uncorrelated outputs)", "–", true,
-       [](const Experiment& e) { return e.balance_clean.upsilon; }, 3},
-      {"own fit", "%", true, [](const Experiment& e) { return e.fit_avg; }, 1},
-      {"cross-fit, average over the other runs", "%", true,
-       [](const Experiment& e) { return e.crossfit_avg; }, 1},
-      {"cross-fit, worst", "%", true, [](const Experiment& e) { return e.crossfit_worst; }, 1},
-      {"loss against the truth, average over the other runs (true plant's fit − cross-fit)",
-       "points", false, [](const Experiment& e) { return e.loss_avg; }, 2},
-      {"loss against the truth, worst", "points", false,
-       [](const Experiment& e) { return e.loss_worst; }, 2},
-      {"crest factor over the experiment", "–", false, [](const Experiment& e) { return e.cf_avg; },
-       3},
-  };
-  h << "<h2>What the data show</h2><p class='note'>Each metric over the directional designs "
-       "and over the others: median (which one outlier cannot move), mean, range and count. "
-       "The verdict compares medians.</p><table><tr><th>metric</th><th>unit</th><th>group</th>"
-       "<th>median</th><th>mean</th><th>min</th><th>max</th><th>designs</th><th>verdict (by "
-       "median)</th></tr>";
-  for (const Metric& m : metrics) {
-    const GroupStats directional_stats = stats_over(r, true, m.field);
-    const GroupStats other = stats_over(r, false, m.field);
-    const bool dir_better = m.higher_is_better ? directional_stats.median > other.median
-                                               : directional_stats.median < other.median;
-    const std::string verdict =
-        !(std::isfinite(directional_stats.median) && std::isfinite(other.median)) ? "–"
-        : directional_stats.median == other.median                                ? "equal"
-        : dir_better ? "directional better"
-                     : "directional <b>not</b> better";
-    int row = 0;
-    for (const auto& [group, g] :
-         {std::pair<const char*, GroupStats>{"directional", directional_stats},
-          std::pair<const char*, GroupStats>{"others", other}}) {
-      h << "<tr" << (row == 0 ? " class='dir'" : "") << ">";
-      if (row == 0)
-        h << "<td rowspan='2'>" << m.name << "</td><td rowspan='2'>" << m.unit << "</td>";
-      h << "<td>" << group << "</td><td><b>" << fixed(g.median, m.digits) << "</b></td><td>"
-        << fixed(g.mean, m.digits) << "</td><td>" << fixed(g.min, m.digits) << "</td><td>"
-        << fixed(g.max, m.digits) << "</td><td>" << g.count
-        << (g.missing ? " (+" + std::to_string(g.missing) + " without a value)" : "") << "</td>";
-      if (row == 0) h << "<td rowspan='2'>" << verdict << "</td>";
-      h << "</tr>";
-      ++row;
-    }
-  }
-  h << "</table>";
-
-  h << "<h2>Inputs: plant-friendliness (SPEC §5)</h2><table><tr><th>#</th><th>design</th>"
-       "<th>samples</th><th>duration [h min]</th><th>CF period [–]</th><th>CF per input, "
-       "period [–]</th><th>CF experiment [–]</th><th>PIPS avg [%]</th><th>limit scale "
-       "[–]</th></tr>";
-  for (const Experiment& e : r.experiments) {
-    h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.number << ' '
-      << e.name << "</td><td>" << (directional(e.name) ? "directional" : "inputs") << "</td><td>"
-      << e.U.rows() << "</td><td>"
-      << duration_text(static_cast<double>(e.U.rows()) * e.sample_time_min) << "</td><td>"
-      << fixed(e.cf_period_avg) << "</td><td>" << per_input_crest_factors(e.U) << "</td><td>"
-      << fixed(e.cf_avg) << "</td><td>" << fixed(e.pips_avg, 1) << "</td><td>"
-      << fixed(e.limit_scale, 4) << "</td></tr>";
-  }
-  h << "</table>";
-
-  h << "<h2>Models: fit and cross-fit (5.5.1, SPEC §6)</h2><p class='note'>"
-    << (r.truth_known
-            ? "A cross-fit is bounded by the validation run's noise, which no model predicts: "
-              "'truth' is the true plant's fit on the same run (same rows, same rule), the most "
-              "any model can reach there. The <b>loss against the truth</b>, truth − cross-fit "
-              "in points of fit %, is what a model loses through being wrong, whatever the "
-              "run's noise (host/measures/cross_fit.hpp); the worst cross-fit mostly names the "
-              "noisiest run ('worst on')."
-            : "Measured data: no truth is known, so 'worst on' names the run that bounds each "
-              "model's worst cross-fit — often the noisiest run, which bounds every model "
-              "alike.")
-    << "</p><table><tr><th>model from</th><th>own fit [%]</th><th>truth, own run [%]</th>"
-       "<th>cross-fit avg [%]</th><th>best [%]</th><th>worst [%]</th><th>worst on</th>"
-       "<th>truth there [%]</th><th>loss avg [points]</th><th>loss worst [points]</th>"
-       "<th>loss worst on</th><th>run log</th><th>model file</th></tr>";
-  const auto link = [&](const std::vector<std::string>& paths, std::size_t k, const char* text) {
-    return k < paths.size() && !paths[k].empty()
-               ? "<a href='" + paths[k] + "'>" + std::string(text) + "</a>"
-               : std::string("–");
-  };
-  for (std::size_t k = 0; k < r.experiments.size(); ++k) {
-    const Experiment& e = r.experiments[k];
-    h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.name << "</td><td>"
-      << fixed(e.fit_avg, 1) << "</td><td>" << fixed(e.truth_fit, 1) << "</td><td>"
-      << fixed(e.crossfit_avg, 1) << "</td><td>" << fixed(e.crossfit_best, 1) << "</td><td>"
-      << fixed(e.crossfit_worst, 1) << "</td><td>" << run_name(r, e.crossfit_worst_on)
-      << "</td><td>" << fixed(e.truth_fit_on_worst, 1) << "</td><td>" << fixed(e.loss_avg, 2)
-      << "</td><td>" << fixed(e.loss_worst, 2) << "</td><td>" << run_name(r, e.loss_worst_on)
-      << "</td><td>" << link(artifacts.run_logs, k, "run.csv") << "</td><td>"
-      << link(artifacts.models, k, "model.json") << "</td></tr>";
-  }
-  h << "</table>";
-
-  const Eigen::Index n = r.true_gain.singular_values.size();
-  h << "<h2>Identified gain directions</h2><p class='note'>Singular values of the identified "
-       "G(0) in "
-    << gain_unit(out_unit, in_unit) << "; κ = σ₁/σₙ [–].</p><table><tr><th>model from</th>";
-  for (Eigen::Index i = 0; i < n; ++i) h << "<th>σ" << i + 1 << "</th>";
-  h << "<th>κ [–]</th></tr><tr><td><b>true</b></td>";
-  for (Eigen::Index i = 0; i < n; ++i)
-    h << "<td><b>" << general(r.true_gain.singular_values(i)) << "</b></td>";
-  h << "<td><b>" << general(r.true_gain.condition_number) << "</b></td></tr>";
-  for (const Experiment& e : r.experiments) {
-    h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.name << "</td>";
-    for (Eigen::Index i = 0; i < n; ++i) {
-      h << "<td>" << (e.identified.gain ? general(e.identified.gain->singular_values(i)) : "–")
-        << "</td>";
-    }
-    h << "<td>" << (e.identified.gain ? general(e.identified.gain->condition_number) : "–")
-      << "</td></tr>";
-  }
-  h << "</table>";
-
-  h << "<h2>Output balance (5.5.2, 6.2.1)</h2><p class='note'>Standard deviation of the "
-       "projections w_iᵀy on the true output gain directions "
-    << common_unit(r.output_units)
-    << ", their ratio min/max [–], and Υ = det(corr(Y)) [–]: on the noise-free outputs (a "
-       "property of the excitation), and on the noisy outputs beside them.</p><table><tr><th>"
-       "design</th>";
-  for (Eigen::Index i = 0; i < n; ++i) h << "<th>std w" << i + 1 << "ᵀy (noise-free)</th>";
-  h << "<th>ratio noise-free</th><th>ratio noisy</th><th>Υ noise-free</th><th>Υ noisy</th></tr>";
-  for (const Experiment& e : r.experiments) {
-    h << "<tr" << (directional(e.name) ? " class='dir'" : "") << "><td>" << e.name << "</td>";
-    for (Eigen::Index i = 0; i < e.balance_clean.projection_std.size(); ++i)
-      h << "<td>" << general(e.balance_clean.projection_std(i)) << "</td>";
-    h << "<td>" << fixed(e.balance_clean.ratio) << "</td><td>" << fixed(e.balance_noisy.ratio)
-      << "</td><td>" << general(e.balance_clean.upsilon) << "</td><td>"
-      << general(e.balance_noisy.upsilon) << "</td></tr>";
-  }
-  h << "</table>";
-
-  h << "<h2>Figures</h2><h3>Output projections, strongest against weakest direction</h3>"
-       "<img src='figures/projections.svg' alt='projections'>"
-       "<h3>Singular values of G(jω): true plant and identified models</h3><img "
-       "src='figures/sigma.svg' alt='sigma'>";
-
-  h << "<h2>Model quality, per design</h2><p class='note'>For each model: its parameters with "
-       "1σ standard errors (σ̂√diag((JᵀJ)⁻¹), SSE/(N−P), host/identify/README.md); its "
-       "unit-step responses with a ±2σ band obtained by <b>linearised propagation</b> of the "
-       "element's 4 × 4 parameter covariance (σ_s(t)² = gᵀCg, g = ∂s/∂θ; a parameter on its "
-       "bound counts as exact, the covariance between elements of a row is left out) over "
-       "the first "
-    << duration_text(horizon * T)
-    << " (the median settling time of the models), against the true plant's unit step "
-       "(dashed); measured against predicted outputs; and the residual autocorrelation and "
-       "cross-correlation with every input for lags up to "
-    << kResidualLags
-    << " samples, with the 99 % limits ±2.58/√N of a white residual independent of the "
-       "inputs. The standard errors assume the model structure is right.</p>";
-  for (std::size_t k = 0; k < r.experiments.size(); ++k) {
-    const Experiment& e = r.experiments[k];
-    h << "<details><summary>" << e.number << ' ' << e.name << ": own fit " << fixed(e.fit_avg, 1)
-      << " %, worst cross-fit " << fixed(e.crossfit_worst, 1) << " % (on "
-      << run_name(r, e.crossfit_worst_on) << ")"
-      << (std::isfinite(e.loss_avg) ? ", loss against the truth " + fixed(e.loss_avg, 2) +
-                                          " points average, " + fixed(e.loss_worst, 2) + " worst"
-                                    : std::string())
-      << "</summary><p>Run log: " << link(artifacts.run_logs, k, "run.csv")
-      << ", model: " << link(artifacts.models, k, "model.json") << "</p>"
-      << parameter_table_html(e, r);
-    for (const auto& [view, alt] :
-         {std::pair<const char*, const char*>{"-steps.svg", " step responses"},
-          {"-fit.svg", " measured and predicted"},
-          {"-residuals.svg", " residual correlations"}}) {
-      h << deferred_image("figures/" + e.name + view, e.name + alt);
-    }
-    h << "</details>";
-  }
-  // Loads a section's figures when it is opened (see deferred_image).
-  h << "<script>const load=d=>{if(d.open)for(const i of d.querySelectorAll('img[data-src]'))"
-       "{i.src=i.dataset.src;i.removeAttribute('data-src')}};for(const d of "
-       "document.querySelectorAll('details')){load(d);d.addEventListener('toggle',()=>load(d))}"
-       "</script>";
-
-  h << "<h2>Inputs and outputs of each experiment</h2>";
-  for (const Experiment& e : r.experiments)
-    h << "<img src='figures/" << e.name << ".svg' alt='" << e.name << "'>";
-  h << "</body></html>\n";
+  head_section(h, r, out_unit, in_unit);
+  metrics_section(h, r);
+  inputs_section(h, r);
+  models_section(h, r, artifacts);
+  directions_section(h, r, out_unit, in_unit);
+  balance_section(h, r);
+  figures_section(h);
+  quality_section(h, r, artifacts, steps);
+  io_section(h, r);
   write_whole_file(dir / "index.html", h.str());
 }
 

@@ -12,9 +12,9 @@
 
 #include "host/campaign/gnuplot.hpp"
 #include "host/campaign/model_views.hpp"
-#include "host/campaign/parallel.hpp"
 #include "host/campaign/plot_points.hpp"
 #include "host/output/whole_file.hpp"
+#include "host/process/parallel.hpp"
 
 namespace excite::host {
 namespace {

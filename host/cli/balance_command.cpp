@@ -11,17 +11,17 @@
 #include <optional>
 
 #include "host/cli/commands.hpp"
-#include "host/cli/input_path.hpp"
-#include "host/cli/json_file.hpp"
-#include "host/cli/json_util.hpp"
-#include "host/cli/model_file.hpp"
 #include "host/cli/run_input.hpp"
 #include "host/cli/run_layout_text.hpp"
 #include "host/cli/segmented_run.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/case_studies.hpp"
+#include "host/export/json_util.hpp"
+#include "host/export/model_file.hpp"
 #include "host/identify/balance.hpp"
 #include "host/measures/gain_directions.hpp"
+#include "host/output/input_path.hpp"
+#include "host/output/json_file.hpp"
 
 namespace excite::host::cli {
 namespace {

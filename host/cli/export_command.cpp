@@ -12,9 +12,9 @@
 #include <stdexcept>
 
 #include "host/cli/commands.hpp"
-#include "host/cli/model_file.hpp"
 #include "host/cli/output_target.hpp"
 #include "host/export/formats.hpp"
+#include "host/export/model_file.hpp"
 #include "host/export/step_response.hpp"
 #include "host/output/whole_file.hpp"
 

@@ -4,10 +4,10 @@
 #include <iostream>
 
 #include "host/cli/commands.hpp"
-#include "host/cli/json_util.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/case_studies.hpp"
+#include "host/export/json_util.hpp"
 #include "host/measures/gain_directions.hpp"
 
 namespace excite::host::cli {

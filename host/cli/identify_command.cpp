@@ -19,7 +19,6 @@
 
 #include "firmware/runlog/reader.hpp"
 #include "host/cli/commands.hpp"
-#include "host/cli/model_file.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/output_target.hpp"
 #include "host/cli/pooled_runs.hpp"
@@ -27,6 +26,7 @@
 #include "host/cli/run_layout_text.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/cli/time_constant_bound.hpp"
+#include "host/export/model_file.hpp"
 #include "host/identify/run_layout.hpp"
 #include "host/output/whole_file.hpp"
 
@@ -151,9 +151,7 @@ void run(const IdentifyCommandOptions& opt) {
   if (!opt.structures_from.empty()) inputs.push_back(opt.structures_from);
   check_identify_output(opt.model_path, inputs, opt.json);
   const HumanTextAside aside(opt.model_path);
-  check_pooled_rows(opt.run_paths);
-  std::vector<runlog::RunLog> runs;
-  for (const auto& path : opt.run_paths) runs.push_back(read_log(path));
+  const std::vector<runlog::RunLog> runs = read_pooled_logs(opt.run_paths);
   check_pooled_headers(runs, opt.run_paths, opt.allow_mixed);
   // The model file's channel limit, before any fit (a 65-input run once took 77 s and wrote a
   // model no other command reads).

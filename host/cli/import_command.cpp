@@ -12,7 +12,6 @@
 
 #include "firmware/runlog/format.hpp"
 #include "host/cli/commands.hpp"
-#include "host/cli/input_path.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/output_target.hpp"
 #include "host/cli/run_input.hpp"
@@ -20,6 +19,7 @@
 #include "host/import/historian_csv.hpp"
 #include "host/import/import_run.hpp"
 #include "host/import/tag_map.hpp"
+#include "host/output/input_path.hpp"
 #include "host/output/whole_file.hpp"
 
 namespace excite::host::cli {

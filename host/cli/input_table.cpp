@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include "host/cli/json_util.hpp"
 #include "host/cli/text_table.hpp"
+#include "host/export/json_util.hpp"
 
 namespace excite::host::cli {
 namespace {

@@ -10,12 +10,12 @@
 
 #include "host/cli/commands.hpp"
 #include "host/cli/input_table.hpp"
-#include "host/cli/json_util.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/continuous_crest.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/design/table.hpp"
+#include "host/export/json_util.hpp"
 #include "host/measures/gain_directions.hpp"
 
 namespace excite::host::cli {

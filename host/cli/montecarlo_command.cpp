@@ -27,13 +27,13 @@
 #include "host/cli/number_checks.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/montecarlo/merge.hpp"
-#include "host/montecarlo/perturb.hpp"
 #include "host/montecarlo/report.hpp"
 #include "host/montecarlo/run.hpp"
 #include "host/montecarlo/slurm.hpp"
 #include "host/montecarlo/summary.hpp"
 #include "host/output/own_entries.hpp"
 #include "host/output/whole_file.hpp"
+#include "sim/library/perturb.hpp"
 
 namespace excite::host::cli {
 namespace {
@@ -144,7 +144,7 @@ void emit_slurm(const Options& opt) {
 
 void run(Options opt) {
   opt.config.shard = mc::parse_shard(opt.shard);
-  opt.config.perturb_percent = mc::parse_perturb(opt.perturb);
+  opt.config.perturb_percent = sim::parse_perturb(opt.perturb);
   if (opt.config.noise_variance < 0.0)
     opt.config.noise_variance = case_study_noise_variance(opt.config.plant);
   case_study(opt.config.plant);  // an unknown plant or one without a case study: its message

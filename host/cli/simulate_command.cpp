@@ -10,12 +10,12 @@
 
 #include "firmware/runlog/format.hpp"
 #include "host/cli/commands.hpp"
-#include "host/cli/model_file.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/output_target.hpp"
 #include "host/cli/run_input.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/design/plan_file.hpp"
+#include "host/export/model_file.hpp"
 #include "host/export/model_plant.hpp"
 #include "host/simulate/simulate.hpp"
 

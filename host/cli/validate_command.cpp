@@ -11,13 +11,13 @@
 #include <iostream>
 
 #include "host/cli/commands.hpp"
-#include "host/cli/json_util.hpp"
-#include "host/cli/model_file.hpp"
 #include "host/cli/run_input.hpp"
 #include "host/cli/run_layout_text.hpp"
 #include "host/cli/segmented_run.hpp"
 #include "host/cli/text_table.hpp"
 #include "host/cli/time_constant_bound.hpp"
+#include "host/export/json_util.hpp"
+#include "host/export/model_file.hpp"
 #include "host/identify/validate.hpp"
 
 namespace excite::host::cli {

@@ -1,13 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "host/identify/identify.hpp"
 
-#include <atomic>
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 #include "base/config/document.hpp"
 #include "host/identify/arx_start.hpp"
@@ -17,6 +14,7 @@
 #include "host/identify/response_bank.hpp"
 #include "host/identify/structure_search.hpp"
 #include "host/identify/validate.hpp"
+#include "host/process/parallel.hpp"
 
 namespace excite::host {
 namespace {
@@ -287,27 +285,9 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
     grade_row(row, fit.residual_tests);
   };
 
-  const int workers = std::min(options.threads, p);
-  if (workers <= 1) {
-    for (int j = 0; j < p; ++j) fit_output(j);
-  } else {
-    std::atomic<int> next{0};
-    std::vector<std::exception_ptr> errors(static_cast<std::size_t>(workers));
-    std::vector<std::thread> pool;
-    for (int w = 0; w < workers; ++w) {
-      pool.emplace_back([&, w] {
-        try {
-          for (int j = next++; j < p; j = next++) fit_output(j);
-        } catch (...) {
-          errors[static_cast<std::size_t>(w)] = std::current_exception();
-        }
-      });
-    }
-    for (auto& t : pool) t.join();
-    for (const auto& e : errors) {
-      if (e) std::rethrow_exception(e);
-    }
-  }
+  // Outputs on min(threads, p) threads (host/process/parallel.hpp); each writes only its own
+  // row of the model, so the result does not depend on the thread count.
+  parallel_for(p, options.threads, fit_output);
 
   // Directional quality of the identified G(0) when every gain is estimated.
   std::string missing;

@@ -413,156 +413,217 @@ std::vector<ElementModel> structure_starts(const ElementModel& g, Structure s,
   return out;
 }
 
-MisoResult choose_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
-                             const std::vector<int>& inputs, MisoResult two_poles, double T_min,
-                             const MisoBounds& bounds, const SampleLayout& layout,
-                             const Eigen::MatrixXd& trend, const StructureSearch& search) {
-  // The structure forced on element e, if any.
-  const auto forced_on = [&](std::size_t e) -> std::optional<Structure> {
-    if (!search.per_element.empty()) return search.per_element.at(e);
-    return search.forced;
-  };
-  const bool all_forced = search.forced.has_value() || !search.per_element.empty();
-  bool all_two_poles = all_forced;
-  for (std::size_t e = 0; e < inputs.size(); ++e)
-    all_two_poles = all_two_poles && forced_on(e) == Structure::two_poles;
-  if (all_two_poles) {
-    return leave_local_optima(U, y, inputs, std::move(two_poles), T_min, bounds, layout, trend,
-                              search.max_iterations, true);
-  }
-  const Eigen::VectorXd y_scored = layout.scored_rows(y);
-  const double energy = (y_scored.array() - y_scored.mean()).matrix().squaredNorm();
-  const Eigen::Index M = layout.scored();
-  const auto criterion = [&](const MisoResult& fit) {
-    return row_criterion(weighted_sse(fit.y_hat, y, layout), energy, M,
-                         parameter_count(fit.elements));
-  };
-  const auto refit = [&](const std::vector<ElementModel>& start) {
-    return fit_miso(U, y, inputs, start, T_min, bounds, search.max_iterations, layout, trend);
-  };
-  // Element e's part of the output under `fit`: y minus the other elements and the trend.
-  const auto part_of = [&](const MisoResult& fit, std::size_t e) -> Eigen::VectorXd {
-    return y - fit.y_hat + element_part(U, inputs[e], fit.elements[e].value, T_min, layout);
-  };
+namespace {
 
-  if (all_forced) {
+// One output's structure search (choose_structures): the data, bounds and criterion every
+// step shares, and the steps — the forced structures, one round of screening, the trial of
+// its candidates, the rounds from a start.
+class StructureSearcher {
+ public:
+  StructureSearcher(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
+                    const std::vector<int>& inputs, double T_min, const MisoBounds& bounds,
+                    const SampleLayout& layout, const Eigen::MatrixXd& trend,
+                    const StructureSearch& search)
+      : U_(U),
+        y_(y),
+        inputs_(inputs),
+        T_min_(T_min),
+        bounds_(bounds),
+        layout_(layout),
+        trend_(trend),
+        search_(search) {}
+
+  // The structure forced on element e, if any.
+  std::optional<Structure> forced_on(std::size_t e) const {
+    if (!search_.per_element.empty()) return search_.per_element.at(e);
+    return search_.forced;
+  }
+  bool all_forced() const { return search_.forced.has_value() || !search_.per_element.empty(); }
+
+  MisoResult leave_optima(MisoResult fit, bool keep_structures) const {
+    return leave_local_optima(U_, y_, inputs_, std::move(fit), T_min_, bounds_, layout_, trend_,
+                              search_.max_iterations, keep_structures);
+  }
+
+  // Every element fitted alone in its forced structure from the two-pole fit, then the row.
+  MisoResult forced_fit(const MisoResult& two_poles) const {
     std::vector<ElementModel> start;
-    for (std::size_t e = 0; e < inputs.size(); ++e) {
+    for (std::size_t e = 0; e < inputs_.size(); ++e) {
       const Structure s = *forced_on(e);
       const ElementModel& g = two_poles.elements[e].value;
       start.push_back(s == Structure::two_poles
                           ? g
-                          : fit_alone(U, part_of(two_poles, e), inputs[e],
-                                      structure_starts(g, s, bounds), T_min, bounds, layout)
+                          : fit_alone(U_, part_of(two_poles, e), inputs_[e],
+                                      structure_starts(g, s, bounds_), T_min_, bounds_, layout_)
                                 .element);
     }
     MisoResult forced = refit(start);
     forced.iterations += two_poles.iterations;
-    return leave_local_optima(U, y, inputs, std::move(forced), T_min, bounds, layout, trend,
-                              search.max_iterations, true);
+    return leave_optima(std::move(forced), true);
   }
 
   // Rounds of structure changes from `current` (each element screened on its part of the
   // output, the candidates refitted with the row), then its local optima left.
-  const auto search_from = [&](MisoResult current) {
-    double current_criterion = criterion(current);
-    int iterations = current.iterations;  // of every fit made, for MisoResult::iterations
-    const auto alone_criterion = [&](double sse, Structure s) {
-      return row_criterion(sse, energy, M, static_cast<Eigen::Index>(free_parameters(s).size()));
+  MisoResult search_from(MisoResult current) {
+    energy_and_rows();
+    Progress p{std::move(current), 0.0, 0};
+    p.criterion = criterion(p.fit);
+    p.iterations = p.fit.iterations;  // of every fit made, for MisoResult::iterations
+    std::vector<Screening> screened(inputs_.size());
+    for (int round = 0; round < kRounds; ++round) {
+      std::vector<Candidate> candidates;
+      for (std::size_t e = 0; e < inputs_.size(); ++e) {
+        if (auto c = screen(p.fit, e, screened[e])) candidates.push_back(std::move(*c));
+      }
+      if (candidates.empty() || !try_candidates(p, std::move(candidates))) break;
+    }
+    p.fit.iterations = p.iterations;
+    return leave_optima(std::move(p.fit), false);
+  }
+
+ private:
+  // An element's best other structure on its own part of the output, and by how much it
+  // lowers that part's criterion.
+  struct Candidate {
+    std::size_t element;
+    ElementModel model;
+    double gain;
+  };
+  // The fit the rounds have reached, its criterion, and the iterations of every fit made.
+  struct Progress {
+    MisoResult fit;
+    double criterion;
+    int iterations;
+  };
+
+  void energy_and_rows() {
+    const Eigen::VectorXd y_scored = layout_.scored_rows(y_);
+    energy_ = (y_scored.array() - y_scored.mean()).matrix().squaredNorm();
+    M_ = layout_.scored();
+  }
+  double criterion(const MisoResult& fit) const {
+    return row_criterion(weighted_sse(fit.y_hat, y_, layout_), energy_, M_,
+                         parameter_count(fit.elements));
+  }
+  double alone_criterion(double sse, Structure s) const {
+    return row_criterion(sse, energy_, M_, static_cast<Eigen::Index>(free_parameters(s).size()));
+  }
+  MisoResult refit(const std::vector<ElementModel>& start) const {
+    return fit_miso(U_, y_, inputs_, start, T_min_, bounds_, search_.max_iterations, layout_,
+                    trend_);
+  }
+  // Element e's part of the output under `fit`: y minus the other elements and the trend.
+  Eigen::VectorXd part_of(const MisoResult& fit, std::size_t e) const {
+    return y_ - fit.y_hat + element_part(U_, inputs_[e], fit.elements[e].value, T_min_, layout_);
+  }
+
+  // Element e screened on its part of `current` (skipped when no structure could gain on
+  // what its part moved since `last`, see Screening); a candidate when another structure
+  // lowers that part's criterion by more than kEvidence.
+  std::optional<Candidate> screen(const MisoResult& current, std::size_t e, Screening& last) const {
+    const Eigen::VectorXd part = part_of(current, e);
+    const ElementModel& now = current.elements[e].value;
+    const double own = alone_criterion(weighted_sse(current.y_hat, y_, layout_), now.structure);
+    if (last.screened && last.own == now.structure) {
+      // The lowest output error each structure can reach on the moved part (see Screening).
+      const double moved = (part - last.part).cwiseProduct(layout_.weight).norm();
+      bool could = false;
+      for (int k = 0; k < kStructures && !could; ++k) {
+        const double reach =
+            std::max(std::sqrt(last.sse[static_cast<std::size_t>(k)]) - moved, 0.0);
+        could = static_cast<Structure>(k) != now.structure &&
+                alone_criterion(reach * reach, static_cast<Structure>(k)) < own - kEvidence;
+      }
+      if (!could) return std::nullopt;
+    }
+    const Screening before = last;
+    last = {true, now.structure, part, {}, {}};
+    last.sse.fill(std::numeric_limits<double>::infinity());
+    last.end[static_cast<std::size_t>(now.structure)] = now;
+    double best = own;
+    std::optional<ElementModel> better;
+    for (int k = 0; k < kStructures; ++k) {
+      const auto s = static_cast<Structure>(k);
+      if (s == now.structure) continue;
+      const AloneFit alone =
+          fit_alone(U_, part, inputs_[e], before.starts(s, now, bounds_), T_min_, bounds_, layout_);
+      last.sse[static_cast<std::size_t>(k)] = alone.sse;
+      last.end[static_cast<std::size_t>(k)] = alone.element;
+      const double c = alone_criterion(alone.sse, s);
+      if (c < best) {
+        best = c;
+        better = alone.element;
+      }
+    }
+    if (better && best < own - kEvidence) return Candidate{e, *better, own - best};
+    return std::nullopt;
+  }
+
+  // The largest change alone and every change at once (one joint fit each), the better kept
+  // when it lowers the row's criterion by more than kEvidence; else the other changes one at
+  // a time. Whether `p` changed.
+  bool try_candidates(Progress& p, std::vector<Candidate> candidates) const {
+    std::sort(candidates.begin(), candidates.end(),
+              [](const Candidate& a, const Candidate& b) { return a.gain > b.gain; });
+    const auto trial_of = [&](std::size_t first, std::size_t last) {
+      std::vector<ElementModel> start = current_values(p.fit);
+      for (std::size_t k = first; k < last; ++k) start[candidates[k].element] = candidates[k].model;
+      MisoResult trial = refit(start);
+      p.iterations += trial.iterations;
+      return trial;
     };
-    // Keeps `trial` when it lowers the row's criterion by more than kEvidence.
     const auto accept = [&](MisoResult& trial, double c) {
-      if (!(c < current_criterion - kEvidence)) return false;
-      current = std::move(trial);
-      current_criterion = c;
+      if (!(c < p.criterion - kEvidence)) return false;
+      p.fit = std::move(trial);
+      p.criterion = c;
       return true;
     };
-    std::vector<Screening> screened(inputs.size());
-    for (int round = 0; round < kRounds; ++round) {
-      // Each element's best other structure on its own part of the output, and by how much it
-      // lowers that part's criterion.
-      struct Candidate {
-        std::size_t element;
-        ElementModel model;
-        double gain;
-      };
-      std::vector<Candidate> candidates;
-      for (std::size_t e = 0; e < inputs.size(); ++e) {
-        const Eigen::VectorXd part = part_of(current, e);
-        const ElementModel& now = current.elements[e].value;
-        const double own = alone_criterion(weighted_sse(current.y_hat, y, layout), now.structure);
-        Screening& last = screened[e];
-        if (last.screened && last.own == now.structure) {
-          // The lowest output error each structure can reach on the moved part (see Screening).
-          const double moved = (part - last.part).cwiseProduct(layout.weight).norm();
-          bool could = false;
-          for (int k = 0; k < kStructures && !could; ++k) {
-            const double reach =
-                std::max(std::sqrt(last.sse[static_cast<std::size_t>(k)]) - moved, 0.0);
-            could = static_cast<Structure>(k) != now.structure &&
-                    alone_criterion(reach * reach, static_cast<Structure>(k)) < own - kEvidence;
-          }
-          if (!could) continue;
-        }
-        const Screening before = last;
-        last = {true, now.structure, part, {}, {}};
-        last.sse.fill(std::numeric_limits<double>::infinity());
-        last.end[static_cast<std::size_t>(now.structure)] = now;
-        double best = own;
-        std::optional<ElementModel> better;
-        for (int k = 0; k < kStructures; ++k) {
-          const auto s = static_cast<Structure>(k);
-          if (s == now.structure) continue;
-          const AloneFit alone =
-              fit_alone(U, part, inputs[e], before.starts(s, now, bounds), T_min, bounds, layout);
-          last.sse[static_cast<std::size_t>(k)] = alone.sse;
-          last.end[static_cast<std::size_t>(k)] = alone.element;
-          const double c = alone_criterion(alone.sse, s);
-          if (c < best) {
-            best = c;
-            better = alone.element;
-          }
-        }
-        if (better && best < own - kEvidence) candidates.push_back({e, *better, own - best});
+    MisoResult best_trial = trial_of(0, 1);
+    double best_criterion = criterion(best_trial);
+    if (candidates.size() > 1) {
+      MisoResult all = trial_of(0, candidates.size());
+      const double c = criterion(all);
+      if (c < best_criterion) {
+        std::swap(best_trial, all);
+        best_criterion = c;
       }
-      if (candidates.empty()) break;
-      std::sort(candidates.begin(), candidates.end(),
-                [](const Candidate& a, const Candidate& b) { return a.gain > b.gain; });
-      // The largest change alone and every change at once (one joint fit each), the better
-      // kept; else the other changes one at a time.
-      const auto trial_of = [&](std::size_t first, std::size_t last) {
-        std::vector<ElementModel> start = current_values(current);
-        for (std::size_t k = first; k < last; ++k)
-          start[candidates[k].element] = candidates[k].model;
-        MisoResult trial = refit(start);
-        iterations += trial.iterations;
-        return trial;
-      };
-      MisoResult best_trial = trial_of(0, 1);
-      double best_criterion = criterion(best_trial);
-      if (candidates.size() > 1) {
-        MisoResult all = trial_of(0, candidates.size());
-        const double c = criterion(all);
-        if (c < best_criterion) {
-          std::swap(best_trial, all);
-          best_criterion = c;
-        }
-      }
-      bool changed = accept(best_trial, best_criterion);
-      for (std::size_t k = 1; !changed && k < candidates.size(); ++k) {
-        MisoResult trial = trial_of(k, k + 1);
-        changed = accept(trial, criterion(trial));
-      }
-      if (!changed) break;
     }
-    current.iterations = iterations;
-    return leave_local_optima(U, y, inputs, std::move(current), T_min, bounds, layout, trend,
-                              search.max_iterations, false);
-  };
-  MisoResult current = search_from(std::move(two_poles));
+    bool changed = accept(best_trial, best_criterion);
+    for (std::size_t k = 1; !changed && k < candidates.size(); ++k) {
+      MisoResult trial = trial_of(k, k + 1);
+      changed = accept(trial, criterion(trial));
+    }
+    return changed;
+  }
+
+  const Eigen::MatrixXd& U_;
+  const Eigen::VectorXd& y_;
+  const std::vector<int>& inputs_;
+  double T_min_;
+  const MisoBounds& bounds_;
+  const SampleLayout& layout_;
+  const Eigen::MatrixXd& trend_;
+  const StructureSearch& search_;
+  double energy_ = 0.0;  // of the scored output about its mean (row_criterion's floor)
+  Eigen::Index M_ = 0;   // scored rows
+};
+
+}  // namespace
+
+MisoResult choose_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
+                             const std::vector<int>& inputs, MisoResult two_poles, double T_min,
+                             const MisoBounds& bounds, const SampleLayout& layout,
+                             const Eigen::MatrixXd& trend, const StructureSearch& search) {
+  StructureSearcher searcher(U, y, inputs, T_min, bounds, layout, trend, search);
+  bool all_two_poles = searcher.all_forced();
+  for (std::size_t e = 0; e < inputs.size(); ++e)
+    all_two_poles = all_two_poles && searcher.forced_on(e) == Structure::two_poles;
+  if (all_two_poles) return searcher.leave_optima(std::move(two_poles), true);
+  if (searcher.all_forced()) return searcher.forced_fit(two_poles);
+  MisoResult current = searcher.search_from(std::move(two_poles));
   if (restart_misplaced_dynamics(U, y, inputs, current, T_min, bounds, layout, trend,
                                  search.max_iterations)) {
-    current = search_from(std::move(current));
+    current = searcher.search_from(std::move(current));
   }
   return current;
 }

@@ -329,15 +329,11 @@ Markup row_class(bool directional) {
   return directional ? Markup(" class='dir'") : Markup("");
 }
 
-}  // namespace
-
-void write_report(const json& summary, const std::vector<UnitResult>& units, const fs::path& dir,
-                  int threads) {
-  const json& run = summary["run"];
-  std::vector<std::string> names;
-  for (const json& d : run["designs"]) names.push_back(d.get<std::string>());
-  const Layout layout = layout_of(names);
-
+// The figures (gnuplot scripts this run wrote, drawn as SVGs); returns the metrics that
+// have one.
+std::vector<std::string> draw_figures(const json& summary, const Layout& layout,
+                                      const std::vector<UnitResult>& units, const fs::path& dir,
+                                      int threads) {
   const fs::path figures = dir / "figures";
   fs::create_directories(figures);
   make_figure_sources(figures);
@@ -353,19 +349,23 @@ void write_report(const json& summary, const std::vector<UnitResult>& units, con
   scripts.push_back(plot_shares(summary, layout, figures));
   run_gnuplot_scripts(figures, scripts, threads);
   remove_figure_sources(figures);
+  return drawn_metrics;
+}
 
+// Title, what was run, the true plant, the criterion, T90 and how spreads are given.
+void head_section(HtmlPage& h, const json& summary, std::size_t designs) {
+  const json& run = summary["run"];
   const std::string plant = run["plant"].get<std::string>();
   const int seeds = run["seeds"].get<int>();
   const auto first_seed = run["first_seed"].get<std::uint64_t>();
   const double perturb = run.value("perturb_percent", 0.0);
-  HtmlPage h;
   h << "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>excite montecarlo: "
     << plant << "</title><style>" << CodeMarkup{report_style()}
     << "table.spreads td{white-space:nowrap}</style></head><body>";
   h << "<h1>Monte Carlo: " << plant << ", " << seeds << " seeds</h1>";
   h << "<p>The campaign's experiment (design → simulate → identify → cross-validate → balance) "
        "for "
-    << names.size() << " designs over " << seeds << " noise seeds (" << first_seed << " to "
+    << designs << " designs over " << seeds << " noise seeds (" << first_seed << " to "
     << first_seed + static_cast<std::uint64_t>(seeds) - 1 << "), measurement noise variance "
     << as_double(run["noise_variance"]) << " on every output. Rows of directional designs are "
     << "shaded; in the figures the other designs are orange and the directional ones blue.</p>";
@@ -377,7 +377,10 @@ void write_report(const json& summary, const std::vector<UnitResult>& units, con
     << ". Spreads: " << summary["spread"].get<std::string>() << "; shares with the "
     << summary["intervals"].get<std::string>()
     << ". Numbers: <a href='summary.json'>summary.json</a>.</p>";
+}
 
+// The verdicts: directional designs against the others, with the seeds they hold in.
+void verdicts_section(HtmlPage& h, const json& summary) {
   h << "<h2>Directional designs against the others</h2><p class='note'>"
     << summary["verdict_definition"].get<std::string>()
     << ". Shares with the Wilson 95 % interval.</p><table><tr><th>metric</th><th>better</th>"
@@ -404,7 +407,10 @@ void write_report(const json& summary, const std::vector<UnitResult>& units, con
       << "</td></tr>";
   }
   h << "</table>";
+}
 
+// Each metric's distribution over the seeds (a figure, or why there is none).
+void distributions_section(HtmlPage& h, const std::vector<std::string>& drawn_metrics) {
   h << "<h2>Distributions over the seeds, per design</h2>";
   for (const BoxMetric& m : box_metrics()) {
     bool drawn = false;
@@ -419,7 +425,10 @@ void write_report(const json& summary, const std::vector<UnitResult>& units, con
     h << "<img src='figures/metric-" << std::string(m.key) << ".svg' alt='" << std::string(m.key)
       << " per design'>";
   }
+}
 
+// Test length: the criterion's share over the whole run and T90, per design.
+void length_section(HtmlPage& h, const json& summary, const Layout& layout) {
   h << "<h2>Test length</h2><img src='figures/t90.svg' alt='T90 per design'>"
        "<table><tr><th>design</th><th>group</th><th>samples</th><th>criterion met, whole run "
        "[Wilson 95 %]</th><th>T90 [% of the run]</th><th>T90 [min]</th></tr>";
@@ -436,7 +445,10 @@ void write_report(const json& summary, const std::vector<UnitResult>& units, con
     }
   }
   h << "</table><img src='figures/shares.svg' alt='share of seeds against the test length'>";
+}
 
+// Spreads of the headline figures per design.
+void spreads_section(HtmlPage& h, const json& summary, const Layout& layout) {
   h << "<h2>Spreads per design</h2><p class='note'>Median <b>bold</b> and [10 % – 90 %] over the "
        "seeds.</p><table class='spreads'><tr><th>design</th><th>own fit [%]</th><th>worst "
        "cross-fit [%]</th>"
@@ -453,7 +465,11 @@ void write_report(const json& summary, const std::vector<UnitResult>& units, con
     }
   }
   h << "</table>";
+}
 
+// Elements of G(0) whose bias exceeds their spread, per design; closes the page.
+void bias_section(HtmlPage& h, const json& summary, const Layout& layout) {
+  const double perturb = summary["run"].value("perturb_percent", 0.0);
   h << "<h2>Bias against spread, per element of G(0)</h2><p class='note'>"
     << summary["bias_definition"].get<std::string>()
     << ". Listed: the elements so flagged (true gain "
@@ -479,6 +495,23 @@ void write_report(const json& summary, const std::vector<UnitResult>& units, con
     }
   }
   h << "</table></body></html>\n";
+}
+
+}  // namespace
+
+void write_report(const json& summary, const std::vector<UnitResult>& units, const fs::path& dir,
+                  int threads) {
+  std::vector<std::string> names;
+  for (const json& d : summary["run"]["designs"]) names.push_back(d.get<std::string>());
+  const Layout layout = layout_of(names);
+  const std::vector<std::string> drawn_metrics = draw_figures(summary, layout, units, dir, threads);
+  HtmlPage h;
+  head_section(h, summary, names.size());
+  verdicts_section(h, summary);
+  distributions_section(h, drawn_metrics);
+  length_section(h, summary, layout);
+  spreads_section(h, summary, layout);
+  bias_section(h, summary, layout);
   write_whole_file(dir / "index.html", h.str());
 }
 

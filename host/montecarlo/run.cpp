@@ -13,9 +13,9 @@
 #include <mutex>
 #include <stdexcept>
 
-#include "host/campaign/parallel.hpp"
 #include "host/montecarlo/records.hpp"
 #include "host/output/whole_file.hpp"
+#include "host/process/parallel.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::host::montecarlo {

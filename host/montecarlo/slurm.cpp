@@ -6,7 +6,7 @@
 #include <string>
 #include <utility>
 
-#include "host/montecarlo/perturb.hpp"
+#include "sim/library/perturb.hpp"
 
 namespace excite::host::montecarlo {
 
@@ -64,7 +64,8 @@ std::string slurm_script(const Config& config, const SlurmJob& job) {
        shell_word(designs) + " --seeds " + std::to_string(config.seeds) + " --first-seed " +
        std::to_string(config.first_seed) + " --noise-var " + noise + " --length-step " +
        std::to_string(config.length_step_percent) +
-       (config.perturb_percent > 0.0 ? " --perturb " + percent_text(config.perturb_percent) : "") +
+       (config.perturb_percent > 0.0 ? " --perturb " + sim::percent_text(config.perturb_percent)
+                                     : "") +
        " --threads " + threads + " --shard \"${SLURM_ARRAY_TASK_ID}/" + tasks + "\" -o " +
        shell_word(out) + "/shard-\"${SLURM_ARRAY_TASK_ID}\"\n";
   s += "EXCITE_ARRAY\n)\n";

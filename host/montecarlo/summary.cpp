@@ -9,9 +9,9 @@
 
 #include "host/campaign/report_figures.hpp"
 #include "host/design/case_studies.hpp"
-#include "host/montecarlo/accuracy.hpp"
-#include "host/montecarlo/perturb.hpp"
+#include "host/measures/accuracy.hpp"
 #include "host/montecarlo/statistics.hpp"
+#include "sim/library/perturb.hpp"
 
 namespace excite::host::montecarlo {
 namespace {
@@ -295,8 +295,8 @@ json summary_json(const Config& config, const std::vector<UnitResult>& units) {
               {"true_plant", c.perturb_percent > 0.0
                                  ? "perturbed per seed: every element's gain, every time "
                                    "constant and every delay within +-" +
-                                       percent_text(c.perturb_percent) +
-                                       " % of the nominal plant's (host/montecarlo/perturb.hpp); "
+                                       sim::percent_text(c.perturb_percent) +
+                                       " % of the nominal plant's (sim/library/perturb.hpp); "
                                        "the designs use the nominal plant, the criterion, the "
                                        "balance and the gain errors the seed's perturbed one"
                                  : "the nominal plant in every seed"}};

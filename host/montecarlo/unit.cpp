@@ -8,12 +8,12 @@
 #include <limits>
 #include <stdexcept>
 
-#include "host/campaign/parallel.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/identify/validate.hpp"
-#include "host/montecarlo/perturb.hpp"
+#include "host/process/parallel.hpp"
 #include "host/simulate/simulate.hpp"
 #include "sim/library/library.hpp"
+#include "sim/library/perturb.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::host::montecarlo {
@@ -96,7 +96,7 @@ UnitResult run_unit(const Prepared& p, const Unit& unit) {
   std::optional<sim::TransferMatrix> perturbed;
   std::optional<TruePlant> perturbed_truth;
   if (p.nominal) {
-    perturbed = perturbed_plant(*p.nominal, p.config.perturb_percent, unit.seed);
+    perturbed = sim::perturbed_plant(*p.nominal, p.config.perturb_percent, unit.seed);
     perturbed_truth = true_plant_of(perturbed->static_gain());
     options.true_plant = [&] { return sim::make_linear_plant(p.config.plant, *perturbed); };
   }

@@ -8,8 +8,8 @@
 #include <stdexcept>
 
 #include "host/design/presets.hpp"
-#include "host/montecarlo/perturb.hpp"
 #include "sim/library/library.hpp"
+#include "sim/library/perturb.hpp"
 
 namespace excite::host::montecarlo {
 namespace {
@@ -70,7 +70,7 @@ void normalise(Config& config) {
   if (!std::isfinite(config.noise_variance) || config.noise_variance < 0.0)
     throw std::invalid_argument("--noise-var = " + std::to_string(config.noise_variance) +
                                 ", expected a finite number >= 0");
-  check_perturbable(config.plant, config.perturb_percent);
+  sim::check_perturbable(config.plant, config.perturb_percent);
 }
 
 std::vector<Unit> all_units(const Config& config) {

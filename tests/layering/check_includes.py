@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 """The floors (README, "Floors"): every `#include "ROOM/..."` in the project's code points
 to its own floor or one below. Usage: check_includes.py [ROOT]; prints each include that
-points up as FILE:LINE: the include, the room and what that room may use; exit 1 if any."""
+points up as FILE:LINE: the include, the room and what that room may use; exit 1 if any.
+Inside host/ the rooms have an order of their own (HOST_ORDER, issue 38 §2)."""
 import pathlib
 import re
 import sys
@@ -18,6 +19,19 @@ FLOORS = [
     ("sim/", ("base", "hal", "firmware", "sim")),
     ("host/", ("base", "hal", "firmware", "sim", "host")),
 ]
+# host/'s own floors, lowest first (README, "Floors"; host/README.md): a host room may include
+# its own headers and those of the host rooms on a lower floor, never one beside it or above.
+# A host room not listed here is named as such: a new room gets its floor here.
+HOST_ORDER = [
+    ("process", "output", "measures", "import", "multisine"),
+    ("design",),
+    ("identify", "simulate"),
+    ("export",),
+    ("campaign",),
+    ("montecarlo", "loop"),
+    ("adaptive",),
+    ("cli",),
+]
 # A header's file is ROOM/include/ROOM/NAME.hpp and its spelling ROOM/NAME.hpp: both start
 # with the room, so a file and what it includes map to rooms the same way. Include roots that
 # are not a room's path: hal's public interface folder.
@@ -30,6 +44,35 @@ def room_of(path):
         if path.startswith(prefix):
             return prefix, allowed
     return None, None
+
+
+def host_room(path):
+    """The host room of a path or include ("host/identify/x.hpp" -> "identify"), else None."""
+    parts = path.split("/")
+    return parts[1] if len(parts) > 2 and parts[0] == "host" else None
+
+
+def host_floor(room):
+    for floor, rooms in enumerate(HOST_ORDER):
+        if room in rooms:
+            return floor
+    return None
+
+
+def host_violation(room, target):
+    """Why `room` (a host room) may not include `target`, or None when it may."""
+    used = host_room(target)
+    if used is None or used == room:
+        return None
+    mine = host_floor(room)
+    if mine is None:
+        return f"host/{room} is not in host's order (tests/layering/check_includes.py, HOST_ORDER)"
+    theirs = host_floor(used)
+    if theirs is not None and theirs < mine:
+        return None
+    below = sorted(r for rooms in HOST_ORDER[:mine] for r in rooms)
+    return (f"host/{room} may use host/" + ", host/".join(below) if below
+            else f"host/{room} may use no other host room")
 
 
 def sources(root):
@@ -58,6 +101,11 @@ def violations(root, files):
             if not any(target.startswith(a + "/") for a in allowed):
                 found.append(f"{relative}:{number}: #include \"{match.group(1)}\" points up: "
                              f"{room} may use {', '.join(allowed)}")
+            elif room == "host/" and host_room(relative):
+                why = host_violation(host_room(relative), target)
+                if why:
+                    found.append(f"{relative}:{number}: #include \"{match.group(1)}\" points "
+                                 f"up: {why}")
     return found
 
 

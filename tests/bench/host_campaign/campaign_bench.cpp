@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "host/campaign/campaign.hpp"
-#include "host/campaign/parallel.hpp"
+#include "host/process/parallel.hpp"
 
 namespace {
 

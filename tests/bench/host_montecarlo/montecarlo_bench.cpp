@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "host/campaign/parallel.hpp"
 #include "host/montecarlo/records.hpp"
 #include "host/montecarlo/unit.hpp"
+#include "host/process/parallel.hpp"
 
 namespace {
 

@@ -33,7 +33,7 @@
 #include "host/design/case_studies.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/design/table.hpp"
-#include "host/montecarlo/accuracy.hpp"
+#include "host/measures/accuracy.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::test {
@@ -173,8 +173,7 @@ void expect_logs_follow_the_segments(const host::AdaptiveResult& r, const runlog
 TEST_P(AdaptiveThroughTheGateway, StopsByItsRuleWithAnAccurateModelAndDecidesAsInProcess) {
   const host::PriorKnowledge prior = host::case_study(kPlant);
   auto truth = sim::make_plant(kPlant);
-  const host::montecarlo::TruePlant true_plant =
-      host::montecarlo::true_plant_of(truth->static_gain());
+  const host::TruePlant true_plant = host::true_plant_of(truth->static_gain());
   const double noise = host::case_study_noise_variance(kPlant);
   const std::uint64_t seed = GetParam().seed;
   {
@@ -185,8 +184,7 @@ TEST_P(AdaptiveThroughTheGateway, StopsByItsRuleWithAnAccurateModelAndDecidesAsI
       EXPECT_GE(r.segments.size(), 3U) << "buffers reused";
     }
     ASSERT_TRUE(r.criterion_met) << r.stop_reason;
-    const host::montecarlo::Accuracy a =
-        host::montecarlo::judge(true_plant, r.estimates.back().result.gain);
+    const host::Accuracy a = host::judge(true_plant, r.estimates.back().result.gain);
     EXPECT_TRUE(a.met) << "sigma_n error " << a.sigma_n_error << ", angle " << a.weakest_angle_deg;
     const runlog::RunLog gwl = read_log_or_fail(path("gw.csv"));
     const runlog::RunLog plant = stop_plant_and_read_its_log();

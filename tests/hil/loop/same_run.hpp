@@ -70,7 +70,7 @@ struct ModelTolerance {
   double undetermined_min = 0.05;  // a parameter without one (at a bound: T_d against T_p2)
 };
 
-/// The model files (excite identify / campaign, host/cli/model_file.cpp) of `a` and `b`: the
+/// The model files (excite identify / campaign, host/export/model_file.cpp) of `a` and `b`: the
 /// same inputs, outputs and status per element; each output's fit, and each of K, T_d, T_p1,
 /// T_p2 within `tol`. Returns the largest |Δ| in units of b's standard error.
 inline double expect_same_model(const nlohmann::json& a, const nlohmann::json& b,

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "host/campaign/campaign.hpp"
-#include "host/campaign/parallel.hpp"
+#include "host/process/parallel.hpp"
 #include "host/campaign/report.hpp"
 #include "host/identify/residuals.hpp"
 #include "host/identify/validate.hpp"

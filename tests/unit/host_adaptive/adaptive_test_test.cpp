@@ -14,7 +14,7 @@
 #include "host/adaptive/segments.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/table.hpp"
-#include "host/montecarlo/accuracy.hpp"
+#include "host/measures/accuracy.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::host {
@@ -137,8 +137,7 @@ TEST(AdaptiveLoop, WoodBerryStopsByTheRuleWithAModelThatMeetsTheCriterion) {
   const AdaptiveResult r = run_adaptive_test(prior, runner, AdaptiveOptions{}, &recorder);
   ASSERT_TRUE(r.criterion_met) << r.stop_reason;
   ASSERT_GE(r.estimates.size(), 2u);
-  const montecarlo::Accuracy a = montecarlo::judge(montecarlo::true_plant_of(plant->static_gain()),
-                                                   r.estimates.back().result.gain);
+  const Accuracy a = judge(true_plant_of(plant->static_gain()), r.estimates.back().result.gain);
   EXPECT_TRUE(a.met) << "sigma_n error " << a.sigma_n_error << ", angle " << a.weakest_angle_deg;
   // Shorter than the plain design it starts from, and every segment after an estimate with
   // a usable G(0) aimed along its directions, the weakest at full weight.
@@ -181,8 +180,7 @@ TEST(AdaptiveLoop, ShortSegmentsDoNotStopOnTwoEstimatesOfNearlyTheSameRecord) {
   PlantRunner runner(*plant, prior.sample_time_min, case_study_noise_variance("woodberry2x2"), 3);
   const AdaptiveResult r = run_adaptive_test(prior, runner, options);
   ASSERT_TRUE(r.criterion_met) << r.stop_reason;
-  const montecarlo::Accuracy a = montecarlo::judge(montecarlo::true_plant_of(plant->static_gain()),
-                                                   r.estimates.back().result.gain);
+  const Accuracy a = judge(true_plant_of(plant->static_gain()), r.estimates.back().result.gain);
   EXPECT_TRUE(a.met) << "sigma_n error " << a.sigma_n_error << " at " << r.length_min() << " min";
   EXPECT_GT(r.length_min(), 135.0);
 }

@@ -8,9 +8,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "host/montecarlo/perturb.hpp"
 #include "host/montecarlo/unit.hpp"
 #include "sim/library/library.hpp"
+#include "sim/library/perturb.hpp"
 
 namespace mc = excite::host::montecarlo;
 using excite::sim::TransferMatrix;
@@ -37,18 +37,18 @@ std::vector<double> parameters(const TransferMatrix& g) {
 
 TEST(Perturb, SameSeedSamePlantOtherSeedOtherPlant) {
   const TransferMatrix nominal = excite::sim::library_plant("alatiqi4x4");
-  const auto a = parameters(mc::perturbed_plant(nominal, 10.0, 7));
-  const auto again = parameters(mc::perturbed_plant(nominal, 10.0, 7));
-  const auto other = parameters(mc::perturbed_plant(nominal, 10.0, 8));
+  const auto a = parameters(excite::sim::perturbed_plant(nominal, 10.0, 7));
+  const auto again = parameters(excite::sim::perturbed_plant(nominal, 10.0, 7));
+  const auto other = parameters(excite::sim::perturbed_plant(nominal, 10.0, 8));
   ASSERT_EQ(a.size(), parameters(nominal).size());
   EXPECT_EQ(a, again);  // bit for bit
   EXPECT_NE(a, other);
-  EXPECT_EQ(parameters(mc::perturbed_plant(nominal, 0.0, 7)), parameters(nominal));
+  EXPECT_EQ(parameters(excite::sim::perturbed_plant(nominal, 0.0, 7)), parameters(nominal));
 }
 
 TEST(Perturb, EveryGainTimeConstantAndDelayMovesWithinTheBound) {
   const TransferMatrix nominal = excite::sim::library_plant("alatiqi4x4");
-  const TransferMatrix g = mc::perturbed_plant(nominal, 10.0, 3);
+  const TransferMatrix g = excite::sim::perturbed_plant(nominal, 10.0, 3);
   int moved = 0, checked = 0;
   for (int i = 0; i < 4; ++i) {
     for (int j = 0; j < 4; ++j) {
@@ -95,7 +95,7 @@ TEST(Perturb, BadValuesAreRefusedNamingTheOptionValueAndRange) {
   for (const std::string text : {"-1", "100", "250", "abc", "", "5%", "nan", "inf"}) {
     SCOPED_TRACE(text);
     try {
-      mc::parse_perturb(text);
+      excite::sim::parse_perturb(text);
       FAIL() << "accepted";
     } catch (const std::invalid_argument& e) {
       EXPECT_NE(std::string(e.what()).find("--perturb = " + text +
@@ -104,8 +104,8 @@ TEST(Perturb, BadValuesAreRefusedNamingTheOptionValueAndRange) {
           << e.what();
     }
   }
-  EXPECT_EQ(mc::parse_perturb("12.5"), 12.5);
-  EXPECT_EQ(mc::parse_perturb("0"), 0.0);
+  EXPECT_EQ(excite::sim::parse_perturb("12.5"), 12.5);
+  EXPECT_EQ(excite::sim::parse_perturb("0"), 0.0);
   mc::Config c;
   c.plant = "colaA";
   c.seeds = 1;
@@ -144,7 +144,8 @@ TEST(Perturb, AUnitRunsOnTheSeedsPerturbedPlantWithTheNominalDesign) {
   const mc::UnitResult b_again = mc::run_unit(*perturbed, {1, 4, 0});
   EXPECT_TRUE(a.true_gain.empty());
   const Eigen::MatrixXd truth =
-      mc::perturbed_plant(excite::sim::library_plant("woodberry2x2"), 20.0, 4).static_gain();
+      excite::sim::perturbed_plant(excite::sim::library_plant("woodberry2x2"), 20.0, 4)
+          .static_gain();
   ASSERT_EQ(b.true_gain.size(), 4U);
   for (Eigen::Index k = 0; k < 4; ++k)
     EXPECT_EQ(b.true_gain[static_cast<std::size_t>(k)], truth(k / 2, k % 2));

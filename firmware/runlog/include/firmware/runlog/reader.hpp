@@ -58,19 +58,33 @@ struct ReadOptions {
   // time_tolerance · T (T = sample_time_min of the header). v2 only: a row flagged kSkipped
   // has k[r] > k[r−1] + 1 and |t_min[r] − t_min[r−1] − (k[r] − k[r−1])·T| ≤ time_tolerance · T.
   double time_tolerance = 1e-6;
+  // Limits a reader sets once, so every read of a log holds to them (issue 38 §1):
+  //   - more than max_rows data rows is an error, "more than N data rows, expected at most N";
+  //     read_run_log counts while it reads and stops at the first row past the limit, so a
+  //     log of 10⁷ rows costs memory for max_rows of them, never for the whole file;
+  //   - a du or dy value with |value| > max_abs_value is an error naming the data row, its k
+  //     and the column ("data row 3 (k = 2), column dy_y1 = 1e+308, expected |value| <= 1e+12").
+  // `limits_source`, when set, ends the row limit's message as " (SOURCE)". Both errors have
+  // line and column 0 (ReadError::to_string: "file: message").
+  std::size_t max_rows = static_cast<std::size_t>(-1);  // default: no limit
+  double max_abs_value = 0.0;                           // 0: no bound
+  std::string limits_source;
 };
 
 struct ReadResult {
   RunLog log;                      // valid only when ok()
   std::optional<ReadError> error;  // set when the log was rejected
+  bool over_row_limit = false;     // the error is ReadOptions::max_rows'
   bool ok() const { return !error.has_value(); }
 };
 
-/// Parses a whole log held in memory; `file_name` only labels errors.
+/// Parses a whole log held in memory; `file_name` only labels errors. The row limit is
+/// checked before the rows are parsed, the value bound after.
 ReadResult parse_run_log(std::string_view text, std::string_view file_name,
                          const ReadOptions& options = {});
 
-/// Reads and parses the file at `path`.
+/// Reads and parses the file at `path`, opening it once; the row limit is checked while
+/// reading, before anything is parsed.
 ReadResult read_run_log(const std::string& path, const ReadOptions& options = {});
 
 }  // namespace excite::runlog

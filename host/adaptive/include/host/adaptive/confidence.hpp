@@ -2,7 +2,7 @@
 #pragma once
 // When may an adaptive test stop, and which gain directions does it still need (issue 26 §3)?
 //
-// The stop rule is the Monte Carlo accuracy criterion (host/montecarlo/accuracy.hpp: every
+// The stop rule is the Monte Carlo accuracy criterion (host/measures/accuracy.hpp: every
 // principal minor's sign right, σ_n within ±20 %, v_n within 10°) asked of the model itself
 // instead of the truth, which a plant test never knows: it holds "with the grades'
 // confidence" when, from the identified gains' covariance (gain_uncertainty.hpp, first-order
@@ -39,15 +39,16 @@
 #include <string>
 
 #include "host/identify/identify.hpp"
+#include "host/measures/accuracy.hpp"
 
 namespace excite::host {
 
 struct StopRule {
-  double sigma_tolerance = 0.20;      // of σ_n, relative (montecarlo::kSigmaTolerance)
-  double angle_tolerance_deg = 10.0;  // of v_n (montecarlo::kAngleToleranceDeg)
-  double z = 1.96;                    // the interval: ±z SE (95 %)
-  bool residual_tests = false;        // every output's residual tests must pass too
-  bool colour = false;                // gain covariances inflated for coloured residuals
+  double sigma_tolerance = kSigmaTolerance;         // of σ_n, relative (accuracy.hpp)
+  double angle_tolerance_deg = kAngleToleranceDeg;  // of v_n (accuracy.hpp)
+  double z = 1.96;                                  // the interval: ±z SE (95 %)
+  bool residual_tests = false;                      // every output's residual tests must pass too
+  bool colour = false;  // gain covariances inflated for coloured residuals
 };
 
 struct Confidence {

@@ -2,8 +2,8 @@
 #pragma once
 // The adaptive test measured over noise seeds (issue 26 §4), in-process, against the truth
 // the test itself never sees: per seed, the adaptive test on the library plant (or its
-// perturbation, host/montecarlo/perturb.hpp) with the seed's measurement noise; every
-// re-estimate's G(0) judged by the Monte Carlo accuracy criterion (host/montecarlo/
+// perturbation, sim/library/perturb.hpp) with the seed's measurement noise; every
+// re-estimate's G(0) judged by the Monte Carlo accuracy criterion (host/measures/
 // accuracy.hpp) against the seed's true plant; the CVs' noise-free excursions against the
 // test limits.
 //
@@ -68,7 +68,7 @@ struct StudyResult {
 };
 
 /// The seed's true plant: the library plant by name, or (perturb_percent > 0) its
-/// perturbation drawn from the seed (host/montecarlo/perturb.hpp; linear plants only, else
+/// perturbation drawn from the seed (sim/library/perturb.hpp; linear plants only, else
 /// std::invalid_argument).
 std::unique_ptr<sim::Plant> true_plant(const std::string& plant, double perturb_percent,
                                        std::uint64_t seed);

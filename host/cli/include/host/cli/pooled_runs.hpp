@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // Several run logs identified together (excite identify RUN…): the row limit holds for
-// all of them together, counted before any is loaded, and runs are pooled only when their
+// all of them together, counted by the reader as each is read, and runs are pooled only when their
 // headers say they come from the same plant with the same units (host/README.md, Limits).
 
 #include <stdexcept>
@@ -13,19 +13,28 @@
 
 namespace excite::host::cli {
 
-/// Before any run is read: at most kMaxRunRows data rows over all `paths` together.
-inline void check_pooled_rows(const std::vector<std::string>& paths) {
-  if (paths.size() == 1) return check_run_rows(paths.front());
+/// Reads every run, each file opened once: at most kMaxRunRows data rows over all `paths`
+/// together, enforced by the reader as it reads (each run may hold what the earlier ones
+/// left); the run that crosses the limit is named with the count of runs.
+inline std::vector<runlog::RunLog> read_pooled_logs(const std::vector<std::string>& paths) {
+  if (paths.size() == 1) return {read_log(paths.front())};
+  std::vector<runlog::RunLog> runs;
   std::size_t total = 0;
   for (const std::string& path : paths) {
-    total += count_run_rows(path, kMaxRunRows - total);
-    if (total > kMaxRunRows) {
+    refuse_directory(path, "a run log (CSV)");
+    runlog::ReadResult r =
+        runlog::read_run_log(path, limited_read_options({}, kMaxRunRows - total));
+    if (r.over_row_limit) {
       throw std::invalid_argument(
           path + ": more than " + std::to_string(kMaxRunRows) + " data rows in the " +
           std::to_string(paths.size()) + " runs together (counted up to this one), expected at " +
           "most " + std::to_string(kMaxRunRows) + " in total (host/README.md, Limits)");
     }
+    if (!r.ok()) throw std::invalid_argument(r.error->to_string());
+    total += r.log.rows();
+    runs.push_back(std::move(r.log));
   }
+  return runs;
 }
 
 namespace detail {

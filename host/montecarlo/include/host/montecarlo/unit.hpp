@@ -14,7 +14,7 @@
 
 #include "host/campaign/campaign.hpp"
 #include "host/design/presets.hpp"
-#include "host/montecarlo/accuracy.hpp"
+#include "host/measures/accuracy.hpp"
 #include "host/montecarlo/work.hpp"
 #include "sim/lti/transfer_matrix.hpp"
 

@@ -19,7 +19,7 @@
 
 #include "sim/lti/transfer_matrix.hpp"
 
-namespace excite::host::montecarlo {
+namespace excite::sim {
 
 /// Largest --perturb (exclusive): a draw of −100 % would zero a gain or a time constant.
 inline constexpr double kMaxPerturbPercent = 100.0;
@@ -44,4 +44,4 @@ void check_perturbable(const std::string& plant, double percent);
 /// std::invalid_argument "--perturb = TEXT, expected …" otherwise.
 double parse_perturb(const std::string& text);
 
-}  // namespace excite::host::montecarlo
+}  // namespace excite::sim

@@ -8,7 +8,7 @@
 
 #include "host/adaptive/amplitude_control.hpp"
 
-namespace excite::host::cli {
+namespace excite::host {
 
 /// The limits of every output named in `texts` (the others unlimited: ∓infinity). Throws
 /// std::invalid_argument quoting the option for a malformed text, an unknown CV (listing
@@ -16,4 +16,4 @@ namespace excite::host::cli {
 CvLimits parse_cv_limits(const std::vector<std::string>& texts,
                          const std::vector<std::string>& outputs, const std::string& whose);
 
-}  // namespace excite::host::cli
+}  // namespace excite::host

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "host/montecarlo/accuracy.hpp"
+#include "host/measures/accuracy.hpp"
 
 #include <Eigen/Dense>
 
@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace excite::host::montecarlo {
+namespace excite::host {
 
 std::vector<double> principal_minor_values(const Eigen::MatrixXd& gain) {
   const auto n = static_cast<int>(gain.rows());
@@ -62,4 +62,4 @@ Accuracy judge(const TruePlant& truth, const std::optional<GainAnalysis>& identi
   return a;
 }
 
-}  // namespace excite::host::montecarlo
+}  // namespace excite::host

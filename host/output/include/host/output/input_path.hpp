@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace excite::host::cli {
+namespace excite::host {
 
 inline void refuse_directory(const std::filesystem::path& path, const std::string& expected) {
   std::error_code ec;
@@ -16,4 +16,4 @@ inline void refuse_directory(const std::filesystem::path& path, const std::strin
   }
 }
 
-}  // namespace excite::host::cli
+}  // namespace excite::host

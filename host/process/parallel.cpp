@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "host/campaign/parallel.hpp"
+#include "host/process/parallel.hpp"
 
 #include <algorithm>
 #include <atomic>

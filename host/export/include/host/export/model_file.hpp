@@ -12,7 +12,7 @@
 #include "host/export/formats.hpp"
 #include "host/identify/identify.hpp"
 
-namespace excite::host::cli {
+namespace excite::host {
 
 /// {"format":"excite model v2","sample_time_min","inputs":[names],"outputs":[{"name","fit",
 ///  "elements":[{"input","structure","K","Td","Tp1","Tp2","Tz","Tn","zeta","se":{…},
@@ -48,4 +48,4 @@ void check_same_channels(const ModelChannels& model, const std::string& model_pa
 /// The same with the names of the inputs and outputs (`source` is the path).
 NamedModel read_named_model_file(const std::filesystem::path& path);
 
-}  // namespace excite::host::cli
+}  // namespace excite::host

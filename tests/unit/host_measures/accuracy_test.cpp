@@ -6,9 +6,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "host/montecarlo/accuracy.hpp"
+#include "host/measures/accuracy.hpp"
 
-namespace mc = excite::host::montecarlo;
+namespace mc = excite::host;
 using excite::host::analyse_gain;
 
 namespace {

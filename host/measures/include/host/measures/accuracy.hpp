@@ -13,7 +13,7 @@
 
 #include "host/measures/gain_directions.hpp"
 
-namespace excite::host::montecarlo {
+namespace excite::host {
 
 inline constexpr double kSigmaTolerance = 0.20;     // |σ̂_n − σ_n| ≤ 0.20 σ_n
 inline constexpr double kAngleToleranceDeg = 10.0;  // ∠(v̂_n, ±v_n) ≤ 10°
@@ -41,4 +41,4 @@ struct Accuracy {
 /// Judges an identified G(0) (empty: not identified, not met).
 Accuracy judge(const TruePlant& truth, const std::optional<GainAnalysis>& identified);
 
-}  // namespace excite::host::montecarlo
+}  // namespace excite::host

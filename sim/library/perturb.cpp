@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "host/montecarlo/perturb.hpp"
+#include "sim/library/perturb.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -11,7 +11,7 @@
 
 #include "sim/library/library.hpp"
 
-namespace excite::host::montecarlo {
+namespace excite::sim {
 namespace {
 
 // splitmix64 (Steele, Lea & Flood 2014): a fixed, portable stream from one 64-bit seed.
@@ -109,4 +109,4 @@ sim::TransferMatrix perturbed_plant(const sim::TransferMatrix& nominal, double p
   return g;
 }
 
-}  // namespace excite::host::montecarlo
+}  // namespace excite::sim

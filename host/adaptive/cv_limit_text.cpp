@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-#include "host/cli/cv_limit_option.hpp"
+#include "host/adaptive/cv_limit_text.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
-namespace excite::host::cli {
+namespace excite::host {
 namespace {
 
 std::string joined(const std::vector<std::string>& names) {
@@ -69,4 +69,4 @@ CvLimits parse_cv_limits(const std::vector<std::string>& texts,
   return limits;
 }
 
-}  // namespace excite::host::cli
+}  // namespace excite::host

@@ -14,7 +14,7 @@
 
 #include "host/output/input_file.hpp"
 
-namespace excite::host::cli {
+namespace excite::host {
 
 namespace detail {
 // The library's DOM builder, with the position and text of the first error kept.
@@ -78,4 +78,4 @@ inline nlohmann::json read_json_file(const std::string& path, const std::string&
                               "', expected JSON (" + what + ")");
 }
 
-}  // namespace excite::host::cli
+}  // namespace excite::host

@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-namespace excite::host::cli {
+namespace excite::host {
 
 inline nlohmann::json to_json(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
@@ -30,4 +30,4 @@ inline nlohmann::json columns_to_json(const Eigen::MatrixXd& m) {
   return rows_to_json(m.transpose());
 }
 
-}  // namespace excite::host::cli
+}  // namespace excite::host

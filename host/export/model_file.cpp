@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "host/cli/model_file.hpp"
+#include "host/export/model_file.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -10,11 +10,11 @@
 #include <tuple>
 #include <utility>
 
-#include "host/cli/input_path.hpp"
-#include "host/cli/json_file.hpp"
-#include "host/cli/json_util.hpp"
+#include "host/export/json_util.hpp"
+#include "host/output/input_path.hpp"
+#include "host/output/json_file.hpp"
 
-namespace excite::host::cli {
+namespace excite::host {
 namespace {
 
 // v2 added each element's structure, its parameters beyond (6.1.1) and its covariance; a
@@ -213,6 +213,74 @@ nlohmann::json model_json(const IdentificationResult& result,
   return j;
 }
 
+namespace {
+
+// One element of a model file (`el` names it in errors): its structure, the structure's
+// parameters, and where they are finite its checks and uncertainty; else why it is unknown.
+ElementEstimate read_element(const nlohmann::json& e, const std::string& el) {
+  ElementEstimate est;
+  const std::string structure = text(e, "structure", el);
+  const std::optional<Structure> s =
+      structure.empty() ? Structure::two_poles : structure_from_string(structure);
+  if (!s) {
+    throw std::invalid_argument(field(el, "structure") + " = " + shown(e["structure"]) +
+                                ", expected first_order, two_poles, two_poles_zero, "
+                                "integrator, underdamped or underdamped_lag_zero");
+  }
+  est.value = with_structure(ElementModel{}, *s);
+  bool finite = true;
+  for (const int k : free_parameters(*s)) {
+    est.value[k] = number(e, parameter_name(static_cast<Parameter>(k)), el);
+    finite &= std::isfinite(est.value[k]);
+  }
+  if (finite) {
+    try {
+      check_element(est.value);
+    } catch (const std::invalid_argument& bad) {
+      throw std::invalid_argument(el + "." + bad.what());
+    }
+    read_uncertainty(e, el, est);
+  }
+  est.status = finite ? ElementStatus::identified : ElementStatus::input_not_moved;
+  const std::string status = text(e, "status", el);
+  const std::string reason = text(e, "reason", el);
+  if (finite && status == "weak_gain") est.status = ElementStatus::weak_gain;
+  if (!finite) est.reason = reason.empty() ? "not estimated" : reason;
+  return est;
+}
+
+// The model's channel names, their counts checked (1 to kMaxModelChannels) before any
+// allocation: a 256 KB file once asked for 36 M elements (8.8 GB).
+void read_channels(const nlohmann::json& j, const std::string& where, NamedModel& named) {
+  for (const char* key : {"inputs", "outputs"}) {
+    if (!j.contains(key) || !j[key].is_array()) {
+      throw std::invalid_argument(where + ": " + key + " = " +
+                                  (j.contains(key) ? shown(j[key]) : "(missing)") +
+                                  ", expected an array");
+    }
+    if (j[key].empty() || j[key].size() > kMaxModelChannels) {
+      throw std::invalid_argument(where + ": " + key + " = " + std::to_string(j[key].size()) +
+                                  " channels, expected 1 to " + std::to_string(kMaxModelChannels) +
+                                  " (host/README.md, Limits)");
+    }
+  }
+  for (const auto& [key, names] :
+       {std::pair{"inputs", &named.inputs}, std::pair{"outputs", &named.outputs}}) {
+    for (std::size_t k = 0; k < j[key].size(); ++k) {
+      const nlohmann::json& e = j[key][k];
+      const nlohmann::json* name =
+          e.is_string() ? &e : (e.is_object() && e.contains("name") ? &e["name"] : nullptr);
+      if (name == nullptr || !name->is_string()) {
+        throw std::invalid_argument(where + ": " + key + "[" + std::to_string(k) +
+                                    "], expected a channel name");
+      }
+      names->push_back(name->get<std::string>());
+    }
+  }
+}
+
+}  // namespace
+
 IdentifiedModel read_model_file(const std::filesystem::path& path, ModelChannels* channels) {
   NamedModel named = read_named_model_file(path);
   if (channels != nullptr) {
@@ -238,32 +306,7 @@ NamedModel read_named_model_file(const std::filesystem::path& path) {
   if (!(m.sample_time_min > 0.0))
     throw std::invalid_argument(where + ": sample_time_min = " + std::to_string(m.sample_time_min) +
                                 ", expected > 0");
-  for (const char* key : {"inputs", "outputs"}) {
-    if (!j.contains(key) || !j[key].is_array()) {
-      throw std::invalid_argument(where + ": " + key + " = " +
-                                  (j.contains(key) ? shown(j[key]) : "(missing)") +
-                                  ", expected an array");
-    }
-    // Sizes before any allocation: a 256 KB file once asked for 36 M elements (8.8 GB).
-    if (j[key].empty() || j[key].size() > kMaxModelChannels) {
-      throw std::invalid_argument(where + ": " + key + " = " + std::to_string(j[key].size()) +
-                                  " channels, expected 1 to " + std::to_string(kMaxModelChannels) +
-                                  " (host/README.md, Limits)");
-    }
-  }
-  for (const auto& [key, names] :
-       {std::pair{"inputs", &named.inputs}, std::pair{"outputs", &named.outputs}}) {
-    for (std::size_t k = 0; k < j[key].size(); ++k) {
-      const nlohmann::json& e = j[key][k];
-      const nlohmann::json* name =
-          e.is_string() ? &e : (e.is_object() && e.contains("name") ? &e["name"] : nullptr);
-      if (name == nullptr || !name->is_string()) {
-        throw std::invalid_argument(where + ": " + key + "[" + std::to_string(k) +
-                                    "], expected a channel name");
-      }
-      names->push_back(name->get<std::string>());
-    }
-  }
+  read_channels(j, where, named);
   m.inputs = static_cast<int>(j["inputs"].size());
   m.outputs = static_cast<int>(j["outputs"].size());
   m.elements.resize(static_cast<std::size_t>(m.inputs * m.outputs));
@@ -280,34 +323,7 @@ NamedModel read_named_model_file(const std::filesystem::path& path) {
     for (int i = 0; i < m.inputs; ++i) {
       const nlohmann::json& e = out["elements"][static_cast<std::size_t>(i)];
       const std::string el = at + ".elements[" + std::to_string(i) + "]";
-      ElementEstimate& est = m.element(o, i);
-      const std::string structure = text(e, "structure", el);
-      const std::optional<Structure> s =
-          structure.empty() ? Structure::two_poles : structure_from_string(structure);
-      if (!s) {
-        throw std::invalid_argument(field(el, "structure") + " = " + shown(e["structure"]) +
-                                    ", expected first_order, two_poles, two_poles_zero, "
-                                    "integrator, underdamped or underdamped_lag_zero");
-      }
-      est.value = with_structure(ElementModel{}, *s);
-      bool finite = true;
-      for (const int k : free_parameters(*s)) {
-        est.value[k] = number(e, parameter_name(static_cast<Parameter>(k)), el);
-        finite &= std::isfinite(est.value[k]);
-      }
-      if (finite) {
-        try {
-          check_element(est.value);
-        } catch (const std::invalid_argument& bad) {
-          throw std::invalid_argument(el + "." + bad.what());
-        }
-        read_uncertainty(e, el, est);
-      }
-      est.status = finite ? ElementStatus::identified : ElementStatus::input_not_moved;
-      const std::string status = text(e, "status", el);
-      const std::string reason = text(e, "reason", el);
-      if (finite && status == "weak_gain") est.status = ElementStatus::weak_gain;
-      if (!finite) est.reason = reason.empty() ? "not estimated" : reason;
+      m.element(o, i) = read_element(e, el);
     }
     if (const auto cov = read_gain_covariance(out, at, m.inputs)) {
       covariances.push_back(*cov);
@@ -340,4 +356,4 @@ void check_same_channels(const ModelChannels& model, const std::string& model_pa
   }
 }
 
-}  // namespace excite::host::cli
+}  // namespace excite::host
