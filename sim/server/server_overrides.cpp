@@ -121,6 +121,10 @@ void apply_overrides(ServerConfig& config, const ServerOverrides& o, std::string
     plant.file = std::filesystem::absolute(o.plant_file).string();
     plant.library.clear();
   }
+  if (!o.controller.empty()) plant.controller = std::filesystem::absolute(o.controller).string();
+  if (!plant.controller.empty() && std::filesystem::path(plant.controller).is_relative()) {
+    plant.controller = (config.base_directory / plant.controller).string();
+  }
   if (o.noise_variance) plant.noise_variance = {*o.noise_variance};
   if (o.noise_seed) plant.noise_seed = *o.noise_seed;
   if (o.sample_time_min) plant.sample_time_min = *o.sample_time_min;
