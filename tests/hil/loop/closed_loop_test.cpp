@@ -1,0 +1,232 @@
+// SPDX-License-Identifier: MIT
+// The gateway in closed loop (issue 42 §2), the real processes: excite-gateway writes test
+// offsets to excite-plant --controller (woodberry2x2 under the BLT-tuned PI of
+// sim/control/examples) through the pair `excite loop-config --controller` writes. Asserted
+// on the plant's side (its registers read with libmodbus, its controller log): a run ends
+// with every offset at zero and the controller in control; the controller switched to
+// manual mid-test suspends and then aborts the test, the offsets back at zero; a SIGKILLed
+// gateway leaves the plant's watchdog to zero them.
+#include <modbus.h>
+
+#include <cerrno>
+#include <cmath>
+#include <csignal>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "loop_fixture.hpp"
+
+namespace excite::test {
+namespace {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+const std::string kPi = std::string(EXCITE_CONTROL_EXAMPLES) + "/woodberry2x2.pi.toml";
+
+// sim/server's closed-loop default map for woodberry2x2 (n = m = 2).
+constexpr int kOffsets = 500;         // holding: u1, u2 offsets, then y1, y2 setpoint offsets
+constexpr int kMode = 514;            // input: the controller's mode
+constexpr int kSwitch = 410;          // holding: the operator's switch
+constexpr int kWatchdogTrips = 406;   // holding: control block +6
+
+class Plc {  // a libmodbus client of the plant: an operator's HMI beside the gateway
+ public:
+  explicit Plc(std::uint16_t port) : ctx_(modbus_new_tcp("127.0.0.1", port)) {
+    if (ctx_ != nullptr && modbus_connect(ctx_) != 0) {
+      modbus_free(ctx_);
+      ctx_ = nullptr;
+    }
+  }
+  ~Plc() {
+    if (ctx_ != nullptr) {
+      modbus_close(ctx_);
+      modbus_free(ctx_);
+    }
+  }
+  Plc(const Plc&) = delete;
+  Plc& operator=(const Plc&) = delete;
+  bool ok() const { return ctx_ != nullptr; }
+  // The four offset registers as floats (ABCD); empty when the read failed.
+  std::vector<float> offsets() {
+    std::uint16_t r[8];
+    if (modbus_read_registers(ctx_, kOffsets, 8, r) != 8) return {};
+    std::vector<float> out;
+    for (int k = 0; k < 4; ++k) {
+      const std::uint32_t bits = (std::uint32_t{r[2 * k]} << 16) | r[2 * k + 1];
+      float x;
+      std::memcpy(&x, &bits, sizeof x);
+      out.push_back(x);
+    }
+    return out;
+  }
+  int mode() {
+    std::uint16_t v = 0;
+    return modbus_read_input_registers(ctx_, kMode, 1, &v) == 1 ? v : -1;
+  }
+  int holding(int address) {
+    std::uint16_t v = 0;
+    return modbus_read_registers(ctx_, address, 1, &v) == 1 ? v : -1;
+  }
+  bool set_switch(int value) {
+    return modbus_write_register(ctx_, kSwitch, static_cast<std::uint16_t>(value)) == 1;
+  }
+
+ private:
+  modbus_t* ctx_;
+};
+
+class ClosedLoopGateway : public LoopTest {
+ protected:
+  // The pair for woodberry2x2 under the PI, the gateway ticking every 2 ms, the plant in
+  // lock-step with its controller log.
+  std::uint16_t start(const std::string& extra_config, std::vector<std::string> plant_args) {
+    plant_args.insert(plant_args.end(), {"--clock", "lockstep", "--controller-log",
+                                         path("controller.csv").string()});
+    const std::string args = "--controller " + kPi + " --period-s 0.002 " + extra_config;
+    const std::uint16_t port = start_loop("woodberry2x2", args, plant_args);
+    plan_ = design("woodberry2x2", "prbsUnc");
+    return port;
+  }
+  std::vector<std::vector<std::string>> controller_log() const {
+    std::ifstream in(path("controller.csv"));
+    std::vector<std::vector<std::string>> rows;
+    std::string line;
+    std::getline(in, line);  // header
+    while (std::getline(in, line)) {
+      std::vector<std::string> cells;
+      std::istringstream row(line);
+      for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+      rows.push_back(cells);
+    }
+    return rows;
+  }
+  // Waits until the plant's controller reads mode `mode` (2: test, offsets in force).
+  bool wait_for_mode(Plc& plc, int mode) {
+    const auto until = Clock::now() + 20s;
+    while (plc.mode() != mode && Clock::now() < until) std::this_thread::sleep_for(5ms);
+    return plc.mode() == mode;
+  }
+  static bool all_zero(const std::vector<float>& xs) {
+    if (xs.empty()) return false;
+    for (const float x : xs)
+      if (x != 0.0F) return false;
+    return true;
+  }
+
+  fs::path plan_;
+};
+
+// GIVEN setpoint offsets streamed to the running PI, THEN the run completes, the offsets are
+// at zero on the plant's side and the controller is in control; every setpoint the plant's
+// controller had in force is the offset the gateway logged, row for row.
+TEST_F(ClosedLoopGateway, ARunEndsWithEveryOffsetAtZeroAndTheControllerInControl) {
+  const std::uint16_t port = start("--offsets setpoint --output-range 0.5", {"--watchdog-s", "2"});
+  auto gw = start_gateway(plan_, {"--start", "--clock", "lockstep"});
+  ASSERT_EQ(gw->wait(60s).value_or(-1), 0) << gw->err();
+  EXPECT_NE(gw->err().find("safe after"), std::string::npos) << gw->err();
+  EXPECT_NE(gw->err().find("closed loop: the controller left its mode 0 times, MVs clamped or "
+                           "wound up 0 times"),
+            std::string::npos)
+      << gw->err();
+  Plc plc(port);
+  ASSERT_TRUE(plc.ok());
+  EXPECT_TRUE(all_zero(plc.offsets())) << "the offsets at zero on the plant's side";
+  EXPECT_EQ(plc.mode(), 1) << "the controller in control";
+
+  const runlog::RunLog gateway = read_log_or_fail(path("gw.csv"));
+  const auto rows = controller_log();
+  ASSERT_EQ(rows.size(), gateway.rows()) << "one plant sample per gateway tick";
+  double largest = 0.0;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    ASSERT_EQ(rows[k].size(), 14U);
+    for (std::size_t j = 0; j < 2; ++j) {
+      const double logged = gateway.du[j][k];
+      ASSERT_EQ(std::stod(rows[k][12 + j]), static_cast<double>(static_cast<float>(logged)))
+          << "row " << k << ": the plant's setpoint in force is the gateway's offset";
+      largest = std::max(largest, std::abs(logged));
+    }
+  }
+  EXPECT_GT(largest, 0.01) << "the setpoints were excited";
+  EXPECT_EQ(rows.back()[3], "control");
+  EXPECT_EQ(rows.back()[12], "0");
+  EXPECT_EQ(rows.back()[13], "0");
+  stop_plant_and_read_its_log();
+}
+
+// GIVEN a test in progress, WHEN the operator switches the controller to manual, THEN the
+// gateway suspends (the offsets ramp to zero), aborts after controller_timeout_s, and is safe
+// once the controller is back in control: exit 6, the summary counts the episode.
+TEST_F(ClosedLoopGateway, ManualMidTestSuspendsThenAbortsWithTheOffsetsAtZero) {
+  const std::uint16_t port =
+      start("--offsets setpoint --output-range 0.5 --controller-timeout-s 0.3",
+            {"--watchdog-s", "2"});
+  Plc plc(port);
+  ASSERT_TRUE(plc.ok());
+  auto gw = start_gateway(plan_, {"--start"});  // real time: 2 ms ticks, 1.9 s of plan
+  ASSERT_TRUE(wait_for_mode(plc, 2)) << "the test is running: " << gw->err();
+  std::this_thread::sleep_for(50ms);
+  ASSERT_TRUE(plc.set_switch(0)) << modbus_strerror(errno);
+  const auto until = Clock::now() + 20s;
+  while (gw->err().find("-> aborted") == std::string::npos && Clock::now() < until) {
+    std::this_thread::sleep_for(10ms);
+  }
+  const std::string during = gw->err();
+  EXPECT_NE(during.find("-> suspended"), std::string::npos) << during;
+  ASSERT_NE(during.find("-> aborted"), std::string::npos) << during;
+  EXPECT_LT(during.find("-> suspended"), during.find("-> aborted")) << "suspend, then abort";
+  std::this_thread::sleep_for(100ms);
+  EXPECT_TRUE(all_zero(plc.offsets())) << "aborted: the offsets back at zero on the plant";
+  EXPECT_FALSE(gw->wait(0ms).has_value()) << "not safe while the controller is in manual";
+  ASSERT_TRUE(plc.set_switch(1));  // the operator puts the controller back in control
+  ASSERT_EQ(gw->wait(30s).value_or(-1), 6) << gw->err();  // aborted, baseline confirmed
+  const std::string err = gw->err();
+  EXPECT_NE(err.find("safe after"), std::string::npos) << err;
+  EXPECT_NE(err.find("aborted: the controller left its mode or an MV was limited too long"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("the controller left its mode 1 times"), std::string::npos) << err;
+  EXPECT_TRUE(all_zero(plc.offsets()));
+  EXPECT_EQ(plc.mode(), 1);
+  stop_plant_and_read_its_log();
+}
+
+// GIVEN a test in progress, WHEN the gateway is SIGKILLed, THEN the plant's watchdog returns
+// every offset to zero and keeps the controller in control (its registers, its log).
+TEST_F(ClosedLoopGateway, AKilledGatewayLeavesThePlantsWatchdogToZeroTheOffsets) {
+  // No test limits: an MV dither moves xD by up to 0.9 (a 0.5 limit would suspend the test,
+  // and a suspended test has its offsets at zero already).
+  const std::uint16_t port = start("--offsets mv --output-range 5 --watchdog-s 0.5", {});
+  Plc plc(port);
+  ASSERT_TRUE(plc.ok());
+  auto gw = start_gateway(plan_, {"--start"});  // real time: 2 ms ticks, 1.9 s of plan
+  ASSERT_TRUE(wait_for_mode(plc, 2)) << gw->err();
+  std::this_thread::sleep_for(200ms);
+  ASSERT_FALSE(gw->wait(0ms).has_value()) << "the run ended too soon: " << gw->err();
+  EXPECT_FALSE(all_zero(plc.offsets())) << "the MV offsets are in force: " << gw->err();
+  gw->signal(SIGKILL);
+  const auto killed = Clock::now();
+  ASSERT_EQ(gw->wait(10s).value_or(-1), 128 + SIGKILL);
+  while (Clock::now() - killed < 1500ms && plc.holding(kWatchdogTrips) != 1) {
+    std::this_thread::sleep_for(10ms);
+  }
+  const double after_s = std::chrono::duration<double>(Clock::now() - killed).count();
+  EXPECT_EQ(plc.holding(kWatchdogTrips), 1);
+  EXPECT_GE(after_s, 0.45) << "not before the watchdog's 0.5 s";
+  EXPECT_TRUE(all_zero(plc.offsets())) << "every offset back at zero";
+  EXPECT_EQ(plc.mode(), 1) << "the controller kept in control";
+  const auto rows = controller_log();
+  ASSERT_FALSE(rows.empty());
+  EXPECT_EQ(rows.back()[0], "watchdog") << "the plant's own log records it";
+  EXPECT_EQ(rows.back()[3], "control");
+  EXPECT_EQ(rows.back()[4], "0");
+  EXPECT_EQ(rows.back()[5], "0");
+  EXPECT_NE(plant_->stderr_text().find("every test offset returned to zero"), std::string::npos);
+  std::printf("[ measured ] offsets at zero %.3f s after SIGKILL (watchdog 0.5 s)\n", after_s);
+  stop_plant_and_read_its_log();
+}
+
+}  // namespace
+}  // namespace excite::test
