@@ -556,5 +556,54 @@ TEST(GatewayTiming, CountsOutsideTheirRangeAreRefused) {
             "gw.toml:25:23: device.response_timeout_ms = 0, expected an integer 1..60000");
 }
 
+// Closed loop (issue 42 §2): [closed_loop] and the controller's read-back roles.
+std::string closed_loop_text(const std::string& closed, int statuses) {
+  std::string text = example_text() + "\n" + closed + "\n";
+  text += "[[values]]\nname = \"mode\"\nrole = \"controller_mode\"\naddress = 500\n"
+          "function_code = 4\ntype = \"uint16\"\neng_min = 0\neng_max = 65535\n";
+  for (int i = 0; i < statuses; ++i) {
+    text += "[[values]]\nname = \"st" + std::to_string(i) +
+            "\"\nrole = \"mv_status\"\naddress = " + std::to_string(510 + i) +
+            "\nfunction_code = 4\ntype = \"uint16\"\neng_min = 0\neng_max = 65535\n";
+  }
+  return text;
+}
+
+TEST(GatewayConfigTest, ClosedLoopRolesMapToTheEnginesControllerWatch) {
+  const ConfigResult r = parse_gateway_config(
+      closed_loop_text("[closed_loop]\noffsets = \"mv\"\ncontroller_timeout_s = 2.5", 2),
+      "gw.toml");
+  ASSERT_TRUE(r.config) << r.error;
+  ASSERT_TRUE(r.config->closed_loop);
+  EXPECT_EQ(r.config->closed_loop->offsets, "mv");
+  const engine::EngineConfig e = to_engine_config(*r.config, std::chrono::duration<double>(0.5));
+  EXPECT_EQ(e.controller.mode, 10);
+  EXPECT_EQ(e.controller.mvs, 2U);
+  EXPECT_EQ(e.controller.status[1], 12);
+  EXPECT_EQ(e.controller.move[0], engine::kNone);
+  EXPECT_EQ(e.controller.timeout_ticks, 5U);
+  EXPECT_TRUE(engine::validate(e)) << engine::validate(e).message();
+}
+
+TEST(GatewayConfigTest, ClosedLoopRefusalsNameTheField) {
+  EXPECT_NE(error_of(closed_loop_text("", 1))
+                .find("values[10].role = \"(closed-loop role)\", expected a [closed_loop] table"),
+            std::string::npos)
+      << error_of(closed_loop_text("", 1));
+  EXPECT_NE(error_of(closed_loop_text("[closed_loop]\noffsets = \"cv\"", 1))
+                .find("closed_loop.offsets = \"cv\", expected \"mv\" (MV test offsets)"),
+            std::string::npos);
+  EXPECT_NE(error_of(closed_loop_text("[closed_loop]\ncontroller = \"pi\"", 1))
+                .find("closed_loop.offsets = (missing)"),
+            std::string::npos);
+  EXPECT_NE(error_of(closed_loop_text("[closed_loop]\noffsets = \"mv\"", 0))
+                .find("values = 0 mv_status values, expected 1 … 8 under [closed_loop]"),
+            std::string::npos)
+      << error_of(closed_loop_text("[closed_loop]\noffsets = \"mv\"", 0));
+  EXPECT_NE(error_of(closed_loop_text("[closed_loop]\noffsets = \"mv\"\ncontroller_timeout_s = -1", 1))
+                .find("closed_loop.controller_timeout_s = -1, expected 0 … "),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace excite::app
