@@ -119,8 +119,8 @@ Status validate(const EngineConfig& config) {
   if (w.mode != kNone) {
     if (w.mvs > kMaxInputs || w.cvs > kMaxInputs) {
       return Status::error(StatusCode::invalid_field,
-                           "controller.mvs = %u, cvs = %u, expected at most %u each", w.mvs,
-                           w.cvs, kMaxInputs);
+                           "controller.mvs = %u, cvs = %u, expected at most %u each", w.mvs, w.cvs,
+                           kMaxInputs);
     }
     for (std::uint32_t i = 0; i < w.mvs; ++i) {
       if (w.status[i] == kNone || !valid_index(w.status[i], config.values) ||

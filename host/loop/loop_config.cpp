@@ -19,8 +19,8 @@
 #include "sim/server/config_writer.hpp"
 #include "sim/server/default_map.hpp"
 #include "sim/server/load_closed_loop.hpp"
-#include "sim/server/server_layout.hpp"
 #include "sim/server/server_config.hpp"
+#include "sim/server/server_layout.hpp"
 
 namespace excite::host {
 namespace {
@@ -213,8 +213,7 @@ std::string gateway_closed_loop_toml(const LoopConfigOptions& opt, const sim::Pl
   }
   const auto value = [&os](const std::string& name, const std::string& unit, const char* role,
                            const hal::modbus::RegisterEntry& e) {
-    os << "\n[[values]]\nname = " << toml_string(name) << "\nunit = " << toml_string(unit)
-       << "\n";
+    os << "\n[[values]]\nname = " << toml_string(name) << "\nunit = " << toml_string(unit) << "\n";
     if (role != nullptr) os << "role = \"" << role << "\"\n";
     os << format_register_entry(e, EntryKind::value);
   };
@@ -227,10 +226,12 @@ std::string gateway_closed_loop_toml(const LoopConfigOptions& opt, const sim::Pl
          << "\nhysteresis = " << toml_number(0.1 * opt.output_range) << "\n";
     }
   }
-  for (const Offset& o : offsets) value(o.name + "_rb", o.unit, "readback", float_value(o.address, 3));
+  for (const Offset& o : offsets)
+    value(o.name + "_rb", o.unit, "readback", float_value(o.address, 3));
   os << "\n[[values]]\nname = \"hb_echo\"\nrole = \"heartbeat_echo\"\n"
-     << format_register_entry(counter(regs.heartbeat_echo_address, regs.heartbeat_echo_function_code),
-                              EntryKind::value);
+     << format_register_entry(
+            counter(regs.heartbeat_echo_address, regs.heartbeat_echo_function_code),
+            EntryKind::value);
   os << "\n[[values]]\nname = \"command\"\nrole = \"command\"   # 1 start, 2 suspend, 3 resume, "
         "4 abort\n"
      << format_register_entry(counter(*regs.command_address, 3), EntryKind::value);
@@ -393,9 +394,8 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
     server.plant.input_min.push_back(u0v[i] - range - slack);
     server.plant.input_max.push_back(u0v[i] + range + slack);
   }
-  server.registers =
-      sim::server::default_registers(plant->inputs(), plant->outputs(), plant->input_names(),
-                                     plant->output_names(), closed);
+  server.registers = sim::server::default_registers(
+      plant->inputs(), plant->outputs(), plant->input_names(), plant->output_names(), closed);
   std::string controller_line;
   if (closed) {  // refused here, by name, as excite-plant would refuse it
     server.plant.controller = std::filesystem::absolute(opt.controller).string();
@@ -410,10 +410,9 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
   pair.plant_toml = sim::server::format_server_config(
       server, "excite-plant configuration written by `excite loop-config --plant " + opt.plant +
                   "`; its gateway side: gateway.toml");
-  pair.gateway_toml =
-      closed                     ? gateway_closed_loop_toml(opt, *plant, server, range, controller_line)
-      : opt.transport == "can" ? gateway_can_toml(opt, *plant, range, u0v, y0v)
-                               : gateway_toml(opt, *plant, server, range, u0v, y0v);
+  pair.gateway_toml = closed ? gateway_closed_loop_toml(opt, *plant, server, range, controller_line)
+                      : opt.transport == "can" ? gateway_can_toml(opt, *plant, range, u0v, y0v)
+                                               : gateway_toml(opt, *plant, server, range, u0v, y0v);
   check_with_partners(pair);
   pair.notes = std::move(notes);
   return pair;

@@ -13,8 +13,8 @@ ControllerLog::ControllerLog(std::string path, const std::vector<std::string>& i
   if (path_.empty()) return;
   file_ = std::fopen(path_.c_str(), "w");
   if (file_ == nullptr) {
-    throw std::runtime_error("--controller-log " + path_ + ": cannot create it: " +
-                             std::strerror(errno));
+    throw std::runtime_error("--controller-log " + path_ +
+                             ": cannot create it: " + std::strerror(errno));
   }
   std::string header = "event,k,t_min,mode";
   for (const char* prefix : {"o_", "uc_", "du_", "st_"}) {

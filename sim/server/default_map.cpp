@@ -10,8 +10,7 @@ namespace excite::sim::server {
 
 ServerRegisters default_registers(int inputs, int outputs,
                                   const std::vector<std::string>& input_names,
-                                  const std::vector<std::string>& output_names,
-                                  bool closed_loop) {
+                                  const std::vector<std::string>& output_names, bool closed_loop) {
   if (inputs < 1 || inputs > default_max_inputs || outputs < 1 || outputs > default_max_outputs) {
     throw std::invalid_argument(
         "plant = " + std::to_string(inputs) + " inputs, " + std::to_string(outputs) +

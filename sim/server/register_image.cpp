@@ -92,7 +92,8 @@ double RegisterImage::decode(const PlacedValue& p) const {
 std::vector<std::uint16_t> RegisterImage::guarded_registers() const {
   if (!layout_.closed_loop) return setpoint_registers();
   const ClosedLoopLayout& loop = *layout_.closed_loop;
-  const std::uint16_t* first = mapping_->tab_registers + (loop.offset_start - layout_.holding.start);
+  const std::uint16_t* first =
+      mapping_->tab_registers + (loop.offset_start - layout_.holding.start);
   return {first, first + loop.offset_count};
 }
 
@@ -103,8 +104,7 @@ void RegisterImage::set_guarded_registers(const std::vector<std::uint16_t>& regi
   }
   const ClosedLoopLayout& loop = *layout_.closed_loop;
   std::uint16_t* first = mapping_->tab_registers + (loop.offset_start - layout_.holding.start);
-  std::copy_n(registers.begin(), std::min<std::size_t>(registers.size(), loop.offset_count),
-              first);
+  std::copy_n(registers.begin(), std::min<std::size_t>(registers.size(), loop.offset_count), first);
 }
 
 void RegisterImage::restore_guarded() {

@@ -77,8 +77,7 @@ std::vector<hal::modbus::RegisterEntry> read_entries(const Table& registers, con
 ServerRegisters read_registers(const Table& t) {
   t.only_keys({"setpoints", "values", "heartbeat_address", "heartbeat_echo_address",
                "heartbeat_echo_function_code", "control_address", "command_address", "write_chunk",
-               "read_chunk", "offset_address", "controller_address",
-               "controller_switch_address"});
+               "read_chunk", "offset_address", "controller_address", "controller_switch_address"});
   ServerRegisters regs;
   regs.map.setpoints = read_entries(t, "setpoints", hal::modbus::EntryKind::setpoint);
   regs.map.values = read_entries(t, "values", hal::modbus::EntryKind::value);

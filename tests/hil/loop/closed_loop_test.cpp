@@ -27,10 +27,10 @@ using Clock = std::chrono::steady_clock;
 const std::string kPi = std::string(EXCITE_CONTROL_EXAMPLES) + "/woodberry2x2.pi.toml";
 
 // sim/server's closed-loop default map for woodberry2x2 (n = m = 2).
-constexpr int kOffsets = 500;         // holding: u1, u2 offsets, then y1, y2 setpoint offsets
-constexpr int kMode = 514;            // input: the controller's mode
-constexpr int kSwitch = 410;          // holding: the operator's switch
-constexpr int kWatchdogTrips = 406;   // holding: control block +6
+constexpr int kOffsets = 500;        // holding: u1, u2 offsets, then y1, y2 setpoint offsets
+constexpr int kMode = 514;           // input: the controller's mode
+constexpr int kSwitch = 410;         // holding: the operator's switch
+constexpr int kWatchdogTrips = 406;  // holding: control block +6
 
 class Plc {  // a libmodbus client of the plant: an operator's HMI beside the gateway
  public:
@@ -83,8 +83,8 @@ class ClosedLoopGateway : public LoopTest {
   // The pair for woodberry2x2 under the PI, the gateway ticking every 2 ms, the plant in
   // lock-step with its controller log.
   std::uint16_t start(const std::string& extra_config, std::vector<std::string> plant_args) {
-    plant_args.insert(plant_args.end(), {"--clock", "lockstep", "--controller-log",
-                                         path("controller.csv").string()});
+    plant_args.insert(plant_args.end(),
+                      {"--clock", "lockstep", "--controller-log", path("controller.csv").string()});
     const std::string args = "--controller " + kPi + " --period-s 0.002 " + extra_config;
     const std::uint16_t port = start_loop("woodberry2x2", args, plant_args);
     plan_ = design("woodberry2x2", "prbsUnc");
@@ -160,9 +160,8 @@ TEST_F(ClosedLoopGateway, ARunEndsWithEveryOffsetAtZeroAndTheControllerInControl
 // gateway suspends (the offsets ramp to zero), aborts after controller_timeout_s, and is safe
 // once the controller is back in control: exit 6, the summary counts the episode.
 TEST_F(ClosedLoopGateway, ManualMidTestSuspendsThenAbortsWithTheOffsetsAtZero) {
-  const std::uint16_t port =
-      start("--offsets setpoint --output-range 0.5 --controller-timeout-s 0.3",
-            {"--watchdog-s", "2"});
+  const std::uint16_t port = start(
+      "--offsets setpoint --output-range 0.5 --controller-timeout-s 0.3", {"--watchdog-s", "2"});
   Plc plc(port);
   ASSERT_TRUE(plc.ok());
   auto gw = start_gateway(plan_, {"--start"});  // real time: 2 ms ticks, 1.9 s of plan

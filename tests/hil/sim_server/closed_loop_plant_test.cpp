@@ -117,9 +117,10 @@ class Master {
 class ClosedLoopPlant : public ::testing::Test {
  protected:
   std::uint16_t start(std::vector<std::string> extra) {
-    std::vector<std::string> args{"--plant", "woodberry2x2", "--controller", kPi,
-                                  "--modbus-tcp", "127.0.0.1:0", "--controller-log",
-                                  (dir_.path() / "controller.csv").string()};
+    std::vector<std::string> args{"--plant",          "woodberry2x2",
+                                  "--controller",     kPi,
+                                  "--modbus-tcp",     "127.0.0.1:0",
+                                  "--controller-log", (dir_.path() / "controller.csv").string()};
     args.insert(args.end(), extra.begin(), extra.end());
     plant_ = std::make_unique<PlantRunner>(args, dir_.path() / "stderr.txt");
     const auto port = plant_->wait_listening();
@@ -163,7 +164,8 @@ TEST_F(ClosedLoopPlant, AnMvOffsetMovesThePlantThroughTheControllerAsInProcess) 
     process.sample(u.data(), y.data());
     y_measured = process.last_dy();
     for (int j = 0; j < 2; ++j) {
-      ASSERT_EQ(gw.input_float(kOutputs + 2 * j), static_cast<float>(y[static_cast<std::size_t>(j)]))
+      ASSERT_EQ(gw.input_float(kOutputs + 2 * j),
+                static_cast<float>(y[static_cast<std::size_t>(j)]))
           << "sample " << k << " output " << j;
     }
     for (int i = 0; i < 2; ++i) {
@@ -345,9 +347,9 @@ TEST_F(ClosedLoopPlant, ABadControllerIsRefusedByName) {
 
 // Without --controller the plant is the open-loop one: no closed-loop registers served.
 TEST_F(ClosedLoopPlant, WithoutAControllerNothingOfItIsServed) {
-  PlantRunner plant({"--plant", "woodberry2x2", "--modbus-tcp", "127.0.0.1:0", "--clock",
-                     "lockstep"},
-                    dir_.path() / "open.txt");
+  PlantRunner plant(
+      {"--plant", "woodberry2x2", "--modbus-tcp", "127.0.0.1:0", "--clock", "lockstep"},
+      dir_.path() / "open.txt");
   const auto port = plant.wait_listening();
   ASSERT_TRUE(port.has_value());
   Master gw(*port);

@@ -559,8 +559,9 @@ TEST(GatewayTiming, CountsOutsideTheirRangeAreRefused) {
 // Closed loop (issue 42 §2): [closed_loop] and the controller's read-back roles.
 std::string closed_loop_text(const std::string& closed, int statuses) {
   std::string text = example_text() + "\n" + closed + "\n";
-  text += "[[values]]\nname = \"mode\"\nrole = \"controller_mode\"\naddress = 500\n"
-          "function_code = 4\ntype = \"uint16\"\neng_min = 0\neng_max = 65535\n";
+  text +=
+      "[[values]]\nname = \"mode\"\nrole = \"controller_mode\"\naddress = 500\n"
+      "function_code = 4\ntype = \"uint16\"\neng_min = 0\neng_max = 65535\n";
   for (int i = 0; i < statuses; ++i) {
     text += "[[values]]\nname = \"st" + std::to_string(i) +
             "\"\nrole = \"mv_status\"\naddress = " + std::to_string(510 + i) +
@@ -600,9 +601,10 @@ TEST(GatewayConfigTest, ClosedLoopRefusalsNameTheField) {
                 .find("values = 0 mv_status values, expected 1 … 8 under [closed_loop]"),
             std::string::npos)
       << error_of(closed_loop_text("[closed_loop]\noffsets = \"mv\"", 0));
-  EXPECT_NE(error_of(closed_loop_text("[closed_loop]\noffsets = \"mv\"\ncontroller_timeout_s = -1", 1))
-                .find("closed_loop.controller_timeout_s = -1, expected 0 … "),
-            std::string::npos);
+  EXPECT_NE(
+      error_of(closed_loop_text("[closed_loop]\noffsets = \"mv\"\ncontroller_timeout_s = -1", 1))
+          .find("closed_loop.controller_timeout_s = -1, expected 0 … "),
+      std::string::npos);
 }
 
 }  // namespace

@@ -99,7 +99,7 @@ TEST_F(ClosedLoopTest, SafeIsTheOffsetsAtZeroHeldWithTheControllerInItsMode) {
 TEST_F(ClosedLoopTest, SafeWaitsForTheControllerInItsMode) {
   start();
   for (int i = 0; i < 60 && engine_.state() != State::returning; ++i) tick();
-  field_.values[kMode] = 3.0;  // suspended by its operator
+  field_.values[kMode] = 3.0;          // suspended by its operator
   for (int i = 0; i < 5; ++i) tick();  // within confirm_timeout_ticks = 10
   EXPECT_EQ(engine_.state(), State::returning) << "offsets at zero, controller not in mode";
   field_.values[kMode] = 1.0;

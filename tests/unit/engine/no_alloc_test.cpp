@@ -6,9 +6,9 @@
 #include <cstdlib>
 #include <vector>
 
+#include "closed_loop_fixture.hpp"
 #include "counting_malloc.hpp"
 #include "counting_new.hpp"
-#include "closed_loop_fixture.hpp"
 #include "engine_fixture.hpp"
 #include "firmware/engine/log_ring.hpp"
 #include "firmware/runlog/format.hpp"

@@ -106,8 +106,7 @@ TEST(ClosedLoop, ManualHoldsEveryMvAndTheControllerStandsStill) {
 
 TEST(ClosedLoop, TheWatchdogsClearDropsTheOffsetsAndKeepsControl) {
   Loop l = make_loop({0.25, -0.5});
-  l.loop.step(std::vector<double>{0.0}, 1, std::vector<double>{0.5, 0.1},
-              std::vector<double>{0.2});
+  l.loop.step(std::vector<double>{0.0}, 1, std::vector<double>{0.5, 0.1}, std::vector<double>{0.2});
   ASSERT_EQ(l.loop.mode(), LoopMode::test);
   l.loop.clear_offsets();
   EXPECT_EQ(l.loop.mode(), LoopMode::control);

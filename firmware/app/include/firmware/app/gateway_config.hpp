@@ -109,8 +109,8 @@ struct GatewayConfig {
   // [device] transport: its device, sections and per-entry mapping as it read them; null
   // when the bus is handed over built (the in-process tests).
   std::shared_ptr<const hal::TransportConfig> transport;
-  std::vector<SetpointSpec> setpoints;  // in plan channel order
-  std::vector<ValueSpec> values;        // in register-map order
+  std::vector<SetpointSpec> setpoints;        // in plan channel order
+  std::vector<ValueSpec> values;              // in register-map order
   std::optional<ClosedLoopSpec> closed_loop;  // [closed_loop]: absent in an open-loop run
 };
 

@@ -33,7 +33,7 @@ struct PlantSettings {
   double tau_high_min = 0.0;  // the design's τ_H and β for the run log's header (firmware/
   double beta = 0.0;          // runlog, TimeScales), minutes and a ratio, ≥ 0; 0: not known
   // What the plant's own controller enforces (README, "Watchdog and input limits"):
-  double watchdog_s = 0.0;        // heartbeat watchdog, wall-clock seconds >= 0; 0: off
+  double watchdog_s = 0.0;  // heartbeat watchdog, wall-clock seconds >= 0; 0: off
   // under a controller: every test offset back to zero instead
   std::vector<double> input_min;  // absolute limits per input (engineering units); empty:
   std::vector<double> input_max;  // none. A setpoint write outside is refused (exception 3)

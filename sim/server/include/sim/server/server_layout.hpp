@@ -82,7 +82,8 @@ void check_registers(const ServerRegisters& registers, std::string_view source);
 /// register, so that a gateway writing in address order (hal's request plan) writes it last
 /// and the sample it triggers sees this tick's setpoints (the test offsets too, under a
 /// controller). With `config.plant.controller` set, the three closed-loop addresses are
-/// required and placed (ClosedLoopLayout); without it, any of them is refused. Throws std::invalid_argument
+/// required and placed (ClosedLoopLayout); without it, any of them is refused. Throws
+/// std::invalid_argument
 /// "<source>: <field> = <value>, expected <what>".
 ServerLayout compile_layout(const ServerConfig& config, int inputs, int outputs, bool lockstep,
                             std::string_view source = "config");
