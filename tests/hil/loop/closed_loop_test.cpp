@@ -227,5 +227,67 @@ TEST_F(ClosedLoopGateway, AKilledGatewayLeavesThePlantsWatchdogToZeroTheOffsets)
   stop_plant_and_read_its_log();
 }
 
+// GIVEN MV offsets larger than the controller's MV limits (a PI with limits ±0.05 against a
+// dither of up to 0.14), THEN every MV the plant reports wound up or clamped suspends the
+// test at the next tick (the offset written there is zero), the run still completes, and the
+// summary counts the episodes.
+TEST_F(ClosedLoopGateway, AClampedOrWoundUpMvSuspendsTheTestAtTheNextTick) {
+  std::ifstream in(kPi);
+  std::string pi((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (std::size_t at = pi.find("0.3"); at != std::string::npos; at = pi.find("0.3", at + 1)) {
+    pi.replace(at, 3, "0.05");  // min = -0.3, max = 0.3 → ±0.05
+  }
+  const fs::path tight = path("tight.pi.toml");
+  std::ofstream(tight) << pi;
+  const std::string args = "--controller " + tight.string() +
+                           " --period-s 0.002 --offsets mv --output-range 5 --watchdog-s 2";
+  start_loop("woodberry2x2", args,
+             {"--clock", "lockstep", "--controller-log", path("controller.csv").string()});
+  plan_ = design("woodberry2x2", "prbsUnc");
+  auto gw = start_gateway(plan_, {"--start", "--clock", "lockstep"});
+  ASSERT_EQ(gw->wait(120s).value_or(-1), 0) << gw->err();
+  const std::string err = gw->err();
+  const auto at = err.find("MVs clamped or wound up ");
+  ASSERT_NE(at, std::string::npos) << err;
+  EXPECT_GT(std::stoul(err.substr(at + 24)), 10U) << err;
+  const auto rows = controller_log();
+  std::size_t limited = 0;
+  for (std::size_t k = 0; k + 1 < rows.size(); ++k) {
+    for (std::size_t i = 0; i < 2; ++i) {
+      const int st = std::stoi(rows[k][10 + i]);
+      if (st == 1 || st == 2 || st == 3) {
+        ++limited;
+        EXPECT_EQ(rows[k + 1][4], "0") << "sample " << k + 1 << ": suspended, offsets zero";
+        EXPECT_EQ(rows[k + 1][5], "0") << "sample " << k + 1;
+      }
+    }
+  }
+  EXPECT_GT(limited, 10U) << "the limits were reached";
+  stop_plant_and_read_its_log();
+}
+
+// loop-config checks the controller against the plant before writing anything.
+TEST_F(ClosedLoopGateway, LoopConfigRefusesABadControllerByName) {
+  const fs::path bad = path("bad.toml");
+  std::ofstream(bad) << "kind = \"pi\"\nsample_time_min = 1.0\n[model]\nplant = "
+                        "\"woodberry2x2\"\n[[pairing]]\ncv = 1\nmv = 1\nkc = -0.375\n"
+                        "ti_min = 8.29\n";
+  const std::string line = std::string(EXCITE_TOOL) +
+                           " loop-config --plant woodberry2x2 --controller " + bad.string() +
+                           " -o " + path("out").string() + " 2> " + path("lc.err").string();
+  EXPECT_FALSE(shell(line));
+  std::ifstream e(path("lc.err"));
+  const std::string said((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
+  EXPECT_NE(said.find("bad.toml: pairing[0].kc = -0.375, expected a gain of the sign of the "
+                      "paired G(0) element (12.8)"),
+            std::string::npos)
+      << said;
+  EXPECT_FALSE(fs::exists(path("out") / "gateway.toml")) << "nothing written";
+  const std::string can = std::string(EXCITE_TOOL) +
+                          " loop-config --plant woodberry2x2 --transport can --controller " + kPi +
+                          " -o " + path("out").string() + " 2> " + path("lc.err").string();
+  EXPECT_FALSE(shell(can));
+}
+
 }  // namespace
 }  // namespace excite::test
