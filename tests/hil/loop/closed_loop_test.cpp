@@ -266,6 +266,29 @@ TEST_F(ClosedLoopGateway, AClampedOrWoundUpMvSuspendsTheTestAtTheNextTick) {
   stop_plant_and_read_its_log();
 }
 
+// SIGTERM mid-test (the operator's stop): aborted, every offset back at zero, read back and
+// held with the controller in control: safe, exit 6.
+TEST_F(ClosedLoopGateway, SigtermEndsSafeWithTheOffsetsAtZero) {
+  const std::uint16_t port = start("--offsets both --output-range 5", {"--watchdog-s", "2"});
+  Plc plc(port);
+  ASSERT_TRUE(plc.ok());
+  // --offsets both: four channels (u1, u2 offsets, then y1, y2 setpoint offsets).
+  const fs::path plan4 = path("four.plan");
+  ASSERT_TRUE(shell(std::string(EXCITE_TOOL) +
+                    " design -q --plant alatiqi4x4 --preset prbsUnc -o " + plan4.string() + " > " +
+                    path("design4.out").string()));
+  auto gw = start_gateway(plan4, {"--start"});  // real time, 2 ms ticks
+  ASSERT_TRUE(wait_for_mode(plc, 2)) << gw->err();
+  std::this_thread::sleep_for(100ms);
+  EXPECT_FALSE(all_zero(plc.offsets()));
+  gw->signal(SIGTERM);
+  ASSERT_EQ(gw->wait(30s).value_or(-1), 6) << gw->err();
+  EXPECT_NE(gw->err().find("safe after"), std::string::npos) << gw->err();
+  EXPECT_TRUE(all_zero(plc.offsets()));
+  EXPECT_EQ(plc.mode(), 1);
+  stop_plant_and_read_its_log();
+}
+
 // loop-config checks the controller against the plant before writing anything.
 TEST_F(ClosedLoopGateway, LoopConfigRefusesABadControllerByName) {
   const fs::path bad = path("bad.toml");
