@@ -272,7 +272,7 @@ class Parser {
       return fail(0, "loop = " + quoted(value) + ", expected closed (a v4 log is a closed-loop run)");
     }
     if (which == 1 && !excitation_from_text(value, log_.closed_loop.excitation)) {
-      return fail(0, "excitation = " + quoted(value) + ", expected setpoint or mv");
+      return fail(0, "excitation = " + quoted(value) + ", expected setpoint, mv or both");
     }
     if (which == 2) {
       if (value.empty()) return fail(0, "controller = '', expected its kind and a description");
@@ -336,10 +336,16 @@ class Parser {
     }
     ClosedLoopLog& cl = log_.closed_loop;
     if (cl.closed) {
-      const bool sp = cl.excitation == Excitation::setpoint;
-      const auto& side = sp ? log_.output_names : log_.input_names;
-      for (std::size_t i = 0; i < side.size(); ++i) {
-        expected.push_back({"r_" + side[i], {Role::r, i}});
+      // r channel indices: outputs for setpoint, inputs for mv; both: outputs 0 … p − 1,
+      // then the inputs p … p + n − 1 (README "Version 4").
+      const bool sp = cl.excitation != Excitation::mv;
+      const bool mv = cl.excitation != Excitation::setpoint;
+      for (std::size_t j = 0; sp && j < p; ++j) {
+        expected.push_back({"r_" + log_.output_names[j], {Role::r, j}});
+      }
+      const std::size_t first_input = cl.excitation == Excitation::both ? p : 0;
+      for (std::size_t i = 0; mv && i < n; ++i) {
+        expected.push_back({"r_" + log_.input_names[i], {Role::r, first_input + i}});
       }
       for (std::size_t i = 0; i < n; ++i) {
         expected.push_back({"uc_" + log_.input_names[i], {Role::uc, i}});
@@ -387,7 +393,9 @@ class Parser {
       }
       if (cl.r_channels.empty()) {
         return fail(0, std::string("r columns = (none), expected r_<") +
-                           (cl.excitation == Excitation::setpoint ? "output" : "input") +
+                           (cl.excitation == Excitation::setpoint ? "output"
+                            : cl.excitation == Excitation::mv     ? "input"
+                                                                  : "output or input") +
                            "> for each channel the excitation moves");
       }
       // Each r column's channel → its place in r_channels (ascending by channel).

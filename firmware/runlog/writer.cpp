@@ -99,7 +99,9 @@ bool closed_loop_valid(const Header& h) {
   const ClosedLoopHeader& c = h.closed_loop;
   if (!c.closed) return true;
   if (c.controller.empty() || !one_line(c.controller) || c.r_channels.empty()) return false;
-  const std::size_t side = c.excitation == Excitation::setpoint ? h.outputs.size() : h.inputs.size();
+  const std::size_t side = c.excitation == Excitation::setpoint ? h.outputs.size()
+                           : c.excitation == Excitation::mv ? h.inputs.size()
+                                                            : h.outputs.size() + h.inputs.size();
   for (std::size_t i = 0; i < c.r_channels.size(); ++i) {
     if (c.r_channels[i] >= side) return false;
     if (i > 0 && c.r_channels[i] <= c.r_channels[i - 1]) return false;  // ascending, once
@@ -110,7 +112,15 @@ bool closed_loop_valid(const Header& h) {
 }  // namespace
 
 std::string_view to_text(Excitation excitation) noexcept {
-  return excitation == Excitation::mv ? "mv" : "setpoint";
+  switch (excitation) {
+    case Excitation::setpoint:
+      return "setpoint";
+    case Excitation::mv:
+      return "mv";
+    case Excitation::both:
+      return "both";
+  }
+  return "setpoint";
 }
 
 bool excitation_from_text(std::string_view text, Excitation& excitation) noexcept {
@@ -118,6 +128,8 @@ bool excitation_from_text(std::string_view text, Excitation& excitation) noexcep
     excitation = Excitation::setpoint;
   } else if (text == "mv") {
     excitation = Excitation::mv;
+  } else if (text == "both") {
+    excitation = Excitation::both;
   } else {
     return false;
   }
@@ -311,11 +323,13 @@ WriteResult format_header(const Header& header, std::span<char> out) {
   column_names(s, "u_", header.inputs);
   column_names(s, "dy_", header.outputs);
   if (loop.closed) {
-    const std::span<const Channel> side =
-        loop.excitation == Excitation::setpoint ? header.outputs : header.inputs;
+    // `both`: the outputs' r columns, then the inputs' (one index space, outputs first).
+    const bool mv = loop.excitation == Excitation::mv;
     for (const std::size_t i : loop.r_channels) {
       s.text(",r_");
-      s.text(side[i].name);
+      s.text(mv                           ? header.inputs[i].name
+             : i < header.outputs.size() ? header.outputs[i].name
+                                         : header.inputs[i - header.outputs.size()].name);
     }
     column_names(s, "uc_", header.inputs);
     column_names(s, "ysp_", header.outputs);

@@ -129,8 +129,8 @@ TEST(RunLogV4, RefusesAMissingKeyAnUnknownModeAndABadStatusByName) {
   };
   EXPECT_NE(error_of(replaced(good, "# excitation: setpoint\n", "")).find("no '# excitation:'"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(good, "# excitation: setpoint", "# excitation: both"))
-                .find("excitation = 'both', expected setpoint or mv"),
+  EXPECT_NE(error_of(replaced(good, "# excitation: setpoint", "# excitation: dither"))
+                .find("excitation = 'dither', expected setpoint, mv or both"),
             std::string::npos);
   EXPECT_NE(error_of(replaced(good, ",test,0,running", ",auto,0,running"))
                 .find("mode = 'auto', expected a loop mode"),
@@ -155,6 +155,49 @@ TEST(RunLogV4, WriterRefusesRowsOfTheWrongWidthAndAHeaderWithoutR) {
   EXPECT_EQ(format_row(h, row, buf).status, WriteStatus::bad_argument);
   Header none = closed_header(Excitation::setpoint, {});
   EXPECT_EQ(format_header(none, buf).status, WriteStatus::invalid_field);
+}
+
+// `# excitation: both` (r on the CV setpoints and on the MVs): the outputs' r columns first,
+// then the inputs', in one channel index space (outputs 0 … p − 1, then p + input index).
+TEST(RunLogV4, BothWritesTheOutputsRColumnsThenTheInputsAndReadsThemBack) {
+  constexpr std::array<std::size_t, 3> kChannels = {0, 1, 3};  // xD, xB, then S
+  const Header h = closed_header(Excitation::both, kChannels);
+  std::vector<char> buf(1 << 14);
+  const WriteResult head = format_header(h, buf);
+  ASSERT_EQ(head.status, WriteStatus::ok) << head.message;
+  std::string text(buf.data(), head.length);
+  EXPECT_NE(text.find("\n# excitation: both\n"), std::string::npos) << text;
+  EXPECT_NE(text.find(",dy_xB,r_xD,r_xB,r_S,uc_R,"), std::string::npos) << text;
+  const std::array<double, 2> du{0.1, -0.1}, u{1.1, 1.9}, dy{0.05, -0.02};
+  const std::array<double, 3> r{0.25, -0.5, 0.125};
+  const std::array<double, 2> uc{0.09, -0.1}, ysp{0.25, -0.5};
+  const std::array<MvState, 2> st{MvState::ok, MvState::windup};
+  Row row{1.0, 1, du, u, dy, 0, RunState::running, 0};
+  row.r = r;
+  row.uc = uc;
+  row.ysp = ysp;
+  row.st = st;
+  for (int k = 1; k <= 2; ++k) {  // two rows: the reader wants at least two
+    row.k = static_cast<std::uint64_t>(k);
+    row.t_min = static_cast<double>(k);
+    const WriteResult w = format_row(h, row, buf);
+    ASSERT_EQ(w.status, WriteStatus::ok) << w.message;
+    text.append(buf.data(), w.length);
+  }
+  const ReadResult back = parse_run_log(text, "both.csv");
+  ASSERT_TRUE(back.ok()) << back.error->to_string();
+  const ClosedLoopLog& cl = back.log.closed_loop;
+  EXPECT_EQ(cl.excitation, Excitation::both);
+  EXPECT_EQ(cl.r_channels, (std::vector<std::size_t>{0, 1, 3}));
+  ASSERT_EQ(cl.r.size(), 3U);
+  EXPECT_EQ(cl.r[0][0], 0.25);
+  EXPECT_EQ(cl.r[1][0], -0.5);
+  EXPECT_EQ(cl.r[2][0], 0.125) << "r_S: the second input, index p + 1";
+  EXPECT_EQ(cl.st[1][0], MvState::windup);
+
+  constexpr std::array<std::size_t, 1> kBeyond = {4};  // p + n = 4 channels: 0 … 3
+  EXPECT_EQ(format_header(closed_header(Excitation::both, kBeyond), buf).status,
+            WriteStatus::invalid_field);
 }
 
 }  // namespace

@@ -79,8 +79,10 @@ struct TimeScales {
 
 /// v4 `# excitation:` — where excite's test signal r was added: to the CV setpoints
 /// (`setpoint`; one r column per output it moves) or to the controller's MV output as a
-/// dither (`mv`; one r column per input it moves).
-enum class Excitation : std::uint8_t { setpoint, mv };
+/// dither (`mv`; one r column per input it moves), or to both (`both`: the r columns of the
+/// outputs first, then those of the inputs; an r channel index counts the outputs 0 … p − 1,
+/// then the inputs p … p + n − 1).
+enum class Excitation : std::uint8_t { setpoint, mv, both };
 /// v4 `mode` column: the loop's mode at this row. off: the controller is off (open loop);
 /// control: the controller runs, no test signal; test: the controller runs and r is added;
 /// suspended: the test is suspended (r held at 0), the controller runs.

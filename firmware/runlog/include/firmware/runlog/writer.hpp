@@ -24,7 +24,8 @@ struct ClosedLoopHeader {
   Excitation excitation = Excitation::setpoint;
   std::string_view controller;  // `<kind> <free text>`, one line, e.g. "dmc examples/a.toml"
   /// The channels r was added to, ascending: output indices for `setpoint`, input indices
-  /// for `mv` (at least one; each once).
+  /// for `mv`, for `both` output indices 0 … p − 1 then p + input index (at least one; each
+  /// once).
   std::span<const std::size_t> r_channels;
 };
 
