@@ -378,6 +378,11 @@ void check_closed_loop_roles(const GatewayConfig& c) {
                           " applied_mv values",
                       "none or one per mv_status value (" + std::to_string(status) + ")");
   }
+  const std::size_t baselines = c.closed_loop->mv_baseline.size();
+  if (baselines != 0 && baselines != status) {
+    throw ConfigError("closed_loop.mv_baseline", std::to_string(baselines) + " numbers",
+                      "none or one per mv_status value (" + std::to_string(status) + ")");
+  }
   if (setpoint > engine::kMaxInputs) {
     throw ConfigError("values", std::to_string(setpoint) + " setpoint_in_force values",
                       "at most " + n);
@@ -430,7 +435,7 @@ void cross_check(GatewayConfig& c, const hal::TransportConfig& transport) {
 // timeout, the log's controller line.
 void parse_closed_loop(const toml::table& t, GatewayConfig& c) {
   const std::string w = "closed_loop";
-  check_keys(t, w, {"offsets", "controller", "controller_timeout_s"});
+  check_keys(t, w, {"offsets", "controller", "controller_timeout_s", "mv_baseline"});
   ClosedLoopSpec spec;
   if (auto s = text(t, w, "offsets")) {
     if (*s != "mv" && *s != "setpoint" && *s != "both") {
@@ -454,6 +459,7 @@ void parse_closed_loop(const toml::table& t, GatewayConfig& c) {
     }
     spec.controller_timeout_s = *v;
   }
+  spec.mv_baseline = config::Table(t, w, {}).numbers("mv_baseline");
   c.closed_loop = spec;
 }
 

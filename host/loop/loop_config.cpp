@@ -178,7 +178,12 @@ std::string gateway_closed_loop_toml(const LoopConfigOptions& opt, const sim::Pl
   os << "comm_fail_limit = 3\ncomm_loss = \"hold\"\nrealtime_priority = 0\n\n";
   os << "[closed_loop]\noffsets = " << toml_string(opt.offsets)
      << "\ncontroller = " << toml_string(controller_line)
-     << "\ncontroller_timeout_s = " << toml_number(opt.controller_timeout_s) << "\n\n";
+     << "\ncontroller_timeout_s = " << toml_number(opt.controller_timeout_s)
+     << "\nmv_baseline = [";  // the MVs' operating points: the run log's u = baseline + du
+  for (std::size_t i = 0; i < server.plant.input_baseline.size(); ++i) {
+    os << (i == 0 ? "" : ", ") << toml_number(server.plant.input_baseline[i]);
+  }
+  os << "]\n\n";
   os << "[device]\ntransport = \"modbus-tcp\"\nsimulator = true   # the peer is excite-plant: "
         "--clock lockstep allowed\nhost = "
      << toml_string(opt.host) << "\nport = " << opt.port

@@ -8,6 +8,7 @@
 // gateway leaves the plant's watchdog to zero them.
 #include <modbus.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
@@ -137,13 +138,14 @@ TEST_F(ClosedLoopGateway, ARunEndsWithEveryOffsetAtZeroAndTheControllerInControl
   EXPECT_EQ(plc.mode(), 1) << "the controller in control";
 
   const runlog::RunLog gateway = read_log_or_fail(path("gw.csv"));
+  ASSERT_EQ(gateway.closed_loop.r.size(), 2U) << "run-log v4: r_y1, r_y2";
   const auto rows = controller_log();
   ASSERT_EQ(rows.size(), gateway.rows()) << "one plant sample per gateway tick";
   double largest = 0.0;
   for (std::size_t k = 0; k < rows.size(); ++k) {
     ASSERT_EQ(rows[k].size(), 14U);
     for (std::size_t j = 0; j < 2; ++j) {
-      const double logged = gateway.du[j][k];
+      const double logged = gateway.closed_loop.r[j][k];  // r_<CV>: the offset written
       ASSERT_EQ(std::stod(rows[k][12 + j]), static_cast<double>(static_cast<float>(logged)))
           << "row " << k << ": the plant's setpoint in force is the gateway's offset";
       largest = std::max(largest, std::abs(logged));
@@ -153,6 +155,76 @@ TEST_F(ClosedLoopGateway, ARunEndsWithEveryOffsetAtZeroAndTheControllerInControl
   EXPECT_EQ(rows.back()[3], "control");
   EXPECT_EQ(rows.back()[12], "0");
   EXPECT_EQ(rows.back()[13], "0");
+  stop_plant_and_read_its_log();
+}
+
+// Run-log v4 from the gateway (issue 42 §2): GIVEN an MV dither streamed to the running PI,
+// THEN the gateway's own log says closed loop, mv, the controller from its configuration, and
+// row by row its r (the offsets written), uc (the controller's moves), du (what the plant
+// got), st and mode equal the plant's own controller log; u = the MV's operating point + du;
+// and `excite identify` reads the log with nothing passed by hand.
+TEST_F(ClosedLoopGateway, TheGatewaysOwnLogIsRunLogV4EqualToThePlantsControllerLog) {
+  start("--offsets mv --output-range 5", {"--watchdog-s", "2"});
+  auto gw = start_gateway(plan_, {"--start", "--clock", "lockstep"});
+  ASSERT_EQ(gw->wait(60s).value_or(-1), 0) << gw->err();
+  std::ifstream text_in(path("gw.csv"));
+  const std::string text((std::istreambuf_iterator<char>(text_in)),
+                         std::istreambuf_iterator<char>());
+  EXPECT_EQ(text.substr(0, text.find('\n')), "# excite run log v4");
+  EXPECT_NE(text.find("\n# loop: closed\n# excitation: mv\n# controller: pi "
+                      "woodberry2x2.pi.toml\n"),
+            std::string::npos)
+      << text.substr(0, 600);
+  const runlog::RunLog log = read_log_or_fail(path("gw.csv"));
+  ASSERT_EQ(log.format_version, 4);
+  const runlog::ClosedLoopLog& cl = log.closed_loop;
+  ASSERT_TRUE(cl.closed);
+  EXPECT_EQ(cl.excitation, runlog::Excitation::mv);
+  EXPECT_EQ(cl.r_channels, (std::vector<std::size_t>{0, 1}));
+  ASSERT_EQ(log.input_names.size(), 2U);
+  EXPECT_EQ(log.input_names[0], "u1") << "the log's inputs are the MVs, not the offsets";
+
+  // The plant's controller log: event,k,t_min,mode,o_u1,o_u2,uc_u1,uc_u2,du_u1,du_u2,
+  // st_u1,st_u2,ysp_y1,ysp_y2 (float32 registers: compare as float).
+  const auto rows = controller_log();
+  ASSERT_EQ(rows.size(), log.rows()) << "one plant sample per gateway tick";
+  const auto same = [](const std::string& cell, double logged) {
+    return static_cast<float>(std::stod(cell)) == static_cast<float>(logged);
+  };
+  double largest_r = 0.0;
+  double largest_gap = 0.0;  // |du − (uc + r)|: > 0 only where an MV was clamped
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    ASSERT_EQ(rows[k].size(), 14U);
+    for (std::size_t i = 0; i < 2; ++i) {
+      ASSERT_TRUE(same(rows[k][4 + i], cl.r[i][k])) << "row " << k << " r_" << i;
+      ASSERT_TRUE(same(rows[k][6 + i], cl.uc[i][k])) << "row " << k << " uc_" << i;
+      ASSERT_TRUE(same(rows[k][8 + i], log.du[i][k])) << "row " << k << " du_" << i;
+      ASSERT_EQ(std::stoi(rows[k][10 + i]), static_cast<int>(cl.st[i][k])) << "row " << k;
+      ASSERT_EQ(log.u[i][k] - log.du[i][k], log.u[i][0] - log.du[i][0]) << "u = u0 + du";
+      largest_r = std::max(largest_r, std::abs(cl.r[i][k]));
+      largest_gap = std::max(largest_gap, std::abs(log.du[i][k] - cl.uc[i][k] - cl.r[i][k]));
+    }
+    ASSERT_EQ(rows[k][3], std::string(runlog::to_text(cl.mode[k]))) << "row " << k;
+  }
+  EXPECT_GT(largest_r, 0.01) << "the MVs were dithered";
+  // u = mv_baseline + du: loop-config wrote woodberry2x2's operating point (zeros, a linear
+  // plant) as mv_baseline; the constancy of u − du above holds for any.
+  std::ifstream toml_in(path("gateway.toml"));
+  const std::string toml((std::istreambuf_iterator<char>(toml_in)),
+                         std::istreambuf_iterator<char>());
+  EXPECT_NE(toml.find("\nmv_baseline = [0.0, 0.0]\n"), std::string::npos) << toml;
+  EXPECT_EQ(log.u[0][0] - log.du[0][0], 0.0);
+  std::printf("[ measured ] %zu rows equal; largest |du - uc - r| %.3g\n", rows.size(),
+              largest_gap);
+
+  const std::string identify = std::string(EXCITE_TOOL) + " identify " +
+                               path("gw.csv").string() + " -o " + path("model.json").string() +
+                               " > " + path("identify.out").string() + " 2>&1";
+  EXPECT_TRUE(shell(identify)) << [&] {
+    std::ifstream o(path("identify.out"));
+    return std::string((std::istreambuf_iterator<char>(o)), std::istreambuf_iterator<char>());
+  }();
+  EXPECT_TRUE(fs::exists(path("model.json")));
   stop_plant_and_read_its_log();
 }
 

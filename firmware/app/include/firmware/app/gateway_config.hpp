@@ -45,6 +45,10 @@ struct ClosedLoopSpec {
   // Suspended for the controller (an MV clamped or wound up, the controller out of its
   // mode) this long → aborted; 0: never. 0 … 1e6 s.
   double controller_timeout_s = 60.0;
+  // Each MV's operating point (absolute, engineering units), one per mv_status value: the
+  // run log's u_<MV> = mv_baseline + the applied MV read back (README "Closed loop", the run
+  // log). Empty: u_<MV> is the applied deviation itself (no operating point known).
+  std::vector<double> mv_baseline;
 };
 
 struct SetpointSpec {
