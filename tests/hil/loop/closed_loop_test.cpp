@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "loop_fixture.hpp"
+#include "recording_proxy.hpp"
 
 namespace excite::test {
 namespace {
@@ -358,6 +359,84 @@ TEST_F(ClosedLoopGateway, SigtermEndsSafeWithTheOffsetsAtZero) {
   EXPECT_NE(gw->err().find("safe after"), std::string::npos) << gw->err();
   EXPECT_TRUE(all_zero(plc.offsets()));
   EXPECT_EQ(plc.mode(), 1);
+  stop_plant_and_read_its_log();
+}
+
+// The plant's own controller log at its last sample row: every offset (o_u1, o_u2) and every
+// setpoint in force (ysp_y1, ysp_y2) at zero, the controller in control.
+void expect_last_sample_safe(const std::vector<std::vector<std::string>>& rows) {
+  auto last = rows.rbegin();
+  while (last != rows.rend() && (*last)[0] != "sample") ++last;
+  ASSERT_NE(last, rows.rend()) << "the plant logged samples";
+  EXPECT_EQ((*last)[3], "control");
+  for (const std::size_t c : {4U, 5U, 12U, 13U}) EXPECT_EQ((*last)[c], "0") << "column " << c;
+}
+
+// §3 faults: GIVEN setpoint offsets in force, WHEN the plant is frozen 10 s (SIGSTOP, then
+// SIGCONT), THEN the gateway loses the link (comm loss), finds the plant again, and the run
+// ends with every offset at zero on the plant's side and the controller in control (its
+// registers and its own log).
+TEST_F(ClosedLoopGateway, APlantFrozenTenSecondsEndsWithTheOffsetsAtZeroInControl) {
+  const std::uint16_t port = start("--offsets setpoint --output-range 5", {"--watchdog-s", "2"});
+  Plc plc(port);
+  ASSERT_TRUE(plc.ok());
+  auto gw = start_gateway(plan_, {"--start"});  // real time: 2 ms ticks, 1.9 s of plan
+  ASSERT_TRUE(wait_for_mode(plc, 2)) << gw->err();
+  std::this_thread::sleep_for(100ms);
+  EXPECT_FALSE(all_zero(plc.offsets())) << "the setpoint offsets are in force";
+  plant_->signal(SIGSTOP);
+  std::this_thread::sleep_for(10s);
+  plant_->signal(SIGCONT);
+  const auto rc = gw->wait(60s);
+  ASSERT_TRUE(rc.has_value()) << gw->err();
+  const std::string err = gw->err();
+  EXPECT_TRUE(*rc == 0 || *rc == 6) << "completed or aborted, safe either way: " << err;
+  EXPECT_NE(err.find("communication lost"), std::string::npos) << err;
+  EXPECT_NE(err.find("safe after"), std::string::npos) << err;
+  EXPECT_TRUE(all_zero(plc.offsets())) << "the offsets at zero on the plant's side";
+  EXPECT_EQ(plc.mode(), 1) << "the controller in control";
+  expect_last_sample_safe(controller_log());
+  std::printf("[ measured ] frozen 10 s: gateway exit %d\n", *rc);
+  stop_plant_and_read_its_log();
+}
+
+// §3 faults: GIVEN MV offsets in force through a TCP relay, WHEN the link is cut for 2 s (the
+// relay drops every connection and refuses new ones), THEN the plant's watchdog (0.5 s)
+// zeroes every offset while the link is down, the controller stays in control, and once the
+// link is back the gateway finds the plant again and ends with the offsets at zero.
+TEST_F(ClosedLoopGateway, ALinkCutEndsWithTheOffsetsAtZeroInControl) {
+  const std::string args = "--offsets mv --output-range 5 --watchdog-s 0.5";
+  const std::uint16_t port = start(args, {});
+  RecordingProxy relay(port);
+  loop_config("woodberry2x2", relay.port(),
+              "--controller " + kPi + " --period-s 0.002 " + args);  // the gateway → the relay
+  Plc plc(port);                                                     // the operator, direct
+  ASSERT_TRUE(plc.ok());
+  auto gw = start_gateway(plan_, {"--start"});
+  ASSERT_TRUE(wait_for_mode(plc, 2)) << gw->err();
+  std::this_thread::sleep_for(100ms);
+  EXPECT_FALSE(all_zero(plc.offsets())) << "the MV offsets are in force";
+  relay.set_cut(true);
+  std::this_thread::sleep_for(1500ms);
+  EXPECT_TRUE(all_zero(plc.offsets())) << "link down: the plant's watchdog zeroed the offsets";
+  EXPECT_EQ(plc.mode(), 1) << "link down: the controller kept in control";
+  EXPECT_EQ(plc.holding(kWatchdogTrips), 1);
+  std::this_thread::sleep_for(500ms);
+  relay.set_cut(false);
+  const auto rc = gw->wait(60s);
+  ASSERT_TRUE(rc.has_value()) << gw->err();
+  const std::string err = gw->err();
+  EXPECT_TRUE(*rc == 0 || *rc == 6) << "completed or aborted, safe either way: " << err;
+  EXPECT_NE(err.find("communication lost"), std::string::npos) << err;
+  EXPECT_NE(err.find("safe after"), std::string::npos) << err;
+  EXPECT_TRUE(all_zero(plc.offsets()));
+  EXPECT_EQ(plc.mode(), 1);
+  const auto rows = controller_log();
+  EXPECT_TRUE(std::any_of(rows.begin(), rows.end(),
+                          [](const auto& row) { return row[0] == "watchdog"; }))
+      << "the plant's own log records the trip";
+  expect_last_sample_safe(rows);
+  std::printf("[ measured ] link cut 2 s: gateway exit %d\n", *rc);
   stop_plant_and_read_its_log();
 }
 
