@@ -440,6 +440,72 @@ TEST_F(ClosedLoopGateway, ALinkCutEndsWithTheOffsetsAtZeroInControl) {
   stop_plant_and_read_its_log();
 }
 
+// §3: a third-party Modbus server (pymodbus, tests/hil/loop/pymodbus_dcs.py) standing in for
+// a DCS that adds the test offset to its own (fixed) controller output: the gateway streams
+// to it with the gateway.toml of `excite loop-config --controller` as to excite-plant, the
+// offsets the DCS held at each heartbeat are the r the gateway logged, the log's uc is the
+// DCS's controller output, and the run ends with the offsets at zero and the DCS in control.
+TEST_F(ClosedLoopGateway, TheGatewayStreamsToAPymodbusDcsAndEndsWithTheOffsetsAtZero) {
+  if (!shell("/usr/bin/python3 -c 'import pymodbus' 2>/dev/null")) {
+    GTEST_SKIP() << "python3-pymodbus is not installed";
+  }
+  PlantRunner dcs("/usr/bin/python3",
+                  {std::string(EXCITE_LOOP_DIR) + "/pymodbus_dcs.py", "--record",
+                   path("dcs.csv").string(), "--uc", "0.1", "-0.05", "--watchdog-s", "1"},
+                  path("dcs.stderr"));
+  const auto port = dcs.wait_listening(10s);
+  ASSERT_TRUE(port.has_value()) << dcs.stderr_text();
+  // A DCS is no simulator: real time, 5 ms ticks (prbsUnc: 950 rows, about 5 s).
+  loop_config("woodberry2x2", *port, "--controller " + kPi + " --offsets mv --period-s 0.005");
+  plan_ = design("woodberry2x2", "prbsUnc");
+  auto gw = start_gateway(plan_, {"--start"});
+  const auto rc = gw->wait(60s);
+  ASSERT_TRUE(rc.has_value());
+  ASSERT_EQ(*rc, 0) << gw->err();
+  EXPECT_NE(gw->err().find("safe after"), std::string::npos) << gw->err();
+  ASSERT_EQ(dcs.stop(SIGTERM, 10s).value_or(-1), 0) << dcs.stderr_text();
+
+  const runlog::RunLog log = read_log_or_fail(path("gw.csv"));
+  ASSERT_TRUE(log.closed_loop.closed);
+  const runlog::ClosedLoopLog& cl = log.closed_loop;
+  std::ifstream rec(path("dcs.csv"));
+  std::size_t seen = 0;
+  std::size_t matched = 0;
+  double largest = 0.0;
+  std::vector<std::string> final_row;
+  for (std::string line; std::getline(rec, line);) {
+    std::vector<std::string> cells;
+    std::istringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    if (cells.empty()) continue;
+    if (cells[0] == "final") {
+      final_row = cells;
+      continue;
+    }
+    const unsigned long heartbeat = std::stoul(cells[0]);
+    if (heartbeat == 0 || heartbeat - 1 >= log.rows()) continue;  // before the first write
+    ++seen;
+    const std::size_t k = heartbeat - 1;  // tick k wrote heartbeat k + 1 with its offsets
+    bool same = true;
+    for (std::size_t i = 0; i < 2; ++i) {
+      same = same && static_cast<float>(std::stod(cells[1 + i])) ==
+                         static_cast<float>(cl.r[i][k]);
+      largest = std::max(largest, std::abs(std::stod(cells[1 + i])));
+    }
+    matched += same ? 1 : 0;
+  }
+  EXPECT_GT(seen, log.rows() / 2) << "the DCS saw too few heartbeats";
+  EXPECT_EQ(matched, seen) << "the offsets at the DCS differ from the gateway's r";
+  EXPECT_GT(largest, 0.01) << "the DCS's MVs were dithered";
+  ASSERT_EQ(final_row.size(), 6U) << "the DCS's last state";
+  for (std::size_t c = 1; c <= 4; ++c) EXPECT_EQ(std::stod(final_row[c]), 0.0) << "offset " << c;
+  EXPECT_EQ(final_row[5], "1") << "the DCS's controller in control";
+  EXPECT_EQ(cl.uc[0].back(), static_cast<double>(0.1F)) << "uc: the DCS's controller output";
+  EXPECT_EQ(cl.uc[1].back(), static_cast<double>(-0.05F));
+  EXPECT_EQ(cl.r[0].back(), 0.0);
+  EXPECT_EQ(cl.r[1].back(), 0.0);
+}
+
 // loop-config checks the controller against the plant before writing anything.
 TEST_F(ClosedLoopGateway, LoopConfigRefusesABadControllerByName) {
   const fs::path bad = path("bad.toml");
