@@ -45,6 +45,7 @@ std::string format_server_config(const ServerConfig& config, const std::string& 
        << "\n";
   }
   if (!p.controller.empty()) os << "controller = " << toml_string(p.controller) << "\n";
+  if (!p.offset_limit.empty()) os << "offset_limit = " << numbers(p.offset_limit) << "\n";
 
   const ServerRegisters& r = config.registers;
   os << "\n[registers]\n";

@@ -237,6 +237,16 @@ PlantServer::Outcome PlantServer::handle(std::uint8_t* query, int length, bool s
     }
     return replied(modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS));
   }
+  // The offset limits under a controller, checked before anything is written.
+  if (request.write && loop_ != nullptr && !options_.offset_limit.empty()) {
+    const bool single = request.function_code == MODBUS_FC_WRITE_SINGLE_REGISTER;
+    const std::uint32_t count =
+        single ? 1U : std::min<std::uint32_t>(request.count, query[header + 5] / 2U);
+    if (refuse_offset_beyond_limit(request.address, count,
+                                   query + header + (single ? 3 : 6))) {
+      return replied(modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE));
+    }
+  }
   // The input limits, checked before anything is written: a refused request writes nothing.
   if (request.write && !options_.input_min.empty()) {
     const bool single = request.function_code == MODBUS_FC_WRITE_SINGLE_REGISTER;
@@ -446,6 +456,28 @@ bool PlantServer::refuse_out_of_limits(const ModbusRequest& request, const std::
                  "%.9g outside its limits [%.9g, %.9g]; refused writes: %llu\n",
                  i < options_.input_names.size() ? options_.input_names[i].c_str() : "?",
                  out->value, options_.input_min[i], options_.input_max[i],
+                 static_cast<unsigned long long>(refused_writes_));
+  }
+  return true;
+}
+
+bool PlantServer::refuse_offset_beyond_limit(std::uint32_t address, std::uint32_t count,
+                                             const std::uint8_t* data) {
+  const auto out = image_.check_offset_write(address, count, data, options_.offset_limit);
+  if (!out) return false;
+  ++refused_writes_;
+  mirror_counters_to_control();
+  if (refused_writes_ <= 10) {  // the first ten at once; the count at stop
+    const std::size_t k = out->input;
+    const std::size_t n = options_.input_names.size();
+    const std::string name = k < n ? "MV " + options_.input_names[k] + "'s test offset"
+                             : k - n < options_.output_names.size()
+                                 ? "CV " + options_.output_names[k - n] + "'s setpoint offset"
+                                 : std::string("offset ?");
+    std::fprintf(stderr,
+                 "excite-plant: write refused (exception 3, illegal data value): %s = %.9g "
+                 "beyond its limit ±%.9g (plant.offset_limit[%zu]); refused writes: %llu\n",
+                 name.c_str(), out->value, options_.offset_limit[k], k,
                  static_cast<unsigned long long>(refused_writes_));
   }
   return true;

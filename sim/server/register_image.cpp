@@ -178,25 +178,51 @@ void RegisterImage::set_setpoint_registers(const std::vector<std::uint16_t>& reg
   }
 }
 
+std::optional<double> RegisterImage::value_after_write(const PlacedValue& p,
+                                                      std::uint32_t address, std::uint32_t count,
+                                                      const std::uint8_t* data) const {
+  const std::uint32_t size = hal::modbus::register_count(p.codec.type);
+  if (!(p.address < address + count && address < p.address + size)) return std::nullopt;
+  std::uint16_t r[2] = {0, 0};
+  const std::uint16_t* old = cell(p);
+  for (std::uint32_t k = 0; k < size; ++k) {
+    const std::uint32_t a = p.address + k;
+    r[k] = address <= a && a < address + count
+               ? static_cast<std::uint16_t>((data[2 * (a - address)] << 8) |
+                                            data[2 * (a - address) + 1])
+               : old[k];
+  }
+  return p.codec.type == RegisterType::float32
+             ? static_cast<double>(hal::modbus::decode_float32(r, p.codec.order))
+             : hal::modbus::from_raw(p.codec, r[0]);
+}
+
+std::optional<RegisterImage::OutOfLimits> RegisterImage::check_offset_write(
+    std::uint32_t address, std::uint32_t count, const std::uint8_t* data,
+    const std::vector<double>& limit) const {
+  if (!layout_.closed_loop) return std::nullopt;
+  const ClosedLoopLayout& loop = *layout_.closed_loop;
+  const std::size_t n = loop.mv_offsets.size();
+  for (std::size_t k = 0; k < n + loop.sp_offsets.size() && k < limit.size(); ++k) {
+    const PlacedValue& p = k < n ? loop.mv_offsets[k] : loop.sp_offsets[k - n];
+    const auto value = value_after_write(p, address, count, data);
+    if (!value) continue;
+    // float32 offsets: the bound is allowed its register's rounding (relative 2^-23).
+    const double bound = limit[k] * (1.0 + 0x1p-23);
+    if (!std::isfinite(*value) || std::abs(*value) > bound) return OutOfLimits{k, *value};
+  }
+  return std::nullopt;
+}
+
 std::optional<RegisterImage::OutOfLimits> RegisterImage::check_write(
     std::uint32_t address, std::uint32_t count, const std::uint8_t* data,
     const std::vector<double>& min, const std::vector<double>& max) const {
   for (std::size_t i = 0; i < layout_.setpoints.size() && i < min.size() && i < max.size(); ++i) {
     const PlacedValue& p = layout_.setpoints[i];
-    const std::uint32_t size = hal::modbus::register_count(p.codec.type);
-    if (!(p.address < address + count && address < p.address + size)) continue;
-    std::uint16_t r[2] = {0, 0};
-    const std::uint16_t* old = cell(p);
-    for (std::uint32_t k = 0; k < size; ++k) {
-      const std::uint32_t a = p.address + k;
-      r[k] = address <= a && a < address + count
-                 ? static_cast<std::uint16_t>((data[2 * (a - address)] << 8) |
-                                              data[2 * (a - address) + 1])
-                 : old[k];
-    }
+    const auto written = value_after_write(p, address, count, data);
+    if (!written) continue;
+    const double value = *written;
     const bool f32 = p.codec.type == RegisterType::float32;
-    const double value = f32 ? static_cast<double>(hal::modbus::decode_float32(r, p.codec.order))
-                             : hal::modbus::from_raw(p.codec, r[0]);
     const double tolerance = f32 ? (std::abs(min[i]) + std::abs(max[i])) * 0x1p-23 : 0.0;
     if (!std::isfinite(value) || value < min[i] - tolerance || value > max[i] + tolerance) {
       return OutOfLimits{i, value};

@@ -17,7 +17,7 @@ using config::Table;
 PlantSettings read_plant(const Table& t) {
   t.only_keys({"library", "file", "sample_time_min", "input_baseline", "output_baseline",
                "noise_variance", "noise_seed", "watchdog_s", "input_min", "input_max",
-               "tau_high_min", "beta", "controller"});
+               "tau_high_min", "beta", "controller", "offset_limit"});
   PlantSettings plant;
   plant.library = t.text("library").value_or("");
   plant.file = t.text("file").value_or("");
@@ -42,6 +42,14 @@ PlantSettings read_plant(const Table& t) {
   plant.beta = t.non_negative("beta", "settling time in units of tau_high_min").value_or(0.0);
   plant.watchdog_s = t.non_negative("watchdog_s", "wall-clock seconds (0: off)").value_or(0.0);
   plant.controller = t.text("controller").value_or("");
+  plant.offset_limit = t.numbers("offset_limit");
+  for (std::size_t k = 0; k < plant.offset_limit.size(); ++k) {
+    if (!(plant.offset_limit[k] > 0.0)) {
+      t.fail("offset_limit[" + std::to_string(k) + "]",
+             config::format_number(plant.offset_limit[k]),
+             "a bound > 0 on the size of that test offset");
+    }
+  }
   plant.input_min = t.numbers("input_min");
   plant.input_max = t.numbers("input_max");
   if (plant.input_min.size() != plant.input_max.size()) {

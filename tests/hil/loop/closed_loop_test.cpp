@@ -506,6 +506,58 @@ TEST_F(ClosedLoopGateway, TheGatewayStreamsToAPymodbusDcsAndEndsWithTheOffsetsAt
   EXPECT_EQ(cl.r[1].back(), 0.0);
 }
 
+// §4: the plant bounds each offset (plant.offset_limit, one per offset register): a write
+// beyond it is refused with exception 3 (illegal data value), counted (control +7) and
+// reported, and the register keeps its value; a write inside is taken.
+TEST_F(ClosedLoopGateway, ThePlantRefusesAnOffsetBeyondItsLimit) {
+  loop_config("woodberry2x2", 1502, "--controller " + kPi + " --offsets both");
+  {
+    std::ifstream in(path("plant.toml"));
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto at = text.find("controller = ");
+    ASSERT_NE(at, std::string::npos) << text;
+    text.insert(at, "offset_limit = [0.2, 0.2, 0.5, 0.5]\n");
+    std::ofstream(path("plant.toml")) << text;
+  }
+  const std::uint16_t port = start_plant({"--clock", "lockstep"}, 0);
+  Plc plc(port);
+  ASSERT_TRUE(plc.ok());
+  modbus_t* ctx = modbus_new_tcp("127.0.0.1", port);
+  ASSERT_EQ(modbus_connect(ctx), 0);
+  const auto write_offset = [ctx](int address, float x) {
+    std::uint32_t bits;  // float32, word order ABCD (high word first), as the map says
+    std::memcpy(&bits, &x, sizeof bits);
+    const std::uint16_t r[2] = {static_cast<std::uint16_t>(bits >> 16),
+                                static_cast<std::uint16_t>(bits & 0xFFFFU)};
+    return modbus_write_registers(ctx, address, 2, r);
+  };
+  EXPECT_EQ(write_offset(kOffsets, 0.15F), 2) << "inside ±0.2: taken";
+  errno = 0;
+  EXPECT_EQ(write_offset(kOffsets + 2, -0.25F), -1) << "beyond ±0.2: refused";
+  EXPECT_EQ(errno, EMBXILVAL) << modbus_strerror(errno);
+  EXPECT_EQ(write_offset(kOffsets + 4, 0.45F), 2) << "a CV setpoint offset inside ±0.5";
+  errno = 0;
+  EXPECT_EQ(write_offset(kOffsets + 6, 0.75F), -1) << "a CV setpoint offset beyond ±0.5";
+  EXPECT_EQ(errno, EMBXILVAL) << modbus_strerror(errno);
+  modbus_close(ctx);
+  modbus_free(ctx);
+  const std::vector<float> held = plc.offsets();
+  ASSERT_EQ(held.size(), 4U);
+  EXPECT_EQ(held[0], 0.15F);
+  EXPECT_EQ(held[1], 0.0F) << "the refused write left its register as it was";
+  EXPECT_EQ(held[2], 0.45F);
+  EXPECT_EQ(held[3], 0.0F);
+  EXPECT_EQ(plc.holding(407), 2) << "control +7 counts the refused writes";
+  const std::string err = plant_->stderr_text();
+  EXPECT_NE(err.find("write refused (exception 3, illegal data value): MV u2's test offset = "
+                     "-0.25 beyond its limit ±0.2 (plant.offset_limit[1])"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("CV y2's setpoint offset = 0.75 beyond its limit ±0.5"), std::string::npos)
+      << err;
+  EXPECT_EQ(plant_->stop(SIGTERM).value_or(-1), 0) << err;  // no heartbeat: no sample logged
+}
+
 // loop-config checks the controller against the plant before writing anything.
 TEST_F(ClosedLoopGateway, LoopConfigRefusesABadControllerByName) {
   const fs::path bad = path("bad.toml");

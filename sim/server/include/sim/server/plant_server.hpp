@@ -78,6 +78,9 @@ struct ServeOptions {
   std::vector<double> input_min;    // absolute limits per plant input; empty: none. A write
   std::vector<double> input_max;    // that would put a setpoint outside: exception 3, counted
   std::string controller_log_path;  // closed loop: the controller log (controller_log.hpp)
+  std::vector<double> offset_limit;  // closed loop: |offset| bound per offset register (MV
+                                     // offsets, then CV setpoint offsets); beyond: exception
+                                     // 3, counted. Empty: none (ServerConfig plant.offset_limit)
 };
 
 /// The run log's settings in `options` (log_path, plant_description, time_scales, names and
@@ -163,6 +166,9 @@ class PlantServer {
   void on_heartbeat_written();
   // A write of setpoints outside the limits: counted, reported, true (the caller refuses).
   bool refuse_out_of_limits(const ModbusRequest& request, const std::uint8_t* data);
+  // Under a controller: a write of a test offset beyond plant.offset_limit, the same way.
+  bool refuse_offset_beyond_limit(std::uint32_t address, std::uint32_t count,
+                                  const std::uint8_t* data);
   void check_watchdog(Clock::time_point now);
   void freeze(const std::function<bool()>& stop);
   void mirror_counters_to_control();

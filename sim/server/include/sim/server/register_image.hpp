@@ -59,6 +59,12 @@ class RegisterImage {
   std::optional<OutOfLimits> check_write(std::uint32_t address, std::uint32_t count,
                                          const std::uint8_t* data, const std::vector<double>& min,
                                          const std::vector<double>& max) const;
+  /// The same for the test offsets under a controller (README "Closed loop", offset limits):
+  /// `limit` per offset register, MV offsets then CV setpoint offsets; OutOfLimits::input is
+  /// that offset's index. A value beyond ±limit (or not finite) is out.
+  std::optional<OutOfLimits> check_offset_write(std::uint32_t address, std::uint32_t count,
+                                                const std::uint8_t* data,
+                                                const std::vector<double>& limit) const;
 
   /// The registers the watchdog guards: the setpoints in the open loop, the test offsets
   /// under a controller (README, "Closed loop"); and their safe state (the input baseline,
@@ -114,6 +120,10 @@ class RegisterImage {
 
  private:
   std::uint16_t* cell(const PlacedValue& value) const;
+  // `p`'s value once a write of `count` registers at `address` (`data`, big-endian bytes) is
+  // applied; nullopt when the write does not touch it.
+  std::optional<double> value_after_write(const PlacedValue& p, std::uint32_t address,
+                                          std::uint32_t count, const std::uint8_t* data) const;
   void encode(const PlacedValue& value, double x);
   double decode(const PlacedValue& value) const;
 

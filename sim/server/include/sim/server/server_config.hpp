@@ -40,6 +40,11 @@ struct PlantSettings {
   // The controller in the loop (sim/control's controller file, relative to this file; README,
   // "Closed loop"); empty: the open-loop plant. `excite-plant --controller FILE` overrides it.
   std::string controller;
+  // Under a controller: the largest test offset the plant takes, per offset register (the MV
+  // offsets in input order, then the CV setpoint offsets in output order; deviations in
+  // engineering units, each > 0); a write beyond ±limit is refused with exception 3 and
+  // counted, as a setpoint outside input_min/input_max in the open loop. Empty: no bound.
+  std::vector<double> offset_limit;
 };
 
 /// Number of registers in the control block (holding registers, see README): five fault
