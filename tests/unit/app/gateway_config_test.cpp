@@ -12,6 +12,7 @@
 #include <string>
 #include <string_view>
 
+#include "firmware/app/closed_loop_log.hpp"
 #include "hal/can/can_transport.hpp"
 #include "hal/modbus/modbus_transport.hpp"
 
@@ -605,6 +606,38 @@ TEST(GatewayConfigTest, ClosedLoopRefusalsNameTheField) {
       error_of(closed_loop_text("[closed_loop]\noffsets = \"mv\"\ncontroller_timeout_s = -1", 1))
           .find("closed_loop.controller_timeout_s = -1, expected 0 … "),
       std::string::npos);
+}
+
+// Run-log v4 (README "Closed loop", the run log): the log's inputs are the MVs, r the offsets.
+// The example's 4 setpoints under "both" with 2 MVs: setpoints 0, 1 are the MV offsets,
+// 2, 3 the setpoint offsets of the outputs 0, 1; the outputs' r columns come first.
+TEST(GatewayConfigTest, ClosedLoopLogLayoutMapsTheOffsetsToRChannels) {
+  const ConfigResult r = parse_gateway_config(
+      closed_loop_text("[closed_loop]\noffsets = \"both\"\nmv_baseline = [2.5, 3.5]", 2),
+      "gw.toml");
+  ASSERT_TRUE(r.config) << r.error;
+  std::vector<runlog::Channel> inputs;
+  const ClosedLoopLogLayout both = closed_loop_log_layout(*r.config, 4, inputs);
+  EXPECT_EQ(both.excitation, runlog::Excitation::both);
+  EXPECT_EQ(both.r_channels, (std::vector<std::size_t>{0, 1, 4, 5}));
+  EXPECT_EQ(both.r_source, (std::vector<std::uint32_t>{2, 3, 0, 1}));
+  EXPECT_EQ(both.mv_baseline, (std::vector<double>{2.5, 3.5}));
+  ASSERT_EQ(inputs.size(), 2U);
+  EXPECT_EQ(inputs[0].name, "st0") << "no applied_mv value: the mv_status value's name";
+
+  const ConfigResult mv =
+      parse_gateway_config(closed_loop_text("[closed_loop]\noffsets = \"mv\"", 2), "gw.toml");
+  ASSERT_TRUE(mv.config) << mv.error;
+  const ClosedLoopLogLayout m = closed_loop_log_layout(*mv.config, 4, inputs);
+  EXPECT_EQ(m.r_channels, (std::vector<std::size_t>{0, 1})) << "one per MV, not per setpoint";
+  EXPECT_EQ(m.mv_baseline, (std::vector<double>{0.0, 0.0}));
+
+  EXPECT_NE(
+      error_of(closed_loop_text("[closed_loop]\noffsets = \"mv\"\nmv_baseline = [1.0]", 2))
+          .find("closed_loop.mv_baseline = 1 numbers, expected none or one per mv_status value "
+                "(2)"),
+      std::string::npos)
+      << error_of(closed_loop_text("[closed_loop]\noffsets = \"mv\"\nmv_baseline = [1.0]", 2));
 }
 
 }  // namespace
