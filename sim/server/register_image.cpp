@@ -178,9 +178,9 @@ void RegisterImage::set_setpoint_registers(const std::vector<std::uint16_t>& reg
   }
 }
 
-std::optional<double> RegisterImage::value_after_write(const PlacedValue& p,
-                                                      std::uint32_t address, std::uint32_t count,
-                                                      const std::uint8_t* data) const {
+std::optional<double> RegisterImage::value_after_write(const PlacedValue& p, std::uint32_t address,
+                                                       std::uint32_t count,
+                                                       const std::uint8_t* data) const {
   const std::uint32_t size = hal::modbus::register_count(p.codec.type);
   if (!(p.address < address + count && address < p.address + size)) return std::nullopt;
   std::uint16_t r[2] = {0, 0};

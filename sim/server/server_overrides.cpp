@@ -87,8 +87,8 @@ void input_limits(ServeOptions& options, const PlantSettings& plant,
 }
 
 // The offset limits (under a controller only): one per offset register, n + m.
-void offset_limits(ServeOptions& options, const PlantSettings& plant, std::size_t n,
-                   std::size_t m, std::string_view source) {
+void offset_limits(ServeOptions& options, const PlantSettings& plant, std::size_t n, std::size_t m,
+                   std::string_view source) {
   if (plant.offset_limit.empty()) return;
   const std::string src(source);
   if (plant.controller.empty()) {

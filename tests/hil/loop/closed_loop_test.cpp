@@ -218,9 +218,9 @@ TEST_F(ClosedLoopGateway, TheGatewaysOwnLogIsRunLogV4EqualToThePlantsControllerL
   std::printf("[ measured ] %zu rows equal; largest |du - uc - r| %.3g\n", rows.size(),
               largest_gap);
 
-  const std::string identify = std::string(EXCITE_TOOL) + " identify " +
-                               path("gw.csv").string() + " -o " + path("model.json").string() +
-                               " > " + path("identify.out").string() + " 2>&1";
+  const std::string identify = std::string(EXCITE_TOOL) + " identify " + path("gw.csv").string() +
+                               " -o " + path("model.json").string() + " > " +
+                               path("identify.out").string() + " 2>&1";
   EXPECT_TRUE(shell(identify)) << [&] {
     std::ifstream o(path("identify.out"));
     return std::string((std::istreambuf_iterator<char>(o)), std::istreambuf_iterator<char>());
@@ -432,9 +432,9 @@ TEST_F(ClosedLoopGateway, ALinkCutEndsWithTheOffsetsAtZeroInControl) {
   EXPECT_TRUE(all_zero(plc.offsets()));
   EXPECT_EQ(plc.mode(), 1);
   const auto rows = controller_log();
-  EXPECT_TRUE(std::any_of(rows.begin(), rows.end(),
-                          [](const auto& row) { return row[0] == "watchdog"; }))
-      << "the plant's own log records the trip";
+  EXPECT_TRUE(std::any_of(rows.begin(), rows.end(), [](const auto& row) {
+    return row[0] == "watchdog";
+  })) << "the plant's own log records the trip";
   expect_last_sample_safe(rows);
   std::printf("[ measured ] link cut 2 s: gateway exit %d\n", *rc);
   stop_plant_and_read_its_log();
@@ -488,8 +488,7 @@ TEST_F(ClosedLoopGateway, TheGatewayStreamsToAPymodbusDcsAndEndsWithTheOffsetsAt
     const std::size_t k = heartbeat - 1;  // tick k wrote heartbeat k + 1 with its offsets
     bool same = true;
     for (std::size_t i = 0; i < 2; ++i) {
-      same = same && static_cast<float>(std::stod(cells[1 + i])) ==
-                         static_cast<float>(cl.r[i][k]);
+      same = same && static_cast<float>(std::stod(cells[1 + i])) == static_cast<float>(cl.r[i][k]);
       largest = std::max(largest, std::abs(std::stod(cells[1 + i])));
     }
     matched += same ? 1 : 0;
