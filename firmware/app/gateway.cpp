@@ -83,9 +83,18 @@ StageResult Gateway::start_log(std::FILE* file, std::string producer) {
   producer_ = std::move(producer);
   inputs_.clear();
   outputs_.clear();
-  for (const auto& s : config_.setpoints) inputs_.push_back({s.name, s.unit});
   LogLayout layout;
   layout.output_values = output_indices(config_);
+  if (config_.closed_loop) {  // run-log v4: the MVs are the inputs, the offsets r
+    layout.closed = closed_loop_log_layout(config_, layout.output_values.size(), inputs_);
+    layout.header.closed_loop.closed = true;
+    layout.header.closed_loop.excitation = layout.closed.excitation;
+    layout.header.closed_loop.controller = config_.closed_loop->controller.empty()
+                                               ? std::string_view("unknown (not configured)")
+                                               : std::string_view(config_.closed_loop->controller);
+  } else {
+    for (const auto& s : config_.setpoints) inputs_.push_back({s.name, s.unit});
+  }
   for (int j : layout.output_values) {
     const ValueSpec& v = config_.values[static_cast<std::size_t>(j)];
     outputs_.push_back({v.name, v.unit});

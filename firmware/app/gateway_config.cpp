@@ -271,9 +271,21 @@ void parse_values(const toml::table& root, GatewayConfig& c, hal::TransportConfi
         v.role = ValueRole::heartbeat_echo;
       } else if (*role == "command") {
         v.role = ValueRole::command;
+      } else if (*role == "controller_mode") {
+        v.role = ValueRole::controller_mode;
+      } else if (*role == "mv_status") {
+        v.role = ValueRole::mv_status;
+      } else if (*role == "controller_move") {
+        v.role = ValueRole::controller_move;
+      } else if (*role == "applied_mv") {
+        v.role = ValueRole::applied_mv;
+      } else if (*role == "setpoint_in_force") {
+        v.role = ValueRole::setpoint_in_force;
       } else {
         throw ConfigError(w + ".role", '"' + *role + '"',
-                          "output, readback, heartbeat_echo or command");
+                          "output, readback, heartbeat_echo, command, or in closed loop "
+                          "controller_mode, mv_status, controller_move, applied_mv, "
+                          "setpoint_in_force");
       }
     }
     v.test_low = number(t, w, "test_low");
@@ -325,6 +337,58 @@ void check_readback_encodings(const GatewayConfig& c, const hal::TransportConfig
   }
 }
 
+// The closed-loop roles: only with [closed_loop]; then one controller_mode, at least one
+// mv_status, at most kMaxInputs of each per-channel role, and controller_move/applied_mv
+// either absent or one per mv_status.
+void check_closed_loop_roles(const GatewayConfig& c) {
+  std::size_t mode = 0;
+  std::size_t status = 0;
+  std::size_t move = 0;
+  std::size_t applied = 0;
+  std::size_t setpoint = 0;
+  for (std::size_t j = 0; j < c.values.size(); ++j) {
+    const ValueRole role = c.values[j].role;
+    const bool closed = role == ValueRole::controller_mode || role == ValueRole::mv_status ||
+                        role == ValueRole::controller_move || role == ValueRole::applied_mv ||
+                        role == ValueRole::setpoint_in_force;
+    if (closed && !c.closed_loop) {
+      throw ConfigError("values[" + std::to_string(j) + "].role", "\"(closed-loop role)\"",
+                        "a [closed_loop] table: this role is read back from a running "
+                        "controller");
+    }
+    mode += role == ValueRole::controller_mode;
+    status += role == ValueRole::mv_status;
+    move += role == ValueRole::controller_move;
+    applied += role == ValueRole::applied_mv;
+    setpoint += role == ValueRole::setpoint_in_force;
+  }
+  if (!c.closed_loop) return;
+  const std::string n = std::to_string(engine::kMaxInputs);
+  if (mode != 1) {
+    throw ConfigError("values", std::to_string(mode) + " controller_mode values",
+                      "exactly one under [closed_loop] (the controller's mode is watched)");
+  }
+  if (status < 1 || status > engine::kMaxInputs) {
+    throw ConfigError("values", std::to_string(status) + " mv_status values",
+                      "1 … " + n + " under [closed_loop] (each MV's status is watched)");
+  }
+  if ((move != 0 && move != status) || (applied != 0 && applied != status)) {
+    throw ConfigError("values",
+                      std::to_string(move) + " controller_move, " + std::to_string(applied) +
+                          " applied_mv values",
+                      "none or one per mv_status value (" + std::to_string(status) + ")");
+  }
+  const std::size_t baselines = c.closed_loop->mv_baseline.size();
+  if (baselines != 0 && baselines != status) {
+    throw ConfigError("closed_loop.mv_baseline", std::to_string(baselines) + " numbers",
+                      "none or one per mv_status value (" + std::to_string(status) + ")");
+  }
+  if (setpoint > engine::kMaxInputs) {
+    throw ConfigError("values", std::to_string(setpoint) + " setpoint_in_force values",
+                      "at most " + n);
+  }
+}
+
 void cross_check(GatewayConfig& c, const hal::TransportConfig& transport) {
   std::set<std::string> names;
   auto unique = [&names](const std::string& field, const std::string& name) {
@@ -361,9 +425,42 @@ void cross_check(GatewayConfig& c, const hal::TransportConfig& transport) {
                    [](const ValueSpec& v) { return v.role == ValueRole::output; })) {
     throw ConfigError("values", "no output", "at least one value with role = \"output\"");
   }
+  check_closed_loop_roles(c);
   transport.validate();
   check_representable(c, transport);
   check_readback_encodings(c, transport);
+}
+
+// [closed_loop] (README "Closed loop"): which offsets the setpoints are, the controller's
+// timeout, the log's controller line.
+void parse_closed_loop(const toml::table& t, GatewayConfig& c) {
+  const std::string w = "closed_loop";
+  check_keys(t, w, {"offsets", "controller", "controller_timeout_s", "mv_baseline"});
+  ClosedLoopSpec spec;
+  if (auto s = text(t, w, "offsets")) {
+    if (*s != "mv" && *s != "setpoint" && *s != "both") {
+      throw ConfigError(w + ".offsets", '"' + *s + '"',
+                        "\"mv\" (MV test offsets), \"setpoint\" (CV setpoint offsets) or \"both\"");
+    }
+    spec.offsets = *s;
+  } else {
+    throw ConfigError(w + ".offsets", "(missing)", "\"mv\", \"setpoint\" or \"both\"");
+  }
+  if (auto s = text(t, w, "controller")) {
+    if (s->find_first_of("\r\n") != std::string::npos) {
+      throw ConfigError(w + ".controller", '"' + *s + '"', "one line of text");
+    }
+    spec.controller = *s;
+  }
+  if (auto v = number(t, w, "controller_timeout_s")) {
+    if (!(*v >= 0.0 && *v <= kMaxDurationS)) {
+      throw ConfigError(w + ".controller_timeout_s", config::format_number(*v),
+                        "0 … " + config::format_number(kMaxDurationS) + " seconds (0: never)");
+    }
+    spec.controller_timeout_s = *v;
+  }
+  spec.mv_baseline = config::Table(t, w, {}).numbers("mv_baseline");
+  c.closed_loop = spec;
 }
 
 // [segments]: how a running gateway takes the next plan segment (README "Plan segments").
@@ -399,11 +496,13 @@ ConfigResult parse_gateway_config(std::string_view text_in, std::string_view sou
     toml::table root = config::parse(text_in, source);
     GatewayConfig c;
     c.source = std::string(source);
-    std::set<std::string> sections = {"gateway", "device", "setpoints", "values", "segments"};
+    std::set<std::string> sections = {"gateway", "device",   "setpoints",
+                                      "values",  "segments", "closed_loop"};
     for (std::string& section : hal::transport_sections()) sections.insert(std::move(section));
     check_keys(root, "", sections);
     if (const toml::table* g = table_at(root, "gateway", false)) parse_gateway(*g, c);
     if (const toml::table* g = table_at(root, "segments", false)) parse_segments(*g, c);
+    if (const toml::table* g = table_at(root, "closed_loop", false)) parse_closed_loop(*g, c);
     std::unique_ptr<hal::TransportConfig> transport =
         parse_device(*table_at(root, "device", true), c);
     parse_sections(root, *transport);
@@ -479,6 +578,9 @@ std::string check_timing(const GatewayConfig& c, std::chrono::duration<double> p
        static_cast<double>(engine::kMaxDurationTicks)},
       {"gateway.confirm_timeout_s", c.confirm_timeout_s,
        static_cast<double>(engine::kMaxDurationTicks)},
+      {"closed_loop.controller_timeout_s",
+       c.closed_loop ? c.closed_loop->controller_timeout_s : 0.0,
+       static_cast<double>(engine::kMaxDurationTicks)},
       {"gateway.heartbeat_max_lag_s", c.heartbeat_max_lag_s,
        static_cast<double>(engine::kMaxHeartbeatLagTicks)},
       {"segments.await_s", c.segment_await_s, static_cast<double>(engine::kMaxDurationTicks)},
@@ -517,6 +619,41 @@ engine::EngineConfig to_engine_config(const GatewayConfig& c,
     }
     if (v.role == ValueRole::heartbeat_echo) e.heartbeat_echo = static_cast<std::int32_t>(j);
     if (v.role == ValueRole::command) e.command_value = static_cast<std::int32_t>(j);
+  }
+  if (c.closed_loop) {  // the controller's read-backs, the i-th of a role for the i-th MV/CV
+    engine::ControllerWatch& w = e.controller;
+    w.status.fill(engine::kNone);
+    w.move.fill(engine::kNone);
+    w.applied.fill(engine::kNone);
+    w.setpoint.fill(engine::kNone);
+    std::uint32_t moves = 0;
+    std::uint32_t applied = 0;
+    for (std::size_t j = 0; j < c.values.size(); ++j) {
+      const auto index = static_cast<std::int32_t>(j);
+      switch (c.values[j].role) {
+        case ValueRole::controller_mode:
+          w.mode = index;
+          break;
+        case ValueRole::mv_status:
+          if (w.mvs < engine::kMaxInputs) w.status[w.mvs++] = index;
+          break;
+        case ValueRole::controller_move:
+          if (moves < engine::kMaxInputs) w.move[moves++] = index;
+          break;
+        case ValueRole::applied_mv:
+          if (applied < engine::kMaxInputs) w.applied[applied++] = index;
+          break;
+        case ValueRole::setpoint_in_force:
+          if (w.cvs < engine::kMaxInputs) w.setpoint[w.cvs++] = index;
+          break;
+        default:
+          break;
+      }
+    }
+    w.timeout_ticks = ticks(c.closed_loop->controller_timeout_s);
+    w.timeout_ns = std::chrono::round<std::chrono::nanoseconds>(
+                       std::chrono::duration<double>(c.closed_loop->controller_timeout_s))
+                       .count();
   }
   e.ramp_ticks = ticks(c.ramp_s);
   e.segment_period_rows = c.segment_period_rows;

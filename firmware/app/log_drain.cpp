@@ -10,10 +10,21 @@ namespace excite::app {
 LogDrain::LogDrain(engine::LogRingBase& ring, std::FILE* file, LogLayout layout)
     : ring_(ring),
       layout_(std::move(layout)),
-      buffer_(runlog::max_row_chars(layout_.header.inputs.size(), layout_.header.outputs.size()) +
+      buffer_(runlog::max_closed_loop_row_chars(layout_.header.inputs.size(),
+                                                layout_.header.outputs.size(),
+                                                layout_.closed.r_channels.size()) +
               4096),
       dy_(layout_.output_values.size()),
-      file_rows_(fileno(file)) {}
+      du_(layout_.header.inputs.size()),
+      u_(layout_.header.inputs.size()),
+      r_(layout_.closed.r_channels.size()),
+      uc_(layout_.header.inputs.size()),
+      ysp_(layout_.header.outputs.size()),
+      st_(layout_.header.inputs.size()),
+      file_rows_(fileno(file)) {
+  // The header's r channels are the layout's own (a span: it points into layout_).
+  layout_.header.closed_loop.r_channels = layout_.closed.r_channels;
+}
 
 LogDrain::~LogDrain() {
   stop();
@@ -70,6 +81,7 @@ bool LogDrain::write(const engine::TickRecord& r) {
   row.flags = r.flags & runlog::kKnownFlags;
   row.state = engine::to_run_state(r.state);
   row.segment = r.segment;
+  if (layout_.header.closed_loop.closed) closed_loop_fields(r, row);
   const runlog::WriteResult f = runlog::format_row(layout_.header, row, std::span<char>(buffer_));
   if (f.status != runlog::WriteStatus::ok) {
     detail_ = f.message;
@@ -92,6 +104,36 @@ bool LogDrain::write(const engine::TickRecord& r) {
   }
   rows_.fetch_add(1);
   return true;
+}
+
+void LogDrain::closed_loop_fields(const engine::TickRecord& r, runlog::Row& row) {
+  const std::size_t n = du_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    // What the plant got (README "Version 4": du_/u_ keep their open-loop meaning).
+    du_[i] = r.du_applied[i];
+    u_[i] = layout_.closed.mv_baseline[i] + r.du_applied[i];
+    uc_[i] = r.uc[i];
+    if (r.st[i] <= runlog::kMaxMvState) {
+      st_[i] = static_cast<runlog::MvState>(r.st[i]);
+    } else {
+      st_[i] = runlog::MvState::manual;
+      row.flags |= runlog::kBadValue;
+    }
+  }
+  for (std::size_t k = 0; k < r_.size(); ++k) r_[k] = r.r[layout_.closed.r_source[k]];
+  for (std::size_t j = 0; j < ysp_.size(); ++j) ysp_[j] = j < r.cvs ? r.ysp[j] : 0.0;
+  if (r.mode <= static_cast<std::uint8_t>(runlog::LoopMode::suspended)) {
+    row.mode = static_cast<runlog::LoopMode>(r.mode);
+  } else {
+    row.mode = runlog::LoopMode::off;
+    row.flags |= runlog::kBadValue;
+  }
+  row.du = du_;
+  row.u = u_;
+  row.r = r_;
+  row.uc = uc_;
+  row.ysp = ysp_;
+  row.st = st_;
 }
 
 std::string LogDrain::failure() const {

@@ -33,6 +33,9 @@ RunSummary finish_run(Gateway& gw, const RunStats& stats, const BusResult& made,
   s.readback_mismatches = eng.readback_mismatches();
   s.ticks_skipped = eng.skipped_ticks();
   s.stale_writes_undone = eng.stale_writes_undone();
+  s.closed_loop = gw.config().closed_loop.has_value();
+  s.controller_mode_losses = eng.controller_mode_losses();
+  s.mv_limited = eng.mv_limited_episodes();
   s.rows_clamped = eng.rows_flagged(runlog::kClamped);
   s.rows_rate_limited = eng.rows_flagged(runlog::kRateLimited);
   s.rows_suspended = eng.rows_flagged(runlog::kSuspended);
@@ -82,6 +85,12 @@ void print_summary(std::FILE* out, const RunSummary& s) {
                  s.segment_await_s, n(s.rows_awaiting), n(st.segment_waits),
                  seconds(st.segment_wait), seconds(st.longest_segment_wait));
   }
+  if (s.closed_loop) {
+    std::fprintf(out,
+                 "excite-gateway: closed loop: the controller left its mode %llu times, MVs "
+                 "clamped or wound up %llu times (each suspended the test)\n",
+                 n(s.controller_mode_losses), n(s.mv_limited));
+  }
   std::fprintf(out, "excite-gateway: exception replies by code: %s\n", s.exceptions.c_str());
   if (!s.bus_counts.empty()) std::fprintf(out, "excite-gateway: %s\n", s.bus_counts.c_str());
   if (!s.refusal.empty()) std::fprintf(out, "excite-gateway: fault: %s\n", s.refusal.c_str());
@@ -96,8 +105,11 @@ void print_summary(std::FILE* out, const RunSummary& s) {
     std::fprintf(out,
                  "excite-gateway: safe, unconfirmed: the baseline was written but not read back "
                  "twice, a hold interval apart, within gateway.confirm_timeout_s = %g s (check "
-                 "the field)\n",
-                 s.confirm_timeout_s);
+                 "the field)%s\n",
+                 s.confirm_timeout_s,
+                 s.closed_loop ? ", or the controller was not in its mode (control or test) "
+                                 "while the offsets read back zero"
+                               : "");
   }
   std::fprintf(out, "excite-gateway: values at the end of their register's range: %s\n",
                s.range_ends.empty() ? "none" : s.range_ends.c_str());

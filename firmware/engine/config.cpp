@@ -110,6 +110,40 @@ Status validate(const EngineConfig& config) {
                          "command_value = %d, expected -1 (none) or a value index 0…%u",
                          config.command_value, config.values - 1);
   }
+  const ControllerWatch& w = config.controller;
+  if (!valid_index(w.mode, config.values)) {
+    return Status::error(StatusCode::invalid_field,
+                         "controller.mode = %d, expected -1 (open loop) or a value index 0…%u",
+                         w.mode, config.values - 1);
+  }
+  if (w.mode != kNone) {
+    if (w.mvs > kMaxInputs || w.cvs > kMaxInputs) {
+      return Status::error(StatusCode::invalid_field,
+                           "controller.mvs = %u, cvs = %u, expected at most %u each", w.mvs, w.cvs,
+                           kMaxInputs);
+    }
+    for (std::uint32_t i = 0; i < w.mvs; ++i) {
+      if (w.status[i] == kNone || !valid_index(w.status[i], config.values) ||
+          !valid_index(w.move[i], config.values) || !valid_index(w.applied[i], config.values)) {
+        return Status::error(StatusCode::invalid_field,
+                             "controller.status[%u] = %d, expected a value index 0…%u (and "
+                             "move, applied -1 or a value index)",
+                             i, w.status[i], config.values - 1);
+      }
+    }
+    for (std::uint32_t j = 0; j < w.cvs; ++j) {
+      if (w.setpoint[j] == kNone || !valid_index(w.setpoint[j], config.values)) {
+        return Status::error(StatusCode::invalid_field,
+                             "controller.setpoint[%u] = %d, expected a value index 0…%u", j,
+                             w.setpoint[j], config.values - 1);
+      }
+    }
+    if (w.timeout_ticks > kMaxDurationTicks || w.timeout_ns < 0) {
+      return Status::error(StatusCode::invalid_field,
+                           "controller.timeout_ticks = %u, expected 0 (never) or 1…%u",
+                           w.timeout_ticks, kMaxDurationTicks);
+    }
+  }
   return {};
 }
 

@@ -251,6 +251,8 @@ void Engine::confirm(bool out_at_baseline) noexcept {
   const bool real_over = real_time_passed(confirming_since_ns_, config_.confirm_timeout_ns);
   if (!exchange_ok_ || stale_) {
     confirmed_once_ = false;  // a failure means a reconnect: confirm afresh after it
+  } else if (baseline_read_back_ && !controller_in_mode_) {
+    confirmed_once_ = false;  // offsets at zero, but the controller is not in its mode
   } else if (baseline_read_back_) {
     stale_episode_ = false;
     if (!confirmed_once_) {
@@ -456,6 +458,31 @@ bool Engine::wrote_lately(std::uint32_t c, double read) const noexcept {
   return false;
 }
 
+void Engine::check_controller(bool exchange_ok, std::span<const double> values) noexcept {
+  const ControllerWatch& w = config_.controller;
+  if (w.mode == kNone || !exchange_ok) return;  // silence is the comm guard's
+  const double mode = values[static_cast<std::uint32_t>(w.mode)];
+  bool in_mode = mode == 1.0 || mode == 2.0;  // control or test
+  bool limited = false;
+  for (std::uint32_t i = 0; i < w.mvs; ++i) {
+    const double s = values[static_cast<std::uint32_t>(w.status[i])];
+    if (s == 1.0 || s == 2.0 || s == 3.0) limited = true;  // clamped low/high, windup
+    if (s == 4.0) in_mode = false;                         // manual
+  }
+  if (!in_mode && controller_in_mode_) ++mode_losses_;
+  if (limited && !mv_limited_now_) ++mv_limited_;
+  controller_in_mode_ = in_mode;
+  mv_limited_now_ = limited;
+  if (!in_mode || limited) {
+    reasons_ |= kReasonController;
+    controller_ok_streak_ = 0;
+  } else if ((reasons_ & kReasonController) != 0 &&
+             ++controller_ok_streak_ >= config_.resume_dwell_ticks) {
+    reasons_ &= static_cast<std::uint8_t>(~kReasonController);
+    controller_ok_streak_ = 0;
+  }
+}
+
 void Engine::check_limits(bool exchange_ok, std::span<const double> values) noexcept {
   if (!exchange_ok) return;  // nothing new to judge; the comm guard handles silence
   bool outside = false;
@@ -584,6 +611,7 @@ void Engine::observe(bool exchange_ok, std::span<const double> values, bool refu
     for (std::uint32_t j = 0; j < config_.values; ++j) last_y_[j] = values[j];
   }
   check_limits(exchange_ok_, values);
+  check_controller(exchange_ok_, values);
   read_command_register(exchange_ok_, values);
   check_readbacks(values);
   if ((!exchange_ok_ && !refused) || (reasons_ & kReasonComm) != 0) flags_ |= runlog::kCommLost;
@@ -605,6 +633,20 @@ void Engine::observe(bool exchange_ok, std::span<const double> values, bool refu
           outcome_ = Outcome::aborted_on_timeout;
         }
       }
+      if ((reasons_ & kReasonController) == 0) {
+        controller_ticks_ = 0;
+        controller_since_ns_ = -1;
+      } else if (state_ == State::suspended) {
+        controller_ticks_ += elapsed_;
+        const bool real_over =
+            real_time_passed(controller_since_ns_, config_.controller.timeout_ns);
+        if ((config_.controller.timeout_ticks != 0 &&
+             controller_ticks_ >= config_.controller.timeout_ticks) ||
+            real_over) {
+          state_ = State::aborted;
+          outcome_ = Outcome::aborted_on_controller;
+        }
+      }
       break;
     case State::returning: {
       returning_ticks_ += elapsed_;  // on the clock: skipped ticks count
@@ -619,7 +661,8 @@ void Engine::observe(bool exchange_ok, std::span<const double> values, bool refu
       const std::uint64_t window = std::max<std::uint64_t>(
           config_.suspend_timeout_ticks,
           std::uint64_t{config_.readback_lag_ticks} + config_.readback_mismatch_limit + 1);
-      if (out_at_baseline && exchange_ok_ && !stale_ && baseline_read_back_) {
+      if (out_at_baseline && exchange_ok_ && !stale_ && baseline_read_back_ &&
+          controller_in_mode_) {
         state_ = State::safe;
       } else if ((reasons_ & kReasonComm) != 0) {
         if (config_.suspend_timeout_ticks != 0 &&
@@ -659,6 +702,24 @@ TickRecord Engine::record(std::int64_t time_ns) const noexcept {
     r.du[c] = out_.setpoint[c] - base_u_[c];
   }
   for (std::uint32_t j = 0; j < config_.values; ++j) r.dy[j] = last_y_[j] - base_y_[j];
+  const ControllerWatch& w = config_.controller;
+  if (w.mode == kNone) return r;
+  r.closed_loop = true;
+  r.mvs = w.mvs;
+  r.cvs = w.cvs;
+  const auto read = [this](std::int32_t index) {
+    return index == kNone ? 0.0 : last_y_[static_cast<std::uint32_t>(index)];
+  };
+  for (std::uint32_t c = 0; c < config_.inputs; ++c) r.r[c] = r.du[c];
+  for (std::uint32_t i = 0; i < w.mvs; ++i) {
+    r.uc[i] = read(w.move[i]);
+    r.du_applied[i] = read(w.applied[i]);
+    const double s = read(w.status[i]);
+    r.st[i] = s >= 0.0 && s <= 255.0 ? static_cast<std::uint8_t>(s) : 255;
+  }
+  for (std::uint32_t j = 0; j < w.cvs; ++j) r.ysp[j] = read(w.setpoint[j]);
+  const double mode = read(w.mode);
+  r.mode = mode >= 0.0 && mode <= 255.0 ? static_cast<std::uint8_t>(mode) : 255;
   return r;
 }
 

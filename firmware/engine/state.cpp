@@ -87,6 +87,8 @@ const char* to_string(Outcome outcome) noexcept {
       return "fault: the device refused a request";
     case Outcome::foreign_writer:
       return "fault: another writer was seen";
+    case Outcome::aborted_on_controller:
+      return "aborted: the controller left its mode or an MV was limited too long";
   }
   return "unknown";
 }

@@ -51,7 +51,7 @@ std::string quoted(std::string_view s) {
 }
 
 // Column roles of the data table.
-enum class Role : std::uint8_t { t_min, k, du, u, dy, flags, state, segment };
+enum class Role : std::uint8_t { t_min, k, du, u, dy, flags, state, segment, r, uc, ysp, st, mode };
 struct ColumnRole {
   Role role;
   std::size_t channel;  // for du, u, dy
@@ -97,9 +97,11 @@ class Parser {
   bool parse_header() {
     std::string_view line;
     if (!next_line(line)) {
-      return fail(0, "empty file, expected the line '# excite run log v3' (or v2, v1)");
+      return fail(0, "empty file, expected the line '# excite run log v3' (or v2, v1, v4)");
     }
-    if (trim(line) == kMagicLine) {
+    if (trim(line) == kMagicLineV4) {
+      log_.format_version = 4;
+    } else if (trim(line) == kMagicLine) {
       log_.format_version = 3;
     } else if (trim(line) == kMagicLineV2) {
       log_.format_version = 2;
@@ -108,10 +110,10 @@ class Parser {
     } else {
       if (line.rfind("# excite run log v", 0) == 0) {
         return fail(
-            0, "unsupported version " + quoted(trim(line)) + "; this reader reads v1, v2 and v3");
+            0, "unsupported version " + quoted(trim(line)) + "; this reader reads v1 to v4");
       }
       return fail(0, "first line is " + quoted(trim(line)) +
-                         ", expected '# excite run log v3' (or v2, v1) (not an excite run log?)");
+                         ", expected '# excite run log v3' (or v2, v1, v4) (not an excite run log?)");
     }
     bool seen[6] = {};
     bool seen_producer = false;  // optional: logs written before it existed have none
@@ -170,6 +172,11 @@ class Parser {
             return fail(0, "start_at_rest = " + quoted(value) + ", expected yes or no");
           }
           log_.start_at_rest = value == "yes";
+          continue;
+        }
+        if (log_.format_version == 4 &&
+            (key == "loop" || key == "excitation" || key == "controller")) {
+          if (!closed_key(key, value)) return false;
           continue;
         }
         if (key == "baseline") {
@@ -234,6 +241,15 @@ class Parser {
                            "units");
       }
     }
+    if (log_.format_version == 4) {
+      for (const std::string_view key : {"loop", "excitation", "controller"}) {
+        if (!closed_seen_[key == "loop" ? 0 : key == "excitation" ? 1 : 2]) {
+          return fail(0, "header has no '# " + std::string(key) +
+                             ":' line, expected loop, excitation and controller in a v4 log");
+        }
+      }
+      log_.closed_loop.closed = true;
+    }
     // Names unique over inputs and outputs.
     std::vector<std::string> all = log_.input_names;
     all.insert(all.end(), log_.output_names.begin(), log_.output_names.end());
@@ -245,6 +261,24 @@ class Parser {
       }
     }
     return parse_units(units_value, units_line, all);
+  }
+
+  // The v4 header keys (README "Version 4"): each once.
+  bool closed_key(std::string_view key, std::string_view value) {
+    const std::size_t which = key == "loop" ? 0 : key == "excitation" ? 1 : 2;
+    if (closed_seen_[which]) return fail(0, "header key '" + std::string(key) + "' given twice");
+    closed_seen_[which] = true;
+    if (which == 0 && value != "closed") {
+      return fail(0, "loop = " + quoted(value) + ", expected closed (a v4 log is a closed-loop run)");
+    }
+    if (which == 1 && !excitation_from_text(value, log_.closed_loop.excitation)) {
+      return fail(0, "excitation = " + quoted(value) + ", expected setpoint, mv or both");
+    }
+    if (which == 2) {
+      if (value.empty()) return fail(0, "controller = '', expected its kind and a description");
+      log_.closed_loop.controller = std::string(value);
+    }
+    return true;
   }
 
   bool parse_units(std::string_view value, std::size_t at_line,
@@ -300,6 +334,30 @@ class Parser {
     for (std::size_t j = 0; j < p; ++j) {
       expected.push_back({"dy_" + log_.output_names[j], {Role::dy, j}});
     }
+    ClosedLoopLog& cl = log_.closed_loop;
+    if (cl.closed) {
+      // r channel indices: outputs for setpoint, inputs for mv; both: outputs 0 … p − 1,
+      // then the inputs p … p + n − 1 (README "Version 4").
+      const bool sp = cl.excitation != Excitation::mv;
+      const bool mv = cl.excitation != Excitation::setpoint;
+      for (std::size_t j = 0; sp && j < p; ++j) {
+        expected.push_back({"r_" + log_.output_names[j], {Role::r, j}});
+      }
+      const std::size_t first_input = cl.excitation == Excitation::both ? p : 0;
+      for (std::size_t i = 0; mv && i < n; ++i) {
+        expected.push_back({"r_" + log_.input_names[i], {Role::r, first_input + i}});
+      }
+      for (std::size_t i = 0; i < n; ++i) {
+        expected.push_back({"uc_" + log_.input_names[i], {Role::uc, i}});
+      }
+      for (std::size_t j = 0; j < p; ++j) {
+        expected.push_back({"ysp_" + log_.output_names[j], {Role::ysp, j}});
+      }
+      for (std::size_t i = 0; i < n; ++i) {
+        expected.push_back({"st_" + log_.input_names[i], {Role::st, i}});
+      }
+      expected.push_back({"mode", {Role::mode, 0}});
+    }
     expected.push_back({"flags", {Role::flags, 0}});
     if (log_.format_version >= 2) expected.push_back({"state", {Role::state, 0}});
     if (log_.format_version >= 3) expected.push_back({"segment", {Role::segment, 0}});
@@ -320,7 +378,40 @@ class Parser {
       column_names_.emplace_back(names[c]);
     }
     for (std::size_t e = 0; e < expected.size(); ++e) {
-      if (!found[e]) return fail(0, "missing column " + quoted(expected[e].first));
+      // r_<channel>: only the channels r was added to (at least one, checked below).
+      if (!found[e] && expected[e].second.role != Role::r) {
+        return fail(0, "missing column " + quoted(expected[e].first));
+      }
+    }
+    if (cl.closed) {
+      std::vector<std::size_t> slot(expected.size(), 0);
+      for (std::size_t e = 0; e < expected.size(); ++e) {
+        if (found[e] && expected[e].second.role == Role::r) {
+          slot[e] = cl.r_channels.size();
+          cl.r_channels.push_back(expected[e].second.channel);
+        }
+      }
+      if (cl.r_channels.empty()) {
+        return fail(0, std::string("r columns = (none), expected r_<") +
+                           (cl.excitation == Excitation::setpoint ? "output"
+                            : cl.excitation == Excitation::mv     ? "input"
+                                                                  : "output or input") +
+                           "> for each channel the excitation moves");
+      }
+      // Each r column's channel → its place in r_channels (ascending by channel).
+      for (ColumnRole& role : roles_) {
+        if (role.role != Role::r) continue;
+        for (std::size_t e = 0; e < expected.size(); ++e) {
+          if (expected[e].second.role == Role::r && expected[e].second.channel == role.channel) {
+            role.channel = slot[e];
+            break;
+          }
+        }
+      }
+      cl.r.assign(cl.r_channels.size(), {});
+      cl.uc.assign(n, {});
+      cl.ysp.assign(p, {});
+      cl.st.assign(n, {});
     }
     log_.du.assign(n, {});
     log_.u.assign(n, {});
@@ -374,6 +465,23 @@ class Parser {
       log_.state.push_back(state);
       return true;
     }
+    if (role.role == Role::mode) {
+      LoopMode mode = LoopMode::off;
+      if (!loop_mode_from_text(f, mode)) {
+        return field_error(c, f, "a loop mode: off, control, test or suspended");
+      }
+      log_.closed_loop.mode.push_back(mode);
+      return true;
+    }
+    if (role.role == Role::st) {
+      if (f.size() != 1 || f[0] < '0' || f[0] > static_cast<char>('0' + kMaxMvState)) {
+        return field_error(c, f,
+                           "an MV status: 0 ok, 1 clamped low, 2 clamped high, 3 windup, "
+                           "4 manual");
+      }
+      log_.closed_loop.st[role.channel].push_back(static_cast<MvState>(f[0] - '0'));
+      return true;
+    }
     if (role.role == Role::k || role.role == Role::flags || role.role == Role::segment) {
       std::uint64_t v = 0;
       const auto r = std::from_chars(first, last, v);
@@ -419,6 +527,15 @@ class Parser {
         break;
       case Role::dy:
         log_.dy[role.channel].push_back(v);
+        break;
+      case Role::r:
+        log_.closed_loop.r[role.channel].push_back(v);
+        break;
+      case Role::uc:
+        log_.closed_loop.uc[role.channel].push_back(v);
+        break;
+      case Role::ysp:
+        log_.closed_loop.ysp[role.channel].push_back(v);
         break;
       default:
         break;
@@ -482,6 +599,7 @@ class Parser {
   RunLog log_;
   ReadError error_;
   std::vector<ColumnRole> roles_;
+  bool closed_seen_[3] = {};  // v4: loop, excitation, controller
   std::vector<std::string> column_names_;
 };
 

@@ -95,7 +95,70 @@ void column_names(Sink& s, std::string_view prefix, std::span<const Channel> cha
   }
 }
 
+bool closed_loop_valid(const Header& h) {
+  const ClosedLoopHeader& c = h.closed_loop;
+  if (!c.closed) return true;
+  if (c.controller.empty() || !one_line(c.controller) || c.r_channels.empty()) return false;
+  const std::size_t side = c.excitation == Excitation::setpoint ? h.outputs.size()
+                           : c.excitation == Excitation::mv ? h.inputs.size()
+                                                            : h.outputs.size() + h.inputs.size();
+  for (std::size_t i = 0; i < c.r_channels.size(); ++i) {
+    if (c.r_channels[i] >= side) return false;
+    if (i > 0 && c.r_channels[i] <= c.r_channels[i - 1]) return false;  // ascending, once
+  }
+  return true;
+}
+
 }  // namespace
+
+std::string_view to_text(Excitation excitation) noexcept {
+  switch (excitation) {
+    case Excitation::setpoint:
+      return "setpoint";
+    case Excitation::mv:
+      return "mv";
+    case Excitation::both:
+      return "both";
+  }
+  return "setpoint";
+}
+
+bool excitation_from_text(std::string_view text, Excitation& excitation) noexcept {
+  if (text == "setpoint") {
+    excitation = Excitation::setpoint;
+  } else if (text == "mv") {
+    excitation = Excitation::mv;
+  } else if (text == "both") {
+    excitation = Excitation::both;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+std::string_view to_text(LoopMode mode) noexcept {
+  switch (mode) {
+    case LoopMode::off:
+      return "off";
+    case LoopMode::control:
+      return "control";
+    case LoopMode::test:
+      return "test";
+    case LoopMode::suspended:
+      return "suspended";
+  }
+  return "off";
+}
+
+bool loop_mode_from_text(std::string_view text, LoopMode& mode) noexcept {
+  for (const LoopMode m : {LoopMode::off, LoopMode::control, LoopMode::test, LoopMode::suspended}) {
+    if (to_text(m) == text) {
+      mode = m;
+      return true;
+    }
+  }
+  return false;
+}
 
 std::string_view to_text(RunState state) noexcept {
   switch (state) {
@@ -195,8 +258,15 @@ WriteResult format_header(const Header& header, std::span<char> out) {
             "digits, _ . - and a unit without spaces, ',' or '='"};
   }
 
+  if (!closed_loop_valid(header)) {
+    return {WriteStatus::invalid_field, 0,
+            "header.closed_loop = (no controller text, a line break, or r channels not "
+            "ascending on the excitation's side), expected a v4 header (README, Version 4)"};
+  }
+  const ClosedLoopHeader& loop = header.closed_loop;
+
   Sink s(out);
-  s.text(kMagicLine);
+  s.text(loop.closed ? kMagicLineV4 : kMagicLine);
   if (!header.producer.empty()) {
     s.text("\n# producer: ");
     s.text(header.producer);
@@ -222,6 +292,12 @@ WriteResult format_header(const Header& header, std::span<char> out) {
     s.text(header.baseline);
   }
   if (!header.start_at_rest) s.text("\n# start_at_rest: no");
+  if (loop.closed) {
+    s.text("\n# loop: closed\n# excitation: ");
+    s.text(to_text(loop.excitation));
+    s.text("\n# controller: ");
+    s.text(loop.controller);
+  }
   s.text("\n# inputs:");
   for (const Channel& c : header.inputs) {
     s.ch(' ');
@@ -246,6 +322,20 @@ WriteResult format_header(const Header& header, std::span<char> out) {
   column_names(s, "du_", header.inputs);
   column_names(s, "u_", header.inputs);
   column_names(s, "dy_", header.outputs);
+  if (loop.closed) {
+    // `both`: the outputs' r columns, then the inputs' (one index space, outputs first).
+    const bool mv = loop.excitation == Excitation::mv;
+    for (const std::size_t i : loop.r_channels) {
+      s.text(",r_");
+      s.text(mv                           ? header.inputs[i].name
+             : i < header.outputs.size() ? header.outputs[i].name
+                                         : header.inputs[i - header.outputs.size()].name);
+    }
+    column_names(s, "uc_", header.inputs);
+    column_names(s, "ysp_", header.outputs);
+    column_names(s, "st_", header.inputs);
+    s.text(",mode");
+  }
   s.text(",flags,state,segment\n");
   return s.result();
 }
@@ -259,6 +349,26 @@ WriteResult format_row(const Header& header, const Row& row, std::span<char> out
   if (!std::isfinite(row.t_min) || !all_finite(row.du) || !all_finite(row.u) ||
       !all_finite(row.dy)) {
     return {WriteStatus::bad_argument, 0, "row = (NaN or inf), expected finite numbers"};
+  }
+  const ClosedLoopHeader& loop = header.closed_loop;
+  if (loop.closed) {
+    if (row.r.size() != loop.r_channels.size() || row.uc.size() != header.inputs.size() ||
+        row.ysp.size() != header.outputs.size() || row.st.size() != header.inputs.size()) {
+      return {WriteStatus::bad_argument, 0,
+              "row r/uc/ysp/st = (wrong width), expected the header's r channels, inputs, "
+              "outputs, inputs"};
+    }
+    if (!all_finite(row.r) || !all_finite(row.uc) || !all_finite(row.ysp)) {
+      return {WriteStatus::bad_argument, 0, "row r/uc/ysp = (NaN or inf), expected finite numbers"};
+    }
+    for (const MvState st : row.st) {
+      if (static_cast<std::uint8_t>(st) > kMaxMvState) {
+        return {WriteStatus::bad_argument, 0, "row.st = (out of range), expected 0..4"};
+      }
+    }
+    if (static_cast<std::uint8_t>(row.mode) > static_cast<std::uint8_t>(LoopMode::suspended)) {
+      return {WriteStatus::bad_argument, 0, "row.mode = (out of range), expected a LoopMode"};
+    }
   }
   if ((row.flags & ~kKnownFlags) != 0U) {
     return {WriteStatus::bad_argument, 0, "row.flags = (unknown bits), expected bits of Flag only"};
@@ -277,6 +387,21 @@ WriteResult format_row(const Header& header, const Row& row, std::span<char> out
       s.ch(',');
       s.number(x);
     }
+  }
+  if (loop.closed) {
+    const std::span<const double> cl[3] = {row.r, row.uc, row.ysp};
+    for (const auto& group : cl) {
+      for (const double x : group) {
+        s.ch(',');
+        s.number(x);
+      }
+    }
+    for (const MvState st : row.st) {
+      s.ch(',');
+      s.integer(static_cast<std::uint8_t>(st));
+    }
+    s.ch(',');
+    s.text(to_text(row.mode));
   }
   s.ch(',');
   s.integer(row.flags);

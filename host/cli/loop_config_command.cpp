@@ -2,7 +2,8 @@
 // excite loop-config --plant NAME [--transport modbus-tcp|can] [--interface IFACE]
 //                    [--host ADDR] [--port P] [--input-range R] [--max-move M]
 //                    [--output-range R] [--sample-time-min T | --plan PLAN] [--noise-var V]
-//                    [--seed S] -o DIR
+//                    [--seed S] [--controller FILE [--offsets setpoint|mv|both]
+//                    [--controller-timeout-s S]] -o DIR
 //
 // One register map for both sides of the loop: writes DIR/plant.toml (excite-plant's
 // configuration) and DIR/gateway.toml (excite-gateway's), both made by host/loop's
@@ -106,6 +107,22 @@ void add_loop_config_command(CLI::App& app) {
                   "the plant's heartbeat watchdog, wall-clock seconds (0: off)")
       ->capture_default_str()
       ->check(finite_non_negative());
+  auto* controller =
+      cmd->add_option("--controller", opt->config.controller,
+                      "closed loop: the controller file excite-plant runs (plant.controller); "
+                      "the gateway writes test offsets (sim/server/README.md, Closed loop)")
+          ->check(CLI::ExistingFile);
+  cmd->add_option("--offsets", opt->config.offsets,
+                  "closed loop: which offsets the gateway writes: setpoint (CV setpoint "
+                  "offsets), mv (MV test offsets) or both")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"setpoint", "mv", "both"}))
+      ->needs(controller);
+  cmd->add_option("--controller-timeout-s", opt->config.controller_timeout_s,
+                  "closed loop: suspended for the controller this long aborts the test (0: never)")
+      ->capture_default_str()
+      ->check(finite_non_negative())
+      ->needs(controller);
   cmd->add_option("-o,--output", opt->output_dir, "directory for plant.toml and gateway.toml")
       ->required();
   cmd->callback([opt] { run(*opt); });

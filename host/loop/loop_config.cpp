@@ -18,7 +18,9 @@
 #include "sim/server/can_map.hpp"
 #include "sim/server/config_writer.hpp"
 #include "sim/server/default_map.hpp"
+#include "sim/server/load_closed_loop.hpp"
 #include "sim/server/server_config.hpp"
+#include "sim/server/server_layout.hpp"
 
 namespace excite::host {
 namespace {
@@ -139,6 +141,124 @@ std::string gateway_toml(const LoopConfigOptions& opt, const sim::Plant& plant,
   return os.str();
 }
 
+// A float32 ABCD value at `address` (FC04 input register, or FC03 holding).
+hal::modbus::RegisterEntry float_value(std::uint32_t address, int function_code) {
+  hal::modbus::RegisterEntry e;
+  e.address = address;
+  e.function_code = function_code;
+  return e;
+}
+
+// The gateway in closed loop (sim/server/README.md, "Closed loop"): the offsets it writes,
+// each read back (verified writes on its own registers), and the controller's registers as
+// data.
+std::string gateway_closed_loop_toml(const LoopConfigOptions& opt, const sim::Plant& plant,
+                                     const sim::server::ServerConfig& server, double range,
+                                     const std::string& controller_line) {
+  const auto& regs = server.registers;
+  const std::uint32_t n = static_cast<std::uint32_t>(plant.inputs());
+  const std::uint32_t m = static_cast<std::uint32_t>(plant.outputs());
+  const auto in_names = plant.input_names();
+  const auto out_names = plant.output_names();
+  const auto in_units = plant.input_units();
+  const auto out_units = plant.output_units();
+  const std::uint32_t w = *regs.offset_address;
+  const std::uint32_t r = *regs.controller_address;
+  const bool mv = opt.offsets != "setpoint";
+  const bool sp = opt.offsets != "mv";
+  const double sp_range = opt.output_range > 0.0 ? opt.output_range : range;
+  std::ostringstream os;
+  os << "# excite-gateway configuration written by `excite loop-config --plant " << opt.plant
+     << " --controller " << std::filesystem::path(opt.controller).filename().string()
+     << " --offsets " << opt.offsets
+     << "`,\n# the closed-loop register map of plant.toml beside it (sim/server/README.md, "
+        "Closed loop).\n# Keys: firmware/app/README.md.\n\n";
+  os << "[gateway]\nplant = " << toml_string(plant.name() + " (excite-plant)") << "\n";
+  if (opt.period_s > 0.0) os << "period_s = " << toml_number(opt.period_s) << "\n";
+  os << "comm_fail_limit = 3\ncomm_loss = \"hold\"\nrealtime_priority = 0\n\n";
+  os << "[closed_loop]\noffsets = " << toml_string(opt.offsets)
+     << "\ncontroller = " << toml_string(controller_line)
+     << "\ncontroller_timeout_s = " << toml_number(opt.controller_timeout_s)
+     << "\nmv_baseline = [";  // the MVs' operating points: the run log's u = baseline + du
+  for (std::size_t i = 0; i < server.plant.input_baseline.size(); ++i) {
+    os << (i == 0 ? "" : ", ") << toml_number(server.plant.input_baseline[i]);
+  }
+  os << "]\n\n";
+  os << "[device]\ntransport = \"modbus-tcp\"\nsimulator = true   # the peer is excite-plant: "
+        "--clock lockstep allowed\nhost = "
+     << toml_string(opt.host) << "\nport = " << opt.port
+     << "\nunit_id = 1\nresponse_timeout_ms = 1000\n\n";
+  if (server.plant.watchdog_s > 0.0) {
+    os << "peer_watchdog_s = " << toml_number(server.plant.watchdog_s)
+       << "   # plant.toml's watchdog_s: at least two tick periods\n\n";
+  }
+  os << "[map]\n" << hal::modbus::format_map_settings(regs.map);
+  struct Offset {
+    std::string name;
+    std::string unit;
+    std::uint32_t address;
+    double range;
+  };
+  std::vector<Offset> offsets;
+  for (std::uint32_t i = 0; mv && i < n; ++i) {
+    offsets.push_back({in_names[i] + "_off", in_units[i], w + 2 * i, range});
+  }
+  for (std::uint32_t j = 0; sp && j < m; ++j) {
+    offsets.push_back({out_names[j] + "_spoff", out_units[j], w + 2 * n + 2 * j, sp_range});
+  }
+  const double move = opt.max_move > 0.0 ? opt.max_move : 2.0 * range;
+  for (const Offset& o : offsets) {
+    hal::modbus::RegisterEntry e = float_value(o.address, 16);
+    os << "\n[[setpoints]]\nname = " << toml_string(o.name) << "\nunit = " << toml_string(o.unit)
+       << "\n"
+       << format_register_entry(e, EntryKind::setpoint) << "min = " << toml_number(-o.range)
+       << "\nmax = " << toml_number(o.range)
+       << "\nmax_move = " << toml_number(std::max(move, 2.0 * o.range))
+       << "\nreadback = " << toml_string(o.name + "_rb") << "\n";
+  }
+  const auto value = [&os](const std::string& name, const std::string& unit, const char* role,
+                           const hal::modbus::RegisterEntry& e) {
+    os << "\n[[values]]\nname = " << toml_string(name) << "\nunit = " << toml_string(unit) << "\n";
+    if (role != nullptr) os << "role = \"" << role << "\"\n";
+    os << format_register_entry(e, EntryKind::value);
+  };
+  for (std::size_t j = 0; j < regs.map.values.size(); ++j) {
+    value(regs.map.values[j].name, out_units[j], nullptr, regs.map.values[j]);
+    if (opt.output_range > 0.0) {
+      const double y0 = server.plant.output_baseline[j];
+      os << "test_low = " << toml_number(y0 - opt.output_range)
+         << "\ntest_high = " << toml_number(y0 + opt.output_range)
+         << "\nhysteresis = " << toml_number(0.1 * opt.output_range) << "\n";
+    }
+  }
+  for (const Offset& o : offsets)
+    value(o.name + "_rb", o.unit, "readback", float_value(o.address, 3));
+  os << "\n[[values]]\nname = \"hb_echo\"\nrole = \"heartbeat_echo\"\n"
+     << format_register_entry(
+            counter(regs.heartbeat_echo_address, regs.heartbeat_echo_function_code),
+            EntryKind::value);
+  os << "\n[[values]]\nname = \"command\"\nrole = \"command\"   # 1 start, 2 suspend, 3 resume, "
+        "4 abort\n"
+     << format_register_entry(counter(*regs.command_address, 3), EntryKind::value);
+  os << "\n[[values]]\nname = \"mode\"\nrole = \"controller_mode\"   # 0 off, 1 control, 2 test, "
+        "3 suspended\n"
+     << format_register_entry(counter(r + 5 * n + 2 * m, 4), EntryKind::value);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    value("st_" + in_names[i], "-", "mv_status", counter(r + 4 * n + 2 * m + i, 4));
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    value("uc_" + in_names[i], in_units[i], "controller_move", float_value(r + 2 * i, 4));
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    value("ua_" + in_names[i], in_units[i], "applied_mv", float_value(r + 2 * n + 2 * i, 4));
+  }
+  for (std::uint32_t j = 0; j < m; ++j) {
+    value("ysp_" + out_names[j], out_units[j], "setpoint_in_force",
+          float_value(r + 4 * n + 2 * j, 4));
+  }
+  return os.str();
+}
+
 // The gateway over CAN: sim/server's default CAN frame map, the same limits as over Modbus.
 std::string gateway_can_toml(const LoopConfigOptions& opt, const sim::Plant& plant, double range,
                              const std::vector<double>& u0, const std::vector<double>& y0) {
@@ -205,6 +325,16 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
   check("--watchdog-s", opt.watchdog_s, true);
   if (opt.noise_var != -1.0) check("--noise-var", opt.noise_var, true);
   if (opt.port > 65535) bad("--port", opt.port, "a TCP port 0..65535");
+  if (!opt.controller.empty() && opt.transport != "modbus-tcp") {
+    throw std::invalid_argument("--transport = \"" + opt.transport +
+                                "\", expected modbus-tcp with --controller (the CAN frame map "
+                                "has no closed-loop frames)");
+  }
+  if (opt.offsets != "setpoint" && opt.offsets != "mv" && opt.offsets != "both") {
+    throw std::invalid_argument("--offsets = \"" + opt.offsets +
+                                "\", expected setpoint, mv or both");
+  }
+  check("--controller-timeout-s", opt.controller_timeout_s, true);
   if (opt.transport != "modbus-tcp" && opt.transport != "can") {
     throw std::invalid_argument("--transport = \"" + opt.transport +
                                 "\", expected modbus-tcp or can");
@@ -263,20 +393,31 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
                     " s: at least two tick periods of " + config::format_number(period_s) +
                     " s (a shorter watchdog trips between the gateway's writes)");
   }
-  for (std::size_t i = 0; i < u0v.size(); ++i) {
+  const bool closed = !opt.controller.empty();
+  for (std::size_t i = 0; i < u0v.size() && !closed; ++i) {  // under a controller: its MV limits
     const double slack = std::abs(u0v[i]) * 0x1p-23;
     server.plant.input_min.push_back(u0v[i] - range - slack);
     server.plant.input_max.push_back(u0v[i] + range + slack);
   }
-  server.registers = sim::server::default_registers(plant->inputs(), plant->outputs(),
-                                                    plant->input_names(), plant->output_names());
+  server.registers = sim::server::default_registers(
+      plant->inputs(), plant->outputs(), plant->input_names(), plant->output_names(), closed);
+  std::string controller_line;
+  if (closed) {  // refused here, by name, as excite-plant would refuse it
+    server.plant.controller = std::filesystem::absolute(opt.controller).string();
+    (void)sim::server::load_closed_loop(server.plant.controller, *plant, sample_time);
+    const std::string text = config::read_file(server.plant.controller);
+    const bool pi = text.find("kind = \"pi\"") != std::string::npos;
+    controller_line = std::string(pi ? "pi " : "dmc ") +
+                      std::filesystem::path(opt.controller).filename().string();
+  }
 
   LoopConfigPair pair;
   pair.plant_toml = sim::server::format_server_config(
       server, "excite-plant configuration written by `excite loop-config --plant " + opt.plant +
                   "`; its gateway side: gateway.toml");
-  pair.gateway_toml = opt.transport == "can" ? gateway_can_toml(opt, *plant, range, u0v, y0v)
-                                             : gateway_toml(opt, *plant, server, range, u0v, y0v);
+  pair.gateway_toml = closed ? gateway_closed_loop_toml(opt, *plant, server, range, controller_line)
+                      : opt.transport == "can" ? gateway_can_toml(opt, *plant, range, u0v, y0v)
+                                               : gateway_toml(opt, *plant, server, range, u0v, y0v);
   check_with_partners(pair);
   pair.notes = std::move(notes);
   return pair;

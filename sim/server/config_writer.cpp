@@ -44,6 +44,8 @@ std::string format_server_config(const ServerConfig& config, const std::string& 
     os << "input_min = " << numbers(p.input_min) << "\ninput_max = " << numbers(p.input_max)
        << "\n";
   }
+  if (!p.controller.empty()) os << "controller = " << toml_string(p.controller) << "\n";
+  if (!p.offset_limit.empty()) os << "offset_limit = " << numbers(p.offset_limit) << "\n";
 
   const ServerRegisters& r = config.registers;
   os << "\n[registers]\n";
@@ -52,6 +54,11 @@ std::string format_server_config(const ServerConfig& config, const std::string& 
   os << "heartbeat_echo_function_code = " << r.heartbeat_echo_function_code << "\n";
   if (r.command_address) os << "command_address = " << *r.command_address << "\n";
   if (r.control_address) os << "control_address = " << *r.control_address << "\n";
+  if (r.offset_address) os << "offset_address = " << *r.offset_address << "\n";
+  if (r.controller_address) os << "controller_address = " << *r.controller_address << "\n";
+  if (r.controller_switch_address) {
+    os << "controller_switch_address = " << *r.controller_switch_address << "\n";
+  }
   for (const auto& e : r.map.setpoints) entry(os, "setpoints", e, hal::modbus::EntryKind::setpoint);
   for (const auto& e : r.map.values) entry(os, "values", e, hal::modbus::EntryKind::value);
   return os.str();

@@ -4,11 +4,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "sim/server/server_layout.hpp"
+
 namespace excite::sim::server {
 
 ServerRegisters default_registers(int inputs, int outputs,
                                   const std::vector<std::string>& input_names,
-                                  const std::vector<std::string>& output_names) {
+                                  const std::vector<std::string>& output_names, bool closed_loop) {
   if (inputs < 1 || inputs > default_max_inputs || outputs < 1 || outputs > default_max_outputs) {
     throw std::invalid_argument(
         "plant = " + std::to_string(inputs) + " inputs, " + std::to_string(outputs) +
@@ -38,6 +40,12 @@ ServerRegisters default_registers(int inputs, int outputs,
   regs.heartbeat_echo_function_code = 4;
   regs.command_address = default_command_address;
   regs.control_address = default_control_address;
+  if (closed_loop) {
+    regs.offset_address = default_offset_address;
+    regs.controller_address = default_controller_address;
+    regs.controller_switch_address = default_switch_address;
+    regs.map.heartbeat_address = default_offset_address + offset_block_size(inputs, outputs);
+  }
   return regs;
 }
 

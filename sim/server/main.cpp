@@ -27,6 +27,7 @@
 #include "firmware/runlog/format.hpp"
 #include "sim/server/can_plant_server.hpp"
 #include "sim/server/default_map.hpp"
+#include "sim/server/load_closed_loop.hpp"
 #include "sim/server/plant_process.hpp"
 #include "sim/server/plant_server.hpp"
 #include "sim/server/register_image.hpp"
@@ -195,6 +196,13 @@ std::optional<int> parse_command_line(int argc, char** argv, CommandLine& cl) {
   app.add_option("--input-range", input_range,
                  "input limits: baseline ± R on every input, > 0; writes outside are refused "
                  "with exception 3 (overrides plant.input_min/input_max)");
+  app.add_option("--controller", cl.overrides.controller,
+                 "run this controller (sim/control's controller file) in the plant's loop: the "
+                 "gateway writes test offsets, the controller the MVs (README, Closed loop; "
+                 "overrides plant.controller)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--controller-log", options.controller_log_path,
+                 "closed loop: the controller log (CSV) of every sample and watchdog trip");
   app.set_version_flag("--version", "excite-plant " + std::string(excite::runlog::kVersion));
   app.add_option("--faults-after", faults_after,
                  "serve this many requests normally before the faults above apply");
@@ -296,9 +304,21 @@ int main(int argc, char** argv) {
     apply_overrides(config, cl.overrides, source);
     PlantProcess process(load_plant(config.plant, config.base_directory, source), config.plant);
     const excite::sim::Plant& plant = process.plant();
+    const bool closed_loop = !config.plant.controller.empty();
     if (cl.config_path.empty()) {
       config.registers = default_registers(plant.inputs(), plant.outputs(), plant.input_names(),
-                                           plant.output_names());
+                                           plant.output_names(), closed_loop);
+    }
+    std::unique_ptr<ClosedLoop> loop;
+    if (closed_loop) {
+      if (!cl.can_interface.empty()) {
+        bad("--controller", "\"" + config.plant.controller + "\"",
+            "Modbus (--modbus-tcp or --modbus-rtu): the CAN frame map has no closed-loop frames");
+      }
+      loop = load_closed_loop(config.plant.controller, plant, process.sample_time_min());
+    } else if (!cl.options.controller_log_path.empty()) {
+      bad("--controller-log", "\"" + cl.options.controller_log_path + "\"",
+          "a controller to log (--controller FILE or plant.controller)");
     }
     const ServerLayout layout =
         compile_layout(config, plant.inputs(), plant.outputs(), cl.options.lockstep, source);
@@ -307,12 +327,19 @@ int main(int argc, char** argv) {
     const std::string warning =
         complete_serve_options(options, config, cl.overrides, process, layout, source);
     if (!warning.empty()) std::cerr << "excite-plant: warning: " << warning << "\n";
+    if (loop && !options.input_min.empty()) {
+      bad(cl.overrides.input_range ? "--input-range" : source + ": plant.input_min",
+          cl.overrides.input_range ? excite::config::format_number(*cl.overrides.input_range)
+                                   : std::to_string(options.input_min.size()) + " limits",
+          "no input limits under a controller (the controller file's [[mv]] min and max bound "
+          "the applied MVs)");
+    }
     const auto stopped = [] { return g_stop != 0; };
     if (!cl.can_interface.empty()) {
       return serve_can(process, options, cl.can_interface, install_handlers, stopped);
     }
     return serve_modbus(process, image, layout, options, cl.config_path.empty(), install_handlers,
-                        stopped);
+                        stopped, loop.get());
   } catch (const std::exception& e) {
     std::cerr << "excite-plant: " << e.what() << "\n";
     return kExitBadInput;

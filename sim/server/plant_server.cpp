@@ -34,13 +34,25 @@ std::string system_error(const char* what) {
 
 }  // namespace
 
-PlantServer::PlantServer(PlantProcess& process, RegisterImage& image, ServeOptions options)
+PlantServer::PlantServer(PlantProcess& process, RegisterImage& image, ServeOptions options,
+                         ClosedLoop* loop)
     : process_(process),
       image_(image),
       options_(std::move(options)),
       faults_(options_.faults),
       u_(static_cast<std::size_t>(process.inputs())),
-      y_(static_cast<std::size_t>(process.outputs())) {
+      y_(static_cast<std::size_t>(process.outputs())),
+      loop_(loop) {
+  if (loop_ != nullptr) {
+    if (!image_.layout().closed_loop || loop_->inputs() != process.inputs() ||
+        loop_->outputs() != process.outputs()) {
+      throw std::runtime_error("the controller's registers or sizes do not match the plant");
+    }
+    mv_offsets_.assign(u_.size(), 0.0);
+    sp_offsets_.assign(y_.size(), 0.0);
+    y_measured_.assign(y_.size(), 0.0);
+    status_.assign(u_.size(), 0);
+  }
   if (!options_.lockstep && !(options_.sample_period.count() > 0.0)) {
     throw std::runtime_error("--sample-time-s must be > 0 (wall-clock seconds per sample)");
   }
@@ -93,6 +105,10 @@ PlantLogSpec plant_log_spec(const ServeOptions& options, double sample_time_min)
 
 void PlantServer::open_log() {
   log_.emplace(plant_log_spec(options_, process_.sample_time_min()));
+  if (loop_ != nullptr && !options_.controller_log_path.empty()) {
+    controller_log_.emplace(options_.controller_log_path, options_.input_names,
+                            options_.output_names, process_.sample_time_min());
+  }
 }
 
 void PlantServer::release() {
@@ -103,6 +119,7 @@ void PlantServer::release() {
   if (ctx_ != nullptr) modbus_free(ctx_);
   ctx_ = nullptr;
   log_.reset();
+  controller_log_.reset();
 }
 
 PlantServer::~PlantServer() {
@@ -204,6 +221,32 @@ PlantServer::Outcome PlantServer::handle(std::uint8_t* query, int length, bool s
   }
   if (!control && !stall_done) ++ordinary_requests_;
 
+  // Under a controller the MVs are the controller's: a write to a setpoint register is
+  // refused as a whole (exception 2), counted and reported; the offsets are written instead.
+  if (request.write && loop_ != nullptr &&
+      image_.touches_setpoints(request.address, std::max<std::uint32_t>(request.count, 1))) {
+    ++refused_writes_;
+    mirror_counters_to_control();
+    if (refused_writes_ <= 10) {
+      std::fprintf(stderr,
+                   "excite-plant: write refused (exception 2, illegal data address): register "
+                   "%u is a setpoint register, which under --controller carries the applied MV; "
+                   "the gateway writes test offsets at registers.offset_address; refused writes: "
+                   "%llu\n",
+                   request.address, static_cast<unsigned long long>(refused_writes_));
+    }
+    return replied(modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS));
+  }
+  // The offset limits under a controller, checked before anything is written.
+  if (request.write && loop_ != nullptr && !options_.offset_limit.empty()) {
+    const bool single = request.function_code == MODBUS_FC_WRITE_SINGLE_REGISTER;
+    const std::uint32_t count =
+        single ? 1U : std::min<std::uint32_t>(request.count, query[header + 5] / 2U);
+    if (refuse_offset_beyond_limit(request.address, count,
+                                   query + header + (single ? 3 : 6))) {
+      return replied(modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE));
+    }
+  }
   // The input limits, checked before anything is written: a refused request writes nothing.
   if (request.write && !options_.input_min.empty()) {
     const bool single = request.function_code == MODBUS_FC_WRITE_SINGLE_REGISTER;
@@ -217,7 +260,7 @@ PlantServer::Outcome PlantServer::handle(std::uint8_t* query, int length, bool s
 
   // Tripped: the setpoints written since the trip are put back under this write, so that
   // the image holds them all when the heartbeat moves (below) or they are set aside again.
-  if (request.write && watchdog_tripped_ && has_pending_) image_.set_setpoint_registers(pending_);
+  if (request.write && watchdog_tripped_ && has_pending_) image_.set_guarded_registers(pending_);
   // The reply writes the registers (or answers an illegal address with an exception).
   const Outcome outcome = replied(modbus_reply(ctx_, query, length, image_.mapping()));
   if (request.write) {
@@ -228,10 +271,10 @@ PlantServer::Outcome PlantServer::handle(std::uint8_t* query, int length, bool s
       heartbeat_written = true;
       on_heartbeat_written();
     }
-    if (watchdog_tripped_) {  // still stale: what was written waits, the baseline holds
-      pending_ = image_.setpoint_registers();
+    if (watchdog_tripped_) {  // still stale: what was written waits, the safe state holds
+      pending_ = image_.guarded_registers();
       has_pending_ = true;
-      image_.restore_setpoint_baseline();
+      image_.restore_guarded();
     }
   }
   return outcome;
@@ -343,7 +386,32 @@ void PlantServer::mirror_faults_to_control() {
   image_.set_control(4, faults_.freeze_echo ? 1 : 0);
 }
 
+void PlantServer::take_closed_loop_sample() {
+  image_.read_offsets(mv_offsets_.data(), sp_offsets_.data());
+  const std::uint64_t k = process_.samples();
+  loop_->step(y_measured_, image_.controller_switch(), mv_offsets_, sp_offsets_);
+  const auto applied = loop_->applied();
+  const std::vector<double>& u0 = process_.input_baseline();
+  for (std::size_t i = 0; i < u_.size(); ++i) u_[i] = u0[i] + applied[i];
+  process_.sample(u_.data(), y_.data());
+  image_.write_values(y_.data());
+  report_misfits(k);
+  const std::vector<double>& dy = process_.last_dy();
+  std::copy(dy.begin(), dy.end(), y_measured_.begin());
+  for (std::size_t i = 0; i < status_.size(); ++i) {
+    status_[i] = static_cast<std::uint16_t>(loop_->status()[i]);
+  }
+  image_.write_controller(loop_->moves().data(), applied.data(), loop_->setpoints().data(),
+                          status_.data(), static_cast<std::uint16_t>(loop_->mode()), u_.data());
+  if (log_) log_->write(k, process_.last_du(), u_, dy);
+  if (controller_log_) controller_log_->write("sample", k, *loop_);
+}
+
 void PlantServer::take_sample() {
+  if (loop_ != nullptr) {
+    take_closed_loop_sample();
+    return;
+  }
   image_.read_setpoints(u_.data());
   const std::uint64_t k = process_.samples();
   process_.sample(u_.data(), y_.data());
@@ -393,15 +461,56 @@ bool PlantServer::refuse_out_of_limits(const ModbusRequest& request, const std::
   return true;
 }
 
+bool PlantServer::refuse_offset_beyond_limit(std::uint32_t address, std::uint32_t count,
+                                             const std::uint8_t* data) {
+  const auto out = image_.check_offset_write(address, count, data, options_.offset_limit);
+  if (!out) return false;
+  ++refused_writes_;
+  mirror_counters_to_control();
+  if (refused_writes_ <= 10) {  // the first ten at once; the count at stop
+    const std::size_t k = out->input;
+    const std::size_t n = options_.input_names.size();
+    const std::string name = k < n ? "MV " + options_.input_names[k] + "'s test offset"
+                             : k - n < options_.output_names.size()
+                                 ? "CV " + options_.output_names[k - n] + "'s setpoint offset"
+                                 : std::string("offset ?");
+    std::fprintf(stderr,
+                 "excite-plant: write refused (exception 3, illegal data value): %s = %.9g "
+                 "beyond its limit ±%.9g (plant.offset_limit[%zu]); refused writes: %llu\n",
+                 name.c_str(), out->value, options_.offset_limit[k], k,
+                 static_cast<unsigned long long>(refused_writes_));
+  }
+  return true;
+}
+
 void PlantServer::check_watchdog(Clock::time_point now) {
   if (!(options_.watchdog_s > 0.0) || !heartbeat_seen_ || watchdog_tripped_) return;
   const double stale_s = std::chrono::duration<double>(now - heartbeat_changed_at_).count();
   if (stale_s < options_.watchdog_s) return;
   watchdog_tripped_ = true;
   has_pending_ = false;
-  image_.restore_setpoint_baseline();
+  image_.restore_guarded();
   ++watchdog_trips_;
   mirror_counters_to_control();
+  if (loop_ != nullptr) {  // every offset to zero, the controller kept in control
+    loop_->clear_offsets();
+    const std::vector<double>& u0 = process_.input_baseline();
+    for (std::size_t i = 0; i < u_.size(); ++i) u_[i] = u0[i] + loop_->applied()[i];
+    for (std::size_t i = 0; i < status_.size(); ++i) {
+      status_[i] = static_cast<std::uint16_t>(loop_->status()[i]);
+    }
+    image_.write_controller(loop_->moves().data(), loop_->applied().data(),
+                            loop_->setpoints().data(), status_.data(),
+                            static_cast<std::uint16_t>(loop_->mode()), u_.data());
+    if (controller_log_) controller_log_->write("watchdog", process_.samples(), *loop_);
+    std::fprintf(stderr,
+                 "excite-plant: watchdog: heartbeat unchanged for %.3f s (limit %g s): every "
+                 "test offset returned to zero, the controller stays in %s (trip %llu); held "
+                 "there until the heartbeat moves\n",
+                 stale_s, options_.watchdog_s, to_string(loop_->mode()),
+                 static_cast<unsigned long long>(watchdog_trips_));
+    return;
+  }
   std::fprintf(stderr,
                "excite-plant: watchdog: heartbeat unchanged for %.3f s (limit %g s): inputs "
                "returned to the baseline (trip %llu); held there until the heartbeat moves\n",
@@ -547,10 +656,10 @@ void print_summary(const PlantProcess& process, const PlantServer& server,
 
 int serve_modbus(PlantProcess& process, RegisterImage& image, const ServerLayout& layout,
                  const ServeOptions& options, bool default_map, const std::function<void()>& ready,
-                 const std::function<bool()>& stop) {
+                 const std::function<bool()>& stop, ClosedLoop* loop) {
   std::unique_ptr<PlantServer> server;
   try {
-    server = std::make_unique<PlantServer>(process, image, options);
+    server = std::make_unique<PlantServer>(process, image, options, loop);
   } catch (const std::exception& e) {
     std::cerr << "excite-plant: " << e.what() << "\n";
     return 1;
@@ -572,7 +681,8 @@ int serve_modbus(PlantProcess& process, RegisterImage& image, const ServerLayout
             << (options.watchdog_s > 0.0
                     ? ", watchdog " + config::format_number(options.watchdog_s) + " s"
                     : std::string(", no watchdog"))
-            << (options.input_min.empty() ? ", no input limits" : ", input limits") << "\n";
+            << (options.input_min.empty() ? ", no input limits" : ", input limits")
+            << (loop != nullptr ? ", controller in the loop" : "") << "\n";
   int code = 0;
   try {
     server->run(stop);
@@ -581,6 +691,11 @@ int serve_modbus(PlantProcess& process, RegisterImage& image, const ServerLayout
     code = 1;
   }
   print_summary(process, *server, image, layout, options);
+  if (loop != nullptr) {
+    std::cerr << "excite-plant: controller: mode " << to_string(loop->mode()) << " at stop, "
+              << loop->irregular_steps() << " steps held or at the QP's iteration cap\n";
+  }
+  if (!server->controller_log_failure().empty() && code == 0) code = 3;
   if (!server->log_failure().empty()) {
     std::cerr << "excite-plant: " << server->log_failure() << "\n";
     if (code == 0) code = 3;

@@ -35,6 +35,13 @@ RegisterImage::RegisterImage(ServerLayout layout, const std::vector<double>& inp
                              modbus_strerror(errno));
   }
   restore_setpoint_baseline();
+  if (layout_.closed_loop) {  // at rest: offsets zero, the controller in control
+    const ClosedLoopLayout& loop = *layout_.closed_loop;
+    last_offsets_.assign(loop.mv_offsets.size() + loop.sp_offsets.size(), 0.0);
+    restore_guarded();
+    *cell(loop.controller_switch) = 1;
+    *cell(loop.mode) = 1;
+  }
   write_values(output_baseline.data());
   clamped_values_ = 0;  // a baseline outside the range is counted from the first sample on
   misfits_.assign(layout_.values.size(), Misfit{});
@@ -65,6 +72,92 @@ void RegisterImage::restore_setpoint_baseline() {
   last_setpoints_ = input_baseline_;
 }
 
+void RegisterImage::encode(const PlacedValue& p, double x) {
+  std::uint16_t* r = cell(p);
+  if (p.codec.type == RegisterType::float32) {
+    hal::modbus::encode_float32(static_cast<float>(x), p.codec.order, r);
+  } else {
+    bool clamped = false;
+    r[0] = hal::modbus::to_raw(p.codec, x, clamped);
+  }
+}
+
+double RegisterImage::decode(const PlacedValue& p) const {
+  const std::uint16_t* r = cell(p);
+  return p.codec.type == RegisterType::float32
+             ? static_cast<double>(hal::modbus::decode_float32(r, p.codec.order))
+             : hal::modbus::from_raw(p.codec, r[0]);
+}
+
+std::vector<std::uint16_t> RegisterImage::guarded_registers() const {
+  if (!layout_.closed_loop) return setpoint_registers();
+  const ClosedLoopLayout& loop = *layout_.closed_loop;
+  const std::uint16_t* first =
+      mapping_->tab_registers + (loop.offset_start - layout_.holding.start);
+  return {first, first + loop.offset_count};
+}
+
+void RegisterImage::set_guarded_registers(const std::vector<std::uint16_t>& registers) {
+  if (!layout_.closed_loop) {
+    set_setpoint_registers(registers);
+    return;
+  }
+  const ClosedLoopLayout& loop = *layout_.closed_loop;
+  std::uint16_t* first = mapping_->tab_registers + (loop.offset_start - layout_.holding.start);
+  std::copy_n(registers.begin(), std::min<std::size_t>(registers.size(), loop.offset_count), first);
+}
+
+void RegisterImage::restore_guarded() {
+  if (!layout_.closed_loop) {
+    restore_setpoint_baseline();
+    return;
+  }
+  const ClosedLoopLayout& loop = *layout_.closed_loop;
+  for (const PlacedValue& p : loop.mv_offsets) encode(p, 0.0);
+  for (const PlacedValue& p : loop.sp_offsets) encode(p, 0.0);
+  std::fill(last_offsets_.begin(), last_offsets_.end(), 0.0);
+}
+
+bool RegisterImage::touches_setpoints(std::uint32_t address, std::uint32_t count) const {
+  for (const PlacedValue& p : layout_.setpoints) {
+    const std::uint32_t size = hal::modbus::register_count(p.codec.type);
+    if (p.address < address + count && address < p.address + size) return true;
+  }
+  return false;
+}
+
+void RegisterImage::read_offsets(double* mv_offsets, double* sp_offsets) {
+  const ClosedLoopLayout& loop = *layout_.closed_loop;
+  const std::size_t n = loop.mv_offsets.size();
+  for (std::size_t k = 0; k < last_offsets_.size(); ++k) {
+    const double value = decode(k < n ? loop.mv_offsets[k] : loop.sp_offsets[k - n]);
+    if (std::isfinite(value)) {
+      last_offsets_[k] = value;
+    } else {
+      ++rejected_setpoints_;
+    }
+    (k < n ? mv_offsets[k] : sp_offsets[k - n]) = last_offsets_[k];
+  }
+}
+
+std::uint16_t RegisterImage::controller_switch() const {
+  return *cell(layout_.closed_loop->controller_switch);
+}
+
+void RegisterImage::write_controller(const double* moves, const double* applied,
+                                     const double* setpoints, const std::uint16_t* status,
+                                     std::uint16_t mode, const double* u) {
+  const ClosedLoopLayout& loop = *layout_.closed_loop;
+  for (std::size_t i = 0; i < loop.moves.size(); ++i) {
+    encode(loop.moves[i], moves[i]);
+    encode(loop.applied[i], applied[i]);
+    *cell(loop.status[i]) = status[i];
+    encode(layout_.setpoints[i], u[i]);
+  }
+  for (std::size_t j = 0; j < loop.setpoints.size(); ++j) encode(loop.setpoints[j], setpoints[j]);
+  *cell(loop.mode) = mode;
+}
+
 std::vector<std::uint16_t> RegisterImage::setpoint_registers() const {
   std::vector<std::uint16_t> out;
   for (const PlacedValue& p : layout_.setpoints) {
@@ -85,25 +178,51 @@ void RegisterImage::set_setpoint_registers(const std::vector<std::uint16_t>& reg
   }
 }
 
+std::optional<double> RegisterImage::value_after_write(const PlacedValue& p, std::uint32_t address,
+                                                       std::uint32_t count,
+                                                       const std::uint8_t* data) const {
+  const std::uint32_t size = hal::modbus::register_count(p.codec.type);
+  if (!(p.address < address + count && address < p.address + size)) return std::nullopt;
+  std::uint16_t r[2] = {0, 0};
+  const std::uint16_t* old = cell(p);
+  for (std::uint32_t k = 0; k < size; ++k) {
+    const std::uint32_t a = p.address + k;
+    r[k] = address <= a && a < address + count
+               ? static_cast<std::uint16_t>((data[2 * (a - address)] << 8) |
+                                            data[2 * (a - address) + 1])
+               : old[k];
+  }
+  return p.codec.type == RegisterType::float32
+             ? static_cast<double>(hal::modbus::decode_float32(r, p.codec.order))
+             : hal::modbus::from_raw(p.codec, r[0]);
+}
+
+std::optional<RegisterImage::OutOfLimits> RegisterImage::check_offset_write(
+    std::uint32_t address, std::uint32_t count, const std::uint8_t* data,
+    const std::vector<double>& limit) const {
+  if (!layout_.closed_loop) return std::nullopt;
+  const ClosedLoopLayout& loop = *layout_.closed_loop;
+  const std::size_t n = loop.mv_offsets.size();
+  for (std::size_t k = 0; k < n + loop.sp_offsets.size() && k < limit.size(); ++k) {
+    const PlacedValue& p = k < n ? loop.mv_offsets[k] : loop.sp_offsets[k - n];
+    const auto value = value_after_write(p, address, count, data);
+    if (!value) continue;
+    // float32 offsets: the bound is allowed its register's rounding (relative 2^-23).
+    const double bound = limit[k] * (1.0 + 0x1p-23);
+    if (!std::isfinite(*value) || std::abs(*value) > bound) return OutOfLimits{k, *value};
+  }
+  return std::nullopt;
+}
+
 std::optional<RegisterImage::OutOfLimits> RegisterImage::check_write(
     std::uint32_t address, std::uint32_t count, const std::uint8_t* data,
     const std::vector<double>& min, const std::vector<double>& max) const {
   for (std::size_t i = 0; i < layout_.setpoints.size() && i < min.size() && i < max.size(); ++i) {
     const PlacedValue& p = layout_.setpoints[i];
-    const std::uint32_t size = hal::modbus::register_count(p.codec.type);
-    if (!(p.address < address + count && address < p.address + size)) continue;
-    std::uint16_t r[2] = {0, 0};
-    const std::uint16_t* old = cell(p);
-    for (std::uint32_t k = 0; k < size; ++k) {
-      const std::uint32_t a = p.address + k;
-      r[k] = address <= a && a < address + count
-                 ? static_cast<std::uint16_t>((data[2 * (a - address)] << 8) |
-                                              data[2 * (a - address) + 1])
-                 : old[k];
-    }
+    const auto written = value_after_write(p, address, count, data);
+    if (!written) continue;
+    const double value = *written;
     const bool f32 = p.codec.type == RegisterType::float32;
-    const double value = f32 ? static_cast<double>(hal::modbus::decode_float32(r, p.codec.order))
-                             : hal::modbus::from_raw(p.codec, r[0]);
     const double tolerance = f32 ? (std::abs(min[i]) + std::abs(max[i])) * 0x1p-23 : 0.0;
     if (!std::isfinite(value) || value < min[i] - tolerance || value > max[i] + tolerance) {
       return OutOfLimits{i, value};

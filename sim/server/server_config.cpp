@@ -17,7 +17,7 @@ using config::Table;
 PlantSettings read_plant(const Table& t) {
   t.only_keys({"library", "file", "sample_time_min", "input_baseline", "output_baseline",
                "noise_variance", "noise_seed", "watchdog_s", "input_min", "input_max",
-               "tau_high_min", "beta"});
+               "tau_high_min", "beta", "controller", "offset_limit"});
   PlantSettings plant;
   plant.library = t.text("library").value_or("");
   plant.file = t.text("file").value_or("");
@@ -41,6 +41,15 @@ PlantSettings read_plant(const Table& t) {
   plant.tau_high_min = t.non_negative("tau_high_min", "minutes (0: not known)").value_or(0.0);
   plant.beta = t.non_negative("beta", "settling time in units of tau_high_min").value_or(0.0);
   plant.watchdog_s = t.non_negative("watchdog_s", "wall-clock seconds (0: off)").value_or(0.0);
+  plant.controller = t.text("controller").value_or("");
+  plant.offset_limit = t.numbers("offset_limit");
+  for (std::size_t k = 0; k < plant.offset_limit.size(); ++k) {
+    if (!(plant.offset_limit[k] > 0.0)) {
+      t.fail("offset_limit[" + std::to_string(k) + "]",
+             config::format_number(plant.offset_limit[k]),
+             "a bound > 0 on the size of that test offset");
+    }
+  }
   plant.input_min = t.numbers("input_min");
   plant.input_max = t.numbers("input_max");
   if (plant.input_min.size() != plant.input_max.size()) {
@@ -76,7 +85,7 @@ std::vector<hal::modbus::RegisterEntry> read_entries(const Table& registers, con
 ServerRegisters read_registers(const Table& t) {
   t.only_keys({"setpoints", "values", "heartbeat_address", "heartbeat_echo_address",
                "heartbeat_echo_function_code", "control_address", "command_address", "write_chunk",
-               "read_chunk"});
+               "read_chunk", "offset_address", "controller_address", "controller_switch_address"});
   ServerRegisters regs;
   regs.map.setpoints = read_entries(t, "setpoints", hal::modbus::EntryKind::setpoint);
   regs.map.values = read_entries(t, "values", hal::modbus::EntryKind::value);
@@ -98,6 +107,15 @@ ServerRegisters read_registers(const Table& t) {
           t.integer("command_address", 0, 65535, "a holding register address 0..65535")) {
     regs.command_address = static_cast<std::uint32_t>(*c);
   }
+  // Closed loop: the blocks' sizes depend on the plant, checked by compile_layout.
+  const auto address = [&t](const char* key, const char* what) -> std::optional<std::uint32_t> {
+    if (const auto a = t.integer(key, 0, 65535, what)) return static_cast<std::uint32_t>(*a);
+    return std::nullopt;
+  };
+  regs.offset_address = address("offset_address", "a holding register address 0..65535");
+  regs.controller_address = address("controller_address", "an input register address 0..65535");
+  regs.controller_switch_address =
+      address("controller_switch_address", "a holding register address 0..65535");
   return regs;
 }
 

@@ -84,6 +84,75 @@ void compile(const ServerRegisters& regs, std::string_view source, hal::modbus::
   check_overlaps(input, source);
 }
 
+// A float32 ABCD (or uint16) value at `address` of one table.
+PlacedValue placed(std::uint32_t address, bool input_table, bool uint16 = false) {
+  hal::modbus::Codec codec;
+  if (uint16) {
+    codec.type = hal::modbus::RegisterType::uint16;
+    codec.eng_min = 0.0;
+    codec.eng_max = 65535.0;
+  }
+  return {codec, address, input_table};
+}
+
+// The closed-loop blocks: required with a controller, refused without one; placed, and added
+// to the tables' blocks (their overlaps are checked by the caller).
+std::optional<ClosedLoopLayout> place_closed_loop(const ServerConfig& config, int n, int m,
+                                                  std::string_view source,
+                                                  std::vector<Block>& holding,
+                                                  std::vector<Block>& input) {
+  const ServerRegisters& regs = config.registers;
+  const std::pair<const char*, const std::optional<std::uint32_t>*> keys[] = {
+      {"registers.offset_address", &regs.offset_address},
+      {"registers.controller_address", &regs.controller_address},
+      {"registers.controller_switch_address", &regs.controller_switch_address}};
+  if (config.plant.controller.empty()) {
+    for (const auto& [field, value] : keys) {
+      if (value->has_value()) {
+        fail(source, field, std::to_string(**value),
+             "a controller to serve the closed-loop registers (plant.controller or "
+             "--controller FILE), or no such key");
+      }
+    }
+    return std::nullopt;
+  }
+  for (const auto& [field, value] : keys) {
+    if (!value->has_value()) fail(source, field, "(missing)", "an address under a controller");
+  }
+  const std::uint32_t w = *regs.offset_address;
+  const std::uint32_t r = *regs.controller_address;
+  const std::uint32_t s = *regs.controller_switch_address;
+  const std::uint32_t nu = static_cast<std::uint32_t>(n);
+  const std::uint32_t mu = static_cast<std::uint32_t>(m);
+  if (w + offset_block_size(n, m) > 65536) {
+    fail(source, "registers.offset_address", std::to_string(w),
+         "room for " + std::to_string(offset_block_size(n, m)) + " registers below 65536");
+  }
+  if (r + controller_block_size(n, m) > 65536) {
+    fail(source, "registers.controller_address", std::to_string(r),
+         "room for " + std::to_string(controller_block_size(n, m)) + " registers below 65536");
+  }
+  ClosedLoopLayout loop;
+  for (std::uint32_t i = 0; i < nu; ++i) {
+    loop.mv_offsets.push_back(placed(w + 2 * i, false));
+    loop.moves.push_back(placed(r + 2 * i, true));
+    loop.applied.push_back(placed(r + 2 * nu + 2 * i, true));
+    loop.status.push_back(placed(r + 4 * nu + 2 * mu + i, true, true));
+  }
+  for (std::uint32_t j = 0; j < mu; ++j) {
+    loop.sp_offsets.push_back(placed(w + 2 * nu + 2 * j, false));
+    loop.setpoints.push_back(placed(r + 4 * nu + 2 * j, true));
+  }
+  loop.mode = placed(r + 5 * nu + 2 * mu, true, true);
+  loop.controller_switch = placed(s, false, true);
+  loop.offset_start = w;
+  loop.offset_count = offset_block_size(n, m);
+  holding.push_back({"registers.offset_address", w, loop.offset_count});
+  holding.push_back({"registers.controller_switch_address", s, 1});
+  input.push_back({"registers.controller_address", r, controller_block_size(n, m)});
+  return loop;
+}
+
 }  // namespace
 
 void check_registers(const ServerRegisters& registers, std::string_view source) {
@@ -132,6 +201,16 @@ ServerLayout compile_layout(const ServerConfig& config, int inputs, int outputs,
     fail(source, "plant.noise_variance", count(plant.noise_variance.size()) + " values",
          "one value, or " + count(static_cast<std::size_t>(outputs)) + " (one per plant output)");
   }
+  const std::optional<ClosedLoopLayout> loop =
+      place_closed_loop(config, inputs, outputs, source, holding, input);
+  check_overlaps(holding, source);
+  check_overlaps(input, source);
+  if (lockstep && loop && loop->offset_start + loop->offset_count > *regs.map.heartbeat_address) {
+    fail(source, "registers.heartbeat_address", std::to_string(*regs.map.heartbeat_address),
+         "above every test-offset register in lock-step mode (registers.offset_address = " +
+             std::to_string(loop->offset_start) + ", " + std::to_string(loop->offset_count) +
+             " registers), so the heartbeat is written last");
+  }
   if (lockstep) {
     for (std::size_t i = 0; i < regs.map.setpoints.size(); ++i) {
       if (regs.map.setpoints[i].address > *regs.map.heartbeat_address) {
@@ -159,6 +238,7 @@ ServerLayout compile_layout(const ServerConfig& config, int inputs, int outputs,
                            regs.heartbeat_echo_function_code == 4};
   layout.control_address = regs.control_address;
   layout.command_address = regs.command_address;
+  layout.closed_loop = loop;
   layout.holding = extent_of(holding);
   layout.input = extent_of(input);
   return layout;

@@ -86,6 +86,22 @@ void input_limits(ServeOptions& options, const PlantSettings& plant,
   options.input_max = plant.input_max;
 }
 
+// The offset limits (under a controller only): one per offset register, n + m.
+void offset_limits(ServeOptions& options, const PlantSettings& plant, std::size_t n, std::size_t m,
+                   std::string_view source) {
+  if (plant.offset_limit.empty()) return;
+  const std::string src(source);
+  if (plant.controller.empty()) {
+    bad(src + ": plant.offset_limit", std::to_string(plant.offset_limit.size()) + " values",
+        "no offset limits without a controller (plant.controller or --controller)");
+  }
+  if (plant.offset_limit.size() != n + m) {
+    bad(src + ": plant.offset_limit", std::to_string(plant.offset_limit.size()) + " values",
+        std::to_string(n + m) + " (one per MV offset, then one per CV setpoint offset)");
+  }
+  options.offset_limit = plant.offset_limit;
+}
+
 // Noise whose standard deviation exceeds what an output's register carries (float32:
 // ±FLT_MAX; a scaled int16/uint16: its engineering range) only clips: refused.
 void check_noise_fits(const PlantSettings& plant, const ServerOverrides& overrides,
@@ -121,6 +137,10 @@ void apply_overrides(ServerConfig& config, const ServerOverrides& o, std::string
     plant.file = std::filesystem::absolute(o.plant_file).string();
     plant.library.clear();
   }
+  if (!o.controller.empty()) plant.controller = std::filesystem::absolute(o.controller).string();
+  if (!plant.controller.empty() && std::filesystem::path(plant.controller).is_relative()) {
+    plant.controller = (config.base_directory / plant.controller).string();
+  }
   if (o.noise_variance) plant.noise_variance = {*o.noise_variance};
   if (o.noise_seed) plant.noise_seed = *o.noise_seed;
   if (o.sample_time_min) plant.sample_time_min = *o.sample_time_min;
@@ -153,6 +173,8 @@ std::string complete_serve_options(ServeOptions& options, const ServerConfig& co
   const Plant& plant = process.plant();
   options.watchdog_s = overrides.watchdog_s.value_or(config.plant.watchdog_s);
   input_limits(options, config.plant, overrides, process.input_baseline(), source);
+  offset_limits(options, config.plant, static_cast<std::size_t>(plant.inputs()),
+                static_cast<std::size_t>(plant.outputs()), source);
   options.sample_period = sample_period(Minutes(process.sample_time_min()), overrides);
   check_noise_fits(config.plant, overrides, layout, plant.output_names(), source);
   options.plant_description = plant.name() + " (excite-plant)";

@@ -52,6 +52,10 @@ class RecordingProxy {
 
   std::uint16_t port() const { return port_; }
 
+  /// The link cut (true) and restored (false): while cut, every relayed connection is closed
+  /// and a new one is accepted and closed at once (the gateway sees its peer drop the link).
+  void set_cut(bool cut) { cut_ = cut; }
+
   std::vector<Frame> frames() {
     std::lock_guard<std::mutex> lock(mutex_);
     return frames_;
@@ -71,6 +75,10 @@ class RecordingProxy {
     while (!stop_) {
       const int client = accept(listen_fd_, nullptr, nullptr);
       if (client < 0) return;
+      if (cut_) {
+        close(client);
+        continue;
+      }
       const int upstream = socket(AF_INET, SOCK_STREAM, 0);
       sockaddr_in a = loopback(upstream_port_);
       if (connect(upstream, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
@@ -106,7 +114,7 @@ class RecordingProxy {
   void relay(int client, int upstream, int connection) {
     std::vector<std::uint8_t> from_client, from_upstream;
     std::uint8_t chunk[512];
-    while (!stop_) {
+    while (!stop_ && !cut_) {
       pollfd fds[2] = {{client, POLLIN, 0}, {upstream, POLLIN, 0}};
       if (poll(fds, 2, 100) < 0) break;
       bool open = true;
@@ -131,6 +139,7 @@ class RecordingProxy {
   std::uint16_t port_ = 0;
   int listen_fd_ = -1;
   std::atomic<bool> stop_{false};
+  std::atomic<bool> cut_{false};
   std::thread acceptor_;
   std::vector<std::thread> links_;  // touched by the acceptor only, joined after it
   std::mutex mutex_;

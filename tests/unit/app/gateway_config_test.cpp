@@ -12,6 +12,7 @@
 #include <string>
 #include <string_view>
 
+#include "firmware/app/closed_loop_log.hpp"
 #include "hal/can/can_transport.hpp"
 #include "hal/modbus/modbus_transport.hpp"
 
@@ -554,6 +555,89 @@ TEST(GatewayTiming, CountsOutsideTheirRangeAreRefused) {
   text.replace(text.find("response_timeout_ms = 200"), 25, "response_timeout_ms = 0");
   EXPECT_EQ(error_of(text),
             "gw.toml:25:23: device.response_timeout_ms = 0, expected an integer 1..60000");
+}
+
+// Closed loop (issue 42 §2): [closed_loop] and the controller's read-back roles.
+std::string closed_loop_text(const std::string& closed, int statuses) {
+  std::string text = example_text() + "\n" + closed + "\n";
+  text +=
+      "[[values]]\nname = \"mode\"\nrole = \"controller_mode\"\naddress = 500\n"
+      "function_code = 4\ntype = \"uint16\"\neng_min = 0\neng_max = 65535\n";
+  for (int i = 0; i < statuses; ++i) {
+    text += "[[values]]\nname = \"st" + std::to_string(i) +
+            "\"\nrole = \"mv_status\"\naddress = " + std::to_string(510 + i) +
+            "\nfunction_code = 4\ntype = \"uint16\"\neng_min = 0\neng_max = 65535\n";
+  }
+  return text;
+}
+
+TEST(GatewayConfigTest, ClosedLoopRolesMapToTheEnginesControllerWatch) {
+  const ConfigResult r = parse_gateway_config(
+      closed_loop_text("[closed_loop]\noffsets = \"mv\"\ncontroller_timeout_s = 2.5", 2),
+      "gw.toml");
+  ASSERT_TRUE(r.config) << r.error;
+  ASSERT_TRUE(r.config->closed_loop);
+  EXPECT_EQ(r.config->closed_loop->offsets, "mv");
+  const engine::EngineConfig e = to_engine_config(*r.config, std::chrono::duration<double>(0.5));
+  EXPECT_EQ(e.controller.mode, 10);
+  EXPECT_EQ(e.controller.mvs, 2U);
+  EXPECT_EQ(e.controller.status[1], 12);
+  EXPECT_EQ(e.controller.move[0], engine::kNone);
+  EXPECT_EQ(e.controller.timeout_ticks, 5U);
+  EXPECT_TRUE(engine::validate(e)) << engine::validate(e).message();
+}
+
+TEST(GatewayConfigTest, ClosedLoopRefusalsNameTheField) {
+  EXPECT_NE(error_of(closed_loop_text("", 1))
+                .find("values[10].role = \"(closed-loop role)\", expected a [closed_loop] table"),
+            std::string::npos)
+      << error_of(closed_loop_text("", 1));
+  EXPECT_NE(error_of(closed_loop_text("[closed_loop]\noffsets = \"cv\"", 1))
+                .find("closed_loop.offsets = \"cv\", expected \"mv\" (MV test offsets)"),
+            std::string::npos);
+  EXPECT_NE(error_of(closed_loop_text("[closed_loop]\ncontroller = \"pi\"", 1))
+                .find("closed_loop.offsets = (missing)"),
+            std::string::npos);
+  EXPECT_NE(error_of(closed_loop_text("[closed_loop]\noffsets = \"mv\"", 0))
+                .find("values = 0 mv_status values, expected 1 … 8 under [closed_loop]"),
+            std::string::npos)
+      << error_of(closed_loop_text("[closed_loop]\noffsets = \"mv\"", 0));
+  EXPECT_NE(
+      error_of(closed_loop_text("[closed_loop]\noffsets = \"mv\"\ncontroller_timeout_s = -1", 1))
+          .find("closed_loop.controller_timeout_s = -1, expected 0 … "),
+      std::string::npos);
+}
+
+// Run-log v4 (README "Closed loop", the run log): the log's inputs are the MVs, r the offsets.
+// The example's 4 setpoints under "both" with 2 MVs: setpoints 0, 1 are the MV offsets,
+// 2, 3 the setpoint offsets of the outputs 0, 1; the outputs' r columns come first.
+TEST(GatewayConfigTest, ClosedLoopLogLayoutMapsTheOffsetsToRChannels) {
+  const ConfigResult r = parse_gateway_config(
+      closed_loop_text("[closed_loop]\noffsets = \"both\"\nmv_baseline = [2.5, 3.5]", 2),
+      "gw.toml");
+  ASSERT_TRUE(r.config) << r.error;
+  std::vector<runlog::Channel> inputs;
+  const ClosedLoopLogLayout both = closed_loop_log_layout(*r.config, 4, inputs);
+  EXPECT_EQ(both.excitation, runlog::Excitation::both);
+  EXPECT_EQ(both.r_channels, (std::vector<std::size_t>{0, 1, 4, 5}));
+  EXPECT_EQ(both.r_source, (std::vector<std::uint32_t>{2, 3, 0, 1}));
+  EXPECT_EQ(both.mv_baseline, (std::vector<double>{2.5, 3.5}));
+  ASSERT_EQ(inputs.size(), 2U);
+  EXPECT_EQ(inputs[0].name, "st0") << "no applied_mv value: the mv_status value's name";
+
+  const ConfigResult mv =
+      parse_gateway_config(closed_loop_text("[closed_loop]\noffsets = \"mv\"", 2), "gw.toml");
+  ASSERT_TRUE(mv.config) << mv.error;
+  const ClosedLoopLogLayout m = closed_loop_log_layout(*mv.config, 4, inputs);
+  EXPECT_EQ(m.r_channels, (std::vector<std::size_t>{0, 1})) << "one per MV, not per setpoint";
+  EXPECT_EQ(m.mv_baseline, (std::vector<double>{0.0, 0.0}));
+
+  EXPECT_NE(
+      error_of(closed_loop_text("[closed_loop]\noffsets = \"mv\"\nmv_baseline = [1.0]", 2))
+          .find("closed_loop.mv_baseline = 1 numbers, expected none or one per mv_status value "
+                "(2)"),
+      std::string::npos)
+      << error_of(closed_loop_text("[closed_loop]\noffsets = \"mv\"\nmv_baseline = [1.0]", 2));
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <vector>
 
+#include "closed_loop_fixture.hpp"
 #include "counting_malloc.hpp"
 #include "counting_new.hpp"
 #include "engine_fixture.hpp"
@@ -115,6 +116,55 @@ TEST(AllocationCountersTest, SeeOperatorNewAndMalloc) {
   }
   std::free(raw);
   delete p;
+}
+
+}  // namespace excite::engine::testing
+
+namespace excite::engine::testing {
+
+// Closed loop (issue 42 §2): the controller's mode and MV statuses watched every tick —
+// clamped, wound up, manual, back in control —, its data recorded, suspensions and resumes:
+// nothing allocated either.
+TEST_F(ClosedLoopTest, ClosedLoopTicksAllocateNothing) {
+  EngineConfig c = closed_config();
+  c.controller.timeout_ticks = 0;  // never abort: keep the run going
+  const std::vector<double> long_table(2 * 20000, 0.5);
+  ASSERT_TRUE(engine_.configure(c, {long_table.data(), 2, 20000}));
+  ASSERT_TRUE(engine_.arm(field_.values));
+  engine_.command(Command::start);
+  auto ring = std::make_unique<LogRing<256>>();
+  TickRecord sink;
+  const long new_before = excite::test::allocations();
+  const long malloc_before = excite::test::mallocs();
+  for (int i = 0; i < 10000; ++i) {
+    switch (i % 100) {
+      case 10:
+        field_.values[kStatus0] = 1.0;  // clamped low
+        break;
+      case 20:
+        field_.values[kStatus0] = 0.0;
+        break;
+      case 40:
+        field_.values[kMode] = 0.0;  // manual
+        field_.values[kStatus1] = 4.0;
+        break;
+      case 50:
+        field_.values[kMode] = 2.0;  // back, testing
+        field_.values[kStatus1] = 0.0;
+        break;
+      default:
+        break;
+    }
+    field_.values[kMove0] = -0.001 * (i % 7);
+    tick();
+    ring->push(engine_.record(i));
+    ring->pop(sink);
+  }
+  EXPECT_EQ(excite::test::allocations() - new_before, 0);
+  EXPECT_EQ(excite::test::mallocs() - malloc_before, 0);
+  EXPECT_EQ(engine_.mv_limited_episodes(), 100U);  // the paths were really taken
+  EXPECT_EQ(engine_.controller_mode_losses(), 100U);
+  EXPECT_TRUE(sink.closed_loop);
 }
 
 }  // namespace excite::engine::testing

@@ -164,10 +164,10 @@ TEST(RunLogReader, UnknownFlagBitsAreRejected) {
 }
 
 TEST(RunLogReader, HeaderProblemsAreExplained) {
-  EXPECT_NE(error_of("a,b\n").message.find("expected '# excite run log v3' (or v2, v1)"),
+  EXPECT_NE(error_of("a,b\n").message.find("expected '# excite run log v3' (or v2, v1, v4)"),
             std::string::npos);
-  EXPECT_EQ(error_of("# excite run log v4\n").message,
-            "unsupported version '# excite run log v4'; this reader reads v1, v2 and v3");
+  EXPECT_EQ(error_of("# excite run log v5\n").message,
+            "unsupported version '# excite run log v5'; this reader reads v1 to v4");
   std::string no_units = kHeader.substr(0, kHeader.find("# units")) + kColumns;
   EXPECT_NE(error_of(no_units).message.find("no '# units:' line"), std::string::npos);
   std::string missing_unit = kHeader;

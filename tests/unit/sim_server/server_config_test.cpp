@@ -324,5 +324,17 @@ TEST(ServerConfig, InputLimitsNanMismatchedOrInvertedAreRefusedByName) {
       HasSubstr("plant.input_max[1] = -2, expected a limit above input_min[1] = 2"));
 }
 
+// Issue 42 §3: the offset limits (under a controller): each > 0, read and written back.
+TEST(ServerConfig, OffsetLimitsAreReadAndANonPositiveOneIsRefusedByName) {
+  const ServerConfig c =
+      parse_server_config(with_plant_keys("offset_limit = [0.2, 0.2, 0.5, 0.5]"));
+  EXPECT_EQ(c.plant.offset_limit, (std::vector<double>{0.2, 0.2, 0.5, 0.5}));
+  EXPECT_THAT(error_of([] { parse_server_config(with_plant_keys("offset_limit = [0.2, 0.0]")); }),
+              HasSubstr("plant.offset_limit[1] = 0, expected a bound > 0 on the size of that "
+                        "test offset"));
+  EXPECT_THAT(error_of([] { parse_server_config(with_plant_keys("offset_limit = [nan]")); }),
+              HasSubstr("plant.offset_limit[0] = nan, expected a finite number"));
+}
+
 }  // namespace
 }  // namespace excite::sim::server

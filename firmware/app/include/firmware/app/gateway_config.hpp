@@ -27,6 +27,28 @@ enum class ValueRole : std::uint8_t {
   readback,        // the live value of a setpoint: the baseline at arm
   heartbeat_echo,  // the peer's echo of the heartbeat counter
   command,         // the operator command register: 1 start, 2 suspend, 3 resume, 4 abort
+  // Closed loop only ([closed_loop]; README "Closed loop"), read back as data. The i-th
+  // value of a role belongs to the i-th MV (or CV), in the controller's order.
+  controller_mode,    // the controller's mode: 0 off, 1 control, 2 test, 3 suspended
+  mv_status,          // an MV's status: 0 ok, 1 clamped low, 2 clamped high, 3 windup, 4 manual
+  controller_move,    // an MV's controller move (deviation, before the offset and the clamp)
+  applied_mv,         // an MV as the plant got it (deviation): data, never a fault
+  setpoint_in_force,  // a CV's setpoint in force (deviation)
+};
+
+/// [closed_loop]: the gateway writes test offsets to a running controller (issue 42 §2).
+struct ClosedLoopSpec {
+  // Which offsets the setpoints are: "mv" (MV test offsets, a dither added to the
+  // controller's output), "setpoint" (CV setpoint offsets) or "both".
+  std::string offsets = "setpoint";
+  std::string controller;  // the run log's `controller:` line (kind and free text), optional
+  // Suspended for the controller (an MV clamped or wound up, the controller out of its
+  // mode) this long → aborted; 0: never. 0 … 1e6 s.
+  double controller_timeout_s = 60.0;
+  // Each MV's operating point (absolute, engineering units), one per mv_status value: the
+  // run log's u_<MV> = mv_baseline + the applied MV read back (README "Closed loop", the run
+  // log). Empty: u_<MV> is the applied deviation itself (no operating point known).
+  std::vector<double> mv_baseline;
 };
 
 struct SetpointSpec {
@@ -91,8 +113,9 @@ struct GatewayConfig {
   // [device] transport: its device, sections and per-entry mapping as it read them; null
   // when the bus is handed over built (the in-process tests).
   std::shared_ptr<const hal::TransportConfig> transport;
-  std::vector<SetpointSpec> setpoints;  // in plan channel order
-  std::vector<ValueSpec> values;        // in register-map order
+  std::vector<SetpointSpec> setpoints;        // in plan channel order
+  std::vector<ValueSpec> values;              // in register-map order
+  std::optional<ClosedLoopSpec> closed_loop;  // [closed_loop]: absent in an open-loop run
 };
 
 struct ConfigResult {

@@ -20,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "firmware/app/closed_loop_log.hpp"
 #include "firmware/app/small_thread.hpp"
 #include "firmware/engine/log_ring.hpp"
 #include "firmware/runlog/row_file.hpp"
@@ -31,6 +32,9 @@ struct LogLayout {
   runlog::Header header;           // names, units, producer, sample time (the plan's T,
                                    // minutes: t_min = tick · header.sample_time_min)
   std::vector<int> output_values;  // value index of each logged output, header order
+  // Closed loop (header.closed_loop.closed, run-log v4): the r mapping and the MVs'
+  // operating points; the header's inputs are the MVs and du_/u_ what the plant got.
+  ClosedLoopLogLayout closed;
 };
 
 class LogDrain {
@@ -78,6 +82,9 @@ class LogDrain {
  private:
   bool drain_once();  // pops until empty; true if any row was written
   bool write(const engine::TickRecord& r);
+  // A v4 row's closed-loop fields from the record (the applied MVs as du/u); an MV status or
+  // mode out of range is written as manual / off with kBadValue set in `flags`.
+  void closed_loop_fields(const engine::TickRecord& r, runlog::Row& row);
   void report(const engine::TickRecord& r);
   void fail(int error, runlog::WriteStatus status, std::uint64_t tick);
 
@@ -85,6 +92,9 @@ class LogDrain {
   LogLayout layout_;
   std::vector<char> buffer_;
   std::vector<double> dy_;
+  // v4 rows (closed loop), sized once: du/u applied, r, uc, ysp, statuses.
+  std::vector<double> du_, u_, r_, uc_, ysp_;
+  std::vector<runlog::MvState> st_;
   runlog::RowFile file_rows_;
   std::chrono::microseconds row_delay_{0};
   std::FILE* events_ = nullptr;

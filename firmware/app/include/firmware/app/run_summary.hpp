@@ -28,6 +28,11 @@ struct RunSummary {
   std::uint64_t readback_mismatches = 0;
   std::uint64_t ticks_skipped = 0;
   std::uint64_t stale_writes_undone = 0;
+  // Closed loop ([closed_loop]): episodes of the controller out of its mode and of an MV
+  // clamped or wound up (each suspended the test).
+  bool closed_loop = false;
+  std::uint64_t controller_mode_losses = 0;
+  std::uint64_t mv_limited = 0;
   // Rows of the run log per condition: what the log's flags say, counted as they were set.
   std::uint64_t rows_clamped = 0;
   std::uint64_t rows_rate_limited = 0;

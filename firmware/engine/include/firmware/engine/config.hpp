@@ -47,6 +47,27 @@ struct TestLimit {
   double hysteresis = 0.0;  // resume only inside [low + h, high − h]; 0 ≤ 2h < high − low
 };
 
+/// Closed loop (issue 42 §2): the gateway writes test offsets to a running controller and
+/// reads back what it did. Value indices (kNone: not read) of the controller's registers
+/// (sim/server/README.md, "Closed loop"; a DCS maps the same): its mode (0 off, 1 control,
+/// 2 test, 3 suspended) and each MV's status (0 ok, 1 clamped low, 2 clamped high,
+/// 3 windup, 4 manual) are watched; its moves, the applied MVs and the setpoints in force
+/// are data for the run log (TickRecord). A clamped or wound-up MV, or the controller out
+/// of control/test (manual, off, suspended), suspends the test (kReasonController) and,
+/// after timeout_ticks of it, aborts (Outcome::aborted_on_controller). Safe then also
+/// needs the controller in its mode (control or test) at the confirming readbacks.
+struct ControllerWatch {
+  std::int32_t mode = kNone;  // kNone: an open-loop run (nothing below applies)
+  std::uint32_t mvs = 0;      // MVs with a status value, ≤ kMaxInputs
+  std::array<std::int32_t, kMaxInputs> status{};
+  std::array<std::int32_t, kMaxInputs> move{};     // kNone where not read
+  std::array<std::int32_t, kMaxInputs> applied{};  // kNone where not read
+  std::uint32_t cvs = 0;                           // setpoints in force read, ≤ kMaxInputs
+  std::array<std::int32_t, kMaxInputs> setpoint{};
+  std::uint32_t timeout_ticks = 0;  // suspended for the controller this long → abort; 0 never
+  std::int64_t timeout_ns = 0;      // the same on the real clock (lock-step); 0: none
+};
+
 enum class CommLossAction : std::uint8_t {
   hold,              // keep the last setpoints while the link is down
   ramp_to_baseline,  // ramp the excitation out, as for a test-limit suspension
@@ -98,6 +119,7 @@ struct EngineConfig {
   // still). Nanoseconds; 0: no such limit (the suspension: never, as its ticks).
   std::int64_t suspend_timeout_ns = 0;
   std::int64_t confirm_timeout_ns = 0;
+  ControllerWatch controller{};  // closed loop; controller.mode == kNone: open loop
 };
 
 /// Ok, or the first broken rule naming the field ("input[1].max_move = 0, expected > 0").

@@ -198,6 +198,10 @@ class Engine {
   [[nodiscard]] std::uint64_t failed_exchanges() const noexcept { return failed_total_; }
   [[nodiscard]] std::uint64_t comm_losses() const noexcept { return comm_losses_; }
   [[nodiscard]] std::uint64_t suspensions() const noexcept { return suspensions_; }
+  /// Closed loop: episodes of the controller out of its mode (manual, off, suspended) and of
+  /// an MV clamped or wound up, since arm (each counted once, at its first reading).
+  [[nodiscard]] std::uint64_t controller_mode_losses() const noexcept { return mode_losses_; }
+  [[nodiscard]] std::uint64_t mv_limited_episodes() const noexcept { return mv_limited_; }
   /// Ticks (rows of the run log) that carried `flag` (one runlog::Flag bit), since arm.
   [[nodiscard]] std::uint64_t rows_flagged(std::uint32_t flag) const noexcept;
   [[nodiscard]] std::uint64_t readback_mismatches() const noexcept { return mismatches_total_; }
@@ -220,6 +224,7 @@ class Engine {
   void check_limits(bool exchange_ok, std::span<const double> values) noexcept;
   void read_command_register(bool exchange_ok, std::span<const double> values) noexcept;
   void check_readbacks(std::span<const double> values) noexcept;
+  void check_controller(bool exchange_ok, std::span<const double> values) noexcept;
   void foreign_seen(const ForeignWrite& what) noexcept;
   /// Whether `read` agrees with one of input c's last kMaxReadbackLag writes (this tick's
   /// included): a value this gateway wrote lately, whatever the peer's lag.
@@ -308,6 +313,15 @@ class Engine {
   std::array<std::uint64_t, 8> flag_rows_{};  // per runlog flag bit: rows that carried it
   std::uint64_t comm_losses_ = 0;
   std::uint64_t suspensions_ = 0;
+
+  // Closed loop (EngineConfig::controller).
+  bool controller_in_mode_ = true;  // the last good reading: mode control or test
+  bool mv_limited_now_ = false;     // the last good reading: an MV clamped or wound up
+  std::uint32_t controller_ok_streak_ = 0;
+  std::uint64_t controller_ticks_ = 0;  // suspended with kReasonController, on the clock
+  std::int64_t controller_since_ns_ = -1;
+  std::uint64_t mode_losses_ = 0;
+  std::uint64_t mv_limited_ = 0;
 };
 
 }  // namespace excite::engine

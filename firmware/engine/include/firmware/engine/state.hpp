@@ -47,9 +47,11 @@ enum class Command : std::uint8_t {
 
 /// Why a run is suspended: a bit set; the run resumes when it is empty.
 enum SuspendReason : std::uint8_t {
-  kReasonLimit = 1U << 0,     // a controlled variable left its test limits
-  kReasonOperator = 1U << 1,  // suspend command, until a resume command
-  kReasonComm = 1U << 2,      // communication lost (failed exchanges or stale heartbeat echo)
+  kReasonLimit = 1U << 0,       // a controlled variable left its test limits
+  kReasonOperator = 1U << 1,    // suspend command, until a resume command
+  kReasonComm = 1U << 2,        // communication lost (failed exchanges or stale heartbeat echo)
+  kReasonController = 1U << 3,  // closed loop: an MV clamped or wound up, or the controller
+                                // out of its mode (EngineConfig::controller)
 };
 
 /// How a run ended (meaningful in returning and safe).
@@ -66,6 +68,8 @@ enum class Outcome : std::uint8_t {
   foreign_writer,  // another master wrote this gateway's registers: a setpoint or the
                    // heartbeat changed to a value this gateway did not write
                    // (Engine::foreign_write())
+  aborted_on_controller,  // closed loop: suspended for the controller (an MV clamped or wound
+                          // up, the controller out of its mode) longer than its timeout
 };
 
 const char* to_string(State state) noexcept;

@@ -15,6 +15,10 @@ namespace excite::runlog {
 /// The first line of every log this code writes (v3), and of the logs written before v3.
 inline constexpr std::string_view kMagicLine = "# excite run log v3";
 inline constexpr std::string_view kMagicLineV2 = "# excite run log v2";
+/// The first line of a closed-loop run's log (v4 = v3 plus the closed-loop header keys and
+/// columns, README "Version 4"). Written only for a closed-loop run: an open-loop run's log
+/// stays v3, byte for byte.
+inline constexpr std::string_view kMagicLineV4 = "# excite run log v4";
 inline constexpr std::string_view kMagicLineV1 = "# excite run log v1";
 
 /// The project's version, for the `# producer:` header line ("excite-gateway 0.1.0",
@@ -73,6 +77,27 @@ struct TimeScales {
   double switch_time_min = 0.0;  // T_sw of the design's PRBS, minutes
 };
 
+/// v4 `# excitation:` — where excite's test signal r was added: to the CV setpoints
+/// (`setpoint`; one r column per output it moves) or to the controller's MV output as a
+/// dither (`mv`; one r column per input it moves), or to both (`both`: the r columns of the
+/// outputs first, then those of the inputs; an r channel index counts the outputs 0 … p − 1,
+/// then the inputs p … p + n − 1).
+enum class Excitation : std::uint8_t { setpoint, mv, both };
+/// v4 `mode` column: the loop's mode at this row. off: the controller is off (open loop);
+/// control: the controller runs, no test signal; test: the controller runs and r is added;
+/// suspended: the test is suspended (r held at 0), the controller runs.
+enum class LoopMode : std::uint8_t { off, control, test, suspended };
+/// v4 `st_<input>` column: each MV's status (what a commercial stepper reads). ok; the MV
+/// the plant got sits on its lower or upper limit; the slave loop winds up; the MV is in
+/// manual (the controller does not move it).
+enum class MvState : std::uint8_t { ok = 0, clamped_low = 1, clamped_high = 2, windup = 3, manual = 4 };
+inline constexpr std::uint8_t kMaxMvState = 4;
+
+std::string_view to_text(Excitation excitation) noexcept;
+bool excitation_from_text(std::string_view text, Excitation& excitation) noexcept;
+std::string_view to_text(LoopMode mode) noexcept;
+bool loop_mode_from_text(std::string_view text, LoopMode& mode) noexcept;
+
 /// Longest state text ("safe_unconfirmed").
 inline constexpr std::size_t kMaxStateChars = 16;
 
@@ -96,6 +121,15 @@ inline constexpr std::size_t kMaxNumberChars = 24;
 /// newline included: t_min, k, 2n + p numbers, flags, state, segment (v3), separators.
 constexpr std::size_t max_row_chars(std::size_t n_inputs, std::size_t n_outputs) {
   return (4 + 2 * n_inputs + n_outputs) * (kMaxNumberChars + 1) + (kMaxStateChars + 1) + 1;
+}
+
+/// Buffer size that always holds one formatted v4 (closed-loop) row: the v3 row plus
+/// `r_channels` r values, n uc and p ysp values, n statuses (one digit) and the mode
+/// ("suspended", 9 characters), separators included.
+constexpr std::size_t max_closed_loop_row_chars(std::size_t n_inputs, std::size_t n_outputs,
+                                                std::size_t r_channels) {
+  return max_row_chars(n_inputs, n_outputs) +
+         (r_channels + n_inputs + n_outputs) * (kMaxNumberChars + 1) + n_inputs * 2 + 10;
 }
 
 }  // namespace excite::runlog

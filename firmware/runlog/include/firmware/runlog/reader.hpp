@@ -15,10 +15,25 @@
 
 namespace excite::runlog {
 
+/// What a v4 (closed-loop) log adds (README "Version 4"); empty for v1–v3 logs.
+struct ClosedLoopLog {
+  bool closed = false;  // true for a v4 log (`# loop: closed`)
+  Excitation excitation = Excitation::setpoint;
+  std::string controller;                  // the `# controller:` line ("dmc …", "pi …")
+  std::vector<std::size_t> r_channels;     // the channels r was added to: output indices
+                                           // (setpoint), input indices (mv); both: outputs
+                                           // 0 … p − 1, then p + input index; ascending
+  std::vector<std::vector<double>> r;      // one column per r channel, in r_channels' order
+  std::vector<std::vector<double>> uc;     // per input: the controller's output
+  std::vector<std::vector<double>> ysp;    // per output: the setpoint in force
+  std::vector<std::vector<MvState>> st;    // per input: MV status
+  std::vector<LoopMode> mode;
+};
+
 /// A run log in columns. du[i], u[i] are input i's columns, dy[j] output j's, each with
 /// rows() values; t_min, k, flags, state likewise.
 struct RunLog {
-  int format_version = 3;  // 1, 2 or 3: the magic line's version
+  int format_version = 3;  // 1, 2, 3 or 4: the magic line's version
   std::string producer;    // the `# producer:` line ("excite-gateway 0.1.0"); "" when absent
   std::string plant;
   std::string plan;
@@ -36,6 +51,7 @@ struct RunLog {
   std::vector<std::uint32_t> flags;
   std::vector<RunState> state;         // v2: the `state` column; v1: RunState::unknown on every row
   std::vector<std::uint32_t> segment;  // v3: the `segment` column; v1, v2: 0 on every row
+  ClosedLoopLog closed_loop;           // v4: r, uc, ysp, st, mode; empty (closed = false) before
 
   std::size_t rows() const { return t_min.size(); }
 };

@@ -17,6 +17,18 @@
 
 namespace excite::runlog {
 
+/// A closed-loop run (v4, README "Version 4"): the header keys `# loop: closed`,
+/// `# excitation:`, `# controller:` and the columns r_*, uc_*, ysp_*, st_*, mode.
+struct ClosedLoopHeader {
+  bool closed = false;  // false: an open-loop run, written as v3 (nothing below is used)
+  Excitation excitation = Excitation::setpoint;
+  std::string_view controller;  // `<kind> <free text>`, one line, e.g. "dmc examples/a.toml"
+  /// The channels r was added to, ascending: output indices for `setpoint`, input indices
+  /// for `mv`, for `both` output indices 0 … p − 1 then p + input index (at least one; each
+  /// once).
+  std::span<const std::size_t> r_channels;
+};
+
 /// What the comment header says about the run.
 struct Header {
   std::string_view plant;        // free text, one line (no CR/LF)
@@ -32,6 +44,7 @@ struct Header {
                                    // when not empty (excite import)
   bool start_at_rest = true;       // false: `# start_at_rest: no` — the record starts
                                    // mid-test, identify estimates the initial state
+  ClosedLoopHeader closed_loop = {};  // closed: the log is v4
 };
 
 /// One sample. du, u have one value per input, dy one per output; all finite.
@@ -45,6 +58,12 @@ struct Row {
   std::uint32_t flags = 0;             // bits of Flag only (kKnownFlags)
   RunState state = RunState::unknown;  // the engine's state at this row (v2 `state` column)
   std::uint32_t segment = 0;           // plan segment of this row (v3 `segment` column)
+  // v4 only (a closed-loop header), deviations from the baseline in engineering units:
+  std::span<const double> r = {};    // the test signal, one per header r channel
+  std::span<const double> uc = {};   // the controller's output before the dither and any clamp
+  std::span<const double> ysp = {};  // the CV setpoints in force, one per output
+  std::span<const MvState> st = {};  // each MV's status, one per input
+  LoopMode mode = LoopMode::test;    // the loop's mode at this row
 };
 
 /// The writer's status is the project's one vocabulary (base/status/status.hpp):
@@ -71,7 +90,8 @@ struct WriteResult {
 WriteResult format_header(const Header& header, std::span<char> out);
 
 /// Formats one data row (with its newline) into `out`. `out.size() >=
-/// max_row_chars(inputs, outputs)` always suffices. The header is used for channel counts.
+/// max_row_chars(inputs, outputs)` always suffices (a closed-loop header:
+/// max_closed_loop_row_chars). The header is used for channel counts.
 WriteResult format_row(const Header& header, const Row& row, std::span<char> out);
 
 /// Writes a run log to an open FILE* through a caller-provided buffer (no allocation).

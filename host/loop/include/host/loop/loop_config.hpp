@@ -25,6 +25,12 @@ struct LoopConfigOptions {
   double watchdog_s = 3.0;  // the plant's heartbeat watchdog, wall-clock seconds; 0: off
   std::string transport = "modbus-tcp";  // or "can": the default CAN frame map (can_map.hpp)
   std::string can_interface = "vcan0";   // transport can: the SocketCAN interface
+  // Closed loop (issue 42 §3): the controller file excite-plant runs (plant.controller) and
+  // which test offsets the gateway writes: "setpoint" (CV setpoint offsets), "mv" (MV test
+  // offsets) or "both". Empty controller: the open-loop pair, unchanged.
+  std::string controller;
+  std::string offsets = "setpoint";
+  double controller_timeout_s = 60.0;  // the gateway's [closed_loop] controller_timeout_s
 };
 
 struct LoopConfigPair {
@@ -41,6 +47,13 @@ struct LoopConfigPair {
 /// Throws std::invalid_argument naming the option, its
 /// value and what was expected (NaN, negative, a port beyond 65535, a plant without a case
 /// study and no input range), or what sim::make_plant throws for an unknown plant.
+/// With a controller: plant.toml names it (absolute path) and serves the closed-loop
+/// registers of sim/server's default map (no input limits: the controller's MV limits bound
+/// the applied MVs); gateway.toml writes the offsets (`<mv>_off`, `<cv>_spoff`, limits ±
+/// input range, CV setpoint offsets ± output range or the input range), verifies them by
+/// readback and reads the controller's mode, MV statuses, moves, applied MVs and setpoints
+/// in force ([closed_loop]). The controller file is checked against the plant first (its
+/// errors by name). Modbus only.
 LoopConfigPair make_loop_config(const LoopConfigOptions& options);
 
 }  // namespace excite::host

@@ -11,6 +11,13 @@
 //   holding 400..407   control block (faults, misfit/watchdog/refused-write counters)
 //   input   200 + 2j   output y_j (FC04), j = 0..outputs−1
 //   input   300        heartbeat echo (uint16)
+//
+// Under a controller (closed_loop; README, "Closed loop") the same, and:
+//   holding 410        the operator's controller switch (uint16)
+//   holding 500 + …    the test offsets: MV i at 500 + 2i, CV j's setpoint offset at
+//                      500 + 2n + 2j (m = outputs)
+//   holding 500 + 2(n + m)  the heartbeat (moved: still the highest register written)
+//   input   500 + …    the controller's block (server_layout.hpp, ClosedLoopLayout)
 
 #include <cstdint>
 #include <string>
@@ -25,15 +32,19 @@ inline constexpr std::uint32_t default_value_base = 200;
 inline constexpr std::uint32_t default_echo_address = 300;
 inline constexpr std::uint32_t default_command_address = 301;
 inline constexpr std::uint32_t default_control_address = 400;
+inline constexpr std::uint32_t default_switch_address = 410;
+inline constexpr std::uint32_t default_offset_address = 500;
+inline constexpr std::uint32_t default_controller_address = 500;
 inline constexpr int default_max_inputs = 99;   // setpoints + heartbeat stay below 300
 inline constexpr int default_max_outputs = 50;  // values stay below the echo at 300
 
 /// The default map for a plant with `inputs` inputs and `outputs` outputs, entries named
 /// by `input_names`/`output_names` when given (sizes must then match). Throws
 /// std::invalid_argument "plant = ..., expected at most 99 inputs and 50 outputs ..." beyond
-/// the table's room.
+/// the table's room. `closed_loop`: the map under a controller (above).
 ServerRegisters default_registers(int inputs, int outputs,
                                   const std::vector<std::string>& input_names = {},
-                                  const std::vector<std::string>& output_names = {});
+                                  const std::vector<std::string>& output_names = {},
+                                  bool closed_loop = false);
 
 }  // namespace excite::sim::server

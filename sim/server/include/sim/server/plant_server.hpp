@@ -23,6 +23,8 @@
 #include <string>
 #include <vector>
 
+#include "sim/server/closed_loop.hpp"
+#include "sim/server/controller_log.hpp"
 #include "sim/server/modbus_request.hpp"
 #include "sim/server/plant_log.hpp"
 #include "sim/server/plant_process.hpp"
@@ -71,10 +73,14 @@ struct ServeOptions {
   double partial_timeout_s = 2.0;  // a request not complete this long after its first byte:
                                    // the connection is closed
   // The plant's own controller (README, "Watchdog and input limits"):
-  double watchdog_s = 0.0;        // heartbeat unchanged this long (wall clock) after it first
-                                  // changed: setpoints back to the baseline; 0: off
-  std::vector<double> input_min;  // absolute limits per plant input; empty: none. A write
-  std::vector<double> input_max;  // that would put a setpoint outside: exception 3, counted
+  double watchdog_s = 0.0;          // heartbeat unchanged this long (wall clock) after it first
+                                    // changed: setpoints back to the baseline; 0: off
+  std::vector<double> input_min;    // absolute limits per plant input; empty: none. A write
+  std::vector<double> input_max;    // that would put a setpoint outside: exception 3, counted
+  std::string controller_log_path;  // closed loop: the controller log (controller_log.hpp)
+  std::vector<double> offset_limit;  // closed loop: |offset| bound per offset register (MV
+                                     // offsets, then CV setpoint offsets); beyond: exception
+                                     // 3, counted. Empty: none (ServerConfig plant.offset_limit)
 };
 
 /// The run log's settings in `options` (log_path, plant_description, time_scales, names and
@@ -84,7 +90,10 @@ PlantLogSpec plant_log_spec(const ServeOptions& options, double sample_time_min)
 class PlantServer {
  public:
   /// Opens the log (if any) and listens. Throws std::runtime_error naming what failed.
-  PlantServer(PlantProcess& process, RegisterImage& image, ServeOptions options);
+  /// `loop`: the controller in the loop (README, "Closed loop"; the image's layout then has
+  /// its registers); null: the open-loop plant, unchanged.
+  PlantServer(PlantProcess& process, RegisterImage& image, ServeOptions options,
+              ClosedLoop* loop = nullptr);
   ~PlantServer();
   PlantServer(const PlantServer&) = delete;
   PlantServer& operator=(const PlantServer&) = delete;
@@ -109,8 +118,13 @@ class PlantServer {
   std::uint64_t line_losses() const { return line_losses_; }
   /// Times the watchdog returned the setpoints to the baseline (control block +6).
   std::uint64_t watchdog_trips() const { return watchdog_trips_; }
-  /// Setpoint writes refused for the input limits (exception 3; control block +7).
+  /// Setpoint writes refused for the input limits (exception 3; control block +7); under a
+  /// controller also writes to the setpoint registers (exception 2: the controller's).
   std::uint64_t refused_writes() const { return refused_writes_; }
+  /// Why the controller log stopped; "" when it is whole (or there is none).
+  std::string controller_log_failure() const {
+    return controller_log_ ? controller_log_->failure() : std::string();
+  }
   /// Why the run log stopped ("--log plant.csv: cannot write sample 412: No space left on
   /// device (ENOSPC); …"); "" when every sample was logged.
   const std::string& log_failure() const {
@@ -152,10 +166,14 @@ class PlantServer {
   void on_heartbeat_written();
   // A write of setpoints outside the limits: counted, reported, true (the caller refuses).
   bool refuse_out_of_limits(const ModbusRequest& request, const std::uint8_t* data);
+  // Under a controller: a write of a test offset beyond plant.offset_limit, the same way.
+  bool refuse_offset_beyond_limit(std::uint32_t address, std::uint32_t count,
+                                  const std::uint8_t* data);
   void check_watchdog(Clock::time_point now);
   void freeze(const std::function<bool()>& stop);
   void mirror_counters_to_control();
   void take_sample();
+  void take_closed_loop_sample();
   void report_misfits(std::uint64_t k);
   void load_faults_from_control();
   void mirror_faults_to_control();
@@ -192,6 +210,13 @@ class PlantServer {
   std::vector<double> u_;
   std::vector<double> y_;
 
+  ClosedLoop* loop_ = nullptr;  // closed loop: the controller (not owned)
+  std::vector<double> mv_offsets_;
+  std::vector<double> sp_offsets_;
+  std::vector<double> y_measured_;  // the CVs of the last sample, deviations (with noise)
+  std::vector<std::uint16_t> status_;
+  std::optional<ControllerLog> controller_log_;
+
   std::optional<PlantLog> log_;  // the run log (plant_log.hpp); empty until opened
 };
 
@@ -205,6 +230,6 @@ class PlantServer {
 /// its run log could not be written (as serve_can).
 int serve_modbus(PlantProcess& process, RegisterImage& image, const ServerLayout& layout,
                  const ServeOptions& options, bool default_map, const std::function<void()>& ready,
-                 const std::function<bool()>& stop);
+                 const std::function<bool()>& stop, ClosedLoop* loop = nullptr);
 
 }  // namespace excite::sim::server

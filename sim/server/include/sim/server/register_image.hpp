@@ -59,6 +59,35 @@ class RegisterImage {
   std::optional<OutOfLimits> check_write(std::uint32_t address, std::uint32_t count,
                                          const std::uint8_t* data, const std::vector<double>& min,
                                          const std::vector<double>& max) const;
+  /// The same for the test offsets under a controller (README "Closed loop", offset limits):
+  /// `limit` per offset register, MV offsets then CV setpoint offsets; OutOfLimits::input is
+  /// that offset's index. A value beyond ±limit (or not finite) is out.
+  std::optional<OutOfLimits> check_offset_write(std::uint32_t address, std::uint32_t count,
+                                                const std::uint8_t* data,
+                                                const std::vector<double>& limit) const;
+
+  /// The registers the watchdog guards: the setpoints in the open loop, the test offsets
+  /// under a controller (README, "Closed loop"); and their safe state (the input baseline,
+  /// every offset zero). The watchdog sets what is written while tripped aside with these.
+  std::vector<std::uint16_t> guarded_registers() const;
+  void set_guarded_registers(const std::vector<std::uint16_t>& registers);
+  void restore_guarded();
+
+  // Closed loop only (layout().closed_loop):
+  /// Whether a write of [address, address + count) touches a setpoint register (under a
+  /// controller the controller owns the MVs: such a write is refused).
+  bool touches_setpoints(std::uint32_t address, std::uint32_t count) const;
+  /// The MV test offsets (one per input) and CV setpoint offsets (one per output) as
+  /// written; a value that is not finite keeps the last good one and is counted
+  /// (rejected_setpoints). No allocation.
+  void read_offsets(double* mv_offsets, double* sp_offsets);
+  /// The operator's controller switch register (raw).
+  std::uint16_t controller_switch() const;
+  /// Writes the controller's read block: moves, applied MVs (deviations), setpoints in
+  /// force, statuses and mode; and the applied MVs, absolute (`u`), into the setpoint
+  /// registers, so a reader of `<name>_sp` sees what the plant got. No allocation.
+  void write_controller(const double* moves, const double* applied, const double* setpoints,
+                        const std::uint16_t* status, std::uint16_t mode, const double* u);
 
   std::uint16_t heartbeat() const;
   std::uint16_t heartbeat_echo() const;
@@ -91,12 +120,19 @@ class RegisterImage {
 
  private:
   std::uint16_t* cell(const PlacedValue& value) const;
+  // `p`'s value once a write of `count` registers at `address` (`data`, big-endian bytes) is
+  // applied; nullopt when the write does not touch it.
+  std::optional<double> value_after_write(const PlacedValue& p, std::uint32_t address,
+                                          std::uint32_t count, const std::uint8_t* data) const;
+  void encode(const PlacedValue& value, double x);
+  double decode(const PlacedValue& value) const;
 
   ServerLayout layout_;
   _modbus_mapping_t* mapping_ = nullptr;
   std::vector<double> input_baseline_;
   std::vector<double> last_setpoints_;
   std::vector<bool> written_;
+  std::vector<double> last_offsets_;  // closed loop: MV then CV offsets, last good values
   std::uint64_t rejected_setpoints_ = 0;
   std::uint64_t clamped_values_ = 0;
   std::vector<Misfit> misfits_;

@@ -33,9 +33,18 @@ struct PlantSettings {
   double tau_high_min = 0.0;  // the design's τ_H and β for the run log's header (firmware/
   double beta = 0.0;          // runlog, TimeScales), minutes and a ratio, ≥ 0; 0: not known
   // What the plant's own controller enforces (README, "Watchdog and input limits"):
-  double watchdog_s = 0.0;        // heartbeat watchdog, wall-clock seconds >= 0; 0: off
+  double watchdog_s = 0.0;  // heartbeat watchdog, wall-clock seconds >= 0; 0: off
+  // under a controller: every test offset back to zero instead
   std::vector<double> input_min;  // absolute limits per input (engineering units); empty:
   std::vector<double> input_max;  // none. A setpoint write outside is refused (exception 3)
+  // The controller in the loop (sim/control's controller file, relative to this file; README,
+  // "Closed loop"); empty: the open-loop plant. `excite-plant --controller FILE` overrides it.
+  std::string controller;
+  // Under a controller: the largest test offset the plant takes, per offset register (the MV
+  // offsets in input order, then the CV setpoint offsets in output order; deviations in
+  // engineering units, each > 0); a write beyond ±limit is refused with exception 3 and
+  // counted, as a setpoint outside input_min/input_max in the open loop. Empty: no bound.
+  std::vector<double> offset_limit;
 };
 
 /// Number of registers in the control block (holding registers, see README): five fault
@@ -52,6 +61,15 @@ struct ServerRegisters {
   std::optional<std::uint32_t> control_address;  // first of control_block_size holding regs
   std::optional<std::uint32_t> command_address;  // holding register an operator writes the
                                                  // gateway's command to (uint16, starts at 0)
+  // Closed loop only (a controller configured; README, "Closed loop"), fixed layouts:
+  // holding offset_address: the MV test offsets (float32 ABCD, one per input), then the CV
+  // setpoint offsets (one per output), written by the gateway; input controller_address:
+  // the controller's moves, the applied MVs, the setpoints in force (float32 ABCD), the MV
+  // statuses and the mode (uint16); holding controller_switch_address: the operator's
+  // switch (uint16: 1 control, 0 off = manual, 3 suspended).
+  std::optional<std::uint32_t> offset_address;
+  std::optional<std::uint32_t> controller_address;
+  std::optional<std::uint32_t> controller_switch_address;
 };
 
 struct ServerConfig {

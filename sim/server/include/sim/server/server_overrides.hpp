@@ -39,6 +39,7 @@ struct ServerOverrides {
   // --plan: the plan the gateway will stream. Its sample time must be the plant's: a plant
   // stepped at another T than the plan's rows would answer another experiment.
   std::string plan;
+  std::string controller;  // --controller: the controller file (overrides plant.controller)
 };
 
 /// The plant, its noise and its sample time from `overrides` into `config` (read from
