@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: MIT
+#include "host/identify/closed_loop.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace excite::host {
+
+Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags) {
+  const Eigen::Index N = U.rows();
+  const Eigen::Index m = R.cols();
+  if (R.rows() != N || m == 0 || U.cols() == 0) {
+    throw std::invalid_argument("r rows x channels = " + std::to_string(R.rows()) + "x" +
+                                std::to_string(m) + ", expected " + std::to_string(N) +
+                                " rows (as u) and at least one channel");
+  }
+  if (!R.allFinite() || !U.allFinite()) {
+    throw std::invalid_argument("u, r = (not finite), expected finite values");
+  }
+  if (R.cwiseAbs().maxCoeff() == 0.0) {
+    throw std::invalid_argument("r = 0 throughout, expected a test signal (the two-stage "
+                                "method needs r to explain u)");
+  }
+  if (lags == 0) {
+    lags = static_cast<int>(std::clamp<Eigen::Index>(N / (8 * m), 20, 200));
+  }
+  const Eigen::Index P = static_cast<Eigen::Index>(lags) * m;
+  if (lags < 1 || 2 * P >= N) {
+    throw std::invalid_argument("stage-1 lags = " + std::to_string(lags) + " x " +
+                                std::to_string(m) + " r channels, expected fewer than " +
+                                std::to_string(N / 2) + " parameters for " + std::to_string(N) +
+                                " rows");
+  }
+  // Φ (N × L·m): column l·m + c is r_c(k − l), 0 before row 0.
+  Eigen::MatrixXd phi = Eigen::MatrixXd::Zero(N, P);
+  for (int l = 0; l < lags; ++l) {
+    for (Eigen::Index c = 0; c < m; ++c) {
+      phi.col(l * m + c).tail(N - l) = R.col(c).head(N - l);
+    }
+  }
+  // Least squares by a column-pivoting QR (rank-revealing: an r channel that is zero or a
+  // copy of another leaves columns the QR drops instead of dividing by zero).
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(phi);
+  Stage1Fit fit;
+  fit.lags = lags;
+  fit.u_hat = phi * qr.solve(U);
+  fit.fit_percent.resize(U.cols());
+  for (Eigen::Index j = 0; j < U.cols(); ++j) {
+    const double spread = (U.col(j).array() - U.col(j).mean()).matrix().norm();
+    fit.fit_percent(j) = spread > 0.0
+                             ? 100.0 * (1.0 - (U.col(j) - fit.u_hat.col(j)).norm() / spread)
+                             : std::nan("");
+  }
+  return fit;
+}
+
+std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& a,
+                                                 const IdentifiedModel& b, double k) {
+  if (a.inputs != b.inputs || a.outputs != b.outputs) {
+    throw std::invalid_argument("model sizes = " + std::to_string(a.outputs) + "x" +
+                                std::to_string(a.inputs) + " and " + std::to_string(b.outputs) +
+                                "x" + std::to_string(b.inputs) + ", expected equal");
+  }
+  std::vector<GainDisagreement> out;
+  for (int o = 0; o < a.outputs; ++o) {
+    for (int i = 0; i < a.inputs; ++i) {
+      const ElementEstimate& ea = a.element(o, i);
+      const ElementEstimate& eb = b.element(o, i);
+      if (!ea.estimated() || !eb.estimated()) continue;
+      const double sa = ea.std_error.gain, sb = eb.std_error.gain;
+      if (!std::isfinite(sa) || !std::isfinite(sb)) continue;
+      const double sigma = std::sqrt(sa * sa + sb * sb);
+      const double ka = ea.value.static_gain(), kb = eb.value.static_gain();
+      if (std::isfinite(ka) && std::isfinite(kb) && std::abs(ka - kb) > k * sigma) {
+        out.push_back({o, i, ka, kb, sigma});
+      }
+    }
+  }
+  return out;
+}
+
+ClosedLoopIdentification identify_closed_loop(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
+                                              const Eigen::MatrixXd& Y, double T_min,
+                                              const SampleLayout& layout,
+                                              const IdentifyOptions& options, int stage1_lags) {
+  ClosedLoopIdentification out;
+  out.stage1 = project_on_reference(U, R, stage1_lags);
+  out.two_stage = identify(out.stage1.u_hat, Y, T_min, layout, options);
+  out.direct = identify(U, Y, T_min, layout, options);
+  out.feedback_bias = gain_disagreements(out.two_stage.model, out.direct.model);
+  return out;
+}
+
+}  // namespace excite::host
