@@ -42,6 +42,7 @@ struct SimulateOptions {
   std::string controller;             // a controller file: run closed loop
   std::string excitation = "setpoint";
   bool dither_unknown = false;
+  bool excitation_given = false;
 };
 
 // A quick look at a step response: twenty rows of the outputs.
@@ -84,9 +85,19 @@ SimulatedRun run_closed_loop(const SimulateOptions& opt, sim::Plant& plant) {
                                           : plant_named(file.model.model_file);
   const Eigen::MatrixXd g0 = plant.static_gain();
   const auto controller = sim::control::make_controller(file, *model, &g0);
+  const auto p = read_plan_file(opt.plan_path);
   ClosedLoopOptions loop;
-  loop.excitation =
-      opt.excitation == "mv" ? runlog::Excitation::mv : runlog::Excitation::setpoint;
+  // A closed-loop plan (version 4) says where r goes; an open-loop plan takes --excitation.
+  const plan::Excitation planned = p->meta.excitation;
+  if (planned != plan::Excitation::open_loop && opt.excitation_given &&
+      opt.excitation != plan::to_text(planned)) {
+    throw std::invalid_argument("--excitation = " + opt.excitation + ", expected " +
+                                plan::to_text(planned) + " as the plan " + opt.plan_path +
+                                " says (or leave it out)");
+  }
+  const bool mv = planned == plan::Excitation::mv ||
+                  (planned == plan::Excitation::open_loop && opt.excitation == "mv");
+  loop.excitation = mv ? runlog::Excitation::mv : runlog::Excitation::setpoint;
   loop.dither_known = !opt.dither_unknown;
   loop.controller = std::string(file.kind == sim::control::ControllerKind::dmc ? "dmc " : "pi ") +
                     opt.controller;
@@ -98,7 +109,6 @@ SimulatedRun run_closed_loop(const SimulateOptions& opt, sim::Plant& plant) {
       loop.mv_max(static_cast<Eigen::Index>(j)) = file.dmc.mv[j].max;
     }
   }
-  const auto p = read_plan_file(opt.plan_path);
   if (opt.sim.periods == 0 ||
       std::uint64_t{opt.sim.periods} * p->recipe.samples > kMaxSimulatedRows) {
     throw std::invalid_argument("--periods x plan samples = " + std::to_string(opt.sim.periods) +
@@ -154,6 +164,12 @@ void run(const SimulateOptions& opt) {
       throw std::invalid_argument("give PLAN and -o RUN.csv, or --step INPUT=AMPL");
     }
     const auto p = read_plan_file(opt.plan_path);
+    if (p->meta.excitation != plan::Excitation::open_loop) {
+      throw std::invalid_argument(opt.plan_path + ": excitation = " +
+                                  plan::to_text(p->meta.excitation) +
+                                  " (a closed-loop plan), expected --controller FILE to run it "
+                                  "under");
+    }
     result = simulate_plan(*p, opt.plan_path, *plant, opt.sim);
   }
   if (!opt.output.empty()) {
@@ -211,7 +227,8 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_flag("--dither-unknown", opt->dither_unknown,
                 "closed loop, mv: the controller is not told of the dither (by default it is, "
                 "as a known move)");
-  cmd->callback([opt] {
+  cmd->callback([opt, cmd] {
+    opt->excitation_given = cmd->count("--excitation") > 0;
     if (opt->sim.disturbance_std > 0.0 && opt->sim.disturbance_tau_min <= 0.0) {
       throw std::invalid_argument("--disturbance-tau-min = (not given), expected a time "
                                   "constant in minutes with --disturbance-std > 0");
