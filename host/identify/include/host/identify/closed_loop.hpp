@@ -51,6 +51,8 @@ struct GainDisagreement {
 
 struct ClosedLoopIdentification {
   Stage1Fit stage1;
+  double se_widening_two_stage = 1.0;  // widen_for_coloured_residuals' largest factor
+  double se_widening_direct = 1.0;
   IdentificationResult two_stage;  // on (û, y): the estimate
   IdentificationResult direct;     // on (u, y): the cross-check
   std::vector<GainDisagreement> feedback_bias;  // "feedback bias suspected" in these elements
@@ -61,8 +63,24 @@ struct ClosedLoopIdentification {
 std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& two_stage,
                                                  const IdentifiedModel& direct, double k = 2.0);
 
+/// Standard errors of the gains that allow for a coloured residual (a sandwich, "HAC"
+/// estimate: Newey and West, Econometrica 55 (1987) 703). identify()'s σ̂²(XᵀX)⁻¹ assumes a
+/// white output error; in closed loop stage 2's error G(u − û) + v is coloured, and that
+/// covariance is too small by the residual's correlation time. Per output row, with X the
+/// N × n sensitivities of ŷ to the row's gains (each element's unit-gain response to its
+/// input, exact: ŷ is linear in K) and e the residual on the scored rows:
+///   Cov = (XᵀX)⁻¹ [Σ_{|l|≤L} (1 − |l|/(L+1)) Σ_k x_k e_k e_{k−l} x_{k−l}ᵀ] (XᵀX)⁻¹,
+/// and each gain's variance is widened (never narrowed) by Cov_ii / (σ̂²(XᵀX)⁻¹)_ii, the row's
+/// gain covariance and each element's gain SE with it; the G(0) uncertainty is recomputed.
+/// `max_lag` 0: L = min(200, N/10). Returns the largest widening factor of an SE.
+double widen_for_coloured_residuals(IdentificationResult& result, const Eigen::MatrixXd& U,
+                                    const Eigen::MatrixXd& Y, const SampleLayout& layout,
+                                    int max_lag = 0);
+
 /// Both methods on one closed-loop run: U applied inputs, R the test signal r (N × m), Y.
-/// `stage1_lags` as in project_on_reference. Throws what identify() and stage 1 throw.
+/// `stage1_lags` as in project_on_reference. Both results' gain standard errors are widened
+/// for their coloured residuals (widen_for_coloured_residuals). Throws what identify() and
+/// stage 1 throw.
 ClosedLoopIdentification identify_closed_loop(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
                                               const Eigen::MatrixXd& Y, double T_min,
                                               const SampleLayout& layout,
