@@ -99,7 +99,8 @@ bool closed_loop_valid(const Header& h) {
   const ClosedLoopHeader& c = h.closed_loop;
   if (!c.closed) return true;
   if (c.controller.empty() || !one_line(c.controller) || c.r_channels.empty()) return false;
-  const std::size_t side = c.excitation == Excitation::setpoint ? h.outputs.size() : h.inputs.size();
+  const std::size_t side =
+      c.excitation == Excitation::setpoint ? h.outputs.size() : h.inputs.size();
   for (std::size_t i = 0; i < c.r_channels.size(); ++i) {
     if (c.r_channels[i] >= side) return false;
     if (i > 0 && c.r_channels[i] <= c.r_channels[i - 1]) return false;  // ascending, once

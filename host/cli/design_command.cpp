@@ -27,10 +27,10 @@ struct DesignOptions {
   std::string preset;
   std::string output;
   bool quiet = false;
-  std::string excitation = "open";      // open | setpoint | mv (issue 41 §2)
-  std::vector<std::string> limits;      // setpoint: CV test limits CV=LOW:HIGH, every CV
-  double limit_fraction = 0.5;          // setpoint amplitude = fraction x the test limit
-  std::string directions = "none";      // setpoint: none | output
+  std::string excitation = "open";  // open | setpoint | mv (issue 41 §2)
+  std::vector<std::string> limits;  // setpoint: CV test limits CV=LOW:HIGH, every CV
+  double limit_fraction = 0.5;      // setpoint amplitude = fraction x the test limit
+  std::string directions = "none";  // setpoint: none | output
 };
 
 void run(const DesignOptions& opt) {
@@ -74,8 +74,9 @@ void run(const DesignOptions& opt) {
       design = design_setpoint_excitation(prior, preset, request, creation_time());
     }
   } else if (!opt.limits.empty() || opt.directions != "none") {
-    throw std::invalid_argument("--limit/--directions with --excitation = open, expected "
-                                "--excitation setpoint (they size and turn the CV setpoints)");
+    throw std::invalid_argument(
+        "--limit/--directions with --excitation = open, expected "
+        "--excitation setpoint (they size and turn the CV setpoints)");
   }
   if (!design.plan) design = design_preset(prior, find_preset(preset_name), creation_time());
   write_plan_file(*design.plan, opt.output);

@@ -189,20 +189,22 @@ nlohmann::json closed_loop_json(const ClosedLoopIdentification& id, const runlog
   std::vector<double> fit(id.stage1.fit_percent.data(),
                           id.stage1.fit_percent.data() + id.stage1.fit_percent.size());
   const bool direct = method == "direct";
-  return {{"method", direct ? "direct" : "two-stage"},
-          {"excitation", std::string(runlog::to_text(log.closed_loop.excitation))},
-          {"controller", log.closed_loop.controller},
-          {"stage1", {{"fir_lags", id.stage1.lags}, {"u_explained_by_r_percent", fit}}},
-          {direct ? "two_stage" : "direct", gains_json(direct ? id.two_stage.model : id.direct.model)},
-          {"feedback_bias_suspected", bias}};
+  return {
+      {"method", direct ? "direct" : "two-stage"},
+      {"excitation", std::string(runlog::to_text(log.closed_loop.excitation))},
+      {"controller", log.closed_loop.controller},
+      {"stage1", {{"fir_lags", id.stage1.lags}, {"u_explained_by_r_percent", fit}}},
+      {direct ? "two_stage" : "direct", gains_json(direct ? id.two_stage.model : id.direct.model)},
+      {"feedback_bias_suspected", bias}};
 }
 
 void print_closed_loop(const ClosedLoopIdentification& id, const runlog::RunLog& log,
                        const std::string& method) {
   const bool direct = method == "direct";
   const IdentifiedModel& other = direct ? id.two_stage.model : id.direct.model;
-  std::cout << (direct ? "two-stage estimate (cross-check)" : "direct fit on the applied u "
-                                                              "(cross-check)")
+  std::cout << (direct ? "two-stage estimate (cross-check)"
+                       : "direct fit on the applied u "
+                         "(cross-check)")
             << ": G(0) =";
   for (int o = 0; o < other.outputs; ++o) {
     std::cout << (o == 0 ? " [" : "; ");
@@ -222,8 +224,8 @@ void print_closed_loop(const ClosedLoopIdentification& id, const runlog::RunLog&
             << " element(s) (two-stage and direct G(0) differ by more than 2 sigma):\n";
   for (const GainDisagreement& d : id.feedback_bias) {
     std::cout << "  " << element_name(log, d.output, d.input) << ": two-stage "
-              << num(d.two_stage, 4) << ", direct " << num(d.direct, 4) << " (2 sigma = "
-              << num(2.0 * d.sigma, 3) << ")\n";
+              << num(d.two_stage, 4) << ", direct " << num(d.direct, 4)
+              << " (2 sigma = " << num(2.0 * d.sigma, 3) << ")\n";
   }
 }
 
@@ -297,9 +299,10 @@ void run(const IdentifyCommandOptions& opt) {
   if (first.closed_loop.closed) {
     const runlog::ClosedLoopLog& cl = first.closed_loop;
     if (static_cast<std::size_t>(data.U.rows()) != first.rows()) {
-      throw std::invalid_argument(opt.run_paths.front() + ": rows = " +
-                                  std::to_string(data.U.rows()) + " after the flag rule, expected " +
-                                  std::to_string(first.rows()) + " (every row of a closed-loop run)");
+      throw std::invalid_argument(opt.run_paths.front() +
+                                  ": rows = " + std::to_string(data.U.rows()) +
+                                  " after the flag rule, expected " + std::to_string(first.rows()) +
+                                  " (every row of a closed-loop run)");
     }
     Eigen::MatrixXd R(data.U.rows(), static_cast<Eigen::Index>(cl.r.size()));
     for (std::size_t c = 0; c < cl.r.size(); ++c) {

@@ -54,10 +54,9 @@ nlohmann::json inspect_one(const InspectOptions& opt, const std::string& plan_pa
   if (!opt.plant.empty() && setpoint) {
     const Eigen::MatrixXd g = plant_gain(opt.plant);
     if (g.rows() != static_cast<Eigen::Index>(p->recipe.channels)) {
-      throw std::invalid_argument(plan_path + ": channels = " +
-                                  std::to_string(p->recipe.channels) + ", expected the " +
-                                  std::to_string(g.rows()) + " CVs of " + opt.plant +
-                                  " (a setpoint plan)");
+      throw std::invalid_argument(plan_path + ": channels = " + std::to_string(p->recipe.channels) +
+                                  ", expected the " + std::to_string(g.rows()) + " CVs of " +
+                                  opt.plant + " (a setpoint plan)");
     }
     static_mv = g.completeOrthogonalDecomposition().pseudoInverse() * table.transpose();
   } else if (!opt.plant.empty()) {

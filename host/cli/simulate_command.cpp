@@ -39,7 +39,7 @@ struct SimulateOptions {
   SimulationOptions sim;
   std::uint32_t samples = 600;
   double sample_time_min = 1.0;
-  std::string controller;             // a controller file: run closed loop
+  std::string controller;  // a controller file: run closed loop
   std::string excitation = "setpoint";
   bool dither_unknown = false;
   bool excitation_given = false;
@@ -99,8 +99,8 @@ SimulatedRun run_closed_loop(const SimulateOptions& opt, sim::Plant& plant) {
                   (planned == plan::Excitation::open_loop && opt.excitation == "mv");
   loop.excitation = mv ? runlog::Excitation::mv : runlog::Excitation::setpoint;
   loop.dither_known = !opt.dither_unknown;
-  loop.controller = std::string(file.kind == sim::control::ControllerKind::dmc ? "dmc " : "pi ") +
-                    opt.controller;
+  loop.controller =
+      std::string(file.kind == sim::control::ControllerKind::dmc ? "dmc " : "pi ") + opt.controller;
   if (!file.dmc.mv.empty()) {
     loop.mv_min.resize(static_cast<Eigen::Index>(file.dmc.mv.size()));
     loop.mv_max.resizeLike(loop.mv_min);
@@ -116,8 +116,8 @@ SimulatedRun run_closed_loop(const SimulateOptions& opt, sim::Plant& plant) {
                                 std::to_string(kMaxSimulatedRows) + " rows");
   }
   SimulatedRun run =
-      simulate_closed_loop(plan_signal(*p, opt.sim.periods), opt.plan_path,
-                           p->meta.sample_time_min, plant, *controller, loop, opt.sim);
+      simulate_closed_loop(plan_signal(*p, opt.sim.periods), opt.plan_path, p->meta.sample_time_min,
+                           plant, *controller, loop, opt.sim);
   run.time_scales = {p->meta.tau_high_min, p->meta.beta, p->meta.switch_time_min};
   return run;
 }
@@ -165,8 +165,8 @@ void run(const SimulateOptions& opt) {
     }
     const auto p = read_plan_file(opt.plan_path);
     if (p->meta.excitation != plan::Excitation::open_loop) {
-      throw std::invalid_argument(opt.plan_path + ": excitation = " +
-                                  plan::to_text(p->meta.excitation) +
+      throw std::invalid_argument(opt.plan_path +
+                                  ": excitation = " + plan::to_text(p->meta.excitation) +
                                   " (a closed-loop plan), expected --controller FILE to run it "
                                   "under");
     }
@@ -230,8 +230,9 @@ void add_simulate_command(CLI::App& app) {
   cmd->callback([opt, cmd] {
     opt->excitation_given = cmd->count("--excitation") > 0;
     if (opt->sim.disturbance_std > 0.0 && opt->sim.disturbance_tau_min <= 0.0) {
-      throw std::invalid_argument("--disturbance-tau-min = (not given), expected a time "
-                                  "constant in minutes with --disturbance-std > 0");
+      throw std::invalid_argument(
+          "--disturbance-tau-min = (not given), expected a time "
+          "constant in minutes with --disturbance-std > 0");
     }
     run(*opt);
   });

@@ -31,8 +31,7 @@ void mark(Design& d, plan::Excitation e, const std::string& what) {
 }  // namespace
 
 Design design_setpoint_excitation(const PriorKnowledge& prior, const PresetInfo& preset,
-                                  const SetpointDesignRequest& req,
-                                  std::uint64_t created_unix_s) {
+                                  const SetpointDesignRequest& req, std::uint64_t created_unix_s) {
   if (preset.uses_directions()) {
     throw std::invalid_argument("preset = " + std::string(preset.acronym) +
                                 ", expected a plain preset for setpoint excitation (its "
@@ -101,9 +100,10 @@ Design design_setpoint_excitation(const PriorKnowledge& prior, const PresetInfo&
       }
     }
     d.table = make_table(d.plan->recipe);
-    d.notes.push_back("setpoint directions: r(k) = c * W * s(k), W the prior's output "
-                      "directions (G(0) = W Sigma V'), c = " + num(scale) +
-                      " keeps every CV within its amplitude");
+    d.notes.push_back(
+        "setpoint directions: r(k) = c * W * s(k), W the prior's output "
+        "directions (G(0) = W Sigma V'), c = " +
+        num(scale) + " keeps every CV within its amplitude");
     plan::set_text(d.plan->meta.design_name,
                    std::string(preset.acronym).substr(0, plan::kNameCapacity - 5) + "OutDir");
   }

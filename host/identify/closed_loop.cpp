@@ -20,8 +20,9 @@ Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& 
     throw std::invalid_argument("u, r = (not finite), expected finite values");
   }
   if (R.cwiseAbs().maxCoeff() == 0.0) {
-    throw std::invalid_argument("r = 0 throughout, expected a test signal (the two-stage "
-                                "method needs r to explain u)");
+    throw std::invalid_argument(
+        "r = 0 throughout, expected a test signal (the two-stage "
+        "method needs r to explain u)");
   }
   if (lags == 0) {
     lags = static_cast<int>(std::clamp<Eigen::Index>(N / (8 * m), 20, 200));
@@ -49,15 +50,14 @@ Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& 
   fit.fit_percent.resize(U.cols());
   for (Eigen::Index j = 0; j < U.cols(); ++j) {
     const double spread = (U.col(j).array() - U.col(j).mean()).matrix().norm();
-    fit.fit_percent(j) = spread > 0.0
-                             ? 100.0 * (1.0 - (U.col(j) - fit.u_hat.col(j)).norm() / spread)
-                             : std::nan("");
+    fit.fit_percent(j) =
+        spread > 0.0 ? 100.0 * (1.0 - (U.col(j) - fit.u_hat.col(j)).norm() / spread) : std::nan("");
   }
   return fit;
 }
 
-std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& a,
-                                                 const IdentifiedModel& b, double k) {
+std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& a, const IdentifiedModel& b,
+                                                 double k) {
   if (a.inputs != b.inputs || a.outputs != b.outputs) {
     throw std::invalid_argument("model sizes = " + std::to_string(a.outputs) + "x" +
                                 std::to_string(a.inputs) + " and " + std::to_string(b.outputs) +

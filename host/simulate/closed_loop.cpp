@@ -20,8 +20,8 @@ std::string text(double v) {
   return buf;
 }
 
-void check(const Eigen::MatrixXd& r, double T, sim::Plant& plant,
-           const sim::control::Controller& c, const ClosedLoopOptions& loop) {
+void check(const Eigen::MatrixXd& r, double T, sim::Plant& plant, const sim::control::Controller& c,
+           const ClosedLoopOptions& loop) {
   const bool sp = loop.excitation == runlog::Excitation::setpoint;
   const int side = sp ? plant.outputs() : plant.inputs();
   if (r.cols() != side) {
@@ -58,8 +58,7 @@ void check(const Eigen::MatrixXd& r, double T, sim::Plant& plant,
 SimulatedRun simulate_closed_loop(const Eigen::MatrixXd& r, std::string plan_label,
                                   double sample_time_min, sim::Plant& plant,
                                   sim::control::Controller& controller,
-                                  const ClosedLoopOptions& loop,
-                                  const SimulationOptions& options) {
+                                  const ClosedLoopOptions& loop, const SimulationOptions& options) {
   check(r, sample_time_min, plant, controller, loop);
   if (options.noise_variance < 0.0 || !std::isfinite(options.noise_variance)) {
     throw std::invalid_argument("noise variance = " + text(options.noise_variance) +

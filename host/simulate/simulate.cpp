@@ -42,8 +42,7 @@ void respond(sim::Plant& plant, SimulatedRun& run, const SimulationOptions& opti
 
 }  // namespace
 
-void add_disturbance(Eigen::MatrixXd& y, double sample_time_min,
-                     const SimulationOptions& options) {
+void add_disturbance(Eigen::MatrixXd& y, double sample_time_min, const SimulationOptions& options) {
   if (options.disturbance_std == 0.0) return;
   sim::ColouredDisturbance d(static_cast<int>(y.cols()), options.disturbance_std,
                              options.disturbance_tau_min, sample_time_min,
@@ -147,12 +146,12 @@ void write_run_log(const SimulatedRun& run, const std::filesystem::path& path) {
     for (Eigen::Index i = 0; i < p; ++i) dy[static_cast<std::size_t>(i)] = run.dy(k, i);
     // No engine here: every row of the plan is applied as designed, so the state is running.
     runlog::Row row{static_cast<double>(k) * run.sample_time_min,
-                          static_cast<std::uint64_t>(k),
-                          du,
-                          u,
-                          dy,
-                          0,
-                          runlog::RunState::running};
+                    static_cast<std::uint64_t>(k),
+                    du,
+                    u,
+                    dy,
+                    0,
+                    runlog::RunState::running};
     if (loop != nullptr) {
       const auto kk = static_cast<std::size_t>(k);
       for (std::size_t c = 0; c < r.size(); ++c) r[c] = loop->r(k, static_cast<Eigen::Index>(c));

@@ -31,8 +31,8 @@ TEST_F(ClosedLoopCommands, SimulateWritesV4AndIdentifyChoosesTheTwoStageMethodFr
   EXPECT_EQ(log.rfind("# excite run log v4\n", 0), 0U);
   EXPECT_TRUE(contains(log, "# loop: closed\n# excitation: setpoint\n# controller: pi "));
 
-  const Result id = excite("identify " + path("cl.csv") + " --structure first_order -o " +
-                           path("model.json"));
+  const Result id =
+      excite("identify " + path("cl.csv") + " --structure first_order -o " + path("model.json"));
   ASSERT_EQ(id.exit_code, 0) << id.out;
   EXPECT_TRUE(contains(id.out, "closed-loop run (setpoint excitation"));
   EXPECT_TRUE(contains(id.out, "two-stage estimate on the part of u that r explains"));
@@ -59,8 +59,9 @@ TEST_F(ClosedLoopCommands, RefusesTwoStageOnAnOpenLoopRunAndABadExcitationByName
             0);
   const Result id = excite("identify " + path("ol.csv") + " --method two-stage");
   EXPECT_NE(id.exit_code, 0);
-  EXPECT_TRUE(contains(id.out, "--method = two-stage, expected auto or direct for an open-loop "
-                               "run"))
+  EXPECT_TRUE(contains(id.out,
+                       "--method = two-stage, expected auto or direct for an open-loop "
+                       "run"))
       << id.out;
   const Result sim = excite("simulate " + path("wb.plan") + " --plant woodberry2x2 --controller " +
                             kPi + " --disturbance-std 0.1 -o " + path("x.csv"));

@@ -54,8 +54,7 @@ LoopData woodberry_under_pi(std::uint64_t seed, double disturbance_std, Eigen::I
   noise.disturbance_tau_min = 20.0;
   LoopData run;
   run.R = binary_signal(rows, 2, 1.0, 20);
-  const SimulatedRun s =
-      simulate_closed_loop(run.R, "r", 1.0, *plant, *controller, loop, noise);
+  const SimulatedRun s = simulate_closed_loop(run.R, "r", 1.0, *plant, *controller, loop, noise);
   run.U = s.du;
   run.Y = s.dy;
   return run;
@@ -93,11 +92,11 @@ TEST(TwoStage, UnbiasedWhereTheDirectFitIsBiasedUnderAColouredDisturbance) {
   const GainMeans m = over_seeds(8, 0.5);
   const Eigen::Matrix2d direct_error = (m.direct - truth).cwiseQuotient(truth);
   const Eigen::Matrix2d two_stage_error = (m.two_stage - truth).cwiseQuotient(truth);
-  std::printf("mean relative gain error over 8 seeds\n  direct    %+.3f %+.3f\n            "
-              "%+.3f %+.3f\n  two-stage %+.3f %+.3f\n            %+.3f %+.3f\n",
-              direct_error(0, 0), direct_error(0, 1), direct_error(1, 0), direct_error(1, 1),
-              two_stage_error(0, 0), two_stage_error(0, 1), two_stage_error(1, 0),
-              two_stage_error(1, 1));
+  std::printf(
+      "mean relative gain error over 8 seeds\n  direct    %+.3f %+.3f\n            "
+      "%+.3f %+.3f\n  two-stage %+.3f %+.3f\n            %+.3f %+.3f\n",
+      direct_error(0, 0), direct_error(0, 1), direct_error(1, 0), direct_error(1, 1),
+      two_stage_error(0, 0), two_stage_error(0, 1), two_stage_error(1, 0), two_stage_error(1, 1));
   // THEN the direct output-error fit on the applied u is biased towards 0 in every element
   // (measured: −23, −16, −14, −17 %): u carries the controller's answer to past disturbance,
   // which the output-error fit reads as the plant's response …

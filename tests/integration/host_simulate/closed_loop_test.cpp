@@ -5,11 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
-#include <unistd.h>
 
 #include "firmware/runlog/reader.hpp"
 #include "sim/control/controller_file.hpp"
@@ -120,8 +120,7 @@ TEST(ClosedLoopSimulation, DmcOnAlatiqiKeepsItsCvsInsideZonesThatTheSetpointsMov
   // the zone but off the setpoint (what a zone is for; a tracking CV would sit on it).
   double largest_rest_offset = 0.0;
   for (Eigen::Index c = 0; c < 4; ++c) {
-    largest_rest_offset =
-        std::max(largest_rest_offset, std::abs(run.dy(2399, c) - r(2399, c)));
+    largest_rest_offset = std::max(largest_rest_offset, std::abs(run.dy(2399, c) - r(2399, c)));
   }
   EXPECT_GT(largest_rest_offset, 0.01);
 }
@@ -167,7 +166,7 @@ TEST_P(LogColumns, AreConsistentUIsAppliedAndRIsAsDesigned) {
       EXPECT_DOUBLE_EQ(log.du[c][k], applied) << "row " << k << " MV " << c;
       EXPECT_EQ(log.u[c][k], log.du[c][k]);  // linear plant: baseline 0
       const MvState st = cl.st[c][k];
-      EXPECT_EQ(st, wanted <= -0.3   ? MvState::clamped_low
+      EXPECT_EQ(st, wanted <= -0.3  ? MvState::clamped_low
                     : wanted >= 0.3 ? MvState::clamped_high
                                     : MvState::ok);
       clamped += st != MvState::ok ? 1 : 0;
@@ -183,8 +182,8 @@ INSTANTIATE_TEST_SUITE_P(BothExcitations, LogColumns,
 TEST(ClosedLoopSimulation, RefusesASignalOfTheWrongWidthByName) {
   Loop l = example("woodberry2x2.pi.toml", "woodberry2x2");
   try {
-    simulate_closed_loop(Eigen::MatrixXd::Zero(10, 3), "x", 1.0, *l.plant, *l.controller,
-                         l.options, {});
+    simulate_closed_loop(Eigen::MatrixXd::Zero(10, 3), "x", 1.0, *l.plant, *l.controller, l.options,
+                         {});
     FAIL() << "accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_STREQ(e.what(),

@@ -61,8 +61,8 @@ TEST(SetpointDesign, ChannelsAreTheCvsEachAtItsShareOfItsTestLimit) {
 // The power of each output direction w_i in r, and the largest normalised correlation
 // between two directions: from Wᵀ r(k).
 struct DirectionPower {
-  double spread = 0.0;        // largest / smallest power
-  double correlation = 0.0;   // largest |normalised cross-correlation|
+  double spread = 0.0;       // largest / smallest power
+  double correlation = 0.0;  // largest |normalised cross-correlation|
 };
 DirectionPower in_w_coordinates(const Table& table, const Eigen::MatrixXd& gain) {
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(gain, Eigen::ComputeFullU);
@@ -82,7 +82,8 @@ TEST(SetpointDesign, AlongTheOutputDirectionsEveryDirectionGetsTheSamePowerUncor
   // it does not, and the design along W restores it.
   const PriorKnowledge prior = case_study("alatiqi4x4");
   const Design along = design_setpoint_excitation(prior, find_preset("prbsUnc"), four_cvs(true), 7);
-  const Design plain = design_setpoint_excitation(prior, find_preset("prbsUnc"), four_cvs(false), 7);
+  const Design plain =
+      design_setpoint_excitation(prior, find_preset("prbsUnc"), four_cvs(false), 7);
   const DirectionPower a = in_w_coordinates(along.table, prior.gain);
   const DirectionPower p = in_w_coordinates(plain.table, prior.gain);
   EXPECT_LT(a.correlation, 0.1);

@@ -36,8 +36,8 @@ std::string write_log(const Header& h, int rows, std::size_t r_count) {
     const std::array<double, 2> r{0.3 + x, -0.3};
     const std::array<double, 2> uc{x - 0.01, -x}, ysp{0.3 + x, -0.3};
     const std::array<MvState, 2> st{MvState::ok, k == 1 ? MvState::clamped_high : MvState::ok};
-    Row row{static_cast<double>(k), static_cast<std::uint64_t>(k), du, u, dy, 0,
-            RunState::running, 0};
+    Row row{
+        static_cast<double>(k), static_cast<std::uint64_t>(k), du, u, dy, 0, RunState::running, 0};
     row.r = std::span<const double>(r.data(), r_count);
     row.uc = uc;
     row.ysp = ysp;
@@ -77,8 +77,7 @@ TEST(RunLogV4, ReadsBackEveryClosedLoopColumn) {
   EXPECT_EQ(cl.uc[0][2], 0.2 - 0.01);
   EXPECT_EQ(cl.ysp[1], (std::vector<double>{-0.3, -0.3, -0.3}));
   EXPECT_EQ(cl.st[1][1], MvState::clamped_high);
-  EXPECT_EQ(cl.mode,
-            (std::vector<LoopMode>{LoopMode::test, LoopMode::test, LoopMode::suspended}));
+  EXPECT_EQ(cl.mode, (std::vector<LoopMode>{LoopMode::test, LoopMode::test, LoopMode::suspended}));
   EXPECT_EQ(r.log.du[0][2], 0.2);  // u and y keep their v3 meaning
 }
 

@@ -78,7 +78,7 @@ struct Metadata {
   double tau_high_min = 0.0;     // τ_H, the high dominating time constant, minutes
   double beta = 0.0;             // β, settling time in units of τ_H
   double switch_time_min = 0.0;  // T_sw of the plan's PRBS (4.2.3), minutes; 0 without PRBS
-  Excitation excitation = Excitation::open_loop;  // version 4 only; open_loop before
+  Excitation excitation = Excitation::open_loop;             // version 4 only; open_loop before
   std::array<ChannelMeta, signal::kMaxChannels> channels{};  // [0, recipe.channels) used
 };
 

@@ -29,9 +29,9 @@
 namespace excite::host {
 
 struct Stage1Fit {
-  int lags = 0;                  // L: FIR taps per r channel (lags 0 … L−1)
-  Eigen::MatrixXd u_hat;         // N × n: the part of u that r explains
-  Eigen::VectorXd fit_percent;   // per input, 100·(1 − ‖u − û‖/‖u − ū‖): how much of u is r's
+  int lags = 0;           // L: FIR taps per r channel (lags 0 … L−1)
+  Eigen::MatrixXd u_hat;  // N × n: the part of u that r explains
+  Eigen::VectorXd fit_percent;  // per input, 100·(1 − ‖u − û‖/‖u − ū‖): how much of u is r's
 };
 
 /// Stage 1: û = the least-squares FIR projection of each column of U (N × n) on the lags
@@ -53,8 +53,8 @@ struct ClosedLoopIdentification {
   Stage1Fit stage1;
   double se_widening_two_stage = 1.0;  // widen_for_coloured_residuals' largest factor
   double se_widening_direct = 1.0;
-  IdentificationResult two_stage;  // on (û, y): the estimate
-  IdentificationResult direct;     // on (u, y): the cross-check
+  IdentificationResult two_stage;               // on (û, y): the estimate
+  IdentificationResult direct;                  // on (u, y): the cross-check
   std::vector<GainDisagreement> feedback_bias;  // "feedback bias suspected" in these elements
 };
 

@@ -33,7 +33,7 @@ struct ClosedLoopOptions {
   bool dither_known = true;  // mv: the controller gets r as its known offsets
   Eigen::VectorXd mv_min;    // the MV box on the applied u (empty: none), deviations
   Eigen::VectorXd mv_max;
-  std::string controller;    // "<kind> <file>", the log's `# controller:` line
+  std::string controller;  // "<kind> <file>", the log's `# controller:` line
 };
 
 /// Runs the test signal `r` (N × outputs for setpoint excitation, N × inputs for mv; a
@@ -44,7 +44,6 @@ struct ClosedLoopOptions {
 SimulatedRun simulate_closed_loop(const Eigen::MatrixXd& r, std::string plan_label,
                                   double sample_time_min, sim::Plant& plant,
                                   sim::control::Controller& controller,
-                                  const ClosedLoopOptions& loop,
-                                  const SimulationOptions& options);
+                                  const ClosedLoopOptions& loop, const SimulationOptions& options);
 
 }  // namespace excite::host

@@ -35,14 +35,14 @@ struct SimulationOptions {
 /// (firmware/runlog/README.md, "Version 4"), deviations, one row per sample.
 struct ClosedLoopRecord {
   runlog::Excitation excitation = runlog::Excitation::setpoint;
-  std::string controller;                // "<kind> <file>", the `# controller:` line
-  std::vector<std::size_t> r_channels;   // outputs (setpoint) or inputs (mv) r moves
-  Eigen::MatrixXd r;                     // N × r_channels: the test signal as designed
-  Eigen::MatrixXd uc;                    // N × inputs: the controller's output (before the
-                                         // dither and any clamp) the plant got at row k
-  Eigen::MatrixXd ysp;                   // N × outputs: the setpoints in force
+  std::string controller;                        // "<kind> <file>", the `# controller:` line
+  std::vector<std::size_t> r_channels;           // outputs (setpoint) or inputs (mv) r moves
+  Eigen::MatrixXd r;                             // N × r_channels: the test signal as designed
+  Eigen::MatrixXd uc;                            // N × inputs: the controller's output (before the
+                                                 // dither and any clamp) the plant got at row k
+  Eigen::MatrixXd ysp;                           // N × outputs: the setpoints in force
   std::vector<std::vector<runlog::MvState>> st;  // N rows × inputs
-  int held_steps = 0;        // controller steps that held their output (StepStatus::held)
+  int held_steps = 0;         // controller steps that held their output (StepStatus::held)
   int qp_fallback_steps = 0;  // DMC steps at the QP's iteration cap (StepStatus::qp_fallback)
   int max_qp_iterations = 0;  // the most active-set iterations of one step
 };
@@ -55,9 +55,9 @@ struct SimulatedRun {
   double sample_time_min = 0.0;
   runlog::TimeScales time_scales;  // the plan's τ_H, β, T_sw (0: not known), into the header
   std::vector<std::string> input_names, input_units, output_names, output_units;
-  Eigen::VectorXd input_baseline;  // absolute inputs at the operating point
-  Eigen::MatrixXd du;              // N × inputs, deviations
-  Eigen::MatrixXd dy;              // N × outputs, deviations (with noise)
+  Eigen::VectorXd input_baseline;               // absolute inputs at the operating point
+  Eigen::MatrixXd du;                           // N × inputs, deviations
+  Eigen::MatrixXd dy;                           // N × outputs, deviations (with noise)
   std::optional<ClosedLoopRecord> closed_loop;  // set: a closed-loop run, written as v4
 };
 
@@ -74,8 +74,7 @@ SimulatedRun simulate_step(sim::Plant& plant, const std::string& input, double a
 
 /// Adds the coloured output disturbance of `options` (nothing when its std is 0) to Y
 /// (N × outputs) row by row. Throws std::invalid_argument for a std > 0 with τ ≤ 0.
-void add_disturbance(Eigen::MatrixXd& y, double sample_time_min,
-                     const SimulationOptions& options);
+void add_disturbance(Eigen::MatrixXd& y, double sample_time_min, const SimulationOptions& options);
 
 /// Writes the run log whole or not at all (host/output/whole_file.hpp: a failed write
 /// leaves the old file, if any, untouched). v3 for an open-loop run, v4 when
