@@ -69,5 +69,38 @@ TEST_F(ClosedLoopCommands, RefusesTwoStageOnAnOpenLoopRunAndABadExcitationByName
   EXPECT_TRUE(contains(sim.out, "--disturbance-tau-min = (not given), expected")) << sim.out;
 }
 
+TEST_F(ClosedLoopCommands, ASetpointPlanIsDesignedInspectedAndRunOnlyUnderAController) {
+  const Result design = excite(
+      "design --plant woodberry2x2 --preset prbsUnc --excitation setpoint --limit "
+      "y1=-2:2 --limit y2=-1:1 -o " +
+      path("sp.plan"));
+  ASSERT_EQ(design.exit_code, 0) << design.out;
+  const std::string plan = bytes_of(path("sp.plan"));
+  EXPECT_EQ(static_cast<unsigned char>(plan.at(8)), 4U);  // plan version 4
+  const Result inspect = excite("inspect " + path("sp.plan") + " --plant woodberry2x2");
+  ASSERT_EQ(inspect.exit_code, 0) << inspect.out;
+  EXPECT_TRUE(contains(inspect.out, "closed loop, setpoint excitation"));
+  EXPECT_TRUE(contains(inspect.out, "predicted static MV moves G(0)^-1 r(k)"));
+  const Result open =
+      excite("simulate " + path("sp.plan") + " --plant woodberry2x2 -o " + path("x.csv"));
+  EXPECT_NE(open.exit_code, 0);
+  EXPECT_TRUE(contains(open.out,
+                       "excitation = setpoint (a closed-loop plan), expected "
+                       "--controller FILE"))
+      << open.out;
+  const Result other = excite("simulate " + path("sp.plan") + " --plant woodberry2x2 " +
+                              "--controller " + kPi + " --excitation mv -o " + path("x.csv"));
+  EXPECT_NE(other.exit_code, 0);
+  EXPECT_TRUE(contains(other.out, "--excitation = mv, expected setpoint as the plan")) << other.out;
+  const Result run = excite("simulate " + path("sp.plan") + " --plant woodberry2x2 " +
+                            "--controller " + kPi + " -o " + path("cl.csv"));
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  EXPECT_TRUE(contains(bytes_of(path("cl.csv")), "# excitation: setpoint\n"));
+  // The open-loop design of the same preset is unchanged: plan version 3.
+  ASSERT_EQ(
+      excite("design -q --plant woodberry2x2 --preset prbsUnc -o " + path("ol.plan")).exit_code, 0);
+  EXPECT_EQ(static_cast<unsigned char>(bytes_of(path("ol.plan")).at(8)), 3U);
+}
+
 }  // namespace
 }  // namespace excite_cli_test
