@@ -39,7 +39,7 @@ w, n, plant = sys.argv[1], int(sys.argv[2]), sys.argv[3]
 truth = {"woodberry2x2": [[12.8, -18.9], [6.6, -19.4]]}.get(plant)
 if truth is None:
     truth = json.load(open(f"{w}/truth.json"))["gain"]
-cover, z, runs = {}, {}, 0
+cover, z, runs, missing = {}, {}, 0, {}
 for s in range(1, n + 1):
     try:
         j = json.load(open(f"{w}/id_{s}.json"))
@@ -48,15 +48,17 @@ for s in range(1, n + 1):
     runs += 1
     for o, out in enumerate(j["outputs"]):
         for i, e in enumerate(out["elements"]):
-            if "se" not in e or "K" not in e["se"]:
+            k, se, t = e.get("K"), e.get("se", {}).get("K"), truth[o][i]
+            if k is None or se is None:  # not estimated, or no standard error: counted apart
+                missing[(o, i)] = missing.get((o, i), 0) + 1
                 continue
-            k, se, t = e["K"], e["se"]["K"], truth[o][i]
             cover.setdefault((o, i), []).append(abs(k - t) <= 1.96 * se)
             z.setdefault((o, i), []).append((k - t) / se)
 print(f"{plant}: {runs} runs identified of {n}")
 for (o, i), c in sorted(cover.items()):
     print(f"  G{o+1}{i+1}: coverage {100*sum(c)/len(c):5.1f} %  SD of (K-K0)/SE {st.pstdev(z[(o,i)]):.2f}"
-          f"  mean (K-K0)/SE {st.mean(z[(o,i)]):+.2f}")
+          f"  mean (K-K0)/SE {st.mean(z[(o,i)]):+.2f}"
+          + (f"  ({missing[(o,i)]} runs without an SE)" if (o, i) in missing else ""))
 allc = [x for c in cover.values() for x in c]
 print(f"  all elements: {100*sum(allc)/len(allc):.1f} %")
 PY
