@@ -164,6 +164,16 @@ Status read_payload(ByteReader& r, Plan& plan) {
     meta.beta = r.f64();
     meta.switch_time_min = r.f64();
   }
+  if (meta.format_version >= 4) {  // the closed-loop plan's excitation (1 setpoint, 2 mv)
+    const std::uint8_t e = r.u8();
+    if (r.ok() && (e == 0 || e > 2)) {
+      return Status::error(StatusCode::invalid_field,
+                           "meta.excitation = %u, expected 1 (setpoint) or 2 (mv) in a version "
+                           "4 plan",
+                           unsigned{e});
+    }
+    meta.excitation = static_cast<Excitation>(e);
+  }
   if (!r.ok()) return truncated_in(r, "the metadata");
   if (Status s = read_text(r, meta.design_name, "meta.design_name"); !s) return s;
   if (Status s = read_text(r, meta.provenance, "meta.provenance"); !s) return s;
@@ -235,10 +245,10 @@ Status check_envelope(std::span<const std::uint8_t> in) {
                          in.size(), kHeaderSize + kTrailerSize);
   }
   const auto version = static_cast<std::uint16_t>(in[8] | in[9] << 8U);
-  if (version == 0 || version > kFormatVersion) {
+  if (version == 0 || version > kNewestFormatVersion) {
     return Status::error(StatusCode::unsupported_version,
                          "plan file has format version %u, this build reads versions 1…%u",
-                         unsigned{version}, unsigned{kFormatVersion});
+                         unsigned{version}, unsigned{kNewestFormatVersion});
   }
   const std::uint64_t payload = read_u32_le(in, 12);
   const std::uint64_t total = kHeaderSize + payload + kTrailerSize;
@@ -276,8 +286,10 @@ Status check_envelope(std::span<const std::uint8_t> in) {
 
 std::size_t encoded_size(const Plan& plan) {
   const Recipe& recipe = plan.recipe;
-  std::size_t size = kHeaderSize + kMetaFixedSize + text_size(plan.meta.design_name) +
-                     text_size(plan.meta.provenance) + kCountsSize;
+  const bool closed = plan.meta.excitation != Excitation::open_loop;
+  std::size_t size = kHeaderSize + kMetaFixedSize + (closed ? 1 : 0) +
+                     text_size(plan.meta.design_name) + text_size(plan.meta.provenance) +
+                     kCountsSize;
   for (std::uint32_t c = 0; c < recipe.channels && c < kMaxChannels; ++c) {
     size += text_size(plan.meta.channels[c].name) + kChannelFixedSize;
   }
@@ -291,7 +303,7 @@ std::size_t encoded_size(const Plan& plan) {
 
 std::size_t max_encoded_size() {
   const std::size_t biggest_source = kSourceHeaderSize + 4 + kMaxSegments * kSegmentSize;
-  return kHeaderSize + kMetaFixedSize + kNameCapacity + kProvenanceCapacity + kCountsSize +
+  return kHeaderSize + kMetaFixedSize + 1 + kNameCapacity + kProvenanceCapacity + kCountsSize +
          kMaxChannels * (kNameCapacity + kChannelFixedSize) + kMaxChannels * kMaxSources * 8 +
          kMaxSources * biggest_source + kMaxLines * kLineSize + kTrailerSize;
 }
@@ -307,7 +319,8 @@ EncodeResult encode(const Plan& plan, std::span<std::uint8_t> out) {
   const Recipe& recipe = plan.recipe;
   ByteWriter w(out.first(size));
   w.bytes(kMagic);
-  w.u16(kFormatVersion);
+  const bool closed = plan.meta.excitation != Excitation::open_loop;
+  w.u16(closed ? kClosedLoopFormatVersion : kFormatVersion);
   w.u16(0);  // flags, reserved
   w.u32(static_cast<std::uint32_t>(size - kHeaderSize - kTrailerSize));
 
@@ -316,6 +329,7 @@ EncodeResult encode(const Plan& plan, std::span<std::uint8_t> out) {
   w.f64(plan.meta.tau_high_min);
   w.f64(plan.meta.beta);
   w.f64(plan.meta.switch_time_min);
+  if (closed) w.u8(static_cast<std::uint8_t>(plan.meta.excitation));
   write_text(w, plan.meta.design_name);
   write_text(w, plan.meta.provenance);
   w.u32(recipe.channels);
@@ -340,7 +354,7 @@ EncodeResult encode(const Plan& plan, std::span<std::uint8_t> out) {
   return {Status{}, w.position()};
 }
 
-Status decode(std::span<const std::uint8_t> in, Plan& out) {
+Status decode(std::span<const std::uint8_t> in, Plan& out, bool closed_loop_allowed) {
   std::construct_at(&out);  // a default Plan in place; the 100 kB value never hits the stack
   Status status = check_envelope(in);
   if (status) {
@@ -349,6 +363,12 @@ Status decode(std::span<const std::uint8_t> in, Plan& out) {
     out.meta.format_version = static_cast<std::uint16_t>(in[8] | in[9] << 8U);
     status = read_payload(reader, out);
     if (status) status = validate(out);
+    if (status && out.meta.excitation != Excitation::open_loop && !closed_loop_allowed) {
+      status = Status::error(StatusCode::invalid_field,
+                             "meta.excitation = %s (a closed-loop plan, version 4), expected an "
+                             "open-loop plan: this reader applies the table as MV moves",
+                             to_text(out.meta.excitation));
+    }
   }
   if (!status) std::construct_at(&out);
   return status;

@@ -18,13 +18,30 @@ bool terminated(const Text<N>& text) {
 
 }  // namespace
 
+const char* to_text(Excitation e) noexcept {
+  switch (e) {
+    case Excitation::open_loop:
+      return "open_loop";
+    case Excitation::setpoint:
+      return "setpoint";
+    case Excitation::mv:
+      return "mv";
+  }
+  return "unknown";
+}
+
 Status validate(const Plan& plan) {
   if (Status s = signal::validate(plan.recipe); !s) return s;
   const Metadata& meta = plan.meta;
-  if (meta.format_version == 0 || meta.format_version > kFormatVersion) {
+  if (meta.format_version == 0 || meta.format_version > kNewestFormatVersion) {
     return Status::error(StatusCode::unsupported_version,
                          "meta.format_version = %u, expected 1…%u (the versions this build reads)",
-                         unsigned{meta.format_version}, unsigned{kFormatVersion});
+                         unsigned{meta.format_version}, unsigned{kNewestFormatVersion});
+  }
+  if (static_cast<std::uint8_t>(meta.excitation) > static_cast<std::uint8_t>(Excitation::mv)) {
+    return Status::error(StatusCode::invalid_field,
+                         "meta.excitation = %u, expected 0 (open loop), 1 (setpoint) or 2 (mv)",
+                         unsigned{static_cast<std::uint8_t>(meta.excitation)});
   }
   if (!terminated(meta.design_name)) {
     return Status::error(StatusCode::invalid_field,

@@ -109,11 +109,12 @@ class Parser {
       log_.format_version = 1;
     } else {
       if (line.rfind("# excite run log v", 0) == 0) {
-        return fail(
-            0, "unsupported version " + quoted(trim(line)) + "; this reader reads v1 to v4");
+        return fail(0,
+                    "unsupported version " + quoted(trim(line)) + "; this reader reads v1 to v4");
       }
-      return fail(0, "first line is " + quoted(trim(line)) +
-                         ", expected '# excite run log v3' (or v2, v1, v4) (not an excite run log?)");
+      return fail(0,
+                  "first line is " + quoted(trim(line)) +
+                      ", expected '# excite run log v3' (or v2, v1, v4) (not an excite run log?)");
     }
     bool seen[6] = {};
     bool seen_producer = false;  // optional: logs written before it existed have none
@@ -269,7 +270,8 @@ class Parser {
     if (closed_seen_[which]) return fail(0, "header key '" + std::string(key) + "' given twice");
     closed_seen_[which] = true;
     if (which == 0 && value != "closed") {
-      return fail(0, "loop = " + quoted(value) + ", expected closed (a v4 log is a closed-loop run)");
+      return fail(0,
+                  "loop = " + quoted(value) + ", expected closed (a v4 log is a closed-loop run)");
     }
     if (which == 1 && !excitation_from_text(value, log_.closed_loop.excitation)) {
       return fail(0, "excitation = " + quoted(value) + ", expected setpoint, mv or both");

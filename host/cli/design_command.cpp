@@ -7,13 +7,16 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "host/adaptive/cv_limit_text.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/creation_time.hpp"
 #include "host/cli/output_target.hpp"
 #include "host/design/case_studies.hpp"
+#include "host/design/closed_loop_design.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/design/presets.hpp"
 #include "host/design/spec.hpp"
+#include "sim/plants/plant.hpp"
 
 namespace excite::host::cli {
 namespace {
@@ -24,6 +27,10 @@ struct DesignOptions {
   std::string preset;
   std::string output;
   bool quiet = false;
+  std::string excitation = "open";  // open | setpoint | mv (issue 41 §2)
+  std::vector<std::string> limits;  // setpoint: CV test limits CV=LOW:HIGH, every CV
+  double limit_fraction = 0.5;      // setpoint amplitude = fraction x the test limit
+  std::string directions = "none";  // setpoint: none | output
 };
 
 void run(const DesignOptions& opt) {
@@ -46,6 +53,30 @@ void run(const DesignOptions& opt) {
     }
     prior = case_study(opt.plant);
     preset_name = opt.preset;
+  }
+  if (opt.excitation != "open") {
+    if (opt.plant.empty() || design.plan) {
+      throw std::invalid_argument("--excitation = " + opt.excitation +
+                                  " with a spec file, expected --plant NAME --preset ACRONYM");
+    }
+    const PresetInfo& preset = find_preset(preset_name);
+    if (opt.excitation == "mv") {
+      design = design_mv_dither(prior, preset, creation_time());
+    } else {
+      const std::vector<std::string> cvs = sim::make_plant(opt.plant)->output_names();
+      const CvLimits limits = parse_cv_limits(opt.limits, cvs, "the plant's");
+      SetpointDesignRequest request;
+      request.cv_names = cvs;
+      request.cv_low = limits.low;
+      request.cv_high = limits.high;
+      request.fraction = opt.limit_fraction;
+      request.along_output_directions = opt.directions == "output";
+      design = design_setpoint_excitation(prior, preset, request, creation_time());
+    }
+  } else if (!opt.limits.empty() || opt.directions != "none") {
+    throw std::invalid_argument(
+        "--limit/--directions with --excitation = open, expected "
+        "--excitation setpoint (they size and turn the CV setpoints)");
   }
   if (!design.plan) design = design_preset(prior, find_preset(preset_name), creation_time());
   write_plan_file(*design.plan, opt.output);
@@ -74,6 +105,24 @@ void add_design_command(CLI::App& app) {
       "a named design, e.g. prbsSimDir (steps, PRBS or multisines; host/README.md lists them)");
   cmd->add_option("-o,--output", opt->output, "plan file to write")->required();
   cmd->add_flag("-q,--quiet", opt->quiet, "print nothing on success");
+  cmd->add_option("--excitation", opt->excitation,
+                  "open (the MVs, open loop), setpoint (closed loop: the table is r on the CV "
+                  "setpoints, in CV units; needs --limit for every CV) or mv (closed loop: a "
+                  "dither on the controller's MV output); plan version 4 for the closed loop")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"open", "setpoint", "mv"}));
+  cmd->add_option("--limit", opt->limits,
+                  "setpoint excitation: CV test limits CV=LOW:HIGH (deviations), every CV; "
+                  "amplitude = --limit-fraction x min(|LOW|, HIGH)");
+  cmd->add_option("--limit-fraction", opt->limit_fraction,
+                  "setpoint excitation: the amplitude's share of each CV's test limit")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 1.0));
+  cmd->add_option("--directions", opt->directions,
+                  "setpoint excitation: none (uncorrelated across CVs) or output (along the "
+                  "prior's output directions W of G(0) = W Sigma V')")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"none", "output"}));
   cmd->callback([opt] { run(*opt); });
 }
 

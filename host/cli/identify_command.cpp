@@ -12,8 +12,13 @@
 // --max-time-constant if given, else
 // --tau-high, else the run logs' own design time scales, else the case study of the run
 // log's plant; without any, it refuses (host/cli/time_constant_bound.hpp).
+// A closed-loop run (run-log v4, its r recorded) is identified by the two-stage method on r
+// (host/identify/closed_loop.hpp) with the direct fit beside it as a cross-check; the model
+// written is the two-stage one (--method direct: the direct one). One closed-loop run at a time.
 
+#include <cmath>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -27,6 +32,7 @@
 #include "host/cli/text_table.hpp"
 #include "host/cli/time_constant_bound.hpp"
 #include "host/export/model_file.hpp"
+#include "host/identify/closed_loop.hpp"
 #include "host/identify/run_layout.hpp"
 #include "host/output/whole_file.hpp"
 
@@ -46,6 +52,8 @@ struct IdentifyCommandOptions {
   std::string structure = "auto";
   std::string structures_from;  // a model file whose elements' structures are forced
   bool allow_mixed = false;     // pool runs of other plants or units (issue 19)
+  std::string method = "auto";  // closed-loop runs: auto (= two-stage), two-stage, direct
+  int stage1_lags = 0;          // 0: project_on_reference's default
 };
 
 std::string with_unit(const std::string& name, const std::string& unit) {
@@ -145,6 +153,82 @@ void print(const IdentificationResult& r, const runlog::RunLog& log) {
   }
 }
 
+// G(0) of a model with its standard errors, element by element.
+nlohmann::json gains_json(const IdentifiedModel& m) {
+  nlohmann::json g = nlohmann::json::array(), se = nlohmann::json::array();
+  for (int o = 0; o < m.outputs; ++o) {
+    nlohmann::json row = nlohmann::json::array(), row_se = nlohmann::json::array();
+    for (int i = 0; i < m.inputs; ++i) {
+      const ElementEstimate& e = m.element(o, i);
+      row.push_back(e.estimated() ? nlohmann::json(e.value.static_gain()) : nlohmann::json());
+      row_se.push_back(std::isfinite(e.std_error.gain) ? nlohmann::json(e.std_error.gain)
+                                                       : nlohmann::json());
+    }
+    g.push_back(row);
+    se.push_back(row_se);
+  }
+  return {{"gain", g}, {"gain_std_error", se}};
+}
+
+std::string element_name(const runlog::RunLog& log, int o, int i) {
+  return log.output_names[static_cast<std::size_t>(o)] + "<-" +
+         log.input_names[static_cast<std::size_t>(i)];
+}
+
+// What the closed-loop identification adds to the model file: the method, stage 1, the
+// direct fit's G(0) and the elements where feedback bias is suspected.
+nlohmann::json closed_loop_json(const ClosedLoopIdentification& id, const runlog::RunLog& log,
+                                const std::string& method) {
+  nlohmann::json bias = nlohmann::json::array();
+  for (const GainDisagreement& d : id.feedback_bias) {
+    bias.push_back({{"element", element_name(log, d.output, d.input)},
+                    {"two_stage", d.two_stage},
+                    {"direct", d.direct},
+                    {"sigma", d.sigma}});
+  }
+  std::vector<double> fit(id.stage1.fit_percent.data(),
+                          id.stage1.fit_percent.data() + id.stage1.fit_percent.size());
+  const bool direct = method == "direct";
+  return {
+      {"method", direct ? "direct" : "two-stage"},
+      {"excitation", std::string(runlog::to_text(log.closed_loop.excitation))},
+      {"controller", log.closed_loop.controller},
+      {"stage1", {{"fir_lags", id.stage1.lags}, {"u_explained_by_r_percent", fit}}},
+      {direct ? "two_stage" : "direct", gains_json(direct ? id.two_stage.model : id.direct.model)},
+      {"feedback_bias_suspected", bias}};
+}
+
+void print_closed_loop(const ClosedLoopIdentification& id, const runlog::RunLog& log,
+                       const std::string& method) {
+  const bool direct = method == "direct";
+  const IdentifiedModel& other = direct ? id.two_stage.model : id.direct.model;
+  std::cout << (direct ? "two-stage estimate (cross-check)"
+                       : "direct fit on the applied u "
+                         "(cross-check)")
+            << ": G(0) =";
+  for (int o = 0; o < other.outputs; ++o) {
+    std::cout << (o == 0 ? " [" : "; ");
+    for (int i = 0; i < other.inputs; ++i) {
+      const ElementEstimate& e = other.element(o, i);
+      std::cout << (i == 0 ? "" : " ") << (e.estimated() ? num(e.value.static_gain(), 4) : "-")
+                << " +- " << (e.estimated() ? num(e.std_error.gain, 2) : "-");
+    }
+  }
+  std::cout << "]\n";
+  if (id.feedback_bias.empty()) {
+    std::cout << "no feedback bias suspected: the two G(0) agree within 2 sigma in every "
+                 "element\n";
+    return;
+  }
+  std::cout << "feedback bias suspected in " << id.feedback_bias.size()
+            << " element(s) (two-stage and direct G(0) differ by more than 2 sigma):\n";
+  for (const GainDisagreement& d : id.feedback_bias) {
+    std::cout << "  " << element_name(log, d.output, d.input) << ": two-stage "
+              << num(d.two_stage, 4) << ", direct " << num(d.direct, 4)
+              << " (2 sigma = " << num(2.0 * d.sigma, 3) << ")\n";
+  }
+}
+
 void run(const IdentifyCommandOptions& opt) {
   // Every input file counts, --structures-from's too (it was once replaced by -o).
   std::vector<std::string> inputs = opt.run_paths;
@@ -202,10 +286,40 @@ void run(const IdentifyCommandOptions& opt) {
   options.max_time_constant_min = bound;
   const std::string summary = layout_summary(data.report, runs.size());
   if (needs_warning(data.report)) std::cerr << "excite: warning: " << summary << '\n';
+  std::optional<ClosedLoopIdentification> closed;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    if (runs[r].closed_loop.closed && runs.size() > 1) {
+      throw std::invalid_argument(opt.run_paths[r] + ": a closed-loop run (v4) among " +
+                                  std::to_string(runs.size()) +
+                                  " runs, expected it alone (its r explains its own u only)");
+    }
+  }
+  if (first.closed_loop.closed) {
+    const runlog::ClosedLoopLog& cl = first.closed_loop;
+    if (static_cast<std::size_t>(data.U.rows()) != first.rows()) {
+      throw std::invalid_argument(opt.run_paths.front() +
+                                  ": rows = " + std::to_string(data.U.rows()) +
+                                  " after the flag rule, expected " + std::to_string(first.rows()) +
+                                  " (every row of a closed-loop run)");
+    }
+    Eigen::MatrixXd R(data.U.rows(), static_cast<Eigen::Index>(cl.r.size()));
+    for (std::size_t c = 0; c < cl.r.size(); ++c) {
+      R.col(static_cast<Eigen::Index>(c)) =
+          Eigen::Map<const Eigen::VectorXd>(cl.r[c].data(), data.U.rows());
+    }
+    closed = identify_closed_loop(data.U, R, data.Y, data.sample_time_min, data.layout, options,
+                                  opt.stage1_lags);
+  } else if (opt.method != "auto" && opt.method != "direct") {
+    throw std::invalid_argument("--method = " + opt.method +
+                                ", expected auto or direct for an open-loop run (the two-stage "
+                                "method needs the r of a closed-loop run, run-log v4)");
+  }
   const IdentificationResult result =
-      identify(data.U, data.Y, data.sample_time_min, data.layout, options);
+      closed ? (opt.method == "direct" ? closed->direct : closed->two_stage)
+             : identify(data.U, data.Y, data.sample_time_min, data.layout, options);
   nlohmann::json j = model_json(result, first.input_names, first.output_names);
   j["data"] = layout_json(data.report, opt.run_paths);
+  if (closed) j["closed_loop"] = closed_loop_json(*closed, first, opt.method);
   if (!opt.model_path.empty()) write_whole_file(opt.model_path, j.dump(2) + '\n');
   if (opt.json) {
     std::cout << j.dump(2) << '\n';
@@ -213,8 +327,21 @@ void run(const IdentifyCommandOptions& opt) {
     const double shown =
         bound > 0.0 ? bound : static_cast<double>(data.U.rows()) * data.sample_time_min;
     std::cout << "time constants bounded by " << num(shown) << " min (" << source << ")\n";
-    std::cout << "data: " << summary << "\n\n";
+    std::cout << "data: " << summary << "\n";
+    if (closed) {
+      const auto& fit = closed->stage1.fit_percent;
+      std::cout << "closed-loop run (" << runlog::to_text(first.closed_loop.excitation)
+                << " excitation, controller " << first.closed_loop.controller << "): "
+                << (opt.method == "direct" ? "direct fit on the applied u"
+                                           : "two-stage estimate on the part of u that r "
+                                             "explains")
+                << " (stage 1: FIR of " << closed->stage1.lags << " lags; u explained by r:";
+      for (Eigen::Index i = 0; i < fit.size(); ++i) std::cout << ' ' << num(fit(i), 3) << " %";
+      std::cout << ")\n";
+    }
+    std::cout << '\n';
     print(result, first);
+    if (closed) print_closed_loop(*closed, first, opt.method);
   }
 }
 
@@ -273,6 +400,16 @@ void add_identify_command(CLI::App& app) {
                   "structures; an element that model did not estimate gets two poles")
       ->check(CLI::ExistingFile)
       ->excludes("--structure");
+  cmd->add_option("--method", opt->method,
+                  "a closed-loop run (run-log v4): auto or two-stage (the projection on r, "
+                  "host/identify/README.md), or direct (the output-error fit on the applied u); "
+                  "the other is printed beside it as a cross-check")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "two-stage", "direct"}));
+  cmd->add_option("--stage1-lags", opt->stage1_lags,
+                  "two-stage: FIR lags of u on r in stage 1 (0: min(200, max(20, N/(8 m))))")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 2000));
   cmd->callback([opt] { run(*opt); });
 }
 

@@ -4,7 +4,10 @@
 // plant, the predicted static output excursions. Several plans: then one table of every
 // design's per-input min and max, side by side.
 
+#include <Eigen/QR>
+
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -42,8 +45,23 @@ nlohmann::json inspect_one(const InspectOptions& opt, const std::string& plan_pa
     names.emplace_back(plan::text_of(p->meta.channels[c].name));
   names_out = names;
 
+  const plan::Excitation excitation = p->meta.excitation;
+  const bool setpoint = excitation == plan::Excitation::setpoint;
   std::vector<OutputExcursion> excursions;
-  if (!opt.plant.empty()) excursions = static_output_excursions(plant_gain(opt.plant), table);
+  // Setpoint excitation: what the plant sees is u ≈ G(0)⁻¹ r under integral action (the
+  // static MV moves), not G(0)·r.
+  Eigen::MatrixXd static_mv;
+  if (!opt.plant.empty() && setpoint) {
+    const Eigen::MatrixXd g = plant_gain(opt.plant);
+    if (g.rows() != static_cast<Eigen::Index>(p->recipe.channels)) {
+      throw std::invalid_argument(plan_path + ": channels = " + std::to_string(p->recipe.channels) +
+                                  ", expected the " + std::to_string(g.rows()) + " CVs of " +
+                                  opt.plant + " (a setpoint plan)");
+    }
+    static_mv = g.completeOrthogonalDecomposition().pseudoInverse() * table.transpose();
+  } else if (!opt.plant.empty()) {
+    excursions = static_output_excursions(plant_gain(opt.plant), table);
+  }
 
   if (opt.json) {
     nlohmann::json j = input_measures_json(measures, names, cf_continuous);
@@ -52,6 +70,14 @@ nlohmann::json inspect_one(const InspectOptions& opt, const std::string& plan_pa
     j["provenance"] = std::string(plan::text_of(p->meta.provenance));
     j["samples"] = p->recipe.samples;
     j["sample_time_min"] = p->meta.sample_time_min;
+    if (excitation != plan::Excitation::open_loop) j["excitation"] = plan::to_text(excitation);
+    if (static_mv.size() != 0) {
+      nlohmann::json mv = nlohmann::json::array();
+      for (Eigen::Index i = 0; i < static_mv.rows(); ++i) {
+        mv.push_back({{"min", static_mv.row(i).minCoeff()}, {"max", static_mv.row(i).maxCoeff()}});
+      }
+      j["static_mv_moves"] = mv;
+    }
     if (!excursions.empty()) {
       nlohmann::json ex = nlohmann::json::array();
       for (const OutputExcursion& e : excursions) ex.push_back({{"min", e.min}, {"max", e.max}});
@@ -62,8 +88,25 @@ nlohmann::json inspect_one(const InspectOptions& opt, const std::string& plan_pa
   std::cout << "plan " << plan_path << ": " << plan::text_of(p->meta.design_name) << " ("
             << plan::text_of(p->meta.provenance) << ")\n"
             << p->recipe.channels << " channels x " << p->recipe.samples << " samples of "
-            << num(p->meta.sample_time_min) << " min, " << p->recipe.source_count << " sources\n\n";
+            << num(p->meta.sample_time_min) << " min, " << p->recipe.source_count << " sources\n";
+  if (setpoint) {
+    std::cout << "closed loop, setpoint excitation: the table is r, offsets of the CV "
+                 "setpoints (CV units); the channels are CVs\n";
+  } else if (excitation == plan::Excitation::mv) {
+    std::cout << "closed loop, MV dither: the table is added to the controller's MV output\n";
+  }
+  std::cout << '\n';
   print_input_measures(std::cout, measures, names, cf_continuous);
+  if (static_mv.size() != 0) {
+    std::cout << "\npredicted static MV moves G(0)^-1 r(k) on " << opt.plant
+              << " (what the plant sees once the controller's integral action has settled):\n";
+    TextTable out({"MV", "min", "max"});
+    for (Eigen::Index i = 0; i < static_mv.rows(); ++i) {
+      out.add_row({"u" + std::to_string(i + 1), num(static_mv.row(i).minCoeff(), 4),
+                   num(static_mv.row(i).maxCoeff(), 4)});
+    }
+    out.print(std::cout);
+  }
   if (!excursions.empty()) {
     std::cout << "\npredicted static output excursions G(0)*u(k) on " << opt.plant << ":\n";
     TextTable out({"output", "min", "max"});

@@ -2,6 +2,11 @@
 // excite simulate PLAN --plant NAME [--noise-var V] [--seed S] [--periods K] -o RUN.csv
 // excite simulate --plant NAME --step INPUT=AMPL [--samples N] [--sample-time-min T] [-o RUN.csv]
 // --plant MODEL.json: an identified model (excite identify -o) stands in for the plant.
+// excite simulate PLAN --plant NAME --controller FILE.toml [--excitation setpoint|mv]
+//                 [--dither-unknown] [--disturbance-std S --disturbance-tau-min TAU] -o RUN.csv
+//   closed loop in process (host/simulate/closed_loop.hpp): the plan's table is r, added to
+//   the CV setpoints (its channels = the plant's outputs) or to the controller's MV output
+//   (= its inputs); the log is run-log v4.
 
 #include <cmath>
 #include <cstdio>
@@ -16,8 +21,12 @@
 #include "host/cli/text_table.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/export/model_file.hpp"
+#include "host/design/table.hpp"
 #include "host/export/model_plant.hpp"
+#include "host/simulate/closed_loop.hpp"
 #include "host/simulate/simulate.hpp"
+#include "sim/control/controller_file.hpp"
+#include "sim/control/make_controller.hpp"
 
 namespace excite::host::cli {
 namespace {
@@ -30,6 +39,10 @@ struct SimulateOptions {
   SimulationOptions sim;
   std::uint32_t samples = 600;
   double sample_time_min = 1.0;
+  std::string controller;  // a controller file: run closed loop
+  std::string excitation = "setpoint";
+  bool dither_unknown = false;
+  bool excitation_given = false;
 };
 
 // A quick look at a step response: twenty rows of the outputs.
@@ -53,12 +66,72 @@ std::unique_ptr<sim::Plant> plant_named(const std::string& name) {
   return sim::make_plant(name);
 }
 
+// The plan's table as r, played `periods` times.
+Eigen::MatrixXd plan_signal(const plan::Plan& p, std::uint32_t periods) {
+  const Table table = make_table(p.recipe);
+  Eigen::MatrixXd r(table.rows() * static_cast<Eigen::Index>(periods), table.cols());
+  for (std::uint32_t k = 0; k < periods; ++k) r.middleRows(k * table.rows(), table.rows()) = table;
+  return r;
+}
+
+SimulatedRun run_closed_loop(const SimulateOptions& opt, sim::Plant& plant) {
+  if (opt.plan_path.empty() || opt.output.empty()) {
+    throw std::invalid_argument("--controller = " + opt.controller +
+                                " with no PLAN or -o RUN.csv, expected both (a closed-loop run)");
+  }
+  const sim::control::ControllerFile file = sim::control::load_controller_file(opt.controller);
+  std::unique_ptr<sim::Plant> model = file.model.model_file.empty()
+                                          ? sim::control::load_model(file)
+                                          : plant_named(file.model.model_file);
+  const Eigen::MatrixXd g0 = plant.static_gain();
+  const auto controller = sim::control::make_controller(file, *model, &g0);
+  const auto p = read_plan_file(opt.plan_path);
+  ClosedLoopOptions loop;
+  // A closed-loop plan (version 4) says where r goes; an open-loop plan takes --excitation.
+  const plan::Excitation planned = p->meta.excitation;
+  if (planned != plan::Excitation::open_loop && opt.excitation_given &&
+      opt.excitation != plan::to_text(planned)) {
+    throw std::invalid_argument("--excitation = " + opt.excitation + ", expected " +
+                                plan::to_text(planned) + " as the plan " + opt.plan_path +
+                                " says (or leave it out)");
+  }
+  const bool mv = planned == plan::Excitation::mv ||
+                  (planned == plan::Excitation::open_loop && opt.excitation == "mv");
+  loop.excitation = mv ? runlog::Excitation::mv : runlog::Excitation::setpoint;
+  loop.dither_known = !opt.dither_unknown;
+  loop.controller =
+      std::string(file.kind == sim::control::ControllerKind::dmc ? "dmc " : "pi ") + opt.controller;
+  if (!file.dmc.mv.empty()) {
+    loop.mv_min.resize(static_cast<Eigen::Index>(file.dmc.mv.size()));
+    loop.mv_max.resizeLike(loop.mv_min);
+    for (std::size_t j = 0; j < file.dmc.mv.size(); ++j) {
+      loop.mv_min(static_cast<Eigen::Index>(j)) = file.dmc.mv[j].min;
+      loop.mv_max(static_cast<Eigen::Index>(j)) = file.dmc.mv[j].max;
+    }
+  }
+  if (opt.sim.periods == 0 ||
+      std::uint64_t{opt.sim.periods} * p->recipe.samples > kMaxSimulatedRows) {
+    throw std::invalid_argument("--periods x plan samples = " + std::to_string(opt.sim.periods) +
+                                " x " + std::to_string(p->recipe.samples) + ", expected 1 to " +
+                                std::to_string(kMaxSimulatedRows) + " rows");
+  }
+  SimulatedRun run =
+      simulate_closed_loop(plan_signal(*p, opt.sim.periods), opt.plan_path, p->meta.sample_time_min,
+                           plant, *controller, loop, opt.sim);
+  run.time_scales = {p->meta.tau_high_min, p->meta.beta, p->meta.switch_time_min};
+  return run;
+}
+
 void run(const SimulateOptions& opt) {
-  refuse_output_among_inputs(opt.output, {opt.plan_path, opt.plant});
+  refuse_output_among_inputs(opt.output, {opt.plan_path, opt.plant, opt.controller});
   const HumanTextAside aside(opt.output);
   const auto plant = plant_named(opt.plant);
   SimulatedRun result;
-  if (!opt.step.empty()) {
+  if (!opt.controller.empty()) {
+    if (!opt.step.empty())
+      throw std::invalid_argument("--step with --controller, expected a PLAN for a closed loop");
+    result = run_closed_loop(opt, *plant);
+  } else if (!opt.step.empty()) {
     if (!opt.plan_path.empty())
       throw std::invalid_argument("give either PLAN or --step INPUT=AMPL, not both");
     const auto eq = opt.step.find('=');
@@ -91,6 +164,12 @@ void run(const SimulateOptions& opt) {
       throw std::invalid_argument("give PLAN and -o RUN.csv, or --step INPUT=AMPL");
     }
     const auto p = read_plan_file(opt.plan_path);
+    if (p->meta.excitation != plan::Excitation::open_loop) {
+      throw std::invalid_argument(opt.plan_path +
+                                  ": excitation = " + plan::to_text(p->meta.excitation) +
+                                  " (a closed-loop plan), expected --controller FILE to run it "
+                                  "under");
+    }
     result = simulate_plan(*p, opt.plan_path, *plant, opt.sim);
   }
   if (!opt.output.empty()) {
@@ -128,7 +207,35 @@ void add_simulate_command(CLI::App& app) {
       ->capture_default_str()
       ->check(finite_positive());
   cmd->add_option("-o,--output", opt->output, "run log (CSV, firmware/runlog/README.md)");
-  cmd->callback([opt] { run(*opt); });
+  cmd->add_option("--disturbance-std", opt->sim.disturbance_std,
+                  "coloured output disturbance: stationary standard deviation per output "
+                  "(first-order filtered noise, sim/lti/disturbance.hpp; 0: none)")
+      ->capture_default_str()
+      ->check(finite_non_negative());
+  cmd->add_option("--disturbance-tau-min", opt->sim.disturbance_tau_min,
+                  "the disturbance filter's time constant, minutes (of the order of the plant's)")
+      ->check(finite_positive());
+  cmd->add_option("--controller", opt->controller,
+                  "run closed loop under this controller file (sim/control/README.md): the "
+                  "plan's table is r; writes run-log v4")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--excitation", opt->excitation,
+                  "closed loop: r added to the CV setpoints (setpoint; plan channels = outputs) "
+                  "or to the controller's MV output as a dither (mv; = inputs)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"setpoint", "mv"}));
+  cmd->add_flag("--dither-unknown", opt->dither_unknown,
+                "closed loop, mv: the controller is not told of the dither (by default it is, "
+                "as a known move)");
+  cmd->callback([opt, cmd] {
+    opt->excitation_given = cmd->count("--excitation") > 0;
+    if (opt->sim.disturbance_std > 0.0 && opt->sim.disturbance_tau_min <= 0.0) {
+      throw std::invalid_argument(
+          "--disturbance-tau-min = (not given), expected a time "
+          "constant in minutes with --disturbance-std > 0");
+    }
+    run(*opt);
+  });
 }
 
 }  // namespace excite::host::cli

@@ -31,7 +31,9 @@ std::unique_ptr<plan::Plan> read_plan_file(const std::filesystem::path& path) {
   const std::string text = read_input_file(path, plan::max_encoded_size(), "a plan file");
   const std::vector<std::uint8_t> bytes(text.begin(), text.end());
   auto result = std::make_unique<plan::Plan>();
-  const plan::Status status = plan::decode(bytes, *result);
+  // Closed-loop plans too (version 4): excite simulate runs them under a controller and
+  // refuses them without one; inspect shows them.
+  const plan::Status status = plan::decode(bytes, *result, /*closed_loop_allowed=*/true);
   if (!status) throw std::invalid_argument(path.string() + ": " + status.message());
   const std::uint64_t values = std::uint64_t{result->recipe.channels} * result->recipe.samples;
   if (values > signal::kTableCapacity) {  // what the gateway can play; bounds inspect's memory

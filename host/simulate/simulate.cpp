@@ -10,6 +10,7 @@
 #include "firmware/runlog/writer.hpp"
 #include "host/design/table.hpp"
 #include "host/output/whole_file.hpp"
+#include "sim/lti/disturbance.hpp"
 #include "sim/lti/noise.hpp"
 
 namespace excite::host {
@@ -36,9 +37,23 @@ void respond(sim::Plant& plant, SimulatedRun& run, const SimulationOptions& opti
     throw std::invalid_argument("noise variance = " + std::to_string(options.noise_variance) +
                                 ", expected >= 0");
   }
+  add_disturbance(run.dy, run.sample_time_min, options);
 }
 
 }  // namespace
+
+void add_disturbance(Eigen::MatrixXd& y, double sample_time_min, const SimulationOptions& options) {
+  if (options.disturbance_std == 0.0) return;
+  sim::ColouredDisturbance d(static_cast<int>(y.cols()), options.disturbance_std,
+                             options.disturbance_tau_min, sample_time_min,
+                             sim::disturbance_seed(options.seed));
+  std::vector<double> row(static_cast<std::size_t>(y.cols()));
+  for (Eigen::Index k = 0; k < y.rows(); ++k) {
+    for (Eigen::Index i = 0; i < y.cols(); ++i) row[static_cast<std::size_t>(i)] = y(k, i);
+    d.add(row);
+    for (Eigen::Index i = 0; i < y.cols(); ++i) y(k, i) = row[static_cast<std::size_t>(i)];
+  }
+}
 
 SimulatedRun simulate_plan(const plan::Plan& plan, std::string plan_label, sim::Plant& plant,
                            const SimulationOptions& options) {
@@ -97,12 +112,18 @@ void write_run_log(const SimulatedRun& run, const std::filesystem::path& path) {
   for (std::size_t i = 0; i < run.output_names.size(); ++i) {
     outputs.push_back({run.output_names[i], run.output_units[i]});
   }
-  const runlog::Header header{run.plant, run.plan,     run.sample_time_min, inputs,
-                              outputs,   run.producer, run.time_scales};
+  runlog::Header header{run.plant, run.plan,     run.sample_time_min, inputs,
+                        outputs,   run.producer, run.time_scales};
+  const ClosedLoopRecord* loop = run.closed_loop ? &*run.closed_loop : nullptr;
+  if (loop != nullptr) {
+    header.closed_loop = {true, loop->excitation, loop->controller, loop->r_channels};
+  }
 
   WholeFile file(path);
   std::vector<char> buffer(
-      std::max<std::size_t>(runlog::max_row_chars(inputs.size(), outputs.size()), 1 << 16));
+      std::max<std::size_t>(runlog::max_closed_loop_row_chars(inputs.size(), outputs.size(),
+                                                              loop ? loop->r_channels.size() : 0),
+                            1 << 16));
   runlog::FileWriter writer(file.stream(), header, buffer);
   const auto fail = [&](runlog::WriteStatus status) {
     const int error = errno;  // a stream error's reason: disk full, file too large
@@ -116,6 +137,7 @@ void write_run_log(const SimulatedRun& run, const std::filesystem::path& path) {
   const auto p = static_cast<Eigen::Index>(outputs.size());
   std::vector<double> du(static_cast<std::size_t>(n)), u(static_cast<std::size_t>(n)),
       dy(static_cast<std::size_t>(p));
+  std::vector<double> r(loop ? loop->r_channels.size() : 0), uc(du.size()), ysp(dy.size());
   for (Eigen::Index k = 0; k < run.du.rows(); ++k) {
     for (Eigen::Index j = 0; j < n; ++j) {
       du[static_cast<std::size_t>(j)] = run.du(k, j);
@@ -123,13 +145,29 @@ void write_run_log(const SimulatedRun& run, const std::filesystem::path& path) {
     }
     for (Eigen::Index i = 0; i < p; ++i) dy[static_cast<std::size_t>(i)] = run.dy(k, i);
     // No engine here: every row of the plan is applied as designed, so the state is running.
-    const runlog::Row row{static_cast<double>(k) * run.sample_time_min,
-                          static_cast<std::uint64_t>(k),
-                          du,
-                          u,
-                          dy,
-                          0,
-                          runlog::RunState::running};
+    runlog::Row row{static_cast<double>(k) * run.sample_time_min,
+                    static_cast<std::uint64_t>(k),
+                    du,
+                    u,
+                    dy,
+                    0,
+                    runlog::RunState::running};
+    if (loop != nullptr) {
+      const auto kk = static_cast<std::size_t>(k);
+      for (std::size_t c = 0; c < r.size(); ++c) r[c] = loop->r(k, static_cast<Eigen::Index>(c));
+      for (Eigen::Index j = 0; j < n; ++j) uc[static_cast<std::size_t>(j)] = loop->uc(k, j);
+      for (Eigen::Index i = 0; i < p; ++i) ysp[static_cast<std::size_t>(i)] = loop->ysp(k, i);
+      row.r = r;
+      row.uc = uc;
+      row.ysp = ysp;
+      row.st = loop->st[kk];
+      row.mode = runlog::LoopMode::test;
+      for (const runlog::MvState st : loop->st[kk]) {
+        if (st == runlog::MvState::clamped_low || st == runlog::MvState::clamped_high) {
+          row.flags |= runlog::kClamped;
+        }
+      }
+    }
     if (const auto s = writer.write_row(row); s != runlog::WriteStatus::ok) fail(s);
   }
   file.commit();

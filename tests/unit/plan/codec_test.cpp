@@ -148,7 +148,39 @@ TEST(PlanCodec, FullestPlanNeedsExactlyMaxEncodedSize) {
   set_text(plan->meta.design_name, std::string(31, 'd'));
   set_text(plan->meta.provenance, std::string(127, 'p'));
   for (auto& ch : plan->meta.channels) set_text(ch.name, std::string(31, 'c'));
+  plan->meta.excitation = Excitation::setpoint;  // a closed-loop plan: one byte more
   EXPECT_EQ(encoded(*plan).size(), max_encoded_size());
+}
+
+// Version 4 (issue 41 §2): a closed-loop plan carries its excitation in one byte after the
+// time scales; an open-loop plan is still written as version 3, byte for byte.
+TEST(PlanCodec, ClosedLoopPlanIsVersion4AndReadsBackItsExcitation) {
+  auto plan = example_plan();
+  const Bytes open = encoded(*plan);
+  EXPECT_EQ(open[8], 3);
+  for (const Excitation e : {Excitation::setpoint, Excitation::mv}) {
+    plan->meta.excitation = e;
+    const Bytes closed = encoded(*plan);
+    EXPECT_EQ(closed[8], 4);
+    EXPECT_EQ(closed.size(), open.size() + 1);
+    EXPECT_EQ(closed[16 + 40], static_cast<std::uint8_t>(e));  // after created, T, τ_H, β, T_sw
+    auto out = std::make_unique<Plan>();
+    ASSERT_TRUE(decode(closed, *out, true)) << decode(closed, *out, true).message();
+    EXPECT_EQ(out->meta.excitation, e);
+    EXPECT_EQ(out->meta.format_version, 4);
+    EXPECT_EQ(encoded(*out), closed);  // re-encodes to the same bytes
+  }
+}
+
+TEST(PlanCodec, AReaderOfMvMovesRefusesAClosedLoopPlanByName) {
+  auto plan = example_plan();
+  plan->meta.excitation = Excitation::setpoint;
+  auto out = std::make_unique<Plan>();
+  const Status status = decode(encoded(*plan), *out);
+  EXPECT_EQ(status.code(), StatusCode::invalid_field);
+  EXPECT_EQ(std::string(status.message()),
+            "meta.excitation = setpoint (a closed-loop plan, version 4), expected an open-loop "
+            "plan: this reader applies the table as MV moves");
 }
 
 TEST(PlanCodec, RefusesTheFileTruncatedAtEveryLength) {
@@ -185,13 +217,13 @@ TEST(PlanCodec, LeavesADefaultPlanWhenItRefuses) {
 
 TEST(PlanCodec, RefusesANewerVersionNamingTheFilesAndTheBuildsVersion) {
   Bytes file = encoded(*example_plan());
-  file[8] = 4;
+  file[8] = 5;
   reseal(file);
   auto out = std::make_unique<Plan>();
   const Status status = decode(file, *out);
   EXPECT_EQ(status.code(), StatusCode::unsupported_version);
   EXPECT_EQ(std::string(status.message()),
-            "plan file has format version 4, this build reads versions 1…3");
+            "plan file has format version 5, this build reads versions 1…4");
 }
 
 // Version 2 stores T in minutes (the project's unit); version 1 stored seconds and is still

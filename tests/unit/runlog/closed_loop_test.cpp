@@ -4,11 +4,34 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <atomic>
+#include <cstdlib>
+#include <new>
 #include <string>
 #include <vector>
 
 #include "firmware/runlog/reader.hpp"
 #include "firmware/runlog/writer.hpp"
+
+// Every operator new of this program is counted: formatting a v4 row allocates nothing
+// (the gateway's log thread formats rows after start-up; STYLE.md practice 5).
+namespace {
+std::atomic<long> g_allocations{0};
+}  // namespace
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+#pragma GCC diagnostic pop
 
 namespace excite::runlog {
 namespace {
@@ -36,8 +59,8 @@ std::string write_log(const Header& h, int rows, std::size_t r_count) {
     const std::array<double, 2> r{0.3 + x, -0.3};
     const std::array<double, 2> uc{x - 0.01, -x}, ysp{0.3 + x, -0.3};
     const std::array<MvState, 2> st{MvState::ok, k == 1 ? MvState::clamped_high : MvState::ok};
-    Row row{static_cast<double>(k), static_cast<std::uint64_t>(k), du, u, dy, 0,
-            RunState::running, 0};
+    Row row{
+        static_cast<double>(k), static_cast<std::uint64_t>(k), du, u, dy, 0, RunState::running, 0};
     row.r = std::span<const double>(r.data(), r_count);
     row.uc = uc;
     row.ysp = ysp;
@@ -77,8 +100,7 @@ TEST(RunLogV4, ReadsBackEveryClosedLoopColumn) {
   EXPECT_EQ(cl.uc[0][2], 0.2 - 0.01);
   EXPECT_EQ(cl.ysp[1], (std::vector<double>{-0.3, -0.3, -0.3}));
   EXPECT_EQ(cl.st[1][1], MvState::clamped_high);
-  EXPECT_EQ(cl.mode,
-            (std::vector<LoopMode>{LoopMode::test, LoopMode::test, LoopMode::suspended}));
+  EXPECT_EQ(cl.mode, (std::vector<LoopMode>{LoopMode::test, LoopMode::test, LoopMode::suspended}));
   EXPECT_EQ(r.log.du[0][2], 0.2);  // u and y keep their v3 meaning
 }
 
@@ -140,6 +162,28 @@ TEST(RunLogV4, RefusesAMissingKeyAnUnknownModeAndABadStatusByName) {
   // r columns only on the excitation's side: r_R in a setpoint log is no column of it.
   EXPECT_NE(error_of(replaced(good, ",r_xD,", ",r_R,")).find("unexpected column 'r_R'"),
             std::string::npos);
+}
+
+TEST(RunLogV4, FormattingAClosedLoopRowAllocatesNothing) {
+  const Header h = closed_header(Excitation::mv, kSecondInput);
+  std::array<char, max_closed_loop_row_chars(2, 2, 1)> line{};
+  const std::array<double, 2> two{0.125, -3.5e-7};
+  const std::array<double, 1> one{0.25};
+  const std::array<MvState, 2> st{MvState::windup, MvState::manual};
+  Row row{1.0, 1, two, two, two, 4, RunState::running, 0};
+  row.r = one;
+  row.uc = two;
+  row.ysp = two;
+  row.st = st;
+  row.mode = LoopMode::control;
+  const long before = g_allocations.load();
+  const WriteResult w = format_row(h, row, line);
+  EXPECT_EQ(g_allocations.load(), before);
+  ASSERT_EQ(w.status, WriteStatus::ok) << w.message;
+  EXPECT_NE(
+      std::string(line.data(), w.length).find(",0.25,0.125,-3.5e-07,0.125,-3.5e-07,3,4,control,4,"),
+      std::string::npos)
+      << std::string(line.data(), w.length);
 }
 
 TEST(RunLogV4, WriterRefusesRowsOfTheWrongWidthAndAHeaderWithoutR) {

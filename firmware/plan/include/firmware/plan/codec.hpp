@@ -28,7 +28,8 @@ struct [[nodiscard]] EncodeResult {
   std::size_t size = 0;  // bytes written to the front of `out` when ok, else 0
 };
 
-/// Writes `plan` as a version-kFormatVersion file into the front of `out`.
+/// Writes `plan` as a version-kFormatVersion (3) file into the front of `out`, or as a
+/// version-4 file when meta.excitation is not open_loop.
 /// Refuses (nothing written) an invalid plan (validate(plan)) and an `out` shorter than
 /// encoded_size(plan) (capacity_exceeded). The same plan always gives the same bytes.
 EncodeResult encode(const Plan& plan, std::span<std::uint8_t> out);
@@ -39,6 +40,9 @@ EncodeResult encode(const Plan& plan, std::span<std::uint8_t> out);
 /// version this build does not read (newer or 0), nonzero reserved flags, checksum
 /// mismatch, counts beyond capacity, unknown source kinds, text without room or with a
 /// NUL, and any plan that fails validate(). On error `out` is a default Plan.
-Status decode(std::span<const std::uint8_t> in, Plan& out);
+/// A closed-loop plan (version 4: setpoint or mv excitation) is refused unless
+/// `closed_loop_allowed`: a reader that streams the table as MV moves (the gateway, the plant
+/// server's --plan) must not take setpoint offsets for moves.
+Status decode(std::span<const std::uint8_t> in, Plan& out, bool closed_loop_allowed = false);
 
 }  // namespace excite::plan

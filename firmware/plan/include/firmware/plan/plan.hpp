@@ -19,6 +19,18 @@ using signal::StatusCode;
 
 /// Format version this build writes, and the newest it reads.
 inline constexpr std::uint16_t kFormatVersion = 3;
+/// A closed-loop plan (Metadata::excitation not open_loop) is written as version 4: version 3
+/// plus one byte, the excitation (README, "Version 4"). An open-loop plan stays version 3,
+/// byte for byte; this build reads versions 1 … kNewestFormatVersion.
+inline constexpr std::uint16_t kClosedLoopFormatVersion = 4;
+inline constexpr std::uint16_t kNewestFormatVersion = kClosedLoopFormatVersion;
+
+/// Where the table goes (issue 41 §2): open_loop, the MVs themselves (every plan before
+/// version 4); setpoint, offsets of the CV setpoints of the running controller (channels are
+/// CVs, in CV units); mv, a dither added to the controller's MV output (channels are MVs).
+enum class Excitation : std::uint8_t { open_loop = 0, setpoint = 1, mv = 2 };
+/// "open_loop", "setpoint", "mv".
+const char* to_text(Excitation e) noexcept;
 
 inline constexpr std::size_t kNameCapacity = 32;         // 31 bytes + NUL
 inline constexpr std::size_t kProvenanceCapacity = 128;  // 127 bytes + NUL
@@ -66,6 +78,7 @@ struct Metadata {
   double tau_high_min = 0.0;     // τ_H, the high dominating time constant, minutes
   double beta = 0.0;             // β, settling time in units of τ_H
   double switch_time_min = 0.0;  // T_sw of the plan's PRBS (4.2.3), minutes; 0 without PRBS
+  Excitation excitation = Excitation::open_loop;             // version 4 only; open_loop before
   std::array<ChannelMeta, signal::kMaxChannels> channels{};  // [0, recipe.channels) used
 };
 

@@ -90,7 +90,13 @@ enum class LoopMode : std::uint8_t { off, control, test, suspended };
 /// v4 `st_<input>` column: each MV's status (what a commercial stepper reads). ok; the MV
 /// the plant got sits on its lower or upper limit; the slave loop winds up; the MV is in
 /// manual (the controller does not move it).
-enum class MvState : std::uint8_t { ok = 0, clamped_low = 1, clamped_high = 2, windup = 3, manual = 4 };
+enum class MvState : std::uint8_t {
+  ok = 0,
+  clamped_low = 1,
+  clamped_high = 2,
+  windup = 3,
+  manual = 4
+};
 inline constexpr std::uint8_t kMaxMvState = 4;
 
 std::string_view to_text(Excitation excitation) noexcept;

@@ -36,14 +36,14 @@ struct Header {
   double sample_time_min = 0.0;  // T, minutes, finite and > 0
   std::span<const Channel> inputs;
   std::span<const Channel> outputs;
-  std::string_view producer = {};  // program and version, one line, e.g. "excite-gateway 0.1.0";
-                                   // written as `# producer:` when not empty (every excite
-                                   // producer sets it)
-  TimeScales time_scales = {};     // each written when > 0 (finite and ≥ 0)
-  std::string_view baseline = {};  // how the baselines were taken, one line; `# baseline:`
-                                   // when not empty (excite import)
-  bool start_at_rest = true;       // false: `# start_at_rest: no` — the record starts
-                                   // mid-test, identify estimates the initial state
+  std::string_view producer = {};     // program and version, one line, e.g. "excite-gateway 0.1.0";
+                                      // written as `# producer:` when not empty (every excite
+                                      // producer sets it)
+  TimeScales time_scales = {};        // each written when > 0 (finite and ≥ 0)
+  std::string_view baseline = {};     // how the baselines were taken, one line; `# baseline:`
+                                      // when not empty (excite import)
+  bool start_at_rest = true;          // false: `# start_at_rest: no` — the record starts
+                                      // mid-test, identify estimates the initial state
   ClosedLoopHeader closed_loop = {};  // closed: the log is v4
 };
 

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,8 +23,28 @@ inline constexpr std::uint64_t kMaxSimulatedRows = 100'000;
 
 struct SimulationOptions {
   double noise_variance = 0.0;  // per output, Gaussian (case study: 0.03)
-  std::uint64_t seed = 1;       // of the noise
+  std::uint64_t seed = 1;       // of the noise (and of the disturbance, another stream)
   std::uint32_t periods = 1;    // the table played this many times back to back
+  // The coloured output disturbance (sim/lti/disturbance.hpp): first-order filtered noise of
+  // this stationary standard deviation (0: none) and time constant (minutes), per output.
+  double disturbance_std = 0.0;
+  double disturbance_tau_min = 0.0;
+};
+
+/// What a closed-loop run (closed_loop.hpp) records beside u and y: the v4 columns
+/// (firmware/runlog/README.md, "Version 4"), deviations, one row per sample.
+struct ClosedLoopRecord {
+  runlog::Excitation excitation = runlog::Excitation::setpoint;
+  std::string controller;                        // "<kind> <file>", the `# controller:` line
+  std::vector<std::size_t> r_channels;           // outputs (setpoint) or inputs (mv) r moves
+  Eigen::MatrixXd r;                             // N × r_channels: the test signal as designed
+  Eigen::MatrixXd uc;                            // N × inputs: the controller's output (before the
+                                                 // dither and any clamp) the plant got at row k
+  Eigen::MatrixXd ysp;                           // N × outputs: the setpoints in force
+  std::vector<std::vector<runlog::MvState>> st;  // N rows × inputs
+  int held_steps = 0;         // controller steps that held their output (StepStatus::held)
+  int qp_fallback_steps = 0;  // DMC steps at the QP's iteration cap (StepStatus::qp_fallback)
+  int max_qp_iterations = 0;  // the most active-set iterations of one step
 };
 
 /// What a run log holds, in memory.
@@ -34,9 +55,10 @@ struct SimulatedRun {
   double sample_time_min = 0.0;
   runlog::TimeScales time_scales;  // the plan's τ_H, β, T_sw (0: not known), into the header
   std::vector<std::string> input_names, input_units, output_names, output_units;
-  Eigen::VectorXd input_baseline;  // absolute inputs at the operating point
-  Eigen::MatrixXd du;              // N × inputs, deviations
-  Eigen::MatrixXd dy;              // N × outputs, deviations (with noise)
+  Eigen::VectorXd input_baseline;               // absolute inputs at the operating point
+  Eigen::MatrixXd du;                           // N × inputs, deviations
+  Eigen::MatrixXd dy;                           // N × outputs, deviations (with noise)
+  std::optional<ClosedLoopRecord> closed_loop;  // set: a closed-loop run, written as v4
 };
 
 /// Runs `plan` on `plant`. Throws std::invalid_argument when the plan's channel count
@@ -50,8 +72,13 @@ SimulatedRun simulate_step(sim::Plant& plant, const std::string& input, double a
                            std::uint32_t samples, double sample_time_min,
                            const SimulationOptions& options);
 
+/// Adds the coloured output disturbance of `options` (nothing when its std is 0) to Y
+/// (N × outputs) row by row. Throws std::invalid_argument for a std > 0 with τ ≤ 0.
+void add_disturbance(Eigen::MatrixXd& y, double sample_time_min, const SimulationOptions& options);
+
 /// Writes the run log whole or not at all (host/output/whole_file.hpp: a failed write
-/// leaves the old file, if any, untouched). Throws std::runtime_error naming the path and the
+/// leaves the old file, if any, untouched). v3 for an open-loop run, v4 when
+/// `run.closed_loop` is set. Throws std::runtime_error naming the path and the
 /// writer's reason.
 void write_run_log(const SimulatedRun& run, const std::filesystem::path& path);
 

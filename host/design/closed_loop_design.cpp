@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: MIT
+#include "host/design/closed_loop_design.hpp"
+
+#include <Eigen/SVD>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "firmware/signal/recipe.hpp"
+#include "host/design/table.hpp"
+
+namespace excite::host {
+namespace {
+
+std::string num(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+void mark(Design& d, plan::Excitation e, const std::string& what) {
+  d.plan->meta.excitation = e;
+  std::string provenance = std::string(plan::text_of(d.plan->meta.provenance)) + " " + what;
+  if (provenance.size() >= plan::kProvenanceCapacity)
+    provenance.resize(plan::kProvenanceCapacity - 1);
+  plan::set_text(d.plan->meta.provenance, provenance);
+}
+
+}  // namespace
+
+Design design_setpoint_excitation(const PriorKnowledge& prior, const PresetInfo& preset,
+                                  const SetpointDesignRequest& req, std::uint64_t created_unix_s) {
+  if (preset.uses_directions()) {
+    throw std::invalid_argument("preset = " + std::string(preset.acronym) +
+                                ", expected a plain preset for setpoint excitation (its "
+                                "directions are the output directions: --directions output)");
+  }
+  const auto p = static_cast<Eigen::Index>(req.cv_names.size());
+  if (p < 1 || p > static_cast<Eigen::Index>(signal::kMaxChannels)) {
+    throw std::invalid_argument("CVs = " + std::to_string(p) + ", expected 1 to " +
+                                std::to_string(signal::kMaxChannels));
+  }
+  if (req.cv_low.size() != p || req.cv_high.size() != p) {
+    throw std::invalid_argument("CV test limits = " + std::to_string(req.cv_low.size()) +
+                                ", expected one pair per CV (" + std::to_string(p) + ")");
+  }
+  if (!(req.fraction > 0.0 && req.fraction <= 1.0)) {
+    throw std::invalid_argument("limit fraction = " + num(req.fraction) + ", expected 0 < f <= 1");
+  }
+  PriorKnowledge cvs = prior;  // the time scales and T of the plant; the CVs as channels
+  cvs.inputs.clear();
+  cvs.gain.resize(0, 0);
+  cvs.sizing = Sizing::input_amplitude;
+  Eigen::VectorXd amplitude(p);
+  for (Eigen::Index c = 0; c < p; ++c) {
+    const double lo = req.cv_low(c), hi = req.cv_high(c);
+    const std::string& name = req.cv_names[static_cast<std::size_t>(c)];
+    if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < 0.0 && hi > 0.0)) {
+      throw std::invalid_argument("--limit " + name + " = " + num(lo) + ":" + num(hi) +
+                                  ", expected finite test limits with low < 0 < high for "
+                                  "setpoint excitation");
+    }
+    amplitude(c) = req.fraction * std::min(-lo, hi);
+    cvs.inputs.push_back({name, amplitude(c), lo, hi});
+  }
+  Design d = design_preset(cvs, preset, created_unix_s);
+  if (req.along_output_directions) {
+    if (prior.gain.rows() != p) {
+      throw std::invalid_argument("prior gain rows = " + std::to_string(prior.gain.rows()) +
+                                  ", expected " + std::to_string(p) +
+                                  " (one per CV) for output directions");
+    }
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(prior.gain, Eigen::ComputeFullU);
+    const Eigen::MatrixXd& W = svd.matrixU();  // p × p, output directions
+    // r = c·W s: the preset's mix (channels × sources, each channel a_c · s_c) rotated.
+    signal::Recipe& r = d.plan->recipe;
+    Eigen::MatrixXd mix(p, r.source_count);
+    for (Eigen::Index c = 0; c < p; ++c) {
+      for (Eigen::Index i = 0; i < mix.cols(); ++i) {
+        mix(c, i) = r.mix[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)] / amplitude(c);
+      }
+    }
+    const Eigen::MatrixXd rotated = W * mix;
+    for (Eigen::Index c = 0; c < p; ++c) {
+      for (Eigen::Index i = 0; i < mix.cols(); ++i) {
+        r.mix[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)] = rotated(c, i);
+      }
+    }
+    const Table turned = make_table(d.plan->recipe);
+    double scale = 1e300;
+    for (Eigen::Index c = 0; c < p; ++c) {
+      const double peak = turned.col(c).cwiseAbs().maxCoeff();
+      if (peak > 0.0) scale = std::min(scale, amplitude(c) / peak);
+    }
+    for (Eigen::Index c = 0; c < p; ++c) {
+      for (Eigen::Index i = 0; i < mix.cols(); ++i) {
+        r.mix[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)] *= scale;
+      }
+    }
+    d.table = make_table(d.plan->recipe);
+    d.notes.push_back(
+        "setpoint directions: r(k) = c * W * s(k), W the prior's output "
+        "directions (G(0) = W Sigma V'), c = " +
+        num(scale) + " keeps every CV within its amplitude");
+    plan::set_text(d.plan->meta.design_name,
+                   std::string(preset.acronym).substr(0, plan::kNameCapacity - 5) + "OutDir");
+  }
+  d.notes.push_back("setpoint excitation: r in CV units, amplitude per CV = " + num(req.fraction) +
+                    " x its test limit; under integral action u ~ inv(G(0)) r");
+  mark(d, plan::Excitation::setpoint, "closed-loop setpoint");
+  return d;
+}
+
+Design design_mv_dither(const PriorKnowledge& prior, const PresetInfo& preset,
+                        std::uint64_t created_unix_s) {
+  Design d = design_preset(prior, preset, created_unix_s);
+  d.notes.push_back("MV dither: the table is added to the controller's MV output");
+  mark(d, plan::Excitation::mv, "closed-loop mv dither");
+  return d;
+}
+
+}  // namespace excite::host

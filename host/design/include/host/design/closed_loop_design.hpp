@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Designs for a test with the controller on (issue 41 §2; /work/shared/CLOSED-LOOP.md).
+//
+// - Setpoint excitation: the table is r, offsets of the CV setpoints in CV units (plan
+//   version 4, excitation = setpoint; one channel per CV). A plain preset (prbsUnc,
+//   msGlmSim, …: uncorrelated across CVs) on the CVs, each CV's amplitude a fraction of its
+//   test limits, a_c = fraction · min(|low_c|, high_c); or the same signals along the prior's
+//   output directions, r(k) = c · W s(k) (G(0) = W Σ Vᵀ, (5.2.1)), c the largest factor that
+//   keeps every channel within its a_c. A controller with integral action then makes
+//   u ≈ G(0)⁻¹ r = V Σ⁻¹ Wᵀ r — the rotation of the open-loop directional designs (5.2.2),
+//   made by the true plant with no prior (CLOSED-LOOP.md, "Why closed loop helps").
+// - MV dither: the open-loop preset unchanged (its channels the MVs), marked excitation = mv:
+//   added to the controller's output, the controller told of it or not.
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "firmware/plan/plan.hpp"
+#include "host/design/presets.hpp"
+#include "host/design/prior_knowledge.hpp"
+
+namespace excite::host {
+
+struct SetpointDesignRequest {
+  std::vector<std::string> cv_names;  // one per CV (the plan's channel names)
+  Eigen::VectorXd cv_low, cv_high;    // CV test limits, deviations: low < 0 < high, finite
+  double fraction = 0.5;              // a_c = fraction · min(|low_c|, high_c), 0 < fraction ≤ 1
+  bool along_output_directions = false;  // r = c · W s: needs prior.gain
+};
+
+/// A setpoint-excitation design of a plain `preset` (not a directional one: the directions
+/// here are the output directions, `along_output_directions`). Throws std::invalid_argument
+/// in the one message form: a directional preset, limits missing, not finite or not about
+/// 0, a fraction outside (0, 1], more than 8 CVs, output directions without a prior G(0) of
+/// as many rows as CVs.
+Design design_setpoint_excitation(const PriorKnowledge& prior, const PresetInfo& preset,
+                                  const SetpointDesignRequest& request,
+                                  std::uint64_t created_unix_s);
+
+/// The open-loop design of `preset` marked as MV dither (plan version 4, excitation = mv).
+Design design_mv_dither(const PriorKnowledge& prior, const PresetInfo& preset,
+                        std::uint64_t created_unix_s);
+
+}  // namespace excite::host

@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Identification from closed-loop data (issue 41 §3; /work/shared/CLOSED-LOOP.md, "Identification
+// under feedback": Forssell and Ljung, Automatica 35 (1999) 1215; Ljung, System
+// Identification, 2nd ed., §13.5; Van den Hof and Schrama, Automatica 29 (1993) 1523).
+//
+// Under feedback the applied input u is correlated with past disturbances: u = S_i·r −
+// C·S·v (S_i the input sensitivity from r to u, v the output disturbance). An output-error
+// fit of y on u (the **direct** method without a noise model) is then biased when v is
+// coloured. The **two-stage (projection)** method removes the part of u the disturbance
+// made:
+//   stage 1  û = Ŝ_i r: each input regressed by least squares on the lags 0 … L−1 of every r
+//            channel (a long FIR of the input sensitivity); û is uncorrelated with v
+//            because r is (excite generates r);
+//   stage 2  the open-loop identification (identify.hpp: per-element structures, grades,
+//            gain covariances) on (û, y): y = G û + (G (u − û) + v), whose error term is
+//            uncorrelated with û, so the estimate is consistent with the output-error (wrong,
+//            fixed) noise model.
+// The direct fit on (u, y) is kept beside it as a cross-check: where the two G(0) disagree
+// beyond 2σ (the two standard errors combined) feedback bias is suspected in that element.
+
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "host/identify/identify.hpp"
+#include "host/identify/segments.hpp"
+
+namespace excite::host {
+
+struct Stage1Fit {
+  int lags = 0;           // L: FIR taps per r channel (lags 0 … L−1)
+  Eigen::MatrixXd u_hat;  // N × n: the part of u that r explains
+  Eigen::VectorXd fit_percent;  // per input, 100·(1 − ‖u − û‖/‖u − ū‖): how much of u is r's
+};
+
+/// Stage 1: û = the least-squares FIR projection of each column of U (N × n) on the lags
+/// 0 … lags−1 of every column of R (N × m), rows before 0 taken as 0 (at rest). `lags` 0:
+/// the default, min(200, max(20, N / (8·m))) — long enough for the closed loop's settling
+/// at a few parameters per 8 rows. Throws std::invalid_argument (one message form) when the
+/// sizes differ, R is zero throughout, or lags·m ≥ N / 2.
+Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags = 0);
+
+/// An element whose two G(0) estimates disagree beyond k·σ, σ = √(SE₁² + SE₂²).
+struct GainDisagreement {
+  int output = 0;
+  int input = 0;
+  double two_stage = 0.0, direct = 0.0;
+  double sigma = 0.0;  // √(SE_two_stage² + SE_direct²)
+};
+
+struct ClosedLoopIdentification {
+  Stage1Fit stage1;
+  double se_widening_two_stage = 1.0;  // widen_for_coloured_residuals' largest factor
+  double se_widening_direct = 1.0;
+  IdentificationResult two_stage;               // on (û, y): the estimate
+  IdentificationResult direct;                  // on (u, y): the cross-check
+  std::vector<GainDisagreement> feedback_bias;  // "feedback bias suspected" in these elements
+};
+
+/// Elements of two models (same sizes) whose gains differ by more than k·√(SE₁² + SE₂²);
+/// elements either model did not estimate, or without a standard error, are skipped.
+std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& two_stage,
+                                                 const IdentifiedModel& direct, double k = 2.0);
+
+/// Standard errors of the gains that allow for a coloured residual (a sandwich, "HAC"
+/// estimate: Newey and West, Econometrica 55 (1987) 703). identify()'s σ̂²(XᵀX)⁻¹ assumes a
+/// white output error; in closed loop stage 2's error G(u − û) + v is coloured, and that
+/// covariance is too small by the residual's correlation time. Per output row, with X the
+/// N × n sensitivities of ŷ to the row's gains (each element's unit-gain response to its
+/// input, exact: ŷ is linear in K) and e the residual on the scored rows:
+///   Cov = (XᵀX)⁻¹ [Σ_{|l|≤L} (1 − |l|/(L+1)) Σ_k x_k e_k e_{k−l} x_{k−l}ᵀ] (XᵀX)⁻¹,
+/// and each gain's variance is widened (never narrowed) by Cov_ii / (σ̂²(XᵀX)⁻¹)_ii, the row's
+/// gain covariance and each element's gain SE with it; the G(0) uncertainty is recomputed.
+/// `max_lag` 0: L = min(200, N/10). Returns the largest widening factor of an SE.
+double widen_for_coloured_residuals(IdentificationResult& result, const Eigen::MatrixXd& U,
+                                    const Eigen::MatrixXd& Y, const SampleLayout& layout,
+                                    int max_lag = 0);
+
+/// Both methods on one closed-loop run: U applied inputs, R the test signal r (N × m), Y.
+/// `stage1_lags` as in project_on_reference. Both results' gain standard errors are widened
+/// for their coloured residuals (widen_for_coloured_residuals). Throws what identify() and
+/// stage 1 throw.
+ClosedLoopIdentification identify_closed_loop(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
+                                              const Eigen::MatrixXd& Y, double T_min,
+                                              const SampleLayout& layout,
+                                              const IdentifyOptions& options = {},
+                                              int stage1_lags = 0);
+
+}  // namespace excite::host

@@ -1,0 +1,64 @@
+#!/bin/bash
+# Coverage of the nominal 95 % gain intervals of a closed-loop identification (issue 41 §3,
+# host/identify/README.md "Closed-loop runs"): a setpoint-excitation design, SEEDS closed-loop
+# runs under the plant's example controller (sim/control/examples), each identified by
+# `excite identify` (two-stage, or direct), and the share of seeds whose K ± 1.96·SE holds
+# the true gain, per element. Not a ctest (minutes for alatiqi4x4); run by hand:
+#   tests/bench/host_identify/closed_loop_coverage.sh woodberry2x2 100 0.3 two-stage
+#   tests/bench/host_identify/closed_loop_coverage.sh alatiqi4x4 100 0 two-stage
+# PLANT woodberry2x2 (PI, CV limits ±2, first-order elements) or alatiqi4x4 (DMC, CV limits
+# ±0.55, 0.1 of them as amplitude); DSTD the coloured disturbance's std (τ 20 min; 0: none);
+# white noise variance 1e-2 (woodberry2x2) or 5e-4 (alatiqi4x4).
+set -euo pipefail
+PLANT=${1:?plant}; SEEDS=${2:-100}; DSTD=${3:-0}; METHOD=${4:-two-stage}
+ROOT=$(cd "$(dirname "$0")/../../.." && pwd)
+E=${EXCITE:-$ROOT/build/default/bin/excite}
+W=$(mktemp -d); trap 'rm -rf "$W"' EXIT
+case $PLANT in
+  woodberry2x2)
+    CTRL=$ROOT/sim/control/examples/woodberry2x2.pi.toml; NOISE=1e-2; PERIODS=2
+    LIMITS="--limit y1=-2:2 --limit y2=-2:2"; FRACTION=0.5; ID="--structure first_order" ;;
+  alatiqi4x4)
+    CTRL=$ROOT/sim/control/examples/alatiqi4x4.dmc.toml; NOISE=5e-4; PERIODS=1
+    LIMITS="--limit y1=-0.55:0.55 --limit y2=-0.55:0.55 --limit y3=-0.55:0.55 --limit y4=-0.55:0.55"
+    FRACTION=0.1; ID="" ;;
+  *) echo "plant = $PLANT, expected woodberry2x2 or alatiqi4x4" >&2; exit 2 ;;
+esac
+"$E" design -q --plant "$PLANT" --preset prbsUnc --excitation setpoint $LIMITS \
+  --limit-fraction $FRACTION -o "$W/sp.plan"
+DIST=""; [ "$DSTD" != "0" ] && DIST="--disturbance-std $DSTD --disturbance-tau-min 20"
+for s in $(seq 1 "$SEEDS"); do
+  "$E" simulate "$W/sp.plan" --plant "$PLANT" --controller "$CTRL" --periods $PERIODS \
+    --noise-var $NOISE $DIST --seed "$s" -o "$W/run.csv" > /dev/null
+  "$E" identify "$W/run.csv" $ID --method "$METHOD" --json 2> /dev/null > "$W/id_$s.json" || true
+done
+"$E" gains --plant "$PLANT" --json > "$W/truth.json" 2> /dev/null || true
+python3 - "$W" "$SEEDS" "$PLANT" <<'PY'
+import json, sys, statistics as st, subprocess
+w, n, plant = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+truth = {"woodberry2x2": [[12.8, -18.9], [6.6, -19.4]]}.get(plant)
+if truth is None:
+    truth = json.load(open(f"{w}/truth.json"))["gain"]
+cover, z, runs, missing = {}, {}, 0, {}
+for s in range(1, n + 1):
+    try:
+        j = json.load(open(f"{w}/id_{s}.json"))
+    except Exception:
+        continue
+    runs += 1
+    for o, out in enumerate(j["outputs"]):
+        for i, e in enumerate(out["elements"]):
+            k, se, t = e.get("K"), e.get("se", {}).get("K"), truth[o][i]
+            if k is None or se is None:  # not estimated, or no standard error: counted apart
+                missing[(o, i)] = missing.get((o, i), 0) + 1
+                continue
+            cover.setdefault((o, i), []).append(abs(k - t) <= 1.96 * se)
+            z.setdefault((o, i), []).append((k - t) / se)
+print(f"{plant}: {runs} runs identified of {n}")
+for (o, i), c in sorted(cover.items()):
+    print(f"  G{o+1}{i+1}: coverage {100*sum(c)/len(c):5.1f} %  SD of (K-K0)/SE {st.pstdev(z[(o,i)]):.2f}"
+          f"  mean (K-K0)/SE {st.mean(z[(o,i)]):+.2f}"
+          + (f"  ({missing[(o,i)]} runs without an SE)" if (o, i) in missing else ""))
+allc = [x for c in cover.values() for x in c]
+print(f"  all elements: {100*sum(allc)/len(allc):.1f} %")
+PY

@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: MIT
+// `excite simulate --controller` then `excite identify` on its v4 log, as processes: the
+// closed-loop run is identified by the two-stage method with the direct fit beside it.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli_process.hpp"
+
+namespace excite_cli_test {
+namespace {
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+const std::string kPi = std::string(EXCITE_CONTROL_EXAMPLES) + "/woodberry2x2.pi.toml";
+
+class ClosedLoopCommands : public ExciteCli {};
+
+TEST_F(ClosedLoopCommands, SimulateWritesV4AndIdentifyChoosesTheTwoStageMethodFromIt) {
+  ASSERT_EQ(
+      excite("design -q --plant woodberry2x2 --preset prbsUnc -o " + path("wb.plan")).exit_code, 0);
+  const Result sim = excite("simulate " + path("wb.plan") + " --plant woodberry2x2 --controller " +
+                            kPi + " --periods 2 --noise-var 1e-6 --disturbance-std 0.02 " +
+                            "--disturbance-tau-min 20 --seed 3 -o " + path("cl.csv"));
+  ASSERT_EQ(sim.exit_code, 0) << sim.out;
+  const std::string log = bytes_of(path("cl.csv"));
+  EXPECT_EQ(log.rfind("# excite run log v4\n", 0), 0U);
+  EXPECT_TRUE(contains(log, "# loop: closed\n# excitation: setpoint\n# controller: pi "));
+
+  const Result id =
+      excite("identify " + path("cl.csv") + " --structure first_order -o " + path("model.json"));
+  ASSERT_EQ(id.exit_code, 0) << id.out;
+  EXPECT_TRUE(contains(id.out, "closed-loop run (setpoint excitation"));
+  EXPECT_TRUE(contains(id.out, "two-stage estimate on the part of u that r explains"));
+  EXPECT_TRUE(contains(id.out, "direct fit on the applied u (cross-check): G(0) ="));
+  const nlohmann::json j = nlohmann::json::parse(bytes_of(path("model.json")));
+  EXPECT_EQ(j.at("closed_loop").at("method"), "two-stage");
+  EXPECT_EQ(j.at("closed_loop").at("excitation"), "setpoint");
+  EXPECT_EQ(j.at("closed_loop").at("direct").at("gain").size(), 2U);
+
+  // --method direct writes the direct model, with the two-stage one as the cross-check.
+  const Result direct = excite("identify " + path("cl.csv") +
+                               " --structure first_order --method direct -o " + path("d.json"));
+  ASSERT_EQ(direct.exit_code, 0) << direct.out;
+  const nlohmann::json d = nlohmann::json::parse(bytes_of(path("d.json")));
+  EXPECT_EQ(d.at("closed_loop").at("method"), "direct");
+  EXPECT_TRUE(d.at("closed_loop").contains("two_stage"));
+}
+
+TEST_F(ClosedLoopCommands, RefusesTwoStageOnAnOpenLoopRunAndABadExcitationByName) {
+  ASSERT_EQ(
+      excite("design -q --plant woodberry2x2 --preset prbsUnc -o " + path("wb.plan")).exit_code, 0);
+  ASSERT_EQ(excite("simulate " + path("wb.plan") + " --plant woodberry2x2 -o " + path("ol.csv"))
+                .exit_code,
+            0);
+  const Result id = excite("identify " + path("ol.csv") + " --method two-stage");
+  EXPECT_NE(id.exit_code, 0);
+  EXPECT_TRUE(contains(id.out,
+                       "--method = two-stage, expected auto or direct for an open-loop "
+                       "run"))
+      << id.out;
+  const Result sim = excite("simulate " + path("wb.plan") + " --plant woodberry2x2 --controller " +
+                            kPi + " --disturbance-std 0.1 -o " + path("x.csv"));
+  EXPECT_NE(sim.exit_code, 0);
+  EXPECT_TRUE(contains(sim.out, "--disturbance-tau-min = (not given), expected")) << sim.out;
+}
+
+TEST_F(ClosedLoopCommands, ASetpointPlanIsDesignedInspectedAndRunOnlyUnderAController) {
+  const Result design = excite(
+      "design --plant woodberry2x2 --preset prbsUnc --excitation setpoint --limit "
+      "y1=-2:2 --limit y2=-1:1 -o " +
+      path("sp.plan"));
+  ASSERT_EQ(design.exit_code, 0) << design.out;
+  const std::string plan = bytes_of(path("sp.plan"));
+  EXPECT_EQ(static_cast<unsigned char>(plan.at(8)), 4U);  // plan version 4
+  const Result inspect = excite("inspect " + path("sp.plan") + " --plant woodberry2x2");
+  ASSERT_EQ(inspect.exit_code, 0) << inspect.out;
+  EXPECT_TRUE(contains(inspect.out, "closed loop, setpoint excitation"));
+  EXPECT_TRUE(contains(inspect.out, "predicted static MV moves G(0)^-1 r(k)"));
+  const Result open =
+      excite("simulate " + path("sp.plan") + " --plant woodberry2x2 -o " + path("x.csv"));
+  EXPECT_NE(open.exit_code, 0);
+  EXPECT_TRUE(contains(open.out,
+                       "excitation = setpoint (a closed-loop plan), expected "
+                       "--controller FILE"))
+      << open.out;
+  const Result other = excite("simulate " + path("sp.plan") + " --plant woodberry2x2 " +
+                              "--controller " + kPi + " --excitation mv -o " + path("x.csv"));
+  EXPECT_NE(other.exit_code, 0);
+  EXPECT_TRUE(contains(other.out, "--excitation = mv, expected setpoint as the plan")) << other.out;
+  const Result run = excite("simulate " + path("sp.plan") + " --plant woodberry2x2 " +
+                            "--controller " + kPi + " -o " + path("cl.csv"));
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  EXPECT_TRUE(contains(bytes_of(path("cl.csv")), "# excitation: setpoint\n"));
+  // The open-loop design of the same preset is unchanged: plan version 3.
+  ASSERT_EQ(
+      excite("design -q --plant woodberry2x2 --preset prbsUnc -o " + path("ol.plan")).exit_code, 0);
+  EXPECT_EQ(static_cast<unsigned char>(bytes_of(path("ol.plan")).at(8)), 3U);
+}
+
+}  // namespace
+}  // namespace excite_cli_test

@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: MIT
+// Designs for a test with the controller on (host/design/closed_loop_design.hpp): setpoint
+// excitation in CV units sized by the CV test limits, along the output directions or not;
+// MV dither; plan version 4 carrying the excitation, open-loop plans unchanged.
+#include "host/design/closed_loop_design.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/SVD>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "firmware/plan/codec.hpp"
+#include "host/design/case_studies.hpp"
+#include "host/design/table.hpp"
+
+namespace excite::host {
+namespace {
+
+std::vector<std::uint8_t> bytes_of(const plan::Plan& p) {
+  std::vector<std::uint8_t> out(plan::encoded_size(p));
+  const plan::EncodeResult r = plan::encode(p, out);
+  EXPECT_TRUE(r.status) << r.status.message();
+  return out;
+}
+
+SetpointDesignRequest four_cvs(bool directions) {
+  SetpointDesignRequest r;
+  r.cv_names = {"y1", "y2", "y3", "y4"};
+  r.cv_low = Eigen::Vector4d(-1.0, -0.5, -2.0, -1.0);
+  r.cv_high = Eigen::Vector4d(1.0, 0.8, 2.0, 0.4);
+  r.along_output_directions = directions;
+  return r;
+}
+
+TEST(SetpointDesign, ChannelsAreTheCvsEachAtItsShareOfItsTestLimit) {
+  const PriorKnowledge prior = case_study("alatiqi4x4");
+  const Design d = design_setpoint_excitation(prior, find_preset("prbsUnc"), four_cvs(false), 7);
+  EXPECT_EQ(d.plan->meta.excitation, plan::Excitation::setpoint);
+  ASSERT_EQ(d.table.cols(), 4);
+  // amplitude = 0.5 · min(|low|, high): 0.5, 0.25, 1.0, 0.2
+  const Eigen::Vector4d expected(0.5, 0.25, 1.0, 0.2);
+  for (Eigen::Index c = 0; c < 4; ++c) {
+    EXPECT_NEAR(d.table.col(c).cwiseAbs().maxCoeff(), expected(c), 1e-12) << c;
+    EXPECT_EQ(plan::text_of(d.plan->meta.channels[static_cast<std::size_t>(c)].name),
+              "y" + std::to_string(c + 1));
+  }
+  // Uncorrelated across CVs: the normalised cross-correlation of the channels is small.
+  const Eigen::MatrixXd t = d.table;
+  const Eigen::MatrixXd c = t.transpose() * t;
+  for (Eigen::Index i = 0; i < 4; ++i)
+    for (Eigen::Index j = i + 1; j < 4; ++j)
+      EXPECT_LT(std::abs(c(i, j)) / std::sqrt(c(i, i) * c(j, j)), 0.1) << i << "," << j;
+}
+
+// The power of each output direction w_i in r, and the largest normalised correlation
+// between two directions: from Wᵀ r(k).
+struct DirectionPower {
+  double spread = 0.0;       // largest / smallest power
+  double correlation = 0.0;  // largest |normalised cross-correlation|
+};
+DirectionPower in_w_coordinates(const Table& table, const Eigen::MatrixXd& gain) {
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(gain, Eigen::ComputeFullU);
+  const Eigen::MatrixXd s = Eigen::MatrixXd(table) * svd.matrixU();
+  const Eigen::MatrixXd c = s.transpose() * s;
+  DirectionPower out;
+  out.spread = c.diagonal().maxCoeff() / c.diagonal().minCoeff();
+  for (Eigen::Index i = 0; i < c.rows(); ++i)
+    for (Eigen::Index j = i + 1; j < c.rows(); ++j)
+      out.correlation = std::max(out.correlation, std::abs(c(i, j)) / std::sqrt(c(i, i) * c(j, j)));
+  return out;
+}
+
+TEST(SetpointDesign, AlongTheOutputDirectionsEveryDirectionGetsTheSamePowerUncorrelated) {
+  // With equal CV limits an uncorrelated r already has equal power in every direction (its
+  // covariance is a multiple of I, which no rotation changes); with the unequal limits here
+  // it does not, and the design along W restores it.
+  const PriorKnowledge prior = case_study("alatiqi4x4");
+  const Design along = design_setpoint_excitation(prior, find_preset("prbsUnc"), four_cvs(true), 7);
+  const Design plain =
+      design_setpoint_excitation(prior, find_preset("prbsUnc"), four_cvs(false), 7);
+  const DirectionPower a = in_w_coordinates(along.table, prior.gain);
+  const DirectionPower p = in_w_coordinates(plain.table, prior.gain);
+  EXPECT_LT(a.correlation, 0.1);
+  EXPECT_LT(a.spread, 1.1);
+  EXPECT_GT(p.spread, 2.0);
+  const SetpointDesignRequest req = four_cvs(true);
+  for (Eigen::Index c = 0; c < 4; ++c) {  // every CV inside its amplitude
+    EXPECT_LE(along.table.col(c).cwiseAbs().maxCoeff(),
+              0.5 * std::min(-req.cv_low(c), req.cv_high(c)) * (1 + 1e-12));
+  }
+}
+
+TEST(ClosedLoopPlan, CarriesItsExcitationWhileTheOpenLoopPlanStaysByteIdentical) {
+  const PriorKnowledge prior = case_study("alatiqi4x4");
+  const Design open = design_preset(prior, find_preset("prbsUnc"), 7);
+  const Design dither = design_mv_dither(prior, find_preset("prbsUnc"), 7);
+  EXPECT_EQ(dither.plan->meta.excitation, plan::Excitation::mv);
+  EXPECT_EQ(Eigen::MatrixXd(dither.table), Eigen::MatrixXd(open.table));
+  const std::vector<std::uint8_t> open_bytes = bytes_of(*open.plan);
+  EXPECT_EQ(open_bytes[8], 3);  // version 3: nothing of the closed loop
+  EXPECT_EQ(open_bytes, bytes_of(*design_preset(prior, find_preset("prbsUnc"), 7).plan));
+  const std::vector<std::uint8_t> dither_bytes = bytes_of(*dither.plan);
+  EXPECT_EQ(dither_bytes[8], 4);
+  auto back = std::make_unique<plan::Plan>();
+  ASSERT_TRUE(plan::decode(dither_bytes, *back, true));
+  EXPECT_EQ(back->meta.excitation, plan::Excitation::mv);
+}
+
+TEST(SetpointDesign, RefusesADirectionalPresetAndMissingLimitsByName) {
+  const PriorKnowledge prior = case_study("alatiqi4x4");
+  try {
+    design_setpoint_excitation(prior, find_preset("prbsSimDir"), four_cvs(false), 7);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("preset = prbsSimDir, expected a plain preset"),
+              std::string::npos);
+  }
+  SetpointDesignRequest open_ended = four_cvs(false);
+  open_ended.cv_high(1) = std::numeric_limits<double>::infinity();
+  try {
+    design_setpoint_excitation(prior, find_preset("prbsUnc"), open_ended, 7);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("--limit y2 = -0.5:inf, expected finite test limits"),
+              std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace excite::host
