@@ -17,7 +17,7 @@ StageResult Gateway::load_plan(std::span<const std::uint8_t> plan_file, std::str
   plan_name_ = std::move(plan_name);
   plan_ = std::make_unique<plan::Plan>();
   if (auto s = engine::load_plan(plan_file, static_cast<std::uint32_t>(config_.setpoints.size()),
-                                 signal::kTableCapacity, *plan_);
+                                 signal::kTableCapacity, *plan_, streamed_excitation(config_));
       !s) {
     return StageError{ExitCode::bad_plan, plan_name_ + ": " + s.message()};
   }

@@ -720,4 +720,11 @@ std::vector<int> output_indices(const GatewayConfig& c) {
   return out;
 }
 
+plan::Excitation streamed_excitation(const GatewayConfig& c) {
+  if (!c.closed_loop) return plan::Excitation::open_loop;
+  if (c.closed_loop->offsets == "setpoint") return plan::Excitation::setpoint;
+  if (c.closed_loop->offsets == "mv") return plan::Excitation::mv;
+  return plan::Excitation::open_loop;  // "both": no closed-loop plan kind carries both
+}
+
 }  // namespace excite::app

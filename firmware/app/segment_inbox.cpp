@@ -58,7 +58,9 @@ std::string SegmentInbox::check(std::span<const std::uint8_t> bytes, std::uint32
   const GatewayConfig& config = *setup_.config;
   const auto channels = static_cast<std::uint32_t>(config.setpoints.size());
   const std::span<double> storage = setup_.buffers[id % 2];
-  if (auto s = engine::load_plan(bytes, channels, storage.size(), next); !s) return s.message();
+  if (auto s = engine::load_plan(bytes, channels, storage.size(), next,
+                                    streamed_excitation(config));
+      !s) return s.message();
   if (auto s = engine::check_segment(*setup_.running, next); !s) return s.message();
   std::vector<double> scratch(signal::scratch_size(next.recipe));
   if (auto s = engine::make_table(next, storage, scratch, table); !s) return s.message();

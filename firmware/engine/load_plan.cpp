@@ -11,8 +11,16 @@ using signal::Status;
 using signal::StatusCode;
 
 Status load_plan(std::span<const std::uint8_t> file, std::uint32_t expected_channels,
-                 std::size_t capacity, plan::Plan& out) {
-  if (Status s = plan::decode(file, out); !s) return s;
+                 std::size_t capacity, plan::Plan& out, plan::Excitation streams) {
+  if (Status s = plan::decode(file, out, streams != plan::Excitation::open_loop); !s) return s;
+  if (out.meta.excitation != plan::Excitation::open_loop && out.meta.excitation != streams) {
+    const plan::Excitation found = out.meta.excitation;
+    out = plan::Plan{};
+    return Status::error(StatusCode::invalid_field,
+                         "plan excitation = %s, expected %s or open_loop (what the "
+                         "configuration's setpoints are: [closed_loop] offsets)",
+                         plan::to_text(found), plan::to_text(streams));
+  }
   if (out.recipe.channels != expected_channels) {
     const std::uint32_t found = out.recipe.channels;
     out = plan::Plan{};

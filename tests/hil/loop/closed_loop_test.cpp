@@ -558,6 +558,48 @@ TEST_F(ClosedLoopGateway, ThePlantRefusesAnOffsetBeyondItsLimit) {
 }
 
 // loop-config checks the controller against the plant before writing anything.
+// GIVEN a closed-loop plan designed for CV setpoint offsets (plan v4, excitation setpoint),
+// WHEN the gateway's setpoints are MV offsets (or it runs open loop), THEN it refuses the plan
+// before anything is written (exit 3, naming both); with setpoint offsets it streams it.
+class SetpointPlan : public ClosedLoopGateway {
+ protected:
+  fs::path setpoint_plan() {
+    const fs::path sp = path("sp.plan");
+    const std::string line = std::string(EXCITE_TOOL) +
+                             " design -q --plant woodberry2x2 --preset prbsUnc --excitation "
+                             "setpoint --limit y1=-2:2 --limit y2=-1:1 -o " +
+                             sp.string() + " > " + path("design_sp.out").string();
+    EXPECT_TRUE(shell(line)) << line;
+    return sp;
+  }
+};
+
+TEST_F(SetpointPlan, IsRefusedWhereTheSetpointsAreMvOffsets) {
+  const fs::path sp = setpoint_plan();
+
+  const std::uint16_t port = start("--offsets mv --output-range 0.5", {"--watchdog-s", "2"});
+  auto refused = start_gateway(sp, {"--start", "--clock", "lockstep"});
+  EXPECT_EQ(refused->wait(30s).value_or(-1), 3) << refused->err();
+  EXPECT_NE(refused->err().find("plan excitation = setpoint, expected mv or open_loop"),
+            std::string::npos)
+      << refused->err();
+  Plc plc(port);
+  ASSERT_TRUE(plc.ok());
+  EXPECT_TRUE(all_zero(plc.offsets())) << "nothing written";
+}
+
+TEST_F(SetpointPlan, StreamsAsSetpointOffsets) {
+  const fs::path sp = setpoint_plan();
+  // The plan's r is half of each CV's test limit (y1 ±1, y2 ±0.5): offsets within ±2.
+  const std::uint16_t port = start("--offsets setpoint --output-range 2", {"--watchdog-s", "2"});
+  auto gw = start_gateway(sp, {"--start", "--clock", "lockstep"});
+  ASSERT_EQ(gw->wait(60s).value_or(-1), 0) << gw->err();
+  Plc plc(port);
+  ASSERT_TRUE(plc.ok());
+  EXPECT_TRUE(all_zero(plc.offsets()));
+  EXPECT_EQ(plc.mode(), 1) << "the controller in control";
+}
+
 TEST_F(ClosedLoopGateway, LoopConfigRefusesABadControllerByName) {
   const fs::path bad = path("bad.toml");
   std::ofstream(bad) << "kind = \"pi\"\nsample_time_min = 1.0\n[model]\nplant = "

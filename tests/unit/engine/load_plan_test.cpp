@@ -57,6 +57,24 @@ TEST(LoadPlanTest, RefusesAPlanForAnotherChannelCount) {
   EXPECT_EQ(l.plan->recipe.channels, 0U);  // nothing half-loaded
 }
 
+TEST(LoadPlanTest, AClosedLoopPlanStreamsOnlyWhereItsExcitationIsWhatTheSetpointsAre) {
+  auto setpoint_plan = plan::testing::example_plan();
+  setpoint_plan->meta.excitation = plan::Excitation::setpoint;
+  const auto bytes = encoded(*setpoint_plan);
+  Loaded l;
+  EXPECT_FALSE(load_plan(bytes, 4, signal::kTableCapacity, *l.plan));  // never as MV moves
+  const Status mv = load_plan(bytes, 4, signal::kTableCapacity, *l.plan, plan::Excitation::mv);
+  EXPECT_FALSE(mv);
+  EXPECT_NE(std::strstr(mv.message(), "plan excitation = setpoint, expected mv or open_loop"),
+            nullptr)
+      << mv.message();
+  EXPECT_EQ(l.plan->recipe.channels, 0U);  // nothing half-loaded
+  EXPECT_TRUE(load_plan(bytes, 4, signal::kTableCapacity, *l.plan, plan::Excitation::setpoint));
+  // An open-loop plan streams as offsets too: its table is in the setpoints' units.
+  const auto open = encoded(*plan::testing::example_plan());
+  EXPECT_TRUE(load_plan(open, 4, signal::kTableCapacity, *l.plan, plan::Excitation::setpoint));
+}
+
 TEST(LoadPlanTest, RefusesACorruptFileByChecksum) {
   auto bytes = encoded(*plan::testing::example_plan());
   bytes[40] ^= 0x01;

@@ -18,6 +18,7 @@
 #include "excite/hal/transport.hpp"
 #include "firmware/app/timing_range.hpp"
 #include "firmware/engine/config.hpp"
+#include "firmware/plan/plan.hpp"
 
 namespace excite::app {
 
@@ -146,5 +147,10 @@ std::vector<hal::CarriedRange> carried_ranges(const GatewayConfig& config, hal::
 
 /// Value indices of the outputs (the run log's dy columns), in order.
 std::vector<int> output_indices(const GatewayConfig& config);
+
+/// What the setpoints stream, for engine::load_plan: MV moves (open loop, or [closed_loop]
+/// offsets "both": only an open-loop plan, in the setpoints' own order and units), CV
+/// setpoint offsets ("setpoint") or MV offsets ("mv").
+plan::Excitation streamed_excitation(const GatewayConfig& config);
 
 }  // namespace excite::app
