@@ -58,9 +58,10 @@ std::string SegmentInbox::check(std::span<const std::uint8_t> bytes, std::uint32
   const GatewayConfig& config = *setup_.config;
   const auto channels = static_cast<std::uint32_t>(config.setpoints.size());
   const std::span<double> storage = setup_.buffers[id % 2];
-  if (auto s = engine::load_plan(bytes, channels, storage.size(), next,
-                                    streamed_excitation(config));
-      !s) return s.message();
+  if (auto s =
+          engine::load_plan(bytes, channels, storage.size(), next, streamed_excitation(config));
+      !s)
+    return s.message();
   if (auto s = engine::check_segment(*setup_.running, next); !s) return s.message();
   std::vector<double> scratch(signal::scratch_size(next.recipe));
   if (auto s = engine::make_table(next, storage, scratch, table); !s) return s.message();
@@ -73,13 +74,12 @@ std::string SegmentInbox::check(std::span<const std::uint8_t> bytes, std::uint32
   return d.refusal;
 }
 
-void SegmentInbox::refuse(const std::string& path, const std::string& why,
-                          std::uint32_t running) {
+void SegmentInbox::refuse(const std::string& path, const std::string& why, std::uint32_t running) {
   std::string error;
   const std::string aside = rename_aside(path, setup_.dir, "next.plan.refused", "", error);
   ++refused_;
-  say("segment refused: " + path + ": " + why + "; the running segment " +
-      std::to_string(running) + " continues (" +
+  say("segment refused: " + path + ": " + why + "; the running segment " + std::to_string(running) +
+      " continues (" +
       (aside.empty() ? "it could not be moved aside: " + error : "the file is now " + aside) +
       "; drop a segment atomically: write it to a temporary name in " + setup_.dir +
       " and rename it to next.plan)");
@@ -148,8 +148,9 @@ bool SegmentInbox::poll_once() {
   const std::string kept =
       rename_aside(path, setup_.dir, "segment-" + std::to_string(id), ".plan", error);
   if (kept.empty()) {
-    refuse(path, "file = not movable to segment-" + std::to_string(id) + ".plan (" + error +
-                     "), expected a segment the gateway can keep as the record",
+    refuse(path,
+           "file = not movable to segment-" + std::to_string(id) + ".plan (" + error +
+               "), expected a segment the gateway can keep as the record",
            published);
     return true;
   }
@@ -160,9 +161,9 @@ bool SegmentInbox::poll_once() {
   say("segment " + std::to_string(id) + " staged: " + setup_.dir + "/" + kept + " (" +
       std::string(plan::text_of(next->meta.design_name)) + ", " + std::to_string(table.samples) +
       " rows, provenance \"" + std::string(provenance) + "\"); " +
-      (approved ? "pre-approved (segments.preapproved_from = \"" + from + "\")"
-                : "waiting for approval (stdin `approve`, command register 5" + not_preapproved +
-                      ")"));
+      (approved
+           ? "pre-approved (segments.preapproved_from = \"" + from + "\")"
+           : "waiting for approval (stdin `approve`, command register 5" + not_preapproved + ")"));
   return true;
 }
 
