@@ -68,8 +68,9 @@ Status Engine::arm(std::span<const double> live_values) {
 
 Status Engine::check_quiet(std::span<const double> first, std::span<const double> second) {
   if (first.size() != config_.values || second.size() != config_.values) {
-    return Status::error(StatusCode::invalid_field, "values read before arm = %zu and %zu, expected %u",
-                         first.size(), second.size(), config_.values);
+    return Status::error(StatusCode::invalid_field,
+                         "values read before arm = %zu and %zu, expected %u", first.size(),
+                         second.size(), config_.values);
   }
   // Not finite: arm() refuses it by name.
   for (std::uint32_t c = 0; c < config_.inputs; ++c) {
@@ -444,8 +445,8 @@ void Engine::check_before_write(std::span<const double> values) noexcept {
     if (!last_agreed_[c]) continue;
     const double read = values[static_cast<std::uint32_t>(config_.input[c].readback)];
     if (!wrote_lately(c, read)) {
-      foreign_seen({true, false, false, c, config_.input[c].readback, last_compared_[c], read,
-                    tick});
+      foreign_seen(
+          {true, false, false, c, config_.input[c].readback, last_compared_[c], read, tick});
       return;
     }
   }

@@ -100,7 +100,7 @@ bool closed_loop_valid(const Header& h) {
   if (!c.closed) return true;
   if (c.controller.empty() || !one_line(c.controller) || c.r_channels.empty()) return false;
   const std::size_t side = c.excitation == Excitation::setpoint ? h.outputs.size()
-                           : c.excitation == Excitation::mv ? h.inputs.size()
+                           : c.excitation == Excitation::mv     ? h.inputs.size()
                                                             : h.outputs.size() + h.inputs.size();
   for (std::size_t i = 0; i < c.r_channels.size(); ++i) {
     if (c.r_channels[i] >= side) return false;
@@ -327,7 +327,7 @@ WriteResult format_header(const Header& header, std::span<char> out) {
     const bool mv = loop.excitation == Excitation::mv;
     for (const std::size_t i : loop.r_channels) {
       s.text(",r_");
-      s.text(mv                           ? header.inputs[i].name
+      s.text(mv                          ? header.inputs[i].name
              : i < header.outputs.size() ? header.outputs[i].name
                                          : header.inputs[i - header.outputs.size()].name);
     }

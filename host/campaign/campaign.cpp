@@ -7,13 +7,13 @@
 #include <mutex>
 #include <stdexcept>
 
-#include "host/process/parallel.hpp"
 #include "host/campaign/scored_fit.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/presets.hpp"
 #include "host/identify/balance.hpp"
 #include "host/measures/cross_fit.hpp"
 #include "host/measures/input_measures.hpp"
+#include "host/process/parallel.hpp"
 #include "host/simulate/simulate.hpp"
 #include "sim/plants/plant.hpp"
 
@@ -104,9 +104,9 @@ Experiment run_experiment(const Design& design, const PresetInfo& preset,
     // Simulated here, the measured run is the noise-free one plus noise (same inputs, one
     // segment), so its prediction is Y_clean; any other run is simulated afresh.
     const bool in_process = !options.measured_run;
-    e.truth_fit = mean_finite(
-        in_process ? scored_fit_of(e.Y_clean, e.Y, e.layout)
-                   : truth_fit(*plant(), e.U, e.Y, e.sample_time_min, e.layout));
+    e.truth_fit =
+        mean_finite(in_process ? scored_fit_of(e.Y_clean, e.Y, e.layout)
+                               : truth_fit(*plant(), e.U, e.Y, e.sample_time_min, e.layout));
   }
   e.balance_clean = balance_of(e.Y_clean, true_gain);
   e.balance_noisy = balance_of(scored_about_segment_means(e.Y, e.layout), true_gain);

@@ -217,10 +217,9 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
           double gain = 0.0;
           ElementModel g = bank.grid()[static_cast<std::size_t>(bank.choose_one(col, z, gain))];
           g.gain = gain;
-          const MisoResult alone =
-              fit_miso(U, z, {screen.usable[e]}, {g}, T_min, bounds, kAloneIterations, layout,
-                       Eigen::MatrixXd(y.size(), 0), LmOptions{}.cost_tolerance,
-                       MisoUncertainty::none);
+          const MisoResult alone = fit_miso(U, z, {screen.usable[e]}, {g}, T_min, bounds,
+                                            kAloneIterations, layout, Eigen::MatrixXd(y.size(), 0),
+                                            LmOptions{}.cost_tolerance, MisoUncertainty::none);
           arx_start.push_back(alone.elements.front().value);
         }
         starts.push_back(std::move(arx_start));

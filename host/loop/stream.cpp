@@ -85,7 +85,8 @@ LoopResult stream_in_the_loop(const LoopRun& run) {
   const auto plant_rc = plant.stop(SIGTERM, 10s);
   if (plant_rc.value_or(-1) != 0) failed(plant, "did not stop cleanly");
 
-  runlog::ReadResult read = runlog::read_run_log(result.gateway_log.string(), limited_read_options());
+  runlog::ReadResult read =
+      runlog::read_run_log(result.gateway_log.string(), limited_read_options());
   if (!read.ok()) throw std::runtime_error(read.error->to_string());
   result.log = std::move(read.log);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -242,8 +242,7 @@ PlantServer::Outcome PlantServer::handle(std::uint8_t* query, int length, bool s
     const bool single = request.function_code == MODBUS_FC_WRITE_SINGLE_REGISTER;
     const std::uint32_t count =
         single ? 1U : std::min<std::uint32_t>(request.count, query[header + 5] / 2U);
-    if (refuse_offset_beyond_limit(request.address, count,
-                                   query + header + (single ? 3 : 6))) {
+    if (refuse_offset_beyond_limit(request.address, count, query + header + (single ? 3 : 6))) {
       return replied(modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE));
     }
   }
@@ -636,10 +635,10 @@ void print_summary(const PlantProcess& process, const PlantServer& server,
   std::cerr << "excite-plant: stopped after " << process.samples() << " samples, "
             << server.requests() << " requests, " << server.rejected_frames()
             << " rejected frames, " << server.line_losses() << " serial line losses, "
-            << server.illegal_functions() << " illegal functions, "
-            << server.closed_connections() << " connections closed by the server, "
-            << image.clamped_values() << " values did not fit their registers, "
-            << server.watchdog_trips() << " watchdog trips, " << server.refused_writes()
+            << server.illegal_functions() << " illegal functions, " << server.closed_connections()
+            << " connections closed by the server, " << image.clamped_values()
+            << " values did not fit their registers, " << server.watchdog_trips()
+            << " watchdog trips, " << server.refused_writes()
             << " writes refused for the input limits\n";
   for (std::size_t j = 0; j < image.misfits().size(); ++j) {
     const RegisterImage::Misfit& m = image.misfits()[j];

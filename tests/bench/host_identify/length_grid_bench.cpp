@@ -51,7 +51,10 @@ void BM_UnitWithoutGrid(benchmark::State& state) {
   const mc::Unit unit = mc::all_units(c).front();
   for (auto _ : state) benchmark::DoNotOptimize(mc::run_unit(*prepared, unit).fit_avg);
 }
-BENCHMARK(BM_UnitWithoutGrid)->Iterations(1)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+BENCHMARK(BM_UnitWithoutGrid)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime();
 
 }  // namespace
 
@@ -93,8 +96,7 @@ int main(int argc, char** argv) {
       "\nalatiqi4x4 %s x %d seeds, 5 %% grid (%.0f prefixes), one thread, load average %.1f\n"
       "  %.2f CPU s in all: per unit %.3f s, of which the whole run %.3f, cross-validation "
       "%.3f, the prefixes %.3f (%.0f %%); mean fit %.2f %%\n",
-      design.c_str(), seeds, prefixes, load_average(), cpu_s, cpu_s / n,
-      stages.experiment_s / n, stages.crossval_s / n, stages.lengths_s / n,
-      100.0 * stages.lengths_s / cpu_s, fit);
+      design.c_str(), seeds, prefixes, load_average(), cpu_s, cpu_s / n, stages.experiment_s / n,
+      stages.crossval_s / n, stages.lengths_s / n, 100.0 * stages.lengths_s / cpu_s, fit);
   return 0;
 }

@@ -19,14 +19,14 @@ namespace excite::runlog {
 struct ClosedLoopLog {
   bool closed = false;  // true for a v4 log (`# loop: closed`)
   Excitation excitation = Excitation::setpoint;
-  std::string controller;                  // the `# controller:` line ("dmc …", "pi …")
-  std::vector<std::size_t> r_channels;     // the channels r was added to: output indices
-                                           // (setpoint), input indices (mv); both: outputs
-                                           // 0 … p − 1, then p + input index; ascending
-  std::vector<std::vector<double>> r;      // one column per r channel, in r_channels' order
-  std::vector<std::vector<double>> uc;     // per input: the controller's output
-  std::vector<std::vector<double>> ysp;    // per output: the setpoint in force
-  std::vector<std::vector<MvState>> st;    // per input: MV status
+  std::string controller;                // the `# controller:` line ("dmc …", "pi …")
+  std::vector<std::size_t> r_channels;   // the channels r was added to: output indices
+                                         // (setpoint), input indices (mv); both: outputs
+                                         // 0 … p − 1, then p + input index; ascending
+  std::vector<std::vector<double>> r;    // one column per r channel, in r_channels' order
+  std::vector<std::vector<double>> uc;   // per input: the controller's output
+  std::vector<std::vector<double>> ysp;  // per output: the setpoint in force
+  std::vector<std::vector<MvState>> st;  // per input: MV status
   std::vector<LoopMode> mode;
 };
 

@@ -73,11 +73,11 @@ struct ServeOptions {
   double partial_timeout_s = 2.0;  // a request not complete this long after its first byte:
                                    // the connection is closed
   // The plant's own controller (README, "Watchdog and input limits"):
-  double watchdog_s = 0.0;          // heartbeat unchanged this long (wall clock) after it first
-                                    // changed: setpoints back to the baseline; 0: off
-  std::vector<double> input_min;    // absolute limits per plant input; empty: none. A write
-  std::vector<double> input_max;    // that would put a setpoint outside: exception 3, counted
-  std::string controller_log_path;  // closed loop: the controller log (controller_log.hpp)
+  double watchdog_s = 0.0;           // heartbeat unchanged this long (wall clock) after it first
+                                     // changed: setpoints back to the baseline; 0: off
+  std::vector<double> input_min;     // absolute limits per plant input; empty: none. A write
+  std::vector<double> input_max;     // that would put a setpoint outside: exception 3, counted
+  std::string controller_log_path;   // closed loop: the controller log (controller_log.hpp)
   std::vector<double> offset_limit;  // closed loop: |offset| bound per offset register (MV
                                      // offsets, then CV setpoint offsets); beyond: exception
                                      // 3, counted. Empty: none (ServerConfig plant.offset_limit)
