@@ -93,7 +93,8 @@ Timed timed(const Log& log, bool two_poles, int repeats) {
     const host::IdentificationResult result = identify(log, two_poles);
     t.cpu_s = std::min(t.cpu_s, cpu_seconds() - start);
     t.mean_fit = 0.0;
-    for (const auto& f : result.fits) t.mean_fit += f.fit_percent / static_cast<double>(result.fits.size());
+    for (const auto& f : result.fits)
+      t.mean_fit += f.fit_percent / static_cast<double>(result.fits.size());
   }
   return t;
 }

@@ -20,10 +20,10 @@
 #include <vector>
 
 #include "host/campaign/campaign.hpp"
-#include "host/process/parallel.hpp"
 #include "host/campaign/report.hpp"
 #include "host/identify/residuals.hpp"
 #include "host/identify/validate.hpp"
+#include "host/process/parallel.hpp"
 #include "true_gain_check.hpp"
 
 namespace excite::host {
@@ -111,8 +111,7 @@ TEST_F(WoodBerryCampaign, EveryCrossFitStandsBesideTheTruthsFitOnTheSameRun) {
   for (Eigen::Index b = 0; b < R; ++b) {
     const Experiment& e = result_->experiments[static_cast<std::size_t>(b)];
     double sum = 0.0;
-    for (Eigen::Index j = 0; j < e.Y.cols(); ++j)
-      sum += fit_percent(e.Y.col(j), e.Y_clean.col(j));
+    for (Eigen::Index j = 0; j < e.Y.cols(); ++j) sum += fit_percent(e.Y.col(j), e.Y_clean.col(j));
     truth(b) = sum / static_cast<double>(e.Y.cols());
     EXPECT_NEAR(e.truth_fit, truth(b), 1e-9) << e.name;
     // No model predicts the noise: the truth fits its own run better than the model from it
@@ -134,8 +133,7 @@ TEST_F(WoodBerryCampaign, EveryCrossFitStandsBesideTheTruthsFitOnTheSameRun) {
     ASSERT_NE(e.crossfit_worst_on, a) << e.name;
     EXPECT_EQ(e.crossfit_worst, result_->crossfit(a, e.crossfit_worst_on)) << e.name;
     EXPECT_EQ(e.truth_fit_on_worst, truth(e.crossfit_worst_on)) << e.name;
-    EXPECT_NEAR(e.loss_worst, truth(e.loss_worst_on) - result_->crossfit(a, e.loss_worst_on),
-                1e-9)
+    EXPECT_NEAR(e.loss_worst, truth(e.loss_worst_on) - result_->crossfit(a, e.loss_worst_on), 1e-9)
         << e.name;
   }
 }
@@ -235,11 +233,28 @@ TEST_F(WoodBerryCampaign, WritesTheSummaryAndTheReportWithFigures) {
   write_report(*result_, *sim::make_plant("woodberry2x2"), dir);
   const auto summary = nlohmann::json::parse(std::ifstream(dir / "summary.json"));
   ASSERT_EQ(summary["experiments"].size(), 17U);
-  for (const char* key :
-       {"name", "cf_avg", "cf_period_avg", "limit_scale", "pips_avg", "fit_avg", "crossfit_avg",
-        "crossfit_best", "crossfit_worst", "singular_values", "projection_std", "ratio", "upsilon",
-        "projection_std_noisy", "ratio_noisy", "upsilon_noisy", "truth_fit", "crossfit_worst_on",
-        "truth_fit_on_worst", "loss_avg", "loss_worst", "loss_worst_on"}) {
+  for (const char* key : {"name",
+                          "cf_avg",
+                          "cf_period_avg",
+                          "limit_scale",
+                          "pips_avg",
+                          "fit_avg",
+                          "crossfit_avg",
+                          "crossfit_best",
+                          "crossfit_worst",
+                          "singular_values",
+                          "projection_std",
+                          "ratio",
+                          "upsilon",
+                          "projection_std_noisy",
+                          "ratio_noisy",
+                          "upsilon_noisy",
+                          "truth_fit",
+                          "crossfit_worst_on",
+                          "truth_fit_on_worst",
+                          "loss_avg",
+                          "loss_worst",
+                          "loss_worst_on"}) {
     EXPECT_TRUE(summary["experiments"][0].contains(key)) << key;
   }
   EXPECT_EQ(summary["conventions"]["noise_variance"].get<double>(), 5e-4);
@@ -253,9 +268,9 @@ TEST_F(WoodBerryCampaign, WritesTheSummaryAndTheReportWithFigures) {
   std::ifstream html_file(dir / "index.html");
   const std::string html((std::istreambuf_iterator<char>(html_file)),
                          std::istreambuf_iterator<char>());
-  for (const char* convention : {"Conventions", "0.03/60", "true G(0)", "noise-free outputs",
-                                 "chosen by BIC", "the thesis fitted two poles and a delay",
-                                 "loss against the truth", "truth there [%]"})
+  for (const char* convention :
+       {"Conventions", "0.03/60", "true G(0)", "noise-free outputs", "chosen by BIC",
+        "the thesis fitted two poles and a delay", "loss against the truth", "truth there [%]"})
     EXPECT_NE(html.find(convention), std::string::npos) << convention;
   for (const char* figure : {"sigma.svg", "projections.svg", "prbsUnc.svg", "msGlmZipm.svg"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / "figures" / figure)) << figure;

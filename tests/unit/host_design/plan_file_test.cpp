@@ -107,8 +107,7 @@ TEST_F(PlanFile, OnlyARegularFileNoLargerThanTheLargestPlanIsRead) {
   EXPECT_NE(refusal(fifo).find(fifo.string() + ": file type = FIFO, expected a regular file"),
             std::string::npos)
       << refusal(fifo);
-  EXPECT_NE(refusal("/dev/zero").find("/dev/zero: file type = character device"),
-            std::string::npos)
+  EXPECT_NE(refusal("/dev/zero").find("/dev/zero: file type = character device"), std::string::npos)
       << refusal("/dev/zero");
   EXPECT_NE(refusal(dir_).find("is a directory, expected a plan file"), std::string::npos)
       << refusal(dir_);

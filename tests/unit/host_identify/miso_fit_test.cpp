@@ -80,9 +80,8 @@ void expect_same_fit(const SampleLayout& layout) {
   const Eigen::MatrixXd no_trend(r.U.rows(), 0);
   const MisoResult full =
       fit_miso(r.U, r.y, {0, 1}, start_of(r.truth), 1.0, bounds, 200, layout, no_trend);
-  const MisoResult trial =
-      fit_miso(r.U, r.y, {0, 1}, start_of(r.truth), 1.0, bounds, 200, layout, no_trend,
-               LmOptions{}.cost_tolerance, MisoUncertainty::none);
+  const MisoResult trial = fit_miso(r.U, r.y, {0, 1}, start_of(r.truth), 1.0, bounds, 200, layout,
+                                    no_trend, LmOptions{}.cost_tolerance, MisoUncertainty::none);
   ASSERT_GT(full.iterations, 3);
   EXPECT_EQ(trial.iterations, full.iterations);
   std::vector<ElementModel> ends;
