@@ -2,6 +2,7 @@
 #include "firmware/app/bus_factory.hpp"
 
 #include <optional>
+#include <string>
 
 namespace excite::app {
 
@@ -16,6 +17,17 @@ BusResult make_field_bus(const GatewayConfig& config, const hal::Clock& clock, b
     if (config.values[i].role == ValueRole::heartbeat_echo) await_echo = i;
   }
   return config.transport->make_bus(clock, await_echo);
+}
+
+std::string check_written_values(const GatewayConfig& config, const hal::FieldBus& bus) {
+  for (std::size_t i = 0; i < config.values.size(); ++i) {
+    if (config.values[i].acknowledge && !bus.value_writable(i)) {
+      return "values[" + std::to_string(i) + "].acknowledge = \"clear\", expected a command value " +
+             "the transport can write back (Modbus: a holding register, function_code = 3; the " +
+             "CAN transport writes no value)";
+    }
+  }
+  return "";
 }
 
 std::string check_bus_timing(const GatewayConfig& config, double period_s) {

@@ -258,7 +258,8 @@ void parse_values(const toml::table& root, GatewayConfig& c, hal::TransportConfi
     const toml::table& t = *node.as_table();
     check_keys(
         t, w,
-        entry_keys({"name", "unit", "role", "test_low", "test_high", "hysteresis"}, transport));
+        entry_keys({"name", "unit", "role", "acknowledge", "test_low", "test_high", "hysteresis"},
+                   transport));
     ValueSpec v;
     v.name = channel_name(t, w);
     v.unit = channel_unit(t, w);
@@ -287,6 +288,17 @@ void parse_values(const toml::table& root, GatewayConfig& c, hal::TransportConfi
                           "controller_mode, mv_status, controller_move, applied_mv, "
                           "setpoint_in_force");
       }
+    }
+    if (auto ack = text(t, w, "acknowledge")) {
+      if (v.role != ValueRole::command) {
+        throw ConfigError(w + ".acknowledge", '"' + *ack + '"',
+                          "only on the command value (role = \"command\")");
+      }
+      if (*ack != "clear" && *ack != "none") {
+        throw ConfigError(w + ".acknowledge", '"' + *ack + '"',
+                          "\"clear\" (the gateway writes 0 back after each command) or \"none\"");
+      }
+      v.acknowledge = *ack == "clear";
     }
     v.test_low = number(t, w, "test_low");
     v.test_high = number(t, w, "test_high");
@@ -618,7 +630,10 @@ engine::EngineConfig to_engine_config(const GatewayConfig& c,
       e.test[j] = {true, *v.test_low, *v.test_high, v.hysteresis};
     }
     if (v.role == ValueRole::heartbeat_echo) e.heartbeat_echo = static_cast<std::int32_t>(j);
-    if (v.role == ValueRole::command) e.command_value = static_cast<std::int32_t>(j);
+    if (v.role == ValueRole::command) {
+      e.command_value = static_cast<std::int32_t>(j);
+      e.acknowledge_command = v.acknowledge;
+    }
   }
   if (c.closed_loop) {  // the controller's read-backs, the i-th of a role for the i-th MV/CV
     engine::ControllerWatch& w = e.controller;

@@ -304,6 +304,9 @@ int main(int argc, char** argv) {
   excite::hal::VirtualClock lockstep_clock;  // sleep_until returns at once: the peer paces
   const BusResult made = make_field_bus(gw.config(), real_clock, opt.lockstep());
   if (!made.bus) return fail(ExitCode::device, opt.config_path + ": " + made.error);
+  if (const std::string e = check_written_values(gw.config(), *made.bus); !e.empty()) {
+    return fail(ExitCode::bad_config, opt.config_path + ": " + e);
+  }
   if (auto e = gw.arm(*made.bus, tick_clock(gw, opt, real_clock, lockstep_clock))) return fail(*e);
   std::fprintf(stderr, "excite-gateway: distortion (at most %g of the rows%s):\n%s",
                gw.config().max_distortion,

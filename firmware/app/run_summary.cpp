@@ -34,6 +34,8 @@ RunSummary finish_run(Gateway& gw, const RunStats& stats, const BusResult& made,
   s.ticks_skipped = eng.skipped_ticks();
   s.stale_writes_undone = eng.stale_writes_undone();
   s.closed_loop = gw.config().closed_loop.has_value();
+  s.acknowledge_command = eng.config().acknowledge_command;
+  s.commands_acknowledged = eng.commands_acknowledged();
   s.controller_mode_losses = eng.controller_mode_losses();
   s.mv_limited = eng.mv_limited_episodes();
   s.rows_clamped = eng.rows_flagged(runlog::kClamped);
@@ -84,6 +86,12 @@ void print_summary(std::FILE* out, const RunSummary& s) {
                  "baseline %llu; waits without ticking %llu, %.3f s in all, longest %.3f s\n",
                  s.segment_await_s, n(s.rows_awaiting), n(st.segment_waits),
                  seconds(st.segment_wait), seconds(st.longest_segment_wait));
+  }
+  if (s.acknowledge_command) {
+    std::fprintf(out,
+                 "excite-gateway: command register: cleared after %llu readings (the "
+                 "acknowledgement); clears that failed %llu\n",
+                 n(s.commands_acknowledged), n(st.command_clear_failures));
   }
   if (s.closed_loop) {
     std::fprintf(out,

@@ -133,6 +133,7 @@ void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t s
     }
   }
   engine_.observe(ok, values, refused);
+  if (ok && engine_.command_clear_due()) acknowledge_command();
   // After observe(), so this tick's row says `aborted`: the ramp-out starts next tick.
   if (refused) engine_.fault(engine::Outcome::device_refused);
   if (log_failed_ != nullptr && log_failed_->load(std::memory_order_acquire)) {
@@ -140,6 +141,18 @@ void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t s
   }
   if (out.write) ring_.push(engine_.record(time_ns));
   ++ticks_;
+}
+
+// The command register's acknowledgement: 0 written back after a command was read, so the
+// operator's next code is a new edge even when it is the same code (issue 39 §3). A failed
+// clear is counted and tried again after the next reading; it is not an exchange failure.
+void Runner::acknowledge_command() noexcept {
+  const auto index = static_cast<std::size_t>(engine_.config().command_value);
+  if (bus_.write_value(index, 0.0) == hal::StatusCode::ok) {
+    engine_.command_cleared();
+  } else {
+    ++command_clear_failures_;
+  }
 }
 
 RunStats Runner::run(CommandMailbox& commands, const std::atomic<bool>* stop,
@@ -176,6 +189,7 @@ RunStats Runner::run(CommandMailbox& commands, const std::atomic<bool>* stop,
   stats.failed_exchanges = engine_.failed_exchanges();
   stats.ring_overruns = ring_.overruns();
   stats.reverified = reverified_;
+  stats.command_clear_failures = command_clear_failures_;
   stats.paced = paced_;
   stats.segment_waits = segment_waits_;
   stats.segment_wait = segment_wait_;

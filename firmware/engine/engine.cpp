@@ -55,6 +55,8 @@ Status Engine::arm(std::span<const double> live_values) {
   if (config_.command_value != kNone) {
     last_command_code_ = live_values[static_cast<std::uint32_t>(config_.command_value)];
     have_command_code_ = true;
+    // A code left from before this run is not acted on; acknowledged, it is cleared.
+    command_clear_due_ = config_.acknowledge_command && last_command_code_ != 0.0;
   }
   out_.setpoint = base_u_;
   out_.heartbeat = 0;
@@ -518,6 +520,14 @@ void Engine::read_command_register(bool exchange_ok, std::span<const double> val
     const Command c = command_from_code(std::llround(code));
     if (c != Command::none) pending_ = c;
   }
+  command_clear_due_ = config_.acknowledge_command && code != 0.0;
+}
+
+void Engine::command_cleared() noexcept {
+  if (!command_clear_due_) return;
+  command_clear_due_ = false;
+  last_command_code_ = 0.0;  // what the register holds now: the next code is an edge
+  ++acknowledged_;
 }
 
 // Verified writes: the reading of tick t reflects the write of tick t − (lag − 1); before

@@ -286,4 +286,45 @@ StatusCode ModbusFieldBus::read(std::span<double> values) noexcept {
   return StatusCode::ok;
 }
 
+StatusCode ModbusFieldBus::write_value(std::size_t index, double value) noexcept {
+  exception_ = {};
+  if (ctx_ == nullptr) {
+    set_detail("not configured");
+    return StatusCode::unavailable;
+  }
+  if (index >= plan_.values.size() || !std::isfinite(value) || std::fabs(value) > FLT_MAX) {
+    std::snprintf(detail_, sizeof detail_,
+                  "write_value: values[%zu] = %g, expected a finite value within float32 range "
+                  "for one of the %zu configured values",
+                  index, value, plan_.values.size());
+    return StatusCode::bad_argument;
+  }
+  if (!value_writable(index)) {
+    std::snprintf(detail_, sizeof detail_,
+                  "write_value: values[%zu].function_code = %d, expected 3 (a holding register "
+                  "the gateway may write back)",
+                  index, plan_.values[index].function_code);
+    return StatusCode::unavailable;
+  }
+  const Codec& codec = plan_.values[index];
+  std::uint16_t registers[2] = {0, 0};
+  if (codec.type == RegisterType::float32) {
+    encode_float32(static_cast<float>(value), codec.order, registers);
+  } else {
+    bool clamped = false;
+    registers[0] = to_raw(codec, value, clamped);
+  }
+  if (const StatusCode link = ensure_connected(); link != StatusCode::ok) {
+    return link;
+  }
+  const Request request{16, codec.address,
+                        static_cast<std::uint16_t>(register_count(codec.type)), 0};
+  ++requests_;
+  if (modbus_write_registers(ctx_, request.address, request.count, registers) == -1) {
+    return fail("write", &request, errno);
+  }
+  detail_[0] = '\0';
+  return StatusCode::ok;
+}
+
 }  // namespace excite::hal::modbus

@@ -83,6 +83,8 @@ config::Check compile_entry(const RegisterEntry& entry, const std::string& field
     codec.raw_min = raw_min;
     codec.raw_max = raw_max;
   }
+  codec.address = static_cast<std::uint16_t>(entry.address);
+  codec.function_code = entry.function_code;
   item = Item{field + ".address", entry.address, size, entry.function_code, &codec, false};
   return config::Check::valid();
 }

@@ -41,6 +41,14 @@ hal::modbus::RegisterEntry counter(std::uint32_t address, int function_code) {
   return e;
 }
 
+// The operator command register, a holding register the gateway clears after each command
+// it reads (the acknowledgement: the same code written again is a new command).
+std::string command_value(std::uint32_t address) {
+  return "\n[[values]]\nname = \"command\"\nrole = \"command\"   # 1 start, 2 suspend, 3 "
+         "resume, 4 abort, 5 approve\nacknowledge = \"clear\"   # 0 written back after each\n" +
+         format_register_entry(counter(address, 3), EntryKind::value);
+}
+
 // Both files read back by the partners' own readers (excite-gateway's configuration with
 // hal/modbus's device checks, excite-plant's server configuration): what either refuses,
 // loop-config refuses before writing, naming the option that gave the value.
@@ -135,9 +143,7 @@ std::string gateway_toml(const LoopConfigOptions& opt, const sim::Plant& plant,
      << format_register_entry(counter(server.registers.heartbeat_echo_address,
                                       server.registers.heartbeat_echo_function_code),
                               EntryKind::value);
-  os << "\n[[values]]\nname = \"command\"\nrole = \"command\"   # 1 start, 2 suspend, 3 resume, "
-        "4 abort\n"
-     << format_register_entry(counter(*server.registers.command_address, 3), EntryKind::value);
+  os << command_value(*server.registers.command_address);
   return os.str();
 }
 
@@ -237,9 +243,7 @@ std::string gateway_closed_loop_toml(const LoopConfigOptions& opt, const sim::Pl
      << format_register_entry(
             counter(regs.heartbeat_echo_address, regs.heartbeat_echo_function_code),
             EntryKind::value);
-  os << "\n[[values]]\nname = \"command\"\nrole = \"command\"   # 1 start, 2 suspend, 3 resume, "
-        "4 abort\n"
-     << format_register_entry(counter(*regs.command_address, 3), EntryKind::value);
+  os << command_value(*regs.command_address);
   os << "\n[[values]]\nname = \"mode\"\nrole = \"controller_mode\"   # 0 off, 1 control, 2 test, "
         "3 suspended\n"
      << format_register_entry(counter(r + 5 * n + 2 * m, 4), EntryKind::value);

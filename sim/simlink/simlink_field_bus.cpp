@@ -148,4 +148,15 @@ StatusCode SimLinkFieldBus::read(std::span<double> values) noexcept {
   return StatusCode::ok;
 }
 
+StatusCode SimLinkFieldBus::write_value(std::size_t index, double value) noexcept {
+  spend_time();
+  if (!value_writable(index) || !std::isfinite(value)) {
+    detail_ = "simlink: write_value: only the command register, with a finite value";
+    return StatusCode::unavailable;
+  }
+  command_.store(value);
+  detail_ = "";
+  return StatusCode::ok;
+}
+
 }  // namespace excite::sim::simlink

@@ -441,6 +441,22 @@ TEST_F(GatewayHil, OperatorStartsBySignalAndAbortsByTheCommandRegister) {
   expect_baseline_held();
 }
 
+// Issue 39 §3: the acknowledgement writes 0 back into the command register, which an input
+// register (function_code 4) cannot take: refused at start-up, nothing written to the field.
+TEST_F(GatewayHil, AnInputRegisterCommandCannotBeAcknowledged) {
+  std::string text = config_text(server_->port());
+  text.replace(text.find("role = \"command\"\n"), 17, "role = \"command\"\nacknowledge = \"clear\"\n");
+  write_config(text);
+  auto gw = start();
+  ASSERT_EQ(gw->wait(20s).value_or(-1), 2) << gw->err();
+  EXPECT_NE(gw->err().find("values[9].acknowledge = \"clear\", expected a command value the "
+                           "transport can write back (Modbus: a holding register, "
+                           "function_code = 3"),
+            std::string::npos)
+      << gw->err();
+  EXPECT_EQ(server_->count(16), 0);  // nothing written
+}
+
 TEST_F(GatewayHil, OperatorSuspendAndResumeOnStdin) {
   auto gw = start({"--start"});
   ASSERT_TRUE(wait_for_writes(50));

@@ -234,6 +234,52 @@ TEST_F(Segments, ASegmentApprovedByTheCommandRegisterIsTaken) {
   (void)stop_plant_and_read_its_log();
 }
 
+// Issue 39 §3: an approval is an edge the gateway acknowledges. loop-config's command value
+// has `acknowledge = "clear"`: after each code it reads, the gateway writes 0 back. The first
+// 5 (nothing staged yet) is dropped; the second 5 — the same value the first one left before
+// this fix — approves the segment staged meanwhile. The operator station sees each
+// acknowledgement as the register back at 0.
+TEST_F(Segments, EachFiveInTheCommandRegisterIsSeenBecauseTheGatewayClearsIt) {
+  const std::uint16_t port = start_loop(kPlant, "--input-range 2");
+  auto gw = start_gateway(plan_path_,
+                          {"--clock", "lockstep", "--segment-inbox", inbox().string()});
+  ASSERT_TRUE(wait_for(*gw, "waiting for start")) << gw->err();
+  modbus_t* operator_station = modbus_new_tcp("127.0.0.1", port);
+  ASSERT_NE(operator_station, nullptr);
+  ASSERT_EQ(modbus_connect(operator_station), 0) << modbus_strerror(errno);
+  constexpr int kCommandRegister = 301;  // loop-config's command value (sim/server default map)
+  constexpr std::uint16_t kApprove = 5;
+  const auto acknowledged = [&] {  // the register back at 0 within 5 s
+    for (int i = 0; i < 500; ++i) {
+      std::uint16_t code = kApprove;
+      if (modbus_read_registers(operator_station, kCommandRegister, 1, &code) == 1 && code == 0) {
+        return true;
+      }
+      std::this_thread::sleep_for(10ms);
+    }
+    return false;
+  };
+  ASSERT_EQ(modbus_write_register(operator_station, kCommandRegister, kApprove), 1);
+  EXPECT_TRUE(acknowledged()) << "the first 5 (nothing staged: dropped) was not cleared";
+  drop(encoded(step_segment(level())));
+  ASSERT_TRUE(wait_for(*gw, "segment 1 staged")) << gw->err();
+  ASSERT_EQ(modbus_write_register(operator_station, kCommandRegister, kApprove), 1);
+  EXPECT_TRUE(acknowledged()) << "the second 5 was not cleared";
+  modbus_close(operator_station);
+  modbus_free(operator_station);
+  gw->send_line("start");
+  const auto rc = gw->wait(120s);
+  ASSERT_TRUE(rc.has_value()) << gw->err();
+  EXPECT_EQ(*rc, 0) << gw->err();
+  EXPECT_NE(gw->err().find("segments: 1 staged, 0 refused, 1 taken"), std::string::npos)
+      << gw->err();
+  EXPECT_NE(gw->err().find("command register: cleared after 2 readings"), std::string::npos)
+      << gw->err();
+  const runlog::RunLog gwl = read_log_or_fail(path("gw.csv"));
+  EXPECT_LT(first_row_of_segment_1(gwl), gwl.rows());
+  (void)stop_plant_and_read_its_log();
+}
+
 TEST_F(Segments, ASegmentFromThePreApprovedToolIsTakenWithoutApproval) {
   start_loop(kPlant, "--input-range 2");
   std::ofstream(path("gateway.toml"), std::ios::app)

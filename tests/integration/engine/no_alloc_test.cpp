@@ -49,6 +49,12 @@ class Faults final : public app::TickObserver {
       case 420:
         commands_.post(engine::Command::resume);
         break;
+      case 440:  // the command register, acknowledged: the gateway writes 0 back
+        bus_.set_command(2.0);
+        break;
+      case 460:
+        bus_.set_command(3.0);
+        break;
       default:
         break;
     }
@@ -63,6 +69,7 @@ class Faults final : public app::TickObserver {
 
 TEST_F(GatewayLoop, TenThousandTicksOfTheCyclicPathAllocateNothing) {
   config_.suspend_timeout_s = 0.0;
+  config_.values[9].acknowledge = true;  // the command register (gateway_fixture.hpp)
   // The plan lengthened to 12 000 rows so the run outlasts the measurement (set-up may
   // allocate); the gateway component is built exactly as excite-gateway builds it.
   plan_file_ = example_plan_file(12000);
@@ -93,6 +100,7 @@ TEST_F(GatewayLoop, TenThousandTicksOfTheCyclicPathAllocateNothing) {
   EXPECT_EQ(new_count, 0);
   EXPECT_EQ(malloc_count, 0) << "(malloc interposed: " << excite::test::malloc_interposed() << ")";
   EXPECT_GT(engine().suspensions(), 40U);  // the fault paths were taken
+  EXPECT_GE(engine().commands_acknowledged(), 2U * 20U);  // the register cleared each time
   EXPECT_GT(bus_->dropped(), 50U);
   EXPECT_GT(reverified, 20U);                               // read before writing again
   EXPECT_GE(engine().rows_flagged(runlog::kSkipped), 20U);  // the skipped-tick path

@@ -88,6 +88,33 @@ TEST(GatewayConfigTest, TransportNamesOldAndNew) {
             "\"can\" (\"tcp\" and \"rtu\" are still accepted)");
 }
 
+// Issue 39 §3: the command register acknowledged by clearing it — on the command value only,
+// "clear" or "none".
+TEST(GatewayConfigTest, TheCommandValueMayBeAcknowledgedByClearingIt) {
+  const ConfigResult r = parse_gateway_config(example_text(), "gw.toml");
+  ASSERT_TRUE(r.config) << r.error;
+  const engine::EngineConfig e = to_engine_config(*r.config, std::chrono::minutes(1));
+  EXPECT_TRUE(e.acknowledge_command);  // the example: acknowledge = "clear"
+  std::string none = example_text();
+  none.replace(none.find("acknowledge = \"clear\""), 21, "acknowledge = \"none\" ");
+  const ConfigResult n = parse_gateway_config(none, "gw.toml");
+  ASSERT_TRUE(n.config) << n.error;
+  EXPECT_FALSE(to_engine_config(*n.config, std::chrono::minutes(1)).acknowledge_command);
+
+  std::string bad = example_text();
+  bad.replace(bad.find("acknowledge = \"clear\""), 21, "acknowledge = \"reset\"");
+  EXPECT_NE(error_of(bad).find("values[9].acknowledge = \"reset\", expected \"clear\""),
+            std::string::npos)
+      << error_of(bad);
+  std::string elsewhere = example_text();
+  elsewhere.replace(elsewhere.find("role = \"heartbeat_echo\""), 23,
+                    "role = \"heartbeat_echo\"\nacknowledge = \"clear\"");
+  EXPECT_NE(error_of(elsewhere).find(".acknowledge = \"clear\", expected only on the command "
+                                     "value (role = \"command\")"),
+            std::string::npos)
+      << error_of(elsewhere);
+}
+
 // Issue 26 §1: [segments] — the boundary period and the pre-approval, both optional.
 TEST(GatewayConfigTest, SegmentsSectionSetsThePeriodAndThePreApproval) {
   const ConfigResult plain = parse_gateway_config(example_text(), "gw.toml");

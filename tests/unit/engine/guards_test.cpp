@@ -202,4 +202,52 @@ TEST_F(EngineTest, CommandRegisterActsOnAChangeOfValue) {
   EXPECT_EQ(engine_.outcome(), Outcome::aborted_by_operator);
 }
 
+// Issue 39 §3: acknowledged, the register is cleared after each code the engine reads (the
+// Runner writes 0 when command_clear_due(), then calls command_cleared()), so the same code
+// written again is a new command. Without the acknowledgement, the second 2 is not seen.
+TEST_F(EngineTest, AnAcknowledgedCommandRegisterSeesTheSameCodeTwice) {
+  EngineConfig c = small_config();
+  c.acknowledge_command = true;
+  configure(c);
+  field_.values[kCommand] = 1.0;  // left over from before the arm: not acted on, but cleared
+  arm();
+  EXPECT_TRUE(engine_.command_clear_due());
+  field_.values[kCommand] = 0.0;  // what the Runner's write leaves
+  engine_.command_cleared();
+  EXPECT_FALSE(engine_.command_clear_due());
+  tick();
+  EXPECT_EQ(engine_.state(), State::armed);
+  EXPECT_FALSE(engine_.command_clear_due());  // 0 read: nothing to clear
+  engine_.command(Command::start);
+  ticks(2);
+  ASSERT_EQ(engine_.state(), State::running);
+  for (int round = 0; round < 2; ++round) {  // suspend by the register twice, the same code
+    field_.values[kCommand] = 2.0;
+    tick();  // read here
+    ASSERT_TRUE(engine_.command_clear_due()) << round;
+    field_.values[kCommand] = 0.0;
+    engine_.command_cleared();
+    tick();  // applied at this compute
+    EXPECT_EQ(engine_.state(), State::suspended) << round;
+    engine_.command(Command::resume);
+    ticks(2);
+    EXPECT_EQ(engine_.state(), State::running) << round;
+  }
+  EXPECT_EQ(engine_.commands_acknowledged(), 3U);  // the leftover and the two suspends
+}
+
+TEST_F(EngineTest, AnUnacknowledgedCommandRegisterMissesTheSameCodeTwice) {
+  configure_arm_start();
+  ticks(2);
+  field_.values[kCommand] = 2.0;
+  ticks(2);
+  ASSERT_EQ(engine_.state(), State::suspended);
+  EXPECT_FALSE(engine_.command_clear_due());
+  engine_.command(Command::resume);
+  ticks(2);
+  ASSERT_EQ(engine_.state(), State::running);
+  ticks(2);  // the register still holds 2: the same value, not a new command
+  EXPECT_EQ(engine_.state(), State::running);
+}
+
 }  // namespace excite::engine::testing

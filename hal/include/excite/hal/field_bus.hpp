@@ -82,6 +82,15 @@ class FieldBus {
   // instance, valid until the next call); "" after ok.
   [[nodiscard]] virtual const char* detail() const noexcept = 0;
 
+  // Writes one process value back (index < value_count(), engineering units): the
+  // operator command register's acknowledgement (the gateway clears it after acting on a
+  // command). Only a value the transport can write (value_writable); others: unavailable.
+  virtual StatusCode write_value(std::size_t /*index*/, double /*value*/) noexcept {
+    return StatusCode::unavailable;
+  }
+  [[nodiscard]] virtual bool value_writable(std::size_t /*index*/) const noexcept {
+    return false;
+  }
   // The exception reply that made the last call return peer_error (code 0 after any other
   // outcome). Transports without exception replies: always none.
   [[nodiscard]] virtual PeerException last_exception() const noexcept { return {}; }

@@ -24,6 +24,10 @@ using BusResult = hal::MadeBus;
 BusResult make_field_bus(const GatewayConfig& config, const hal::Clock& clock,
                          bool lockstep = false);
 
+/// "" when every value the gateway writes back (the command register with
+/// `acknowledge = "clear"`) is one `bus` can write; else the error naming the value.
+std::string check_written_values(const GatewayConfig& config, const hal::FieldBus& bus);
+
 /// "" when one tick's traffic fits the tick (hal::TransportConfig::check_tick), else the
 /// transport's reason naming the load.
 std::string check_bus_timing(const GatewayConfig& config, double period_s);

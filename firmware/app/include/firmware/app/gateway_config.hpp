@@ -68,6 +68,9 @@ struct ValueSpec {
   std::optional<double> test_low;  // test limits (outputs), absolute engineering units
   std::optional<double> test_high;
   double hysteresis = 0.0;
+  // role command, `acknowledge = "clear"`: after reading a command the gateway writes 0
+  // back, so the same code written again is a new command (README "Operator commands").
+  bool acknowledge = false;
 };
 
 struct GatewayConfig {

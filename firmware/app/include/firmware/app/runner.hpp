@@ -45,6 +45,8 @@ struct RunStats {
   std::uint64_t ring_overruns = 0;   // records dropped because the log ring was full
   std::uint64_t reverified = 0;      // ticks after a failed exchange that read the peer first
   std::uint64_t paced = 0;           // retries held back by the retry pacing (pace_retries)
+  std::uint64_t command_clear_failures = 0;  // acknowledgements of the command register whose
+                                             // write failed (tried again on the next tick)
   std::uint64_t segment_waits = 0;   // times the loop stopped ticking to await a segment
                                      // (await_segments_on)
   hal::Nanoseconds segment_wait{0};  // how long, in all, on the real clock
@@ -174,6 +176,7 @@ class Runner {
   [[nodiscard]] const Refusal& refusal() const noexcept { return refusal_; }
 
  private:
+  void acknowledge_command() noexcept;
   void stage_published() noexcept;
   bool await_segment(CommandMailbox& commands, const std::atomic<bool>* stop) noexcept;
 
@@ -209,6 +212,7 @@ class Runner {
   std::uint64_t paced_ = 0;
   bool reverify_ = false;  // the last exchange failed: read before writing again
   std::uint64_t reverified_ = 0;
+  std::uint64_t command_clear_failures_ = 0;
 };
 
 }  // namespace excite::app

@@ -85,6 +85,10 @@ struct EngineConfig {
   std::int32_t heartbeat_echo = kNone;      // value index where the peer echoes the heartbeat
   std::uint32_t heartbeat_max_lag = 0;      // echo older than this many ticks → stale (comm loss)
   std::int32_t command_value = kNone;       // value index of the operator command register
+  // The command register is acknowledged by clearing it: after a reading that is not 0
+  // the Runner writes 0 back (command_clear_due / command_cleared), so each command written
+  // is a new edge, the same code too (issue 39 §3).
+  bool acknowledge_command = false;
   CommLossAction comm_loss = CommLossAction::hold;
   // Verified writes (off by default in the engine; excite-gateway always turns them on).
   bool verify_readbacks = false;

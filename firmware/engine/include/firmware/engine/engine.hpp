@@ -213,6 +213,14 @@ class Engine {
   /// another value than the baseline written after the output had reached it — a write
   /// applied late — each undone by the baseline written again.
   [[nodiscard]] std::uint64_t stale_writes_undone() const noexcept { return stale_undone_; }
+  /// acknowledge_command: the last reading of the command register was not 0 and it has not
+  /// been cleared yet; the Runner writes 0 to it and, when the write succeeded, calls
+  /// command_cleared() (the next reading that is not 0 is then a new command).
+  [[nodiscard]] bool command_clear_due() const noexcept { return command_clear_due_; }
+  void command_cleared() noexcept;
+  /// Readings of the command register cleared since arm (each command acted on, and a code
+  /// left from before the run).
+  [[nodiscard]] std::uint64_t commands_acknowledged() const noexcept { return acknowledged_; }
   /// Whether `read` agrees with `written` for input c (the tolerance of InputLimits).
   [[nodiscard]] bool readback_agrees(std::uint32_t c, double written, double read) const noexcept;
 
@@ -274,6 +282,8 @@ class Engine {
   bool stale_ = false;
   double last_command_code_ = 0.0;
   bool have_command_code_ = false;
+  bool command_clear_due_ = false;
+  std::uint64_t acknowledged_ = 0;
 
   // Verified writes: the setpoints written in the last kMaxReadbackLag ticks (slot
   // tick % kMaxReadbackLag), mismatch streaks, and whether this tick's readings confirmed

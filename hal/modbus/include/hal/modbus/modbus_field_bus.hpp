@@ -64,6 +64,12 @@ class ModbusFieldBus final : public FieldBus {
 
   StatusCode write(std::span<const double> setpoints, std::uint16_t heartbeat) noexcept override;
   StatusCode read(std::span<double> values) noexcept override;
+  // A holding-register value (function_code = 3) is written with FC16; an input register
+  // (function_code = 4) cannot be written: unavailable.
+  StatusCode write_value(std::size_t index, double value) noexcept override;
+  [[nodiscard]] bool value_writable(std::size_t index) const noexcept override {
+    return index < plan_.values.size() && plan_.values[index].function_code == 3;
+  }
   [[nodiscard]] std::size_t setpoint_count() const noexcept override {
     return plan_.setpoints.size();
   }

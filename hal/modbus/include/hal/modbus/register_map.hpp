@@ -57,6 +57,8 @@ struct Codec {
   double raw_min = 0.0;
   double raw_max = 0.0;
   std::size_t offset = 0;  // index of the first register in the write/read image
+  std::uint16_t address = 0;  // its first register (values: where write_value writes)
+  int function_code = 16;     // how it is transferred: 16, or 3/4 for a value
 };
 
 // One Modbus request: `count` registers from `address`, held in the image at `offset`.

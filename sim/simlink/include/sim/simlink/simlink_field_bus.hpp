@@ -12,7 +12,8 @@
 //   [0, p)             plant outputs y0 + dy(k) (+ an injected disturbance), absolute
 //   [p, p + n)         readbacks: the setpoints the plant holds           (if readbacks)
 //   next               heartbeat echo: the last heartbeat the plant received (if heartbeat_echo)
-//   next               operator command register, set by the test        (if command_register)
+//   next               operator command register, set by the test        (if command_register;
+//                      the one value write_value writes: the gateway's acknowledgement)
 //
 // Faults on purpose (thread-safe setters, STYLE.md practice 9):
 //   drop(n, status)        the next n calls of write() and read() fail with `status`
@@ -63,6 +64,12 @@ class SimLinkFieldBus final : public hal::FieldBus {
   hal::StatusCode write(std::span<const double> setpoints,
                         std::uint16_t heartbeat) noexcept override;
   hal::StatusCode read(std::span<double> values) noexcept override;
+  // The command register is the one value written back (the gateway's acknowledgement,
+  // `acknowledge = "clear"`); any other value: unavailable.
+  hal::StatusCode write_value(std::size_t index, double value) noexcept override;
+  [[nodiscard]] bool value_writable(std::size_t index) const noexcept override {
+    return command_index_ >= 0 && index == static_cast<std::size_t>(command_index_);
+  }
   [[nodiscard]] std::size_t setpoint_count() const noexcept override { return inputs_; }
   [[nodiscard]] std::size_t value_count() const noexcept override { return values_; }
   [[nodiscard]] const char* detail() const noexcept override { return detail_; }
