@@ -22,7 +22,8 @@ BusResult make_field_bus(const GatewayConfig& config, const hal::Clock& clock, b
 std::string check_written_values(const GatewayConfig& config, const hal::FieldBus& bus) {
   for (std::size_t i = 0; i < config.values.size(); ++i) {
     if (config.values[i].acknowledge && !bus.value_writable(i)) {
-      return "values[" + std::to_string(i) + "].acknowledge = \"clear\", expected a command value " +
+      return "values[" + std::to_string(i) +
+             "].acknowledge = \"clear\", expected a command value " +
              "the transport can write back (Modbus: a holding register, function_code = 3; the " +
              "CAN transport writes no value)";
     }

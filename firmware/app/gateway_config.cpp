@@ -609,6 +609,85 @@ std::string check_timing(const GatewayConfig& c, std::chrono::duration<double> p
   return {};
 }
 
+namespace {
+
+// The values' roles the engine acts on: test limits, the heartbeat echo, the command register.
+void map_value_roles(const GatewayConfig& c, engine::EngineConfig& e) {
+  for (std::size_t j = 0; j < c.values.size(); ++j) {
+    const ValueSpec& v = c.values[j];
+    if (v.test_low) {
+      e.test[j] = {true, *v.test_low, *v.test_high, v.hysteresis};
+    }
+    if (v.role == ValueRole::heartbeat_echo) e.heartbeat_echo = static_cast<std::int32_t>(j);
+    if (v.role == ValueRole::command) {
+      e.command_value = static_cast<std::int32_t>(j);
+      e.acknowledge_command = v.acknowledge;
+    }
+  }
+}
+
+// Closed loop: the controller's read-backs, the i-th value of a role for the i-th MV or CV,
+// and its timeout in ticks and on the real clock.
+void watch_controller(const GatewayConfig& c, std::chrono::duration<double> period,
+                      engine::ControllerWatch& w) {
+  w.status.fill(engine::kNone);
+  w.move.fill(engine::kNone);
+  w.applied.fill(engine::kNone);
+  w.setpoint.fill(engine::kNone);
+  std::uint32_t moves = 0;
+  std::uint32_t applied = 0;
+  for (std::size_t j = 0; j < c.values.size(); ++j) {
+    const auto index = static_cast<std::int32_t>(j);
+    switch (c.values[j].role) {
+      case ValueRole::controller_mode:
+        w.mode = index;
+        break;
+      case ValueRole::mv_status:
+        if (w.mvs < engine::kMaxInputs) w.status[w.mvs++] = index;
+        break;
+      case ValueRole::controller_move:
+        if (moves < engine::kMaxInputs) w.move[moves++] = index;
+        break;
+      case ValueRole::applied_mv:
+        if (applied < engine::kMaxInputs) w.applied[applied++] = index;
+        break;
+      case ValueRole::setpoint_in_force:
+        if (w.cvs < engine::kMaxInputs) w.setpoint[w.cvs++] = index;
+        break;
+      default:
+        break;
+    }
+  }
+  w.timeout_ticks = to_ticks(c.closed_loop->controller_timeout_s, period);
+  w.timeout_ns = std::chrono::round<std::chrono::nanoseconds>(
+                     std::chrono::duration<double>(c.closed_loop->controller_timeout_s))
+                     .count();
+}
+
+// Verified writes: the tolerance is the coarser of the two encodings' resolution — one
+// raw step of a scaled integer (engineering units), 2^-23 relative for float32.
+void set_readback_tolerances(const GatewayConfig& c, engine::EngineConfig& e) {
+  e.verify_readbacks = true;
+  e.readback_lag_ticks = c.readback_lag_ticks;
+  e.readback_mismatch_limit = c.readback_mismatch_limit;
+  const std::vector<hal::CarriedRange> sp = carried_ranges(c, hal::ChannelKind::setpoint);
+  const std::vector<hal::CarriedRange> va = carried_ranges(c, hal::ChannelKind::value);
+  for (std::size_t i = 0; i < c.setpoints.size() && i < sp.size(); ++i) {
+    engine::InputLimits& in = e.input[i];
+    double abs_tol = sp[i].bounded ? sp[i].count : 0.0;
+    bool any_float = !sp[i].bounded;
+    if (in.readback >= 0 && static_cast<std::size_t>(in.readback) < va.size()) {
+      const hal::CarriedRange& r = va[static_cast<std::size_t>(in.readback)];
+      if (r.bounded) abs_tol = std::max(abs_tol, r.count);
+      any_float = any_float || !r.bounded;
+    }
+    in.readback_abs_tol = abs_tol;
+    in.readback_rel_tol = any_float ? std::ldexp(1.0, -23) : 0.0;
+  }
+}
+
+}  // namespace
+
 engine::EngineConfig to_engine_config(const GatewayConfig& c,
                                       std::chrono::duration<double> period) {
   auto ticks = [period](double seconds) { return to_ticks(seconds, period); };
@@ -624,52 +703,8 @@ engine::EngineConfig to_engine_config(const GatewayConfig& c,
       if (c.values[j].name == s.readback) e.input[i].readback = static_cast<std::int32_t>(j);
     }
   }
-  for (std::size_t j = 0; j < c.values.size(); ++j) {
-    const ValueSpec& v = c.values[j];
-    if (v.test_low) {
-      e.test[j] = {true, *v.test_low, *v.test_high, v.hysteresis};
-    }
-    if (v.role == ValueRole::heartbeat_echo) e.heartbeat_echo = static_cast<std::int32_t>(j);
-    if (v.role == ValueRole::command) {
-      e.command_value = static_cast<std::int32_t>(j);
-      e.acknowledge_command = v.acknowledge;
-    }
-  }
-  if (c.closed_loop) {  // the controller's read-backs, the i-th of a role for the i-th MV/CV
-    engine::ControllerWatch& w = e.controller;
-    w.status.fill(engine::kNone);
-    w.move.fill(engine::kNone);
-    w.applied.fill(engine::kNone);
-    w.setpoint.fill(engine::kNone);
-    std::uint32_t moves = 0;
-    std::uint32_t applied = 0;
-    for (std::size_t j = 0; j < c.values.size(); ++j) {
-      const auto index = static_cast<std::int32_t>(j);
-      switch (c.values[j].role) {
-        case ValueRole::controller_mode:
-          w.mode = index;
-          break;
-        case ValueRole::mv_status:
-          if (w.mvs < engine::kMaxInputs) w.status[w.mvs++] = index;
-          break;
-        case ValueRole::controller_move:
-          if (moves < engine::kMaxInputs) w.move[moves++] = index;
-          break;
-        case ValueRole::applied_mv:
-          if (applied < engine::kMaxInputs) w.applied[applied++] = index;
-          break;
-        case ValueRole::setpoint_in_force:
-          if (w.cvs < engine::kMaxInputs) w.setpoint[w.cvs++] = index;
-          break;
-        default:
-          break;
-      }
-    }
-    w.timeout_ticks = ticks(c.closed_loop->controller_timeout_s);
-    w.timeout_ns = std::chrono::round<std::chrono::nanoseconds>(
-                       std::chrono::duration<double>(c.closed_loop->controller_timeout_s))
-                       .count();
-  }
+  map_value_roles(c, e);
+  if (c.closed_loop) watch_controller(c, period, e.controller);
   e.ramp_ticks = ticks(c.ramp_s);
   e.segment_period_rows = c.segment_period_rows;
   e.segment_await_ticks = ticks(c.segment_await_s);
@@ -695,25 +730,7 @@ engine::EngineConfig to_engine_config(const GatewayConfig& c,
   e.confirm_timeout_ns = ns(c.confirm_timeout_s);
   e.comm_fail_limit = c.comm_fail_limit;
   e.comm_loss = c.comm_loss;
-  // Verified writes: the tolerance is the coarser of the two encodings' resolution — one
-  // raw step of a scaled integer (engineering units), 2^-23 relative for float32.
-  e.verify_readbacks = true;
-  e.readback_lag_ticks = c.readback_lag_ticks;
-  e.readback_mismatch_limit = c.readback_mismatch_limit;
-  const std::vector<hal::CarriedRange> sp = carried_ranges(c, hal::ChannelKind::setpoint);
-  const std::vector<hal::CarriedRange> va = carried_ranges(c, hal::ChannelKind::value);
-  for (std::size_t i = 0; i < c.setpoints.size() && i < sp.size(); ++i) {
-    engine::InputLimits& in = e.input[i];
-    double abs_tol = sp[i].bounded ? sp[i].count : 0.0;
-    bool any_float = !sp[i].bounded;
-    if (in.readback >= 0 && static_cast<std::size_t>(in.readback) < va.size()) {
-      const hal::CarriedRange& r = va[static_cast<std::size_t>(in.readback)];
-      if (r.bounded) abs_tol = std::max(abs_tol, r.count);
-      any_float = any_float || !r.bounded;
-    }
-    in.readback_abs_tol = abs_tol;
-    in.readback_rel_tol = any_float ? std::ldexp(1.0, -23) : 0.0;
-  }
+  set_readback_tolerances(c, e);
   if (e.heartbeat_echo != engine::kNone) {
     e.heartbeat_max_lag = c.heartbeat_max_lag_s > 0.0
                               ? std::clamp<std::uint32_t>(ticks(c.heartbeat_max_lag_s), 1,

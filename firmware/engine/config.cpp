@@ -2,6 +2,7 @@
 #include "firmware/engine/config.hpp"
 
 #include <cmath>
+#include <initializer_list>
 
 namespace excite::engine {
 
@@ -11,17 +12,8 @@ bool valid_index(std::int32_t index, std::uint32_t count) {
   return index == kNone || (index >= 0 && static_cast<std::uint32_t>(index) < count);
 }
 
-}  // namespace
-
-Status validate(const EngineConfig& config) {
-  if (config.inputs < 1 || config.inputs > kMaxInputs) {
-    return Status::error(StatusCode::invalid_field, "inputs = %u, expected 1…%u", config.inputs,
-                         kMaxInputs);
-  }
-  if (config.values < 1 || config.values > kMaxValues) {
-    return Status::error(StatusCode::invalid_field, "values = %u, expected 1…%u", config.values,
-                         kMaxValues);
-  }
+// Each input's limits, move and readback; the readback lag.
+Status validate_inputs(const EngineConfig& config) {
   for (std::uint32_t c = 0; c < config.inputs; ++c) {
     const InputLimits& in = config.input[c];
     if (!std::isfinite(in.min) || !std::isfinite(in.max) || in.min > in.max) {
@@ -48,6 +40,11 @@ Status validate(const EngineConfig& config) {
     return Status::error(StatusCode::invalid_field, "readback_lag_ticks = %u, expected 1…%u",
                          config.readback_lag_ticks, kMaxReadbackLag);
   }
+  return {};
+}
+
+// The test limits of the values that have them.
+Status validate_test_limits(const EngineConfig& config) {
   for (std::uint32_t j = 0; j < config.values; ++j) {
     const TestLimit& t = config.test[j];
     if (!t.enabled) continue;
@@ -64,6 +61,11 @@ Status validate(const EngineConfig& config) {
                            j, t.hysteresis, t.high - t.low);
     }
   }
+  return {};
+}
+
+// The durations, in ticks, each within kMaxDurationTicks.
+Status validate_durations(const EngineConfig& config) {
   if (config.resume_dwell_ticks < 1 || config.resume_dwell_ticks > kMaxDurationTicks) {
     return Status::error(StatusCode::invalid_field, "resume_dwell_ticks = %u, expected 1…%u",
                          config.resume_dwell_ticks, kMaxDurationTicks);
@@ -92,6 +94,11 @@ Status validate(const EngineConfig& config) {
                          "or 1…%u",
                          config.segment_await_ticks, kMaxDurationTicks);
   }
+  return {};
+}
+
+// The comm guard, the heartbeat echo and the command register.
+Status validate_value_roles(const EngineConfig& config) {
   if (config.comm_fail_limit < 1) {
     return Status::error(StatusCode::invalid_field, "comm_fail_limit = 0, expected >= 1");
   }
@@ -110,6 +117,11 @@ Status validate(const EngineConfig& config) {
                          "command_value = %d, expected -1 (none) or a value index 0…%u",
                          config.command_value, config.values - 1);
   }
+  return {};
+}
+
+// Closed loop: the controller's read-backs and timeout.
+Status validate_controller(const EngineConfig& config) {
   const ControllerWatch& w = config.controller;
   if (!valid_index(w.mode, config.values)) {
     return Status::error(StatusCode::invalid_field,
@@ -143,6 +155,25 @@ Status validate(const EngineConfig& config) {
                            "controller.timeout_ticks = %u, expected 0 (never) or 1…%u",
                            w.timeout_ticks, kMaxDurationTicks);
     }
+  }
+  return {};
+}
+
+}  // namespace
+
+Status validate(const EngineConfig& config) {
+  if (config.inputs < 1 || config.inputs > kMaxInputs) {
+    return Status::error(StatusCode::invalid_field, "inputs = %u, expected 1…%u", config.inputs,
+                         kMaxInputs);
+  }
+  if (config.values < 1 || config.values > kMaxValues) {
+    return Status::error(StatusCode::invalid_field, "values = %u, expected 1…%u", config.values,
+                         kMaxValues);
+  }
+  for (Status (*part)(const EngineConfig&) :
+       {validate_inputs, validate_test_limits, validate_durations, validate_value_roles,
+        validate_controller}) {
+    if (Status s = part(config); !s) return s;
   }
   return {};
 }

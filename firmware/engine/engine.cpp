@@ -277,6 +277,74 @@ void Engine::confirm(bool out_at_baseline) noexcept {
   }
 }
 
+// Running: the next row of the table; at a boundary the approved segment's row 0; at the
+// table's end the wait for a segment (holding the operating point) or completion.
+void Engine::advance_row() noexcept {
+  if (row_started_) ++row_;
+  row_started_ = true;
+  if (row_ != 0 && staged_approved_ && at_segment_boundary()) switch_segment();
+  if (row_ >= table_.samples) {  // the last row was written last tick
+    row_ = table_.samples - 1;
+    if (hold_for_segment()) {  // the operating point, until a segment or the wait's end
+      for (std::uint32_t c = 0; c < config_.inputs; ++c) excitation_[c] = 0.0;
+      flags_ |= runlog::kSuspended;
+      ++awaited_total_;
+    } else {
+      state_ = State::completed;
+      outcome_ = Outcome::completed;
+    }
+  } else {
+    for (std::uint32_t c = 0; c < config_.inputs; ++c) excitation_[c] = table_.at(row_, c);
+  }
+}
+
+// The approved segment replaces the running table; this tick writes its row 0.
+void Engine::switch_segment() noexcept {
+  table_ = staged_;
+  staged_ = {};
+  staged_approved_ = false;
+  row_ = 0;
+  ++segment_;
+  awaiting_ = false;
+  await_over_ = false;  // the new table's end has a wait of its own
+}
+
+// The excitation's scale moves towards its goal by 1/ramp_ticks per tick: ramp-in when
+// running, ramp-out otherwise; held while suspended on comm loss with action hold.
+void Engine::move_ramp() noexcept {
+  double goal = state_ == State::running ? 1.0 : 0.0;
+  if (state_ == State::suspended && (reasons_ & kReasonComm) != 0 &&
+      config_.comm_loss == CommLossAction::hold) {
+    goal = ramp_;
+  }
+  const double step = config_.ramp_ticks == 0 ? 1.0 : 1.0 / config_.ramp_ticks;
+  ramp_ = goal > ramp_ ? std::min(goal, ramp_ + step) : std::max(goal, ramp_ - step);
+  if (state_ == State::suspended) flags_ |= runlog::kSuspended;
+}
+
+// Baseline + ramp · excitation, clamped to each input's limits, then rate-limited by
+// max_move against the setpoint written last; the row's flags say which acted.
+void Engine::limit_setpoints() noexcept {
+  for (std::uint32_t c = 0; c < config_.inputs; ++c) {
+    const InputLimits& in = config_.input[c];
+    double target = base_u_[c] + ramp_ * excitation_[c];
+    if (ramp_ == 0.0) target = base_u_[c];
+    if (target < in.min || target > in.max) {
+      target = std::clamp(target, in.min, in.max);
+      flags_ |= runlog::kClamped;
+    }
+    const double previous = out_.setpoint[c];
+    if (target - previous > in.max_move) {
+      target = previous + in.max_move;
+      flags_ |= runlog::kRateLimited;
+    } else if (previous - target > in.max_move) {
+      target = previous - in.max_move;
+      flags_ |= runlog::kRateLimited;
+    }
+    out_.setpoint[c] = target;
+  }
+}
+
 const TickOutput& Engine::compute(std::uint64_t skipped_ticks) noexcept {
   flags_ = 0;
   elapsed_ = 1;
@@ -299,62 +367,9 @@ const TickOutput& Engine::compute(std::uint64_t skipped_ticks) noexcept {
   ++ticks_;
   ++writes_;
 
-  if (state_ == State::running) {
-    if (row_started_) ++row_;
-    row_started_ = true;
-    if (row_ != 0 && staged_approved_ && at_segment_boundary()) {  // switch: row 0 of the next
-      table_ = staged_;
-      staged_ = {};
-      staged_approved_ = false;
-      row_ = 0;
-      ++segment_;
-      awaiting_ = false;
-      await_over_ = false;  // the new table's end has a wait of its own
-    }
-    if (row_ >= table_.samples) {  // the last row was written last tick
-      row_ = table_.samples - 1;
-      if (hold_for_segment()) {  // the operating point, until a segment or the wait's end
-        for (std::uint32_t c = 0; c < config_.inputs; ++c) excitation_[c] = 0.0;
-        flags_ |= runlog::kSuspended;
-        ++awaited_total_;
-      } else {
-        state_ = State::completed;
-        outcome_ = Outcome::completed;
-      }
-    } else {
-      for (std::uint32_t c = 0; c < config_.inputs; ++c) excitation_[c] = table_.at(row_, c);
-    }
-  }
-
-  // The excitation's scale moves towards its goal by 1/ramp_ticks per tick: ramp-in when
-  // running, ramp-out otherwise; held while suspended on comm loss with action hold.
-  double goal = state_ == State::running ? 1.0 : 0.0;
-  if (state_ == State::suspended && (reasons_ & kReasonComm) != 0 &&
-      config_.comm_loss == CommLossAction::hold) {
-    goal = ramp_;
-  }
-  const double step = config_.ramp_ticks == 0 ? 1.0 : 1.0 / config_.ramp_ticks;
-  ramp_ = goal > ramp_ ? std::min(goal, ramp_ + step) : std::max(goal, ramp_ - step);
-  if (state_ == State::suspended) flags_ |= runlog::kSuspended;
-
-  for (std::uint32_t c = 0; c < config_.inputs; ++c) {
-    const InputLimits& in = config_.input[c];
-    double target = base_u_[c] + ramp_ * excitation_[c];
-    if (ramp_ == 0.0) target = base_u_[c];
-    if (target < in.min || target > in.max) {
-      target = std::clamp(target, in.min, in.max);
-      flags_ |= runlog::kClamped;
-    }
-    const double previous = out_.setpoint[c];
-    if (target - previous > in.max_move) {
-      target = previous + in.max_move;
-      flags_ |= runlog::kRateLimited;
-    } else if (previous - target > in.max_move) {
-      target = previous - in.max_move;
-      flags_ |= runlog::kRateLimited;
-    }
-    out_.setpoint[c] = target;
-  }
+  if (state_ == State::running) advance_row();
+  move_ramp();
+  limit_setpoints();
   written_[writes_ % kMaxReadbackLag] = out_.setpoint;
   return out_;
 }
@@ -605,6 +620,60 @@ bool Engine::at_baseline() const noexcept {
   return true;
 }
 
+// Suspended: a limit or comm suspension aborts after suspend_timeout (ticks on the plan's
+// clock, or the real time in lock-step); a controller suspension after its own timeout.
+void Engine::judge_suspension() noexcept {
+  if ((reasons_ & (kReasonLimit | kReasonComm)) != 0) {
+    suspended_ticks_ += elapsed_;  // on the clock: skipped ticks count
+    const bool real_over = real_time_passed(suspended_since_ns_, config_.suspend_timeout_ns);
+    if ((config_.suspend_timeout_ticks != 0 && suspended_ticks_ >= config_.suspend_timeout_ticks) ||
+        real_over) {
+      state_ = State::aborted;
+      outcome_ = Outcome::aborted_on_timeout;
+    }
+  }
+  if ((reasons_ & kReasonController) == 0) {
+    controller_ticks_ = 0;
+    controller_since_ns_ = -1;
+  } else if (state_ == State::suspended) {
+    controller_ticks_ += elapsed_;
+    const bool real_over = real_time_passed(controller_since_ns_, config_.controller.timeout_ns);
+    if ((config_.controller.timeout_ticks != 0 &&
+         controller_ticks_ >= config_.controller.timeout_ticks) ||
+        real_over) {
+      state_ = State::aborted;
+      outcome_ = Outcome::aborted_on_controller;
+    }
+  }
+}
+
+// Returning: safe once the baseline is out and read back (confirm() with a confirmation
+// timeout), else safe_unconfirmed after the window.
+void Engine::judge_return() noexcept {
+  returning_ticks_ += elapsed_;  // on the clock: skipped ticks count
+  const bool out_at_baseline = ramp_ == 0.0 && at_baseline();
+  if (config_.confirm_timeout_ticks != 0) {
+    confirm(out_at_baseline);
+    return;
+  }
+  if (out_at_baseline) ++confirm_ticks_;
+  // Safe = the baseline was written and read back; otherwise, after the confirmation
+  // window, safe_unconfirmed (the link stays down, or the readbacks disagree).
+  const std::uint64_t window = std::max<std::uint64_t>(
+      config_.suspend_timeout_ticks,
+      std::uint64_t{config_.readback_lag_ticks} + config_.readback_mismatch_limit + 1);
+  if (out_at_baseline && exchange_ok_ && !stale_ && baseline_read_back_ && controller_in_mode_) {
+    state_ = State::safe;
+  } else if ((reasons_ & kReasonComm) != 0) {
+    if (config_.suspend_timeout_ticks != 0 &&
+        returning_ticks_ >= std::uint64_t{config_.ramp_ticks} + config_.suspend_timeout_ticks) {
+      state_ = State::safe_unconfirmed;
+    }
+  } else if (confirm_ticks_ > window) {
+    state_ = State::safe_unconfirmed;
+  }
+}
+
 void Engine::observe(bool exchange_ok, std::span<const double> values, bool refused) noexcept {
   if (!armed_) return;  // nothing was written, nothing to judge
   exchange_ok_ = exchange_ok && values.size() >= config_.values;
@@ -634,57 +703,11 @@ void Engine::observe(bool exchange_ok, std::span<const double> values, bool refu
       if (reasons_ != 0) enter_suspended();
       break;
     case State::suspended:
-      if ((reasons_ & (kReasonLimit | kReasonComm)) != 0) {
-        suspended_ticks_ += elapsed_;  // on the clock: skipped ticks count
-        const bool real_over = real_time_passed(suspended_since_ns_, config_.suspend_timeout_ns);
-        if ((config_.suspend_timeout_ticks != 0 &&
-             suspended_ticks_ >= config_.suspend_timeout_ticks) ||
-            real_over) {
-          state_ = State::aborted;
-          outcome_ = Outcome::aborted_on_timeout;
-        }
-      }
-      if ((reasons_ & kReasonController) == 0) {
-        controller_ticks_ = 0;
-        controller_since_ns_ = -1;
-      } else if (state_ == State::suspended) {
-        controller_ticks_ += elapsed_;
-        const bool real_over =
-            real_time_passed(controller_since_ns_, config_.controller.timeout_ns);
-        if ((config_.controller.timeout_ticks != 0 &&
-             controller_ticks_ >= config_.controller.timeout_ticks) ||
-            real_over) {
-          state_ = State::aborted;
-          outcome_ = Outcome::aborted_on_controller;
-        }
-      }
+      judge_suspension();
       break;
-    case State::returning: {
-      returning_ticks_ += elapsed_;  // on the clock: skipped ticks count
-      const bool out_at_baseline = ramp_ == 0.0 && at_baseline();
-      if (config_.confirm_timeout_ticks != 0) {
-        confirm(out_at_baseline);
-        break;
-      }
-      if (out_at_baseline) ++confirm_ticks_;
-      // Safe = the baseline was written and read back; otherwise, after the confirmation
-      // window, safe_unconfirmed (the link stays down, or the readbacks disagree).
-      const std::uint64_t window = std::max<std::uint64_t>(
-          config_.suspend_timeout_ticks,
-          std::uint64_t{config_.readback_lag_ticks} + config_.readback_mismatch_limit + 1);
-      if (out_at_baseline && exchange_ok_ && !stale_ && baseline_read_back_ &&
-          controller_in_mode_) {
-        state_ = State::safe;
-      } else if ((reasons_ & kReasonComm) != 0) {
-        if (config_.suspend_timeout_ticks != 0 &&
-            returning_ticks_ >= std::uint64_t{config_.ramp_ticks} + config_.suspend_timeout_ticks) {
-          state_ = State::safe_unconfirmed;
-        }
-      } else if (confirm_ticks_ > window) {
-        state_ = State::safe_unconfirmed;
-      }
+    case State::returning:
+      judge_return();
       break;
-    }
     default:
       break;
   }

@@ -50,6 +50,10 @@ std::string quoted(std::string_view s) {
   return "'" + std::string(s) + "'";
 }
 
+// The header keys every log has, in this order of the checks (README "Header").
+constexpr std::string_view kHeaderKeys[6] = {"plant",  "plan",    "sample_time_min",
+                                             "inputs", "outputs", "units"};
+
 // Column roles of the data table.
 enum class Role : std::uint8_t { t_min, k, du, u, dy, flags, state, segment, r, uc, ysp, st, mode };
 struct ColumnRole {
@@ -94,7 +98,28 @@ class Parser {
     return false;
   }
 
+  // The header: the magic line, then '# key: value' lines up to the column header row.
   bool parse_header() {
+    if (!parse_magic()) return false;
+    std::string_view line;
+    for (;;) {
+      const std::size_t before = pos_;
+      if (!next_line(line)) return fail(0, "end of file before the column header row");
+      if (line.empty() || line.front() != '#') {
+        pos_ = before;  // the column header row: re-read by parse_columns
+        --line_no_;
+        break;
+      }
+      const std::string_view body = trim(line.substr(1));
+      const std::size_t colon = body.find(':');
+      if (colon == std::string_view::npos) continue;  // free comment
+      if (!header_line(trim(body.substr(0, colon)), trim(body.substr(colon + 1)))) return false;
+    }
+    return header_complete();
+  }
+
+  // The first line names the format version (v1 to v4).
+  bool parse_magic() {
     std::string_view line;
     if (!next_line(line)) {
       return fail(0, "empty file, expected the line '# excite run log v3' (or v2, v1, v4)");
@@ -116,128 +141,116 @@ class Parser {
                   "first line is " + quoted(trim(line)) +
                       ", expected '# excite run log v3' (or v2, v1, v4) (not an excite run log?)");
     }
-    bool seen[6] = {};
-    bool seen_producer = false;  // optional: logs written before it existed have none
-    struct OptionalNumber {      // the optional time scales (TimeScales)
+    return true;
+  }
+
+  // One '# key: value' line: a required key (kHeaderKeys, each once) or an optional one.
+  bool header_line(std::string_view key, std::string_view value) {
+    // Free text is one line; a carriage return inside it is damage the writer never makes.
+    if ((key == "plant" || key == "plan" || key == "producer") &&
+        value.find('\r') != std::string_view::npos) {
+      return fail(0, "header key '" + std::string(key) +
+                         "' has a carriage return inside its text, expected one line");
+    }
+    const auto* required = std::find(std::begin(kHeaderKeys), std::end(kHeaderKeys), key);
+    if (required == std::end(kHeaderKeys)) return optional_key(key, value);
+    const auto which = static_cast<std::size_t>(required - std::begin(kHeaderKeys));
+    if (seen_[which]) return fail(0, "header key '" + std::string(key) + "' given twice");
+    seen_[which] = true;
+    return required_key(which, value);
+  }
+
+  // The time scales, start_at_rest, the v4 keys, baseline, producer; other keys are for
+  // people and ignored.
+  bool optional_key(std::string_view key, std::string_view value) {
+    struct OptionalNumber {  // the optional time scales (TimeScales)
       std::string_view key;
       double* value;
-      bool seen;
     };
-    OptionalNumber scales[3] = {{"tau_high_min", &log_.time_scales.tau_high_min, false},
-                                {"beta", &log_.time_scales.beta, false},
-                                {"switch_time_min", &log_.time_scales.switch_time_min, false}};
-    static constexpr std::string_view kKeys[6] = {"plant",  "plan",    "sample_time_min",
-                                                  "inputs", "outputs", "units"};
-    std::string_view units_value;
-    std::size_t units_line = 0;
-    for (;;) {
-      const std::size_t before = pos_;
-      if (!next_line(line)) return fail(0, "end of file before the column header row");
-      if (line.empty() || line.front() != '#') {
-        pos_ = before;  // the column header row: re-read by parse_columns
-        --line_no_;
-        break;
+    const OptionalNumber scales[3] = {{"tau_high_min", &log_.time_scales.tau_high_min},
+                                      {"beta", &log_.time_scales.beta},
+                                      {"switch_time_min", &log_.time_scales.switch_time_min}};
+    for (std::size_t i = 0; i < 3; ++i) {
+      if (scales[i].key != key) continue;
+      if (scale_seen_[i]) return fail(0, "header key '" + std::string(key) + "' given twice");
+      scale_seen_[i] = true;
+      double& v = *scales[i].value;
+      const auto r = std::from_chars(value.data(), value.data() + value.size(), v);
+      if (r.ec != std::errc{} || r.ptr != value.data() + value.size() || !std::isfinite(v) ||
+          v < 0.0) {
+        return fail(0, std::string(key) + " = " + quoted(value) +
+                           ", expected a finite number ≥ 0 (0: not known)");
       }
-      const std::string_view body = trim(line.substr(1));
-      const std::size_t colon = body.find(':');
-      if (colon == std::string_view::npos) continue;  // free comment
-      const std::string_view key = trim(body.substr(0, colon));
-      const std::string_view value = trim(body.substr(colon + 1));
-      // Free text is one line; a carriage return inside it is damage the writer never makes.
-      if ((key == "plant" || key == "plan" || key == "producer") &&
-          value.find('\r') != std::string_view::npos) {
-        return fail(0, "header key '" + std::string(key) +
-                           "' has a carriage return inside its text, expected one line");
-      }
-      std::size_t which = 6;
-      for (std::size_t i = 0; i < 6; ++i) {
-        if (key == kKeys[i]) which = i;
-      }
-      if (which == 6) {
-        auto* scale = std::find_if(std::begin(scales), std::end(scales),
-                                   [&](const OptionalNumber& o) { return o.key == key; });
-        if (scale != std::end(scales)) {
-          if (scale->seen) return fail(0, "header key '" + std::string(key) + "' given twice");
-          scale->seen = true;
-          double& v = *scale->value;
-          const auto r = std::from_chars(value.data(), value.data() + value.size(), v);
-          if (r.ec != std::errc{} || r.ptr != value.data() + value.size() || !std::isfinite(v) ||
-              v < 0.0) {
-            return fail(0, std::string(key) + " = " + quoted(value) +
-                               ", expected a finite number ≥ 0 (0: not known)");
-          }
-          continue;
-        }
-        if (key == "start_at_rest") {
-          if (value != "yes" && value != "no") {
-            return fail(0, "start_at_rest = " + quoted(value) + ", expected yes or no");
-          }
-          log_.start_at_rest = value == "yes";
-          continue;
-        }
-        if (log_.format_version == 4 &&
-            (key == "loop" || key == "excitation" || key == "controller")) {
-          if (!closed_key(key, value)) return false;
-          continue;
-        }
-        if (key == "baseline") {
-          log_.baseline = std::string(value);
-          continue;
-        }
-        if (key == "producer") {
-          if (seen_producer) return fail(0, "header key 'producer' given twice");
-          seen_producer = true;
-          log_.producer = std::string(value);
-        }
-        continue;  // other unknown keys are for people; ignored
-      }
-      if (seen[which]) return fail(0, "header key '" + std::string(key) + "' given twice");
-      seen[which] = true;
-      switch (which) {
-        case 0:
-          log_.plant = std::string(value);
-          break;
-        case 1:
-          log_.plan = std::string(value);
-          break;
-        case 2: {
-          double t = 0.0;
-          const auto r = std::from_chars(value.data(), value.data() + value.size(), t);
-          if (r.ec != std::errc{} || r.ptr != value.data() + value.size() || !std::isfinite(t) ||
-              t <= 0.0) {
-            return fail(0, "sample_time_min is " + quoted(value) +
-                               ", expected a finite number > 0 (minutes)");
-          }
-          log_.sample_time_min = t;
-          break;
-        }
-        case 3:
-        case 4: {
-          auto& names = which == 3 ? log_.input_names : log_.output_names;
-          for (const auto w : words(value)) {
-            if (!valid_channel_name(w)) {
-              return fail(0, "channel name " + quoted(w) +
-                                 " is invalid, expected letters, digits, '_', '.', '-'");
-            }
-            names.emplace_back(w);
-          }
-          if (names.empty()) {
-            return fail(0, std::string(which == 3 ? "inputs" : "outputs") +
-                               " lists no channel, expected at least one name");
-          }
-          break;
-        }
-        case 5:
-          units_value = value;
-          units_line = line_no_;
-          break;
-        default:
-          break;
-      }
+      return true;
     }
-    for (std::size_t i = 0; i < 6; ++i) {
-      if (!seen[i]) {
-        return fail(0, "header has no '# " + std::string(kKeys[i]) +
+    if (key == "start_at_rest") {
+      if (value != "yes" && value != "no") {
+        return fail(0, "start_at_rest = " + quoted(value) + ", expected yes or no");
+      }
+      log_.start_at_rest = value == "yes";
+      return true;
+    }
+    if (log_.format_version == 4 && (key == "loop" || key == "excitation" || key == "controller")) {
+      return closed_key(key, value);
+    }
+    if (key == "baseline") {
+      log_.baseline = std::string(value);
+    } else if (key == "producer") {  // optional: logs written before it existed have none
+      if (seen_producer_) return fail(0, "header key 'producer' given twice");
+      seen_producer_ = true;
+      log_.producer = std::string(value);
+    }
+    return true;
+  }
+
+  // plant, plan, sample_time_min, inputs, outputs, units (kHeaderKeys[which]).
+  bool required_key(std::size_t which, std::string_view value) {
+    switch (which) {
+      case 0:
+        log_.plant = std::string(value);
+        return true;
+      case 1:
+        log_.plan = std::string(value);
+        return true;
+      case 2: {
+        double t = 0.0;
+        const auto r = std::from_chars(value.data(), value.data() + value.size(), t);
+        if (r.ec != std::errc{} || r.ptr != value.data() + value.size() || !std::isfinite(t) ||
+            t <= 0.0) {
+          return fail(0, "sample_time_min is " + quoted(value) +
+                             ", expected a finite number > 0 (minutes)");
+        }
+        log_.sample_time_min = t;
+        return true;
+      }
+      case 3:
+      case 4: {
+        auto& names = which == 3 ? log_.input_names : log_.output_names;
+        for (const auto w : words(value)) {
+          if (!valid_channel_name(w)) {
+            return fail(0, "channel name " + quoted(w) +
+                               " is invalid, expected letters, digits, '_', '.', '-'");
+          }
+          names.emplace_back(w);
+        }
+        if (names.empty()) {
+          return fail(0, std::string(which == 3 ? "inputs" : "outputs") +
+                             " lists no channel, expected at least one name");
+        }
+        return true;
+      }
+      default:  // units: read once the channels are known (header_complete)
+        units_value_ = value;
+        units_line_ = line_no_;
+        return true;
+    }
+  }
+
+  // Every required key given (and in v4 the closed-loop ones), names unique, then the units.
+  bool header_complete() {
+    for (std::size_t i = 0; i < std::size(kHeaderKeys); ++i) {
+      if (!seen_[i]) {
+        return fail(0, "header has no '# " + std::string(kHeaderKeys[i]) +
                            ":' line, expected plant, plan, sample_time_min, inputs, outputs, "
                            "units");
       }
@@ -261,7 +274,7 @@ class Parser {
         }
       }
     }
-    return parse_units(units_value, units_line, all);
+    return parse_units(units_value_, units_line_, all);
   }
 
   // The v4 header keys (README "Version 4"): each once.
@@ -317,14 +330,12 @@ class Parser {
     return true;
   }
 
-  bool parse_columns() {
-    std::string_view line;
-    if (!next_line(line)) return fail(0, "end of file, expected the column header row");
-    const auto names = split(line, ',');
+  // The columns the header implies, with their roles; the row may list them in any order.
+  using ExpectedColumns = std::vector<std::pair<std::string, ColumnRole>>;
+  ExpectedColumns expected_columns() const {
     const std::size_t n = log_.input_names.size();
     const std::size_t p = log_.output_names.size();
-    // Expected names and their roles; the row may list them in any order.
-    std::vector<std::pair<std::string, ColumnRole>> expected;
+    ExpectedColumns expected;
     expected.push_back({"t_min", {Role::t_min, 0}});
     expected.push_back({"k", {Role::k, 0}});
     for (std::size_t i = 0; i < n; ++i) {
@@ -336,7 +347,7 @@ class Parser {
     for (std::size_t j = 0; j < p; ++j) {
       expected.push_back({"dy_" + log_.output_names[j], {Role::dy, j}});
     }
-    ClosedLoopLog& cl = log_.closed_loop;
+    const ClosedLoopLog& cl = log_.closed_loop;
     if (cl.closed) {
       // r channel indices: outputs for setpoint, inputs for mv; both: outputs 0 … p − 1,
       // then the inputs p … p + n − 1 (README "Version 4").
@@ -363,7 +374,51 @@ class Parser {
     expected.push_back({"flags", {Role::flags, 0}});
     if (log_.format_version >= 2) expected.push_back({"state", {Role::state, 0}});
     if (log_.format_version >= 3) expected.push_back({"segment", {Role::segment, 0}});
+    return expected;
+  }
 
+  // v4: the r columns present (at least one), each mapped to its place in r_channels
+  // (ascending by channel); the closed-loop series sized.
+  bool index_r_columns(const ExpectedColumns& expected, const std::vector<bool>& found) {
+    ClosedLoopLog& cl = log_.closed_loop;
+    const std::size_t n = log_.input_names.size();
+    const std::size_t p = log_.output_names.size();
+    std::vector<std::size_t> slot(expected.size(), 0);
+    for (std::size_t e = 0; e < expected.size(); ++e) {
+      if (found[e] && expected[e].second.role == Role::r) {
+        slot[e] = cl.r_channels.size();
+        cl.r_channels.push_back(expected[e].second.channel);
+      }
+    }
+    if (cl.r_channels.empty()) {
+      return fail(0, std::string("r columns = (none), expected r_<") +
+                         (cl.excitation == Excitation::setpoint ? "output"
+                          : cl.excitation == Excitation::mv     ? "input"
+                                                                : "output or input") +
+                         "> for each channel the excitation moves");
+    }
+    // Each r column's channel → its place in r_channels (ascending by channel).
+    for (ColumnRole& role : roles_) {
+      if (role.role != Role::r) continue;
+      for (std::size_t e = 0; e < expected.size(); ++e) {
+        if (expected[e].second.role == Role::r && expected[e].second.channel == role.channel) {
+          role.channel = slot[e];
+          break;
+        }
+      }
+    }
+    cl.r.assign(cl.r_channels.size(), {});
+    cl.uc.assign(n, {});
+    cl.ysp.assign(p, {});
+    cl.st.assign(n, {});
+    return true;
+  }
+
+  bool parse_columns() {
+    std::string_view line;
+    if (!next_line(line)) return fail(0, "end of file, expected the column header row");
+    const auto names = split(line, ',');
+    const ExpectedColumns expected = expected_columns();
     std::vector<bool> found(expected.size(), false);
     for (std::size_t c = 0; c < names.size(); ++c) {
       std::size_t idx = expected.size();
@@ -385,39 +440,10 @@ class Parser {
         return fail(0, "missing column " + quoted(expected[e].first));
       }
     }
-    if (cl.closed) {
-      std::vector<std::size_t> slot(expected.size(), 0);
-      for (std::size_t e = 0; e < expected.size(); ++e) {
-        if (found[e] && expected[e].second.role == Role::r) {
-          slot[e] = cl.r_channels.size();
-          cl.r_channels.push_back(expected[e].second.channel);
-        }
-      }
-      if (cl.r_channels.empty()) {
-        return fail(0, std::string("r columns = (none), expected r_<") +
-                           (cl.excitation == Excitation::setpoint ? "output"
-                            : cl.excitation == Excitation::mv     ? "input"
-                                                                  : "output or input") +
-                           "> for each channel the excitation moves");
-      }
-      // Each r column's channel → its place in r_channels (ascending by channel).
-      for (ColumnRole& role : roles_) {
-        if (role.role != Role::r) continue;
-        for (std::size_t e = 0; e < expected.size(); ++e) {
-          if (expected[e].second.role == Role::r && expected[e].second.channel == role.channel) {
-            role.channel = slot[e];
-            break;
-          }
-        }
-      }
-      cl.r.assign(cl.r_channels.size(), {});
-      cl.uc.assign(n, {});
-      cl.ysp.assign(p, {});
-      cl.st.assign(n, {});
-    }
-    log_.du.assign(n, {});
-    log_.u.assign(n, {});
-    log_.dy.assign(p, {});
+    if (log_.closed_loop.closed && !index_r_columns(expected, found)) return false;
+    log_.du.assign(log_.input_names.size(), {});
+    log_.u.assign(log_.input_names.size(), {});
+    log_.dy.assign(log_.output_names.size(), {});
     return true;
   }
 
@@ -453,64 +479,39 @@ class Parser {
     return true;
   }
 
-  bool parse_field(std::size_t c, std::string_view f) {
-    const ColumnRole role = roles_[c];
-    const char* first = f.data();
+  // k, flags and segment: non-negative integers (flags: only the documented bits).
+  bool parse_integer_field(std::size_t c, std::string_view f, ColumnRole role) {
     const char* last = f.data() + f.size();
-    if (role.role == Role::state) {
-      RunState state = RunState::unknown;
-      if (!run_state_from_text(f, state)) {
+    std::uint64_t v = 0;
+    const auto r = std::from_chars(f.data(), last, v);
+    if (f.empty() || r.ec != std::errc{} || r.ptr != last) {
+      return field_error(c, f, "a non-negative integer");
+    }
+    if (role.role == Role::segment) {
+      if (v > 0xFFFFFFFFU) return field_error(c, f, "a segment id of at most 4294967295");
+      log_.segment.push_back(static_cast<std::uint32_t>(v));
+    } else if (role.role == Role::k) {
+      log_.k.push_back(v);
+    } else {
+      const bool v1 = log_.format_version == 1;
+      if ((v & ~std::uint64_t{v1 ? kKnownFlagsV1 : kKnownFlags}) != 0U) {
         return field_error(c, f,
-                           "a run state: unknown, configured, armed, running, suspended, "
-                           "completed, aborted, returning, safe or safe_unconfirmed");
+                           v1 ? "only the documented flag bits (v1: suspended=1, "
+                                "comm_lost=2, clamped=4, rate_limited=8, stale=16)"
+                              : "only the documented flag bits (suspended=1, "
+                                "comm_lost=2, clamped=4, rate_limited=8, stale=16, "
+                                "skipped=32, discontinuity=64, bad_value=128)");
       }
-      log_.state.push_back(state);
-      return true;
+      log_.flags.push_back(static_cast<std::uint32_t>(v));
     }
-    if (role.role == Role::mode) {
-      LoopMode mode = LoopMode::off;
-      if (!loop_mode_from_text(f, mode)) {
-        return field_error(c, f, "a loop mode: off, control, test or suspended");
-      }
-      log_.closed_loop.mode.push_back(mode);
-      return true;
-    }
-    if (role.role == Role::st) {
-      if (f.size() != 1 || f[0] < '0' || f[0] > static_cast<char>('0' + kMaxMvState)) {
-        return field_error(c, f,
-                           "an MV status: 0 ok, 1 clamped low, 2 clamped high, 3 windup, "
-                           "4 manual");
-      }
-      log_.closed_loop.st[role.channel].push_back(static_cast<MvState>(f[0] - '0'));
-      return true;
-    }
-    if (role.role == Role::k || role.role == Role::flags || role.role == Role::segment) {
-      std::uint64_t v = 0;
-      const auto r = std::from_chars(first, last, v);
-      if (f.empty() || r.ec != std::errc{} || r.ptr != last) {
-        return field_error(c, f, "a non-negative integer");
-      }
-      if (role.role == Role::segment) {
-        if (v > 0xFFFFFFFFU) return field_error(c, f, "a segment id of at most 4294967295");
-        log_.segment.push_back(static_cast<std::uint32_t>(v));
-      } else if (role.role == Role::k) {
-        log_.k.push_back(v);
-      } else {
-        const bool v1 = log_.format_version == 1;
-        if ((v & ~std::uint64_t{v1 ? kKnownFlagsV1 : kKnownFlags}) != 0U) {
-          return field_error(c, f,
-                             v1 ? "only the documented flag bits (v1: suspended=1, "
-                                  "comm_lost=2, clamped=4, rate_limited=8, stale=16)"
-                                : "only the documented flag bits (suspended=1, "
-                                  "comm_lost=2, clamped=4, rate_limited=8, stale=16, "
-                                  "skipped=32, discontinuity=64, bad_value=128)");
-        }
-        log_.flags.push_back(static_cast<std::uint32_t>(v));
-      }
-      return true;
-    }
+    return true;
+  }
+
+  // Every other column: a finite number, kept in its series.
+  bool parse_number_field(std::size_t c, std::string_view f, ColumnRole role) {
+    const char* last = f.data() + f.size();
     double v = 0.0;
-    const auto r = std::from_chars(first, last, v);
+    const auto r = std::from_chars(f.data(), last, v);
     if (f.empty() || r.ec == std::errc::invalid_argument || r.ptr != last) {
       return field_error(c, f, "a number");
     }
@@ -543,6 +544,41 @@ class Parser {
         break;
     }
     return true;
+  }
+
+  bool parse_field(std::size_t c, std::string_view f) {
+    const ColumnRole role = roles_[c];
+    if (role.role == Role::state) {
+      RunState state = RunState::unknown;
+      if (!run_state_from_text(f, state)) {
+        return field_error(c, f,
+                           "a run state: unknown, configured, armed, running, suspended, "
+                           "completed, aborted, returning, safe or safe_unconfirmed");
+      }
+      log_.state.push_back(state);
+      return true;
+    }
+    if (role.role == Role::mode) {
+      LoopMode mode = LoopMode::off;
+      if (!loop_mode_from_text(f, mode)) {
+        return field_error(c, f, "a loop mode: off, control, test or suspended");
+      }
+      log_.closed_loop.mode.push_back(mode);
+      return true;
+    }
+    if (role.role == Role::st) {
+      if (f.size() != 1 || f[0] < '0' || f[0] > static_cast<char>('0' + kMaxMvState)) {
+        return field_error(c, f,
+                           "an MV status: 0 ok, 1 clamped low, 2 clamped high, 3 windup, "
+                           "4 manual");
+      }
+      log_.closed_loop.st[role.channel].push_back(static_cast<MvState>(f[0] - '0'));
+      return true;
+    }
+    if (role.role == Role::k || role.role == Role::flags || role.role == Role::segment) {
+      return parse_integer_field(c, f, role);
+    }
+    return parse_number_field(c, f, role);
   }
 
   std::size_t column_of(Role role) const {
@@ -602,6 +638,13 @@ class Parser {
   ReadError error_;
   std::vector<ColumnRole> roles_;
   bool closed_seen_[3] = {};  // v4: loop, excitation, controller
+  // The header's keys seen (kHeaderKeys; the time scales; producer) and the units line,
+  // read once the channels are known.
+  bool seen_[6] = {};
+  bool scale_seen_[3] = {};
+  bool seen_producer_ = false;
+  std::string_view units_value_;
+  std::size_t units_line_ = 0;
   std::vector<std::string> column_names_;
 };
 

@@ -109,6 +109,118 @@ bool closed_loop_valid(const Header& h) {
   return true;
 }
 
+// What is wrong with the header, or null: one line of text per free-text key, a finite
+// sample time, time scales ≥ 0, valid unique channels, a valid v4 part.
+const char* header_problem(const Header& header) {
+  if (!one_line(header.plant) || !one_line(header.plan) || !one_line(header.producer) ||
+      !one_line(header.baseline)) {
+    return "header.plant/plan/producer/baseline = (a line break), expected one line of text";
+  }
+  if (!std::isfinite(header.sample_time_min) || header.sample_time_min <= 0.0) {
+    return "header.sample_time_min = (not finite or <= 0), expected a finite number > 0";
+  }
+  const TimeScales& ts = header.time_scales;
+  for (const double v : {ts.tau_high_min, ts.beta, ts.switch_time_min}) {
+    if (!(std::isfinite(v) && v >= 0.0)) {
+      return "header.time_scales = (not finite or < 0), expected finite numbers ≥ 0 (0: not "
+             "known)";
+    }
+  }
+  if (!channels_valid(header)) {
+    return "header channel = (invalid or repeated), expected a unique name of letters, "
+           "digits, _ . - and a unit without spaces, ',' or '='";
+  }
+
+  if (!closed_loop_valid(header)) {
+    return "header.closed_loop = (no controller text, a line break, or r channels not "
+           "ascending on the excitation's side), expected a v4 header (README, Version 4)";
+  }
+  return nullptr;
+}
+
+// The magic line and the '# key: value' lines (README "Format", "Version 4").
+void write_header_keys(Sink& s, const Header& header) {
+  const ClosedLoopHeader& loop = header.closed_loop;
+  const TimeScales& ts = header.time_scales;
+  s.text(loop.closed ? kMagicLineV4 : kMagicLine);
+  if (!header.producer.empty()) {
+    s.text("\n# producer: ");
+    s.text(header.producer);
+  }
+  s.text("\n# plant: ");
+  s.text(header.plant);
+  s.text("\n# plan: ");
+  s.text(header.plan);
+  s.text("\n# sample_time_min: ");
+  s.number(header.sample_time_min);
+  const std::pair<std::string_view, double> scales[] = {
+      {"\n# tau_high_min: ", ts.tau_high_min},
+      {"\n# beta: ", ts.beta},
+      {"\n# switch_time_min: ", ts.switch_time_min}};
+  for (const auto& [key, value] : scales) {
+    if (value > 0.0) {
+      s.text(key);
+      s.number(value);
+    }
+  }
+  if (!header.baseline.empty()) {
+    s.text("\n# baseline: ");
+    s.text(header.baseline);
+  }
+  if (!header.start_at_rest) s.text("\n# start_at_rest: no");
+  if (loop.closed) {
+    s.text("\n# loop: closed\n# excitation: ");
+    s.text(to_text(loop.excitation));
+    s.text("\n# controller: ");
+    s.text(loop.controller);
+  }
+  s.text("\n# inputs:");
+  for (const Channel& c : header.inputs) {
+    s.ch(' ');
+    s.text(c.name);
+  }
+  s.text("\n# outputs:");
+  for (const Channel& c : header.outputs) {
+    s.ch(' ');
+    s.text(c.name);
+  }
+  s.text("\n# units:");
+  const std::span<const Channel> groups[2] = {header.inputs, header.outputs};
+  for (const auto& group : groups) {
+    for (const Channel& c : group) {
+      s.ch(' ');
+      s.text(c.name);
+      s.ch('=');
+      s.text(c.unit);
+    }
+  }
+}
+
+// The column header row: t_min, k, du_, u_, dy_, in v4 r_, uc_, ysp_, st_, mode; then
+// flags, state, segment.
+void write_column_row(Sink& s, const Header& header) {
+  const ClosedLoopHeader& loop = header.closed_loop;
+  s.text("\nt_min,k");
+  column_names(s, "du_", header.inputs);
+  column_names(s, "u_", header.inputs);
+  column_names(s, "dy_", header.outputs);
+  if (loop.closed) {
+    // `both`: the outputs' r columns, then the inputs' (one index space, outputs first).
+    const bool mv = loop.excitation == Excitation::mv;
+    for (const std::size_t i : loop.r_channels) {
+      s.text(",r_");
+      s.text(mv                          ? header.inputs[i].name
+             : i < header.outputs.size() ? header.outputs[i].name
+                                         : header.inputs[i - header.outputs.size()].name);
+    }
+    column_names(s, "uc_", header.inputs);
+    column_names(s, "ysp_", header.outputs);
+    column_names(s, "st_", header.inputs);
+    s.text(",mode");
+  }
+  s.text(",flags,state,segment\n");
+}
+
 }  // namespace
 
 std::string_view to_text(Excitation excitation) noexcept {
@@ -235,108 +347,12 @@ std::string_view describe(WriteStatus status) {
 }
 
 WriteResult format_header(const Header& header, std::span<char> out) {
-  if (!one_line(header.plant) || !one_line(header.plan) || !one_line(header.producer) ||
-      !one_line(header.baseline)) {
-    return {WriteStatus::invalid_field, 0,
-            "header.plant/plan/producer/baseline = (a line break), expected one line of text"};
+  if (const char* problem = header_problem(header)) {
+    return {WriteStatus::invalid_field, 0, problem};
   }
-  if (!std::isfinite(header.sample_time_min) || header.sample_time_min <= 0.0) {
-    return {WriteStatus::invalid_field, 0,
-            "header.sample_time_min = (not finite or <= 0), expected a finite number > 0"};
-  }
-  const TimeScales& ts = header.time_scales;
-  for (const double v : {ts.tau_high_min, ts.beta, ts.switch_time_min}) {
-    if (!(std::isfinite(v) && v >= 0.0)) {
-      return {WriteStatus::invalid_field, 0,
-              "header.time_scales = (not finite or < 0), expected finite numbers ≥ 0 (0: not "
-              "known)"};
-    }
-  }
-  if (!channels_valid(header)) {
-    return {WriteStatus::invalid_field, 0,
-            "header channel = (invalid or repeated), expected a unique name of letters, "
-            "digits, _ . - and a unit without spaces, ',' or '='"};
-  }
-
-  if (!closed_loop_valid(header)) {
-    return {WriteStatus::invalid_field, 0,
-            "header.closed_loop = (no controller text, a line break, or r channels not "
-            "ascending on the excitation's side), expected a v4 header (README, Version 4)"};
-  }
-  const ClosedLoopHeader& loop = header.closed_loop;
-
   Sink s(out);
-  s.text(loop.closed ? kMagicLineV4 : kMagicLine);
-  if (!header.producer.empty()) {
-    s.text("\n# producer: ");
-    s.text(header.producer);
-  }
-  s.text("\n# plant: ");
-  s.text(header.plant);
-  s.text("\n# plan: ");
-  s.text(header.plan);
-  s.text("\n# sample_time_min: ");
-  s.number(header.sample_time_min);
-  const std::pair<std::string_view, double> scales[] = {
-      {"\n# tau_high_min: ", ts.tau_high_min},
-      {"\n# beta: ", ts.beta},
-      {"\n# switch_time_min: ", ts.switch_time_min}};
-  for (const auto& [key, value] : scales) {
-    if (value > 0.0) {
-      s.text(key);
-      s.number(value);
-    }
-  }
-  if (!header.baseline.empty()) {
-    s.text("\n# baseline: ");
-    s.text(header.baseline);
-  }
-  if (!header.start_at_rest) s.text("\n# start_at_rest: no");
-  if (loop.closed) {
-    s.text("\n# loop: closed\n# excitation: ");
-    s.text(to_text(loop.excitation));
-    s.text("\n# controller: ");
-    s.text(loop.controller);
-  }
-  s.text("\n# inputs:");
-  for (const Channel& c : header.inputs) {
-    s.ch(' ');
-    s.text(c.name);
-  }
-  s.text("\n# outputs:");
-  for (const Channel& c : header.outputs) {
-    s.ch(' ');
-    s.text(c.name);
-  }
-  s.text("\n# units:");
-  const std::span<const Channel> groups[2] = {header.inputs, header.outputs};
-  for (const auto& group : groups) {
-    for (const Channel& c : group) {
-      s.ch(' ');
-      s.text(c.name);
-      s.ch('=');
-      s.text(c.unit);
-    }
-  }
-  s.text("\nt_min,k");
-  column_names(s, "du_", header.inputs);
-  column_names(s, "u_", header.inputs);
-  column_names(s, "dy_", header.outputs);
-  if (loop.closed) {
-    // `both`: the outputs' r columns, then the inputs' (one index space, outputs first).
-    const bool mv = loop.excitation == Excitation::mv;
-    for (const std::size_t i : loop.r_channels) {
-      s.text(",r_");
-      s.text(mv                          ? header.inputs[i].name
-             : i < header.outputs.size() ? header.outputs[i].name
-                                         : header.inputs[i - header.outputs.size()].name);
-    }
-    column_names(s, "uc_", header.inputs);
-    column_names(s, "ysp_", header.outputs);
-    column_names(s, "st_", header.inputs);
-    s.text(",mode");
-  }
-  s.text(",flags,state,segment\n");
+  write_header_keys(s, header);
+  write_column_row(s, header);
   return s.result();
 }
 

@@ -317,8 +317,8 @@ StatusCode ModbusFieldBus::write_value(std::size_t index, double value) noexcept
   if (const StatusCode link = ensure_connected(); link != StatusCode::ok) {
     return link;
   }
-  const Request request{16, codec.address,
-                        static_cast<std::uint16_t>(register_count(codec.type)), 0};
+  const Request request{16, codec.address, static_cast<std::uint16_t>(register_count(codec.type)),
+                        0};
   ++requests_;
   if (modbus_write_registers(ctx_, request.address, request.count, registers) == -1) {
     return fail("write", &request, errno);

@@ -345,8 +345,9 @@ TEST_F(GatewayHil, APlcThatClampsASetpointIsAFaultAndTheBaselineIsConfirmed) {
           std::string::npos &&
       err.find("read back 60.03") != std::string::npos;
   const bool rewritten =
-      err.find("fault: another writer was seen: setpoint V (register 102 float32 CDAB) = "
-               "60.03") != std::string::npos;
+      err.find(
+          "fault: another writer was seen: setpoint V (register 102 float32 CDAB) = "
+          "60.03") != std::string::npos;
   EXPECT_TRUE(mismatch || rewritten) << err;
   EXPECT_NE(err.find(": safe after"), std::string::npos) << err;
   EXPECT_TRUE(err.find("(fault: readback mismatch)") != std::string::npos ||
@@ -445,7 +446,8 @@ TEST_F(GatewayHil, OperatorStartsBySignalAndAbortsByTheCommandRegister) {
 // register (function_code 4) cannot take: refused at start-up, nothing written to the field.
 TEST_F(GatewayHil, AnInputRegisterCommandCannotBeAcknowledged) {
   std::string text = config_text(server_->port());
-  text.replace(text.find("role = \"command\"\n"), 17, "role = \"command\"\nacknowledge = \"clear\"\n");
+  text.replace(text.find("role = \"command\"\n"), 17,
+               "role = \"command\"\nacknowledge = \"clear\"\n");
   write_config(text);
   auto gw = start();
   ASSERT_EQ(gw->wait(20s).value_or(-1), 2) << gw->err();

@@ -241,8 +241,7 @@ TEST_F(Segments, ASegmentApprovedByTheCommandRegisterIsTaken) {
 // acknowledgement as the register back at 0.
 TEST_F(Segments, EachFiveInTheCommandRegisterIsSeenBecauseTheGatewayClearsIt) {
   const std::uint16_t port = start_loop(kPlant, "--input-range 2");
-  auto gw = start_gateway(plan_path_,
-                          {"--clock", "lockstep", "--segment-inbox", inbox().string()});
+  auto gw = start_gateway(plan_path_, {"--clock", "lockstep", "--segment-inbox", inbox().string()});
   ASSERT_TRUE(wait_for(*gw, "waiting for start")) << gw->err();
   modbus_t* operator_station = modbus_new_tcp("127.0.0.1", port);
   ASSERT_NE(operator_station, nullptr);

@@ -228,6 +228,14 @@ class Engine {
   void apply_command() noexcept;
   void enter_suspended() noexcept;
   void enter_returning() noexcept;
+  // compute()'s parts, in the order it calls them (README "The tick").
+  void advance_row() noexcept;
+  void switch_segment() noexcept;
+  void move_ramp() noexcept;
+  void limit_setpoints() noexcept;
+  // observe()'s judgement of the state after this tick's checks.
+  void judge_suspension() noexcept;
+  void judge_return() noexcept;
   void check_comm(bool exchange_ok, std::span<const double> values) noexcept;
   void check_limits(bool exchange_ok, std::span<const double> values) noexcept;
   void read_command_register(bool exchange_ok, std::span<const double> values) noexcept;

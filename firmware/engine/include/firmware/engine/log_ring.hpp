@@ -71,6 +71,8 @@ class SpanLogRing final : public LogRingBase {
 /// A ring of N records (N ≥ 1). Large: allocate once at start-up (or make it static).
 template <std::size_t N>
 class LogRing final : public LogRingBase {
+  static_assert(N >= 1, "LogRing<N>: N = 0, expected at least one record");
+
  public:
   LogRing() noexcept : LogRingBase(std::span<TickRecord>(storage_)) {}
 
