@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <sstream>
 
 #include "host/montecarlo/html_page.hpp"
@@ -50,6 +51,28 @@ std::string matrix_text(const IdentifiedModel& m, bool with_se) {
     text += o + 1 < m.outputs ? "<br>" : "";
   }
   return text;
+}
+
+// The open-loop campaign's model of the same design (its folder beside the open-loop report,
+// models/NN-name.json): G(0) as rows and each output's fit; "" when there is none.
+std::string open_loop_cell(const fs::path& dir, const std::string& report, const std::string& model) {
+  if (report.empty()) return "";
+  std::ifstream in(dir / fs::path(report).parent_path() / model);
+  if (!in) return "(no open-loop run of this design)";
+  const nlohmann::json m = nlohmann::json::parse(in, nullptr, false);
+  if (m.is_discarded() || !m.contains("gain")) return "(unreadable)";
+  std::string text;
+  for (const auto& row : m["gain"]) {
+    std::string line;
+    for (const auto& g : row)
+      line += (line.empty() ? "" : " ") + (g.is_number() ? number(g.get<double>()) : "–");
+    text += (text.empty() ? "" : "<br>") + line;
+  }
+  std::string fits;
+  for (const auto& o : m["outputs"])
+    if (o.contains("fit") && o["fit"].is_number())
+      fits += (fits.empty() ? "" : " ") + number(o["fit"].get<double>(), "%.1f");
+  return text + "<br>fit % " + fits;
 }
 
 }  // namespace
@@ -114,7 +137,9 @@ void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
   }
   s << "</p>\n<table><tr><th>#</th><th>design</th><th>rows</th><th>fit % per output</th>"
        "<th>G(0), two-stage ± SE</th><th>G(0), direct</th><th>u explained by r, %</th>"
-       "<th>feedback bias suspected</th><th>files</th></tr>\n";
+       "<th>feedback bias suspected</th><th>files</th>"
+    << (h.open_loop_report.empty() ? "" : "<th>the same design open loop: G(0), fit</th>")
+    << "</tr>\n";
   for (const ClosedLoopExperiment& e : runs) {
     std::string fits, explained;
     for (const OutputFit& f : e.identified.two_stage.fits)
@@ -126,7 +151,10 @@ void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
       << "</td><td>" << fits << "</td><td>" << matrix_text(e.identified.two_stage.model, true)
       << "</td><td>" << matrix_text(e.identified.direct.model, false) << "</td><td>" << explained
       << "</td><td>" << e.identified.feedback_bias.size() << " elements</td><td><a href=\""
-      << esc(e.run_log) << "\">run log</a> <a href=\"" << esc(e.model) << "\">model</a></td></tr>\n";
+      << esc(e.run_log) << "\">run log</a> <a href=\"" << esc(e.model) << "\">model</a></td>";
+    if (!h.open_loop_report.empty())
+      s << "<td>" << open_loop_cell(dir, h.open_loop_report, e.model) << "</td>";
+    s << "</tr>\n";
   }
   s << "</table>\n</body></html>\n";
   write_whole_file(dir / "index.html", s.str());
