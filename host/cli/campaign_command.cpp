@@ -22,18 +22,18 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
-#include <stdexcept>
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "firmware/runlog/format.hpp"
+#include "host/adaptive/cv_limit_text.hpp"
 #include "host/campaign/campaign.hpp"
 #include "host/campaign/report.hpp"
-#include "host/adaptive/cv_limit_text.hpp"
 #include "host/cli/closed_loop_campaign_report.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/number_checks.hpp"
@@ -124,8 +124,10 @@ void run_closed_loop(const CampaignCommandOptions& opt,
     c.cv_low = limits.low;
     c.cv_high = limits.high;
     if (!c.cv_low.allFinite() || !c.cv_high.allFinite()) {
-      throw std::invalid_argument("--limit = (not every CV), expected a test limit for every "
-                                  "CV of " + c.plant);
+      throw std::invalid_argument(
+          "--limit = (not every CV), expected a test limit for every "
+          "CV of " +
+          c.plant);
     }
   }
   c.noise_variance = opt.campaign.noise_variance;
@@ -167,9 +169,10 @@ void run(CampaignCommandOptions opt) {
     return;
   }
   if (!opt.limits.empty() || !opt.designs.empty() || !opt.open_loop_report.empty()) {
-    throw std::invalid_argument("--limit/--designs/--open-loop-report without --controller, "
-                                "expected --controller FILE (they choose the closed-loop "
-                                "designs)");
+    throw std::invalid_argument(
+        "--limit/--designs/--open-loop-report without --controller, "
+        "expected --controller FILE (they choose the closed-loop "
+        "designs)");
   }
   if (opt.structure != "auto") opt.campaign.structure = structure_from_string(opt.structure);
   WholeFolder folder(opt.output_dir, opt.overwrite, "campaign");

@@ -44,8 +44,8 @@ std::string matrix_text(const IdentifiedModel& m, bool with_se) {
   for (int o = 0; o < m.outputs; ++o) {
     for (int i = 0; i < m.inputs; ++i) {
       const ElementEstimate& e = m.element(o, i);
-      text += (i == 0 ? "" : " ") +
-              (e.estimated() ? number(e.value.static_gain()) : std::string("–"));
+      text +=
+          (i == 0 ? "" : " ") + (e.estimated() ? number(e.value.static_gain()) : std::string("–"));
       if (with_se && e.estimated()) text += "±" + number(e.std_error.gain, "%.2g");
     }
     text += o + 1 < m.outputs ? "<br>" : "";
@@ -55,7 +55,8 @@ std::string matrix_text(const IdentifiedModel& m, bool with_se) {
 
 // The open-loop campaign's model of the same design (its folder beside the open-loop report,
 // models/NN-name.json): G(0) as rows and each output's fit; "" when there is none.
-std::string open_loop_cell(const fs::path& dir, const std::string& report, const std::string& model) {
+std::string open_loop_cell(const fs::path& dir, const std::string& report,
+                           const std::string& model) {
   if (report.empty()) return "";
   std::ifstream in(dir / fs::path(report).parent_path() / model);
   if (!in) return "(no open-loop run of this design)";
@@ -78,8 +79,7 @@ std::string open_loop_cell(const fs::path& dir, const std::string& report, const
 }  // namespace
 
 void write_closed_loop_summary(const ClosedLoopCampaignHeader& h,
-                               const std::vector<ClosedLoopExperiment>& runs,
-                               const fs::path& dir) {
+                               const std::vector<ClosedLoopExperiment>& runs, const fs::path& dir) {
   nlohmann::json j;
   j["format"] = "excite closed-loop campaign v1";
   j["plant"] = h.plant;
@@ -109,8 +109,7 @@ void write_closed_loop_summary(const ClosedLoopCampaignHeader& h,
 }
 
 void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
-                              const std::vector<ClosedLoopExperiment>& runs,
-                              const fs::path& dir) {
+                              const std::vector<ClosedLoopExperiment>& runs, const fs::path& dir) {
   const Eigen::MatrixXd g0 = sim::make_plant(h.plant)->static_gain();
   std::ostringstream s;
   const auto esc = [](const std::string& t) { return montecarlo::html_escaped(t); };
@@ -145,8 +144,8 @@ void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
     for (const OutputFit& f : e.identified.two_stage.fits)
       fits += (fits.empty() ? "" : " ") + number(f.fit_percent, "%.1f");
     for (Eigen::Index i = 0; i < e.identified.stage1.fit_percent.size(); ++i)
-      explained += (explained.empty() ? "" : " ") +
-                   number(e.identified.stage1.fit_percent(i), "%.0f");
+      explained +=
+          (explained.empty() ? "" : " ") + number(e.identified.stage1.fit_percent(i), "%.0f");
     s << "<tr><td>" << e.number << "</td><td>" << esc(e.name) << "</td><td>" << e.rows
       << "</td><td>" << fits << "</td><td>" << matrix_text(e.identified.two_stage.model, true)
       << "</td><td>" << matrix_text(e.identified.direct.model, false) << "</td><td>" << explained

@@ -65,8 +65,7 @@ Design design_for(const ClosedLoopCampaignOptions& o, const PriorKnowledge& prio
 
 // A closed-loop run in process, as `excite simulate PLAN --controller FILE` makes it.
 SimulatedRun run_in_process(const ClosedLoopCampaignOptions& o, const plan::Plan& p,
-                            const std::string& label, double noise_variance,
-                            std::uint64_t seed) {
+                            const std::string& label, double noise_variance, std::uint64_t seed) {
   const sim::control::ControllerFile file = sim::control::load_controller_file(o.controller);
   if (!file.model.model_file.empty()) {
     throw std::invalid_argument("controller model.model_file = " + file.model.model_file +
@@ -109,8 +108,9 @@ ClosedLoopIdentification identify_log(const runlog::RunLog& log, const std::stri
     options.max_time_constant_min = log.time_scales.beta * log.time_scales.tau_high_min;
   const runlog::ClosedLoopLog& cl = log.closed_loop;
   if (!cl.closed || static_cast<std::size_t>(data.U.rows()) != log.rows()) {
-    throw std::invalid_argument(name + ": loop = open (or rows dropped), expected a closed-loop "
-                                       "run, run-log v4, every row kept");
+    throw std::invalid_argument(name +
+                                ": loop = open (or rows dropped), expected a closed-loop "
+                                "run, run-log v4, every row kept");
   }
   Eigen::MatrixXd R(data.U.rows(), static_cast<Eigen::Index>(cl.r.size()));
   for (std::size_t c = 0; c < cl.r.size(); ++c) {
@@ -150,6 +150,7 @@ std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
     throw std::invalid_argument("--excitation = " + o.excitation + ", expected setpoint or mv");
   }
   const PriorKnowledge prior = case_study(o.plant);
+  const std::vector<const PresetInfo*> set = closed_loop_set(o.designs);  // names first
   const auto plant = sim::make_plant(o.plant);
   const std::vector<std::string> cvs = plant->output_names();
   const auto p = static_cast<Eigen::Index>(cvs.size());
@@ -158,8 +159,9 @@ std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
   const sim::control::ControllerFile file = sim::control::load_controller_file(o.controller);
   if (o.excitation == "setpoint" && low.size() == 0) {  // the controller's own CV limits
     if (static_cast<Eigen::Index>(file.dmc.cv.size()) != p) {
-      throw std::invalid_argument("--limit = (none), expected CV test limits for a setpoint "
-                                  "excitation (or a DMC controller file with [[cv]] limits)");
+      throw std::invalid_argument(
+          "--limit = (none), expected CV test limits for a setpoint "
+          "excitation (or a DMC controller file with [[cv]] limits)");
     }
     low.resize(p);
     high.resize(p);
@@ -170,7 +172,6 @@ std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
   }
   const double noise =
       o.noise_variance >= 0.0 ? o.noise_variance : case_study_noise_variance(o.plant);
-  const std::vector<const PresetInfo*> set = closed_loop_set(o.designs);
   std::vector<ClosedLoopExperiment> out(set.size());
   parallel_for(static_cast<int>(set.size()), std::max(1, o.threads), [&](int k) {
     const PresetInfo& preset = *set[static_cast<std::size_t>(k)];
@@ -209,8 +210,8 @@ std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
             std::to_string(streamed.seconds).substr(0, 4) + " s");
     } else {
       write_run_log(run_in_process(o, *design.plan, e.name, noise, seed), dir / e.run_log);
-      runlog::ReadResult read = runlog::read_run_log((dir / e.run_log).string(),
-                                                     limited_read_options());
+      runlog::ReadResult read =
+          runlog::read_run_log((dir / e.run_log).string(), limited_read_options());
       if (!read.ok()) throw std::runtime_error(read.error->to_string());
       log = std::move(read.log);
     }

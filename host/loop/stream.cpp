@@ -61,10 +61,9 @@ LoopResult stream_in_the_loop(const LoopRun& run) {
   config.sample_time_min = read_plan_file(run.plan)->meta.sample_time_min;
   // The plant side first: it picks its port; then the gateway side for that port.
   write_whole_file(plant_toml, make_loop_config(config).plant_toml);
-  std::vector<std::string> plant_args = {"--config",     plant_toml.string(),
-                                         "--modbus-tcp", config.host + ":0",
-                                         "--clock",      "lockstep",
-                                         "--log",        result.plant_log.string()};
+  std::vector<std::string> plant_args = {
+      "--config", plant_toml.string(), "--modbus-tcp", config.host + ":0",
+      "--clock",  "lockstep",          "--log",        result.plant_log.string()};
   if (config.controller.empty()) {
     plant_args.insert(plant_args.end(), {"--plan", run.plan.string()});
   } else {

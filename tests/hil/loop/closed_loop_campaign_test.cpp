@@ -42,12 +42,11 @@ class ClosedLoopCampaign : public LoopTest {};
 
 TEST_F(ClosedLoopCampaign, StreamsEveryDesignUnderTheControllerAndIdentifiesEachRun) {
   const fs::path out = path("cl");
-  const std::string line = std::string(EXCITE_TOOL) +
-                           " campaign --plant woodberry2x2 --loop --controller " + kPi +
-                           " --limit y1=-0.5:0.5 --limit y2=-0.25:0.25 --designs prbsUnc,msGlmSim"
-                           " --threads 2 -o " +
-                           out.string() + " > " + path("campaign.out").string() + " 2> " +
-                           path("campaign.err").string();
+  const std::string line =
+      std::string(EXCITE_TOOL) + " campaign --plant woodberry2x2 --loop --controller " + kPi +
+      " --limit y1=-0.5:0.5 --limit y2=-0.25:0.25 --designs prbsUnc,msGlmSim"
+      " --threads 2 -o " +
+      out.string() + " > " + path("campaign.out").string() + " 2> " + path("campaign.err").string();
   ASSERT_TRUE(shell(line)) << slurp(path("campaign.err"));
   EXPECT_NE(slurp(path("campaign.out")).find((out / "index.html").string()), std::string::npos);
   const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));

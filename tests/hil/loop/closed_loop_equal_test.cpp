@@ -105,8 +105,7 @@ class ClosedLoopInProcessAndThroughTheGateway : public LoopTest {
   // `excite identify LOG -o MODEL` (two-stage: the log is v4); its model file.
   nlohmann::json identify(const fs::path& log, const std::string& model) {
     const std::string line = std::string(EXCITE_TOOL) + " identify " + log.string() + " -o " +
-                             path(model).string() + " > " + path(model + ".out").string() +
-                             " 2>&1";
+                             path(model).string() + " > " + path(model + ".out").string() + " 2>&1";
     EXPECT_TRUE(shell(line)) << slurp(path(model + ".out"));
     return nlohmann::json::parse(slurp(path(model)));
   }
@@ -172,9 +171,10 @@ TEST_F(ClosedLoopInProcessAndThroughTheGateway, GiveTheSameMovesAndTheSameG0) {
   }
   EXPECT_EQ(bad, 0U) << "values differing beyond a float32 register's rounding (first 8 shown)";
   EXPECT_GT(largest_u, 0.02) << "the controller moved the MVs";
-  std::printf("[ measured ] %zu rows: largest |uc| difference %.3g (|uc| up to %.3g), |du| %.3g, "
-              "|dy| %.3g\n",
-              rows, largest_uc, largest_u, largest_du, largest_dy);
+  std::printf(
+      "[ measured ] %zu rows: largest |uc| difference %.3g (|uc| up to %.3g), |du| %.3g, "
+      "|dy| %.3g\n",
+      rows, largest_uc, largest_u, largest_du, largest_dy);
 
   // The same rows on both sides: the gateway's log without its end-of-run rows.
   copy_rows(path("gw.csv"), path("gw_plan_rows.csv"), rows, false);
@@ -208,15 +208,16 @@ TEST_F(ClosedLoopInProcessAndThroughTheGateway, GiveTheSameMovesAndTheSameG0) {
       const double dse = std::abs(ex["se"]["K"].get<double>() / se - 1.0);
       largest_k = std::max(largest_k, dk);
       largest_se = std::max(largest_se, dse);
-      EXPECT_LE(dk, 0.1) << "G(0)(" << o << "," << i << "): " << ex["K"] << " against "
-                         << ey["K"] << " ± " << se;
-      EXPECT_LE(dse, 0.005) << "G(0)(" << o << "," << i << ") σ: " << ex["se"]["K"]
-                            << " against " << se;
+      EXPECT_LE(dk, 0.1) << "G(0)(" << o << "," << i << "): " << ex["K"] << " against " << ey["K"]
+                         << " ± " << se;
+      EXPECT_LE(dse, 0.005) << "G(0)(" << o << "," << i << ") σ: " << ex["se"]["K"] << " against "
+                            << se;
     }
   }
-  std::printf("[ measured ] identified G(0): fits within %.3g points, gains within %.3g σ, "
-              "σ within %.3g %%\n",
-              largest_fit, largest_k, 100.0 * largest_se);
+  std::printf(
+      "[ measured ] identified G(0): fits within %.3g points, gains within %.3g σ, "
+      "σ within %.3g %%\n",
+      largest_fit, largest_k, 100.0 * largest_se);
 }
 
 }  // namespace

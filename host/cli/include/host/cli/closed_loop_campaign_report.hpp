@@ -16,9 +16,9 @@ namespace excite::host::cli {
 
 struct ClosedLoopCampaignHeader {
   std::string plant;
-  std::string controller;  // the file as given
-  std::string excitation;  // setpoint | mv
-  bool loop = false;       // through the real gateway
+  std::string controller;        // the file as given
+  std::string excitation;        // setpoint | mv
+  bool loop = false;             // through the real gateway
   std::string open_loop_report;  // a relative link to the open-loop report, or ""
 };
 

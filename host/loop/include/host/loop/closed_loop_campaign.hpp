@@ -25,8 +25,8 @@
 namespace excite::host {
 
 struct ClosedLoopCampaignOptions {
-  std::string plant;       // a library plant with a case study
-  std::string controller;  // the controller file (sim/control/README.md)
+  std::string plant;                    // a library plant with a case study
+  std::string controller;               // the controller file (sim/control/README.md)
   std::string excitation = "setpoint";  // or "mv"
   /// Preset acronyms to run, in this order; empty: every plain preset of Table 6.1.
   std::vector<std::string> designs;
@@ -42,8 +42,8 @@ struct ClosedLoopCampaignOptions {
 };
 
 struct ClosedLoopExperiment {
-  int number = 0;    // Table 6.1
-  std::string name;  // the preset's acronym
+  int number = 0;       // Table 6.1
+  std::string name;     // the preset's acronym
   std::string run_log;  // relative to the campaign's folder: runs/NN-name/run.csv
   std::string model;    // models/NN-name.json
   std::size_t rows = 0;
