@@ -8,6 +8,9 @@
 // per run, listed in summary.json and linked from index.html.
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -82,6 +85,50 @@ TEST_F(ClosedLoopCampaign, StreamsEveryDesignUnderTheControllerAndIdentifiesEach
     EXPECT_LT(model["gain"][1][1].get<double>(), 0.0) << name << ": G22 is −19.4";
     EXPECT_NE(report.find("href=\"" + e["model"].get<std::string>() + "\""), std::string::npos);
   }
+}
+
+// Without --loop the same campaign runs in process (excite simulate --controller's path):
+// GIVEN the same design, noise and seed, THEN its run is the gateway's row by row: the
+// setpoints in force are r rounded to float32 (the offset register), and the controller's
+// moves uc and the CVs dy agree to 1e-7 — the plant's controller works on that rounded r
+// while the in-process one keeps r in double (a multisine's values are not float32 numbers,
+// unlike the ±0.25 of a PRBS), so uc inherits a float32 ulp (measured |Δuc| ≤ 7.0e-9,
+// |Δdy| ≤ 2.0e-8 on values up to 0.45); a tick of delay would differ by 1e-2 or more.
+// msGlmSim keeps the CVs inside their test limits, so the gateway never suspends it (prbsUnc
+// does: y1 passes 0.5 with the case study's noise, and its suspended rows differ on purpose).
+TEST_F(ClosedLoopCampaign, InProcessTheSameDesignGivesTheGatewaysRun) {
+  const std::string common = " campaign --plant woodberry2x2 --controller " + kPi +
+                             " --limit y1=-0.5:0.5 --limit y2=-0.25:0.25 --designs msGlmSim -o ";
+  ASSERT_TRUE(shell(std::string(EXCITE_TOOL) + common + path("in").string() + " > /dev/null 2> " +
+                    path("in.err").string()))
+      << slurp(path("in.err"));
+  ASSERT_TRUE(shell(std::string(EXCITE_TOOL) + common + path("gw").string() + " --loop > " +
+                    "/dev/null 2> " + path("gw.err").string()))
+      << slurp(path("gw.err"));
+  const fs::path run = fs::path("runs") / "15-msGlmSim" / "run.csv";
+  const runlog::RunLog a = read_log_or_fail(path("gw") / run);
+  const runlog::RunLog b = read_log_or_fail(path("in") / run);
+  EXPECT_NE(slurp(path("in") / run).find("# producer: excite campaign "), std::string::npos);
+  ASSERT_TRUE(b.closed_loop.closed);
+  ASSERT_EQ(b.rows(), 945U);
+  ASSERT_GE(a.rows(), b.rows());
+  std::size_t differ = 0;
+  double largest = 0.0;
+  for (std::size_t k = 0; k < b.rows(); ++k) {
+    for (std::size_t c = 0; c < 2; ++c) {
+      ASSERT_EQ(a.closed_loop.ysp[c][k],
+                static_cast<double>(static_cast<float>(b.closed_loop.r[c][k])))
+          << "row " << k << ": the setpoint in force is r through a float32 register";
+      for (const double d :
+           {a.closed_loop.uc[c][k] - b.closed_loop.uc[c][k], a.dy[c][k] - b.dy[c][k]}) {
+        largest = std::max(largest, std::abs(d));
+        differ += std::abs(d) > 1e-7 ? 1U : 0U;
+      }
+    }
+  }
+  EXPECT_EQ(differ, 0U) << "values of uc and dy differing by more than 1e-7";
+  std::printf("[ measured ] in process against through the gateway: largest |duc|, |ddy| %.3g\n",
+              largest);
 }
 
 }  // namespace
