@@ -2,6 +2,13 @@
 // excite campaign --plant NAME -o DIR [--design-gain true|step-test] [--noise-var V] [--seed S]
 //                 [--threads N] [--loop] [--overwrite] [--allow-unequal-length]
 //                 [--structure auto|NAME]
+// excite campaign --plant NAME --controller FILE -o DIR [--loop] [--excitation setpoint|mv]
+//                 [--limit CV=LO:HI ...] [--limit-fraction F] [--designs A,B]
+//                 [--open-loop-report PATH]
+//   the campaign with the controller on (issue 42 §4, host/loop/closed_loop_campaign.hpp):
+//   the closed-loop designs (every plain preset, setpoint excitation or MV dither), each run
+//   closed loop (--loop: through the real gateway to excite-plant --controller; else in
+//   process), identified two-stage; DIR/summary.json, DIR/index.html, models/, runs/.
 // The chapter-6 study: DIR/summary.json, the report DIR/index.html, every identified model
 // in DIR/models/NN-name.json and every measured run's log in DIR/runs/NN-name/run.csv, both
 // linked from the report. With --loop every plan is streamed through the real
@@ -14,22 +21,27 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "firmware/runlog/format.hpp"
+#include "host/adaptive/cv_limit_text.hpp"
 #include "host/campaign/campaign.hpp"
 #include "host/campaign/report.hpp"
+#include "host/cli/closed_loop_campaign_report.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/export/model_file.hpp"
 #include "host/identify/element.hpp"
 #include "host/loop/campaign_runs.hpp"
+#include "host/loop/closed_loop_campaign.hpp"
 #include "host/output/whole_file.hpp"
 #include "host/output/whole_folder.hpp"
 #include "host/simulate/simulate.hpp"
@@ -45,6 +57,13 @@ struct CampaignCommandOptions {
   std::string output_dir;
   bool loop = false;
   bool overwrite = false;
+  // With the controller on (issue 42 §4).
+  std::string controller;
+  std::string excitation = "setpoint";
+  std::vector<std::string> limits;  // CV=LO:HI
+  double limit_fraction = 0.5;
+  std::vector<std::string> designs;
+  std::string open_loop_report;
 };
 
 // DIR/models/NN-name.json, one per experiment; returns their paths relative to DIR.
@@ -90,6 +109,51 @@ std::vector<std::string> write_runs(const CampaignResult& result, const fs::path
   return written;
 }
 
+// The closed-loop campaign: its designs run under the controller, identified two-stage.
+void run_closed_loop(const CampaignCommandOptions& opt,
+                     const std::function<void(const std::string&)>& say) {
+  ClosedLoopCampaignOptions c;
+  c.plant = opt.campaign.plant;
+  c.controller = opt.controller;
+  c.excitation = opt.excitation;
+  c.designs = opt.designs;
+  c.limit_fraction = opt.limit_fraction;
+  if (!opt.limits.empty()) {
+    const CvLimits limits =
+        parse_cv_limits(opt.limits, sim::make_plant(c.plant)->output_names(), "the plant's");
+    c.cv_low = limits.low;
+    c.cv_high = limits.high;
+    if (!c.cv_low.allFinite() || !c.cv_high.allFinite()) {
+      throw std::invalid_argument(
+          "--limit = (not every CV), expected a test limit for every "
+          "CV of " +
+          c.plant);
+    }
+  }
+  c.noise_variance = opt.campaign.noise_variance;
+  c.seed = opt.campaign.seed;
+  c.threads = opt.campaign.threads;
+  c.loop = opt.loop;
+  WholeFolder folder(opt.output_dir, opt.overwrite, "campaign");
+  const fs::path& out = folder.staging();
+  if (opt.loop) {
+    c.programs = programs_beside_this_one();
+    say("every closed-loop design goes through the real excite-gateway to excite-plant "
+        "--controller (Modbus TCP on 127.0.0.1, lock-step); runs in " +
+        (out / "runs").string());
+  }
+  const std::vector<ClosedLoopExperiment> runs = run_closed_loop_campaign(c, out, say);
+  const ClosedLoopCampaignHeader header{c.plant, c.controller, c.excitation, c.loop,
+                                        opt.open_loop_report};
+  write_closed_loop_summary(header, runs, out);
+  write_closed_loop_report(header, runs, out);
+  folder.commit();
+  const fs::path done(opt.output_dir);
+  std::cout << "wrote " << (done / "index.html").string() << " (closed-loop report), "
+            << (done / "summary.json").string() << ", " << runs.size() << " models in "
+            << (done / "models").string() << "/\n";
+}
+
 void run(CampaignCommandOptions opt) {
   const auto start = std::chrono::steady_clock::now();
   const auto elapsed = [&] {
@@ -100,6 +164,16 @@ void run(CampaignCommandOptions opt) {
     const std::lock_guard<std::mutex> lock(say_mutex);
     std::cerr << "[" << static_cast<int>(elapsed() * 10) / 10.0 << " s] " << line << std::endl;
   };
+  if (!opt.controller.empty()) {
+    run_closed_loop(opt, say);
+    return;
+  }
+  if (!opt.limits.empty() || !opt.designs.empty() || !opt.open_loop_report.empty()) {
+    throw std::invalid_argument(
+        "--limit/--designs/--open-loop-report without --controller, "
+        "expected --controller FILE (they choose the closed-loop "
+        "designs)");
+  }
   if (opt.structure != "auto") opt.campaign.structure = structure_from_string(opt.structure);
   WholeFolder folder(opt.output_dir, opt.overwrite, "campaign");
   const fs::path& out = folder.staging();
@@ -167,6 +241,28 @@ void add_campaign_command(CLI::App& app) {
       ->check(CLI::IsMember(structures));
   cmd->add_flag("--overwrite", opt->overwrite,
                 "replace DIR whole even when it holds files that are not a previous campaign's");
+  cmd->add_option("--controller", opt->controller,
+                  "with the controller on (issue 42): the closed-loop designs, each run under "
+                  "this controller file (sim/control/README.md) and identified two-stage; with "
+                  "--loop through the real gateway to excite-plant --controller")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--excitation", opt->excitation,
+                  "with --controller: r on the CV setpoints (setpoint) or an MV dither (mv)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"setpoint", "mv"}));
+  cmd->add_option("--limit", opt->limits,
+                  "with --controller, setpoint: CV test limits CV=LOW:HIGH (deviations), every "
+                  "CV (default: the DMC controller file's [[cv]] limits)");
+  cmd->add_option("--limit-fraction", opt->limit_fraction,
+                  "with --controller, setpoint: the amplitude's share of each CV's test limit")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 1.0));
+  cmd->add_option("--designs", opt->designs,
+                  "with --controller: the plain presets to run (default: every one)")
+      ->delimiter(',');
+  cmd->add_option("--open-loop-report", opt->open_loop_report,
+                  "with --controller: a link from the closed-loop report to the open-loop one "
+                  "(a path relative to DIR)");
   cmd->callback([opt] { run(*opt); });
 }
 

@@ -6,6 +6,8 @@
 #include <csignal>
 #include <fstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "host/design/plan_file.hpp"
 #include "host/identify/run_log_limits.hpp"
@@ -59,11 +61,19 @@ LoopResult stream_in_the_loop(const LoopRun& run) {
   config.sample_time_min = read_plan_file(run.plan)->meta.sample_time_min;
   // The plant side first: it picks its port; then the gateway side for that port.
   write_whole_file(plant_toml, make_loop_config(config).plant_toml);
-  ChildProcess plant(
-      run.programs.plant_server,
-      {"--config", plant_toml.string(), "--plan", run.plan.string(), "--modbus-tcp",
-       config.host + ":0", "--clock", "lockstep", "--log", result.plant_log.string()},
-      run.work_dir / "plant.stderr");
+  std::vector<std::string> plant_args = {
+      "--config", plant_toml.string(), "--modbus-tcp", config.host + ":0",
+      "--clock",  "lockstep",          "--log",        result.plant_log.string()};
+  if (config.controller.empty()) {
+    plant_args.insert(plant_args.end(), {"--plan", run.plan.string()});
+  } else {
+    // Closed loop: excite-plant --plan reads open-loop plans only (it would apply the table
+    // as MV moves); plant.toml has the plan's sample time from its header all the same. What
+    // the plant's controller did, per sample, goes to its controller log.
+    plant_args.insert(plant_args.end(),
+                      {"--controller-log", (run.work_dir / "controller.csv").string()});
+  }
+  ChildProcess plant(run.programs.plant_server, plant_args, run.work_dir / "plant.stderr");
   const auto listening = plant.read_line(10s);
   const std::string prefix = "listening ";
   if (!listening || listening->rfind(prefix, 0) != 0) failed(plant, "did not start");

@@ -103,13 +103,27 @@ SimulatedRun simulate_closed_loop(const Eigen::MatrixXd& r, std::string plan_lab
 
   plant.reset(sample_time_min);
   controller.reset();
-  std::vector<double> u(static_cast<std::size_t>(n)), uc_next(u.size(), 0.0), offsets(u.size());
-  std::vector<double> y(static_cast<std::size_t>(p)), ysp(y.size());
+  // Sample k, in the order excite-plant --controller takes it (sim/server, closed_loop.cpp):
+  // the controller steps on the CVs of k − 1 (at rest before k = 0) with the setpoint and the
+  // known offsets in force at k, then the plant gets its move plus the dither.
+  std::vector<double> u(static_cast<std::size_t>(n)), uc(u.size(), 0.0), offsets(u.size());
+  std::vector<double> y(static_cast<std::size_t>(p), 0.0), ysp(y.size());
   for (Eigen::Index k = 0; k < N; ++k) {
+    for (int i = 0; i < p; ++i) {
+      ysp[static_cast<std::size_t>(i)] = sp ? r(k, i) : 0.0;
+      rec.ysp(k, i) = ysp[static_cast<std::size_t>(i)];
+    }
+    for (int j = 0; j < n; ++j) {
+      offsets[static_cast<std::size_t>(j)] = !sp && loop.dither_known ? r(k, j) : 0.0;
+    }
+    const sim::control::StepReport report = controller.step(y, ysp, offsets, uc);
+    rec.held_steps += report.status == sim::control::StepStatus::held ? 1 : 0;
+    rec.qp_fallback_steps += report.status == sim::control::StepStatus::qp_fallback ? 1 : 0;
+    rec.max_qp_iterations = std::max(rec.max_qp_iterations, report.qp_iterations);
     for (int j = 0; j < n; ++j) {
       const auto jj = static_cast<std::size_t>(j);
-      rec.uc(k, j) = uc_next[jj];
-      double v = uc_next[jj] + (sp ? 0.0 : r(k, j));
+      rec.uc(k, j) = uc[jj];
+      double v = uc[jj] + (sp ? 0.0 : r(k, j));
       runlog::MvState st = runlog::MvState::ok;
       if (loop.mv_min.size() != 0 && v <= loop.mv_min(j)) {
         v = loop.mv_min(j);
@@ -125,21 +139,7 @@ SimulatedRun simulate_closed_loop(const Eigen::MatrixXd& r, std::string plan_lab
     plant.step(u, y);
     if (noise) noise->add(y.data());
     if (disturbance) disturbance->add(y);
-    for (int i = 0; i < p; ++i) {
-      const auto ii = static_cast<std::size_t>(i);
-      run.dy(k, i) = y[ii];
-      ysp[ii] = sp ? r(k, i) : 0.0;
-      rec.ysp(k, i) = ysp[ii];
-    }
-    // The controller's output from y(k) is applied at k + 1, with the dither of row k + 1.
-    for (int j = 0; j < n; ++j) {
-      offsets[static_cast<std::size_t>(j)] =
-          !sp && loop.dither_known && k + 1 < N ? r(k + 1, j) : 0.0;
-    }
-    const sim::control::StepReport report = controller.step(y, ysp, offsets, uc_next);
-    rec.held_steps += report.status == sim::control::StepStatus::held ? 1 : 0;
-    rec.qp_fallback_steps += report.status == sim::control::StepStatus::qp_fallback ? 1 : 0;
-    rec.max_qp_iterations = std::max(rec.max_qp_iterations, report.qp_iterations);
+    for (int i = 0; i < p; ++i) run.dy(k, i) = y[static_cast<std::size_t>(i)];
   }
   run.closed_loop = std::move(rec);
   return run;

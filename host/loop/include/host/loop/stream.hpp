@@ -36,6 +36,8 @@ struct LoopResult {
   runlog::RunLog log;                 // the gateway's run log (work_dir/run.csv)
   std::filesystem::path gateway_log;  // work_dir/run.csv
   std::filesystem::path plant_log;    // work_dir/plant.csv: every sample the plant took
+                                      // (closed loop: also work_dir/controller.csv, the
+                                      // plant's controller log, sim/server/README.md)
   std::string gateway_summary;        // the gateway's last stderr line
   double seconds = 0.0;               // wall time of the stream
 };

@@ -9,8 +9,12 @@
 //
 // Timing (sim/control/README.md, "The interface"): sim::Plant::step returns y(k) in the call
 // that takes u(k), so the controller's output from y(k) is applied at k + 1 — the loop's one
-// sample of delay, which a DMC's model states (`model.delay_samples = 1`). Row k of the log:
-//   uc(k)  the controller's output computed at k − 1 (0 at k = 0: at rest),
+// sample of delay, which a DMC's model states (`model.delay_samples = 1`). The order within a
+// sample is excite-plant --controller's (sim/server/README.md, "Closed loop"), so a plan run
+// here and through the gateway gives the same moves row by row (tests/hil/loop,
+// closed_loop_equal_test.cpp). Row k of the log:
+//   uc(k)  the controller's output at k, computed on y(k − 1) (0 before k = 0: at rest) with
+//          the setpoints ysp(k) and the known offsets (mv: r(k)) in force at k,
 //   r(k)   the test signal of plan row k,
 //   u(k)   = clamp(uc(k) + r(k) [mv only], MV box): what the plant got, du in the log,
 //   y(k)   the CVs at kT with noise and disturbance, dy in the log,

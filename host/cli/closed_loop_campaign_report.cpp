@@ -1,0 +1,162 @@
+// SPDX-License-Identifier: MIT
+#include "host/cli/closed_loop_campaign_report.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "host/montecarlo/html_page.hpp"
+#include "host/output/whole_file.hpp"
+#include "sim/plants/plant.hpp"
+
+namespace excite::host::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+nlohmann::json gain_rows(const IdentifiedModel& m, bool std_errors) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int o = 0; o < m.outputs; ++o) {
+    nlohmann::json row = nlohmann::json::array();
+    for (int i = 0; i < m.inputs; ++i) {
+      const ElementEstimate& e = m.element(o, i);
+      const double v = std_errors ? e.std_error.gain : e.value.static_gain();
+      row.push_back(e.estimated() && std::isfinite(v) ? nlohmann::json(v) : nlohmann::json());
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+std::string number(double v, const char* format = "%.4g") {
+  if (!std::isfinite(v)) return "–";
+  char text[40];
+  std::snprintf(text, sizeof text, format, v);
+  return text;
+}
+
+// G(0) as rows "a b; c d", each element ± its standard error when `se` is given.
+std::string matrix_text(const IdentifiedModel& m, bool with_se) {
+  std::string text;
+  for (int o = 0; o < m.outputs; ++o) {
+    for (int i = 0; i < m.inputs; ++i) {
+      const ElementEstimate& e = m.element(o, i);
+      text +=
+          (i == 0 ? "" : " ") + (e.estimated() ? number(e.value.static_gain()) : std::string("–"));
+      if (with_se && e.estimated()) text += "±" + number(e.std_error.gain, "%.2g");
+    }
+    text += o + 1 < m.outputs ? "<br>" : "";
+  }
+  return text;
+}
+
+// The open-loop campaign's model of the same design (its folder beside the open-loop report,
+// models/NN-name.json): G(0) as rows and each output's fit; "" when there is none.
+std::string open_loop_cell(const fs::path& dir, const std::string& report,
+                           const std::string& model) {
+  if (report.empty()) return "";
+  std::ifstream in(dir / fs::path(report).parent_path() / model);
+  if (!in) return "(no open-loop run of this design)";
+  const nlohmann::json m = nlohmann::json::parse(in, nullptr, false);
+  if (m.is_discarded() || !m.contains("gain")) return "(unreadable)";
+  std::string text;
+  for (const auto& row : m["gain"]) {
+    std::string line;
+    for (const auto& g : row)
+      line += (line.empty() ? "" : " ") + (g.is_number() ? number(g.get<double>()) : "–");
+    text += (text.empty() ? "" : "<br>") + line;
+  }
+  std::string fits;
+  for (const auto& o : m["outputs"])
+    if (o.contains("fit") && o["fit"].is_number())
+      fits += (fits.empty() ? "" : " ") + number(o["fit"].get<double>(), "%.1f");
+  return text + "<br>fit % " + fits;
+}
+
+}  // namespace
+
+void write_closed_loop_summary(const ClosedLoopCampaignHeader& h,
+                               const std::vector<ClosedLoopExperiment>& runs, const fs::path& dir) {
+  nlohmann::json j;
+  j["format"] = "excite closed-loop campaign v1";
+  j["plant"] = h.plant;
+  j["controller"] = fs::path(h.controller).filename().string();
+  j["excitation"] = h.excitation;
+  j["through_the_gateway"] = h.loop;
+  j["experiments"] = nlohmann::json::array();
+  for (const ClosedLoopExperiment& e : runs) {
+    const IdentificationResult& two = e.identified.two_stage;
+    std::vector<double> fits, explained;
+    for (const OutputFit& f : two.fits) fits.push_back(f.fit_percent);
+    for (Eigen::Index i = 0; i < e.identified.stage1.fit_percent.size(); ++i)
+      explained.push_back(e.identified.stage1.fit_percent(i));
+    j["experiments"].push_back({{"number", e.number},
+                                {"name", e.name},
+                                {"rows", e.rows},
+                                {"run_log", e.run_log},
+                                {"model", e.model},
+                                {"fit_percent", fits},
+                                {"gain", gain_rows(two.model, false)},
+                                {"gain_std_error", gain_rows(two.model, true)},
+                                {"direct_gain", gain_rows(e.identified.direct.model, false)},
+                                {"u_explained_by_r_percent", explained},
+                                {"feedback_bias_suspected", e.identified.feedback_bias.size()}});
+  }
+  write_whole_file(dir / "summary.json", j.dump(2) + "\n");
+}
+
+void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
+                              const std::vector<ClosedLoopExperiment>& runs, const fs::path& dir) {
+  const Eigen::MatrixXd g0 = sim::make_plant(h.plant)->static_gain();
+  std::ostringstream s;
+  const auto esc = [](const std::string& t) { return montecarlo::html_escaped(t); };
+  s << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" << esc(h.plant)
+    << " with the controller on</title>\n<style>body{font-family:sans-serif;max-width:70em;"
+       "margin:1em auto}table{border-collapse:collapse}td,th{border:1px solid #ccc;"
+       "padding:.3em .6em;vertical-align:top;text-align:right}</style></head><body>\n";
+  s << "<h1>" << esc(h.plant) << ": the closed-loop designs</h1>\n<p>Controller "
+    << esc(fs::path(h.controller).filename().string()) << ", " << esc(h.excitation)
+    << " excitation, "
+    << (h.loop ? "every run streamed through the real excite-gateway to excite-plant "
+                 "--controller (lock-step; the gateway's run-log v4)"
+               : "every run simulated in process (excite simulate --controller)")
+    << ". Identified by the two-stage method (stage 1: the part of u that r explains; stage "
+       "2: the per-element structures on it); the direct fit on the applied u beside it.";
+  if (!h.open_loop_report.empty()) {
+    s << " The open-loop designs of the same plant: <a href=\"" << esc(h.open_loop_report)
+      << "\">the open-loop report</a>.";
+  }
+  s << "</p>\n<p>True G(0): ";
+  for (Eigen::Index o = 0; o < g0.rows(); ++o) {
+    for (Eigen::Index i = 0; i < g0.cols(); ++i) s << (i == 0 ? "" : " ") << number(g0(o, i));
+    s << (o + 1 < g0.rows() ? "; " : "");
+  }
+  s << "</p>\n<table><tr><th>#</th><th>design</th><th>rows</th><th>fit % per output</th>"
+       "<th>G(0), two-stage ± SE</th><th>G(0), direct</th><th>u explained by r, %</th>"
+       "<th>feedback bias suspected</th><th>files</th>"
+    << (h.open_loop_report.empty() ? "" : "<th>the same design open loop: G(0), fit</th>")
+    << "</tr>\n";
+  for (const ClosedLoopExperiment& e : runs) {
+    std::string fits, explained;
+    for (const OutputFit& f : e.identified.two_stage.fits)
+      fits += (fits.empty() ? "" : " ") + number(f.fit_percent, "%.1f");
+    for (Eigen::Index i = 0; i < e.identified.stage1.fit_percent.size(); ++i)
+      explained +=
+          (explained.empty() ? "" : " ") + number(e.identified.stage1.fit_percent(i), "%.0f");
+    s << "<tr><td>" << e.number << "</td><td>" << esc(e.name) << "</td><td>" << e.rows
+      << "</td><td>" << fits << "</td><td>" << matrix_text(e.identified.two_stage.model, true)
+      << "</td><td>" << matrix_text(e.identified.direct.model, false) << "</td><td>" << explained
+      << "</td><td>" << e.identified.feedback_bias.size() << " elements</td><td><a href=\""
+      << esc(e.run_log) << "\">run log</a> <a href=\"" << esc(e.model) << "\">model</a></td>";
+    if (!h.open_loop_report.empty())
+      s << "<td>" << open_loop_cell(dir, h.open_loop_report, e.model) << "</td>";
+    s << "</tr>\n";
+  }
+  s << "</table>\n</body></html>\n";
+  write_whole_file(dir / "index.html", s.str());
+}
+
+}  // namespace excite::host::cli

@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// `excite campaign --controller FILE`: what the closed-loop campaign writes beside its runs
+// and models (host/loop/closed_loop_campaign.hpp): summary.json and index.html, one row per
+// design (its two-stage G(0), the direct cross-check, how much of u r explains, the fits),
+// the plant's true G(0) above them. The open-loop report (host/campaign/report.hpp) is
+// another folder; the main job links the two (toolchain/dev case-study).
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "host/loop/closed_loop_campaign.hpp"
+
+namespace excite::host::cli {
+
+struct ClosedLoopCampaignHeader {
+  std::string plant;
+  std::string controller;        // the file as given
+  std::string excitation;        // setpoint | mv
+  bool loop = false;             // through the real gateway
+  std::string open_loop_report;  // a relative link to the open-loop report, or ""
+};
+
+void write_closed_loop_summary(const ClosedLoopCampaignHeader& header,
+                               const std::vector<ClosedLoopExperiment>& runs,
+                               const std::filesystem::path& dir);
+void write_closed_loop_report(const ClosedLoopCampaignHeader& header,
+                              const std::vector<ClosedLoopExperiment>& runs,
+                              const std::filesystem::path& dir);
+
+}  // namespace excite::host::cli

@@ -1,0 +1,229 @@
+// SPDX-License-Identifier: MIT
+#include "host/loop/closed_loop_campaign.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <stdexcept>
+
+#include "firmware/runlog/format.hpp"
+#include "host/design/case_studies.hpp"
+#include "host/design/closed_loop_design.hpp"
+#include "host/design/plan_file.hpp"
+#include "host/design/presets.hpp"
+#include "host/design/table.hpp"
+#include "host/export/model_file.hpp"
+#include "host/identify/run_layout.hpp"
+#include "host/identify/run_log_limits.hpp"
+#include "host/loop/campaign_runs.hpp"
+#include "host/output/whole_file.hpp"
+#include "host/process/parallel.hpp"
+#include "host/simulate/closed_loop.hpp"
+#include "sim/control/controller_file.hpp"
+#include "sim/control/make_controller.hpp"
+#include "sim/plants/plant.hpp"
+
+namespace excite::host {
+namespace {
+
+namespace fs = std::filesystem;
+
+const PresetInfo& preset_named(const std::string& name) {
+  const PresetInfo& p = find_preset(name);
+  if (p.uses_directions()) {
+    throw std::invalid_argument("--designs = " + name +
+                                ", expected a plain preset (a directional one has no "
+                                "closed-loop design: the controller makes the rotation)");
+  }
+  return p;
+}
+
+// The closed-loop designs: the plain presets named, or every plain preset.
+std::vector<const PresetInfo*> closed_loop_set(const std::vector<std::string>& names) {
+  std::vector<const PresetInfo*> set;
+  if (names.empty()) {
+    for (const PresetInfo& p : presets())
+      if (!p.uses_directions()) set.push_back(&p);
+  }
+  for (const std::string& n : names) set.push_back(&preset_named(n));
+  return set;
+}
+
+Design design_for(const ClosedLoopCampaignOptions& o, const PriorKnowledge& prior,
+                  const PresetInfo& preset, const std::vector<std::string>& cvs,
+                  const Eigen::VectorXd& low, const Eigen::VectorXd& high) {
+  if (o.excitation == "mv") return design_mv_dither(prior, preset, 0);
+  SetpointDesignRequest request;
+  request.cv_names = cvs;
+  request.cv_low = low;
+  request.cv_high = high;
+  request.fraction = o.limit_fraction;
+  return design_setpoint_excitation(prior, preset, request, 0);
+}
+
+// A closed-loop run in process, as `excite simulate PLAN --controller FILE` makes it.
+SimulatedRun run_in_process(const ClosedLoopCampaignOptions& o, const plan::Plan& p,
+                            const std::string& label, double noise_variance, std::uint64_t seed) {
+  const sim::control::ControllerFile file = sim::control::load_controller_file(o.controller);
+  if (!file.model.model_file.empty()) {
+    throw std::invalid_argument("controller model.model_file = " + file.model.model_file +
+                                ", expected model.plant for a campaign");
+  }
+  const auto model = sim::control::load_model(file);
+  const auto plant = sim::make_plant(o.plant);
+  const Eigen::MatrixXd g0 = plant->static_gain();
+  const auto controller = sim::control::make_controller(file, *model, &g0);
+  ClosedLoopOptions loop;
+  loop.excitation = o.excitation == "mv" ? runlog::Excitation::mv : runlog::Excitation::setpoint;
+  loop.controller = std::string(file.kind == sim::control::ControllerKind::dmc ? "dmc " : "pi ") +
+                    fs::path(o.controller).filename().string();
+  if (!file.dmc.mv.empty()) {
+    loop.mv_min.resize(static_cast<Eigen::Index>(file.dmc.mv.size()));
+    loop.mv_max.resizeLike(loop.mv_min);
+    for (std::size_t j = 0; j < file.dmc.mv.size(); ++j) {
+      loop.mv_min(static_cast<Eigen::Index>(j)) = file.dmc.mv[j].min;
+      loop.mv_max(static_cast<Eigen::Index>(j)) = file.dmc.mv[j].max;
+    }
+  }
+  SimulationOptions sim;
+  sim.noise_variance = noise_variance;
+  sim.seed = seed;
+  SimulatedRun run = simulate_closed_loop(make_table(p.recipe), label, p.meta.sample_time_min,
+                                          *plant, *controller, loop, sim);
+  run.time_scales = {p.meta.tau_high_min, p.meta.beta, p.meta.switch_time_min};
+  run.producer = "excite campaign " + std::string(runlog::kVersion);
+  return run;
+}
+
+// `excite identify LOG` on a v4 log: the flags rule, the time-constant bound β·τ_H of the
+// log, then both closed-loop methods.
+ClosedLoopIdentification identify_log(const runlog::RunLog& log, const std::string& name) {
+  FlagRule rule;
+  IdentifyOptions options;
+  rule.warm_up_min = options.max_delay_min;
+  const StackedRuns data = stack_runs({&log}, {name}, rule);
+  if (log.time_scales.beta > 0.0 && log.time_scales.tau_high_min > 0.0)
+    options.max_time_constant_min = log.time_scales.beta * log.time_scales.tau_high_min;
+  const runlog::ClosedLoopLog& cl = log.closed_loop;
+  if (!cl.closed || static_cast<std::size_t>(data.U.rows()) != log.rows()) {
+    throw std::invalid_argument(name +
+                                ": loop = open (or rows dropped), expected a closed-loop "
+                                "run, run-log v4, every row kept");
+  }
+  Eigen::MatrixXd R(data.U.rows(), static_cast<Eigen::Index>(cl.r.size()));
+  for (std::size_t c = 0; c < cl.r.size(); ++c) {
+    R.col(static_cast<Eigen::Index>(c)) =
+        Eigen::Map<const Eigen::VectorXd>(cl.r[c].data(), data.U.rows());
+  }
+  return identify_closed_loop(data.U, R, data.Y, data.sample_time_min, data.layout, options);
+}
+
+nlohmann::json closed_loop_block(const ClosedLoopIdentification& id, const runlog::RunLog& log) {
+  std::vector<double> explained(id.stage1.fit_percent.data(),
+                                id.stage1.fit_percent.data() + id.stage1.fit_percent.size());
+  nlohmann::json direct = nlohmann::json::array();
+  const IdentifiedModel& m = id.direct.model;
+  for (int o = 0; o < m.outputs; ++o) {
+    nlohmann::json row = nlohmann::json::array();
+    for (int i = 0; i < m.inputs; ++i) {
+      const ElementEstimate& e = m.element(o, i);
+      row.push_back(e.estimated() ? nlohmann::json(e.value.static_gain()) : nlohmann::json());
+    }
+    direct.push_back(row);
+  }
+  return {{"method", "two-stage"},
+          {"excitation", std::string(runlog::to_text(log.closed_loop.excitation))},
+          {"controller", log.closed_loop.controller},
+          {"stage1", {{"fir_lags", id.stage1.lags}, {"u_explained_by_r_percent", explained}}},
+          {"direct", {{"gain", direct}}},
+          {"feedback_bias_suspected", id.feedback_bias.size()}};
+}
+
+}  // namespace
+
+std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
+    const ClosedLoopCampaignOptions& o, const fs::path& dir,
+    const std::function<void(const std::string&)>& say) {
+  if (o.excitation != "setpoint" && o.excitation != "mv") {
+    throw std::invalid_argument("--excitation = " + o.excitation + ", expected setpoint or mv");
+  }
+  const PriorKnowledge prior = case_study(o.plant);
+  const std::vector<const PresetInfo*> set = closed_loop_set(o.designs);  // names first
+  const auto plant = sim::make_plant(o.plant);
+  const std::vector<std::string> cvs = plant->output_names();
+  const auto p = static_cast<Eigen::Index>(cvs.size());
+  Eigen::VectorXd low = o.cv_low;
+  Eigen::VectorXd high = o.cv_high;
+  const sim::control::ControllerFile file = sim::control::load_controller_file(o.controller);
+  if (o.excitation == "setpoint" && low.size() == 0) {  // the controller's own CV limits
+    if (static_cast<Eigen::Index>(file.dmc.cv.size()) != p) {
+      throw std::invalid_argument(
+          "--limit = (none), expected CV test limits for a setpoint "
+          "excitation (or a DMC controller file with [[cv]] limits)");
+    }
+    low.resize(p);
+    high.resize(p);
+    for (Eigen::Index c = 0; c < p; ++c) {
+      low(c) = file.dmc.cv[static_cast<std::size_t>(c)].limit_low;
+      high(c) = file.dmc.cv[static_cast<std::size_t>(c)].limit_high;
+    }
+  }
+  const double noise =
+      o.noise_variance >= 0.0 ? o.noise_variance : case_study_noise_variance(o.plant);
+  std::vector<ClosedLoopExperiment> out(set.size());
+  parallel_for(static_cast<int>(set.size()), std::max(1, o.threads), [&](int k) {
+    const PresetInfo& preset = *set[static_cast<std::size_t>(k)];
+    ClosedLoopExperiment& e = out[static_cast<std::size_t>(k)];
+    e.number = preset.number;
+    e.name = std::string(preset.acronym);
+    const std::string folder = experiment_folder(e.number, e.name);
+    const fs::path work = dir / "runs" / folder;
+    fs::create_directories(work);
+    e.run_log = "runs/" + folder + "/run.csv";
+    e.model = "models/" + folder + ".json";
+    const Design design = design_for(o, prior, preset, cvs, low, high);
+    const fs::path plan_path = work / (e.name + ".plan");
+    write_plan_file(*design.plan, plan_path);
+    const std::uint64_t seed = o.seed + static_cast<std::uint64_t>(e.number);
+    runlog::RunLog log;
+    if (o.loop) {
+      LoopRun run;
+      run.plan = plan_path;
+      run.work_dir = work;
+      run.config.plant = o.plant;
+      run.config.noise_var = noise;
+      run.config.seed = seed;
+      run.config.controller = fs::absolute(o.controller).string();
+      run.config.offsets = o.excitation;
+      // The gateway's CV setpoint offsets within ± the largest CV test limit; no CV test
+      // limits of the gateway's own beyond that.
+      if (o.excitation == "setpoint")
+        run.config.output_range = std::max(high.maxCoeff(), (-low).maxCoeff());
+      run.programs = o.programs;
+      LoopResult streamed = stream_in_the_loop(run);
+      log = std::move(streamed.log);
+      if (say)
+        say(e.name + ": closed loop through excite-gateway to excite-plant --controller, " +
+            std::to_string(log.rows()) + " ticks in " +
+            std::to_string(streamed.seconds).substr(0, 4) + " s");
+    } else {
+      write_run_log(run_in_process(o, *design.plan, e.name, noise, seed), dir / e.run_log);
+      runlog::ReadResult read =
+          runlog::read_run_log((dir / e.run_log).string(), limited_read_options());
+      if (!read.ok()) throw std::runtime_error(read.error->to_string());
+      log = std::move(read.log);
+    }
+    e.rows = log.rows();
+    e.identified = identify_log(log, e.run_log);
+    nlohmann::json j = model_json(e.identified.two_stage, log.input_names, log.output_names);
+    j["closed_loop"] = closed_loop_block(e.identified, log);
+    fs::create_directories(dir / "models");
+    write_whole_file(dir / e.model, j.dump(2) + "\n");
+    if (say) say(e.name + ": identified (two-stage), " + e.model);
+  });
+  return out;
+}
+
+}  // namespace excite::host

@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: MIT
+// `excite campaign --loop --controller FILE` (issue 42 §4), the real processes: a two-design
+// woodberry2x2 campaign under the PI of sim/control/examples, every design a setpoint
+// excitation streamed by the real excite-gateway to the real `excite-plant --controller`.
+// Asserted on what it leaves: every run's log is the gateway's run-log v4 (closed loop,
+// setpoint excitation, the controller named), the plant's own controller log ends with every
+// offset and setpoint offset at zero and the controller in control, and a two-stage model
+// per run, listed in summary.json and linked from index.html.
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "loop_fixture.hpp"
+
+namespace excite::test {
+namespace {
+
+const std::string kPi = std::string(EXCITE_CONTROL_EXAMPLES) + "/woodberry2x2.pi.toml";
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The last `sample` row of the plant's controller log, split at commas.
+std::vector<std::string> last_sample(const fs::path& controller_log) {
+  std::ifstream in(controller_log);
+  std::vector<std::string> last;
+  for (std::string line; std::getline(in, line);) {
+    if (!line.starts_with("sample,")) continue;
+    last.clear();
+    std::istringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) last.push_back(cell);
+  }
+  return last;
+}
+
+class ClosedLoopCampaign : public LoopTest {};
+
+TEST_F(ClosedLoopCampaign, StreamsEveryDesignUnderTheControllerAndIdentifiesEachRun) {
+  const fs::path out = path("cl");
+  const std::string line =
+      std::string(EXCITE_TOOL) + " campaign --plant woodberry2x2 --loop --controller " + kPi +
+      " --limit y1=-0.5:0.5 --limit y2=-0.25:0.25 --designs prbsUnc,msGlmSim"
+      " --threads 2 -o " +
+      out.string() + " > " + path("campaign.out").string() + " 2> " + path("campaign.err").string();
+  ASSERT_TRUE(shell(line)) << slurp(path("campaign.err"));
+  EXPECT_NE(slurp(path("campaign.out")).find((out / "index.html").string()), std::string::npos);
+  const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
+  EXPECT_EQ(summary["through_the_gateway"], true);
+  EXPECT_EQ(summary["excitation"], "setpoint");
+  ASSERT_EQ(summary["experiments"].size(), 2U);
+  const std::string report = slurp(out / "index.html");
+  for (const auto& e : summary["experiments"]) {
+    const std::string name = e["name"];
+    const fs::path run = out / e["run_log"].get<std::string>();
+    const fs::path folder = run.parent_path();
+    // The gateway's own log, v4, nothing passed by hand.
+    const std::string text = slurp(run);
+    EXPECT_EQ(text.substr(0, text.find('\n')), "# excite run log v4") << name;
+    EXPECT_NE(text.find("# producer: excite-gateway "), std::string::npos) << name;
+    const runlog::RunLog log = read_log_or_fail(run);
+    EXPECT_TRUE(log.closed_loop.closed) << name;
+    EXPECT_EQ(log.closed_loop.excitation, runlog::Excitation::setpoint) << name;
+    EXPECT_EQ(log.closed_loop.controller, "pi woodberry2x2.pi.toml") << name;
+    EXPECT_GE(log.rows(), 945U) << name;
+    EXPECT_EQ(e["rows"], log.rows()) << name;
+    // The plant's side: every offset (o_u1, o_u2) and setpoint offset (ysp_y1, ysp_y2) back
+    // at zero, the controller in control, at its last sample.
+    const std::vector<std::string> last = last_sample(folder / "controller.csv");
+    ASSERT_EQ(last.size(), 14U) << name;
+    EXPECT_EQ(last[3], "control") << name;
+    for (const std::size_t c : {4U, 5U, 12U, 13U}) EXPECT_EQ(last[c], "0") << name << " " << c;
+    // A two-stage model per run.
+    const auto model = nlohmann::json::parse(slurp(out / e["model"].get<std::string>()));
+    EXPECT_EQ(model["closed_loop"]["method"], "two-stage") << name;
+    ASSERT_EQ(model["gain"].size(), 2U) << name;
+    EXPECT_GT(model["gain"][0][0].get<double>(), 0.0) << name << ": G11 of Wood–Berry is 12.8";
+    EXPECT_LT(model["gain"][1][1].get<double>(), 0.0) << name << ": G22 is −19.4";
+    EXPECT_NE(report.find("href=\"" + e["model"].get<std::string>() + "\""), std::string::npos);
+  }
+}
+
+// Without --loop the same campaign runs in process (excite simulate --controller's path):
+// GIVEN the same design, noise and seed, THEN its run is the gateway's row by row: the
+// setpoints in force are r rounded to float32 (the offset register), and the controller's
+// moves uc and the CVs dy agree to 1e-7 — the plant's controller works on that rounded r
+// while the in-process one keeps r in double (a multisine's values are not float32 numbers,
+// unlike the ±0.25 of a PRBS), so uc inherits a float32 ulp (measured |Δuc| ≤ 7.0e-9,
+// |Δdy| ≤ 2.0e-8 on values up to 0.45); a tick of delay would differ by 1e-2 or more.
+// msGlmSim keeps the CVs inside their test limits, so the gateway never suspends it (prbsUnc
+// does: y1 passes 0.5 with the case study's noise, and its suspended rows differ on purpose).
+TEST_F(ClosedLoopCampaign, InProcessTheSameDesignGivesTheGatewaysRun) {
+  const std::string common = " campaign --plant woodberry2x2 --controller " + kPi +
+                             " --limit y1=-0.5:0.5 --limit y2=-0.25:0.25 --designs msGlmSim -o ";
+  ASSERT_TRUE(shell(std::string(EXCITE_TOOL) + common + path("in").string() + " > /dev/null 2> " +
+                    path("in.err").string()))
+      << slurp(path("in.err"));
+  ASSERT_TRUE(shell(std::string(EXCITE_TOOL) + common + path("gw").string() + " --loop > " +
+                    "/dev/null 2> " + path("gw.err").string()))
+      << slurp(path("gw.err"));
+  const fs::path run = fs::path("runs") / "15-msGlmSim" / "run.csv";
+  const runlog::RunLog a = read_log_or_fail(path("gw") / run);
+  const runlog::RunLog b = read_log_or_fail(path("in") / run);
+  EXPECT_NE(slurp(path("in") / run).find("# producer: excite campaign "), std::string::npos);
+  ASSERT_TRUE(b.closed_loop.closed);
+  ASSERT_EQ(b.rows(), 945U);
+  ASSERT_GE(a.rows(), b.rows());
+  std::size_t differ = 0;
+  double largest = 0.0;
+  for (std::size_t k = 0; k < b.rows(); ++k) {
+    for (std::size_t c = 0; c < 2; ++c) {
+      ASSERT_EQ(a.closed_loop.ysp[c][k],
+                static_cast<double>(static_cast<float>(b.closed_loop.r[c][k])))
+          << "row " << k << ": the setpoint in force is r through a float32 register";
+      for (const double d :
+           {a.closed_loop.uc[c][k] - b.closed_loop.uc[c][k], a.dy[c][k] - b.dy[c][k]}) {
+        largest = std::max(largest, std::abs(d));
+        differ += std::abs(d) > 1e-7 ? 1U : 0U;
+      }
+    }
+  }
+  EXPECT_EQ(differ, 0U) << "values of uc and dy differing by more than 1e-7";
+  std::printf("[ measured ] in process against through the gateway: largest |duc|, |ddy| %.3g\n",
+              largest);
+}
+
+}  // namespace
+}  // namespace excite::test
