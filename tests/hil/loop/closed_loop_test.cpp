@@ -7,6 +7,7 @@
 // manual mid-test suspends and then aborts the test, the offsets back at zero; a SIGKILLed
 // gateway leaves the plant's watchdog to zero them.
 #include <modbus.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -370,6 +371,32 @@ void expect_last_sample_safe(const std::vector<std::vector<std::string>>& rows) 
   ASSERT_NE(last, rows.rend()) << "the plant logged samples";
   EXPECT_EQ((*last)[3], "control");
   for (const std::size_t c : {4U, 5U, 12U, 13U}) EXPECT_EQ((*last)[c], "0") << "column " << c;
+}
+
+// §2 "a full disk ends that way": GIVEN the gateway under `ulimit -f 20` (prlimit), its run
+// log (v4) growing past the limit mid-run, THEN the write fails (EFBIG, not SIGXFSZ), the
+// test stops and returns: exit 13, every offset at zero on the plant's side and the
+// controller in control (its registers and its own log).
+TEST_F(ClosedLoopGateway, AFileSizeLimitOnTheLogEndsWithTheOffsetsAtZeroInControl) {
+  constexpr const char* kPrlimit = "/usr/bin/prlimit";
+  if (access(kPrlimit, X_OK) != 0) GTEST_SKIP() << kPrlimit << " not found (util-linux)";
+  const std::uint16_t port = start("--offsets setpoint --output-range 0.5", {"--watchdog-s", "2"});
+  constexpr long kSizeLimit = 20 * 1024;
+  GatewayProcess gw(kPrlimit,
+                    {"--fsize=" + std::to_string(kSizeLimit), EXCITE_GATEWAY, "--config",
+                     path("gateway.toml").string(), "--plan", plan_.string(), "--log",
+                     path("gw.csv").string(), "--start", "--clock", "lockstep"},
+                    path("gw").string());
+  ASSERT_EQ(gw.wait(60s).value_or(-1), 13) << gw.err();
+  EXPECT_NE(gw.err().find("File too large (EFBIG)"), std::string::npos) << gw.err();
+  EXPECT_NE(gw.err().find("safe after"), std::string::npos) << gw.err();
+  EXPECT_LE(static_cast<long>(fs::file_size(path("gw.csv"))), kSizeLimit);
+  Plc plc(port);
+  ASSERT_TRUE(plc.ok());
+  EXPECT_TRUE(all_zero(plc.offsets())) << "the offsets at zero on the plant's side";
+  EXPECT_EQ(plc.mode(), 1) << "the controller in control";
+  stop_plant_and_read_its_log();
+  expect_last_sample_safe(controller_log());
 }
 
 // §3 faults: GIVEN setpoint offsets in force, WHEN the plant is frozen 10 s (SIGSTOP, then
