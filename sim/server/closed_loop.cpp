@@ -7,20 +7,6 @@
 
 namespace excite::sim::server {
 
-const char* to_string(LoopMode mode) noexcept {
-  switch (mode) {
-    case LoopMode::off:
-      return "off";
-    case LoopMode::control:
-      return "control";
-    case LoopMode::test:
-      return "test";
-    case LoopMode::suspended:
-      return "suspended";
-  }
-  return "?";
-}
-
 ClosedLoop::ClosedLoop(std::unique_ptr<control::Controller> controller, std::vector<double> mv_min,
                        std::vector<double> mv_max)
     : controller_(std::move(controller)), min_(std::move(mv_min)), max_(std::move(mv_max)) {

@@ -37,8 +37,10 @@ ControllerLog::~ControllerLog() {
 
 void ControllerLog::write(const char* event, std::uint64_t k, const ClosedLoop& loop) {
   if (file_ == nullptr || !failure_.empty()) return;
-  int rc = std::fprintf(file_, "%s,%llu,%.17g,%s", event, static_cast<unsigned long long>(k),
-                        static_cast<double>(k) * sample_time_min_, to_string(loop.mode()));
+  const std::string_view mode = runlog::to_text(loop.mode());
+  int rc = std::fprintf(file_, "%s,%llu,%.17g,%.*s", event, static_cast<unsigned long long>(k),
+                        static_cast<double>(k) * sample_time_min_, static_cast<int>(mode.size()),
+                        mode.data());
   for (const auto values : {loop.offsets(), loop.moves(), loop.applied()}) {
     for (const double v : values) rc = rc < 0 ? rc : std::fprintf(file_, ",%.17g", v);
   }

@@ -502,12 +502,13 @@ void PlantServer::check_watchdog(Clock::time_point now) {
                             loop_->setpoints().data(), status_.data(),
                             static_cast<std::uint16_t>(loop_->mode()), u_.data());
     if (controller_log_) controller_log_->write("watchdog", process_.samples(), *loop_);
-    std::fprintf(stderr,
-                 "excite-plant: watchdog: heartbeat unchanged for %.3f s (limit %g s): every "
-                 "test offset returned to zero, the controller stays in %s (trip %llu); held "
-                 "there until the heartbeat moves\n",
-                 stale_s, options_.watchdog_s, to_string(loop_->mode()),
-                 static_cast<unsigned long long>(watchdog_trips_));
+    std::fprintf(
+        stderr,
+        "excite-plant: watchdog: heartbeat unchanged for %.3f s (limit %g s): every "
+        "test offset returned to zero, the controller stays in %.*s (trip %llu); held "
+        "there until the heartbeat moves\n",
+        stale_s, options_.watchdog_s, static_cast<int>(runlog::to_text(loop_->mode()).size()),
+        runlog::to_text(loop_->mode()).data(), static_cast<unsigned long long>(watchdog_trips_));
     return;
   }
   std::fprintf(stderr,
@@ -691,7 +692,7 @@ int serve_modbus(PlantProcess& process, RegisterImage& image, const ServerLayout
   }
   print_summary(process, *server, image, layout, options);
   if (loop != nullptr) {
-    std::cerr << "excite-plant: controller: mode " << to_string(loop->mode()) << " at stop, "
+    std::cerr << "excite-plant: controller: mode " << runlog::to_text(loop->mode()) << " at stop, "
               << loop->irregular_steps() << " steps held or at the QP's iteration cap\n";
   }
   if (!server->controller_log_failure().empty() && code == 0) code = 3;

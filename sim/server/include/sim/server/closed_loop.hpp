@@ -17,12 +17,14 @@
 #include <span>
 #include <vector>
 
+#include "firmware/runlog/format.hpp"
 #include "sim/control/controller.hpp"
 
 namespace excite::sim::server {
 
-/// The controller's mode register (uint16).
-enum class LoopMode : std::uint16_t { off = 0, control = 1, test = 2, suspended = 3 };
+/// The controller's mode, the run log's (off 0, control 1, test 2, suspended 3: its register
+/// value, uint16; its text runlog::to_text).
+using LoopMode = runlog::LoopMode;
 /// Each MV's status register (uint16).
 enum class LoopStatus : std::uint16_t {
   ok = 0,
@@ -31,8 +33,6 @@ enum class LoopStatus : std::uint16_t {
   windup = 3,        // the controller plus the offset ask beyond a limit: the clamp cuts it
   manual = 4,        // the controller is off: the MV is the operator's, held
 };
-
-const char* to_string(LoopMode mode) noexcept;
 
 class ClosedLoop {
  public:
