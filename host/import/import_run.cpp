@@ -199,12 +199,11 @@ AutoBaseline auto_baseline(const std::vector<std::vector<double>>& values, std::
   return out;
 }
 
-ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) {
-  if (o.mvs.empty() || o.cvs.empty()) {
-    throw std::invalid_argument(data.file + ": " + std::to_string(o.mvs.size()) + " MVs and " +
-                                std::to_string(o.cvs.size()) +
-                                " CVs, expected at least one of each (--mv, --cv or --map)");
-  }
+namespace {
+
+// The MVs then the CVs, one per tag read: valid unique channel names and units, each tag
+// with samples. Throws naming the tag.
+std::vector<TagSpec> checked_tags(const HistorianData& data, const ImportOptions& o) {
   std::vector<TagSpec> all = o.mvs;
   all.insert(all.end(), o.cvs.begin(), o.cvs.end());
   if (all.size() != data.series.size()) {
@@ -236,6 +235,85 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
                                   "' has no samples, expected at least one");
     }
   }
+  return all;
+}
+
+// Bad points (NaN deviations): flagged bad_value, the last good deviation held (0 before
+// the first good one); the first row after a bad MV stretch flagged discontinuity.
+void mark_bad_points(std::vector<std::vector<double>>& dev, std::size_t mvs, ImportedRun& run) {
+  const std::size_t N = run.flags.size();
+  std::vector<bool> mv_bad(N, false);
+  run.bad_points.assign(dev.size(), 0);
+  for (std::size_t a = 0; a < dev.size(); ++a) {
+    double last = 0.0;
+    for (std::size_t k = 0; k < N; ++k) {
+      if (std::isnan(dev[a][k])) {
+        run.flags[k] |= runlog::kBadValue;
+        if (a < mvs) mv_bad[k] = true;
+        ++run.bad_points[a];
+        dev[a][k] = last;
+      } else {
+        last = dev[a][k];
+      }
+    }
+  }
+  for (std::size_t k = 1; k < N; ++k) {
+    if (mv_bad[k - 1] && !mv_bad[k]) {
+      run.flags[k] |= runlog::kDiscontinuity;
+      ++run.discontinuities;
+    }
+  }
+  for (const std::uint32_t f : run.flags) run.bad_rows += (f & runlog::kBadValue) != 0U ? 1U : 0U;
+}
+
+// The run's channels: MVs absolute and as deviations, CVs as deviations, with baselines.
+void set_channels(const std::vector<double>& base, const std::vector<std::vector<double>>& dev,
+                  const ImportOptions& o, ImportedRun& run) {
+  const std::size_t N = run.flags.size();
+  for (std::size_t i = 0; i < o.mvs.size(); ++i) {
+    run.input_baseline.push_back(base[i]);
+    run.du.push_back(dev[i]);
+    std::vector<double> u(N);
+    for (std::size_t k = 0; k < N; ++k) u[k] = base[i] + dev[i][k];
+    run.u.push_back(std::move(u));
+  }
+  for (std::size_t j = 0; j < o.cvs.size(); ++j) {
+    run.output_baseline.push_back(base[o.mvs.size() + j]);
+    run.dy.push_back(dev[o.mvs.size() + j]);
+  }
+}
+
+// --max-gap-min and --baseline FROM:TO, the window inside the data's span (minutes) before
+// any minutes become sample indices (1e300 once went through an out-of-range double →
+// size_t conversion). Throws naming the option.
+void check_window_options(const ImportOptions& o, double span_min) {
+  if (!(o.max_gap_min >= 0.0) || !std::isfinite(o.max_gap_min)) {
+    throw std::invalid_argument("--max-gap-min " + config::format_number(o.max_gap_min) +
+                                ", expected a finite number ≥ 0 (0: 1.5 sample times)");
+  }
+  if (!(o.baseline_from_min >= 0.0) || !(o.baseline_to_min >= o.baseline_from_min)) {
+    throw std::invalid_argument("--baseline " + config::format_number(o.baseline_from_min) + ":" +
+                                config::format_number(o.baseline_to_min) +
+                                ", expected 0 ≤ FROM ≤ TO minutes from the data's start");
+  }
+  if (!(o.baseline_from_min <= span_min)) {
+    throw std::invalid_argument("--baseline " + config::format_number(o.baseline_from_min) + ":" +
+                                config::format_number(o.baseline_to_min) +
+                                "; FROM = " + config::format_number(o.baseline_from_min) +
+                                " min, expected at most " + config::format_number(span_min) +
+                                " min (the data's span)");
+  }
+}
+
+}  // namespace
+
+ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) {
+  if (o.mvs.empty() || o.cvs.empty()) {
+    throw std::invalid_argument(data.file + ": " + std::to_string(o.mvs.size()) + " MVs and " +
+                                std::to_string(o.cvs.size()) +
+                                " CVs, expected at least one of each (--mv, --cv or --map)");
+  }
+  const std::vector<TagSpec> all = checked_tags(data, o);
   double t_first = 0.0, t_last = 0.0;
   span_of(data, t_first, t_last);
   const double spacing_s = spacing_of(data);
@@ -255,27 +333,10 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
                                 " s, less than two samples of " + config::format_number(T_min) +
                                 " min, expected a longer record or a shorter --sample-time-min");
   }
-  if (!(o.max_gap_min >= 0.0) || !std::isfinite(o.max_gap_min)) {
-    throw std::invalid_argument("--max-gap-min " + config::format_number(o.max_gap_min) +
-                                ", expected a finite number ≥ 0 (0: 1.5 sample times)");
-  }
+  const double span_min = static_cast<double>(grid.size() - 1) * T_min;
+  check_window_options(o, span_min);
   const double gap_limit =
       o.max_gap_min > 0.0 ? 60.0 * o.max_gap_min : 1.5 * std::max(T_s, spacing_s);
-  if (!(o.baseline_from_min >= 0.0) || !(o.baseline_to_min >= o.baseline_from_min)) {
-    throw std::invalid_argument("--baseline " + config::format_number(o.baseline_from_min) + ":" +
-                                config::format_number(o.baseline_to_min) +
-                                ", expected 0 ≤ FROM ≤ TO minutes from the data's start");
-  }
-  // The window inside the data before any minutes become sample indices (1e300 once went
-  // through an out-of-range double → size_t conversion).
-  const double span_min = static_cast<double>(grid.size() - 1) * T_min;
-  if (!(o.baseline_from_min <= span_min)) {
-    throw std::invalid_argument("--baseline " + config::format_number(o.baseline_from_min) + ":" +
-                                config::format_number(o.baseline_to_min) +
-                                "; FROM = " + config::format_number(o.baseline_from_min) +
-                                " min, expected at most " + config::format_number(span_min) +
-                                " min (the data's span)");
-  }
   const double to_min = std::min(o.baseline_to_min, span_min);
   auto b_from = static_cast<std::size_t>(std::ceil(o.baseline_from_min / T_min - 1e-9));
   auto b_to = static_cast<std::size_t>(std::floor(to_min / T_min + 1e-9));
@@ -287,7 +348,6 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
   run.outputs = o.cvs;
   const std::size_t N = grid.size();
   run.flags.assign(N, 0U);
-  std::vector<bool> mv_bad(N, false);
   std::vector<std::vector<double>> values(all.size());
   for (std::size_t a = 0; a < all.size(); ++a) {
     values[a] = resample(data.series[a].time_s, data.series[a].values, grid, o.resample, gap_limit);
@@ -316,39 +376,8 @@ ImportedRun import_historian(const HistorianData& data, const ImportOptions& o) 
     run.removed_offset.push_back(offset);
     run.removed_slope_per_min.push_back(slope);
   }
-  // Bad points: flagged, the last good deviation held (0 before the first good one).
-  run.bad_points.assign(all.size(), 0);
-  for (std::size_t a = 0; a < all.size(); ++a) {
-    double last = 0.0;
-    for (std::size_t k = 0; k < N; ++k) {
-      if (std::isnan(dev[a][k])) {
-        run.flags[k] |= runlog::kBadValue;
-        if (a < o.mvs.size()) mv_bad[k] = true;
-        ++run.bad_points[a];
-        dev[a][k] = last;
-      } else {
-        last = dev[a][k];
-      }
-    }
-  }
-  for (std::size_t k = 1; k < N; ++k) {
-    if (mv_bad[k - 1] && !mv_bad[k]) {
-      run.flags[k] |= runlog::kDiscontinuity;
-      ++run.discontinuities;
-    }
-  }
-  for (const std::uint32_t f : run.flags) run.bad_rows += (f & runlog::kBadValue) != 0U ? 1U : 0U;
-  for (std::size_t i = 0; i < o.mvs.size(); ++i) {
-    run.input_baseline.push_back(base[i]);
-    run.du.push_back(dev[i]);
-    std::vector<double> u(N);
-    for (std::size_t k = 0; k < N; ++k) u[k] = base[i] + dev[i][k];
-    run.u.push_back(std::move(u));
-  }
-  for (std::size_t j = 0; j < o.cvs.size(); ++j) {
-    run.output_baseline.push_back(base[o.mvs.size() + j]);
-    run.dy.push_back(dev[o.mvs.size() + j]);
-  }
+  mark_bad_points(dev, o.mvs.size(), run);
+  set_channels(base, dev, o, run);
   return run;
 }
 
