@@ -229,32 +229,24 @@ void print_closed_loop(const ClosedLoopIdentification& id, const runlog::RunLog&
   }
 }
 
-void run(const IdentifyCommandOptions& opt) {
-  // Every input file counts, --structures-from's too (it was once replaced by -o).
-  std::vector<std::string> inputs = opt.run_paths;
-  if (!opt.structures_from.empty()) inputs.push_back(opt.structures_from);
-  check_identify_output(opt.model_path, inputs, opt.json);
-  const HumanTextAside aside(opt.model_path);
-  const std::vector<runlog::RunLog> runs = read_pooled_logs(opt.run_paths);
-  check_pooled_headers(runs, opt.run_paths, opt.allow_mixed);
-  // The model file's channel limit, before any fit (a 65-input run once took 77 s and wrote a
-  // model no other command reads).
-  for (const auto& [kind, count] : {std::pair{"inputs", runs.front().input_names.size()},
-                                    std::pair{"outputs", runs.front().output_names.size()}}) {
+// The model file's channel limit, before any fit (a 65-input run once took 77 s and wrote a
+// model no other command reads).
+void check_model_channels(const runlog::RunLog& first, const std::string& path) {
+  for (const auto& [kind, count] : {std::pair{"inputs", first.input_names.size()},
+                                    std::pair{"outputs", first.output_names.size()}}) {
     if (count > kMaxModelChannels) {
-      throw std::invalid_argument(opt.run_paths.front() + ": " + kind + " = " +
-                                  std::to_string(count) + " channels, expected at most " +
-                                  std::to_string(kMaxModelChannels) +
-                                  " (a model file's limit, host/README.md Limits)");
+      throw std::invalid_argument(
+          path + ": " + kind + " = " + std::to_string(count) + " channels, expected at most " +
+          std::to_string(kMaxModelChannels) + " (a model file's limit, host/README.md Limits)");
     }
   }
-  std::vector<const runlog::RunLog*> logs;
-  for (const auto& r : runs) logs.push_back(&r);
-  FlagRule rule = opt.rule;
-  rule.warm_up_min = opt.warm_up_min >= 0.0 ? opt.warm_up_min : opt.identify.max_delay_min;
-  const StackedRuns data = stack_runs(logs, opt.run_paths, rule);
-  const runlog::RunLog& first = runs.front();
+}
 
+// The identify options the command line and the logs give: trend, initial state (estimated
+// when a log starts mid-test), the structures (--structure, --structures-from).
+IdentifyOptions identify_options(const IdentifyCommandOptions& opt,
+                                 const std::vector<runlog::RunLog>& runs) {
+  const runlog::RunLog& first = runs.front();
   IdentifyOptions options = opt.identify;
   options.trend = opt.trend == "offset"   ? Trend::offset
                   : opt.trend == "linear" ? Trend::linear
@@ -278,15 +270,15 @@ void run(const IdentifyCommandOptions& opt) {
     std::cerr << "excite: warning: a run log starts mid-test (start_at_rest: no): each "
                  "segment's initial state is estimated (--initial-state zero to turn off)\n";
   }
-  std::vector<RunTimeScales> scales;
-  for (std::size_t r = 0; r < runs.size(); ++r) {
-    scales.push_back({opt.run_paths[r], runs[r].plant, runs[r].time_scales});
-  }
-  const auto [bound, source] = time_constant_bound(opt.bound, scales);
-  options.max_time_constant_min = bound;
-  const std::string summary = layout_summary(data.report, runs.size());
-  if (needs_warning(data.report)) std::cerr << "excite: warning: " << summary << '\n';
-  std::optional<ClosedLoopIdentification> closed;
+  return options;
+}
+
+// A closed-loop run (v4, alone): both methods on it (closed_loop.hpp); an open-loop run:
+// nothing, and --method must be auto or direct.
+std::optional<ClosedLoopIdentification> identify_if_closed_loop(
+    const IdentifyCommandOptions& opt, const std::vector<runlog::RunLog>& runs,
+    const StackedRuns& data, const IdentifyOptions& options) {
+  const runlog::RunLog& first = runs.front();
   for (std::size_t r = 0; r < runs.size(); ++r) {
     if (runs[r].closed_loop.closed && runs.size() > 1) {
       throw std::invalid_argument(opt.run_paths[r] + ": a closed-loop run (v4) among " +
@@ -307,13 +299,43 @@ void run(const IdentifyCommandOptions& opt) {
       R.col(static_cast<Eigen::Index>(c)) =
           Eigen::Map<const Eigen::VectorXd>(cl.r[c].data(), data.U.rows());
     }
-    closed = identify_closed_loop(data.U, R, data.Y, data.sample_time_min, data.layout, options,
-                                  opt.stage1_lags);
+    return identify_closed_loop(data.U, R, data.Y, data.sample_time_min, data.layout, options,
+                                opt.stage1_lags);
   } else if (opt.method != "auto" && opt.method != "direct") {
     throw std::invalid_argument("--method = " + opt.method +
                                 ", expected auto or direct for an open-loop run (the two-stage "
                                 "method needs the r of a closed-loop run, run-log v4)");
   }
+  return std::nullopt;
+}
+
+void run(const IdentifyCommandOptions& opt) {
+  // Every input file counts, --structures-from's too (it was once replaced by -o).
+  std::vector<std::string> inputs = opt.run_paths;
+  if (!opt.structures_from.empty()) inputs.push_back(opt.structures_from);
+  check_identify_output(opt.model_path, inputs, opt.json);
+  const HumanTextAside aside(opt.model_path);
+  const std::vector<runlog::RunLog> runs = read_pooled_logs(opt.run_paths);
+  check_pooled_headers(runs, opt.run_paths, opt.allow_mixed);
+  check_model_channels(runs.front(), opt.run_paths.front());
+  std::vector<const runlog::RunLog*> logs;
+  for (const auto& r : runs) logs.push_back(&r);
+  FlagRule rule = opt.rule;
+  rule.warm_up_min = opt.warm_up_min >= 0.0 ? opt.warm_up_min : opt.identify.max_delay_min;
+  const StackedRuns data = stack_runs(logs, opt.run_paths, rule);
+  const runlog::RunLog& first = runs.front();
+
+  IdentifyOptions options = identify_options(opt, runs);
+  std::vector<RunTimeScales> scales;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    scales.push_back({opt.run_paths[r], runs[r].plant, runs[r].time_scales});
+  }
+  const auto [bound, source] = time_constant_bound(opt.bound, scales);
+  options.max_time_constant_min = bound;
+  const std::string summary = layout_summary(data.report, runs.size());
+  if (needs_warning(data.report)) std::cerr << "excite: warning: " << summary << '\n';
+  const std::optional<ClosedLoopIdentification> closed =
+      identify_if_closed_loop(opt, runs, data, options);
   const IdentificationResult result =
       closed ? (opt.method == "direct" ? closed->direct : closed->two_stage)
              : identify(data.U, data.Y, data.sample_time_min, data.layout, options);
