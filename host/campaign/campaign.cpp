@@ -170,45 +170,35 @@ void check_equal_lengths(const std::vector<std::pair<std::string, Eigen::Index>>
   }
 }
 
-CampaignResult run_campaign(const CampaignOptions& options,
-                            const std::function<void(const std::string&)>& progress) {
-  if (options.threads < 1) {
-    throw std::invalid_argument("campaign: threads = " + std::to_string(options.threads) +
-                                ", expected at least 1");
-  }
-  std::mutex say_mutex;
-  const auto say = [&](const std::string& line) {
-    const std::lock_guard<std::mutex> lock(say_mutex);
-    if (progress) progress(line);
-  };
-  const auto plant = sim::make_plant(options.plant);
-  const PriorKnowledge true_prior = case_study(options.plant);
-  const double max_time_constant = true_prior.beta * true_prior.tau_high_min;  // SPEC §6
+namespace {
+
+using ExperimentReport = std::function<void(const Experiment&)>;
+
+// What a campaign knows before its first run: the plant's channels, the noise, the truth.
+CampaignResult new_campaign(const CampaignOptions& options, const sim::Plant& plant,
+                            const PriorKnowledge& true_prior) {
   CampaignResult result;
   result.plant = options.plant;
-  result.input_names = plant->input_names();
-  result.output_names = plant->output_names();
-  result.input_units = plant->input_units();
-  result.output_units = plant->output_units();
+  result.input_names = plant.input_names();
+  result.output_names = plant.output_names();
+  result.input_units = plant.input_units();
+  result.output_units = plant.output_units();
   result.noise_variance = options.noise_variance >= 0.0 ? options.noise_variance
                                                         : case_study_noise_variance(options.plant);
   result.sized_by_static_output = true_prior.sized_by_static_output();
   result.structure = options.structure;
   result.truth_known = options.truth_known;
   result.true_gain = analyse_gain(true_prior.gain);
-  const auto& all = presets();
-  const auto total = std::to_string(all.size());
-  result.experiments.resize(all.size());
-  const auto report = [&](const Experiment& e) {
-    say("[" + std::to_string(e.number) + "/" + total + "] " + e.name + ": fit " +
-        std::to_string(e.fit_avg) + " %, ratio " + std::to_string(e.balance_clean.ratio) +
-        " (noise-free)");
-  };
+  return result;
+}
 
-  // 1. The step test, sized with the prior knowledge's (true) G(0). Designing from its
-  //    estimate (thesis 6.1.1) needs it first; with the true G(0) it joins the pool.
-  PriorKnowledge prior = true_prior;
-  std::size_t first_pooled = 0;
+// 1. The step test, sized with the prior knowledge's (true) G(0). Designing from its
+//    estimate (thesis 6.1.1) needs it first; with the true G(0) it joins the pool. Returns
+//    the index of the first pooled design (1 when the step test ran first, else 0).
+std::size_t set_design_gain(const CampaignOptions& options, const PriorKnowledge& true_prior,
+                            double max_time_constant, CampaignResult& result, PriorKnowledge& prior,
+                            const ExperimentReport& report) {
+  const auto& all = presets();
   if (options.design_gain == DesignGain::step_test) {
     result.experiments[0] =
         run_experiment(design_preset(true_prior, all.front(), 0), all.front(), options,
@@ -223,14 +213,20 @@ CampaignResult run_campaign(const CampaignOptions& options,
     result.design_gain_source = "step test (stepSeq)";
     require_full_rank(result.design_gain);
     prior.gain = result.design_gain.gain;
-    first_pooled = 1;
-  } else {
-    result.design_gain = result.true_gain;
-    result.design_gain_source = "true G(0)";
+    return 1;
   }
+  result.design_gain = result.true_gain;
+  result.design_gain_source = "true G(0)";
+  return 0;
+}
 
-  // 2. Every design (the others), in parallel; then their runs and identifications, the
-  //    longest first so that no long run starts last on an otherwise idle pool.
+// 2. Every design (the others), in parallel; then their runs and identifications, the
+//    longest first so that no long run starts last on an otherwise idle pool.
+void run_pooled(const CampaignOptions& options, const PriorKnowledge& prior,
+                std::size_t first_pooled, double max_time_constant, CampaignResult& result,
+                const std::function<void(const std::string&)>& say,
+                const ExperimentReport& report) {
+  const auto& all = presets();
   const auto pooled = static_cast<int>(all.size() - first_pooled);
   std::vector<Design> designs(static_cast<std::size_t>(pooled));
   parallel_for(pooled, options.threads, [&](int k) {
@@ -256,6 +252,38 @@ CampaignResult run_campaign(const CampaignOptions& options,
                                            result.true_gain, max_time_constant);
     report(result.experiments[i]);
   });
+}
+
+}  // namespace
+
+CampaignResult run_campaign(const CampaignOptions& options,
+                            const std::function<void(const std::string&)>& progress) {
+  if (options.threads < 1) {
+    throw std::invalid_argument("campaign: threads = " + std::to_string(options.threads) +
+                                ", expected at least 1");
+  }
+  std::mutex say_mutex;
+  const auto say = [&](const std::string& line) {
+    const std::lock_guard<std::mutex> lock(say_mutex);
+    if (progress) progress(line);
+  };
+  const auto plant = sim::make_plant(options.plant);
+  const PriorKnowledge true_prior = case_study(options.plant);
+  const double max_time_constant = true_prior.beta * true_prior.tau_high_min;  // SPEC §6
+  CampaignResult result = new_campaign(options, *plant, true_prior);
+  const auto& all = presets();
+  const auto total = std::to_string(all.size());
+  result.experiments.resize(all.size());
+  const ExperimentReport report = [&](const Experiment& e) {
+    say("[" + std::to_string(e.number) + "/" + total + "] " + e.name + ": fit " +
+        std::to_string(e.fit_avg) + " %, ratio " + std::to_string(e.balance_clean.ratio) +
+        " (noise-free)");
+  };
+
+  PriorKnowledge prior = true_prior;
+  const std::size_t first_pooled =
+      set_design_gain(options, true_prior, max_time_constant, result, prior, report);
+  run_pooled(options, prior, first_pooled, max_time_constant, result, say, report);
   if (result.experiments[0].identified.gain)
     result.step_gain = *result.experiments[0].identified.gain;
 
