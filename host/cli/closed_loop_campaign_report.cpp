@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "host/montecarlo/html_page.hpp"
 #include "host/output/whole_file.hpp"
@@ -38,19 +40,29 @@ std::string number(double v, const char* format = "%.4g") {
   return text;
 }
 
-// G(0) as rows "a b; c d", each element ± its standard error when `se` is given.
+// One matrix as a small borderless table, one row per output (cells already HTML).
+std::string matrix_table(const std::vector<std::vector<std::string>>& rows) {
+  std::string text = "<table class=\"m\">";
+  for (const auto& row : rows) {
+    text += "<tr>";
+    for (const std::string& cell : row) text += "<td>" + cell + "</td>";
+    text += "</tr>";
+  }
+  return text + "</table>";
+}
+
+// G(0), each element ± its standard error when `with_se`; "–" where not estimated.
 std::string matrix_text(const IdentifiedModel& m, bool with_se) {
-  std::string text;
+  std::vector<std::vector<std::string>> rows(static_cast<std::size_t>(m.outputs));
   for (int o = 0; o < m.outputs; ++o) {
     for (int i = 0; i < m.inputs; ++i) {
       const ElementEstimate& e = m.element(o, i);
-      text +=
-          (i == 0 ? "" : " ") + (e.estimated() ? number(e.value.static_gain()) : std::string("–"));
-      if (with_se && e.estimated()) text += "±" + number(e.std_error.gain, "%.2g");
+      std::string cell = e.estimated() ? number(e.value.static_gain()) : std::string("–");
+      if (with_se && e.estimated()) cell += " ± " + number(e.std_error.gain, "%.2g");
+      rows[static_cast<std::size_t>(o)].push_back(cell);
     }
-    text += o + 1 < m.outputs ? "<br>" : "";
   }
-  return text;
+  return matrix_table(rows);
 }
 
 // The open-loop campaign's model of the same design (its folder beside the open-loop report,
@@ -62,18 +74,16 @@ std::string open_loop_cell(const fs::path& dir, const std::string& report,
   if (!in) return "(no open-loop run of this design)";
   const nlohmann::json m = nlohmann::json::parse(in, nullptr, false);
   if (m.is_discarded() || !m.contains("gain")) return "(unreadable)";
-  std::string text;
+  std::vector<std::vector<std::string>> rows;
   for (const auto& row : m["gain"]) {
-    std::string line;
-    for (const auto& g : row)
-      line += (line.empty() ? "" : " ") + (g.is_number() ? number(g.get<double>()) : "–");
-    text += (text.empty() ? "" : "<br>") + line;
+    rows.emplace_back();
+    for (const auto& g : row) rows.back().push_back(g.is_number() ? number(g.get<double>()) : "–");
   }
   std::string fits;
   for (const auto& o : m["outputs"])
     if (o.contains("fit") && o["fit"].is_number())
       fits += (fits.empty() ? "" : " ") + number(o["fit"].get<double>(), "%.1f");
-  return text + "<br>fit % " + fits;
+  return matrix_table(rows) + "fit % " + fits;
 }
 
 }  // namespace
@@ -116,7 +126,9 @@ void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
   s << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" << esc(h.plant)
     << " with the controller on</title>\n<style>body{font-family:sans-serif;max-width:70em;"
        "margin:1em auto}table{border-collapse:collapse}td,th{border:1px solid #ccc;"
-       "padding:.3em .6em;vertical-align:top;text-align:right}</style></head><body>\n";
+       "padding:.3em .6em;vertical-align:top;text-align:right}td{white-space:nowrap}"
+       ".m td{border:none;padding:0 .4em}.m{margin-bottom:.4em}"
+       "</style></head><body>\n";
   s << "<h1>" << esc(h.plant) << ": the closed-loop designs</h1>\n<p>Controller "
     << esc(fs::path(h.controller).filename().string()) << ", " << esc(h.excitation)
     << " excitation, "
@@ -129,12 +141,14 @@ void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
     s << " The open-loop designs of the same plant: <a href=\"" << esc(h.open_loop_report)
       << "\">the open-loop report</a>.";
   }
-  s << "</p>\n<p>True G(0): ";
+  s << "</p>\n<p>True G(0):</p>";
+  std::vector<std::vector<std::string>> truth(static_cast<std::size_t>(g0.rows()));
   for (Eigen::Index o = 0; o < g0.rows(); ++o) {
-    for (Eigen::Index i = 0; i < g0.cols(); ++i) s << (i == 0 ? "" : " ") << number(g0(o, i));
-    s << (o + 1 < g0.rows() ? "; " : "");
+    for (Eigen::Index i = 0; i < g0.cols(); ++i)
+      truth[static_cast<std::size_t>(o)].push_back(number(g0(o, i)));
   }
-  s << "</p>\n<table><tr><th>#</th><th>design</th><th>rows</th><th>fit % per output</th>"
+  s << matrix_table(truth);
+  s << "\n<table><tr><th>#</th><th>design</th><th>rows</th><th>fit % per output</th>"
        "<th>G(0), two-stage ± SE</th><th>G(0), direct</th><th>u explained by r, %</th>"
        "<th>feedback bias suspected</th><th>files</th>"
     << (h.open_loop_report.empty() ? "" : "<th>the same design open loop: G(0), fit</th>")
