@@ -318,9 +318,8 @@ std::string gateway_can_toml(const LoopConfigOptions& opt, const sim::Plant& pla
   return os.str();
 }
 
-}  // namespace
-
-LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
+// Every number and choice of the command line, by name, before anything is built.
+void check_loop_options(const LoopConfigOptions& opt) {
   check("--input-range", opt.input_range, true);
   check("--max-move", opt.max_move, true);
   check("--output-range", opt.output_range, true);
@@ -343,28 +342,50 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
     throw std::invalid_argument("--transport = \"" + opt.transport +
                                 "\", expected modbus-tcp or can");
   }
-  const auto plant = sim::make_plant(opt.plant);
+}
 
-  // The case study (when the plant has one) gives the defaults: T, noise, input range.
-  double range = opt.input_range;
-  double sample_time = opt.sample_time_min;
-  double noise = opt.noise_var;
+// The case study (when the plant has one) gives the defaults: T, noise, input range.
+struct LoopDefaults {
+  double range = 0.0;
+  double sample_time_min = 0.0;
+  double noise_var = 0.0;
+  bool has_study = false;
+  PriorKnowledge prior;
+};
+
+LoopDefaults loop_defaults(const LoopConfigOptions& opt) {
+  LoopDefaults d{opt.input_range, opt.sample_time_min, opt.noise_var, false, {}};
   const auto studies = case_study_plants();
-  const bool has_study = std::find(studies.begin(), studies.end(), opt.plant) != studies.end();
-  const PriorKnowledge prior = has_study ? case_study(opt.plant) : PriorKnowledge{};
-  if (has_study) {
-    if (range == 0.0) {
-      for (const InputSpec& in : prior.inputs) range = std::max({range, -in.min, in.max});
+  d.has_study = std::find(studies.begin(), studies.end(), opt.plant) != studies.end();
+  if (d.has_study) {
+    d.prior = case_study(opt.plant);
+    if (d.range == 0.0) {
+      for (const InputSpec& in : d.prior.inputs) d.range = std::max({d.range, -in.min, in.max});
     }
-    if (sample_time == 0.0) sample_time = prior.sample_time_min;
-    if (noise < 0.0) noise = case_study_noise_variance(opt.plant);
+    if (d.sample_time_min == 0.0) d.sample_time_min = d.prior.sample_time_min;
+    if (d.noise_var < 0.0) d.noise_var = case_study_noise_variance(opt.plant);
   }
-  if (range == 0.0) {
+  if (d.range == 0.0) {
     bad("--input-range", 0.0,
         "a range > 0 for plant " + opt.plant + ", which has no case study to take it from");
   }
-  if (sample_time == 0.0) sample_time = 1.0;
-  if (noise < 0.0) noise = 0.0;
+  if (d.sample_time_min == 0.0) d.sample_time_min = 1.0;
+  if (d.noise_var < 0.0) d.noise_var = 0.0;
+  return d;
+}
+
+}  // namespace
+
+LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
+  check_loop_options(opt);
+  const auto plant = sim::make_plant(opt.plant);
+
+  const LoopDefaults defaults = loop_defaults(opt);
+  const double range = defaults.range;
+  const double sample_time = defaults.sample_time_min;
+  const double noise = defaults.noise_var;
+  const bool has_study = defaults.has_study;
+  const PriorKnowledge& prior = defaults.prior;
 
   sim::server::ServerConfig server;
   server.plant.tau_high_min = prior.tau_high_min;    // the design's time scales (0 without a
