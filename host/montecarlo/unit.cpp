@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "host/design/case_studies.hpp"
+#include "host/identify/structure_search.hpp"
 #include "host/identify/validate.hpp"
 #include "host/process/parallel.hpp"
 #include "host/simulate/simulate.hpp"
@@ -38,25 +39,125 @@ SimulatedRun measured_run(const Prepared& p, std::size_t b, const CampaignOption
       options.true_plant ? *options.true_plant() : *sim::make_plant(p.config.plant), sim);
 }
 
-// The criterion on the first rows of the run (a prefix too short to identify: not met).
-// Each element keeps the structure identified on the whole run (no structure search on the
-// prefix, a sixth of a 4×4 identification's cost); its parameters, starts included, come
-// from the prefix alone.
-bool met_on_prefix(const Prepared& p, const TruePlant& truth, const Experiment& e,
-                   Eigen::Index rows) {
+// The identification on the first rows of the run. Each element keeps the structure
+// identified on the whole run (no structure search on the prefix, a sixth of a 4×4
+// identification's cost). Cold (`start` empty): its parameters, starts included, come from the
+// prefix alone. Warm: the fit starts from `start`, the model of the previous grid length
+// (IdentifyOptions::start), and is only polished when the rows added since then bring nothing
+// new (nothing_new). nullopt: a prefix too short to identify.
+std::optional<IdentificationResult> identify_prefix(const Prepared& p, const Experiment& e,
+                                                    Eigen::Index rows,
+                                                    const std::optional<IdentifiedModel>& start,
+                                                    bool polish_only) {
   IdentifyOptions options;
   options.threads = 1;
   options.max_time_constant_min = p.max_time_constant_min;
   for (const ElementEstimate& g : e.identified.model.elements)
     options.structures.push_back(g.estimated() ? g.value.structure : Structure::two_poles);
   if (rows < minimum_samples(static_cast<int>(e.U.cols()), e.sample_time_min, options))
-    return false;
-  const IdentificationResult r =
-      identify(e.U.topRows(rows), e.Y.topRows(rows), e.sample_time_min, options);
-  return judge(truth, r.gain).met;
+    return std::nullopt;
+  options.start = start;
+  if (polish_only) options.start_use = IdentifyOptions::StartUse::polish;
+  return identify(e.U.topRows(rows), e.Y.topRows(rows), e.sample_time_min, options);
 }
 
 }  // namespace
+
+bool nothing_new(const Eigen::MatrixXd& U, Eigen::Index from_rows, Eigen::Index to_rows,
+                 double sample_time_min, double max_delay_min) {
+  // A move at row k (u(k) ≠ u(k − 1)) first shows in the output at row k + ⌈T_d/T⌉ (the ZOH
+  // response of a delay T_d ≤ max_delay starts within the sample after it), so every move at
+  // k < from_rows − ⌈max_delay/T⌉ − 1 has already reached the rows the earlier fit saw.
+  const auto reach = static_cast<Eigen::Index>(std::ceil(max_delay_min / sample_time_min)) + 1;
+  const Eigen::Index first = std::max<Eigen::Index>(from_rows - reach, 1);
+  for (Eigen::Index k = first; k < std::min(to_rows, U.rows()); ++k) {
+    if (U.row(k) != U.row(k - 1)) return false;
+  }
+  return from_rows > 0 && from_rows <= to_rows;
+}
+
+double prefix_bic(const IdentificationResult& r, const Eigen::MatrixXd& Y) {
+  double bic = 0.0;
+  for (int j = 0; j < r.model.outputs; ++j) {
+    const Eigen::VectorXd y = Y.col(j);
+    const double energy = (y.array() - y.mean()).matrix().squaredNorm();
+    const double rms = r.fits[static_cast<std::size_t>(j)].residual_rms;
+    Eigen::Index parameters = 0;
+    for (int i = 0; i < r.model.inputs; ++i) {
+      const ElementEstimate& g = r.model.element(j, i);
+      if (g.estimated())
+        parameters += static_cast<Eigen::Index>(free_parameters(g.value.structure).size());
+    }
+    bic += row_criterion(rms * rms * static_cast<double>(y.size()), energy, y.size(), parameters);
+  }
+  return bic;
+}
+
+namespace {
+
+// Two fits of a prefix end at the same optimum when their BICs are this close: an SSE
+// 0.01/M apart relatively (M scored rows), far below any structure's or basin's difference.
+constexpr double kSameOptimum = 0.01;
+// The warm fit is trusted alone after this many consecutive lengths at which it ended at the
+// cold fit's optimum (or a better one).
+constexpr int kSettledLengths = 2;
+
+}  // namespace
+
+GridEvaluation evaluate_length_grid(const Prepared& p, const TruePlant& truth, const Experiment& e,
+                                    const std::vector<int>& grid, GridStart start_mode) {
+  GridEvaluation out;
+  std::optional<IdentifiedModel> previous;  // the last prefix's model (warm only)
+  Eigen::Index previous_rows = 0;
+  int agreed = 0;  // consecutive lengths whose warm fit was checked and not worse than cold
+  const double max_delay_min = IdentifyOptions{}.max_delay_min;
+  for (const int percent : grid) {
+    LengthPoint point;
+    point.percent = percent;
+    point.samples = static_cast<long long>(e.U.rows()) * percent / 100;
+    if (percent == 100) {
+      point.met = judge(truth, e.identified.gain).met;
+    } else {
+      const auto rows = static_cast<Eigen::Index>(point.samples);
+      const bool polish = previous && nothing_new(e.U, previous_rows, rows, e.sample_time_min,
+                                                  max_delay_min);
+      const bool checked = previous && agreed < kSettledLengths;
+      std::optional<IdentificationResult> r;
+      if (previous && !checked) {
+        ++out.warm;
+        out.polished += polish ? 1 : 0;
+        r = identify_prefix(p, e, rows, previous, polish);
+      } else {
+        r = identify_prefix(p, e, rows, std::nullopt, false);
+      }
+      if (checked && r) {
+        // Until settled, the warm fit against the cold one: the better BIC kept (the cold one
+        // on a tie), and the warm one trusted alone only after kSettledLengths agreements.
+        ++out.checked;
+        const auto w = identify_prefix(p, e, rows, previous, polish);
+        const Eigen::MatrixXd Y = e.Y.topRows(rows);
+        const double cold_bic = prefix_bic(*r, Y);
+        const double warm_bic = prefix_bic(*w, Y);
+        agreed = warm_bic < cold_bic + kSameOptimum ? agreed + 1 : 0;
+        if (warm_bic < cold_bic - kSameOptimum) {
+          r = w;
+          ++out.warm_better;
+        }
+      }
+      point.met = r && judge(truth, r->gain).met;
+      if (r) {
+        ++out.identified;
+        if (start_mode == GridStart::warm) {
+          previous = r->model;
+          previous_rows = rows;
+        }
+      }
+      out.results.push_back(r);
+    }
+    out.points.push_back(point);
+  }
+  return out;
+}
 
 double thread_cpu_s() {
   timespec t{};
@@ -146,13 +247,9 @@ UnitResult run_unit(const Prepared& p, const Unit& unit) {
   const double crossval_done_s = thread_cpu_s();
   r.times.crossval_s = crossval_done_s - experiment_done_s;
 
-  for (const int percent : length_grid(p.config)) {
-    LengthPoint point;
-    point.percent = percent;
-    point.samples = r.samples * percent / 100;
-    point.met = percent == 100 ? r.accuracy.met : met_on_prefix(p, truth, e, point.samples);
-    r.lengths.push_back(point);
-  }
+  GridEvaluation grid =
+      evaluate_length_grid(p, truth, e, length_grid(p.config), p.config.length_grid_start);
+  r.lengths = std::move(grid.points);
   r.times.lengths_s = thread_cpu_s() - crossval_done_s;
   return r;
 }
