@@ -285,8 +285,7 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
           const auto col = static_cast<Eigen::Index>(e);
           const Eigen::VectorXd z = Z->col(col);
           double gain = 0.0;
-          ElementModel g =
-              bank->grid()[static_cast<std::size_t>(bank->choose_one(col, z, gain))];
+          ElementModel g = bank->grid()[static_cast<std::size_t>(bank->choose_one(col, z, gain))];
           g.gain = gain;
           const MisoResult alone = fit_miso(U, z, {screen.usable[e]}, {g}, T_min, bounds,
                                             kAloneIterations, layout, Eigen::MatrixXd(y.size(), 0),

@@ -49,8 +49,7 @@ double load_average() {
 }
 
 double wall_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 int lm_iterations(const mc::GridEvaluation& g) {
@@ -108,8 +107,8 @@ int main(int argc, char** argv) {
     options.seed = mc::kSeedStride * u.seed;
     const double w0 = wall_s(), c0 = mc::thread_cpu_s();
     const host::Experiment e =
-        host::run_experiment(prepared->designs[0], prepared->presets[0], options,
-                             c.noise_variance, prepared->truth.gain, prepared->max_time_constant_min);
+        host::run_experiment(prepared->designs[0], prepared->presets[0], options, c.noise_variance,
+                             prepared->truth.gain, prepared->max_time_constant_min);
     experiment_wall += wall_s() - w0;
     experiment_cpu += mc::thread_cpu_s() - c0;
     mc::GridEvaluation evaluated[2];
@@ -159,8 +158,7 @@ int main(int argc, char** argv) {
         "alone, %d of them only polished; %d LM iterations; unit with its experiment %.3f CPU "
         "s\n",
         name, t->wall, t->cpu, t->cpu / n, t->identified, t->checked, t->warm_better, t->warm,
-        t->polished, t->iterations,
-        (experiment_cpu + t->cpu) / n);
+        t->polished, t->iterations, (experiment_cpu + t->cpu) / n);
   }
   std::printf("  ratio cold / warm: grid wall x%.2f, grid CPU x%.2f, unit CPU x%.2f\n",
               cold.wall / warm.wall, cold.cpu / warm.cpu,

@@ -20,8 +20,10 @@ struct Data {
 
 // woodberry2x2-like (two poles and a delay per element), PRBS, noise variance 5e-4.
 Data noisy_2x2() {
-  const std::vector<ElementModel> G{
-      {12.8, 1.0, 16.7, 2.0}, {-18.9, 3.0, 21.0, 3.0}, {6.6, 7.0, 10.9, 1.5}, {-19.4, 3.0, 14.4, 2.0}};
+  const std::vector<ElementModel> G{{12.8, 1.0, 16.7, 2.0},
+                                    {-18.9, 3.0, 21.0, 3.0},
+                                    {6.6, 7.0, 10.9, 1.5},
+                                    {-19.4, 3.0, 14.4, 2.0}};
   Data r;
   r.U = testing::prbs_inputs(2, 7, 4, 40, 1200, 0.1);
   r.Y = testing::plant_outputs(G, 2, 2, 1.0, r.U);
