@@ -65,9 +65,9 @@ TEST(WarmGrid, EveryVerdictAsCold) {
     EXPECT_GT(met, 1);  // the verdicts compared are not all "not met"
     EXPECT_EQ(cold.warm + cold.checked, 0);
     EXPECT_EQ(warm.identified, cold.identified);
-    EXPECT_GE(warm.checked, 2);  // settled after two agreeing lengths at the earliest
+    EXPECT_GE(warm.checked, 3);  // settled after three agreeing lengths at the earliest
     EXPECT_EQ(warm.checked + warm.warm, warm.identified - 1);  // the first is cold
     settled += warm.warm;
   }
-  EXPECT_GT(settled, 0);  // a chain settled (seed 20; seed 14's fits differ up to 40 %)
+  EXPECT_GT(settled, 0);  // a chain settled
 }

@@ -91,8 +91,8 @@ struct GridEvaluation {
 /// GridStart::cold identifies every prefix from scratch. GridStart::warm: the first
 /// identifiable prefix cold; then each length is fitted cold and from the previous length's
 /// model, the lower BIC (prefix_bic) kept — the cold fit unless the warm one is lower by more
-/// than 0.01 — until the warm and cold fits have ended at the same optimum (BICs within 0.01)
-/// at two consecutive lengths; from then on each length only from the previous one's model, and
+/// than 0.01 — until the warm fit has ended at the cold fit's optimum or a better one (BIC
+/// below cold's + 0.01) at three consecutive lengths; from then on each length only from the previous one's model, and
 /// only polished where nothing_new (host/montecarlo/README.md, "The length grid warm-started").
 GridEvaluation evaluate_length_grid(const Prepared& prepared, const TruePlant& truth,
                                     const Experiment& experiment, const std::vector<int>& grid,
