@@ -71,3 +71,31 @@ TEST(WarmGrid, EveryVerdictAsCold) {
   }
   EXPECT_GT(settled, 0);  // a chain settled
 }
+
+// alatiqi4x4 msSrdSim, seed 1: the warm chain settled before 35 % and, unchecked, stayed from
+// 35 % on in a basin far above the cold fit's (BIC 6 000 higher), "not met" where cold says
+// "met". The residual that grows over the previous length's has it checked again.
+TEST(WarmGrid, ASettledChainWhoseResidualGrowsIsCheckedAgain) {
+  mc::Config c;
+  c.plant = "alatiqi4x4";
+  c.designs = {"msSrdSim"};
+  c.seeds = 1;
+  c.noise_variance = 5e-4;
+  c.length_step_percent = 5;
+  mc::normalise(c);
+  const auto prepared = mc::prepare(c, 1);
+  const std::vector<int> grid{5, 10, 15, 20, 25, 30, 35, 40, 100};
+  host::CampaignOptions options = prepared->campaign;
+  options.seed = mc::kSeedStride * 1;
+  const host::Experiment e =
+      host::run_experiment(prepared->designs[0], prepared->presets[0], options, c.noise_variance,
+                           prepared->truth.gain, prepared->max_time_constant_min);
+  const mc::GridEvaluation cold =
+      mc::evaluate_length_grid(*prepared, prepared->truth, e, grid, mc::GridStart::cold);
+  const mc::GridEvaluation warm =
+      mc::evaluate_length_grid(*prepared, prepared->truth, e, grid, mc::GridStart::warm);
+  for (std::size_t k = 0; k < grid.size(); ++k)
+    EXPECT_EQ(warm.points[k].met, cold.points[k].met) << grid[k] << " %";
+  EXPECT_TRUE(cold.points[6].met);  // 35 %
+  EXPECT_TRUE(cold.points[7].met);  // 40 %
+}

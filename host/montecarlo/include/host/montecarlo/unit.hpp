@@ -92,8 +92,10 @@ struct GridEvaluation {
 /// identifiable prefix cold; then each length is fitted cold and from the previous length's
 /// model, the lower BIC (prefix_bic) kept — the cold fit unless the warm one is lower by more
 /// than 0.01 — until the warm fit has ended at the cold fit's optimum or a better one (BIC
-/// below cold's + 0.01) at three consecutive lengths; from then on each length only from the previous one's model, and
-/// only polished where nothing_new (host/montecarlo/README.md, "The length grid warm-started").
+/// below cold's + 0.01) at three consecutive lengths (checked again at a length where a row's
+/// residual rms exceeds the previous length's by more than 10 %); from then on each length only
+/// from the previous one's model, and only polished where nothing_new (host/montecarlo/README.md,
+/// "The length grid warm-started").
 GridEvaluation evaluate_length_grid(const Prepared& prepared, const TruePlant& truth,
                                     const Experiment& experiment, const std::vector<int>& grid,
                                     GridStart start);
