@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // excite montecarlo --plant P [--designs a,b,…] --seeds N [--first-seed S] [--threads T]
-//                   [--noise-var V] [--length-step PCT] [--perturb X] [--shard i/N] -o DIR
+//                   [--noise-var V] [--length-step PCT] [--cold-grid] [--perturb X]
+//                   [--shard i/N] -o DIR
 // excite montecarlo … --emit-slurm FILE [--slurm-tasks N] -o OUT   (a Slurm job array script)
 // excite montecarlo merge DIR… -o OUT
 // The campaign's experiment over noise seeds (host/montecarlo): every finished (design, seed)
@@ -225,6 +226,10 @@ void add_montecarlo_command(CLI::App& app) {
   cmd->add_option("--length-step", opt->config.length_step_percent,
                   "test-length grid step in percent of the run (0: the whole run only)")
       ->capture_default_str();
+  cmd->add_flag_callback(
+      "--cold-grid", [opt] { opt->config.length_grid_start = mc::GridStart::cold; },
+      "identify every prefix of the length grid from scratch (default: each from the previous "
+      "length's model; the same verdicts, for comparison)");
   cmd->add_option("--perturb", opt->perturb,
                   "perturbed true plant: every gain, time constant and delay within +-X % per "
                   "seed; the designs keep the nominal plant (percent, 0 <= X < 100)")

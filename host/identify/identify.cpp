@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "host/identify/identify.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -122,6 +124,33 @@ double start_cost(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
   return r.squaredNorm();
 }
 
+// Row j's warm start (IdentifyOptions::start): its usable elements' values, each clamped into
+// the bounds of this fit; none when the start is of another size, an element of the row is
+// not estimated in it or is not in the structure forced on it.
+std::optional<std::vector<ElementModel>> warm_start_of(const IdentifyOptions& o, int j, int n,
+                                                       int p, const std::vector<int>& usable,
+                                                       const MisoBounds& bounds) {
+  if (!o.start || o.start->inputs != n || o.start->outputs != p || usable.empty())
+    return std::nullopt;
+  std::vector<ElementModel> start;
+  for (const int i : usable) {
+    const ElementEstimate& e = o.start->element(j, i);
+    if (!e.estimated()) return std::nullopt;
+    const Structure forced = !o.structures.empty()
+                                 ? o.structures[static_cast<std::size_t>(j * n + i)]
+                                 : o.structure.value_or(e.value.structure);
+    if (forced != e.value.structure) return std::nullopt;
+    ElementModel g = e.value;
+    for (const int k : free_parameters(g.structure)) {
+      if (!std::isfinite(g[k])) return std::nullopt;
+      const ParameterRange r = parameter_range(k, bounds);
+      g[k] = std::clamp(g[k], r.lower, r.upper);
+    }
+    start.push_back(g);
+  }
+  return start;
+}
+
 void mark_row(IdentifiedModel& model, int out, ElementStatus status, const std::string& why) {
   for (int i = 0; i < model.inputs; ++i) {
     ElementEstimate& e = model.element(out, i);
@@ -162,8 +191,21 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
   result.fits.assign(static_cast<std::size_t>(p), OutputFit{});
 
   const InputScreen screen = screen_inputs(U);
-  const ResponseBank bank(U, screen.usable, T_min, GridSpec{options.max_delay_min, tp_max}, layout);
-  const ArxBasis arx(U, screen.usable, T_min, options.max_delay_min, layout);
+  const MisoBounds bounds{options.max_delay_min, tp_max, natural_period_floor(T_min)};
+  // Rows with a warm start (IdentifyOptions::start); the cold starts' response bank and ARX
+  // basis are built only when a row needs them.
+  std::vector<std::optional<std::vector<ElementModel>>> warm(static_cast<std::size_t>(p));
+  bool any_cold = false;
+  for (int j = 0; j < p; ++j) {
+    warm[static_cast<std::size_t>(j)] = warm_start_of(options, j, n, p, screen.usable, bounds);
+    any_cold = any_cold || !warm[static_cast<std::size_t>(j)];
+  }
+  std::optional<ResponseBank> bank;
+  std::optional<ArxBasis> arx;
+  if (any_cold) {
+    bank.emplace(U, screen.usable, T_min, GridSpec{options.max_delay_min, tp_max}, layout);
+    arx.emplace(U, screen.usable, T_min, options.max_delay_min, layout);
+  }
   std::vector<double> transients;  // in samples (IdentifyOptions::estimate_initial_state)
   for (int k = 0; options.estimate_initial_state && k <= 5; ++k) {
     const double tau = tp_max / T_min / std::pow(2.0, k);
@@ -201,21 +243,49 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
       }
     }
     Eigen::VectorXd y_hat = Eigen::VectorXd::Zero(y.size());
-    if (!screen.usable.empty()) {
+    const std::optional<std::vector<ElementModel>>& warm_row = warm[static_cast<std::size_t>(j)];
+    StructureSearch search{options.structure, {}, options.max_iterations};
+    if (!options.structures.empty()) {
+      for (const int i : screen.usable)
+        search.per_element.push_back(options.structures[static_cast<std::size_t>(j * n + i)]);
+    }
+    const auto keep_row = [&](const MisoResult& miso) {
+      Eigen::MatrixXd& cov = model.gain_covariance[static_cast<std::size_t>(j)];
+      for (std::size_t e = 0; e < screen.usable.size(); ++e) {
+        model.element(j, screen.usable[e]) = miso.elements[e];
+        for (std::size_t f = 0; f < screen.usable.size(); ++f) {
+          cov(screen.usable[e], screen.usable[f]) =
+              miso.gain_covariance(static_cast<Eigen::Index>(e), static_cast<Eigen::Index>(f));
+        }
+      }
+      y_hat = miso.y_hat;
+      fit.iterations = miso.iterations;
+      fit.converged = miso.converged;
+    };
+    if (warm_row) {
+      // Warm: the earlier model polished in its structures, then (unless only polished) the
+      // structure search and the local optima from there.
+      MisoResult miso = fit_miso(U, y, screen.usable, *warm_row, T_min, bounds,
+                                 options.max_iterations, layout, trend);
+      if (options.start_use == IdentifyOptions::StartUse::first_start) {
+        miso = continue_structures(U, y, screen.usable, std::move(miso), T_min, bounds, layout,
+                                   trend, search);
+      }
+      keep_row(miso);
+    } else if (!screen.usable.empty()) {
       // Two starts (multi-start): the row's ARX model (sees all elements at once; exact on
       // data the structure fits) and the grid basin search. The better start is polished;
       // the other too when its output error is within kAmbiguousStart of the better's, and
       // the better end is kept.
-      const MisoBounds bounds{options.max_delay_min, tp_max, natural_period_floor(T_min)};
       std::vector<std::vector<ElementModel>> starts;
-      if (const auto Z = arx.contributions(y_start)) {
+      if (const auto Z = arx->contributions(y_start)) {
         // Each element fitted alone to its own part of the output (a start: few iterations).
         std::vector<ElementModel> arx_start;
         for (std::size_t e = 0; e < screen.usable.size(); ++e) {
           const auto col = static_cast<Eigen::Index>(e);
           const Eigen::VectorXd z = Z->col(col);
           double gain = 0.0;
-          ElementModel g = bank.grid()[static_cast<std::size_t>(bank.choose_one(col, z, gain))];
+          ElementModel g = bank->grid()[static_cast<std::size_t>(bank->choose_one(col, z, gain))];
           g.gain = gain;
           const MisoResult alone = fit_miso(U, z, {screen.usable[e]}, {g}, T_min, bounds,
                                             kAloneIterations, layout, Eigen::MatrixXd(y.size(), 0),
@@ -224,10 +294,10 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
         }
         starts.push_back(std::move(arx_start));
       }
-      const ResponseBank::Choice choice = bank.choose(y_start);
+      const ResponseBank::Choice choice = bank->choose(y_start);
       std::vector<ElementModel> grid_start;
       for (std::size_t e = 0; e < screen.usable.size(); ++e) {
-        ElementModel g = bank.grid()[static_cast<std::size_t>(choice.grid_index[e])];
+        ElementModel g = bank->grid()[static_cast<std::size_t>(choice.grid_index[e])];
         g.gain = choice.gain(static_cast<Eigen::Index>(e));
         grid_start.push_back(g);
       }
@@ -250,24 +320,9 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
         }
         miso.iterations += other.iterations;
       }
-      StructureSearch search{options.structure, {}, options.max_iterations};
-      if (!options.structures.empty()) {
-        for (const int i : screen.usable)
-          search.per_element.push_back(options.structures[static_cast<std::size_t>(j * n + i)]);
-      }
       miso = choose_structures(U, y, screen.usable, std::move(miso), T_min, bounds, layout, trend,
                                search);
-      Eigen::MatrixXd& cov = model.gain_covariance[static_cast<std::size_t>(j)];
-      for (std::size_t e = 0; e < screen.usable.size(); ++e) {
-        model.element(j, screen.usable[e]) = miso.elements[e];
-        for (std::size_t f = 0; f < screen.usable.size(); ++f) {
-          cov(screen.usable[e], screen.usable[f]) =
-              miso.gain_covariance(static_cast<Eigen::Index>(e), static_cast<Eigen::Index>(f));
-        }
-      }
-      y_hat = miso.y_hat;
-      fit.iterations = miso.iterations;
-      fit.converged = miso.converged;
+      keep_row(miso);
     } else {
       fit.converged = true;
     }

@@ -628,4 +628,18 @@ MisoResult choose_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
   return current;
 }
 
+MisoResult continue_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
+                               const std::vector<int>& inputs, MisoResult fitted, double T_min,
+                               const MisoBounds& bounds, const SampleLayout& layout,
+                               const Eigen::MatrixXd& trend, const StructureSearch& search) {
+  StructureSearcher searcher(U, y, inputs, T_min, bounds, layout, trend, search);
+  if (searcher.all_forced()) return searcher.leave_optima(std::move(fitted), true);
+  MisoResult current = searcher.search_from(std::move(fitted));
+  if (restart_misplaced_dynamics(U, y, inputs, current, T_min, bounds, layout, trend,
+                                 search.max_iterations)) {
+    current = searcher.search_from(std::move(current));
+  }
+  return current;
+}
+
 }  // namespace excite::host

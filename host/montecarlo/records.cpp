@@ -131,6 +131,7 @@ json config_json(const Config& c) {
           {"noise_variance", c.noise_variance},
           {"length_step_percent", c.length_step_percent},
           {"perturb_percent", c.perturb_percent},
+          {"length_grid_start", c.length_grid_start == GridStart::warm ? "warm" : "cold"},
           {"shard", std::to_string(c.shard.index) + "/" + std::to_string(c.shard.count)}};
 }
 
@@ -161,6 +162,13 @@ Config read_config(const std::filesystem::path& file) {
   c.length_step_percent = static_cast<int>(r.integer_in("length_step_percent", 0, 100));
   // Absent in the folders of runs before --perturb: the nominal plant.
   if (j.contains("perturb_percent")) c.perturb_percent = r.real("perturb_percent");
+  // Absent in the folders of runs before the warm grid: every prefix identified cold.
+  c.length_grid_start = GridStart::cold;
+  if (j.contains("length_grid_start")) {
+    const std::string start = r.string("length_grid_start");
+    if (start != "warm" && start != "cold") r.wrong("length_grid_start", "\"warm\" or \"cold\"");
+    c.length_grid_start = start == "warm" ? GridStart::warm : GridStart::cold;
+  }
   try {
     c.shard = parse_shard(r.string("shard"));
   } catch (const std::invalid_argument&) {

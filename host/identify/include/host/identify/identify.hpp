@@ -55,6 +55,19 @@ struct IdentifyOptions {
   std::vector<Structure> structures;    // outputs × inputs, row by row: each element in its own
                                         // structure (an earlier model's, e.g. the whole run's
                                         // for a prefix of it); empty: `structure` decides
+  // A warm start (the Monte Carlo test-length grid: the fit on 25 % of a run from the model on
+  // 20 %): an earlier model of the same outputs × inputs. A row whose usable elements are all
+  // estimated in it, each in the structure `structure` / `structures` force (any, when
+  // chosen), is fitted from it instead of the ARX and grid starts (the response bank and the
+  // ARX basis are then not built when no row needs them); the structure search then runs from
+  // that fit as from the two-pole one (free to change structures unless forced), the local
+  // optima are left as on every path. Any other row is fitted cold, as without it.
+  std::optional<IdentifiedModel> start;
+  // StartUse::polish: the rows started from `start` are only polished (bounded LM in their
+  // structures, standard errors) — no search, no restarts: for data that add nothing new to
+  // the data `start` was fitted on (the caller's judgement; host/montecarlo unit.cpp).
+  enum class StartUse { first_start, polish };
+  StartUse start_use = StartUse::first_start;
 };
 
 /// Per-output diagnostics of the fit.

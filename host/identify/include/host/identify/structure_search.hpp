@@ -60,4 +60,12 @@ MisoResult choose_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                              const MisoBounds& bounds, const SampleLayout& layout,
                              const Eigen::MatrixXd& trend, const StructureSearch& search);
 
+/// The same from `fitted`, the row's fit from a warm start with each element already in a
+/// structure (IdentifyOptions::start): a forced structure is kept and only its local optima
+/// left; chosen ones are searched from there as from the two-pole fit.
+MisoResult continue_structures(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
+                               const std::vector<int>& inputs, MisoResult fitted, double T_min,
+                               const MisoBounds& bounds, const SampleLayout& layout,
+                               const Eigen::MatrixXd& trend, const StructureSearch& search);
+
 }  // namespace excite::host

@@ -14,6 +14,7 @@
 
 #include "host/campaign/campaign.hpp"
 #include "host/design/presets.hpp"
+#include "host/identify/identify.hpp"
 #include "host/measures/accuracy.hpp"
 #include "host/montecarlo/work.hpp"
 #include "sim/lti/transfer_matrix.hpp"
@@ -66,6 +67,43 @@ struct Prepared {
   std::vector<Design> designs;
 };
 
+/// Whether the rows from_rows … to_rows − 1 of a run add nothing new to its first from_rows:
+/// no input moves (u(k) ≠ u(k − 1), any input) at any row k ≥ from_rows − ⌈max_delay/T⌉ − 1,
+/// so every step or excitation of the longer prefix reached the outputs within the shorter
+/// one (a delay T_d ≤ max_delay shows a move at k from row k + ⌈T_d/T⌉ on), and the added rows
+/// carry only the continued response to moves the shorter prefix already saw, and noise.
+/// False when from_rows is 0 or beyond to_rows.
+bool nothing_new(const Eigen::MatrixXd& U, Eigen::Index from_rows, Eigen::Index to_rows,
+                 double sample_time_min, double max_delay_min);
+
+/// The test-length grid of one experiment: the criterion on the first ⌊N·p/100⌋ rows of its
+/// run for each p of `grid` (ascending; 100: the experiment's own identification).
+struct GridEvaluation {
+  std::vector<LengthPoint> points;  // one per grid length
+  // Per grid length below 100 %: the prefix's identification; nullopt when too short.
+  std::vector<std::optional<IdentificationResult>> results;
+  int identified = 0;   // prefixes identified
+  int warm = 0;         // of them only from the previous length's model (settled, below)
+  int polished = 0;     // of those only polished (nothing_new)
+  int checked = 0;      // fitted both cold and warm (before settling)
+  int warm_better = 0;  // of those where the warm fit's BIC was lower and it was kept
+};
+/// GridStart::cold identifies every prefix from scratch. GridStart::warm: the first
+/// identifiable prefix cold; then each length is fitted cold and from the previous length's
+/// model, the lower BIC (prefix_bic) kept — the cold fit unless the warm one is lower by more
+/// than 0.01 — until the warm fit has ended at the cold fit's optimum or a better one (BIC
+/// below cold's + 0.01) at three consecutive lengths (checked again at a length where a row's
+/// residual rms exceeds the previous length's by more than 10 %); from then on each length only
+/// from the previous one's model, and only polished where nothing_new (host/montecarlo/README.md,
+/// "The length grid warm-started").
+GridEvaluation evaluate_length_grid(const Prepared& prepared, const TruePlant& truth,
+                                    const Experiment& experiment, const std::vector<int>& grid,
+                                    GridStart start);
+
+/// The BIC of a fit summed over its rows (host/identify row_criterion: each row's output error
+/// over Y's rows, the free parameters of its estimated elements); Y the outputs it was fitted
+/// on.
+double prefix_bic(const IdentificationResult& fit, const Eigen::MatrixXd& Y);
 /// Designs every design of `config` (on `threads` threads). Throws std::invalid_argument for
 /// a plant without a case study.
 std::unique_ptr<Prepared> prepare(const Config& config, int threads);

@@ -24,6 +24,10 @@ Shard parse_shard(const std::string& text);
 /// A run's options: everything that decides its results (written to DIR/run.json; a rerun
 /// into the same folder must give the same, and merged shards must agree on all but the
 /// shard index).
+/// How the test-length grid's prefixes are identified (unit.hpp, evaluate_length_grid): each
+/// from scratch (cold, `excite montecarlo --cold-grid`), or from the previous length's model.
+enum class GridStart { warm, cold };
+
 struct Config {
   std::string plant;
   std::vector<std::string> designs;  // Table 6.1 acronyms, in Table order, no repeats
@@ -33,6 +37,8 @@ struct Config {
   int length_step_percent = 5;   // the test-length grid: step, 2·step, …, 100 %; 0: 100 % only
   double perturb_percent = 0.0;  // the true plant's parameters within ±X % per seed (perturb.hpp)
   Shard shard;
+  GridStart length_grid_start = GridStart::warm;  // run.json "length_grid_start"; absent: cold
+                                                  // (the runs before the warm grid)
 };
 
 /// Noise seed of experiment `number` (Table 6.1) in Monte Carlo seed s: 100·s + number —
