@@ -64,7 +64,7 @@ std::string slurm_script(const Config& config, const SlurmJob& job) {
        shell_word(designs) + " --seeds " + std::to_string(config.seeds) + " --first-seed " +
        std::to_string(config.first_seed) + " --noise-var " + noise + " --length-step " +
        std::to_string(config.length_step_percent) +
-       (config.length_grid_start == GridStart::cold ? " --cold-grid" : "") +
+       (config.length_grid_start == GridStart::warm ? " --warm-grid" : "") +
        (config.perturb_percent > 0.0 ? " --perturb " + sim::percent_text(config.perturb_percent)
                                      : "") +
        " --threads " + threads + " --shard \"${SLURM_ARRAY_TASK_ID}/" + tasks + "\" -o " +

@@ -3,7 +3,7 @@
 // warm-started"): one design of a plant over `--seeds=S` seeds (default 20) with the 5 % grid,
 // every seed's experiment run once (host/campaign run_experiment, as run_unit does) and its
 // 19 prefixes identified twice in the same process: cold (every prefix from scratch, as before
-// the warm grid; `excite montecarlo --cold-grid`) and warm (each from the previous length's
+// the warm grid; `excite montecarlo`, the default) and warm (each from the previous length's
 // model, checked against the cold fit until it settles, polished only where the added rows
 // bring nothing new: unit.hpp, evaluate_length_grid). Real simulations and
 // identification, one thread.

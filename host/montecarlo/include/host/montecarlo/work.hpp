@@ -25,7 +25,8 @@ Shard parse_shard(const std::string& text);
 /// into the same folder must give the same, and merged shards must agree on all but the
 /// shard index).
 /// How the test-length grid's prefixes are identified (unit.hpp, evaluate_length_grid): each
-/// from scratch (cold, `excite montecarlo --cold-grid`), or from the previous length's model.
+/// from scratch (cold, the default), or from the previous length's model (warm, `excite
+/// montecarlo --warm-grid`: not yet the default, some verdicts differ; README).
 enum class GridStart { warm, cold };
 
 struct Config {
@@ -37,7 +38,7 @@ struct Config {
   int length_step_percent = 5;   // the test-length grid: step, 2·step, …, 100 %; 0: 100 % only
   double perturb_percent = 0.0;  // the true plant's parameters within ±X % per seed (perturb.hpp)
   Shard shard;
-  GridStart length_grid_start = GridStart::warm;  // run.json "length_grid_start"; absent: cold
+  GridStart length_grid_start = GridStart::cold;  // run.json "length_grid_start"; absent: cold
                                                   // (the runs before the warm grid)
 };
 
