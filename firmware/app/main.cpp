@@ -318,8 +318,8 @@ int main(int argc, char** argv) {
   // and every segment the host tool writes for this run.
   const std::string run_id = new_run_id();
   std::fprintf(stderr, "excite-gateway: %s\n", run_tag(run_id).c_str());
-  const std::string producer = "excite-gateway " + std::string(excite::runlog::kVersion) + " (" +
-                               run_tag(run_id) + ")";
+  const std::string producer =
+      "excite-gateway " + std::string(excite::runlog::kVersion) + " (" + run_tag(run_id) + ")";
   if (auto e = gw.start_log(log.get(), producer)) {
     return fail(e->code, opt.log_path + ": " + e->message);
   }

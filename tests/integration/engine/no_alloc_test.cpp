@@ -99,7 +99,7 @@ TEST_F(GatewayLoop, TenThousandTicksOfTheCyclicPathAllocateNothing) {
   EXPECT_GE(ticks, 10000U);
   EXPECT_EQ(new_count, 0);
   EXPECT_EQ(malloc_count, 0) << "(malloc interposed: " << excite::test::malloc_interposed() << ")";
-  EXPECT_GT(engine().suspensions(), 40U);  // the fault paths were taken
+  EXPECT_GT(engine().suspensions(), 40U);                 // the fault paths were taken
   EXPECT_GE(engine().commands_acknowledged(), 2U * 20U);  // the register cleared each time
   EXPECT_GT(bus_->dropped(), 50U);
   EXPECT_GT(reverified, 20U);                               // read before writing again

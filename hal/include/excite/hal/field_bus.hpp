@@ -88,9 +88,7 @@ class FieldBus {
   virtual StatusCode write_value(std::size_t /*index*/, double /*value*/) noexcept {
     return StatusCode::unavailable;
   }
-  [[nodiscard]] virtual bool value_writable(std::size_t /*index*/) const noexcept {
-    return false;
-  }
+  [[nodiscard]] virtual bool value_writable(std::size_t /*index*/) const noexcept { return false; }
   // The exception reply that made the last call return peer_error (code 0 after any other
   // outcome). Transports without exception replies: always none.
   [[nodiscard]] virtual PeerException last_exception() const noexcept { return {}; }

@@ -28,7 +28,7 @@ struct RunSummary {
   std::uint64_t readback_mismatches = 0;
   std::uint64_t ticks_skipped = 0;
   std::uint64_t stale_writes_undone = 0;
-  bool acknowledge_command = false;        // the command register is cleared after each code
+  bool acknowledge_command = false;  // the command register is cleared after each code
   std::uint64_t commands_acknowledged = 0;
   // Closed loop ([closed_loop]): episodes of the controller out of its mode and of an MV
   // clamped or wound up (each suspended the test).

@@ -42,14 +42,14 @@ struct RunStats {
   std::uint64_t schedule_overruns = 0;  // grid points skipped because a tick ran late (the
                                         // log's k jumps over them; rows flagged skipped)
   std::uint64_t failed_exchanges = 0;
-  std::uint64_t ring_overruns = 0;   // records dropped because the log ring was full
-  std::uint64_t reverified = 0;      // ticks after a failed exchange that read the peer first
-  std::uint64_t paced = 0;           // retries held back by the retry pacing (pace_retries)
+  std::uint64_t ring_overruns = 0;  // records dropped because the log ring was full
+  std::uint64_t reverified = 0;     // ticks after a failed exchange that read the peer first
+  std::uint64_t paced = 0;          // retries held back by the retry pacing (pace_retries)
   std::uint64_t command_clear_failures = 0;  // acknowledgements of the command register whose
                                              // write failed (tried again on the next tick)
-  std::uint64_t segment_waits = 0;   // times the loop stopped ticking to await a segment
-                                     // (await_segments_on)
-  hal::Nanoseconds segment_wait{0};  // how long, in all, on the real clock
+  std::uint64_t segment_waits = 0;           // times the loop stopped ticking to await a segment
+                                             // (await_segments_on)
+  hal::Nanoseconds segment_wait{0};          // how long, in all, on the real clock
   hal::Nanoseconds longest_segment_wait{0};
   engine::State final_state = engine::State::configured;
   engine::Outcome outcome = engine::Outcome::none;

@@ -56,7 +56,7 @@ struct Codec {
   double eng_max = 0.0;
   double raw_min = 0.0;
   double raw_max = 0.0;
-  std::size_t offset = 0;  // index of the first register in the write/read image
+  std::size_t offset = 0;     // index of the first register in the write/read image
   std::uint16_t address = 0;  // its first register (values: where write_value writes)
   int function_code = 16;     // how it is transferred: 16, or 3/4 for a value
 };
