@@ -99,16 +99,7 @@ SimulatedRun run_closed_loop(const SimulateOptions& opt, sim::Plant& plant) {
                   (planned == plan::Excitation::open_loop && opt.excitation == "mv");
   loop.excitation = mv ? runlog::Excitation::mv : runlog::Excitation::setpoint;
   loop.dither_known = !opt.dither_unknown;
-  loop.controller =
-      std::string(file.kind == sim::control::ControllerKind::dmc ? "dmc " : "pi ") + opt.controller;
-  if (!file.dmc.mv.empty()) {
-    loop.mv_min.resize(static_cast<Eigen::Index>(file.dmc.mv.size()));
-    loop.mv_max.resizeLike(loop.mv_min);
-    for (std::size_t j = 0; j < file.dmc.mv.size(); ++j) {
-      loop.mv_min(static_cast<Eigen::Index>(j)) = file.dmc.mv[j].min;
-      loop.mv_max(static_cast<Eigen::Index>(j)) = file.dmc.mv[j].max;
-    }
-  }
+  set_controller(loop, file, opt.controller);
   if (opt.sim.periods == 0 ||
       std::uint64_t{opt.sim.periods} * p->recipe.samples > kMaxSimulatedRows) {
     throw std::invalid_argument("--periods x plan samples = " + std::to_string(opt.sim.periods) +

@@ -77,16 +77,7 @@ SimulatedRun run_in_process(const ClosedLoopCampaignOptions& o, const plan::Plan
   const auto controller = sim::control::make_controller(file, *model, &g0);
   ClosedLoopOptions loop;
   loop.excitation = o.excitation == "mv" ? runlog::Excitation::mv : runlog::Excitation::setpoint;
-  loop.controller = std::string(file.kind == sim::control::ControllerKind::dmc ? "dmc " : "pi ") +
-                    fs::path(o.controller).filename().string();
-  if (!file.dmc.mv.empty()) {
-    loop.mv_min.resize(static_cast<Eigen::Index>(file.dmc.mv.size()));
-    loop.mv_max.resizeLike(loop.mv_min);
-    for (std::size_t j = 0; j < file.dmc.mv.size(); ++j) {
-      loop.mv_min(static_cast<Eigen::Index>(j)) = file.dmc.mv[j].min;
-      loop.mv_max(static_cast<Eigen::Index>(j)) = file.dmc.mv[j].max;
-    }
-  }
+  set_controller(loop, file, fs::path(o.controller).filename().string());
   SimulationOptions sim;
   sim.noise_variance = noise_variance;
   sim.seed = seed;

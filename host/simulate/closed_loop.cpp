@@ -55,6 +55,18 @@ void check(const Eigen::MatrixXd& r, double T, sim::Plant& plant, const sim::con
 
 }  // namespace
 
+void set_controller(ClosedLoopOptions& loop, const sim::control::ControllerFile& file,
+                    const std::string& file_label) {
+  loop.controller =
+      std::string(file.kind == sim::control::ControllerKind::dmc ? "dmc " : "pi ") + file_label;
+  loop.mv_min.resize(static_cast<Eigen::Index>(file.dmc.mv.size()));
+  loop.mv_max.resizeLike(loop.mv_min);
+  for (std::size_t j = 0; j < file.dmc.mv.size(); ++j) {
+    loop.mv_min(static_cast<Eigen::Index>(j)) = file.dmc.mv[j].min;
+    loop.mv_max(static_cast<Eigen::Index>(j)) = file.dmc.mv[j].max;
+  }
+}
+
 SimulatedRun simulate_closed_loop(const Eigen::MatrixXd& r, std::string plan_label,
                                   double sample_time_min, sim::Plant& plant,
                                   sim::control::Controller& controller,

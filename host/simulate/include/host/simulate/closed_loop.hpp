@@ -28,6 +28,7 @@
 #include "firmware/runlog/format.hpp"
 #include "host/simulate/simulate.hpp"
 #include "sim/control/controller.hpp"
+#include "sim/control/controller_file.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::host {
@@ -39,6 +40,11 @@ struct ClosedLoopOptions {
   Eigen::VectorXd mv_max;
   std::string controller;  // "<kind> <file>", the log's `# controller:` line
 };
+
+/// The controller file's part of the options: its MV box (a DMC file's [[mv]] limits; a PI
+/// file has none) and the log's `# controller:` line, "<kind> <file_label>".
+void set_controller(ClosedLoopOptions& loop, const sim::control::ControllerFile& file,
+                    const std::string& file_label);
 
 /// Runs the test signal `r` (N × outputs for setpoint excitation, N × inputs for mv; a
 /// plan's table, make_table) on `plant` under `controller`, both reset first. Throws
