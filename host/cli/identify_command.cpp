@@ -73,7 +73,8 @@ void print_uncertainty(const GainUncertainty& u) {
             << " whose sign a gain error within its 95 % interval can flip";
   const PrincipalMinor& det = u.principal_minors.back();
   std::cout << "; det G(0) = " << num(det.value, 4) << " +- " << num(det.std_error, 3)
-            << (det.sign_uncertain ? " (sign NOT known: integral controllability at risk)" : "")
+            << (det.sign_uncertain ? " (sign undetermined: integral controllability at risk)"
+                                   : "")
             << '\n';
   for (const PrincipalMinor& pm : u.principal_minors) {
     if (!pm.sign_uncertain || &pm == &det) continue;
@@ -94,6 +95,9 @@ void print(const IdentificationResult& r, const runlog::RunLog& log) {
       std::cout << "  residual " << (tests.white() ? "white" : "NOT white")
                 << " (Q = " << num(tests.whiteness, 3) << ", 99 % limit "
                 << num(tests.whiteness_limit, 3) << ", " << tests.lags << " lags)\n";
+    }
+    if (!r.fits[oi].inputs_together.empty()) {
+      std::cout << "  inputs together: " << r.fits[oi].inputs_together << '\n';
     }
     // A column per parameter that some element of the row has (its structure's), "-" where
     // an element's structure has no such parameter.

@@ -176,6 +176,7 @@ nlohmann::json model_json(const IdentificationResult& result,
                                {"independence", to_json(t.independence)},
                                {"independence_limit_99", to_json(t.independence_limit)}};
     }
+    if (!fit.inputs_together.empty()) out["inputs_together"] = fit.inputs_together;
     if (static_cast<std::size_t>(o) < m.gain_covariance.size()) {
       out["gain_covariance"] = rows_to_json(m.gain_covariance[static_cast<std::size_t>(o)]);
     }

@@ -12,6 +12,7 @@
 #include "host/identify/arx_start.hpp"
 #include "host/identify/grade.hpp"
 #include "host/identify/input_screen.hpp"
+#include "host/identify/inputs_together.hpp"
 #include "host/identify/miso_fit.hpp"
 #include "host/identify/response_bank.hpp"
 #include "host/identify/structure_search.hpp"
@@ -151,6 +152,17 @@ std::optional<std::vector<ElementModel>> warm_start_of(const IdentifyOptions& o,
   return start;
 }
 
+// The grid elements a bank's choice names, with its gains: one start element per bank input.
+std::vector<ElementModel> start_of(const ResponseBank& bank, const ResponseBank::Choice& choice) {
+  std::vector<ElementModel> start;
+  for (std::size_t e = 0; e < choice.grid_index.size(); ++e) {
+    ElementModel g = bank.grid()[static_cast<std::size_t>(choice.grid_index[e])];
+    g.gain = choice.gain(static_cast<Eigen::Index>(e));
+    start.push_back(g);
+  }
+  return start;
+}
+
 void mark_row(IdentifiedModel& model, int out, ElementStatus status, const std::string& why) {
   for (int i = 0; i < model.inputs; ++i) {
     ElementEstimate& e = model.element(out, i);
@@ -214,6 +226,19 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
   const Eigen::MatrixXd trend = trend_basis(layout, options.trend, transients);
   Eigen::MatrixXd U_scored(layout.scored(), n);  // the inputs on the scored rows
   for (int i = 0; i < n; ++i) U_scored.col(i) = layout.scored_rows(U.col(i));
+  // Inputs whose gains' split rests on the elements' dynamics alone (issue 43): the bank
+  // inputs whose own part is below kCannotSplit, which two more starts give one shared grid
+  // element (choose_shared) or, for a pair, the best pair of grid elements (choose_pair).
+  std::vector<Eigen::Index> together;
+  if (screen.usable.size() > 1) {
+    Eigen::MatrixXd moved(layout.scored(), static_cast<Eigen::Index>(screen.usable.size()));
+    for (std::size_t e = 0; e < screen.usable.size(); ++e)
+      moved.col(static_cast<Eigen::Index>(e)) = U_scored.col(screen.usable[e]);
+    const InputSeparation separation = input_separation(moved);
+    for (Eigen::Index e = 0; e < separation.independent.size(); ++e) {
+      if (separation.independent(e) < kCannotSplit) together.push_back(e);
+    }
+  }
 
   // One output's fit; writes only its own row of the model and its own OutputFit.
   const auto fit_output = [&](int j) {
@@ -249,7 +274,12 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
       for (const int i : screen.usable)
         search.per_element.push_back(options.structures[static_cast<std::size_t>(j * n + i)]);
     }
-    const auto keep_row = [&](const MisoResult& miso) {
+    const auto keep_row = [&](MisoResult miso) {
+      const RowProblem problem{U,      y,    screen.usable, T_min, bounds, options.max_iterations,
+                               layout, trend};
+      fit.separation = row_separation(problem, miso);
+      fit.inputs_together = describe_together(screen.usable, fit.separation);
+      miso = profile_inputs_together(problem, std::move(miso), fit.separation);
       Eigen::MatrixXd& cov = model.gain_covariance[static_cast<std::size_t>(j)];
       for (std::size_t e = 0; e < screen.usable.size(); ++e) {
         model.element(j, screen.usable[e]) = miso.elements[e];
@@ -271,7 +301,7 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
         miso = continue_structures(U, y, screen.usable, std::move(miso), T_min, bounds, layout,
                                    trend, search);
       }
-      keep_row(miso);
+      keep_row(std::move(miso));
     } else if (!screen.usable.empty()) {
       // Two starts (multi-start): the row's ARX model (sees all elements at once; exact on
       // data the structure fits) and the grid basin search. The better start is polished;
@@ -294,22 +324,28 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
         }
         starts.push_back(std::move(arx_start));
       }
-      const ResponseBank::Choice choice = bank->choose(y_start);
-      std::vector<ElementModel> grid_start;
-      for (std::size_t e = 0; e < screen.usable.size(); ++e) {
-        ElementModel g = bank->grid()[static_cast<std::size_t>(choice.grid_index[e])];
-        g.gain = choice.gain(static_cast<Eigen::Index>(e));
-        grid_start.push_back(g);
+      starts.push_back(start_of(*bank, bank->choose(y_start)));
+      // The shared and pair starts are always polished: their start costs say little about
+      // where the fits from them end.
+      const std::size_t shared_index = starts.size();
+      if (together.size() > 1) {
+        starts.push_back(start_of(*bank, bank->choose_shared(y_start, together)));
       }
-      starts.push_back(std::move(grid_start));
+      const std::size_t pair_index = starts.size();
+      if (together.size() == 2) {
+        starts.push_back(start_of(*bank, bank->choose_pair(y_start, together[0], together[1])));
+      }
       std::vector<double> cost;
       for (const auto& start : starts)
         cost.push_back(start_cost(U, y, screen.usable, start, T_min, layout, trend));
-      const std::size_t first = cost.size() > 1 && cost[1] < cost[0] ? 1 : 0;
+      const auto first =
+          static_cast<std::size_t>(std::min_element(cost.begin(), cost.end()) - cost.begin());
       MisoResult miso = fit_miso(U, y, screen.usable, starts[first], T_min, bounds,
                                  options.max_iterations, layout, trend);
       for (std::size_t s = 0; s < starts.size(); ++s) {
-        if (s == first || !(cost[s] <= kAmbiguousStart * cost[first])) continue;
+        if (s == first ||
+            (s != shared_index && s != pair_index && !(cost[s] <= kAmbiguousStart * cost[first])))
+          continue;
         MisoResult other = fit_miso(U, y, screen.usable, starts[s], T_min, bounds,
                                     options.max_iterations, layout, trend);
         const auto sse = [&](const MisoResult& m) {
@@ -322,7 +358,7 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
       }
       miso = choose_structures(U, y, screen.usable, std::move(miso), T_min, bounds, layout, trend,
                                search);
-      keep_row(miso);
+      keep_row(std::move(miso));
     } else {
       fit.converged = true;
     }
@@ -337,6 +373,7 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
       fit.residual_tests = residual_tests(residual, U_scored, kResidualTestLags);
     }
     grade_row(row, fit.residual_tests);
+    grade_together(row, screen.usable, fit.separation);
   };
 
   // Outputs on min(threads, p) threads (host/process/parallel.hpp); each writes only its own

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "host/identify/input_screen.hpp"
 
+#include <algorithm>
 #include <cstdio>
+#include <limits>
 
 namespace excite::host {
 
@@ -43,6 +45,45 @@ InputScreen screen_inputs(const Eigen::MatrixXd& U) {
   }
   for (int i = 0; i < n; ++i) {
     if (s.status[static_cast<std::size_t>(i)] == ElementStatus::identified) s.usable.push_back(i);
+  }
+  return s;
+}
+
+InputSeparation input_separation(const Eigen::MatrixXd& X) {
+  const Eigen::Index m = X.cols();
+  InputSeparation s;
+  s.independent = Eigen::VectorXd::Ones(m);
+  s.regression = Eigen::MatrixXd::Zero(m, m);
+  if (m < 2) return s;
+  const Eigen::VectorXd norms = X.colwise().norm().transpose();
+  const Eigen::MatrixXd Xs = X * norms.cwiseInverse().asDiagonal();
+  const Eigen::MatrixXd C = Xs.transpose() * Xs;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(C);
+  const double smallest = std::max(eig.eigenvalues().minCoeff(), 0.0);
+  s.condition = smallest > 0.0 ? eig.eigenvalues().maxCoeff() / smallest
+                               : std::numeric_limits<double>::infinity();
+  for (Eigen::Index i = 0; i < m; ++i) {
+    Eigen::MatrixXd others(X.rows(), m - 1);
+    for (Eigen::Index k = 0, c = 0; k < m; ++k) {
+      if (k != i) others.col(c++) = Xs.col(k);
+    }
+    const Eigen::VectorXd b = others.colPivHouseholderQr().solve(Xs.col(i));
+    s.independent(i) = (Xs.col(i) - others * b).norm();  // x_i has unit norm
+    for (Eigen::Index k = 0, c = 0; k < m; ++k) {
+      if (k != i) s.regression(k, i) = b(c++) * norms(i) / norms(k);
+    }
+  }
+  return s;
+}
+
+InputSeparation worse_of(const InputSeparation& a, const InputSeparation& b) {
+  InputSeparation s = a;
+  s.condition = std::max(a.condition, b.condition);
+  for (Eigen::Index i = 0; i < s.independent.size(); ++i) {
+    if (b.independent(i) < a.independent(i)) {
+      s.independent(i) = b.independent(i);
+      s.regression.col(i) = b.regression.col(i);
+    }
   }
   return s;
 }

@@ -296,11 +296,24 @@ ParameterRange parameter_range(int parameter, const MisoBounds& bounds) {
   }
 }
 
+void mark_weak_gain(ElementEstimate& e) {
+  const double k_se = e.std_error.gain;
+  if (std::isfinite(k_se) ? std::abs(e.value.gain) < 2.0 * k_se : std::isinf(k_se)) {
+    e.status = ElementStatus::weak_gain;
+    char buf[220];
+    std::snprintf(buf, sizeof buf,
+                  "|K| = %.3g is below two standard errors (%.3g): the data barely show this "
+                  "element, its delay and time constants are not determined",
+                  std::abs(e.value.gain), k_se);
+    e.reason = buf;
+  }
+}
+
 MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                     const std::vector<int>& inputs, std::vector<ElementModel> initial, double T_min,
                     const MisoBounds& bounds, int max_iterations, const SampleLayout& layout,
                     const Eigen::MatrixXd& trend, double cost_tolerance,
-                    MisoUncertainty uncertainty) {
+                    MisoUncertainty uncertainty, std::optional<HeldGain> held) {
   const ParameterMap map(initial);
   RowModel row(U, inputs, map, T_min, layout);
   const Eigen::Index m = map.elements();
@@ -323,6 +336,10 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
       problem.scale(i) = free[k] == kGain ? std::max(std::abs(g.gain), 1e-12)
                                           : (free[k] == kDamping ? 0.1 : T_min);
     }
+  }
+  if (held) {
+    const Eigen::Index k = map.offset(held->element);
+    x0(k) = problem.lower(k) = problem.upper(k) = held->value;
   }
   // The simulation at the lowest cost evaluated so far: the minimiser's end (it accepts only
   // a lower cost), so the result's y_hat need not be simulated again.
@@ -414,16 +431,7 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
       est.covariance.row(kTp1).swap(est.covariance.row(kTp2));
       est.covariance.col(kTp1).swap(est.covariance.col(kTp2));
     }
-    const double k_se = est.std_error.gain;
-    if (std::isfinite(k_se) ? std::abs(est.value.gain) < 2.0 * k_se : std::isinf(k_se)) {
-      est.status = ElementStatus::weak_gain;
-      char buf[220];
-      std::snprintf(buf, sizeof buf,
-                    "|K| = %.3g is below two standard errors (%.3g): the data barely show this "
-                    "element, its delay and time constants are not determined",
-                    std::abs(est.value.gain), k_se);
-      est.reason = buf;
-    }
+    mark_weak_gain(est);
     out.elements.push_back(est);
   }
   return out;

@@ -20,7 +20,9 @@
 //   4. Each element's structure (element.hpp: first order, two poles, two poles with a zero,
 //      integrator, underdamped, underdamped with a lag and a zero) chosen by the row's BIC,
 //      starting from the two-pole fit (structure_search.hpp), or one forced for all.
-//   5. Standard errors from σ̂² (JᵀJ)⁻¹ over the parameters not on a bound, σ̂² = SSE/(N − P).
+//   5. Standard errors from σ̂² (JᵀJ)⁻¹ over the parameters not on a bound, σ̂² = SSE/(N − P);
+//      for the gains of inputs that move with others, the profile likelihood's interval
+//      (inputs_together.hpp), which does not assume local linearity.
 //   6. Per output, Ljung's residual tests; per element, a grade A–D (grade.hpp).
 // The result also carries the fit % per output (5.5.1), the analysis of the identified
 // G(0) (singular values, ξ_i, κ, RGA) and how well it is known (gain_uncertainty.hpp).
@@ -31,6 +33,7 @@
 #include <vector>
 
 #include "host/identify/gain_uncertainty.hpp"
+#include "host/identify/input_screen.hpp"
 #include "host/identify/model.hpp"
 #include "host/identify/residuals.hpp"
 #include "host/identify/segments.hpp"
@@ -78,6 +81,10 @@ struct OutputFit {
   bool converged = false;        // stopped on a convergence test, not the iteration limit
   ResidualTests residual_tests;  // Ljung's whiteness and independence tests on the scored
                                  // rows (residuals.hpp); they grade the row's elements
+  // How well the data tell the row's usable inputs apart (inputs_together.hpp), one entry
+  // per usable input in ascending order; inputs below kCannotSplit had their gains profiled.
+  InputSeparation separation;
+  std::string inputs_together;  // describe_together(): "" when every input moves on its own
 };
 
 struct IdentificationResult {

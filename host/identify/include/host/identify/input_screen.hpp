@@ -23,4 +23,23 @@ struct InputScreen {
 /// inputs is below 1e-8 of its own norm.
 InputScreen screen_inputs(const Eigen::MatrixXd& U);
 
+/// How well the data tell a row's inputs apart (issue 43): inputs that move together
+/// (ratio or cascade control, historian data, a controller in the loop) leave the sum of
+/// their gains well determined and the split hardly at all.
+struct InputSeparation {
+  double condition = 1.0;       // κ of the columns' correlation matrix (unit-norm columns)
+  Eigen::VectorXd independent;  // per column, √(1 − R²) of its regression on the others: the
+                                // part of its movement they do not explain (1: orthogonal)
+  Eigen::MatrixXd regression;   // column i: coefficients b of x_i ≈ Σ_k b_k x_k (b_i = 0)
+};
+
+/// Of the columns of X (one per input, over the scored rows: the inputs as moved, or as a
+/// row's elements filter them). Uncentred, as the gains' regression is. Precondition: no
+/// column is zero (screen_inputs() has removed them).
+InputSeparation input_separation(const Eigen::MatrixXd& X);
+
+/// The worse of two screens of the same inputs, per input: the smaller independent part,
+/// the larger condition number, and the regression of the screen that gave it.
+InputSeparation worse_of(const InputSeparation& a, const InputSeparation& b);
+
 }  // namespace excite::host

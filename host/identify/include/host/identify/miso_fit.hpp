@@ -5,6 +5,7 @@
 // then standard errors and element status.
 
 #include <Eigen/Dense>
+#include <optional>
 #include <vector>
 
 #include "host/identify/bounded_lm.hpp"
@@ -55,11 +56,22 @@ struct MisoResult {
 /// gain_covariance are NaN, at_bound is still set and status is `identified` (a trial fit
 /// whose estimates and y_hat alone are used: the same values as with them).
 enum class MisoUncertainty { standard_errors, none };
+/// `held`: one element's gain held at a value (the box [value, value]) while everything else
+/// is fitted: a point of that gain's profile likelihood (gain_profile.hpp).
+struct HeldGain {
+  int element;  // index into `inputs` / `initial`
+  double value;
+};
 MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                     const std::vector<int>& inputs, std::vector<ElementModel> initial, double T_min,
                     const MisoBounds& bounds, int max_iterations, const SampleLayout& layout,
                     const Eigen::MatrixXd& trend,
                     double cost_tolerance = LmOptions{}.cost_tolerance,
-                    MisoUncertainty uncertainty = MisoUncertainty::standard_errors);
+                    MisoUncertainty uncertainty = MisoUncertainty::standard_errors,
+                    std::optional<HeldGain> held = std::nullopt);
+
+/// Sets e.status to weak_gain, with its reason, when |K| < 2·SE(K) or SE(K) is infinite
+/// (the data barely show the element); leaves it otherwise.
+void mark_weak_gain(ElementEstimate& e);
 
 }  // namespace excite::host

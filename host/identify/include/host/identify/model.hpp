@@ -51,7 +51,7 @@ struct ElementEstimate {
   ElementStatus status = ElementStatus::identified;
   std::string reason;        // why the status is not `identified`; "" otherwise
   Grade grade = Grade::D;    // set by identify() (grade.hpp)
-  std::string grade_reason;  // what kept it from A; "" for A
+  std::string grade_reason;  // what kept it from A ("" for A)
 
   /// The parameters that ended on a bound, each as "Tp1 = 150 (upper bound)" or
   /// "Td = 0 (lower bound)" (the lower bounds of T_d and T_p are 0; K has none; ζ lies in

@@ -1,0 +1,186 @@
+// SPDX-License-Identifier: MIT
+#include "host/identify/gain_profile.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace excite::host {
+namespace {
+
+constexpr double kRoot = 1.96;  // the signed root √(ΔS/σ̂²) at the χ²₁ 95 % point
+constexpr int kMaxSteps = 12;   // steps per side (each 1 to 8 times the last)
+// A walk point this many σ̂² below the estimate's cost: the estimate is not the row's
+// optimum (the convergence tests stop within 1e-4 σ̂² of one: bounded_lm.hpp).
+constexpr double kBetter = 0.5;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+Eigen::VectorXd gains_of(const MisoResult& fit) {
+  Eigen::VectorXd K(static_cast<Eigen::Index>(fit.elements.size()));
+  for (std::size_t a = 0; a < fit.elements.size(); ++a) {
+    K(static_cast<Eigen::Index>(a)) = fit.elements[a].value.gain;
+  }
+  return K;
+}
+
+std::vector<ElementModel> values_of(const MisoResult& fit) {
+  std::vector<ElementModel> v;
+  for (const ElementEstimate& e : fit.elements) v.push_back(e.value);
+  return v;
+}
+
+Eigen::Index free_parameter_count(const MisoResult& fit) {
+  Eigen::Index P = 0;
+  for (const ElementEstimate& e : fit.elements) {
+    P += static_cast<Eigen::Index>(free_parameters(e.value.structure).size());
+  }
+  return P;
+}
+
+// A point of the walk: the held value, its signed root and the row's gains there.
+struct Point {
+  double c = 0.0;
+  double root = 0.0;
+  Eigen::VectorXd gains;
+  std::vector<ElementModel> values;
+};
+
+class Walk {
+ public:
+  Walk(const RowProblem& row, const MisoResult& fit, int e)
+      : row_(row), e_(e), S0_(row_cost(row, fit)) {
+    const auto dof =
+        static_cast<double>(row.layout.scored() - row.trend.cols() - free_parameter_count(fit));
+    sigma2_ = S0_ / std::max(dof, 1.0);
+    origin_ = {fit.elements[static_cast<std::size_t>(e)].value.gain, 0.0, gains_of(fit),
+               values_of(fit)};
+    // The linearised ridge: the regression of the row's gains on gain e (exact for a linear
+    // model), where the covariance is known; else only gain e moves at first.
+    const Eigen::MatrixXd& C = fit.gain_covariance;
+    const double var = C(e, e);
+    slope_ = Eigen::VectorXd::Unit(origin_.gains.size(), e);
+    if (std::isfinite(var) && var > 0.0 && C.col(e).allFinite()) slope_ = C.col(e) / var;
+    const double se = fit.elements[static_cast<std::size_t>(e)].std_error.gain;
+    const double scale = std::max(origin_.gains.cwiseAbs().maxCoeff(), 1e-12);
+    first_step_ = std::max(std::isfinite(se) && se > 0.0 ? se : 0.01 * scale, 1e-3 * scale);
+  }
+
+  // Walks to one side (+1 or −1); the end point, interpolated to the χ² bound when reached.
+  // Sets better_ and returns early when a point fits better than the estimate.
+  Point side(int direction, bool& bounded) {
+    Point prev = origin_;
+    Eigen::VectorXd slope = slope_;
+    double step = first_step_;
+    bounded = false;
+    for (int k = 0; k < kMaxSteps && !better_; ++k) {
+      Point next = at(prev, slope, prev.c + direction * step);
+      if (better_) break;
+      slope = (next.gains - prev.gains) / (next.c - prev.c);
+      if (next.root >= kRoot) {
+        bounded = true;
+        // Once more at the signed root's linear interpolation (exact for a quadratic
+        // profile), then the bracket that holds the bound, interpolated.
+        const Point mid = at(prev, slope, interpolate(prev, next).c);
+        if (better_) break;
+        return mid.root >= kRoot ? interpolate(prev, mid) : interpolate(mid, next);
+      }
+      // The signed root is linear in c for a quadratic profile: the next step aims a little
+      // past where the last two points put the bound, at most 8 times the last step.
+      const double rise = next.root - prev.root;
+      const double aim = rise > 0.0 ? 1.2 * (kRoot - next.root) * step / rise : kInf;
+      step = std::clamp(aim, step, 8.0 * step);
+      prev = std::move(next);
+    }
+    return prev;
+  }
+
+  int fits() const { return fits_; }
+  const std::optional<MisoResult>& better() const { return better_; }
+  std::optional<MisoResult>& better() { return better_; }
+
+ private:
+  // The row refitted with gain e held at c, started from `from` moved along `slope`.
+  Point at(const Point& from, const Eigen::VectorXd& slope, double c) {
+    std::vector<ElementModel> start = from.values;
+    for (std::size_t a = 0; a < start.size(); ++a) {
+      start[a].gain = from.gains(static_cast<Eigen::Index>(a)) +
+                      slope(static_cast<Eigen::Index>(a)) * (c - from.c);
+    }
+    start[static_cast<std::size_t>(e_)].gain = c;
+    MisoResult f = fit_miso(row_.U, row_.y, row_.inputs, start, row_.T_min, row_.bounds,
+                            row_.max_iterations, row_.layout, row_.trend,
+                            LmOptions{}.cost_tolerance, MisoUncertainty::none, HeldGain{e_, c});
+    ++fits_;
+    const double S = row_cost(row_, f);
+    if (S < S0_ - kBetter * sigma2_) {
+      // Polished free from there, with standard errors, for the caller to keep.
+      better_ = fit_miso(row_.U, row_.y, row_.inputs, values_of(f), row_.T_min, row_.bounds,
+                         row_.max_iterations, row_.layout, row_.trend);
+      ++fits_;
+    }
+    return {c, std::sqrt(std::max(S - S0_, 0.0) / sigma2_), gains_of(f), values_of(f)};
+  }
+
+  // The point between a (root below kRoot) and b (at or above) where the root is kRoot,
+  // linearly interpolated (its gains too).
+  static Point interpolate(const Point& a, const Point& b) {
+    const double t =
+        b.root > a.root ? std::clamp((kRoot - a.root) / (b.root - a.root), 0.0, 1.0) : 1.0;
+    return {a.c + t * (b.c - a.c), kRoot, a.gains + t * (b.gains - a.gains), a.values};
+  }
+
+  const RowProblem& row_;
+  int e_;
+  double S0_;
+  double sigma2_ = 0.0;
+  Point origin_;
+  Eigen::VectorXd slope_;
+  double first_step_ = 0.0;
+  int fits_ = 0;
+  std::optional<MisoResult> better_;
+};
+
+}  // namespace
+
+double row_cost(const RowProblem& row, const MisoResult& fit) {
+  return (row.y - fit.y_hat).cwiseProduct(row.layout.weight).squaredNorm();
+}
+
+GainInterval profile_gain(const RowProblem& row, const MisoResult& fit, int e) {
+  Walk walk(row, fit, e);
+  GainInterval out;
+  const Point low = walk.side(-1, out.lower_bounded);
+  Point high = low;
+  if (!walk.better()) high = walk.side(+1, out.upper_bounded);
+  out.fits = walk.fits();
+  if (walk.better()) {
+    out.better = std::move(walk.better());
+    return out;
+  }
+  out.lower = low.c;
+  out.upper = high.c;
+  out.ridge = Eigen::VectorXd::Unit(low.gains.size(), e);
+  if (high.c > low.c) out.ridge = (high.gains - low.gains) / (high.c - low.c);
+  return out;
+}
+
+void add_gain_variance(MisoResult& fit, const Eigen::VectorXd& direction, double alpha) {
+  if (!(alpha > 0.0) || !direction.allFinite()) return;
+  Eigen::MatrixXd& C = fit.gain_covariance;
+  C += alpha * direction * direction.transpose();
+  for (std::size_t a = 0; a < fit.elements.size(); ++a) {
+    ElementEstimate& est = fit.elements[a];
+    const auto i = static_cast<Eigen::Index>(a);
+    if (!std::isfinite(C(i, i)) || !(C(i, i) > est.std_error.gain * est.std_error.gain)) continue;
+    est.std_error.gain = std::sqrt(C(i, i));
+    est.covariance(kGain, kGain) = C(i, i);
+    mark_weak_gain(est);
+  }
+}
+
+void widen_along_ridge(MisoResult& fit, int e, const GainInterval& interval) {
+  const double half = (interval.upper - interval.lower) / 2.0;
+  add_gain_variance(fit, interval.ridge, half * half / (kRoot * kRoot) - fit.gain_covariance(e, e));
+}
+
+}  // namespace excite::host

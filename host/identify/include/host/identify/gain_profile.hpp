@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Gain intervals that hold where the linearisation does not (issue 43 §2): the profile
+// likelihood of one gain of a row.
+//
+// When a row's inputs move together, its output determines the sum of their gains and the
+// split hardly at all; the elements' different dynamics still let a local fit tell the gains
+// apart, so σ̂²(JᵀJ)⁻¹ at the end of the fit states a narrow interval around a split the data
+// do not support (a Wood–Berry run with u2 = u1 ± 1.4 % gave K11 = −7.7 ± 0.7, true +12.8).
+// The profile does not assume local linearity: the gain is held at values c walking away
+// from K̂ and every other parameter of the row refitted (fit_miso's HeldGain), and the
+// interval is where the cost rise stays below the χ²₁ 95 % point,
+//   S(c) − S(K̂) ≤ 1.96² σ̂²,   σ̂² = S(K̂)/(N − P)
+// (the likelihood-ratio interval of a Gaussian output error; Venzon & Moolgavkar 1988,
+// Bates & Watts 1988 §6). The profile was chosen over a parametric bootstrap because the
+// bootstrap refits from the estimate and stays in its basin when the estimate has the wrong
+// split (the case that matters), and costs tens of full fits where the profile costs a
+// walk of warm-started ones along the ridge.
+//
+// Along the walk the other gains follow the ridge the data leave free; its direction, the
+// change of the row's gains per unit of the held gain, widens the row's gain covariance so
+// that σ_i, the directions and the minors' signs (gain_uncertainty.hpp) see the same
+// uncertainty, correlated as the data make it (the sum stays known).
+
+#include <Eigen/Dense>
+#include <optional>
+#include <vector>
+
+#include "host/identify/miso_fit.hpp"
+
+namespace excite::host {
+
+/// One output's fit as fit_miso() takes it.
+struct RowProblem {
+  const Eigen::MatrixXd& U;
+  const Eigen::VectorXd& y;
+  const std::vector<int>& inputs;
+  double T_min;
+  const MisoBounds& bounds;
+  int max_iterations;
+  const SampleLayout& layout;
+  const Eigen::MatrixXd& trend;
+};
+
+struct GainInterval {
+  double lower = 0.0;  // the profile's 95 % interval of the gain; where the walk did not
+  double upper = 0.0;  // reach the χ² bound, the farthest value it reached (…_bounded false)
+  bool lower_bounded = true;
+  bool upper_bounded = true;
+  Eigen::VectorXd ridge;  // d K_row / d K_e along the profile (ridge(e) = 1)
+  int fits = 0;           // fit_miso calls the walk made
+  // A point of the walk fitted better than the estimate: the estimate was not the row's
+  // optimum. The interval is then of no use; the caller refits from `better` and profiles again.
+  std::optional<MisoResult> better;
+};
+
+/// The profile interval of the gain of element `e` of `fit` (the row's fit on `row`,
+/// with standard errors).
+GainInterval profile_gain(const RowProblem& row, const MisoResult& fit, int e);
+
+/// ‖y − ŷ‖² over the scored rows of `row`'s layout.
+double row_cost(const RowProblem& row, const MisoResult& fit);
+
+/// The row's gain covariance widened along `interval.ridge` until the variance of gain e is
+/// that of the profile interval, ((upper − lower)/(2·1.96))² (never narrowed); every
+/// element's std_error.gain, its covariance's gain entry and weak_gain status follow.
+void widen_along_ridge(MisoResult& fit, int e, const GainInterval& interval);
+
+/// The row's gain covariance plus alpha·d dᵀ (nothing for alpha ≤ 0); every element's
+/// std_error.gain, its covariance's gain entry and weak_gain status follow (never narrowed).
+void add_gain_variance(MisoResult& fit, const Eigen::VectorXd& direction, double alpha);
+
+}  // namespace excite::host

@@ -1,0 +1,164 @@
+// SPDX-License-Identifier: MIT
+#include "host/identify/inputs_together.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "host/identify/element.hpp"
+
+namespace excite::host {
+namespace {
+
+// At most this many restarts from a better optimum a walk found.
+constexpr int kRestarts = 2;
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+}  // namespace
+
+InputSeparation row_separation(const RowProblem& row, const MisoResult& fit) {
+  const auto m = static_cast<Eigen::Index>(row.inputs.size());
+  const Eigen::Index scored = row.layout.scored();
+  Eigen::MatrixXd raw(scored, m), filtered(scored, m);
+  Eigen::VectorXd z(row.U.rows());
+  bool filtered_known = true;
+  for (Eigen::Index e = 0; e < m; ++e) {
+    const auto u = row.U.col(row.inputs[static_cast<std::size_t>(e)]);
+    raw.col(e) = row.layout.scored_rows(u);
+    ElementModel unit = fit.elements[static_cast<std::size_t>(e)].value;
+    unit.gain = 1.0;
+    try {
+      simulate_segments(discretise(unit, row.T_min), {u.data(), static_cast<std::size_t>(u.size())},
+                        {z.data(), static_cast<std::size_t>(z.size())}, row.layout.segments);
+    } catch (const std::invalid_argument&) {
+      filtered_known = false;  // an element the discretisation cannot take: the raw screen
+      continue;
+    }
+    filtered.col(e) = row.layout.scored_rows(z);
+  }
+  const Eigen::VectorXd norms = filtered.colwise().norm();
+  filtered_known = filtered_known && norms.allFinite() && (norms.array() > 0.0).all();
+  const InputSeparation as_moved = input_separation(raw);
+  return filtered_known ? worse_of(as_moved, input_separation(filtered)) : as_moved;
+}
+
+MisoResult profile_inputs_together(const RowProblem& row, MisoResult fit,
+                                   const InputSeparation& separation) {
+  if (!(separation.independent.size() > 0 && separation.independent.minCoeff() < kCannotSplit))
+    return fit;
+  for (int restart = 0;; ++restart) {
+    MisoResult widened = fit;
+    bool restarted = false;
+    for (Eigen::Index e = 0; e < separation.independent.size() && !restarted; ++e) {
+      if (!(separation.independent(e) < kCannotSplit)) continue;
+      if (!fit.elements[static_cast<std::size_t>(e)].estimated()) continue;
+      GainInterval interval = profile_gain(row, fit, static_cast<int>(e));
+      if (interval.better) {
+        if (restart == kRestarts) continue;  // this gain keeps its linearised interval
+        const int iterations = fit.iterations;
+        fit = std::move(*interval.better);
+        fit.iterations += iterations;
+        restarted = true;
+      } else {
+        widen_along_ridge(widened, static_cast<int>(e), interval);
+      }
+    }
+    if (!restarted) {
+      own_part_floor(row, widened);
+      return widened;
+    }
+  }
+}
+
+void own_part_floor(const RowProblem& row, MisoResult& fit) {
+  const auto m = static_cast<Eigen::Index>(row.inputs.size());
+  if (m < 2 || !fit.gain_covariance.allFinite()) return;
+  const Eigen::Index scored = row.layout.scored();
+  // The common response: the element whose part of the output is largest.
+  Eigen::MatrixXd Z(scored, m);
+  Eigen::VectorXd z(row.U.rows());
+  Eigen::Index largest = 0;
+  double largest_part = -1.0;
+  for (Eigen::Index e = 0; e < m; ++e) {
+    const ElementEstimate& est = fit.elements[static_cast<std::size_t>(e)];
+    const double part =
+        std::abs(est.value.gain) * row.U.col(row.inputs[static_cast<std::size_t>(e)]).norm();
+    if (est.estimated() && part > largest_part) {
+      largest_part = part;
+      largest = e;
+    }
+  }
+  ElementModel unit = fit.elements[static_cast<std::size_t>(largest)].value;
+  unit.gain = 1.0;
+  try {
+    const sim::DiscreteTerm g = discretise(unit, row.T_min);
+    for (Eigen::Index e = 0; e < m; ++e) {
+      const auto u = row.U.col(row.inputs[static_cast<std::size_t>(e)]);
+      simulate_segments(g, {u.data(), static_cast<std::size_t>(u.size())},
+                        {z.data(), static_cast<std::size_t>(z.size())}, row.layout.segments);
+      Z.col(e) = row.layout.scored_rows(z);
+    }
+  } catch (const std::invalid_argument&) {
+    return;
+  }
+  Eigen::Index P = 0;
+  for (const ElementEstimate& est : fit.elements) {
+    P += static_cast<Eigen::Index>(free_parameters(est.value.structure).size());
+  }
+  const double dof = static_cast<double>(scored - row.trend.cols() - P);
+  if (!(dof > 0.0)) return;
+  const double sigma2 = row_cost(row, fit) / dof;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Z.transpose() * Z);
+  if (!(eig.eigenvalues()(0) > 0.0)) return;
+  const Eigen::VectorXd d = eig.eigenvectors().col(0);  // the least informed direction
+  const double floor = sigma2 / eig.eigenvalues()(0);
+  add_gain_variance(fit, d, floor - d.dot(fit.gain_covariance * d));
+}
+
+std::string describe_together(const std::vector<int>& inputs, const InputSeparation& separation) {
+  std::string text;
+  const Eigen::Index m = separation.independent.size();
+  for (Eigen::Index e = 0; e < m; ++e) {
+    if (!(separation.independent(e) < kTogether)) continue;
+    const std::string name = std::to_string(inputs[static_cast<std::size_t>(e)] + 1);
+    const Eigen::VectorXd b = separation.regression.col(e);
+    const double largest = b.cwiseAbs().maxCoeff();
+    std::string with, combination;
+    for (Eigen::Index k = 0; k < m; ++k) {
+      if (k == e || !(std::abs(b(k)) >= 0.1 * largest)) continue;
+      const std::string other = std::to_string(inputs[static_cast<std::size_t>(k)] + 1);
+      with += (with.empty() ? "" : ", ") + ("input " + other);
+      combination +=
+          (combination.empty() ? "" : ", ") + ("K" + other + " + " + number(b(k)) + "·K" + name);
+    }
+    text +=
+        (text.empty() ? "" : "; ") +
+        ("input " + name + " moves with " + with + " (its own part is " +
+         number(100.0 * separation.independent(e)) + " % of its movement): the data determine " +
+         combination + " and hardly how each splits; move input " + name +
+         " on its own, or identify the combination");
+  }
+  return text;
+}
+
+void grade_together(const std::vector<ElementEstimate*>& row, const std::vector<int>& usable,
+                    const InputSeparation& separation) {
+  for (Eigen::Index e = 0; e < separation.independent.size(); ++e) {
+    if (!(separation.independent(e) < kCannotSplit)) continue;
+    ElementEstimate& est = *row[static_cast<std::size_t>(usable[static_cast<std::size_t>(e)])];
+    if (!est.estimated()) continue;
+    if (est.grade < Grade::C) est.grade = Grade::C;
+    est.grade_reason +=
+        (est.grade_reason.empty() ? "" : "; ") +
+        ("input moves with others (own part " + number(100.0 * separation.independent(e)) +
+         " %): the split of its gain from theirs rests on the elements' "
+         "dynamics alone, at most C");
+  }
+}
+
+}  // namespace excite::host

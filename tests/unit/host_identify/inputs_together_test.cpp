@@ -1,0 +1,118 @@
+// SPDX-License-Identifier: MIT
+// Inputs that move together (issue 43 §1, §2): the screen of a row's inputs
+// (input_separation), the profile likelihood of a gain (gain_profile.hpp), and the case the
+// issue found — Wood–Berry with u2 = u1 ± 1.4 %, where the linearised intervals put y1 ← u1
+// at grade A with the wrong sign and det G(0) at 77.75 ± 8.51 (true −123.6).
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "host/identify/gain_profile.hpp"
+#include "host/identify/identify.hpp"
+#include "host/identify/input_screen.hpp"
+#include "host/identify/inputs_together.hpp"
+#include "test_data.hpp"
+
+namespace excite::host {
+namespace {
+
+using testing::add_noise;
+using testing::plant_outputs;
+using testing::prbs_inputs;
+
+// Wood & Berry (1973), minutes: {K, T_d, T_p1, T_p2}.
+const std::vector<ElementModel> kWoodBerry = {{12.8, 1.0, 16.7, 0.0},
+                                              {-18.9, 3.0, 21.0, 0.0},
+                                              {6.6, 7.0, 10.9, 0.0},
+                                              {-19.4, 3.0, 14.4, 0.0}};
+
+TEST(InputSeparation, TheOwnPartOfAColumnIsItsResidualOnTheOthers) {
+  const Eigen::MatrixXd P = prbs_inputs(2, 9, 4, 170, 2044, 1.0);
+  const double rho = 0.1;
+  Eigen::MatrixXd X(P.rows(), 2);
+  X.col(0) = P.col(0);
+  X.col(1) = 3.0 * (std::sqrt(1.0 - rho * rho) * P.col(0) + rho * P.col(1));
+  const InputSeparation s = input_separation(X);
+  const double r = P.col(0).dot(P.col(1)) / (P.col(0).norm() * P.col(1).norm());  // ≈ 0
+  ASSERT_LT(std::abs(r), 0.05);
+  EXPECT_NEAR(s.independent(1), rho, 0.01);
+  EXPECT_NEAR(s.independent(0), s.independent(1), 1e-12);  // symmetric for two columns
+  EXPECT_NEAR(s.regression(0, 1), 3.0 * std::sqrt(1.0 - rho * rho), 0.05);  // x1 ≈ b·x0
+  EXPECT_NEAR(s.regression(1, 1), 0.0, 0.0);
+  const double c = 1.0 / (rho * rho);  // κ of [[1, a], [a, 1]], a = √(1 − ρ²): (1+a)/(1−a)
+  EXPECT_GT(s.condition, 0.5 * c);
+  const InputSeparation apart = input_separation(P);
+  EXPECT_GT(apart.independent.minCoeff(), 0.99);
+  EXPECT_LT(apart.condition, 1.1);
+}
+
+// Where the linearisation holds (independent inputs, small noise), the profile interval is
+// the linearised one: it adds honesty where needed, not width everywhere.
+TEST(GainProfile, MatchesTheLinearisedIntervalOnIndependentInputs) {
+  const Eigen::MatrixXd U = prbs_inputs(2, 8, 3, 85, 1200, 1.0);
+  Eigen::MatrixXd Y = plant_outputs(kWoodBerry, 2, 2, 1.0, U);
+  add_noise(Y, 0.04, 3);
+  const IdentificationResult r = identify(U, Y, 1.0);
+  const std::vector<int> inputs{0, 1};
+  std::vector<ElementModel> start;
+  for (int i = 0; i < 2; ++i) start.push_back(r.model.element(0, i).value);
+  const MisoBounds bounds{20.0, 1200.0, natural_period_floor(1.0)};
+  const SampleLayout layout = SampleLayout::whole(U.rows());
+  const Eigen::MatrixXd trend(U.rows(), 0);
+  const Eigen::VectorXd y = Y.col(0);
+  const MisoResult fit = fit_miso(U, y, inputs, start, 1.0, bounds, 200, layout, trend);
+  const RowProblem row{U, y, inputs, 1.0, bounds, 200, layout, trend};
+  for (int e = 0; e < 2; ++e) {
+    const GainInterval interval = profile_gain(row, fit, e);
+    ASSERT_FALSE(interval.better);
+    const double K = fit.elements[static_cast<std::size_t>(e)].value.gain;
+    const double half = 1.96 * fit.elements[static_cast<std::size_t>(e)].std_error.gain;
+    EXPECT_TRUE(interval.lower_bounded && interval.upper_bounded);
+    EXPECT_NEAR(K - interval.lower, half, 0.1 * half) << "element " << e;
+    EXPECT_NEAR(interval.upper - K, half, 0.1 * half) << "element " << e;
+    EXPECT_NEAR(interval.ridge(e), 1.0, 1e-12);
+  }
+}
+
+// The issue's case: u2 = u1 + 0.001·(its own PRBS), noise sd 0.02, seeds 5–7. Each row names
+// the pair; no element is graded better than C; det G(0) has the true sign or is reported
+// undetermined. Before issue 43: y1 ← u1 at grade A with the wrong sign,
+// det G(0) = 77.75 ± 8.51.
+TEST(InputsTogether, AWoodBerryRunWithTheInputsOnePercentApartStatesNoConfidentWrongGain) {
+  for (const unsigned seed : {5U, 6U, 7U}) {
+    const Eigen::MatrixXd P = prbs_inputs(2, 8, 3, 85, 1200, 0.07);
+    Eigen::MatrixXd U(P.rows(), 2);
+    U.col(0) = P.col(0);
+    U.col(1) = P.col(0) + (0.001 / 0.07) * P.col(1);
+    Eigen::MatrixXd Y = plant_outputs(kWoodBerry, 2, 2, 1.0, U);
+    add_noise(Y, 0.02 * 0.02, seed);
+    const IdentificationResult r = identify(U, Y, 1.0);
+    for (int j = 0; j < 2; ++j) {
+      const std::string& text = r.fits[static_cast<std::size_t>(j)].inputs_together;
+      EXPECT_NE(text.find("input 2 moves with input 1"), std::string::npos)
+          << "seed " << seed << ", y" << j + 1 << ": " << text;
+      for (int i = 0; i < 2; ++i) {
+        const ElementEstimate& e = r.model.element(j, i);
+        const double truth = kWoodBerry[static_cast<std::size_t>(2 * j + i)].gain;
+        const bool covers = std::abs(e.value.gain - truth) <= 1.96 * e.std_error.gain;
+        // At most C: the split rests on the dynamics alone, where the intervals are not
+        // calibrated (collinear_test.cpp: 22–83 % at 1 %); an interval that misses is never
+        // graded A or B.
+        EXPECT_GE(e.grade, Grade::C)
+            << "seed " << seed << ", (y" << j + 1 << ", u" << i + 1 << "): K = " << e.value.gain
+            << " ± " << 1.96 * e.std_error.gain << ", covers the truth " << covers;
+      }
+    }
+    ASSERT_TRUE(r.gain_uncertainty) << r.gain_unavailable_reason;
+    const PrincipalMinor& det = r.gain_uncertainty->principal_minors.back();
+    EXPECT_TRUE(det.sign_uncertain || det.value < 0.0)
+        << "seed " << seed << ": det G(0) = " << det.value << " ± " << 1.96 * det.std_error
+        << " (true −123.6)";
+  }
+}
+
+}  // namespace
+}  // namespace excite::host
