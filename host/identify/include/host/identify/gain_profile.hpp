@@ -3,10 +3,14 @@
 // Gain intervals that hold where the linearisation does not (issue 43 §2): the profile
 // likelihood of one gain of a row.
 //
-// When a row's inputs move together, its output determines the sum of their gains and the
-// split hardly at all; the elements' different dynamics still let a local fit tell the gains
-// apart, so σ̂²(JᵀJ)⁻¹ at the end of the fit states a narrow interval around a split the data
-// do not support (a Wood–Berry run with u2 = u1 ± 1.4 % gave K11 = −7.7 ± 0.7, true +12.8).
+// When a row's inputs move together, its output determines the sum of their gains well and
+// the split only through the small own parts of the inputs and the elements' different
+// dynamics; the output error then has a long valley along the split, with local optima in
+// it, and σ̂²(JᵀJ)⁻¹ at the end of a fit describes only the basin the fit ended in (a
+// Wood–Berry run with u2 = u1 ± 1.4 % gave K11 = −7.7 ± 0.7, true +12.8, in a basin 78 σ̂²
+// above the refit from the truth). A walk from such a basin meets the barrier before the
+// true one, so the profile widens honestly only what the basin's own valley allows, and
+// a better optimum it meets on the way is kept (inputs_together.hpp says what it achieved).
 // The profile does not assume local linearity: the gain is held at values c walking away
 // from K̂ and every other parameter of the row refitted (fit_miso's HeldGain), and the
 // interval is where the cost rise stays below the χ²₁ 95 % point,
