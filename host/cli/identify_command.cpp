@@ -73,8 +73,7 @@ void print_uncertainty(const GainUncertainty& u) {
             << " whose sign a gain error within its 95 % interval can flip";
   const PrincipalMinor& det = u.principal_minors.back();
   std::cout << "; det G(0) = " << num(det.value, 4) << " +- " << num(det.std_error, 3)
-            << (det.sign_uncertain ? " (sign undetermined: integral controllability at risk)"
-                                   : "")
+            << (det.sign_uncertain ? " (sign undetermined: integral controllability at risk)" : "")
             << '\n';
   for (const PrincipalMinor& pm : u.principal_minors) {
     if (!pm.sign_uncertain || &pm == &det) continue;

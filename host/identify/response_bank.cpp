@@ -37,23 +37,12 @@ ResponseBank::ResponseBank(const Eigen::MatrixXd& U, const std::vector<int>& inp
 }
 
 int ResponseBank::choose_one(Eigen::Index e, const Eigen::VectorXd& z, double& gain) const {
-  const Eigen::MatrixXf& R = responses_[static_cast<std::size_t>(e)];
-  const Eigen::VectorXf proj = R.transpose() * z.cast<float>();
-  const Eigen::VectorXf& n2 = norms2_[static_cast<std::size_t>(e)];
-  Eigen::Index best = 0;
-  float best_score = -1.0F;
-  for (Eigen::Index g = 0; g < proj.size(); ++g) {
-    const float score = n2(g) > 0.0F ? proj(g) * proj(g) / n2(g) : 0.0F;
-    if (score > best_score) {
-      best_score = score;
-      best = g;
-    }
-  }
-  gain = n2(best) > 0.0F ? static_cast<double>(proj(best) / n2(best)) : 0.0;
-  return static_cast<int>(best);
+  const Best b = best_response(e, z);
+  gain = b.norm2 > 0.0F ? static_cast<double>(b.projection / b.norm2) : 0.0;
+  return static_cast<int>(b.index);
 }
 
-Eigen::Index ResponseBank::best_response(Eigen::Index i, const Eigen::VectorXd& r) const {
+ResponseBank::Best ResponseBank::best_response(Eigen::Index i, const Eigen::VectorXd& r) const {
   const Eigen::VectorXf proj =
       responses_[static_cast<std::size_t>(i)].transpose() * r.cast<float>();
   const Eigen::VectorXf& n2 = norms2_[static_cast<std::size_t>(i)];
@@ -66,7 +55,7 @@ Eigen::Index ResponseBank::best_response(Eigen::Index i, const Eigen::VectorXd& 
       best = g;
     }
   }
-  return best;
+  return {best, proj(best), n2(best)};
 }
 
 ResponseBank::Choice ResponseBank::choose(const Eigen::VectorXd& y) const {
@@ -92,7 +81,7 @@ ResponseBank::Choice ResponseBank::choose_shared(const Eigen::VectorXd& y,
     for (Eigen::Index i = 0; i < m; ++i) {
       if (in_group(i)) continue;
       // Residual without element i; the best grid response by the 1-D least-squares gain.
-      const Eigen::Index best = best_response(i, r + c.gain(i) * selected.col(i));
+      const Eigen::Index best = best_response(i, r + c.gain(i) * selected.col(i)).index;
       if (best != c.grid_index[static_cast<std::size_t>(i)]) {
         changed = true;
         c.grid_index[static_cast<std::size_t>(i)] = static_cast<int>(best);

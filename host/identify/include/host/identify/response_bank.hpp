@@ -59,8 +59,13 @@ class ResponseBank {
 
  private:
   // The grid element of bank input i whose response best fits r by its 1-D least-squares
-  // gain (the largest (zᵀr)²/‖z‖²).
-  Eigen::Index best_response(Eigen::Index i, const Eigen::VectorXd& r) const;
+  // gain (the largest (zᵀr)²/‖z‖²), with its zᵀr and ‖z‖² (the gain is their ratio).
+  struct Best {
+    Eigen::Index index;
+    float projection;
+    float norm2;
+  };
+  Best best_response(Eigen::Index i, const Eigen::VectorXd& r) const;
 
   std::vector<ElementModel> grid_;
   std::vector<Eigen::MatrixXf> responses_;  // per input: N × grid, single precision
