@@ -15,6 +15,37 @@
 namespace mc = excite::host::montecarlo;
 namespace host = excite::host;
 
+namespace {
+
+// The grid of these tests, and one seed's experiment evaluated along it cold and warm
+// (5 % steps, case-study noise).
+const std::vector<int> kGrid{5, 10, 15, 20, 25, 30, 35, 40, 100};
+
+struct Chains {
+  mc::GridEvaluation cold;
+  mc::GridEvaluation warm;
+};
+
+Chains evaluate_both(const std::string& plant, const std::string& design, std::uint64_t seed) {
+  mc::Config c;
+  c.plant = plant;
+  c.designs = {design};
+  c.seeds = 1;
+  c.noise_variance = 5e-4;
+  c.length_step_percent = 5;
+  mc::normalise(c);
+  const auto prepared = mc::prepare(c, 1);
+  host::CampaignOptions options = prepared->campaign;
+  options.seed = mc::kSeedStride * seed;
+  const host::Experiment e =
+      host::run_experiment(prepared->designs[0], prepared->presets[0], options, c.noise_variance,
+                           prepared->truth.gain, prepared->max_time_constant_min);
+  return {mc::evaluate_length_grid(*prepared, prepared->truth, e, kGrid, mc::GridStart::cold),
+          mc::evaluate_length_grid(*prepared, prepared->truth, e, kGrid, mc::GridStart::warm)};
+}
+
+}  // namespace
+
 TEST(NothingNew, NoMoveReachingTheAddedRowsSinceTheLastLength) {
   Eigen::MatrixXd U = Eigen::MatrixXd::Zero(200, 2);
   U.block(10, 0, 190, 1).setConstant(1.0);   // u1 steps at row 10
@@ -34,26 +65,10 @@ TEST(NothingNew, NoMoveReachingTheAddedRowsSinceTheLastLength) {
 // the cold fit at 10 % (seed 14) and at 15, 35 and 40 % (seed 20), each time with the verdict
 // "not met" where cold says "met". Checked until it settles, every verdict is cold's.
 TEST(WarmGrid, EveryVerdictAsCold) {
-  mc::Config c;
-  c.plant = "alatiqi4x4";
-  c.designs = {"prbsUnc"};
-  c.seeds = 1;
-  c.noise_variance = 5e-4;
-  c.length_step_percent = 5;
-  mc::normalise(c);
-  const auto prepared = mc::prepare(c, 1);
-  const std::vector<int> grid{5, 10, 15, 20, 25, 30, 35, 40, 100};
+  const std::vector<int>& grid = kGrid;
   for (const std::uint64_t seed : {14U, 20U}) {
     SCOPED_TRACE("seed " + std::to_string(seed));
-    host::CampaignOptions options = prepared->campaign;
-    options.seed = mc::kSeedStride * seed;
-    const host::Experiment e =
-        host::run_experiment(prepared->designs[0], prepared->presets[0], options, c.noise_variance,
-                             prepared->truth.gain, prepared->max_time_constant_min);
-    const mc::GridEvaluation cold =
-        mc::evaluate_length_grid(*prepared, prepared->truth, e, grid, mc::GridStart::cold);
-    const mc::GridEvaluation warm =
-        mc::evaluate_length_grid(*prepared, prepared->truth, e, grid, mc::GridStart::warm);
+    const auto [cold, warm] = evaluate_both("alatiqi4x4", "prbsUnc", seed);
     ASSERT_EQ(cold.points.size(), grid.size());
     ASSERT_EQ(warm.points.size(), grid.size());
     int met = 0;
@@ -76,24 +91,8 @@ TEST(WarmGrid, EveryVerdictAsCold) {
 // chain is checked three times (5 % is cold), then fits from the previous length alone; its
 // verdicts are cold's. Seeds 1–4, 14 and 20 all settle so on machines with and without FMA.
 TEST(WarmGrid, APlainChainSettlesAfterThreeAgreeingLengths) {
-  mc::Config c;
-  c.plant = "woodberry2x2";
-  c.designs = {"prbsUnc"};
-  c.seeds = 1;
-  c.noise_variance = 5e-4;
-  c.length_step_percent = 5;
-  mc::normalise(c);
-  const auto prepared = mc::prepare(c, 1);
-  const std::vector<int> grid{5, 10, 15, 20, 25, 30, 35, 40, 100};
-  host::CampaignOptions options = prepared->campaign;
-  options.seed = mc::kSeedStride * 1;
-  const host::Experiment e =
-      host::run_experiment(prepared->designs[0], prepared->presets[0], options, c.noise_variance,
-                           prepared->truth.gain, prepared->max_time_constant_min);
-  const mc::GridEvaluation cold =
-      mc::evaluate_length_grid(*prepared, prepared->truth, e, grid, mc::GridStart::cold);
-  const mc::GridEvaluation warm =
-      mc::evaluate_length_grid(*prepared, prepared->truth, e, grid, mc::GridStart::warm);
+  const std::vector<int>& grid = kGrid;
+  const auto [cold, warm] = evaluate_both("woodberry2x2", "prbsUnc", 1);
   for (std::size_t k = 0; k < grid.size(); ++k)
     EXPECT_EQ(warm.points[k].met, cold.points[k].met) << grid[k] << " %";
   EXPECT_EQ(warm.checked, 3);
@@ -105,24 +104,8 @@ TEST(WarmGrid, APlainChainSettlesAfterThreeAgreeingLengths) {
 // 35 % on in a basin far above the cold fit's (BIC 6 000 higher), "not met" where cold says
 // "met". The residual that grows over the previous length's has it checked again.
 TEST(WarmGrid, ASettledChainWhoseResidualGrowsIsCheckedAgain) {
-  mc::Config c;
-  c.plant = "alatiqi4x4";
-  c.designs = {"msSrdSim"};
-  c.seeds = 1;
-  c.noise_variance = 5e-4;
-  c.length_step_percent = 5;
-  mc::normalise(c);
-  const auto prepared = mc::prepare(c, 1);
-  const std::vector<int> grid{5, 10, 15, 20, 25, 30, 35, 40, 100};
-  host::CampaignOptions options = prepared->campaign;
-  options.seed = mc::kSeedStride * 1;
-  const host::Experiment e =
-      host::run_experiment(prepared->designs[0], prepared->presets[0], options, c.noise_variance,
-                           prepared->truth.gain, prepared->max_time_constant_min);
-  const mc::GridEvaluation cold =
-      mc::evaluate_length_grid(*prepared, prepared->truth, e, grid, mc::GridStart::cold);
-  const mc::GridEvaluation warm =
-      mc::evaluate_length_grid(*prepared, prepared->truth, e, grid, mc::GridStart::warm);
+  const std::vector<int>& grid = kGrid;
+  const auto [cold, warm] = evaluate_both("alatiqi4x4", "msSrdSim", 1);
   for (std::size_t k = 0; k < grid.size(); ++k)
     EXPECT_EQ(warm.points[k].met, cold.points[k].met) << grid[k] << " %";
   EXPECT_TRUE(cold.points[6].met);  // 35 %
