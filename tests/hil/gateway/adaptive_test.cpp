@@ -25,6 +25,7 @@
 #include <thread>
 #include <vector>
 
+#include "../loop/loop_facts.hpp"
 #include "../loop/loop_fixture.hpp"
 #include "firmware/runlog/format.hpp"
 #include "host/adaptive/adaptive_test.hpp"
@@ -40,9 +41,6 @@ namespace excite::test {
 namespace {
 
 using namespace std::chrono_literals;
-
-constexpr const char* kPlant = "woodberry2x2";
-constexpr double kFloat32Epsilon = 0x1p-24;
 
 // One run: the plant's noise seed, and the test's options (default: the engineer's design
 // amplitude, re-estimates after 4 τ_H).

@@ -19,6 +19,7 @@
 #include <sstream>
 #include <thread>
 
+#include "../loop/loop_facts.hpp"
 #include "../loop/loop_fixture.hpp"
 #include "firmware/engine/load_plan.hpp"
 #include "firmware/plan/codec.hpp"
@@ -29,23 +30,10 @@ namespace {
 
 using namespace std::chrono_literals;
 
-constexpr const char* kPlant = "woodberry2x2";
-
-std::vector<std::uint8_t> bytes_of(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 void write_bytes(const fs::path& p, const std::vector<std::uint8_t>& bytes) {
   std::ofstream(p, std::ios::binary)
       .write(reinterpret_cast<const char*>(bytes.data()),
              static_cast<std::streamsize>(bytes.size()));
-}
-
-std::size_t count_of(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
 }
 
 class InboxRules : public LoopTest {
@@ -61,9 +49,8 @@ class InboxRules : public LoopTest {
     ASSERT_TRUE(r.status) << r.status.message();
     segment_.resize(r.size);
     fs::create_directories(inbox());
-    fs::permissions(inbox(), fs::perms::owner_all | fs::perms::group_read |
-                                 fs::perms::group_exec | fs::perms::others_read |
-                                 fs::perms::others_exec);
+    fs::permissions(inbox(), fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
+                                 fs::perms::others_read | fs::perms::others_exec);
   }
 
   fs::path inbox() const { return path("inbox"); }
@@ -263,8 +250,8 @@ TEST_F(InboxRules, AnotherRunsSegmentIsRefusedAndOnlyThisRunsIsPreApproved) {
       << gw->err();
   drop_with("excite test segment 1");  // names no run: not pre-approved
   ASSERT_TRUE(wait_for(*gw, "segment 1 staged")) << gw->err();
-  EXPECT_NE(gw->err().find("not pre-approved: its provenance names no run, expected \"run " +
-                           ours + "\""),
+  EXPECT_NE(gw->err().find("not pre-approved: its provenance names no run, expected \"run " + ours +
+                           "\""),
             std::string::npos)
       << gw->err();
   gw->send_line("start");  // no approve: nothing is taken

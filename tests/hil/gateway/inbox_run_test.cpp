@@ -14,14 +14,13 @@
 #include <fstream>
 #include <thread>
 
+#include "../loop/loop_facts.hpp"
 #include "../loop/loop_fixture.hpp"
 
 namespace excite::test {
 namespace {
 
 using namespace std::chrono_literals;
-
-constexpr const char* kPlant = "woodberry2x2";
 
 class ExciteTestInbox : public LoopTest {
  protected:

@@ -23,6 +23,7 @@
 
 #include <modbus.h>
 
+#include "../loop/loop_facts.hpp"
 #include "../loop/loop_fixture.hpp"
 #include "firmware/engine/load_plan.hpp"
 #include "firmware/plan/codec.hpp"
@@ -34,14 +35,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-constexpr const char* kPlant = "woodberry2x2";
 constexpr std::uint32_t kSegmentRows = 200;
-constexpr double kFloat32Epsilon = 0x1p-24;
-
-std::vector<std::uint8_t> bytes_of(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 std::vector<std::uint8_t> encoded(const plan::Plan& p) {
   std::vector<std::uint8_t> bytes(plan::max_encoded_size());
@@ -70,12 +64,6 @@ Table table_of(const plan::Plan& p) {
   t.rows = view.samples;
   t.values.assign(storage.begin(), storage.begin() + std::ptrdiff_t{view.channels} * view.samples);
   return t;
-}
-
-std::size_t count_of(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
 }
 
 class Segments : public LoopTest {

@@ -11,18 +11,12 @@
 #include <fstream>
 #include <sstream>
 
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 #include "same_run.hpp"
 
 namespace excite::test {
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 class Campaign : public LoopTest {};
 

@@ -15,19 +15,10 @@
 #include <sstream>
 
 #include "can_loop_fixture.hpp"
+#include "loop_facts.hpp"
 
 namespace excite::test {
 namespace {
-
-constexpr const char* kPrlimit = "/usr/bin/prlimit";
-constexpr long kSizeLimit = 20 * 1024;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 class CanDiskFull : public CanLoop {
  protected:

@@ -20,6 +20,7 @@
 
 #include "can_loop_fixture.hpp"
 #include "firmware/runlog/format.hpp"
+#include "loop_facts.hpp"
 
 namespace excite::test {
 namespace {
@@ -52,18 +53,6 @@ class ShapedBus {
  private:
   bool ok_ = false;
 };
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::size_t rows_with(const runlog::RunLog& log, std::uint32_t flag) {
-  return static_cast<std::size_t>(std::count_if(
-      log.flags.begin(), log.flags.end(), [flag](std::uint32_t f) { return (f & flag) != 0; }));
-}
 
 // The heartbeat frames of a `candump -L` file: arrival times (s, the receiving socket's
 // timestamps) and their uint16 values.

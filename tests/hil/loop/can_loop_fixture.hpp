@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "../hal_can/vcan_required.hpp"
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
@@ -30,7 +31,6 @@ namespace excite::test {
 using namespace std::chrono_literals;
 
 inline constexpr const char* kBus = "vcan0";
-inline constexpr double kFloat32Epsilon = 0x1p-24;
 
 // A raw socket on the bus, beside the gateway and the plant: reads what they send.
 using Clock = std::chrono::steady_clock;

@@ -17,15 +17,10 @@
 
 #include "can_loop_fixture.hpp"
 #include "firmware/runlog/format.hpp"
+#include "loop_facts.hpp"
 
 namespace excite::test {
 namespace {
-
-double max_abs(const std::vector<double>& v) {
-  double m = 0.0;
-  for (double x : v) m = std::max(m, std::abs(x));
-  return m;
-}
 
 double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b,
                           std::size_t rows, std::size_t shift = 0) {

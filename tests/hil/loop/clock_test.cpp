@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "firmware/runlog/format.hpp"
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 #include "wire_order.hpp"
 
@@ -21,20 +22,6 @@ namespace excite::test {
 namespace {
 
 using namespace std::chrono_literals;
-
-constexpr const char* kPlant = "woodberry2x2";
-
-std::size_t rows_with(const runlog::RunLog& log, std::uint32_t flag) {
-  return static_cast<std::size_t>(std::count_if(
-      log.flags.begin(), log.flags.end(), [flag](std::uint32_t f) { return (f & flag) != 0; }));
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // The unsigned number right after `prefix` in `text` (-1 if absent). No std::regex: GCC 12
 // warns inside it under the sanitizer build (-Werror).

@@ -14,19 +14,11 @@
 #include <fstream>
 #include <sstream>
 
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
 namespace {
-
-const std::string kPi = std::string(EXCITE_CONTROL_EXAMPLES) + "/woodberry2x2.pi.toml";
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // The last `sample` row of the plant's controller log, split at commas.
 std::vector<std::string> last_sample(const fs::path& controller_log) {

@@ -27,6 +27,7 @@
 #include <sstream>
 #include <vector>
 
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
@@ -34,16 +35,8 @@ namespace {
 
 using namespace std::chrono_literals;
 
-const std::string kPi = std::string(EXCITE_CONTROL_EXAMPLES) + "/woodberry2x2.pi.toml";
 // White measurement noise on both CVs and its seed: the same on both sides.
 const std::string kNoise = "--noise-var 1e-3 --seed 7";
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // The run log `in` with its first `rows` data rows only; with `to_float32` every value
 // column (du, u, dy, r, uc, ysp) rounded to float32, as a register carries it.

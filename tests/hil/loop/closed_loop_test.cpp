@@ -18,6 +18,7 @@
 #include <sstream>
 #include <thread>
 
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 #include "recording_proxy.hpp"
 
@@ -25,15 +26,12 @@ namespace excite::test {
 namespace {
 
 using namespace std::chrono_literals;
-using Clock = std::chrono::steady_clock;
-
-const std::string kPi = std::string(EXCITE_CONTROL_EXAMPLES) + "/woodberry2x2.pi.toml";
+using SteadyClock = std::chrono::steady_clock;
 
 // sim/server's closed-loop default map for woodberry2x2 (n = m = 2).
-constexpr int kOffsets = 500;        // holding: u1, u2 offsets, then y1, y2 setpoint offsets
-constexpr int kMode = 514;           // input: the controller's mode
-constexpr int kSwitch = 410;         // holding: the operator's switch
-constexpr int kWatchdogTrips = 406;  // holding: control block +6
+constexpr int kOffsets = 500;  // holding: u1, u2 offsets, then y1, y2 setpoint offsets
+constexpr int kMode = 514;     // input: the controller's mode
+constexpr int kSwitch = 410;   // holding: the operator's switch
 
 class Plc {  // a libmodbus client of the plant: an operator's HMI beside the gateway
  public:
@@ -108,8 +106,8 @@ class ClosedLoopGateway : public LoopTest {
   }
   // Waits until the plant's controller reads mode `mode` (2: test, offsets in force).
   bool wait_for_mode(Plc& plc, int mode) {
-    const auto until = Clock::now() + 20s;
-    while (plc.mode() != mode && Clock::now() < until) std::this_thread::sleep_for(5ms);
+    const auto until = SteadyClock::now() + 20s;
+    while (plc.mode() != mode && SteadyClock::now() < until) std::this_thread::sleep_for(5ms);
     return plc.mode() == mode;
   }
   static bool all_zero(const std::vector<float>& xs) {
@@ -242,8 +240,8 @@ TEST_F(ClosedLoopGateway, ManualMidTestSuspendsThenAbortsWithTheOffsetsAtZero) {
   ASSERT_TRUE(wait_for_mode(plc, 2)) << "the test is running: " << gw->err();
   std::this_thread::sleep_for(50ms);
   ASSERT_TRUE(plc.set_switch(0)) << modbus_strerror(errno);
-  const auto until = Clock::now() + 20s;
-  while (gw->err().find("-> aborted") == std::string::npos && Clock::now() < until) {
+  const auto until = SteadyClock::now() + 20s;
+  while (gw->err().find("-> aborted") == std::string::npos && SteadyClock::now() < until) {
     std::this_thread::sleep_for(10ms);
   }
   const std::string during = gw->err();
@@ -280,12 +278,12 @@ TEST_F(ClosedLoopGateway, AKilledGatewayLeavesThePlantsWatchdogToZeroTheOffsets)
   ASSERT_FALSE(gw->wait(0ms).has_value()) << "the run ended too soon: " << gw->err();
   EXPECT_FALSE(all_zero(plc.offsets())) << "the MV offsets are in force: " << gw->err();
   gw->signal(SIGKILL);
-  const auto killed = Clock::now();
+  const auto killed = SteadyClock::now();
   ASSERT_EQ(gw->wait(10s).value_or(-1), 128 + SIGKILL);
-  while (Clock::now() - killed < 1500ms && plc.holding(kWatchdogTrips) != 1) {
+  while (SteadyClock::now() - killed < 1500ms && plc.holding(kWatchdogTrips) != 1) {
     std::this_thread::sleep_for(10ms);
   }
-  const double after_s = std::chrono::duration<double>(Clock::now() - killed).count();
+  const double after_s = std::chrono::duration<double>(SteadyClock::now() - killed).count();
   EXPECT_EQ(plc.holding(kWatchdogTrips), 1);
   EXPECT_GE(after_s, 0.45) << "not before the watchdog's 0.5 s";
   EXPECT_TRUE(all_zero(plc.offsets())) << "every offset back at zero";
@@ -378,10 +376,8 @@ void expect_last_sample_safe(const std::vector<std::vector<std::string>>& rows) 
 // test stops and returns: exit 13, every offset at zero on the plant's side and the
 // controller in control (its registers and its own log).
 TEST_F(ClosedLoopGateway, AFileSizeLimitOnTheLogEndsWithTheOffsetsAtZeroInControl) {
-  constexpr const char* kPrlimit = "/usr/bin/prlimit";
   if (access(kPrlimit, X_OK) != 0) GTEST_SKIP() << kPrlimit << " not found (util-linux)";
   const std::uint16_t port = start("--offsets setpoint --output-range 0.5", {"--watchdog-s", "2"});
-  constexpr long kSizeLimit = 20 * 1024;
   GatewayProcess gw(kPrlimit,
                     {"--fsize=" + std::to_string(kSizeLimit), EXCITE_GATEWAY, "--config",
                      path("gateway.toml").string(), "--plan", plan_.string(), "--log",

@@ -18,6 +18,7 @@
 #include <sstream>
 #include <thread>
 
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
@@ -25,15 +26,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-constexpr const char* kPlant = "woodberry2x2";
 constexpr std::size_t kSamplesPerSecond = 50;  // 20 ms ticks, one lock-step sample each
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 bool at_baseline(const runlog::RunLog& plant, std::size_t row) {
   for (std::size_t i = 0; i < plant.du.size(); ++i) {

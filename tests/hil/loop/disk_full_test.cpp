@@ -25,23 +25,13 @@
 #include <sstream>
 #include <thread>
 
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
 namespace {
 
 using namespace std::chrono_literals;
-
-constexpr const char* kPlant = "woodberry2x2";
-constexpr const char* kPrlimit = "/usr/bin/prlimit";
-constexpr long kSizeLimit = 20 * 1024;  // ulimit -f 20
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 std::size_t data_rows(const fs::path& csv) {
   std::ifstream in(csv);

@@ -20,26 +20,13 @@
 #include "../gateway/killed_log.hpp"
 #include "firmware/runlog/format.hpp"
 #include "limits.hpp"
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
 namespace {
 
 using namespace std::chrono_literals;
-
-constexpr double kInputRange = 2.0;  // loop-config --input-range: limits baseline ± 2
-
-std::size_t rows_with(const runlog::RunLog& log, std::uint32_t flag) {
-  std::size_t n = 0;
-  for (std::uint32_t f : log.flags) n += (f & flag) != 0 ? 1 : 0;
-  return n;
-}
-
-double max_abs(const std::vector<double>& v) {
-  double m = 0.0;
-  for (double x : v) m = std::max(m, std::abs(x));
-  return m;
-}
 
 // Every input the plant received stayed inside the limits, and the last one is the
 // baseline (within the float32 register's rounding).
@@ -58,17 +45,8 @@ std::string replace(std::string text, const std::string& from, const std::string
   return text;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 class Faults : public LoopTest {
  protected:
-  static constexpr const char* kPlant = "woodberry2x2";
-
   // The loop for woodberry2x2 with a real-time gateway ticking every 5 ms (so faults
   // happen in the middle of a run) and a lock-step plant.
   void start(const std::string& extra_config = "",

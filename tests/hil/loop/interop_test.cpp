@@ -8,21 +8,13 @@
 #include <fstream>
 #include <sstream>
 
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
 namespace {
 
 using namespace std::chrono_literals;
-
-constexpr const char* kPlant = "woodberry2x2";
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 bool have(const std::string& program) {
   return shell("command -v " + program + " > /dev/null 2>&1");

@@ -16,19 +16,13 @@
 #include <string>
 
 #include "limits.hpp"
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
 namespace {
 
 using namespace std::chrono_literals;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 std::string exact(double v) {
   char buf[40];

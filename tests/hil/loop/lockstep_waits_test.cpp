@@ -19,21 +19,13 @@
 #include <sstream>
 #include <thread>
 
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
 namespace {
 
 using namespace std::chrono_literals;
-
-constexpr const char* kPlant = "woodberry2x2";
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 std::size_t rows_in(const runlog::RunLog& log, runlog::RunState state) {
   std::size_t n = 0;

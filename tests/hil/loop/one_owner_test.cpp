@@ -17,6 +17,7 @@
 #include <cstring>
 #include <thread>
 
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
@@ -24,7 +25,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-constexpr const char* kPlant = "woodberry2x2";
 constexpr int kSetpointU1 = 100;  // loop-config's map: u1 float32 ABCD at holding 100
 constexpr int kHeartbeat = 104;   // the heartbeat register ([map] heartbeat_address)
 

@@ -12,6 +12,7 @@
 
 #include "firmware/plan/codec.hpp"
 #include "host/loop/stream.hpp"
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
@@ -19,8 +20,6 @@ namespace {
 
 using ::testing::HasSubstr;
 using ::testing::Not;
-
-constexpr const char* kPlant = "woodberry2x2";  // its case study: T = 1 min
 
 class PlanSampleTime : public LoopTest {
  protected:

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <thread>
 
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
@@ -22,15 +23,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-constexpr const char* kPlant = "woodberry2x2";
 constexpr double kPlantRange = 0.05;  // the plant's own limits: baseline ± 0.05
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 class Refused : public LoopTest {
  protected:

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <thread>
 
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
@@ -22,15 +23,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-constexpr const char* kPlant = "woodberry2x2";
 constexpr const char* kSocat = "/usr/bin/socat";
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 /// The number before `key` in `text` ("123 rejected frames"), or -1.
 long long count_before(const std::string& text, const std::string& key) {
@@ -106,8 +99,8 @@ TEST_F(SmallerItems, AnRtuPlantWhoseSerialLineGoesAwaySaysSoAndWaitsPaced) {
   socat->stop(SIGTERM);  // the line goes away
   bool said = false;
   for (int i = 0; i < 300 && !said; ++i) {
-    said = plant.stderr_text().find("excite-plant: serial line " + plant_end.string() +
-                                    " lost") != std::string::npos;
+    said = plant.stderr_text().find("excite-plant: serial line " + plant_end.string() + " lost") !=
+           std::string::npos;
     std::this_thread::sleep_for(10ms);
   }
   ASSERT_TRUE(said) << plant.stderr_text();

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <thread>
 
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
@@ -20,19 +21,12 @@ using namespace std::chrono_literals;
 // output differs from the double-precision simulation by its own rounding plus the response
 // to the input roundings, bounded by gain · 2⁻²⁴ · max|u|. A mis-mapped register or a
 // one-sample shift is orders of magnitude larger (checked below, so the test can fail).
-constexpr double kFloat32Epsilon = 0x1p-24;
 
 double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b,
                           std::size_t rows, std::size_t shift = 0) {
   double worst = 0.0;
   for (std::size_t k = shift; k < rows; ++k) worst = std::max(worst, std::abs(a[k] - b[k - shift]));
   return worst;
-}
-
-double max_abs(const std::vector<double>& v) {
-  double m = 0.0;
-  for (double x : v) m = std::max(m, std::abs(x));
-  return m;
 }
 
 class Stream : public LoopTest {

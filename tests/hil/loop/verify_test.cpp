@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
@@ -15,18 +16,8 @@ namespace {
 
 using namespace std::chrono_literals;
 
-constexpr double kInputRange = 2.0;  // loop-config --input-range: limits baseline ± 2
-
-double max_abs(const std::vector<double>& v) {
-  double m = 0.0;
-  for (double x : v) m = std::max(m, std::abs(x));
-  return m;
-}
-
 class Verify : public LoopTest {
  protected:
-  static constexpr const char* kPlant = "woodberry2x2";
-
   // woodberry2x2, a real-time gateway ticking every 5 ms, a lock-step plant, no noise.
   void start() {
     start_loop(kPlant, "--input-range 2 --period-s 0.005 --noise-var 0", {"--clock", "lockstep"});

@@ -12,21 +12,13 @@
 #include <sstream>
 #include <thread>
 
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
 namespace {
 
 using namespace std::chrono_literals;
-
-constexpr const char* kPlant = "woodberry2x2";
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // The number on the line `key = NUMBER` of a TOML text (NaN when absent).
 double toml_number_of(const std::string& text, const std::string& key) {

@@ -13,22 +13,21 @@
 #include <sstream>
 #include <thread>
 
+#include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
 namespace excite::test {
 namespace {
 
 using namespace std::chrono_literals;
-using Clock = std::chrono::steady_clock;
+using SteadyClock = std::chrono::steady_clock;
 
 // The default register map (sim/server/README.md) for woodberry2x2: setpoints float32 ABCD
 // at holding 100..103, the control block at holding 400..407.
 constexpr int kSetpoints = 100;
 constexpr int kSetpointRegisters = 4;
-constexpr int kWatchdogTrips = 406;  // control block +6
 constexpr int kRefusedWrites = 407;  // control block +7
 constexpr double kWatchdogS = 0.5;
-constexpr double kInputRange = 2.0;  // loop-config --input-range: limits baseline ± 2
 
 // A libmodbus client of the plant server: an observer beside the gateway.
 class Observer {
@@ -83,8 +82,6 @@ class Observer {
 
 class Watchdog : public LoopTest {
  protected:
-  static constexpr const char* kPlant = "woodberry2x2";
-
   // The loop for woodberry2x2, a gateway ticking every 5 ms, the plant's watchdog at 0.5 s.
   void start(const std::vector<std::string>& plant_args) {
     port_ = start_loop(kPlant, "--input-range 2 --period-s 0.005", plant_args);
@@ -101,8 +98,8 @@ class Watchdog : public LoopTest {
     ASSERT_EQ(baseline.size(), 4U);
     auto gw = start_gateway(plan_, {"--start"});
     // Mid-run: the setpoints have left the baseline, and the gateway has streamed a while.
-    const auto until = Clock::now() + 20s;
-    while (plc.read(kSetpoints, kSetpointRegisters) == baseline && Clock::now() < until) {
+    const auto until = SteadyClock::now() + 20s;
+    while (plc.read(kSetpoints, kSetpointRegisters) == baseline && SteadyClock::now() < until) {
       std::this_thread::sleep_for(10ms);
     }
     std::this_thread::sleep_for(500ms);
@@ -111,17 +108,17 @@ class Watchdog : public LoopTest {
     EXPECT_NE(plc.read(kSetpoints, kSetpointRegisters), baseline) << "the plant is excited";
 
     gw->signal(SIGKILL);
-    const auto killed = Clock::now();
+    const auto killed = SteadyClock::now();
     ASSERT_EQ(gw->wait(10s).value_or(-1), 128 + SIGKILL);
     std::vector<std::uint16_t> now;
     int trips = 0;
-    while (Clock::now() - killed < std::chrono::duration<double>(kWatchdogS + 0.5)) {
+    while (SteadyClock::now() - killed < std::chrono::duration<double>(kWatchdogS + 0.5)) {
       now = plc.read(kSetpoints, kSetpointRegisters);
       trips = plc.read_one(kWatchdogTrips);
       if (now == baseline && trips == 1) break;
       std::this_thread::sleep_for(10ms);
     }
-    const double after_s = std::chrono::duration<double>(Clock::now() - killed).count();
+    const double after_s = std::chrono::duration<double>(SteadyClock::now() - killed).count();
     EXPECT_EQ(now, baseline) << "the plant's inputs are not back at baseline " << after_s
                              << " s after the gateway died";
     EXPECT_EQ(trips, 1) << "the watchdog trip is counted in the control block (+6)";

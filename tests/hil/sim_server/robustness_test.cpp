@@ -451,13 +451,13 @@ TEST_F(Robust, MbpollWritesAndReadsTheServer) {
   EXPECT_THAT(plant_->stderr_text(), HasSubstr("stopped after 5 samples"));
 }
 
-struct Refused {
+struct Refusal {
   int exit_code;
   std::string first_line;
   std::string stderr_text;
 };
 
-Refused refused(const std::vector<std::string>& args) {
+Refusal refused(const std::vector<std::string>& args) {
   TempDir dir;
   PlantRunner plant(args, dir.path() / "stderr.txt");
   EXPECT_FALSE(plant.wait_listening());
@@ -482,7 +482,7 @@ TEST(RobustBadInput, NanAndNegativeNumbersAreRefusedByName) {
       {{"--plant", "nosuch"}, "plant.library = \"nosuch\", expected one of"},
   };
   for (const auto& [args, message] : cases) {
-    const Refused r = refused(args);
+    const Refusal r = refused(args);
     EXPECT_EQ(r.exit_code, 2) << args.back();
     EXPECT_EQ(r.first_line, "") << args.back();
     EXPECT_THAT(r.stderr_text, HasSubstr(message));
@@ -516,7 +516,7 @@ TEST(RobustBadInput, HugeTimingAndNoiseAreRefusedWithTheGatewaysRanges) {
        "register"},
   };
   for (const auto& [args, message] : cases) {
-    const Refused r = refused(args);
+    const Refusal r = refused(args);
     EXPECT_EQ(r.exit_code, 2) << args.back();
     EXPECT_EQ(r.first_line, "") << args.back();
     EXPECT_THAT(r.stderr_text, HasSubstr(message));

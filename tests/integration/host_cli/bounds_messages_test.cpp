@@ -23,9 +23,7 @@ using excite_cli_test::Result;
 using excite_cli_test::shell;
 namespace fs = std::filesystem;
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using excite_cli_test::contains;
 
 class Bounds : public ExciteCli {
  protected:

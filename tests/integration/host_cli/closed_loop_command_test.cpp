@@ -12,10 +12,6 @@
 namespace excite_cli_test {
 namespace {
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
-
 const std::string kPi = std::string(EXCITE_CONTROL_EXAMPLES) + "/woodberry2x2.pi.toml";
 
 class ClosedLoopCommands : public ExciteCli {};

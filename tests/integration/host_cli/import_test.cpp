@@ -19,24 +19,12 @@
 #include <string>
 #include <vector>
 
+#include "cli_process.hpp"
+
 namespace {
 
-struct Result {
-  int exit_code = -1;
-  std::string out;  // stdout and stderr together
-};
-
-Result excite(const std::string& args) {
-  const std::string command = std::string(EXCITE_CLI) + " " + args + " 2>&1";
-  Result r;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return r;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) r.out += buffer.data();
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using excite_cli_test::excite;
+using excite_cli_test::Result;
 
 // A run log's data columns by name (the test's own reader: the format is the contract).
 struct Columns {

@@ -25,9 +25,7 @@ using excite_cli_test::excite;
 using excite_cli_test::ExciteCli;
 using excite_cli_test::Result;
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using excite_cli_test::contains;
 
 using InputHygiene = ExciteCli;
 

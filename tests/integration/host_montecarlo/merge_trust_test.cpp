@@ -27,7 +27,7 @@ using excite_cli_test::bytes_of;
 using excite_cli_test::excite;
 using excite_cli_test::Result;
 
-const char* const kRun =
+const char* const kShardRun =
     "montecarlo --plant woodberry2x2 --designs prbsUnc,prbsSimDir --seeds 2 --length-step 50 "
     "--threads 2";
 
@@ -37,7 +37,7 @@ class MergeTrust : public excite_cli_test::ExciteCli {
   static void SetUpTestSuite() {
     source_ = fs::temp_directory_path() / ("excite_merge_trust_" + std::to_string(::getpid()));
     fs::remove_all(source_);
-    const Result r = excite(std::string(kRun) + " -o " + source_.string());
+    const Result r = excite(std::string(kShardRun) + " -o " + source_.string());
     ASSERT_EQ(r.exit_code, 0) << r.out;
   }
   static void TearDownTestSuite() { fs::remove_all(source_); }
@@ -216,7 +216,7 @@ TEST_F(MergeTrust, AResumeRedoesAUnitCutShortAndOneProcessHoldsTheFolder) {
   const fs::path unit = s / "units/prbsUnc/seed-1.json";
   const std::string whole = bytes_of(unit.string());
   std::ofstream(unit) << whole.substr(0, 100);
-  Result r = excite(std::string(kRun) + " -o " + s.string());
+  Result r = excite(std::string(kShardRun) + " -o " + s.string());
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_NE(r.out.find("montecarlo: run again, its file does not read back: " + unit.string() +
                        ": text = not JSON"),
@@ -230,7 +230,7 @@ TEST_F(MergeTrust, AResumeRedoesAUnitCutShortAndOneProcessHoldsTheFolder) {
   ASSERT_GE(fd, 0);
   ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
   fs::remove(unit);
-  r = excite(std::string(kRun) + " -o " + s.string());
+  r = excite(std::string(kShardRun) + " -o " + s.string());
   ::close(fd);
   EXPECT_EQ(r.exit_code, 1) << r.out;
   EXPECT_NE(r.out.find(s.string() + ": locked = by another process, expected one excite "

@@ -25,7 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 using excite::host::ChildProcess;
 
-std::string bytes_of(const fs::path& file) {
+std::string file_bytes(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
@@ -100,8 +100,8 @@ TEST_F(MonteCarloReport, NamesTheVerdictWithItsShareOfSeedsT90AndTheCurvesWithSm
   const Ran r = excite(small_run({"--threads", "2", "-o", path("mc")}));
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_NE(r.out.find("wrote " + path("mc") + "/index.html"), std::string::npos) << r.out;
-  const std::string html = bytes_of(path("mc") + "/index.html");
-  const nlohmann::json s = nlohmann::json::parse(bytes_of(path("mc") + "/summary.json"));
+  const std::string html = file_bytes(path("mc") + "/index.html");
+  const nlohmann::json s = nlohmann::json::parse(file_bytes(path("mc") + "/summary.json"));
 
   // The verdict of every metric with the seeds it holds in, as summary.json has it.
   ASSERT_EQ(s["verdicts"].size(), 5U);
@@ -142,7 +142,7 @@ TEST_F(MonteCarloReport, NamesTheVerdictWithItsShareOfSeedsT90AndTheCurvesWithSm
   }
   EXPECT_LE(largest, 300'000U);
   for (const std::string& name : named) {
-    const std::string svg = bytes_of(path("mc") + "/figures/" + name);
+    const std::string svg = file_bytes(path("mc") + "/figures/" + name);
     ASSERT_NE(svg.find("</svg>"), std::string::npos) << name;
     for (const char* design : {"stepSeq", "prbsUnc", "prbsSimDir", "prbsDirCorrSim"})
       EXPECT_NE(svg.find(design), std::string::npos) << name << " lacks " << design;
@@ -162,10 +162,10 @@ TEST_F(MonteCarloReport, MergedShardsDrawTheSameReportAsOneProcess) {
   merge.insert(merge.end(), {"-o", path("merged")});
   const Ran m = excite(merge);
   ASSERT_EQ(m.exit_code, 0) << m.out;
-  EXPECT_EQ(bytes_of(path("merged") + "/index.html"), bytes_of(path("one") + "/index.html"));
-  for (const std::string& name : figures_named(bytes_of(path("one") + "/index.html"))) {
-    EXPECT_EQ(bytes_of(path("merged") + "/figures/" + name),
-              bytes_of(path("one") + "/figures/" + name))
+  EXPECT_EQ(file_bytes(path("merged") + "/index.html"), file_bytes(path("one") + "/index.html"));
+  for (const std::string& name : figures_named(file_bytes(path("one") + "/index.html"))) {
+    EXPECT_EQ(file_bytes(path("merged") + "/figures/" + name),
+              file_bytes(path("one") + "/figures/" + name))
         << name;
   }
 }
@@ -184,19 +184,19 @@ TEST_F(MonteCarloReport, APerturbedRunSaysSoAndGivesTheSameBytesWhateverTheShard
   }
   merge.insert(merge.end(), {"-o", path("merged")});
   ASSERT_EQ(excite(merge).exit_code, 0);
-  const std::string summary = bytes_of(path("one") + "/summary.json");
-  EXPECT_EQ(bytes_of(path("merged") + "/summary.json"), summary);
+  const std::string summary = file_bytes(path("one") + "/summary.json");
+  EXPECT_EQ(file_bytes(path("merged") + "/summary.json"), summary);
   const nlohmann::json s = nlohmann::json::parse(summary);
   EXPECT_EQ(s["run"]["perturb_percent"], 10.0);
   EXPECT_NE(s["run"]["true_plant"].get<std::string>().find("within +-10 %"), std::string::npos);
-  const std::string html = bytes_of(path("one") + "/index.html");
+  const std::string html = file_bytes(path("one") + "/index.html");
   EXPECT_NE(html.find("True plant: perturbed</b> in every seed"), std::string::npos);
   EXPECT_NE(html.find("within +-10 %"), std::string::npos);
 
   // Not the nominal run: the perturbed plant changes what is identified.
   const Ran nominal = excite(small_run({"-o", path("nominal")}));
   ASSERT_EQ(nominal.exit_code, 0) << nominal.out;
-  const nlohmann::json n = nlohmann::json::parse(bytes_of(path("nominal") + "/summary.json"));
+  const nlohmann::json n = nlohmann::json::parse(file_bytes(path("nominal") + "/summary.json"));
   EXPECT_NE(n["designs"][1]["gain_elements"][0]["median"],
             s["designs"][1]["gain_elements"][0]["median"]);
   // A rerun into the perturbed folder with another --perturb is refused by the field.
@@ -231,7 +231,7 @@ TEST_F(MonteCarloReport, ChromiumOpensTheReportWithEveryFigureDrawn) {
   if (run("sh", {"-c", "command -v chromium"}).exit_code != 0)
     GTEST_SKIP() << "chromium not installed (toolchain/packages.txt lists it)";
   ASSERT_EQ(excite(small_run({"--threads", "2", "-o", path("mc")})).exit_code, 0);
-  std::string html = bytes_of(path("mc") + "/index.html");
+  std::string html = file_bytes(path("mc") + "/index.html");
   const std::size_t images = figures_named(html).size();
   ASSERT_GT(images, 0U);
   const std::string probe =

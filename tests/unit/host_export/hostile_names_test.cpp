@@ -37,7 +37,7 @@ struct Ran {
 };
 
 // `command` through the shell; every path in it is this test's own folder (no hostile text).
-Ran run(const std::string& command) {
+Ran run_shell(const std::string& command) {
   Ran r;
   FILE* pipe = popen((command + " 2>&1").c_str(), "r");
   if (pipe == nullptr) return r;
@@ -113,13 +113,14 @@ TEST_F(HostileNames, PythonScriptRunsAsDataAndBuildsTheSameModel) {
   const fs::path script = dir_ / "model.py";
   std::ofstream(script) << python_control_script(m);
   // The script as exported, then what it defined, as JSON.
-  const Ran ran = run("cd " + dir_.string() + " && PYTHONPATH=" + (dir_ / "stub").string() +
-                      " /usr/bin/python3 -c \"import json, runpy, sys; "
-                      "g = runpy.run_path(sys.argv[1], run_name='__main__'); "
-                      "print('DEFINED ' + json.dumps({'doc': g['__doc__'], 'inputs': g['INPUTS'], "
-                      "'outputs': g['OUTPUTS'], 'source': g['MODEL']['source'], "
-                      "'delays': g['DELAYS_MIN']}))\" " +
-                      script.string());
+  const Ran ran =
+      run_shell("cd " + dir_.string() + " && PYTHONPATH=" + (dir_ / "stub").string() +
+                " /usr/bin/python3 -c \"import json, runpy, sys; "
+                "g = runpy.run_path(sys.argv[1], run_name='__main__'); "
+                "print('DEFINED ' + json.dumps({'doc': g['__doc__'], 'inputs': g['INPUTS'], "
+                "'outputs': g['OUTPUTS'], 'source': g['MODEL']['source'], "
+                "'delays': g['DELAYS_MIN']}))\" " +
+                script.string());
   EXPECT_FALSE(fs::exists(canary_)) << "the script wrote the canary\n" << ran.out;
   ASSERT_EQ(ran.exit_code, 0) << ran.out;
 
@@ -160,7 +161,8 @@ TEST_F(HostileNames, MatlabScriptRunsAsDataUnderOctaveAndBuildsTheSameModel) {
                         << "names = G.inname; printf('IN %s\\n', names{:});\n"
                         << "names = G.outname; printf('OUT %s\\n', names{:});\n"
                         << "printf('DELAY %.17g\\n', (input_delay_min + io_delay_min)');\n";
-  const Ran ran = run("cd " + dir_.string() + " && octave --no-gui --norc -q " + script.string());
+  const Ran ran =
+      run_shell("cd " + dir_.string() + " && octave --no-gui --norc -q " + script.string());
   EXPECT_FALSE(fs::exists(canary_)) << "the script wrote the canary\n" << ran.out;
   ASSERT_EQ(ran.exit_code, 0) << ran.out;
   std::vector<double> gains, delays;

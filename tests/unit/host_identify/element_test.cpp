@@ -22,18 +22,18 @@ double relative_error(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   return (a - b).norm() / b.norm();
 }
 
-struct Case {
+struct ElementCase {
   const char* name;
   ElementModel g;
   double T;
 };
 
-class ZohDiscretisation : public ::testing::TestWithParam<Case> {};
+class ZohDiscretisation : public ::testing::TestWithParam<ElementCase> {};
 
 // The discretisation identification uses (sim/lti via host::discretise) matches the
 // sub-interval matrix-exponential integration of the oracle.
 TEST_P(ZohDiscretisation, MatchesExactStateSpaceIntegration) {
-  const Case c = GetParam();
+  const ElementCase c = GetParam();
   const Eigen::VectorXd u = testing::random_levels(400, 3);
   const Eigen::VectorXd ref = testing::reference_response(c.g, c.T, u);
   EXPECT_LT(relative_error(discrete_response(c.g, c.T, u), ref), 1e-11) << c.name;
@@ -41,17 +41,19 @@ TEST_P(ZohDiscretisation, MatchesExactStateSpaceIntegration) {
 
 INSTANTIATE_TEST_SUITE_P(
     Elements, ZohDiscretisation,
-    ::testing::Values(Case{"distinct poles, fractional delay", {4.09, 1.3, 33.0, 8.3}, 1.0},
-                      Case{"distinct poles, integer delay", {-2.0, 3.0, 12.0, 2.5}, 1.0},
-                      Case{"double pole", {-0.05, 6.0, 34.5, 34.5}, 1.0},
-                      Case{"first order", {1.53, 3.8, 48.0, 0.0}, 1.0},
-                      Case{"first order, second slot", {1.53, 3.8, 0.0, 48.0}, 1.0},
-                      Case{"pure gain, fractional delay", {2.0, 2.4, 0.0, 0.0}, 1.0},
-                      Case{"pure gain, integer delay", {2.0, 2.0, 0.0, 0.0}, 1.0},
-                      Case{"no delay", {14.0, 0.0, 45.0, 4.0}, 1.0},
-                      Case{"delay below one sample", {1.0, 0.3, 5.0, 1.0}, 2.0},
-                      Case{"fast poles vs T", {1.0, 0.7, 0.05, 0.01}, 1.0}),
-    [](const ::testing::TestParamInfo<Case>& p) { return "case" + std::to_string(p.index); });
+    ::testing::Values(ElementCase{"distinct poles, fractional delay", {4.09, 1.3, 33.0, 8.3}, 1.0},
+                      ElementCase{"distinct poles, integer delay", {-2.0, 3.0, 12.0, 2.5}, 1.0},
+                      ElementCase{"double pole", {-0.05, 6.0, 34.5, 34.5}, 1.0},
+                      ElementCase{"first order", {1.53, 3.8, 48.0, 0.0}, 1.0},
+                      ElementCase{"first order, second slot", {1.53, 3.8, 0.0, 48.0}, 1.0},
+                      ElementCase{"pure gain, fractional delay", {2.0, 2.4, 0.0, 0.0}, 1.0},
+                      ElementCase{"pure gain, integer delay", {2.0, 2.0, 0.0, 0.0}, 1.0},
+                      ElementCase{"no delay", {14.0, 0.0, 45.0, 4.0}, 1.0},
+                      ElementCase{"delay below one sample", {1.0, 0.3, 5.0, 1.0}, 2.0},
+                      ElementCase{"fast poles vs T", {1.0, 0.7, 0.05, 0.01}, 1.0}),
+    [](const ::testing::TestParamInfo<ElementCase>& p) {
+      return "case" + std::to_string(p.index);
+    });
 
 TEST(ZohDiscretisation, NearlyEqualPolesAreContinuousWithTheDoublePole) {
   const Eigen::VectorXd u = testing::random_levels(300, 5);

@@ -16,7 +16,7 @@
 namespace excite::host {
 namespace {
 
-const std::vector<ElementModel> kTruth = {
+const std::vector<ElementModel> kFlaggedTruth = {
     {2.0, 1.3, 20.0, 5.0}, {-1.5, 4.7, 12.0, 3.0}, {0.8, 7.25, 30.0, 2.0}, {1.2, 0.4, 8.0, 6.0}};
 constexpr double kT = 0.5;
 
@@ -56,7 +56,7 @@ double gain_error(const IdentificationResult& r) {
   double worst = 0.0;
   for (int j = 0; j < 2; ++j) {
     for (int i = 0; i < 2; ++i) {
-      const double t = kTruth[static_cast<std::size_t>(2 * j + i)].gain;
+      const double t = kFlaggedTruth[static_cast<std::size_t>(2 * j + i)].gain;
       worst = std::max(worst, std::abs(r.model.element(j, i).value.gain - t) / std::abs(t));
     }
   }
@@ -72,7 +72,7 @@ TEST(FlaggedRows, SuspendedSpanIsNotScoredButDrivesTheModelAndUsingItIsWorse) {
   // baseline, which the plant sees) and the logged outputs are junk (a stuck transmitter).
   Eigen::MatrixXd U = testing::prbs_inputs(2, 6, 16, 31, 2016, 1.0);
   U.middleRows(700, 200).setZero();
-  const Eigen::MatrixXd Y_true = testing::plant_outputs(kTruth, 2, 2, kT, U);
+  const Eigen::MatrixXd Y_true = testing::plant_outputs(kFlaggedTruth, 2, 2, kT, U);
   Eigen::MatrixXd Y = Y_true;
   for (Eigen::Index k = 700; k < 900; ++k) Y.row(k) = Y_true.row(699);
   std::vector<std::uint32_t> flags(2016, 0);
@@ -112,8 +112,8 @@ TEST(FlaggedRows, DiscontinuityRestartsTheModelAndIgnoringItIsWorse) {
   // The plant restarts at row 1000 (its state back to rest), the inputs go on.
   const Eigen::MatrixXd U = testing::prbs_inputs(2, 6, 16, 31, 2016, 1.0);
   Eigen::MatrixXd Y(2016, 2);
-  Y.topRows(1000) = testing::plant_outputs(kTruth, 2, 2, kT, U.topRows(1000));
-  Y.bottomRows(1016) = testing::plant_outputs(kTruth, 2, 2, kT, U.bottomRows(1016));
+  Y.topRows(1000) = testing::plant_outputs(kFlaggedTruth, 2, 2, kT, U.topRows(1000));
+  Y.bottomRows(1016) = testing::plant_outputs(kFlaggedTruth, 2, 2, kT, U.bottomRows(1016));
   std::vector<std::uint32_t> flags(2016, 0);
   flags[1000] = runlog::kDiscontinuity;
 
@@ -139,9 +139,9 @@ TEST(FlaggedRows, SeveralRunsAreIdentifiedTogetherEachFromRest) {
   step.block(10, 0, 590, 1).setConstant(1.0);
   step.block(300, 1, 300, 1).setConstant(-1.0);
   const Eigen::MatrixXd U2 = testing::prbs_inputs(2, 5, 8, 15, 500, 1.0);
-  const runlog::RunLog a = make_log(step, testing::plant_outputs(kTruth, 2, 2, kT, step),
+  const runlog::RunLog a = make_log(step, testing::plant_outputs(kFlaggedTruth, 2, 2, kT, step),
                                     std::vector<std::uint32_t>(600, 0));
-  const runlog::RunLog b = make_log(U2, testing::plant_outputs(kTruth, 2, 2, kT, U2),
+  const runlog::RunLog b = make_log(U2, testing::plant_outputs(kFlaggedTruth, 2, 2, kT, U2),
                                     std::vector<std::uint32_t>(500, 0));
   const StackedRuns both = stack_runs({&a, &b}, {"step.csv", "prbs.csv"}, {});
   EXPECT_EQ(both.report.rows, 1100);
@@ -172,7 +172,7 @@ TEST(FlaggedRows, RunsWithOtherChannelsOrSampleTimeAreRefusedByName) {
 
 TEST(FlaggedRows, ShortSegmentsAreDroppedAndCounted) {
   const Eigen::MatrixXd U = testing::prbs_inputs(2, 5, 8, 15, 400, 1.0);
-  const Eigen::MatrixXd Y = testing::plant_outputs(kTruth, 2, 2, kT, U);
+  const Eigen::MatrixXd Y = testing::plant_outputs(kFlaggedTruth, 2, 2, kT, U);
   std::vector<std::uint32_t> flags(400, 0);
   flags[100] = runlog::kDiscontinuity;  // a segment of 45 rows: 40 warm-up, 5 scored
   flags[145] = runlog::kSkipped;        // then one of 255 rows
@@ -187,7 +187,7 @@ TEST(FlaggedRows, ShortSegmentsAreDroppedAndCounted) {
 
 TEST(FlaggedRows, CommLostSpanRestartsTheModelAfterIt) {
   const Eigen::MatrixXd U = testing::prbs_inputs(2, 5, 8, 15, 400, 1.0);
-  const Eigen::MatrixXd Y = testing::plant_outputs(kTruth, 2, 2, kT, U);
+  const Eigen::MatrixXd Y = testing::plant_outputs(kFlaggedTruth, 2, 2, kT, U);
   std::vector<std::uint32_t> flags(400, 0);
   for (std::size_t k = 200; k < 210; ++k) flags[k] = runlog::kCommLost;
   const StackedRuns d = one_run(make_log(U, Y, flags));
@@ -202,8 +202,8 @@ TEST(FittedTrend, OffsetAndDriftPerSegmentAreFittedWithTheModel) {
   // trend fitted (by projection) the plant comes back exactly, without it it does not.
   const Eigen::MatrixXd U = testing::prbs_inputs(2, 6, 16, 31, 2016, 1.0);
   Eigen::MatrixXd Y(2016, 2);
-  Y.topRows(1000) = testing::plant_outputs(kTruth, 2, 2, kT, U.topRows(1000));
-  Y.bottomRows(1016) = testing::plant_outputs(kTruth, 2, 2, kT, U.bottomRows(1016));
+  Y.topRows(1000) = testing::plant_outputs(kFlaggedTruth, 2, 2, kT, U.topRows(1000));
+  Y.bottomRows(1016) = testing::plant_outputs(kFlaggedTruth, 2, 2, kT, U.bottomRows(1016));
   for (Eigen::Index k = 0; k < 2016; ++k) {
     const double t = static_cast<double>(k) * kT;
     Y(k, 0) += k < 1000 ? 0.5 + 0.002 * t : -0.3 - 0.001 * t;

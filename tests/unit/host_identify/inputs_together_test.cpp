@@ -30,13 +30,14 @@ const std::vector<ElementModel> kWoodBerry = {{12.8, 1.0, 16.7, 0.0},
                                               {-19.4, 3.0, 14.4, 0.0}};
 
 TEST(InputSeparation, TheOwnPartOfAColumnIsItsResidualOnTheOthers) {
-  const Eigen::MatrixXd P = prbs_inputs(2, 9, 4, 170, 2044, 1.0);
+  const Eigen::MatrixXd moved = prbs_inputs(2, 9, 4, 170, 2044, 1.0);
   const double rho = 0.1;
-  Eigen::MatrixXd X(P.rows(), 2);
-  X.col(0) = P.col(0);
-  X.col(1) = 3.0 * (std::sqrt(1.0 - rho * rho) * P.col(0) + rho * P.col(1));
+  Eigen::MatrixXd X(moved.rows(), 2);
+  X.col(0) = moved.col(0);
+  X.col(1) = 3.0 * (std::sqrt(1.0 - rho * rho) * moved.col(0) + rho * moved.col(1));
   const InputSeparation s = input_separation(X);
-  const double r = P.col(0).dot(P.col(1)) / (P.col(0).norm() * P.col(1).norm());  // ≈ 0
+  const double r =
+      moved.col(0).dot(moved.col(1)) / (moved.col(0).norm() * moved.col(1).norm());  // ≈ 0
   ASSERT_LT(std::abs(r), 0.05);
   EXPECT_NEAR(s.independent(1), rho, 0.01);
   EXPECT_NEAR(s.independent(0), s.independent(1), 1e-12);  // symmetric for two columns
@@ -44,7 +45,7 @@ TEST(InputSeparation, TheOwnPartOfAColumnIsItsResidualOnTheOthers) {
   EXPECT_NEAR(s.regression(1, 1), 0.0, 0.0);
   const double c = 1.0 / (rho * rho);  // κ of [[1, a], [a, 1]], a = √(1 − ρ²): (1+a)/(1−a)
   EXPECT_GT(s.condition, 0.5 * c);
-  const InputSeparation apart = input_separation(P);
+  const InputSeparation apart = input_separation(moved);
   EXPECT_GT(apart.independent.minCoeff(), 0.99);
   EXPECT_LT(apart.condition, 1.1);
 }
@@ -83,10 +84,10 @@ TEST(GainProfile, MatchesTheLinearisedIntervalOnIndependentInputs) {
 // det G(0) = 77.75 ± 8.51.
 TEST(InputsTogether, AWoodBerryRunWithTheInputsOnePercentApartStatesNoConfidentWrongGain) {
   for (const unsigned seed : {5U, 6U, 7U}) {
-    const Eigen::MatrixXd P = prbs_inputs(2, 8, 3, 85, 1200, 0.07);
-    Eigen::MatrixXd U(P.rows(), 2);
-    U.col(0) = P.col(0);
-    U.col(1) = P.col(0) + (0.001 / 0.07) * P.col(1);
+    const Eigen::MatrixXd moved = prbs_inputs(2, 8, 3, 85, 1200, 0.07);
+    Eigen::MatrixXd U(moved.rows(), 2);
+    U.col(0) = moved.col(0);
+    U.col(1) = moved.col(0) + (0.001 / 0.07) * moved.col(1);
     Eigen::MatrixXd Y = plant_outputs(kWoodBerry, 2, 2, 1.0, U);
     add_noise(Y, 0.02 * 0.02, seed);
     const IdentificationResult r = identify(U, Y, 1.0);

@@ -91,7 +91,7 @@ TEST_P(NoisyDesign, EveryRowReachesTheGlobalMinimumNearTheTruth) {
   }
 }
 
-std::string case_name(const ::testing::TestParamInfo<NoisyCase>& info) {
+std::string noisy_case_name(const ::testing::TestParamInfo<NoisyCase>& info) {
   return std::string(info.param.plant) + "_" + info.param.preset + "_seed" +
          std::to_string(info.param.seed);
 }
@@ -99,7 +99,7 @@ std::string case_name(const ::testing::TestParamInfo<NoisyCase>& info) {
 INSTANTIATE_TEST_SUITE_P(Woodberry, NoisyDesign,
                          ::testing::Values(NoisyCase{"woodberry2x2", "msGlmSimDir", 5e-4, 17},
                                            NoisyCase{"woodberry2x2", "msGlmSimDir", 5e-4, 18}),
-                         case_name);
+                         noisy_case_name);
 
 // Output y4 of `g` (alatiqi4x4 with elements of row y4 replaced) under the case study's
 // prbsSimDir design, noise 5e-4 and `seed`, identified alone (its noise is the whole plant's

@@ -9,19 +9,12 @@
 #include <unsupported/Eigen/FFT>
 
 #include "host/multisine/synthesis.hpp"
+#include "multisine_cases.hpp"
 
 namespace excite::host::multisine {
 namespace {
 
-// G(0) of the 4×4 column/side-stripper (6.3.1): σ = 20.470, 10.141, 5.046, 0.1635.
-Eigen::MatrixXd case_study_gain() {
-  Eigen::MatrixXd g(4, 4);
-  g << 4.09, 6.36, -0.25, -0.49,  //
-      -4.17, 6.93, -0.05, 1.53,   //
-      1.73, 5.11, 4.61, -5.49,    //
-      -11.2, 14.0, -0.1, 4.49;
-  return g;
-}
+using testing::case_study_gain;
 
 // One period's DFT of channel c (bins 0 … P/2).
 std::vector<std::complex<double>> spectrum_of(const MultisineSet& set, std::size_t c) {

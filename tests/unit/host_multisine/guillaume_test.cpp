@@ -14,16 +14,12 @@
 #include "host/multisine/design.hpp"
 #include "host/multisine/phases.hpp"
 #include "host/multisine/synthesis.hpp"
+#include "multisine_cases.hpp"
 
 namespace excite::host::multisine {
 namespace {
 
-std::vector<Line> flat_schroeder(std::uint32_t count) {
-  const auto phases = schroeder_phases_equal(count);
-  std::vector<Line> lines(count);
-  for (std::uint32_t k = 0; k < count; ++k) lines[k] = {k + 1, 1.0, phases[k]};
-  return lines;
-}
+using testing::flat_schroeder;
 
 // Amplitudes of the DFT of one period, bins 1 … P/2 − 1: |X_i| · 2 / P.
 std::vector<double> line_amplitudes(std::span<const Line> lines, std::uint32_t period) {
@@ -36,14 +32,7 @@ std::vector<double> line_amplitudes(std::span<const Line> lines, std::uint32_t p
   return amplitudes;
 }
 
-Eigen::MatrixXd case_study_gain() {
-  Eigen::MatrixXd g(4, 4);
-  g << 4.09, 6.36, -0.25, -0.49,  //
-      -4.17, 6.93, -0.05, 1.53,   //
-      1.73, 5.11, 4.61, -5.49,    //
-      -11.2, 14.0, -0.1, 4.49;
-  return g;
-}
+using testing::case_study_gain;
 
 double worst_cf(const MultisineSet& set) {
   double worst = 0.0;

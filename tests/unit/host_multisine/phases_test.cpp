@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "host/multisine/synthesis.hpp"
+#include "multisine_cases.hpp"
 
 namespace excite::host::multisine {
 namespace {
@@ -19,12 +20,7 @@ double angle_difference(double a, double b) {
   return std::remainder(a - b, 2.0 * kPi);
 }
 
-std::vector<Line> flat_schroeder(std::uint32_t count) {
-  const auto phases = schroeder_phases_equal(count);
-  std::vector<Line> lines(count);
-  for (std::uint32_t k = 0; k < count; ++k) lines[k] = {k + 1, 1.0, phases[k]};
-  return lines;
-}
+using testing::flat_schroeder;
 
 TEST(SchroederEqual, MatchesClosedFormHandValuesForFourLines) {
   // 4.4.8 with N = 4: φ_n = −π n(n−1)/4 → 0, −π/2, −3π/2, −3π.

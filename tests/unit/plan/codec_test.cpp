@@ -11,6 +11,7 @@
 #include "example_plan.hpp"
 #include "firmware/plan/crc32.hpp"
 #include "firmware/signal/generate.hpp"
+#include "plan_table.hpp"
 
 namespace excite::plan {
 namespace {
@@ -26,12 +27,7 @@ Bytes encoded(const Plan& plan) {
   return out;
 }
 
-std::vector<double> table_of(const signal::Recipe& recipe) {
-  std::vector<double> data(std::size_t{recipe.channels} * recipe.samples);
-  std::vector<double> scratch(signal::scratch_size(recipe));
-  EXPECT_TRUE(signal::generate(recipe, {data.data(), recipe.channels, recipe.samples}, scratch));
-  return data;
-}
+using testing::table_of;
 
 void put_u32(Bytes& b, std::size_t at, std::uint32_t v) {
   for (int i = 0; i < 4; ++i)

@@ -9,18 +9,14 @@
 
 #include "example_plan.hpp"
 #include "firmware/signal/generate.hpp"
+#include "plan_table.hpp"
 
 namespace excite::plan {
 namespace {
 
 using testing::example_plan;
 
-std::vector<double> table_of(const signal::Recipe& recipe) {
-  std::vector<double> data(std::size_t{recipe.channels} * recipe.samples);
-  std::vector<double> scratch(signal::scratch_size(recipe));
-  EXPECT_TRUE(signal::generate(recipe, {data.data(), recipe.channels, recipe.samples}, scratch));
-  return data;
-}
+using testing::table_of;
 
 TEST(CheckLimits, AcceptsATableInsideEveryChannelsLimits) {
   const auto plan = example_plan();

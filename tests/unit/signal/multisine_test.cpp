@@ -12,7 +12,7 @@
 namespace excite::signal {
 namespace {
 
-constexpr long double kTwoPi = 6.283185307179586476925286766559L;
+constexpr long double kTwoPiL = 6.283185307179586476925286766559L;
 
 std::vector<Line> random_lines(std::uint32_t period, std::size_t count, double phase_range,
                                std::uint32_t seed) {
@@ -38,7 +38,7 @@ long double direct_sum(const std::vector<Line>& lines, std::uint32_t period, std
   long double sum = 0.0L;
   for (const Line& l : lines) {
     const auto m = static_cast<long double>((std::uint64_t{l.index} * t) % period);
-    sum += l.amplitude * std::cos(kTwoPi * m / period + static_cast<long double>(l.phase));
+    sum += l.amplitude * std::cos(kTwoPiL * m / period + static_cast<long double>(l.phase));
   }
   return sum;
 }
