@@ -15,6 +15,7 @@
 #include <ctime>
 #include <string>
 
+#include "../../unit/host_multisine/multisine_cases.hpp"
 #include "host/multisine/allocation.hpp"
 #include "host/multisine/design.hpp"
 #include "host/multisine/guillaume.hpp"
@@ -27,21 +28,8 @@ using namespace excite::host::multisine;
 
 constexpr std::uint32_t kPeriod = 256;
 
-std::vector<Line> flat_schroeder(std::uint32_t count) {
-  const auto phases = schroeder_phases_equal(count);
-  std::vector<Line> lines(count);
-  for (std::uint32_t k = 0; k < count; ++k) lines[k] = {k + 1, 1.0, phases[k]};
-  return lines;
-}
-
-Eigen::MatrixXd case_study_gain() {  // G(0) of 6.3.1
-  Eigen::MatrixXd g(4, 4);
-  g << 4.09, 6.36, -0.25, -0.49,  //
-      -4.17, 6.93, -0.05, 1.53,   //
-      1.73, 5.11, 4.61, -5.49,    //
-      -11.2, 14.0, -0.1, 4.49;
-  return g;
-}
+using excite::host::multisine::testing::case_study_gain;  // G(0) of 6.3.1
+using excite::host::multisine::testing::flat_schroeder;
 
 DesignRequest case_study(std::uint32_t shared_slots) {
   DesignRequest request;
