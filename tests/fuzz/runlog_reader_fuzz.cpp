@@ -4,8 +4,9 @@
 // printable location; an accepted log is rectangular (every column has rows() values, one
 // du, u per input and one dy per output, names and units per channel), has at least
 // min_rows rows, a finite positive sample time, finite numbers, known flags and consecutive
-// sample indices; and it survives the writer: format_header + format_row of what was read,
-// read again, gives the identical columns (the writer's shortest round-trip numbers).
+// sample indices (a row flagged skipped jumps by the ticks missed); and it survives the writer:
+// format_header + format_row of what was read, read again, gives the identical columns (the
+// writer's shortest round-trip numbers).
 
 #include <cmath>
 #include <cstddef>
@@ -109,7 +110,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
   }
   for (std::size_t r = 0; r < rows; ++r) {
-    EXCITE_FUZZ_CHECK(r == 0 || log.k[r] == log.k[r - 1] + 1, "sample indices are consecutive");
+    // A row flagged skipped (v2 on) follows ticks the clock missed: k jumps by more than one.
+    const bool skipped = log.format_version >= 2 && (log.flags[r] & excite::runlog::kSkipped) != 0U;
+    EXCITE_FUZZ_CHECK(
+        r == 0 || (skipped ? log.k[r] > log.k[r - 1] + 1 : log.k[r] == log.k[r - 1] + 1),
+        "sample indices are consecutive, or jump at a row flagged skipped");
     EXCITE_FUZZ_CHECK(std::isfinite(log.t_min[r]), "time stamps are finite");
     EXCITE_FUZZ_CHECK((log.flags[r] & ~excite::runlog::kKnownFlags) == 0, "only known flags");
   }
