@@ -79,6 +79,26 @@ struct RowPrediction {
   std::string unknown;  // why the prediction cannot be made ("" when it can)
 };
 
+// The row's gains are correlated (one MISO fit): the covariances between its elements, on
+// the unit responses of the elements whose inputs move (an empty vector: input still).
+void add_gain_covariances(const IdentifiedModel& model, int j,
+                          const std::vector<Eigen::VectorXd>& unit_h,
+                          const std::vector<Eigen::VectorXd>& unit_s, RowPrediction& r) {
+  const auto row = static_cast<std::size_t>(j);
+  if (row >= model.gain_covariance.size()) return;
+  const Eigen::MatrixXd& G = model.gain_covariance[row];
+  for (int i = 0; i < model.inputs; ++i) {
+    for (int k = 0; k < model.inputs; ++k) {
+      const auto si = static_cast<std::size_t>(i), sk = static_cast<std::size_t>(k);
+      if (i == k || unit_h[si].size() == 0 || unit_h[sk].size() == 0 || !std::isfinite(G(i, k)))
+        continue;
+      r.a += G(i, k) * unit_h[si].cwiseProduct(unit_h[sk]);
+      r.b += G(i, k) * unit_h[si].cwiseProduct(unit_s[sk]);
+      r.c += G(i, k) * unit_s[si].cwiseProduct(unit_s[sk]);
+    }
+  }
+}
+
 RowPrediction predict_row(const IdentifiedModel& model, int j, const Eigen::MatrixXd& u_history,
                           const Eigen::MatrixXd& u_segment, Eigen::Index first, Eigen::Index rows) {
   const double T = model.sample_time_min;
@@ -145,21 +165,7 @@ RowPrediction predict_row(const IdentifiedModel& model, int j, const Eigen::Matr
     r.b += hC.cwiseProduct(ds).rowwise().sum();
     r.c += sC.cwiseProduct(ds).rowwise().sum();
   }
-  // The row's gains are correlated (one MISO fit): the covariances between its elements.
-  const auto row = static_cast<std::size_t>(j);
-  if (row < model.gain_covariance.size()) {
-    const Eigen::MatrixXd& G = model.gain_covariance[row];
-    for (int i = 0; i < model.inputs; ++i) {
-      for (int k = 0; k < model.inputs; ++k) {
-        const auto si = static_cast<std::size_t>(i), sk = static_cast<std::size_t>(k);
-        if (i == k || unit_h[si].size() == 0 || unit_h[sk].size() == 0 || !std::isfinite(G(i, k)))
-          continue;
-        r.a += G(i, k) * unit_h[si].cwiseProduct(unit_h[sk]);
-        r.b += G(i, k) * unit_h[si].cwiseProduct(unit_s[sk]);
-        r.c += G(i, k) * unit_s[si].cwiseProduct(unit_s[sk]);
-      }
-    }
-  }
+  add_gain_covariances(model, j, unit_h, unit_s, r);
   return r;
 }
 

@@ -55,6 +55,49 @@ std::string axis_unit(const std::string& unit) {
   return unit == "-" ? "[–]" : "[" + unit + "]";
 }
 
+// The step figure's data blocks, per element el: 3·el the ±2σ band as a closed outline
+// (lower edge forward, upper edge back), 3·el+1 the model's step, 3·el+2 the true step (empty
+// if unknown); each simplified within half a pixel of its panel. Returns, per element,
+// whether its band is known.
+std::vector<bool> write_step_data(const IdentifiedModel& m, const Eigen::MatrixXd& truth,
+                                  const std::vector<double>& t, double divisor,
+                                  const std::filesystem::path& figures, const std::string& data) {
+  std::vector<bool> band_known;
+  std::ostringstream out;
+  for (int o = 0; o < m.outputs; ++o) {
+    for (int i = 0; i < m.inputs; ++i) {
+      const ElementEstimate& est = m.element(o, i);
+      Polyline band, model, true_step;
+      bool known = false;
+      if (est.estimated()) {
+        const StepBand b = step_band(est, t);
+        known = true;
+        Polyline upper;
+        for (std::size_t k = 0; k < t.size(); ++k) {
+          const double x = t[k] / divisor, s = b.response[k], w = 2.0 * b.sigma[k];
+          if (!std::isfinite(w)) known = false;
+          model.push_back({x, s});
+          band.push_back({x, std::isfinite(w) ? s - w : s});
+          upper.push_back({x, std::isfinite(w) ? s + w : s});
+        }
+        band.insert(band.end(), upper.rbegin(), upper.rend());
+      }
+      const Eigen::Index column = o * m.inputs + i;
+      for (std::size_t k = 0; k < t.size() && column < truth.cols(); ++k) {
+        const auto kk = static_cast<Eigen::Index>(k);
+        if (kk < truth.rows()) true_step.push_back({t[k] / divisor, truth(kk, column)});
+      }
+      const PixelFrame frame = frame_of({band, model, true_step}, 260.0, 210.0);
+      write_block(out, simplify(band, frame));
+      write_block(out, simplify(model, frame));
+      write_block(out, simplify(true_step, frame));
+      band_known.push_back(known);
+    }
+  }
+  write_figure_source(figures, data, out.str());
+  return band_known;
+}
+
 // The step-response matrix: one panel per CV × MV, model with its ±2σ band, truth dashed.
 std::string step_script(const Experiment& e, const CampaignResult& r, const Eigen::MatrixXd& truth,
                         int horizon, const std::filesystem::path& figures) {
@@ -64,44 +107,7 @@ std::string step_script(const Experiment& e, const CampaignResult& r, const Eige
   for (int k = 0; k <= horizon; ++k) t.push_back(k * T);
   const auto [time_label, divisor] = time_axis(horizon * T);
   const std::string data = source_name(e.name + "-steps.dat");
-  std::vector<bool> band_known;
-  {
-    // Blocks per element el: 3·el the ±2σ band as a closed outline (lower edge forward,
-    // upper edge back), 3·el+1 the model's step, 3·el+2 the true step (empty if unknown);
-    // each simplified within half a pixel of its panel.
-    std::ostringstream out;
-    for (int o = 0; o < m.outputs; ++o) {
-      for (int i = 0; i < m.inputs; ++i) {
-        const ElementEstimate& est = m.element(o, i);
-        Polyline band, model, true_step;
-        bool known = false;
-        if (est.estimated()) {
-          const StepBand b = step_band(est, t);
-          known = true;
-          Polyline upper;
-          for (std::size_t k = 0; k < t.size(); ++k) {
-            const double x = t[k] / divisor, s = b.response[k], w = 2.0 * b.sigma[k];
-            if (!std::isfinite(w)) known = false;
-            model.push_back({x, s});
-            band.push_back({x, std::isfinite(w) ? s - w : s});
-            upper.push_back({x, std::isfinite(w) ? s + w : s});
-          }
-          band.insert(band.end(), upper.rbegin(), upper.rend());
-        }
-        const Eigen::Index column = o * m.inputs + i;
-        for (std::size_t k = 0; k < t.size() && column < truth.cols(); ++k) {
-          const auto kk = static_cast<Eigen::Index>(k);
-          if (kk < truth.rows()) true_step.push_back({t[k] / divisor, truth(kk, column)});
-        }
-        const PixelFrame frame = frame_of({band, model, true_step}, 260.0, 210.0);
-        write_block(out, simplify(band, frame));
-        write_block(out, simplify(model, frame));
-        write_block(out, simplify(true_step, frame));
-        band_known.push_back(known);
-      }
-    }
-    write_figure_source(figures, data, out.str());
-  }
+  const std::vector<bool> band_known = write_step_data(m, truth, t, divisor, figures, data);
   const int p = m.outputs, n = m.inputs;
   const std::string script = source_name(e.name + "-steps.gp");
   std::ostringstream gp;

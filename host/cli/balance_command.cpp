@@ -2,26 +2,24 @@
 // excite balance RUN.csv (--plant NAME | --gain FILE) [--json]: how evenly the outputs of
 // an experiment spread over the output gain directions (5.5.2) and Υ (6.2.1). A log with
 // flagged rows is measured on its scored rows, each segment about its own mean, and per
-// segment (identify's rule, segmented_run.hpp).
+// segment (identify's rule, host/identify/run_log_input.hpp).
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <optional>
 
 #include "host/cli/commands.hpp"
-#include "host/cli/run_input.hpp"
 #include "host/cli/run_layout_text.hpp"
-#include "host/cli/segmented_run.hpp"
-#include "host/cli/text_table.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/export/json_util.hpp"
 #include "host/export/model_file.hpp"
 #include "host/identify/balance.hpp"
+#include "host/identify/run_log_input.hpp"
 #include "host/measures/gain_directions.hpp"
 #include "host/output/input_path.hpp"
 #include "host/output/json_file.hpp"
+#include "host/output/text_table.hpp"
 
 namespace excite::host::cli {
 namespace {
@@ -76,11 +74,10 @@ Eigen::MatrixXd read_gain_file(const std::string& path) {
   return g;
 }
 
-void run(const BalanceOptions& opt) {
-  if (opt.plant.empty() == opt.gain_path.empty())
-    throw std::invalid_argument("give exactly one of --plant and --gain");
-  const SegmentedRun run = read_segmented_run(opt.run_path);
-  const StackedRuns& data = run.data;
+// The gain the balance is judged against (--plant's or --gain's), checked against the run's
+// size and refused when singular: a zero singular value leaves its output direction
+// arbitrary, so the projections, the ratio and the condition number would mean nothing.
+GainAnalysis checked_gain(const BalanceOptions& opt, const StackedRuns& data) {
   const Eigen::MatrixXd gain =
       opt.plant.empty() ? read_gain_file(opt.gain_path) : plant_gain(opt.plant);
   const std::string source = opt.plant.empty() ? opt.gain_path : "plant " + opt.plant;
@@ -90,9 +87,7 @@ void run(const BalanceOptions& opt) {
         ", " + opt.run_path + " has " + std::to_string(data.Y.cols()) + " outputs x " +
         std::to_string(data.U.cols()) + " inputs, expected outputs x inputs of the run");
   }
-  const GainAnalysis a = analyse_gain(gain);
-  // A zero singular value leaves its output direction arbitrary: the projections, the ratio
-  // and the condition number would mean nothing (or be inf).
+  GainAnalysis a = analyse_gain(gain);
   const double sigma_max = a.singular_values.maxCoeff(), sigma_min = a.singular_values.minCoeff();
   if (!(sigma_min > kMinSingularRatio * sigma_max)) {
     char text[200];
@@ -102,24 +97,18 @@ void run(const BalanceOptions& opt) {
                   sigma_min, sigma_max, kMinSingularRatio);
     throw std::invalid_argument(source + text);
   }
-  if (needs_warning(data.report)) {
-    std::cerr << "excite: warning: " << layout_summary(data.report, 1) << '\n';
-  }
-  // The scored rows of every segment about the segment's own mean, pooled.
-  const Eigen::MatrixXd Y = scored_about_segment_means(data.Y, data.layout);
-  if (Y.rows() < 2) {
-    throw std::invalid_argument(opt.run_path + ": " + layout_summary(data.report, 1) +
-                                ", expected at least 2 scored rows");
-  }
-  const DirectionalBalance b = directional_balance(Y, a.output_directions);
-  const double upsilon = output_correlation_determinant(Y);
-  // Per segment, what it can say (a short or constant segment has no balance: null / "-").
-  struct PerSegment {
-    Segment s;
-    Eigen::Index scored = 0;
-    std::optional<DirectionalBalance> balance;
-    std::optional<double> upsilon;
-  };
+  return a;
+}
+
+// Per segment, what it can say (a short or constant segment has no balance: null / "-").
+struct PerSegment {
+  Segment s;
+  Eigen::Index scored = 0;
+  std::optional<DirectionalBalance> balance;
+  std::optional<double> upsilon;
+};
+
+std::vector<PerSegment> per_segment(const StackedRuns& data, const GainAnalysis& a) {
   std::vector<PerSegment> per;
   for (const Segment& s : scored_segments(data.layout)) {
     const Eigen::MatrixXd part = data.layout.scored_rows(data.Y, s.begin, s.end);
@@ -131,24 +120,30 @@ void run(const BalanceOptions& opt) {
     }
     per.push_back(p);
   }
-  if (opt.json) {
-    nlohmann::json j{{"projection_std", to_json(b.std_dev)},
-                     {"ratio", to_json(b.ratio)},
-                     {"upsilon", to_json(upsilon)},
-                     {"data", layout_json(data.report, {opt.run_path})}};
-    nlohmann::json js = nlohmann::json::array();
-    for (const PerSegment& p : per) {
-      js.push_back({{"first_row", p.s.begin + 1},
-                    {"rows", p.s.end - p.s.begin},
-                    {"scored_rows", p.scored},
-                    {"projection_std", p.balance ? to_json(p.balance->std_dev) : nullptr},
-                    {"ratio", p.balance ? to_json(p.balance->ratio) : nullptr},
-                    {"upsilon", p.upsilon ? to_json(*p.upsilon) : nullptr}});
-    }
-    j["segments"] = js;
-    std::cout << j.dump(2) << '\n';
-    return;
+  return per;
+}
+
+void print_json(const BalanceOptions& opt, const StackedRuns& data, const DirectionalBalance& b,
+                double upsilon, const std::vector<PerSegment>& per) {
+  nlohmann::json j{{"projection_std", to_json(b.std_dev)},
+                   {"ratio", to_json(b.ratio)},
+                   {"upsilon", to_json(upsilon)},
+                   {"data", layout_json(data.report, {opt.run_path})}};
+  nlohmann::json js = nlohmann::json::array();
+  for (const PerSegment& p : per) {
+    js.push_back({{"first_row", p.s.begin + 1},
+                  {"rows", p.s.end - p.s.begin},
+                  {"scored_rows", p.scored},
+                  {"projection_std", p.balance ? to_json(p.balance->std_dev) : nullptr},
+                  {"ratio", p.balance ? to_json(p.balance->ratio) : nullptr},
+                  {"upsilon", p.upsilon ? to_json(*p.upsilon) : nullptr}});
   }
+  j["segments"] = js;
+  std::cout << j.dump(2) << '\n';
+}
+
+void print_text(const GainAnalysis& a, const DirectionalBalance& b, double upsilon,
+                const std::vector<PerSegment>& per) {
   TextTable t({"direction", "sigma_i", "std of w_i'y"});
   for (Eigen::Index i = 0; i < b.std_dev.size(); ++i) {
     t.add_row({std::to_string(i + 1), num(a.singular_values(i), 5), num(b.std_dev(i), 5)});
@@ -156,16 +151,40 @@ void run(const BalanceOptions& opt) {
   t.print(std::cout);
   std::cout << "ratio min/max = " << num(b.ratio)
             << " (1: balanced), Upsilon = det(corr(Y)) = " << num(upsilon) << '\n';
-  if (per.size() > 1) {
-    TextTable ts({"segment", "first row", "rows", "scored", "ratio", "Upsilon"});
-    for (std::size_t k = 0; k < per.size(); ++k) {
-      const PerSegment& p = per[k];
-      ts.add_row({std::to_string(k + 1), std::to_string(p.s.begin + 1),
-                  std::to_string(p.s.end - p.s.begin), std::to_string(p.scored),
-                  p.balance ? num(p.balance->ratio) : "-", p.upsilon ? num(*p.upsilon) : "-"});
-    }
-    std::cout << '\n';
-    ts.print(std::cout);
+  if (per.size() <= 1) return;
+  TextTable ts({"segment", "first row", "rows", "scored", "ratio", "Upsilon"});
+  for (std::size_t k = 0; k < per.size(); ++k) {
+    const PerSegment& p = per[k];
+    ts.add_row({std::to_string(k + 1), std::to_string(p.s.begin + 1),
+                std::to_string(p.s.end - p.s.begin), std::to_string(p.scored),
+                p.balance ? num(p.balance->ratio) : "-", p.upsilon ? num(*p.upsilon) : "-"});
+  }
+  std::cout << '\n';
+  ts.print(std::cout);
+}
+
+void run(const BalanceOptions& opt) {
+  if (opt.plant.empty() == opt.gain_path.empty())
+    throw std::invalid_argument("give exactly one of --plant and --gain");
+  const SegmentedRun run = read_segmented_run(opt.run_path);
+  const StackedRuns& data = run.data;
+  const GainAnalysis a = checked_gain(opt, data);
+  if (needs_warning(data.report)) {
+    std::cerr << "excite: warning: " << layout_summary(data.report, 1) << '\n';
+  }
+  // The scored rows of every segment about the segment's own mean, pooled.
+  const Eigen::MatrixXd Y = scored_about_segment_means(data.Y, data.layout);
+  if (Y.rows() < 2) {
+    throw std::invalid_argument(opt.run_path + ": " + layout_summary(data.report, 1) +
+                                ", expected at least 2 scored rows");
+  }
+  const DirectionalBalance b = directional_balance(Y, a.output_directions);
+  const double upsilon = output_correlation_determinant(Y);
+  const std::vector<PerSegment> per = per_segment(data, a);
+  if (opt.json) {
+    print_json(opt, data, b, upsilon, per);
+  } else {
+    print_text(a, b, upsilon, per);
   }
 }
 

@@ -7,12 +7,12 @@
 
 #include "host/cli/commands.hpp"
 #include "host/cli/creation_time.hpp"
-#include "host/cli/text_table.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/design/presets.hpp"
 #include "host/measures/gain_directions.hpp"
 #include "host/measures/input_measures.hpp"
+#include "host/output/text_table.hpp"
 
 namespace excite::host::cli {
 namespace {

@@ -5,10 +5,10 @@
 
 #include "host/cli/commands.hpp"
 #include "host/cli/number_checks.hpp"
-#include "host/cli/text_table.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/export/json_util.hpp"
 #include "host/measures/gain_directions.hpp"
+#include "host/output/text_table.hpp"
 
 namespace excite::host::cli {
 namespace {

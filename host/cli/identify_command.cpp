@@ -5,13 +5,10 @@
 //                 [--trend none|offset|linear] [--structure auto|NAME]
 //                 [--structures-from MODEL.json]
 // Models per output (each element's structure chosen by BIC, or forced by --structure or to
-// an earlier model's by --structures-from), fit %
-// (5.5.1), identified G(0) and its directions. Several runs are identified together; the logs'
-// flags decide which rows are scored and where the model restarts (host/identify/run_layout.hpp);
-// what was excluded is warned on stderr. Time constants are bounded above by β·τ_H (SPEC §6):
-// --max-time-constant if given, else
-// --tau-high, else the run logs' own design time scales, else the case study of the run
-// log's plant; without any, it refuses (host/cli/time_constant_bound.hpp).
+// an earlier model's by --structures-from), fit % (5.5.1), identified G(0) and its directions.
+// Several runs are identified together; the logs' flags decide which rows are scored and where
+// the model restarts (host/identify/run_layout.hpp); what was excluded is warned on stderr.
+// Time constants are bounded above by β·τ_H (SPEC §6; host/design/time_constant_bound.hpp).
 // A closed-loop run (run-log v4, its r recorded) is identified by the two-stage method on r
 // (host/identify/closed_loop.hpp) with the direct fit beside it as a cross-check; the model
 // written is the two-stage one (--method direct: the direct one). One closed-loop run at a time.
@@ -19,21 +16,21 @@
 #include <cmath>
 #include <iostream>
 #include <optional>
-#include <sstream>
 #include <utility>
 
 #include "firmware/runlog/reader.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/output_target.hpp"
-#include "host/cli/pooled_runs.hpp"
-#include "host/cli/run_input.hpp"
 #include "host/cli/run_layout_text.hpp"
-#include "host/cli/text_table.hpp"
 #include "host/cli/time_constant_bound.hpp"
 #include "host/export/model_file.hpp"
 #include "host/identify/closed_loop.hpp"
+#include "host/identify/identification_text.hpp"
 #include "host/identify/run_layout.hpp"
+#include "host/identify/run_log_input.hpp"
+#include "host/identify/run_log_limits.hpp"
+#include "host/output/text_table.hpp"
 #include "host/output/whole_file.hpp"
 
 namespace excite::host::cli {
@@ -56,106 +53,6 @@ struct IdentifyCommandOptions {
   int stage1_lags = 0;          // 0: project_on_reference's default
 };
 
-std::string with_unit(const std::string& name, const std::string& unit) {
-  return unit.empty() || unit == "-" ? name : name + " [" + unit + "]";
-}
-
-// σ_i ± SE, the direction angles' uncertainty and the principal minors at risk.
-void print_uncertainty(const GainUncertainty& u) {
-  TextTable t({"direction", "sigma", "+-", "v angle +- [deg]", "w angle +- [deg]"});
-  for (Eigen::Index i = 0; i < u.singular_values.size(); ++i) {
-    t.add_row({std::to_string(i + 1), num(u.singular_values(i), 5), num(u.singular_value_se(i), 3),
-               num(u.input_angle_se_deg(i), 3), num(u.output_angle_se_deg(i), 3)});
-  }
-  t.print(std::cout);
-  if (u.principal_minors.empty()) return;
-  std::cout << "principal minors: " << u.principal_minors.size() << ", " << u.sign_uncertain_minors
-            << " whose sign a gain error within its 95 % interval can flip";
-  const PrincipalMinor& det = u.principal_minors.back();
-  std::cout << "; det G(0) = " << num(det.value, 4) << " +- " << num(det.std_error, 3)
-            << (det.sign_uncertain ? " (sign undetermined: integral controllability at risk)" : "")
-            << '\n';
-  for (const PrincipalMinor& pm : u.principal_minors) {
-    if (!pm.sign_uncertain || &pm == &det) continue;
-    std::cout << "  minor of rows/columns";
-    for (const int k : pm.rows) std::cout << ' ' << k + 1;
-    std::cout << " = " << num(pm.value, 4) << " +- " << num(pm.std_error, 3) << '\n';
-  }
-}
-
-void print(const IdentificationResult& r, const runlog::RunLog& log) {
-  const IdentifiedModel& m = r.model;
-  for (int o = 0; o < m.outputs; ++o) {
-    const auto oi = static_cast<std::size_t>(o);
-    std::cout << "output " << with_unit(log.output_names[oi], log.output_units[oi])
-              << ": fit = " << num(r.fits[oi].fit_percent) << " %\n";
-    const ResidualTests& tests = r.fits[oi].residual_tests;
-    if (tests.lags > 0) {
-      std::cout << "  residual " << (tests.white() ? "white" : "NOT white")
-                << " (Q = " << num(tests.whiteness, 3) << ", 99 % limit "
-                << num(tests.whiteness_limit, 3) << ", " << tests.lags << " lags)\n";
-    }
-    if (!r.fits[oi].inputs_together.empty()) {
-      std::cout << "  inputs together: " << r.fits[oi].inputs_together << '\n';
-    }
-    // A column per parameter that some element of the row has (its structure's), "-" where
-    // an element's structure has no such parameter.
-    std::vector<int> shown;
-    for (int k = 0; k < kParameters; ++k) {
-      bool used = false;
-      for (int i = 0; i < m.inputs; ++i) {
-        const ElementEstimate& e = m.element(o, i);
-        used |= e.estimated() && is_free(e.value.structure, k);
-      }
-      if (used || k <= kTp2) shown.push_back(k);
-    }
-    std::vector<std::string> header{"input", "grade", "structure"};
-    for (const int k : shown) {
-      const auto p = static_cast<Parameter>(k);
-      header.push_back(std::string(parameter_name(p)) +
-                       (k == kGain || k == kDamping ? "" : " [min]"));
-      header.push_back("+-");
-    }
-    header.push_back("status");
-    TextTable t(header);
-    for (int i = 0; i < m.inputs; ++i) {
-      const ElementEstimate& e = m.element(o, i);
-      std::string status = to_string(e.status);
-      if (!e.reason.empty()) status += ": " + e.reason;
-      for (const std::string& b : e.on_bound()) status += "; " + b;
-      const auto ii = static_cast<std::size_t>(i);
-      std::vector<std::string> row{with_unit(log.input_names[ii], log.input_units[ii]),
-                                   to_string(e.grade),
-                                   e.estimated() ? to_string(e.value.structure) : "-"};
-      for (const int k : shown) {
-        const bool has = !e.estimated() || is_free(e.value.structure, k);
-        row.push_back(has ? num(e.value[k]) : "-");
-        row.push_back(has ? num(e.std_error[k]) : "-");
-      }
-      row.push_back(status);
-      t.add_row(row);
-    }
-    t.print(std::cout);
-    for (int i = 0; i < m.inputs; ++i) {  // what kept each element from grade A
-      const ElementEstimate& e = m.element(o, i);
-      if (e.grade_reason.empty()) continue;
-      std::cout << "  " << log.input_names[static_cast<std::size_t>(i)] << ": "
-                << to_string(e.grade) << ", " << e.grade_reason << '\n';
-    }
-    std::cout << '\n';
-  }
-  if (r.gain) {
-    std::cout << "identified G(0): singular values";
-    for (Eigen::Index i = 0; i < r.gain->singular_values.size(); ++i) {
-      std::cout << ' ' << num(r.gain->singular_values(i), 5);
-    }
-    std::cout << ", condition number " << num(r.gain->condition_number, 5) << '\n';
-    if (const auto& u = r.gain_uncertainty) print_uncertainty(*u);
-  } else {
-    std::cout << "identified G(0): " << r.gain_unavailable_reason << '\n';
-  }
-}
-
 // G(0) of a model with its standard errors, element by element.
 nlohmann::json gains_json(const IdentifiedModel& m) {
   nlohmann::json g = nlohmann::json::array(), se = nlohmann::json::array();
@@ -171,11 +68,6 @@ nlohmann::json gains_json(const IdentifiedModel& m) {
     se.push_back(row_se);
   }
   return {{"gain", g}, {"gain_std_error", se}};
-}
-
-std::string element_name(const runlog::RunLog& log, int o, int i) {
-  return log.output_names[static_cast<std::size_t>(o)] + "<-" +
-         log.input_names[static_cast<std::size_t>(i)];
 }
 
 // What the closed-loop identification adds to the model file: the method, stage 1, the
@@ -199,37 +91,6 @@ nlohmann::json closed_loop_json(const ClosedLoopIdentification& id, const runlog
       {"stage1", {{"fir_lags", id.stage1.lags}, {"u_explained_by_r_percent", fit}}},
       {direct ? "two_stage" : "direct", gains_json(direct ? id.two_stage.model : id.direct.model)},
       {"feedback_bias_suspected", bias}};
-}
-
-void print_closed_loop(const ClosedLoopIdentification& id, const runlog::RunLog& log,
-                       const std::string& method) {
-  const bool direct = method == "direct";
-  const IdentifiedModel& other = direct ? id.two_stage.model : id.direct.model;
-  std::cout << (direct ? "two-stage estimate (cross-check)"
-                       : "direct fit on the applied u "
-                         "(cross-check)")
-            << ": G(0) =";
-  for (int o = 0; o < other.outputs; ++o) {
-    std::cout << (o == 0 ? " [" : "; ");
-    for (int i = 0; i < other.inputs; ++i) {
-      const ElementEstimate& e = other.element(o, i);
-      std::cout << (i == 0 ? "" : " ") << (e.estimated() ? num(e.value.static_gain(), 4) : "-")
-                << " +- " << (e.estimated() ? num(e.std_error.gain, 2) : "-");
-    }
-  }
-  std::cout << "]\n";
-  if (id.feedback_bias.empty()) {
-    std::cout << "no feedback bias suspected: the two G(0) agree within 2 sigma in every "
-                 "element\n";
-    return;
-  }
-  std::cout << "feedback bias suspected in " << id.feedback_bias.size()
-            << " element(s) (two-stage and direct G(0) differ by more than 2 sigma):\n";
-  for (const GainDisagreement& d : id.feedback_bias) {
-    std::cout << "  " << element_name(log, d.output, d.input) << ": two-stage "
-              << num(d.two_stage, 4) << ", direct " << num(d.direct, 4)
-              << " (2 sigma = " << num(2.0 * d.sigma, 3) << ")\n";
-  }
 }
 
 // The model file's channel limit, before any fit (a 65-input run once took 77 s and wrote a
@@ -331,7 +192,8 @@ void run(const IdentifyCommandOptions& opt) {
   IdentifyOptions options = identify_options(opt, runs);
   std::vector<RunTimeScales> scales;
   for (std::size_t r = 0; r < runs.size(); ++r) {
-    scales.push_back({opt.run_paths[r], runs[r].plant, runs[r].time_scales});
+    scales.push_back({opt.run_paths[r], runs[r].plant, runs[r].time_scales.tau_high_min,
+                      runs[r].time_scales.beta});
   }
   const auto [bound, source] = time_constant_bound(opt.bound, scales);
   options.max_time_constant_min = bound;
@@ -365,8 +227,8 @@ void run(const IdentifyCommandOptions& opt) {
       std::cout << ")\n";
     }
     std::cout << '\n';
-    print(result, first);
-    if (closed) print_closed_loop(*closed, first, opt.method);
+    print_identification(std::cout, result, first);
+    if (closed) print_closed_loop(std::cout, *closed, first, opt.method == "direct");
   }
 }
 

@@ -14,7 +14,7 @@
 #include "host/cli/commands.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/output_target.hpp"
-#include "host/cli/run_input.hpp"
+#include "host/identify/run_log_limits.hpp"
 #include "host/import/csv_text.hpp"
 #include "host/import/historian_csv.hpp"
 #include "host/import/import_run.hpp"
@@ -89,12 +89,8 @@ void parse_baseline(const std::string& text, historian::ImportOptions& o) {
   }
 }
 
-void run(ImportCommandOptions opt) {
-  refuse_directory(opt.historian_path, "a historian export (CSV)");
-  refuse_output_among_inputs(opt.output_path, {opt.historian_path, opt.map_path});
-  const HumanTextAside aside(opt.output_path);
-  historian::ImportOptions& o = opt.import;
-  if (o.time_scales.tau_high_min > 0.0 && o.time_scales.beta == 0.0) o.time_scales.beta = 3.0;
+// The MV and CV tags, from --map or from --mv and --cv (not both); at least one of each.
+void take_tags(const ImportCommandOptions& opt, historian::ImportOptions& o) {
   if (!opt.map_path.empty()) {
     if (!opt.mv_tags.empty() || !opt.cv_tags.empty()) {
       throw std::invalid_argument("--map " + opt.map_path +
@@ -112,14 +108,11 @@ void run(ImportCommandOptions opt) {
                                 std::to_string(o.cvs.size()) +
                                 " CV tags, expected at least one of each (--mv, --cv or --map)");
   }
-  o.resample = opt.resample == "linear" ? historian::Resample::linear : historian::Resample::hold;
-  o.detrend = opt.detrend == "offset"   ? historian::Detrend::offset
-              : opt.detrend == "linear" ? historian::Detrend::linear
-                                        : historian::Detrend::none;
-  parse_baseline(opt.baseline, o);
-  std::vector<std::string> tags;
-  for (const auto& t : o.mvs) tags.push_back(t.tag);
-  for (const auto& t : o.cvs) tags.push_back(t.tag);
+}
+
+// The export's layout from the options (delimiter, decimal comma, long or wide, time column,
+// epoch), checked for combinations that contradict each other; the run-log limits.
+void take_csv_layout(ImportCommandOptions& opt) {
   historian::CsvOptions& csv = opt.csv;
   csv.delimiter = delimiter_of(opt.delimiter);
   if (csv.decimal_comma && csv.delimiter == ',') {
@@ -140,20 +133,18 @@ void run(ImportCommandOptions opt) {
   // Absolute values within half the limit keep their deviations within it.
   csv.max_value = kMaxRunValue / 2.0;
   csv.max_samples = 20 * kMaxRunRows;
-  o.max_rows = kMaxRunRows;
-  refuse_directory(opt.historian_path, "a historian export (CSV)");
-  const historian::HistorianData data = historian::read_historian(opt.historian_path, tags, csv);
-  take_units(data, o.mvs, 0);
-  take_units(data, o.cvs, o.mvs.size());
-  const historian::ImportedRun run = historian::import_historian(data, o);
-  const std::string source = std::filesystem::path(opt.historian_path).filename().string();
-  write_whole_file(opt.output_path, historian::run_log_text(run, source));
+}
 
+// What was written: the run's size and flags, then per tag its baseline, bad points and cells,
+// and what detrending removed.
+void print_imported(const ImportCommandOptions& opt, const historian::HistorianData& data,
+                    const historian::ImportedRun& run) {
   if (!run.start_at_rest) std::cerr << "excite: warning: " << run.baseline_note << '\n';
   std::cout << "wrote " << opt.output_path << ": " << run.rows() << " samples of "
             << run.sample_time_min << " min, " << run.inputs.size() << " inputs, "
             << run.outputs.size() << " outputs; " << run.bad_rows << " rows flagged bad_value, "
             << run.discontinuities << " discontinuities\n";
+  const historian::Detrend detrend = opt.import.detrend;
   std::vector<historian::TagSpec> all = run.inputs;
   all.insert(all.end(), run.outputs.begin(), run.outputs.end());
   for (std::size_t a = 0; a < all.size(); ++a) {
@@ -169,15 +160,42 @@ void run(ImportCommandOptions opt) {
         std::cout << " line " << b.line << " " << historian::quote_cell(b.text);
       }
     }
-    if (!is_input && o.detrend != historian::Detrend::none) {
+    if (!is_input && detrend != historian::Detrend::none) {
       const std::size_t j = a - run.inputs.size();
       std::cout << ", removed offset " << run.removed_offset[j];
-      if (o.detrend == historian::Detrend::linear) {
+      if (detrend == historian::Detrend::linear) {
         std::cout << " and slope " << run.removed_slope_per_min[j] << " per min";
       }
     }
     std::cout << '\n';
   }
+}
+
+void run(ImportCommandOptions opt) {
+  refuse_directory(opt.historian_path, "a historian export (CSV)");
+  refuse_output_among_inputs(opt.output_path, {opt.historian_path, opt.map_path});
+  const HumanTextAside aside(opt.output_path);
+  historian::ImportOptions& o = opt.import;
+  if (o.time_scales.tau_high_min > 0.0 && o.time_scales.beta == 0.0) o.time_scales.beta = 3.0;
+  take_tags(opt, o);
+  o.resample = opt.resample == "linear" ? historian::Resample::linear : historian::Resample::hold;
+  o.detrend = opt.detrend == "offset"   ? historian::Detrend::offset
+              : opt.detrend == "linear" ? historian::Detrend::linear
+                                        : historian::Detrend::none;
+  parse_baseline(opt.baseline, o);
+  std::vector<std::string> tags;
+  for (const auto& t : o.mvs) tags.push_back(t.tag);
+  for (const auto& t : o.cvs) tags.push_back(t.tag);
+  take_csv_layout(opt);
+  o.max_rows = kMaxRunRows;
+  const historian::HistorianData data =
+      historian::read_historian(opt.historian_path, tags, opt.csv);
+  take_units(data, o.mvs, 0);
+  take_units(data, o.cvs, o.mvs.size());
+  const historian::ImportedRun run = historian::import_historian(data, o);
+  const std::string source = std::filesystem::path(opt.historian_path).filename().string();
+  write_whole_file(opt.output_path, historian::run_log_text(run, source));
+  print_imported(opt, data, run);
 }
 
 }  // namespace

@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include "host/cli/text_table.hpp"
 #include "host/export/json_util.hpp"
+#include "host/output/text_table.hpp"
 
 namespace excite::host::cli {
 namespace {

@@ -17,12 +17,12 @@
 #include "host/cli/commands.hpp"
 #include "host/cli/number_checks.hpp"
 #include "host/cli/output_target.hpp"
-#include "host/cli/run_input.hpp"
-#include "host/cli/text_table.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/design/table.hpp"
 #include "host/export/model_file.hpp"
 #include "host/export/model_plant.hpp"
+#include "host/identify/run_log_limits.hpp"
+#include "host/output/text_table.hpp"
 #include "host/simulate/closed_loop.hpp"
 #include "host/simulate/simulate.hpp"
 #include "sim/control/controller_file.hpp"
@@ -141,7 +141,7 @@ void run(const SimulateOptions& opt) {
       throw std::invalid_argument("--step \"" + opt.step +
                                   "\": the amplitude is not a finite number");
     }
-    if (std::fabs(amplitude) > kMaxRunValue) {  // the run log's value limit (run_input.hpp)
+    if (std::fabs(amplitude) > kMaxRunValue) {  // the run log's value limit (run_log_limits.hpp)
       char text[160];
       std::snprintf(text, sizeof text, "--step: amplitude = %g, expected |amplitude| <= %g",
                     amplitude, kMaxRunValue);

@@ -71,6 +71,91 @@ void run(const TestCommandOptions& opt) {
   }
 }
 
+// Where the test runs: the simulated plant, or a running gateway's inbox and log; and its
+// folder. Returns the --inbox option, which the simulation's options exclude.
+CLI::Option* add_where_options(CLI::App* cmd, TestCommandOptions& o) {
+  CLI::Option* plant = cmd->add_option(
+      "--plant", o.plant,
+      "the simulated plant, with its case study as the prior knowledge (through a gateway: the "
+      "case study only)");
+  CLI::Option* spec =
+      cmd->add_option("--spec", o.spec, "through a gateway: the prior knowledge from a design spec")
+          ->check(CLI::ExistingFile);
+  spec->excludes(plant);
+  CLI::Option* inbox =
+      cmd->add_option("--inbox", o.inbox,
+                      "run through a running excite-gateway: its --segment-inbox folder")
+          ->check(CLI::ExistingDirectory);
+  CLI::Option* run_log = cmd->add_option("--run-log", o.run_log,
+                                         "through a gateway: its --log file (read as it grows)");
+  inbox->needs(run_log);
+  run_log->needs(inbox);
+  spec->needs(inbox);
+  cmd->add_option("--segment-timeout-min", o.segment_timeout_min,
+                  "through a gateway: the longest wait for one segment's rows, real minutes "
+                  "(default: the plain design's length)")
+      ->check(finite_positive())
+      ->needs(inbox);
+  cmd->add_option("-o,--output", o.output,
+                  "the test's folder: decisions.jsonl, status.txt, segments/, run.csv, model.json "
+                  "(a study: study.json)")
+      ->required();
+  return inbox;
+}
+
+// The simulation's options: not through a gateway.
+void add_simulation_options(CLI::App* cmd, TestCommandOptions& o, CLI::Option* inbox) {
+  cmd->add_option("--seed", o.seed, "the noise seed (a study: the first seed)")
+      ->capture_default_str()
+      ->excludes(inbox);
+  cmd->add_option("--seeds", o.seeds, "run a study over this many seeds, judged against the truth")
+      ->check(CLI::Range(1, 1'000'000))
+      ->excludes(inbox);
+  cmd->add_option("--threads", o.threads, "a study's seeds in parallel")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 256))
+      ->excludes(inbox);
+  cmd->add_option("--noise-var", o.noise_variance,
+                  "measurement noise variance per output (default: the case study's)")
+      ->check(finite_non_negative())
+      ->excludes(inbox);
+  cmd->add_option("--perturb", o.perturb,
+                  "percent: the true plant's gains, time constants and delays drawn within +-X % "
+                  "from the seed (linear plants); the prior stays nominal")
+      ->capture_default_str()
+      ->excludes(inbox);
+}
+
+// The adaptive test's own options: segments, stop, amplitude control, the rule.
+void add_adaptive_options(CLI::App* cmd, TestCommandOptions& o) {
+  cmd->add_option("--segment-min", o.adaptive.segment_min,
+                  "re-estimate after every H minutes (default 4 tau_H; whole PRBS bits)")
+      ->check(finite_positive());
+  cmd->add_option("--max-min", o.adaptive.max_length_min,
+                  "stop here at the latest (default: the plain PRBS design's length)")
+      ->check(finite_positive());
+  cmd->add_option("--limit", o.limits,
+                  "a CV's test limits as deviations from its baseline: CV=LOW:HIGH (repeat); "
+                  "segments are then sized by predictive amplitude control");
+  cmd->add_option("--k-sigma", o.adaptive.scale.k_sigma,
+                  "amplitude control's band: prediction +- k sigma")
+      ->capture_default_str()
+      ->check(finite_non_negative());
+  cmd->add_option("--first-scale", o.adaptive.first_scale,
+                  "the plain segments' amplitude as a share of the prior's prbsUnc design "
+                  "(0 < S <= 1)")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 1.0));
+  cmd->add_option("--weight-floor", o.adaptive.weight_floor,
+                  "no gain direction's weight below this (0 < F <= 1)")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 1.0));
+  cmd->add_flag("--residual-tests", o.adaptive.rule.residual_tests,
+                "stop only when every output's residual tests pass (1 %) too");
+  cmd->add_flag("--colour", o.adaptive.rule.colour,
+                "widen the gain intervals by the residuals' long-run variance ratio");
+}
+
 }  // namespace
 
 void add_test_command(CLI::App& app) {
@@ -80,79 +165,9 @@ void add_test_command(CLI::App& app) {
       "The adaptive plant test, on a simulated plant or through a running gateway: excite, "
       "re-estimate, re-aim along the least certain gain directions, resize for the CV limits, "
       "stop when the model is good enough");
-  CLI::Option* plant = cmd->add_option(
-      "--plant", opt->plant,
-      "the simulated plant, with its case study as the prior knowledge (through a gateway: the "
-      "case study only)");
-  CLI::Option* spec = cmd->add_option("--spec", opt->spec,
-                                      "through a gateway: the prior knowledge from a design spec")
-                          ->check(CLI::ExistingFile);
-  spec->excludes(plant);
-  CLI::Option* inbox =
-      cmd->add_option("--inbox", opt->inbox,
-                      "run through a running excite-gateway: its --segment-inbox folder")
-          ->check(CLI::ExistingDirectory);
-  CLI::Option* run_log = cmd->add_option("--run-log", opt->run_log,
-                                         "through a gateway: its --log file (read as it grows)");
-  inbox->needs(run_log);
-  run_log->needs(inbox);
-  spec->needs(inbox);
-  cmd->add_option("--segment-timeout-min", opt->segment_timeout_min,
-                  "through a gateway: the longest wait for one segment's rows, real minutes "
-                  "(default: the plain design's length)")
-      ->check(finite_positive())
-      ->needs(inbox);
-  cmd->add_option("-o,--output", opt->output,
-                  "the test's folder: decisions.jsonl, status.txt, segments/, run.csv, model.json "
-                  "(a study: study.json)")
-      ->required();
-  // The simulation's options: not through a gateway.
-  cmd->add_option("--seed", opt->seed, "the noise seed (a study: the first seed)")
-      ->capture_default_str()
-      ->excludes(inbox);
-  cmd->add_option("--seeds", opt->seeds,
-                  "run a study over this many seeds, judged against the truth")
-      ->check(CLI::Range(1, 1'000'000))
-      ->excludes(inbox);
-  cmd->add_option("--threads", opt->threads, "a study's seeds in parallel")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 256))
-      ->excludes(inbox);
-  cmd->add_option("--noise-var", opt->noise_variance,
-                  "measurement noise variance per output (default: the case study's)")
-      ->check(finite_non_negative())
-      ->excludes(inbox);
-  cmd->add_option("--perturb", opt->perturb,
-                  "percent: the true plant's gains, time constants and delays drawn within +-X % "
-                  "from the seed (linear plants); the prior stays nominal")
-      ->capture_default_str()
-      ->excludes(inbox);
-  cmd->add_option("--segment-min", opt->adaptive.segment_min,
-                  "re-estimate after every H minutes (default 4 tau_H; whole PRBS bits)")
-      ->check(finite_positive());
-  cmd->add_option("--max-min", opt->adaptive.max_length_min,
-                  "stop here at the latest (default: the plain PRBS design's length)")
-      ->check(finite_positive());
-  cmd->add_option("--limit", opt->limits,
-                  "a CV's test limits as deviations from its baseline: CV=LOW:HIGH (repeat); "
-                  "segments are then sized by predictive amplitude control");
-  cmd->add_option("--k-sigma", opt->adaptive.scale.k_sigma,
-                  "amplitude control's band: prediction +- k sigma")
-      ->capture_default_str()
-      ->check(finite_non_negative());
-  cmd->add_option("--first-scale", opt->adaptive.first_scale,
-                  "the plain segments' amplitude as a share of the prior's prbsUnc design "
-                  "(0 < S <= 1)")
-      ->capture_default_str()
-      ->check(CLI::Range(1e-6, 1.0));
-  cmd->add_option("--weight-floor", opt->adaptive.weight_floor,
-                  "no gain direction's weight below this (0 < F <= 1)")
-      ->capture_default_str()
-      ->check(CLI::Range(1e-6, 1.0));
-  cmd->add_flag("--residual-tests", opt->adaptive.rule.residual_tests,
-                "stop only when every output's residual tests pass (1 %) too");
-  cmd->add_flag("--colour", opt->adaptive.rule.colour,
-                "widen the gain intervals by the residuals' long-run variance ratio");
+  CLI::Option* inbox = add_where_options(cmd, *opt);
+  add_simulation_options(cmd, *opt, inbox);
+  add_adaptive_options(cmd, *opt);
   cmd->callback([opt] { run(*opt); });
 }
 

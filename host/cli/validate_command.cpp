@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: MIT
 // excite validate MODEL RUN.csv [--json]: fit % (5.5.1) of a model on other data; a log with
-// flagged rows is scored per segment by identify's rule (segmented_run.hpp), overall and per
-// segment.
-// excite crossval RUN.csv RUN.csv… [--json]: every run's model on every other run (SPEC §6),
-// every run identified and scored per segment by identify's flags rule.
+// flagged rows is scored per segment by identify's rule (host/identify/run_log_input.hpp), overall
+// and per segment. excite crossval RUN.csv RUN.csv… [--json]: every run's model on every other run
+// (SPEC §6), every run identified and scored per segment by identify's flags rule.
 
 #include <algorithm>
 #include <cmath>
@@ -11,14 +10,13 @@
 #include <iostream>
 
 #include "host/cli/commands.hpp"
-#include "host/cli/run_input.hpp"
 #include "host/cli/run_layout_text.hpp"
-#include "host/cli/segmented_run.hpp"
-#include "host/cli/text_table.hpp"
 #include "host/cli/time_constant_bound.hpp"
 #include "host/export/json_util.hpp"
 #include "host/export/model_file.hpp"
+#include "host/identify/run_log_input.hpp"
 #include "host/identify/validate.hpp"
+#include "host/output/text_table.hpp"
 
 namespace excite::host::cli {
 namespace {
@@ -147,7 +145,9 @@ void crossval(const CrossvalOptions& opt) {
     IdentifyOptions options;
     options.threads = opt.threads;
     options.max_time_constant_min =
-        time_constant_bound(opt.bound, {{path, r.log.plant, r.log.time_scales}}).first;
+        time_constant_bound(opt.bound, {{path, r.log.plant, r.log.time_scales.tau_high_min,
+                                         r.log.time_scales.beta}})
+            .first;
     models.push_back(
         identify(r.data.U, r.data.Y, r.data.sample_time_min, r.data.layout, options).model);
     names.push_back(std::filesystem::path(path).stem().string());

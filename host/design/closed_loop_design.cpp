@@ -14,7 +14,8 @@
 namespace excite::host {
 namespace {
 
-std::string num(double v) {
+// v as printf's %g (six significant digits).
+std::string g_text(double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
@@ -26,6 +27,47 @@ void mark(Design& d, plan::Excitation e, const std::string& what) {
   if (provenance.size() >= plan::kProvenanceCapacity)
     provenance.resize(plan::kProvenanceCapacity - 1);
   plan::set_text(d.plan->meta.provenance, provenance);
+}
+
+// The preset's setpoint mix turned into the prior's output directions: r = c·W s (W of
+// G(0) = W Σ Vᵀ, p × p), c the largest scale that keeps every CV within its amplitude.
+void rotate_into_output_directions(Design& d, const Eigen::MatrixXd& gain,
+                                   const Eigen::VectorXd& amplitude, const PresetInfo& preset) {
+  const Eigen::Index p = amplitude.size();
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(gain, Eigen::ComputeFullU);
+  const Eigen::MatrixXd& W = svd.matrixU();  // p × p, output directions
+  // r = c·W s: the preset's mix (channels × sources, each channel a_c · s_c) rotated.
+  signal::Recipe& r = d.plan->recipe;
+  Eigen::MatrixXd mix(p, r.source_count);
+  for (Eigen::Index c = 0; c < p; ++c) {
+    for (Eigen::Index i = 0; i < mix.cols(); ++i) {
+      mix(c, i) = r.mix[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)] / amplitude(c);
+    }
+  }
+  const Eigen::MatrixXd rotated = W * mix;
+  for (Eigen::Index c = 0; c < p; ++c) {
+    for (Eigen::Index i = 0; i < mix.cols(); ++i) {
+      r.mix[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)] = rotated(c, i);
+    }
+  }
+  const Table turned = make_table(d.plan->recipe);
+  double scale = 1e300;
+  for (Eigen::Index c = 0; c < p; ++c) {
+    const double peak = turned.col(c).cwiseAbs().maxCoeff();
+    if (peak > 0.0) scale = std::min(scale, amplitude(c) / peak);
+  }
+  for (Eigen::Index c = 0; c < p; ++c) {
+    for (Eigen::Index i = 0; i < mix.cols(); ++i) {
+      r.mix[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)] *= scale;
+    }
+  }
+  d.table = make_table(d.plan->recipe);
+  d.notes.push_back(
+      "setpoint directions: r(k) = c * W * s(k), W the prior's output "
+      "directions (G(0) = W Sigma V'), c = " +
+      g_text(scale) + " keeps every CV within its amplitude");
+  plan::set_text(d.plan->meta.design_name,
+                 std::string(preset.acronym).substr(0, plan::kNameCapacity - 5) + "OutDir");
 }
 
 }  // namespace
@@ -47,7 +89,8 @@ Design design_setpoint_excitation(const PriorKnowledge& prior, const PresetInfo&
                                 ", expected one pair per CV (" + std::to_string(p) + ")");
   }
   if (!(req.fraction > 0.0 && req.fraction <= 1.0)) {
-    throw std::invalid_argument("limit fraction = " + num(req.fraction) + ", expected 0 < f <= 1");
+    throw std::invalid_argument("limit fraction = " + g_text(req.fraction) +
+                                ", expected 0 < f <= 1");
   }
   PriorKnowledge cvs = prior;  // the time scales and T of the plant; the CVs as channels
   cvs.inputs.clear();
@@ -58,7 +101,7 @@ Design design_setpoint_excitation(const PriorKnowledge& prior, const PresetInfo&
     const double lo = req.cv_low(c), hi = req.cv_high(c);
     const std::string& name = req.cv_names[static_cast<std::size_t>(c)];
     if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < 0.0 && hi > 0.0)) {
-      throw std::invalid_argument("--limit " + name + " = " + num(lo) + ":" + num(hi) +
+      throw std::invalid_argument("--limit " + name + " = " + g_text(lo) + ":" + g_text(hi) +
                                   ", expected finite test limits with low < 0 < high for "
                                   "setpoint excitation");
     }
@@ -72,43 +115,11 @@ Design design_setpoint_excitation(const PriorKnowledge& prior, const PresetInfo&
                                   ", expected " + std::to_string(p) +
                                   " (one per CV) for output directions");
     }
-    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(prior.gain, Eigen::ComputeFullU);
-    const Eigen::MatrixXd& W = svd.matrixU();  // p × p, output directions
-    // r = c·W s: the preset's mix (channels × sources, each channel a_c · s_c) rotated.
-    signal::Recipe& r = d.plan->recipe;
-    Eigen::MatrixXd mix(p, r.source_count);
-    for (Eigen::Index c = 0; c < p; ++c) {
-      for (Eigen::Index i = 0; i < mix.cols(); ++i) {
-        mix(c, i) = r.mix[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)] / amplitude(c);
-      }
-    }
-    const Eigen::MatrixXd rotated = W * mix;
-    for (Eigen::Index c = 0; c < p; ++c) {
-      for (Eigen::Index i = 0; i < mix.cols(); ++i) {
-        r.mix[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)] = rotated(c, i);
-      }
-    }
-    const Table turned = make_table(d.plan->recipe);
-    double scale = 1e300;
-    for (Eigen::Index c = 0; c < p; ++c) {
-      const double peak = turned.col(c).cwiseAbs().maxCoeff();
-      if (peak > 0.0) scale = std::min(scale, amplitude(c) / peak);
-    }
-    for (Eigen::Index c = 0; c < p; ++c) {
-      for (Eigen::Index i = 0; i < mix.cols(); ++i) {
-        r.mix[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)] *= scale;
-      }
-    }
-    d.table = make_table(d.plan->recipe);
-    d.notes.push_back(
-        "setpoint directions: r(k) = c * W * s(k), W the prior's output "
-        "directions (G(0) = W Sigma V'), c = " +
-        num(scale) + " keeps every CV within its amplitude");
-    plan::set_text(d.plan->meta.design_name,
-                   std::string(preset.acronym).substr(0, plan::kNameCapacity - 5) + "OutDir");
+    rotate_into_output_directions(d, prior.gain, amplitude, preset);
   }
-  d.notes.push_back("setpoint excitation: r in CV units, amplitude per CV = " + num(req.fraction) +
-                    " x its test limit; under integral action u ~ inv(G(0)) r");
+  d.notes.push_back(
+      "setpoint excitation: r in CV units, amplitude per CV = " + g_text(req.fraction) +
+      " x its test limit; under integral action u ~ inv(G(0)) r");
   mark(d, plan::Excitation::setpoint, "closed-loop setpoint");
   return d;
 }

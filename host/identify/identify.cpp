@@ -185,225 +185,311 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
   return identify(U, Y, T_min, SampleLayout::whole(U.rows()), options);
 }
 
-IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double T_min,
-                              const SampleLayout& layout, const IdentifyOptions& options) {
-  check_arguments(U, Y, T_min, layout, options);
-  const auto n = static_cast<int>(U.cols());
-  const auto p = static_cast<int>(Y.cols());
-  const double tp_max = options.max_time_constant_min > 0.0 ? options.max_time_constant_min
-                                                            : static_cast<double>(U.rows()) * T_min;
+namespace {
 
-  IdentificationResult result;
-  IdentifiedModel& model = result.model;
-  model.inputs = n;
-  model.outputs = p;
-  model.sample_time_min = T_min;
-  model.elements.assign(static_cast<std::size_t>(n * p), ElementEstimate{});
-  model.gain_covariance.assign(static_cast<std::size_t>(p), Eigen::MatrixXd::Constant(n, n, kNaN));
-  result.fits.assign(static_cast<std::size_t>(p), OutputFit{});
-
-  const InputScreen screen = screen_inputs(U);
-  const MisoBounds bounds{options.max_delay_min, tp_max, natural_period_floor(T_min)};
-  // Rows with a warm start (IdentifyOptions::start); the cold starts' response bank and ARX
-  // basis are built only when a row needs them.
-  std::vector<std::optional<std::vector<ElementModel>>> warm(static_cast<std::size_t>(p));
-  bool any_cold = false;
-  for (int j = 0; j < p; ++j) {
-    warm[static_cast<std::size_t>(j)] = warm_start_of(options, j, n, p, screen.usable, bounds);
-    any_cold = any_cold || !warm[static_cast<std::size_t>(j)];
-  }
-  std::optional<ResponseBank> bank;
-  std::optional<ArxBasis> arx;
-  if (any_cold) {
-    bank.emplace(U, screen.usable, T_min, GridSpec{options.max_delay_min, tp_max}, layout);
-    arx.emplace(U, screen.usable, T_min, options.max_delay_min, layout);
-  }
-  std::vector<double> transients;  // in samples (IdentifyOptions::estimate_initial_state)
-  for (int k = 0; options.estimate_initial_state && k <= 5; ++k) {
+// Transient time constants in samples (IdentifyOptions::estimate_initial_state): T_p max / 2^k
+// for k = 0…5, those of at least one sample.
+std::vector<double> transient_samples(const IdentifyOptions& o, double tp_max, double T_min) {
+  std::vector<double> transients;
+  for (int k = 0; o.estimate_initial_state && k <= 5; ++k) {
     const double tau = tp_max / T_min / std::pow(2.0, k);
     if (tau >= 1.0) transients.push_back(tau);
   }
-  const Eigen::MatrixXd trend = trend_basis(layout, options.trend, transients);
-  Eigen::MatrixXd U_scored(layout.scored(), n);  // the inputs on the scored rows
-  for (int i = 0; i < n; ++i) U_scored.col(i) = layout.scored_rows(U.col(i));
-  // Inputs whose gains' split rests on the elements' dynamics alone (issue 43): the bank
-  // inputs whose own part is below kCannotSplit, which two more starts give one shared grid
-  // element (choose_shared) or, for a pair, the best pair of grid elements (choose_pair).
+  return transients;
+}
+
+// Inputs whose gains' split rests on the elements' dynamics alone (issue 43): the usable
+// inputs (as positions in `usable`) whose own part is below kCannotSplit, which two more
+// starts give one shared grid element (choose_shared) or, for a pair, the best pair of grid
+// elements (choose_pair).
+std::vector<Eigen::Index> inputs_moving_together(const Eigen::MatrixXd& U_scored,
+                                                 const std::vector<int>& usable) {
   std::vector<Eigen::Index> together;
-  if (screen.usable.size() > 1) {
-    Eigen::MatrixXd moved(layout.scored(), static_cast<Eigen::Index>(screen.usable.size()));
-    for (std::size_t e = 0; e < screen.usable.size(); ++e)
-      moved.col(static_cast<Eigen::Index>(e)) = U_scored.col(screen.usable[e]);
-    const InputSeparation separation = input_separation(moved);
-    for (Eigen::Index e = 0; e < separation.independent.size(); ++e) {
-      if (separation.independent(e) < kCannotSplit) together.push_back(e);
+  if (usable.size() <= 1) return together;
+  Eigen::MatrixXd moved(U_scored.rows(), static_cast<Eigen::Index>(usable.size()));
+  for (std::size_t e = 0; e < usable.size(); ++e)
+    moved.col(static_cast<Eigen::Index>(e)) = U_scored.col(usable[e]);
+  const InputSeparation separation = input_separation(moved);
+  for (Eigen::Index e = 0; e < separation.independent.size(); ++e) {
+    if (separation.independent(e) < kCannotSplit) together.push_back(e);
+  }
+  return together;
+}
+
+// What every output's fit shares: the data and options, the screen of the inputs, each row's
+// warm start, the cold starts' response bank and ARX basis (built only when a row needs them),
+// the trend basis and the inputs that move together. Built once, read by every row's thread.
+struct Rows {
+  Rows(const Eigen::MatrixXd& U_, const Eigen::MatrixXd& Y_, double T, const SampleLayout& l,
+       const IdentifyOptions& o)
+      : U(U_),
+        Y(Y_),
+        T_min(T),
+        layout(l),
+        options(o),
+        n(static_cast<int>(U_.cols())),
+        p(static_cast<int>(Y_.cols())),
+        tp_max(o.max_time_constant_min > 0.0 ? o.max_time_constant_min
+                                             : static_cast<double>(U_.rows()) * T),
+        screen(screen_inputs(U_)),
+        bounds{o.max_delay_min, tp_max, natural_period_floor(T)},
+        warm(static_cast<std::size_t>(p)),
+        trend(trend_basis(l, o.trend, transient_samples(o, tp_max, T))),
+        U_scored(l.scored(), n) {
+    bool any_cold = false;
+    for (int j = 0; j < p; ++j) {
+      warm[static_cast<std::size_t>(j)] = warm_start_of(o, j, n, p, screen.usable, bounds);
+      any_cold = any_cold || !warm[static_cast<std::size_t>(j)];
     }
+    if (any_cold) {
+      bank.emplace(U, screen.usable, T_min, GridSpec{o.max_delay_min, tp_max}, layout);
+      arx.emplace(U, screen.usable, T_min, o.max_delay_min, layout);
+    }
+    for (int i = 0; i < n; ++i) U_scored.col(i) = layout.scored_rows(U.col(i));
+    together = inputs_moving_together(U_scored, screen.usable);
   }
 
-  // One output's fit; writes only its own row of the model and its own OutputFit.
-  const auto fit_output = [&](int j) {
-    const Eigen::VectorXd y = Y.col(j);
-    // The starts see the output with its least-squares trend removed (the model-free part);
-    // the fit itself estimates the trend with the model.
-    Eigen::VectorXd y_start = y;
-    if (trend.cols() > 0) y_start -= trend * (trend.transpose() * layout.weight.cwiseProduct(y));
-    OutputFit& fit = result.fits[static_cast<std::size_t>(j)];
-    const Eigen::VectorXd y_scored = layout.scored_rows(y);
-    const double spread = (y_scored.array() - y_scored.mean()).matrix().norm();
-    if (spread == 0.0) {
-      mark_row(model, j, ElementStatus::output_not_moved,
-               "output " + std::to_string(j + 1) + " is constant throughout the scored data");
-      fit.fit_percent = kNaN;
-      fit.residual_rms = 0.0;
-      fit.converged = true;
-      return;
-    }
-    for (int i = 0; i < n; ++i) {
-      if (screen.status[static_cast<std::size_t>(i)] != ElementStatus::identified) {
-        ElementEstimate& e = model.element(j, i);
-        e.value = ElementModel{kNaN, kNaN, kNaN, kNaN};
-        e.std_error = e.value;
-        e.status = screen.status[static_cast<std::size_t>(i)];
-        e.reason = screen.reason[static_cast<std::size_t>(i)];
-      }
-    }
-    Eigen::VectorXd y_hat = Eigen::VectorXd::Zero(y.size());
-    const std::optional<std::vector<ElementModel>>& warm_row = warm[static_cast<std::size_t>(j)];
-    StructureSearch search{options.structure, {}, options.max_iterations};
-    if (!options.structures.empty()) {
-      for (const int i : screen.usable)
-        search.per_element.push_back(options.structures[static_cast<std::size_t>(j * n + i)]);
-    }
-    const auto keep_row = [&](MisoResult miso) {
-      const RowProblem problem{U,      y,    screen.usable, T_min, bounds, options.max_iterations,
-                               layout, trend};
-      fit.separation = row_separation(problem, miso);
-      fit.inputs_together = describe_together(screen.usable, fit.separation);
-      miso = profile_inputs_together(problem, std::move(miso), fit.separation);
-      Eigen::MatrixXd& cov = model.gain_covariance[static_cast<std::size_t>(j)];
-      for (std::size_t e = 0; e < screen.usable.size(); ++e) {
-        model.element(j, screen.usable[e]) = miso.elements[e];
-        for (std::size_t f = 0; f < screen.usable.size(); ++f) {
-          cov(screen.usable[e], screen.usable[f]) =
-              miso.gain_covariance(static_cast<Eigen::Index>(e), static_cast<Eigen::Index>(f));
-        }
-      }
-      y_hat = miso.y_hat;
-      fit.iterations = miso.iterations;
-      fit.converged = miso.converged;
-    };
-    if (warm_row) {
-      // Warm: the earlier model polished in its structures, then (unless only polished) the
-      // structure search and the local optima from there.
-      MisoResult miso = fit_miso(U, y, screen.usable, *warm_row, T_min, bounds,
-                                 options.max_iterations, layout, trend);
-      if (options.start_use == IdentifyOptions::StartUse::first_start) {
-        miso = continue_structures(U, y, screen.usable, std::move(miso), T_min, bounds, layout,
-                                   trend, search);
-      }
-      keep_row(std::move(miso));
-    } else if (!screen.usable.empty()) {
-      // Two starts (multi-start): the row's ARX model (sees all elements at once; exact on
-      // data the structure fits) and the grid basin search. The better start is polished;
-      // the other too when its output error is within kAmbiguousStart of the better's, and
-      // the better end is kept.
-      std::vector<std::vector<ElementModel>> starts;
-      if (const auto Z = arx->contributions(y_start)) {
-        // Each element fitted alone to its own part of the output (a start: few iterations).
-        std::vector<ElementModel> arx_start;
-        for (std::size_t e = 0; e < screen.usable.size(); ++e) {
-          const auto col = static_cast<Eigen::Index>(e);
-          const Eigen::VectorXd z = Z->col(col);
-          double gain = 0.0;
-          ElementModel g = bank->grid()[static_cast<std::size_t>(bank->choose_one(col, z, gain))];
-          g.gain = gain;
-          const MisoResult alone = fit_miso(U, z, {screen.usable[e]}, {g}, T_min, bounds,
-                                            kAloneIterations, layout, Eigen::MatrixXd(y.size(), 0),
-                                            LmOptions{}.cost_tolerance, MisoUncertainty::none);
-          arx_start.push_back(alone.elements.front().value);
-        }
-        starts.push_back(std::move(arx_start));
-      }
-      starts.push_back(start_of(*bank, bank->choose(y_start)));
-      // The shared and pair starts are always polished: their start costs say little about
-      // where the fits from them end.
-      const std::size_t shared_index = starts.size();
-      if (together.size() > 1) {
-        starts.push_back(start_of(*bank, bank->choose_shared(y_start, together)));
-      }
-      const std::size_t pair_index = starts.size();
-      if (together.size() == 2) {
-        starts.push_back(start_of(*bank, bank->choose_pair(y_start, together[0], together[1])));
-      }
-      std::vector<double> cost;
-      for (const auto& start : starts)
-        cost.push_back(start_cost(U, y, screen.usable, start, T_min, layout, trend));
-      const auto first =
-          static_cast<std::size_t>(std::min_element(cost.begin(), cost.end()) - cost.begin());
-      MisoResult miso = fit_miso(U, y, screen.usable, starts[first], T_min, bounds,
-                                 options.max_iterations, layout, trend);
-      for (std::size_t s = 0; s < starts.size(); ++s) {
-        if (s == first ||
-            (s != shared_index && s != pair_index && !(cost[s] <= kAmbiguousStart * cost[first])))
-          continue;
-        MisoResult other = fit_miso(U, y, screen.usable, starts[s], T_min, bounds,
-                                    options.max_iterations, layout, trend);
-        const auto sse = [&](const MisoResult& m) {
-          return (m.y_hat - y).cwiseProduct(layout.weight).squaredNorm();
-        };
-        if (sse(other) < sse(miso)) {
-          std::swap(miso, other);
-        }
-        miso.iterations += other.iterations;
-      }
-      miso = choose_structures(U, y, screen.usable, std::move(miso), T_min, bounds, layout, trend,
-                               search);
-      keep_row(std::move(miso));
-    } else {
-      fit.converged = true;
-    }
-    const Eigen::VectorXd y_hat_scored = layout.scored_rows(y_hat);
-    fit.fit_percent = fit_percent(y_scored, y_hat_scored);
-    fit.residual_rms =
-        (y_hat_scored - y_scored).norm() / std::sqrt(static_cast<double>(y_scored.size()));
-    const Eigen::VectorXd residual = y_scored - y_hat_scored;
-    std::vector<ElementEstimate*> row;
-    for (int i = 0; i < n; ++i) row.push_back(&model.element(j, i));
-    if (residual.allFinite() && 2 * kResidualTestLags < residual.size()) {
-      fit.residual_tests = residual_tests(residual, U_scored, kResidualTestLags);
-    }
-    grade_row(row, fit.residual_tests);
-    grade_together(row, screen.usable, fit.separation);
+  const Eigen::MatrixXd& U;
+  const Eigen::MatrixXd& Y;
+  const double T_min;
+  const SampleLayout& layout;
+  const IdentifyOptions& options;
+  const int n;
+  const int p;
+  const double tp_max;
+  const InputScreen screen;
+  const MisoBounds bounds;
+  std::vector<std::optional<std::vector<ElementModel>>> warm;
+  std::optional<ResponseBank> bank;
+  std::optional<ArxBasis> arx;
+  const Eigen::MatrixXd trend;
+  Eigen::MatrixXd U_scored;  // the inputs on the scored rows
+  std::vector<Eigen::Index> together;
+};
+
+// Each usable element fitted alone to its own part of the output, as the row's ARX model
+// splits it (a start: few iterations); none when the ARX model cannot split the output.
+std::optional<std::vector<ElementModel>> arx_start(const Rows& rows,
+                                                   const Eigen::VectorXd& y_start) {
+  const auto Z = rows.arx->contributions(y_start);
+  if (!Z) return std::nullopt;
+  std::vector<ElementModel> start;
+  for (std::size_t e = 0; e < rows.screen.usable.size(); ++e) {
+    const auto col = static_cast<Eigen::Index>(e);
+    const Eigen::VectorXd z = Z->col(col);
+    double gain = 0.0;
+    ElementModel g =
+        rows.bank->grid()[static_cast<std::size_t>(rows.bank->choose_one(col, z, gain))];
+    g.gain = gain;
+    const MisoResult alone =
+        fit_miso(rows.U, z, {rows.screen.usable[e]}, {g}, rows.T_min, rows.bounds, kAloneIterations,
+                 rows.layout, Eigen::MatrixXd(y_start.size(), 0), LmOptions{}.cost_tolerance,
+                 MisoUncertainty::none);
+    start.push_back(alone.elements.front().value);
+  }
+  return start;
+}
+
+// A cold row (multi-start): the row's ARX model (sees all elements at once; exact on data the
+// structure fits), the grid basin search and, for inputs that move together, the shared and
+// pair starts. The start of least output error is polished; so is each other start within
+// kAmbiguousStart of it, and always the shared and pair starts (their start costs say little
+// about where the fits from them end); the better end is kept and the structures chosen from
+// it (structure_search.hpp).
+MisoResult fit_cold(const Rows& rows, const Eigen::VectorXd& y, const Eigen::VectorXd& y_start,
+                    const StructureSearch& search) {
+  const std::vector<int>& usable = rows.screen.usable;
+  const ResponseBank& bank = *rows.bank;
+  std::vector<std::vector<ElementModel>> starts;
+  if (auto arx = arx_start(rows, y_start)) starts.push_back(std::move(*arx));
+  starts.push_back(start_of(bank, bank.choose(y_start)));
+  const std::size_t shared_index = starts.size();
+  if (rows.together.size() > 1) {
+    starts.push_back(start_of(bank, bank.choose_shared(y_start, rows.together)));
+  }
+  const std::size_t pair_index = starts.size();
+  if (rows.together.size() == 2) {
+    starts.push_back(start_of(bank, bank.choose_pair(y_start, rows.together[0], rows.together[1])));
+  }
+  std::vector<double> cost;
+  for (const auto& start : starts)
+    cost.push_back(start_cost(rows.U, y, usable, start, rows.T_min, rows.layout, rows.trend));
+  const auto first =
+      static_cast<std::size_t>(std::min_element(cost.begin(), cost.end()) - cost.begin());
+  const auto fit_from = [&](const std::vector<ElementModel>& start) {
+    return fit_miso(rows.U, y, usable, start, rows.T_min, rows.bounds, rows.options.max_iterations,
+                    rows.layout, rows.trend);
   };
+  const auto sse = [&](const MisoResult& m) {
+    return (m.y_hat - y).cwiseProduct(rows.layout.weight).squaredNorm();
+  };
+  MisoResult miso = fit_from(starts[first]);
+  for (std::size_t s = 0; s < starts.size(); ++s) {
+    if (s == first ||
+        (s != shared_index && s != pair_index && !(cost[s] <= kAmbiguousStart * cost[first])))
+      continue;
+    MisoResult other = fit_from(starts[s]);
+    if (sse(other) < sse(miso)) std::swap(miso, other);
+    miso.iterations += other.iterations;
+  }
+  return choose_structures(rows.U, y, usable, std::move(miso), rows.T_min, rows.bounds, rows.layout,
+                           rows.trend, search);
+}
 
-  // Outputs on min(threads, p) threads (host/process/parallel.hpp); each writes only its own
-  // row of the model, so the result does not depend on the thread count.
-  parallel_for(p, options.threads, fit_output);
+// A warm row: the earlier model polished in its structures, then (unless only polished) the
+// structure search and the local optima from there.
+MisoResult fit_warm(const Rows& rows, const Eigen::VectorXd& y,
+                    const std::vector<ElementModel>& start, const StructureSearch& search) {
+  MisoResult miso = fit_miso(rows.U, y, rows.screen.usable, start, rows.T_min, rows.bounds,
+                             rows.options.max_iterations, rows.layout, rows.trend);
+  if (rows.options.start_use == IdentifyOptions::StartUse::first_start) {
+    miso = continue_structures(rows.U, y, rows.screen.usable, std::move(miso), rows.T_min,
+                               rows.bounds, rows.layout, rows.trend, search);
+  }
+  return miso;
+}
 
-  // Directional quality of the identified G(0) when every gain is estimated.
-  std::string missing;
-  for (int j = 0; j < p && missing.empty(); ++j) {
-    for (int i = 0; i < n && missing.empty(); ++i) {
+// Row j's model: how well its inputs separate, the gains of inputs that move together
+// profiled (inputs_together.hpp), its elements and gain covariance written into the model;
+// returns ŷ.
+Eigen::VectorXd keep_row(const Rows& rows, int j, const Eigen::VectorXd& y, MisoResult miso,
+                         IdentifiedModel& model, OutputFit& fit) {
+  const std::vector<int>& usable = rows.screen.usable;
+  const RowProblem problem{rows.U,      y,           usable,
+                           rows.T_min,  rows.bounds, rows.options.max_iterations,
+                           rows.layout, rows.trend};
+  fit.separation = row_separation(problem, miso);
+  fit.inputs_together = describe_together(usable, fit.separation);
+  miso = profile_inputs_together(problem, std::move(miso), fit.separation);
+  Eigen::MatrixXd& cov = model.gain_covariance[static_cast<std::size_t>(j)];
+  for (std::size_t e = 0; e < usable.size(); ++e) {
+    model.element(j, usable[e]) = miso.elements[e];
+    for (std::size_t f = 0; f < usable.size(); ++f) {
+      cov(usable[e], usable[f]) =
+          miso.gain_covariance(static_cast<Eigen::Index>(e), static_cast<Eigen::Index>(f));
+    }
+  }
+  fit.iterations = miso.iterations;
+  fit.converged = miso.converged;
+  return miso.y_hat;
+}
+
+// The elements of row j on inputs the screen set aside, with the screen's status and reason.
+void mark_screened_out(const InputScreen& screen, int j, IdentifiedModel& model) {
+  for (int i = 0; i < model.inputs; ++i) {
+    const auto s = static_cast<std::size_t>(i);
+    if (screen.status[s] == ElementStatus::identified) continue;
+    ElementEstimate& e = model.element(j, i);
+    e.value = ElementModel{kNaN, kNaN, kNaN, kNaN};
+    e.std_error = e.value;
+    e.status = screen.status[s];
+    e.reason = screen.reason[s];
+  }
+}
+
+// One output's fit; writes only its own row of the model and its own OutputFit.
+void fit_output(const Rows& rows, int j, IdentificationResult& result) {
+  IdentifiedModel& model = result.model;
+  const SampleLayout& layout = rows.layout;
+  const Eigen::VectorXd y = rows.Y.col(j);
+  OutputFit& fit = result.fits[static_cast<std::size_t>(j)];
+  const Eigen::VectorXd y_scored = layout.scored_rows(y);
+  const double spread = (y_scored.array() - y_scored.mean()).matrix().norm();
+  if (spread == 0.0) {
+    mark_row(model, j, ElementStatus::output_not_moved,
+             "output " + std::to_string(j + 1) + " is constant throughout the scored data");
+    fit.fit_percent = kNaN;
+    fit.residual_rms = 0.0;
+    fit.converged = true;
+    return;
+  }
+  mark_screened_out(rows.screen, j, model);
+  // The starts see the output with its least-squares trend removed (the model-free part);
+  // the fit itself estimates the trend with the model.
+  Eigen::VectorXd y_start = y;
+  if (rows.trend.cols() > 0)
+    y_start -= rows.trend * (rows.trend.transpose() * layout.weight.cwiseProduct(y));
+  StructureSearch search{rows.options.structure, {}, rows.options.max_iterations};
+  if (!rows.options.structures.empty()) {
+    for (const int i : rows.screen.usable) {
+      search.per_element.push_back(
+          rows.options.structures[static_cast<std::size_t>(j * rows.n + i)]);
+    }
+  }
+  Eigen::VectorXd y_hat = Eigen::VectorXd::Zero(y.size());
+  if (const auto& warm = rows.warm[static_cast<std::size_t>(j)]) {
+    y_hat = keep_row(rows, j, y, fit_warm(rows, y, *warm, search), model, fit);
+  } else if (!rows.screen.usable.empty()) {
+    y_hat = keep_row(rows, j, y, fit_cold(rows, y, y_start, search), model, fit);
+  } else {
+    fit.converged = true;
+  }
+  const Eigen::VectorXd y_hat_scored = layout.scored_rows(y_hat);
+  fit.fit_percent = fit_percent(y_scored, y_hat_scored);
+  fit.residual_rms =
+      (y_hat_scored - y_scored).norm() / std::sqrt(static_cast<double>(y_scored.size()));
+  const Eigen::VectorXd residual = y_scored - y_hat_scored;
+  std::vector<ElementEstimate*> row;
+  for (int i = 0; i < rows.n; ++i) row.push_back(&model.element(j, i));
+  if (residual.allFinite() && 2 * kResidualTestLags < residual.size()) {
+    fit.residual_tests = residual_tests(residual, rows.U_scored, kResidualTestLags);
+  }
+  grade_row(row, fit.residual_tests);
+  grade_together(row, rows.screen.usable, fit.separation);
+}
+
+// Why the model has no finite G(0): the first element not estimated or integrating; "" when
+// every gain is estimated and finite.
+std::string missing_gain(const IdentifiedModel& model) {
+  for (int j = 0; j < model.outputs; ++j) {
+    for (int i = 0; i < model.inputs; ++i) {
       const ElementEstimate& e = model.element(j, i);
       const std::string element =
           "element (output " + std::to_string(j + 1) + ", input " + std::to_string(i + 1) + ")";
-      if (!e.estimated()) {
-        missing = element + " is " + to_string(e.status) + ": " + e.reason;
-      } else if (e.value.structure == Structure::integrator) {
-        missing = element + " integrates: its G(0) is infinite";
-      }
+      if (!e.estimated()) return element + " is " + to_string(e.status) + ": " + e.reason;
+      if (e.value.structure == Structure::integrator)
+        return element + " integrates: its G(0) is infinite";
     }
   }
-  if (missing.empty()) {
-    result.gain = analyse_gain(model.static_gain());
-    bool covariance_known = true;
-    for (const Eigen::MatrixXd& c : model.gain_covariance) covariance_known &= c.allFinite();
-    if (covariance_known) {
-      result.gain_uncertainty = gain_uncertainty(model.static_gain(), model.gain_covariance);
-    }
-  } else {
+  return "";
+}
+
+// Directional quality of the identified G(0) when every gain is estimated, its uncertainty
+// when every row's gain covariance is known.
+void analyse_identified_gain(IdentificationResult& result) {
+  const IdentifiedModel& model = result.model;
+  const std::string missing = missing_gain(model);
+  if (!missing.empty()) {
     result.gain_unavailable_reason = "G(0) is not finite: " + missing;
+    return;
   }
+  result.gain = analyse_gain(model.static_gain());
+  bool covariance_known = true;
+  for (const Eigen::MatrixXd& c : model.gain_covariance) covariance_known &= c.allFinite();
+  if (covariance_known) {
+    result.gain_uncertainty = gain_uncertainty(model.static_gain(), model.gain_covariance);
+  }
+}
+
+}  // namespace
+
+IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double T_min,
+                              const SampleLayout& layout, const IdentifyOptions& options) {
+  check_arguments(U, Y, T_min, layout, options);
+  const Rows rows(U, Y, T_min, layout, options);
+  IdentificationResult result;
+  IdentifiedModel& model = result.model;
+  model.inputs = rows.n;
+  model.outputs = rows.p;
+  model.sample_time_min = T_min;
+  model.elements.assign(static_cast<std::size_t>(rows.n * rows.p), ElementEstimate{});
+  model.gain_covariance.assign(static_cast<std::size_t>(rows.p),
+                               Eigen::MatrixXd::Constant(rows.n, rows.n, kNaN));
+  result.fits.assign(static_cast<std::size_t>(rows.p), OutputFit{});
+  // Outputs on min(threads, p) threads (host/process/parallel.hpp); each writes only its own
+  // row of the model, so the result does not depend on the thread count.
+  parallel_for(rows.p, options.threads, [&](int j) { fit_output(rows, j, result); });
+  analyse_identified_gain(result);
   return result;
 }
 

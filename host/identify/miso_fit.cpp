@@ -309,22 +309,19 @@ void mark_weak_gain(ElementEstimate& e) {
   }
 }
 
-MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
-                    const std::vector<int>& inputs, std::vector<ElementModel> initial, double T_min,
-                    const MisoBounds& bounds, int max_iterations, const SampleLayout& layout,
-                    const Eigen::MatrixXd& trend, double cost_tolerance,
-                    MisoUncertainty uncertainty, std::optional<HeldGain> held) {
-  const ParameterMap map(initial);
-  RowModel row(U, inputs, map, T_min, layout);
-  const Eigen::Index m = map.elements();
-  const Eigen::Index P = map.size();
+namespace {
 
-  LmProblem problem;
+// The box of every free parameter (parameter_range), its typical size for the step test, and
+// the start x0 from `initial`; the held gain, if any, pinned on a box of zero width.
+Eigen::VectorXd box_and_start(const ParameterMap& map, const std::vector<ElementModel>& initial,
+                              const MisoBounds& bounds, double T_min,
+                              const std::optional<HeldGain>& held, LmProblem& problem) {
+  const Eigen::Index P = map.size();
   problem.lower.resize(P);
   problem.upper.resize(P);
   problem.scale.resize(P);
   Eigen::VectorXd x0(P);
-  for (Eigen::Index e = 0; e < m; ++e) {
+  for (Eigen::Index e = 0; e < map.elements(); ++e) {
     const ElementModel& g = initial[static_cast<std::size_t>(e)];
     const std::span<const int> free = map.free(e);
     for (std::size_t k = 0; k < free.size(); ++k) {
@@ -341,6 +338,56 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
     const Eigen::Index k = map.offset(held->element);
     x0(k) = problem.lower(k) = problem.upper(k) = held->value;
   }
+  return x0;
+}
+
+// Element e of the fit at x: its values, standard errors, covariance and bounds reached,
+// reported with T_p1 ≥ T_p2 (the model is symmetric in them), marked weak when |K| < 2 SE.
+ElementEstimate element_estimate(const ParameterMap& map, Eigen::Index e, const Eigen::VectorXd& x,
+                                 const LmProblem& problem, const std::vector<bool>& on_bound,
+                                 const ParameterUncertainty& errors) {
+  const Eigen::Index o = map.offset(e);
+  const std::span<const int> free = map.free(e);
+  ElementEstimate est;
+  est.value = map.element(x, e);
+  est.std_error = est.value;
+  for (int k = 0; k < kParameters; ++k) est.std_error[k] = kNaN;
+  for (std::size_t a = 0; a < free.size(); ++a) {
+    const Eigen::Index ia = o + static_cast<Eigen::Index>(a);
+    est.std_error[free[a]] = errors.se(ia);
+    est.at_bound[static_cast<std::size_t>(free[a])] = !on_bound[static_cast<std::size_t>(ia)]
+                                                          ? Bound::none
+                                                      : x(ia) <= problem.lower(ia) ? Bound::lower
+                                                                                   : Bound::upper;
+    for (std::size_t b = 0; b < free.size(); ++b) {
+      est.covariance(free[a], free[b]) = errors.cov(ia, o + static_cast<Eigen::Index>(b));
+    }
+  }
+  if (is_free(est.value.structure, kTp2) && est.value.tau2_min > est.value.tau1_min) {
+    std::swap(est.value.tau1_min, est.value.tau2_min);
+    std::swap(est.std_error.tau1_min, est.std_error.tau2_min);
+    std::swap(est.at_bound[kTp1], est.at_bound[kTp2]);
+    est.covariance.row(kTp1).swap(est.covariance.row(kTp2));
+    est.covariance.col(kTp1).swap(est.covariance.col(kTp2));
+  }
+  mark_weak_gain(est);
+  return est;
+}
+
+}  // namespace
+
+MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
+                    const std::vector<int>& inputs, std::vector<ElementModel> initial, double T_min,
+                    const MisoBounds& bounds, int max_iterations, const SampleLayout& layout,
+                    const Eigen::MatrixXd& trend, double cost_tolerance,
+                    MisoUncertainty uncertainty, std::optional<HeldGain> held) {
+  const ParameterMap map(initial);
+  RowModel row(U, inputs, map, T_min, layout);
+  const Eigen::Index m = map.elements();
+  const Eigen::Index P = map.size();
+
+  LmProblem problem;
+  const Eigen::VectorXd x0 = box_and_start(map, initial, bounds, T_min, held, problem);
   // The simulation at the lowest cost evaluated so far: the minimiser's end (it accepts only
   // a lower cost), so the result's y_hat need not be simulated again.
   Eigen::VectorXd best_x;
@@ -397,7 +444,6 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
     problem.jacobian(lm.x, J);
     errors = standard_errors(J, layout.scored() - trend.cols(), lm.cost, on_bound);
   }
-  const Eigen::VectorXd& se = errors.se;
   out.gain_covariance.resize(m, m);
   for (Eigen::Index a = 0; a < m; ++a) {
     for (Eigen::Index b = 0; b < m; ++b) {
@@ -406,33 +452,7 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
   }
 
   for (Eigen::Index e = 0; e < m; ++e) {
-    const Eigen::Index o = map.offset(e);
-    const std::span<const int> free = map.free(e);
-    ElementEstimate est;
-    est.value = map.element(lm.x, e);
-    est.std_error = est.value;
-    for (int k = 0; k < kParameters; ++k) est.std_error[k] = kNaN;
-    for (std::size_t a = 0; a < free.size(); ++a) {
-      const Eigen::Index ia = o + static_cast<Eigen::Index>(a);
-      est.std_error[free[a]] = se(ia);
-      est.at_bound[static_cast<std::size_t>(free[a])] =
-          !on_bound[static_cast<std::size_t>(ia)] ? Bound::none
-          : lm.x(ia) <= problem.lower(ia)         ? Bound::lower
-                                                  : Bound::upper;
-      for (std::size_t b = 0; b < free.size(); ++b) {
-        est.covariance(free[a], free[b]) = errors.cov(ia, o + static_cast<Eigen::Index>(b));
-      }
-    }
-    // Report T_p1 ≥ T_p2 (the model is symmetric in them).
-    if (is_free(est.value.structure, kTp2) && est.value.tau2_min > est.value.tau1_min) {
-      std::swap(est.value.tau1_min, est.value.tau2_min);
-      std::swap(est.std_error.tau1_min, est.std_error.tau2_min);
-      std::swap(est.at_bound[kTp1], est.at_bound[kTp2]);
-      est.covariance.row(kTp1).swap(est.covariance.row(kTp2));
-      est.covariance.col(kTp1).swap(est.covariance.col(kTp2));
-    }
-    mark_weak_gain(est);
-    out.elements.push_back(est);
+    out.elements.push_back(element_estimate(map, e, lm.x, problem, on_bound, errors));
   }
   return out;
 }

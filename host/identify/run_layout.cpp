@@ -2,6 +2,7 @@
 #include "host/identify/run_layout.hpp"
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include "firmware/runlog/format.hpp"
@@ -142,6 +143,37 @@ StackedRuns stack_runs(const std::vector<const runlog::RunLog*>& logs,
   }
   rep.scored = out.layout.scored();
   return out;
+}
+
+std::string layout_summary(const LayoutReport& r, std::size_t runs) {
+  std::ostringstream s;
+  s << r.scored << " of " << r.rows << " rows scored in " << r.segments << " segment"
+    << (r.segments == 1 ? "" : "s") << " (" << runs << " run" << (runs == 1 ? "" : "s") << ")";
+  if (r.flagged_excluded > 0) {
+    s << "; " << r.flagged_excluded << " flagged rows excluded (";
+    bool first = true;
+    for (int b = 0; b < 8; ++b) {
+      const Eigen::Index c = r.rows_with_flag[static_cast<std::size_t>(b)];
+      if (c == 0) continue;
+      s << (first ? "" : ", ") << flag_name(b) << ' ' << c;
+      first = false;
+    }
+    s << ')';
+  }
+  if (r.discontinuities > 0) s << "; " << r.discontinuities << " discontinuities (plant restart)";
+  if (r.skips > 0) s << "; " << r.skips << " skipped-tick rows";
+  if (r.warm_up > 0) s << "; " << r.warm_up << " warm-up rows not scored";
+  if (r.dropped_segments > 0) {
+    s << "; " << r.dropped_segments << " short segments dropped (" << r.dropped_segment_rows
+      << " rows)";
+  }
+  return s.str();
+}
+
+bool needs_warning(const LayoutReport& r) {
+  Eigen::Index flagged = 0;
+  for (const Eigen::Index c : r.rows_with_flag) flagged += c;
+  return flagged > 0 || r.dropped_segments > 0 || r.warm_up > 0;
 }
 
 }  // namespace excite::host

@@ -96,6 +96,9 @@ class Reader {
   std::string at(std::size_t line) const { return file_ + ":" + std::to_string(line) + ": "; }
   void read_header();
   void resolve_wide();
+  // --long: the header checked (TAG,TIME,VALUE[,QUALITY], names, not a sample); each tag's
+  // index by its name.
+  std::unordered_map<std::string, std::size_t> resolve_long();
   std::size_t resolve_tag(const std::string& tag) const;
   std::ptrdiff_t quality_column(std::size_t value_col) const;
   void read_header_rows();
@@ -442,6 +445,33 @@ void Reader::finish() {
   }
 }
 
+std::unordered_map<std::string, std::size_t> Reader::resolve_long() {
+  const std::size_t n_tags = tags_.size();
+  std::unordered_map<std::string, std::size_t> long_tag;
+  if (header_.size() < 3 || header_.size() > 4) {
+    throw std::invalid_argument(at(header_line_) + "header = " + column_list(header_) +
+                                ", expected TAG,TIME,VALUE[,QUALITY] (--long)");
+  }
+  // A long export without its header row: the first sample is not column names.
+  if (parse_number(trim(header_[2]), o_.decimal_comma)) {
+    throw std::invalid_argument(
+        at(header_line_) + "header = " + column_list(header_) +
+        ", expected column names TAG,TIME,VALUE[,QUALITY] (--long): this row reads as a "
+        "sample (its VALUE " +
+        quote_cell(header_[2]) + " is a number); export with the header row, or add one");
+  }
+  for (std::size_t g = 0; g < n_tags; ++g) long_tag.emplace(tags_[g], g);
+  if (header_.size() == 4) {
+    const bool confidence = lower(header_[3]).find("confidence") != std::string::npos;
+    if (confidence && std::isnan(o_.good_confidence)) {
+      throw std::invalid_argument(at(header_line_) + "column " + quote_cell(header_[3]) +
+                                  " = a 0–100 confidence, expected --good-confidence N");
+    }
+    d_.has_quality.assign(n_tags, true);
+  }
+  return long_tag;
+}
+
 HistorianData Reader::read() {
   read_header();
   const std::size_t n_tags = tags_.size();
@@ -458,27 +488,7 @@ HistorianData Reader::read() {
   first_quality_bad_.assign(n_tags, {});
   std::unordered_map<std::string, std::size_t> long_tag;
   if (o_.long_format) {
-    if (header_.size() < 3 || header_.size() > 4) {
-      throw std::invalid_argument(at(header_line_) + "header = " + column_list(header_) +
-                                  ", expected TAG,TIME,VALUE[,QUALITY] (--long)");
-    }
-    // A long export without its header row: the first sample is not column names.
-    if (parse_number(trim(header_[2]), o_.decimal_comma)) {
-      throw std::invalid_argument(
-          at(header_line_) + "header = " + column_list(header_) +
-          ", expected column names TAG,TIME,VALUE[,QUALITY] (--long): this row reads as a "
-          "sample (its VALUE " +
-          quote_cell(header_[2]) + " is a number); export with the header row, or add one");
-    }
-    for (std::size_t g = 0; g < n_tags; ++g) long_tag.emplace(tags_[g], g);
-    if (header_.size() == 4) {
-      const bool confidence = lower(header_[3]).find("confidence") != std::string::npos;
-      if (confidence && std::isnan(o_.good_confidence)) {
-        throw std::invalid_argument(at(header_line_) + "column " + quote_cell(header_[3]) +
-                                    " = a 0–100 confidence, expected --good-confidence N");
-      }
-      d_.has_quality.assign(n_tags, true);
-    }
+    long_tag = resolve_long();
   } else {
     resolve_wide();
     for (std::size_t g = 0; g < n_tags; ++g) d_.has_quality[g] = cols_[g].quality >= 0;

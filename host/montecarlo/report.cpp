@@ -9,8 +9,8 @@
 #include "host/campaign/gnuplot.hpp"
 #include "host/campaign/report.hpp"
 #include "host/campaign/report_figures.hpp"
-#include "host/montecarlo/html_page.hpp"
 #include "host/montecarlo/statistics.hpp"
+#include "host/output/html_page.hpp"
 #include "host/output/whole_file.hpp"
 
 namespace excite::host::montecarlo {

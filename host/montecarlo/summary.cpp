@@ -330,15 +330,12 @@ json summary_json(const Config& config, const std::vector<UnitResult>& units) {
   return j;
 }
 
-std::string summary_text(const json& summary) {
+namespace {
+
+// One line per design: fit, worst cross-fit, ratio, σ_n and v_n errors (median [10-90 %]),
+// the share meeting the criterion with its Wilson interval, and T90.
+std::string designs_table(const json& summary) {
   std::string out;
-  const json& run = summary["run"];
-  out += "plant " + run["plant"].get<std::string>() + ", " +
-         std::to_string(run["seeds"].get<int>()) + " seeds from " +
-         std::to_string(run["first_seed"].get<std::uint64_t>()) +
-         "; criterion: " + summary["criterion"]["text"].get<std::string>() + "\n";
-  if (run.value("perturb_percent", 0.0) > 0.0)
-    out += "true plant: " + run["true_plant"].get<std::string>() + "\n";
   char line[512];
   std::snprintf(line, sizeof line, "%-15s %-22s %-22s %-22s %-22s %-22s %-24s %s\n", "design",
                 "fit % [10-90]", "worst cross-fit %", "ratio (noise-free)", "sigma_n error %",
@@ -366,9 +363,15 @@ std::string summary_text(const json& summary) {
                   t90.c_str());
     out += line;
   }
-  out +=
+  return out;
+}
+
+// Per design, the G(0) elements whose median is biased beyond their spread.
+std::string biased_elements(const json& summary) {
+  std::string out =
       "G(0) elements whose median is off the true gain by more than their 10-90 % range "
       "(bias, not noise):\n";
+  char line[512];
   for (const json& d : summary["designs"]) {
     std::string biased;
     for (const json& e : d["gain_elements"]) {
@@ -383,9 +386,15 @@ std::string summary_text(const json& summary) {
     }
     out += "  " + d["design"].get<std::string>() + ":" + (biased.empty() ? " none" : biased) + "\n";
   }
-  out +=
+  return out;
+}
+
+// The directional designs against the others, one line per verdict.
+std::string verdict_lines(const json& summary) {
+  std::string out =
       "directional designs against the others (verdict by median; seeds in which it holds; "
       "seeds in which the best directional design beats the best other):\n";
+  char line[512];
   for (const json& v : summary["verdicts"]) {
     if (v["verdict"].is_null()) {
       out += "  " + v["label"].get<std::string>() + ": - (needs designs of both groups)\n";
@@ -401,7 +410,14 @@ std::string summary_text(const json& summary) {
                   v["best_directional_better_in_seeds"]["of"].get<int>());
     out += line;
   }
-  out += "share of seeds meeting the criterion by test length (percent of the run: share):\n";
+  return out;
+}
+
+// Per design, the share meeting the criterion at each test length of the grid.
+std::string shares_by_length(const json& summary) {
+  std::string out =
+      "share of seeds meeting the criterion by test length (percent of the run: share):\n";
+  char line[512];
   for (const json& d : summary["designs"]) {
     out += "  " + d["design"].get<std::string>() + ":";
     for (const json& p : d["lengths"]) {
@@ -412,6 +428,20 @@ std::string summary_text(const json& summary) {
     out += "\n";
   }
   return out;
+}
+
+}  // namespace
+
+std::string summary_text(const json& summary) {
+  const json& run = summary["run"];
+  std::string out = "plant " + run["plant"].get<std::string>() + ", " +
+                    std::to_string(run["seeds"].get<int>()) + " seeds from " +
+                    std::to_string(run["first_seed"].get<std::uint64_t>()) +
+                    "; criterion: " + summary["criterion"]["text"].get<std::string>() + "\n";
+  if (run.value("perturb_percent", 0.0) > 0.0)
+    out += "true plant: " + run["true_plant"].get<std::string>() + "\n";
+  return out + designs_table(summary) + biased_elements(summary) + verdict_lines(summary) +
+         shares_by_length(summary);
 }
 
 }  // namespace excite::host::montecarlo

@@ -67,6 +67,44 @@ void set_controller(ClosedLoopOptions& loop, const sim::control::ControllerFile&
   }
 }
 
+namespace {
+
+// The run's header from the plant, its N × n inputs and N × p outputs to be filled.
+SimulatedRun empty_run(const sim::Plant& plant, std::string plan_label, double sample_time_min,
+                       Eigen::Index N) {
+  SimulatedRun run;
+  run.plant = plant.name();
+  run.plan = std::move(plan_label);
+  run.sample_time_min = sample_time_min;
+  run.input_names = plant.input_names();
+  run.input_units = plant.input_units();
+  run.output_names = plant.output_names();
+  run.output_units = plant.output_units();
+  run.input_baseline = plant.input_baseline();
+  run.du.resize(N, plant.inputs());
+  run.dy.resize(N, plant.outputs());
+  return run;
+}
+
+// The loop's record: the excitation r, the controller's moves and setpoints to be filled,
+// every MV's state ok until a limit clamps it.
+ClosedLoopRecord empty_record(const ClosedLoopOptions& loop, const Eigen::MatrixXd& r, int n,
+                              int p) {
+  const Eigen::Index N = r.rows();
+  ClosedLoopRecord rec;
+  rec.excitation = loop.excitation;
+  rec.controller = loop.controller;
+  for (Eigen::Index c = 0; c < r.cols(); ++c) rec.r_channels.push_back(static_cast<std::size_t>(c));
+  rec.r = r;
+  rec.uc.resize(N, n);
+  rec.ysp = Eigen::MatrixXd::Zero(N, p);
+  rec.st.assign(static_cast<std::size_t>(N),
+                std::vector<runlog::MvState>(static_cast<std::size_t>(n), runlog::MvState::ok));
+  return rec;
+}
+
+}  // namespace
+
 SimulatedRun simulate_closed_loop(const Eigen::MatrixXd& r, std::string plan_label,
                                   double sample_time_min, sim::Plant& plant,
                                   sim::control::Controller& controller,
@@ -81,26 +119,8 @@ SimulatedRun simulate_closed_loop(const Eigen::MatrixXd& r, std::string plan_lab
   const int p = plant.outputs();
   const Eigen::Index N = r.rows();
 
-  SimulatedRun run;
-  run.plant = plant.name();
-  run.plan = std::move(plan_label);
-  run.sample_time_min = sample_time_min;
-  run.input_names = plant.input_names();
-  run.input_units = plant.input_units();
-  run.output_names = plant.output_names();
-  run.output_units = plant.output_units();
-  run.input_baseline = plant.input_baseline();
-  run.du.resize(N, n);
-  run.dy.resize(N, p);
-  ClosedLoopRecord rec;
-  rec.excitation = loop.excitation;
-  rec.controller = loop.controller;
-  for (Eigen::Index c = 0; c < r.cols(); ++c) rec.r_channels.push_back(static_cast<std::size_t>(c));
-  rec.r = r;
-  rec.uc.resize(N, n);
-  rec.ysp = Eigen::MatrixXd::Zero(N, p);
-  rec.st.assign(static_cast<std::size_t>(N),
-                std::vector<runlog::MvState>(static_cast<std::size_t>(n), runlog::MvState::ok));
+  SimulatedRun run = empty_run(plant, std::move(plan_label), sample_time_min, N);
+  ClosedLoopRecord rec = empty_record(loop, r, n, p);
 
   std::unique_ptr<sim::MeasurementNoise> noise;
   if (options.noise_variance > 0.0) {

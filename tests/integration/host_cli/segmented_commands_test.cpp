@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // validate, balance and crossval on a run log with a plant restart in it (issue 23 §4): they used
 // to refuse a row flagged discontinuity; they now work per segment by identify's rule
-// (host/cli/segmented_run.hpp). The log here is two runs of the same plan joined, the second
+// (host/identify/run_log_input.hpp). The log here is two runs of the same plan joined, the second
 // one's first row flagged discontinuity: per segment they must say what each run alone says.
 
 #include <gtest/gtest.h>

@@ -57,6 +57,13 @@ struct LayoutReport {
 /// Name of flag bit b ("suspended", "comm_lost", …).
 const char* flag_name(int bit);
 
+/// One line: what the flags rule did to `runs` runs, as the commands that apply it warn.
+std::string layout_summary(const LayoutReport& r, std::size_t runs);
+
+/// Whether the rule excluded anything worth a warning: flagged rows, dropped segments or
+/// warm-up rows.
+bool needs_warning(const LayoutReport& r);
+
 /// Several runs (same channels in the same order, same sample time) stacked as one data set:
 /// deviations du → U, dy → Y, the layout by the rule above. `names` label errors (one per
 /// log). Throws std::invalid_argument naming the run, the field and what was expected.

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-#include "host/montecarlo/html_page.hpp"
+#include "host/output/html_page.hpp"
 
-namespace excite::host::montecarlo {
+namespace excite::host {
 
 std::string html_escaped(const std::string& text) {
   std::string out;
@@ -29,4 +29,4 @@ std::string html_escaped(const std::string& text) {
   return out;
 }
 
-}  // namespace excite::host::montecarlo
+}  // namespace excite::host

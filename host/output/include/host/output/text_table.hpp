@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace excite::host::cli {
+namespace excite::host {
 
 class TextTable {
  public:
@@ -21,4 +21,4 @@ class TextTable {
 /// A number with `digits` significant digits ("%.*g"); "-" for NaN.
 std::string num(double value, int digits = 4);
 
-}  // namespace excite::host::cli
+}  // namespace excite::host

@@ -12,7 +12,7 @@
 
 #include "host/loop/closed_loop_campaign.hpp"
 
-namespace excite::host::cli {
+namespace excite::host {
 
 struct ClosedLoopCampaignHeader {
   std::string plant;
@@ -29,4 +29,4 @@ void write_closed_loop_report(const ClosedLoopCampaignHeader& header,
                               const std::vector<ClosedLoopExperiment>& runs,
                               const std::filesystem::path& dir);
 
-}  // namespace excite::host::cli
+}  // namespace excite::host

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "host/cli/closed_loop_campaign_report.hpp"
+#include "host/loop/closed_loop_campaign_report.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "host/montecarlo/html_page.hpp"
+#include "host/output/html_page.hpp"
 #include "host/output/whole_file.hpp"
 #include "sim/plants/plant.hpp"
 
-namespace excite::host::cli {
+namespace excite::host {
 namespace {
 
 namespace fs = std::filesystem;
@@ -122,7 +122,7 @@ void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
                               const std::vector<ClosedLoopExperiment>& runs, const fs::path& dir) {
   const Eigen::MatrixXd g0 = sim::make_plant(h.plant)->static_gain();
   std::ostringstream s;
-  const auto esc = [](const std::string& t) { return montecarlo::html_escaped(t); };
+  const auto esc = [](const std::string& t) { return html_escaped(t); };
   s << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" << esc(h.plant)
     << " with the controller on</title>\n<style>body{font-family:sans-serif;max-width:70em;"
        "margin:1em auto}table{border-collapse:collapse}td,th{border:1px solid #ccc;"
@@ -173,4 +173,4 @@ void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
   write_whole_file(dir / "index.html", s.str());
 }
 
-}  // namespace excite::host::cli
+}  // namespace excite::host

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-#include "host/cli/text_table.hpp"
+#include "host/output/text_table.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
 
-namespace excite::host::cli {
+namespace excite::host {
 
 void TextTable::print(std::ostream& out) const {
   std::vector<std::size_t> width;
@@ -35,4 +35,4 @@ std::string num(double value, int digits) {
   return buffer;
 }
 
-}  // namespace excite::host::cli
+}  // namespace excite::host

@@ -2,13 +2,13 @@
 // host/montecarlo/html_page.hpp: the report's one place of HTML escaping. Markup is what the
 // code writes as literals; every std::string is text, escaped whatever it holds.
 
-#include "host/montecarlo/html_page.hpp"
+#include "host/output/html_page.hpp"
 
 #include <gtest/gtest.h>
 
 #include <string>
 
-namespace excite::host::montecarlo {
+namespace excite::host {
 namespace {
 
 TEST(HtmlPage, StringsAreTextAndLiteralsAreMarkup) {
@@ -28,4 +28,4 @@ TEST(HtmlPage, CodeMarkupIsWrittenAsIs) {
 }
 
 }  // namespace
-}  // namespace excite::host::montecarlo
+}  // namespace excite::host

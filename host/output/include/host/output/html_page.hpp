@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// The Monte Carlo report's page, written so that every string is HTML-escaped in one place
-// (issue 40 §2: a design name from a shard's run.json once reached index.html as a script).
+// An HTML page (the Monte Carlo report's), written so that every string is HTML-escaped in
+// one place (issue 40 §2: a design name from a shard's run.json once reached index.html as a
+// script).
 // What the page accepts decides what it is, at compile time:
 //   - a string literal (or another constant expression) of this file's code: markup, as is;
 //   - CodeMarkup{p}: markup the code owns that is not a constant (the shared style sheet);
@@ -15,7 +16,7 @@
 #include <string>
 #include <type_traits>
 
-namespace excite::host::montecarlo {
+namespace excite::host {
 
 /// Markup fixed in the code: only a constant expression converts (consteval).
 struct Markup {
@@ -59,4 +60,4 @@ class HtmlPage {
   std::ostringstream out_;
 };
 
-}  // namespace excite::host::montecarlo
+}  // namespace excite::host
