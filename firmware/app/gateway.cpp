@@ -234,40 +234,26 @@ std::string Gateway::readback_fault_report() const {
 std::string Gateway::refusal_report() const {
   if (!runner_ || !runner_->refusal().valid) return "";
   const Refusal& r = runner_->refusal();
-  const hal::PeerException& e = r.exception;
-  const char* hint = e.code == 3   ? " — the device's own limits?"
-                     : e.code == 2 ? " — is the register map right?"
-                                   : " — does the device serve this function code?";
-  const std::string what =
-      "exception " + std::to_string(e.code) + ", " + hal::exception_name(e.code) + hint;
-  const std::string span = "FC" + std::string(e.function < 10 ? "0" : "") +
-                           std::to_string(e.function) + " registers " + std::to_string(e.address) +
-                           ".." + std::to_string(e.address + e.count - 1);
+  const hal::PeerRefusal& e = r.peer;
+  const std::string what(e.reason.data());
+  const std::string request(e.request.data());
   const std::string at = " at tick " + std::to_string(r.tick);
-  if (!e.write) return "device refused the read of " + span + at + ": " + what;
+  if (!e.write) return "device refused the read of " + request + at + ": " + what;
   std::string named;
   int n = 0;
-  for (std::size_t c = 0; config_.transport && c < config_.setpoints.size(); ++c) {
-    if (!config_.transport->refusal_covers(e, c)) continue;
+  for (std::size_t c = 0; c < config_.setpoints.size() && c < 64; ++c) {
+    if (((e.setpoints >> c) & 1U) == 0) continue;
+    const std::string where =
+        config_.transport
+            ? " (" + config_.transport->describe_channel(hal::ChannelKind::setpoint, c) + ")"
+            : std::string();
     named += (n++ == 0 ? "" : ", ") + config_.setpoints[c].name + " = " +
-             config::format_number(r.setpoint[c]) + " (" +
-             config_.transport->describe_channel(hal::ChannelKind::setpoint, c) + ")";
+             config::format_number(r.setpoint[c]) + where;
   }
-  if (n == 0) return "device refused the write of " + span + at + ": " + what;
+  if (n == 0) return "device refused the write of " + request + at + ": " + what;
   if (n == 1) return "device refused setpoint " + named + at + ": " + what;
-  return "device refused setpoints " + named + ", written in one request (" + span + ")" + at +
+  return "device refused setpoints " + named + ", written in one request (" + request + ")" + at +
          ": " + what;
-}
-
-std::string Gateway::exception_report(const hal::FieldBus& bus) const {
-  std::string out;
-  const std::span<const std::uint64_t> counts = bus.exception_counts();
-  for (std::size_t code = 0; code < counts.size(); ++code) {
-    if (counts[code] == 0) continue;
-    out += (out.empty() ? "" : ", ") + std::to_string(code) + " (" +
-           hal::exception_name(static_cast<int>(code)) + ") " + std::to_string(counts[code]);
-  }
-  return out.empty() ? "none" : out;
 }
 
 std::string Gateway::range_end_report() const {

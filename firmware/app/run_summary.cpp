@@ -47,7 +47,6 @@ RunSummary finish_run(Gateway& gw, const RunStats& stats, const BusResult& made,
   s.rows_discontinuity = eng.rows_flagged(runlog::kDiscontinuity);
   s.segment_await_s = gw.config().segment_await_s;
   s.rows_awaiting = eng.awaited_ticks();
-  s.exceptions = gw.exception_report(*made.bus);
   s.bus_counts = bus_counts_report(made);
   s.refusal = gw.refusal_report();
   s.readback_fault = gw.readback_fault_report();
@@ -99,7 +98,6 @@ void print_summary(std::FILE* out, const RunSummary& s) {
                  "clamped or wound up %llu times (each suspended the test)\n",
                  n(s.controller_mode_losses), n(s.mv_limited));
   }
-  std::fprintf(out, "excite-gateway: exception replies by code: %s\n", s.exceptions.c_str());
   if (!s.bus_counts.empty()) std::fprintf(out, "excite-gateway: %s\n", s.bus_counts.c_str());
   if (!s.refusal.empty()) std::fprintf(out, "excite-gateway: fault: %s\n", s.refusal.c_str());
   if (!s.readback_fault.empty()) {

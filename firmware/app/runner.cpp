@@ -112,14 +112,14 @@ void Runner::tick(std::int64_t time_ns, engine::Command command, std::uint64_t s
     ok = last_status_ == hal::StatusCode::ok;
     reverify_ = !ok;
     if (!ok && pacing_clock_ != nullptr) last_failed_at_ = pacing_clock_->now();
-    // Exceptions 1, 2, 3: the device refused the request itself (it will again) — not a
-    // link fault. The first one is kept and stops the excitation below; 4, 6 and the rest
-    // stay with the comm guard.
+    // The device refused the request itself (it will again): not a link fault. The first
+    // refusal is kept and stops the excitation below; other peer errors stay with the comm
+    // guard.
     if (last_status_ == hal::StatusCode::peer_error && !refusal_.valid) {
-      const hal::PeerException e = bus_.last_exception();
-      if (hal::is_refusal(e.code)) {
+      const hal::PeerRefusal e = bus_.last_refusal();
+      if (e.valid) {
         refusal_.valid = true;
-        refusal_.exception = e;
+        refusal_.peer = e;
         refusal_.tick = engine_.ticks() == 0 ? 0 : engine_.ticks() - 1;
         refusal_.setpoint = out.setpoint;
         refused = true;

@@ -221,11 +221,6 @@ class CanTransport final : public TransportConfig {
     return v.ok() ? "" : v.message();
   }
 
-  // A CAN peer refuses nothing (no exception replies).
-  [[nodiscard]] bool refusal_covers(const PeerException& /*e*/, std::size_t /*i*/) const override {
-    return false;
-  }
-
  private:
   [[nodiscard]] const CanSignal& signal(ChannelKind kind, std::size_t i) const {
     return (kind == ChannelKind::setpoint ? config_.map.setpoints : config_.map.values).at(i);

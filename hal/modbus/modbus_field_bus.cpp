@@ -138,7 +138,7 @@ config::Check ModbusFieldBus::configure(const ModbusConfig& config) {
   write_image_.assign(plan_.write_image_size, 0);
   read_image_.assign(plan_.read_image_size, 0);
   requests_ = reconnects_ = clamped_ = 0;
-  exception_ = {};
+  refusal_ = {};
   exception_counts_.fill(0);
   set_detail("");
   return config::Check::valid();
@@ -169,12 +169,7 @@ StatusCode ModbusFieldBus::fail(const char* operation, const Request* request, i
   if (is_exception_reply(error)) {
     status = StatusCode::peer_error;
     const int code = error - MODBUS_ENOBASE;
-    exception_ = {code, operation[0] == 'w', 0, 0, 0};
-    if (request != nullptr) {
-      exception_.function = static_cast<std::uint8_t>(request->function_code);
-      exception_.address = request->address;
-      exception_.count = static_cast<std::uint16_t>(request->count);
-    }
+    if (is_refusal(code)) keep_refusal(code, operation[0] == 'w', request);
     if (code >= 0 && static_cast<std::size_t>(code) < exception_counts_.size()) {
       ++exception_counts_[static_cast<std::size_t>(code)];
     }
@@ -199,9 +194,30 @@ StatusCode ModbusFieldBus::fail(const char* operation, const Request* request, i
   return status;
 }
 
+// The refusal in words, and which setpoints a refused write carried (their registers inside
+// the request's span of the write image).
+void ModbusFieldBus::keep_refusal(int code, bool write, const Request* request) noexcept {
+  refusal_ = {};
+  refusal_.valid = true;
+  refusal_.write = write;
+  std::snprintf(refusal_.reason.data(), refusal_.reason.size(), "exception %d, %s%s", code,
+                exception_name(code), refusal_hint(code));
+  if (request == nullptr) return;
+  const unsigned first = request->address;
+  std::snprintf(refusal_.request.data(), refusal_.request.size(), "FC%02d registers %u..%u",
+                request->function_code, first, first + request->count - 1U);
+  for (std::size_t i = 0; write && i < plan_.setpoints.size() && i < 64; ++i) {
+    const Codec& c = plan_.setpoints[i];
+    const std::size_t width = c.type == RegisterType::float32 ? 2U : 1U;
+    if (c.offset < request->offset + request->count && c.offset + width > request->offset) {
+      refusal_.setpoints |= std::uint64_t{1} << i;
+    }
+  }
+}
+
 StatusCode ModbusFieldBus::write(std::span<const double> setpoints,
                                  std::uint16_t heartbeat) noexcept {
-  exception_ = {};
+  refusal_ = {};
   if (ctx_ == nullptr) {
     set_detail("not configured");
     return StatusCode::unavailable;
@@ -251,7 +267,7 @@ StatusCode ModbusFieldBus::write(std::span<const double> setpoints,
 }
 
 StatusCode ModbusFieldBus::read(std::span<double> values) noexcept {
-  exception_ = {};
+  refusal_ = {};
   if (ctx_ == nullptr) {
     set_detail("not configured");
     return StatusCode::unavailable;
@@ -287,7 +303,7 @@ StatusCode ModbusFieldBus::read(std::span<double> values) noexcept {
 }
 
 StatusCode ModbusFieldBus::write_value(std::size_t index, double value) noexcept {
-  exception_ = {};
+  refusal_ = {};
   if (ctx_ == nullptr) {
     set_detail("not configured");
     return StatusCode::unavailable;

@@ -14,6 +14,19 @@ namespace excite::hal::modbus {
 
 namespace {
 
+// The end-of-run line: "exception replies by code: 3 (illegal data value) 1, 4 (…) 2", or
+// "… none".
+std::string exception_counts_text(const ModbusFieldBus& bus) {
+  std::string out;
+  const std::span<const std::uint64_t> counts = bus.exception_counts();
+  for (std::size_t code = 0; code < counts.size(); ++code) {
+    if (counts[code] == 0) continue;
+    out += (out.empty() ? "" : ", ") + std::to_string(code) + " (" +
+           exception_name(static_cast<int>(code)) + ") " + std::to_string(counts[code]);
+  }
+  return "exception replies by code: " + (out.empty() ? std::string("none") : out);
+}
+
 std::string encoding(const RegisterEntry& e) {
   return e.type + (e.type == "float32" ? " " + e.word_order : std::string());
 }
@@ -105,8 +118,9 @@ class ModbusTransport final : public TransportConfig {
       made.error = v.message();
       return made;
     }
+    const ModbusFieldBus* counted = bus.get();
+    made.counts_report = [counted] { return exception_counts_text(*counted); };
     made.bus = std::move(bus);
-    made.counts_report = [] { return std::string(); };  // exception_counts() reports instead
     return made;
   }
 
@@ -179,13 +193,6 @@ class ModbusTransport final : public TransportConfig {
   }
 
   [[nodiscard]] std::string check_tick(double /*period_s*/) const override { return ""; }
-
-  [[nodiscard]] bool refusal_covers(const PeerException& e, std::size_t i) const override {
-    if (!e.write || i >= config_.map.setpoints.size()) return false;
-    const RegisterEntry& reg = config_.map.setpoints[i];
-    const unsigned width = reg.type == "float32" ? 2U : 1U;
-    return !(reg.address + width <= e.address || reg.address >= e.address + e.count);
-  }
 
  private:
   [[nodiscard]] const RegisterEntry& entry(ChannelKind kind, std::size_t i) const {

@@ -133,6 +133,9 @@ void FaultServer::serve() {
       case Fault::exception:
         modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE);
         continue;
+      case Fault::refusal:
+        modbus_reply_exception(ctx_, query, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
+        continue;
       case Fault::stall:
         std::this_thread::sleep_for(stall);
         break;

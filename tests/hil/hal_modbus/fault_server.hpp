@@ -19,10 +19,11 @@ namespace excite::test {
 // misbehave for the next n requests (STYLE.md practice 9):
 //   stall      sleep `stall` before answering (the client times out)
 //   drop       close the connection instead of answering (the client sees a reset)
-//   exception  answer with exception 4, server device failure
+//   exception  answer with exception 4, server device failure (transient)
+//   refusal    answer with exception 3, illegal data value (the device refuses the request)
 class FaultServer {
  public:
-  enum class Fault { none, stall, drop, exception };
+  enum class Fault { none, stall, drop, exception, refusal };
 
   struct Seen {  // one request as the server received it
     int function_code;

@@ -176,6 +176,38 @@ TEST(ModbusTcp, AnExceptionReplyGivesPeerErrorKeepsTheLinkAndLeavesValuesUntouch
   EXPECT_EQ(bus.reconnects(), 0U);
 }
 
+// A transient exception (4) is no refusal; exception 3 to a write is, worded by the bus: the
+// request, the reason, and the setpoints whose registers it carried (all three: one FC16 of
+// registers 100..105). The next good call clears it.
+TEST(ModbusTcp, AnIllegalDataValueIsARefusalNamingTheRequestAndItsSetpoints) {
+  FaultServer server;
+  serve_values(server);
+  ModbusFieldBus bus;
+  ASSERT_TRUE(bus.configure(tick_config(server.port())).ok());
+  server.inject(FaultServer::Fault::exception);
+  EXPECT_EQ(bus.write(setpoints, 1), StatusCode::peer_error);
+  EXPECT_FALSE(bus.last_refusal().valid);
+  server.inject(FaultServer::Fault::refusal);
+  EXPECT_EQ(bus.write(setpoints, 2), StatusCode::peer_error);
+  const PeerRefusal refused = bus.last_refusal();
+  ASSERT_TRUE(refused.valid);
+  EXPECT_TRUE(refused.write);
+  EXPECT_EQ(refused.setpoints, 0b111U);
+  EXPECT_STREQ(refused.request.data(), "FC16 registers 100..105");
+  EXPECT_STREQ(refused.reason.data(),
+               "exception 3, illegal data value — the device's own limits?");
+  EXPECT_EQ(bus.exception_counts()[3], 1U);
+  EXPECT_EQ(bus.exception_counts()[4], 1U);
+  std::array<double, 3> values{};
+  server.inject(FaultServer::Fault::refusal);
+  EXPECT_EQ(bus.read(values), StatusCode::peer_error);
+  EXPECT_FALSE(bus.last_refusal().write);
+  EXPECT_EQ(bus.last_refusal().setpoints, 0U);
+  EXPECT_STREQ(bus.last_refusal().request.data(), "FC03 registers 300..300");  // the first read request
+  EXPECT_EQ(bus.read(values), StatusCode::ok) << bus.detail();
+  EXPECT_FALSE(bus.last_refusal().valid);
+}
+
 TEST(ModbusTcp, APeerThatIsGoneGivesLinkLostUntilItComesBack) {
   auto server = std::make_unique<FaultServer>();
   const std::uint16_t port = server->port();

@@ -63,13 +63,6 @@ TEST(Transports, ModbusDescribesItsPeerRegistersAndRanges) {
   EXPECT_EQ(sp[0].high, 2.0);
   EXPECT_EQ(sp[0].what, "register 100 int16 raw 0..27648 = 0..2");
   EXPECT_FALSE(t->carried_range(ChannelKind::value)[0].bounded);  // float32
-  PeerException refused;
-  refused.write = true;
-  refused.address = 100;
-  refused.count = 1;
-  EXPECT_TRUE(t->refusal_covers(refused, 0));
-  refused.address = 101;
-  EXPECT_FALSE(t->refusal_covers(refused, 0));
 }
 
 TEST(Transports, CanDescribesItsInterfaceFramesAndRanges) {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -9,50 +10,20 @@
 
 namespace excite::hal {
 
-// A peer's exception reply (Modbus), kept by the bus for its caller. Codes 1 (illegal
-// function), 2 (illegal data address) and 3 (illegal data value) are the device's answer to
-// the request itself — it will refuse it again: a refusal, not a link fault. The others
-// (4 server device failure, 6 busy, …) are transient: the comm guard retries.
-struct PeerException {
-  int code = 0;               // the exception code; 0: none
-  bool write = false;         // the refused request was a write (else a read)
-  std::uint8_t function = 0;  // its function code
-  std::uint32_t address = 0;  // its first register
-  std::uint16_t count = 0;    // its register count
+/// The peer refused a request itself: it would refuse it again, so this is not a link fault
+/// and retrying will not help. The transport that saw the refusal fills this record, and only
+/// that transport words it. The words are fixed text, so keeping the record on the cyclic path
+/// allocates nothing.
+struct PeerRefusal {
+  bool valid = false;           // false: the last call was not refused
+  bool write = false;           // the refused request was a write (else a read)
+  std::uint64_t setpoints = 0;  // bit i: the refused write carried setpoint i
+  // The request, in the transport's words: "FC16 registers 100..105".
+  std::array<char, 64> request{};
+  // Why it was refused, in the transport's words:
+  // "exception 3, illegal data value — the device's own limits?".
+  std::array<char, 128> reason{};
 };
-
-constexpr bool is_refusal(int exception_code) noexcept {
-  return exception_code >= 1 && exception_code <= 3;
-}
-
-/// "illegal data value" for 3, …; "exception" for a code without a name.
-constexpr const char* exception_name(int code) noexcept {
-  switch (code) {
-    case 1:
-      return "illegal function";
-    case 2:
-      return "illegal data address";
-    case 3:
-      return "illegal data value";
-    case 4:
-      return "server device failure";
-    case 5:
-      return "acknowledge";
-    case 6:
-      return "server device busy";
-    case 8:
-      return "memory parity error";
-    case 10:
-      return "gateway path unavailable";
-    case 11:
-      return "gateway target device failed to respond";
-    default:
-      return "exception";
-  }
-}
-
-/// Exception codes counted per code (index = code), 0 … kExceptionCodes − 1.
-inline constexpr std::size_t kExceptionCodes = 16;
 
 // A field bus as the gateway engine sees it: once per tick it writes the setpoints and a
 // heartbeat and reads the process values, all in engineering units in the order of the
@@ -89,15 +60,10 @@ class FieldBus {
     return StatusCode::unavailable;
   }
   [[nodiscard]] virtual bool value_writable(std::size_t /*index*/) const noexcept { return false; }
-  // The exception reply that made the last call return peer_error (code 0 after any other
-  // outcome). Transports without exception replies: always none.
-  [[nodiscard]] virtual PeerException last_exception() const noexcept { return {}; }
-
-  // Exception replies since configuration, per code (kExceptionCodes entries; empty for
-  // transports without them).
-  [[nodiscard]] virtual std::span<const std::uint64_t> exception_counts() const noexcept {
-    return {};
-  }
+  // The refusal that made the last call return peer_error; not valid after any other
+  // outcome, or after a peer_error the device may not repeat (busy, a malformed reply).
+  // Transports whose peers cannot refuse a request never fill it.
+  [[nodiscard]] virtual PeerRefusal last_refusal() const noexcept { return {}; }
 
   // One tick's exchange: write, then read. Returns the first non-ok status.
   StatusCode exchange(std::span<const double> setpoints, std::uint16_t heartbeat,

@@ -101,8 +101,6 @@ class TransportConfig {
   [[nodiscard]] virtual double response_timeout_s() const = 0;
   /// "" when one tick's traffic fits a tick of `period_s` seconds, else why not.
   [[nodiscard]] virtual std::string check_tick(double period_s) const = 0;
-  /// Whether the peer's refusal `e` concerns setpoint `i` (its request covered it).
-  [[nodiscard]] virtual bool refusal_covers(const PeerException& e, std::size_t i) const = 0;
 };
 
 }  // namespace excite::hal

@@ -133,9 +133,6 @@ class Gateway {
   /// (register 100 float32 ABCD) at tick 12: exception 3, illegal data value — the device's
   /// own limits?"; several setpoints when one request carried them; "" when there was none.
   [[nodiscard]] std::string refusal_report() const;
-  /// Exception replies by code: "3 (illegal data value) 1, 4 (server device failure) 5";
-  /// "none".
-  [[nodiscard]] std::string exception_report(const hal::FieldBus& bus) const;
   /// The engine's readback fault in words: "setpoint u1 (register 100 float32 CDAB): wrote
   /// 0.5, read back 3.2e-41 from u1_rb at tick 12"; "" when there was none.
   [[nodiscard]] std::string readback_fault_report() const;

@@ -48,8 +48,7 @@ struct RunSummary {
   double segment_await_s = 0.0;
   std::uint64_t rows_awaiting = 0;
   // In words ("": nothing to say).
-  std::string exceptions;      // exception replies by code ("none" when there were none)
-  std::string bus_counts;      // the transport's own counts
+  std::string bus_counts;      // the transport's own counts (Modbus: exception replies by code)
   std::string refusal;         // the device's refusal (Gateway::refusal_report)
   std::string readback_fault;  // the verified write that failed
   std::string foreign_write;   // another master's write (Gateway::foreign_write_report)

@@ -55,11 +55,11 @@ struct RunStats {
   engine::Outcome outcome = engine::Outcome::none;
 };
 
-/// The first request the device refused (an exception reply 1, 2 or 3, hal::is_refusal):
-/// what was being written, at which tick. Found on the cyclic path (fixed storage).
+/// The first request the device refused (hal::PeerRefusal): what was being written, at which
+/// tick. Found on the cyclic path (fixed storage).
 struct Refusal {
   bool valid = false;
-  hal::PeerException exception{};
+  hal::PeerRefusal peer{};
   std::uint64_t tick = 0;                             // the engine's tick of the refused exchange
   std::array<double, engine::kMaxInputs> setpoint{};  // the setpoints written (a write)
 };

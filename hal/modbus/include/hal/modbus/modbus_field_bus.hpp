@@ -10,6 +10,7 @@
 
 #include "base/config/check.hpp"
 #include "excite/hal/field_bus.hpp"
+#include "hal/modbus/exception_words.hpp"
 #include "hal/modbus/register_map.hpp"
 
 struct _modbus;  // libmodbus's modbus_t
@@ -47,9 +48,10 @@ config::Check validate(const ModbusConfig& config);
 // libmodbus's own error recovery is off; this class reconnects instead:
 //   ETIMEDOUT                  → timeout;   the link is closed, reconnected on the next call
 //   EPIPE, ECONNRESET, EBADF   → link_lost; likewise
-//   Modbus exception reply     → peer_error; link kept; last_exception() names the code and
-//                                the request, exception_counts() counts it (1, 2, 3: the
-//                                device refused the request; 4, 6: transient)
+//   Modbus exception reply     → peer_error; link kept; exception_counts() counts it; 1, 2
+//                                and 3 (the device refused the request) also fill
+//                                last_refusal(): the request, the code in words and the
+//                                setpoints the request carried (4, 6: transient, not filled)
 //   malformed reply (CRC, …)   → peer_error; pending input flushed, link kept
 //   reconnect fails            → link_lost; tried again on the next call
 // One context per thread: an instance is not thread-safe; give each thread its own.
@@ -75,8 +77,9 @@ class ModbusFieldBus final : public FieldBus {
   }
   [[nodiscard]] std::size_t value_count() const noexcept override { return plan_.values.size(); }
   [[nodiscard]] const char* detail() const noexcept override { return detail_; }
-  [[nodiscard]] PeerException last_exception() const noexcept override { return exception_; }
-  [[nodiscard]] std::span<const std::uint64_t> exception_counts() const noexcept override {
+  [[nodiscard]] PeerRefusal last_refusal() const noexcept override { return refusal_; }
+  // Exception replies since configuration, per code (exception_words.hpp).
+  [[nodiscard]] std::span<const std::uint64_t> exception_counts() const noexcept {
     return {exception_counts_.data(), exception_counts_.size()};
   }
 
@@ -90,6 +93,7 @@ class ModbusFieldBus final : public FieldBus {
   void release() noexcept;
   StatusCode ensure_connected() noexcept;
   StatusCode fail(const char* operation, const Request* request, int error) noexcept;
+  void keep_refusal(int code, bool write, const Request* request) noexcept;
   void set_detail(const char* text) noexcept;
 
   _modbus* ctx_ = nullptr;
@@ -102,7 +106,7 @@ class ModbusFieldBus final : public FieldBus {
   std::uint64_t reconnects_ = 0;
   std::uint64_t clamped_ = 0;
   char detail_[256] = "not configured";
-  PeerException exception_{};
+  PeerRefusal refusal_{};
   std::array<std::uint64_t, kExceptionCodes> exception_counts_{};
 };
 
