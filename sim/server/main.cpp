@@ -25,7 +25,6 @@
 #include "base/config/document.hpp"
 #include "base/config/error.hpp"
 #include "firmware/runlog/format.hpp"
-#include "sim/server/can_plant_server.hpp"
 #include "sim/server/default_map.hpp"
 #include "sim/server/load_closed_loop.hpp"
 #include "sim/server/plant_process.hpp"
@@ -34,12 +33,13 @@
 #include "sim/server/server_config.hpp"
 #include "sim/server/server_layout.hpp"
 #include "sim/server/server_overrides.hpp"
+#include "sim/server/servers.hpp"
 
 namespace {
 
 using namespace excite::sim::server;
 
-constexpr int kExitBadInput = 2;  // 0, 1 and 3 come from serve_modbus / serve_can
+constexpr int kExitBadInput = 2;  // 0, 1 and 3 come from the server (servers.hpp)
 
 volatile std::sig_atomic_t g_stop = 0;
 
@@ -85,7 +85,8 @@ void parse_endpoint(const std::string& text, std::string& host, std::uint16_t& p
 
 struct CommandLine {
   std::string config_path;    // empty: the default register map for --plant
-  std::string can_interface;  // non-empty: serve CAN
+  std::string transport = "modbus-tcp";  // the server, by its name in servers.hpp
+  std::string can_interface;             // --can: the interface
   ServerOverrides overrides;  // over the configuration file
   ServeOptions options;       // transport, clock, log, faults
 };
@@ -247,6 +248,7 @@ void check_numbers(const CLI::App& app, const RawOptions& raw, ServeOptions& opt
 void check_serving(const CLI::App& app, const RawOptions& raw, CommandLine& cl) {
   ServeOptions& options = cl.options;
   if (!raw.modbus_rtu.empty()) {
+    cl.transport = "modbus-rtu";
     options.rtu_device = raw.modbus_rtu;
     if (app.count("--baud") > 0) {
       static const std::vector<std::uint32_t> rates{1200,  2400,  4800,   9600,  19200,
@@ -258,6 +260,7 @@ void check_serving(const CLI::App& app, const RawOptions& raw, CommandLine& cl) 
       options.rtu_baud = static_cast<int>(raw.baud);
     }
   }
+  if (!cl.can_interface.empty()) cl.transport = "can";
   if (!cl.can_interface.empty() && cl.can_interface.size() >= IF_NAMESIZE) {
     bad("--can", "\"" + cl.can_interface + "\"",
         "an interface name of 1.." + std::to_string(IF_NAMESIZE - 1) + " characters");
@@ -341,10 +344,12 @@ int main(int argc, char** argv) {
                                            plant.output_names(), closed_loop);
     }
     std::unique_ptr<ClosedLoop> loop;
+    const ServerEntry& server = *find_server(cl.transport);
     if (closed_loop) {
-      if (!cl.can_interface.empty()) {
+      if (!server.closed_loop.empty()) {
         bad("--controller", "\"" + config.plant.controller + "\"",
-            "Modbus (--modbus-tcp or --modbus-rtu): the CAN frame map has no closed-loop frames");
+            "a server with closed-loop registers (" + closed_loop_options() +
+                "): " + std::string(server.closed_loop));
       }
       loop = load_closed_loop(config.plant.controller, plant, process.sample_time_min());
     } else if (!cl.options.controller_log_path.empty()) {
@@ -365,12 +370,9 @@ int main(int argc, char** argv) {
           "no input limits under a controller (the controller file's [[mv]] min and max bound "
           "the applied MVs)");
     }
-    const auto stopped = [] { return g_stop != 0; };
-    if (!cl.can_interface.empty()) {
-      return serve_can(process, options, cl.can_interface, install_handlers, stopped);
-    }
-    return serve_modbus(process, image, layout, options, cl.config_path.empty(), install_handlers,
-                        stopped, loop.get());
+    return server.serve({process, image, layout, options, cl.config_path.empty(),
+                         cl.can_interface, loop.get(), install_handlers,
+                         [] { return g_stop != 0; }});
   } catch (const std::exception& e) {
     std::cerr << "excite-plant: " << e.what() << "\n";
     return kExitBadInput;

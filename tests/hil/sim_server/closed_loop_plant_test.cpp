@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <modbus.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
@@ -333,10 +334,15 @@ TEST_F(ClosedLoopPlant, ABadControllerIsRefusedByName) {
        "closed-loop registers"},
       {{"--plant", "woodberry2x2", "--controller", kPi, "--input-range", "1"},
        "--input-range = 1, expected no input limits under a controller"},
+      // The server table (servers.hpp) says which servers serve a controller's registers.
+      {{"--plant", "woodberry2x2", "--controller", kPi, "--can", "vcan0"},
+       "expected a server with closed-loop registers (--modbus-tcp or --modbus-rtu): the CAN "
+       "frame map has no closed-loop frames"},
   };
   for (const Case& c : cases) {
     std::vector<std::string> args = c.args;
-    args.insert(args.end(), {"--modbus-tcp", "127.0.0.1:0"});
+    if (std::find(args.begin(), args.end(), "--can") == args.end())
+      args.insert(args.end(), {"--modbus-tcp", "127.0.0.1:0"});
     PlantRunner plant(args, dir_.path() / "refused.txt");
     EXPECT_FALSE(plant.wait_listening().has_value()) << c.says;
     EXPECT_EQ(plant.wait_exit().value_or(-1), 2) << c.says;
