@@ -3,6 +3,7 @@
 
 #include <toml++/toml.h>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -264,30 +265,14 @@ void parse_values(const toml::table& root, GatewayConfig& c, hal::TransportConfi
     v.name = channel_name(t, w);
     v.unit = channel_unit(t, w);
     if (auto role = text(t, w, "role")) {
-      if (*role == "output") {
-        v.role = ValueRole::output;
-      } else if (*role == "readback") {
-        v.role = ValueRole::readback;
-      } else if (*role == "heartbeat_echo") {
-        v.role = ValueRole::heartbeat_echo;
-      } else if (*role == "command") {
-        v.role = ValueRole::command;
-      } else if (*role == "controller_mode") {
-        v.role = ValueRole::controller_mode;
-      } else if (*role == "mv_status") {
-        v.role = ValueRole::mv_status;
-      } else if (*role == "controller_move") {
-        v.role = ValueRole::controller_move;
-      } else if (*role == "applied_mv") {
-        v.role = ValueRole::applied_mv;
-      } else if (*role == "setpoint_in_force") {
-        v.role = ValueRole::setpoint_in_force;
-      } else {
+      const std::optional<ValueRole> known = role_of(*role);
+      if (!known) {
         throw ConfigError(w + ".role", '"' + *role + '"',
                           "output, readback, heartbeat_echo, command, or in closed loop "
                           "controller_mode, mv_status, controller_move, applied_mv, "
                           "setpoint_in_force");
       }
+      v.role = *known;
     }
     if (auto ack = text(t, w, "acknowledge")) {
       if (v.role != ValueRole::command) {
@@ -501,6 +486,41 @@ void parse_segments(const toml::table& t, GatewayConfig& c) {
 }
 
 }  // namespace
+
+namespace {
+
+struct RoleName {
+  ValueRole role;
+  const char* name;
+};
+
+constexpr std::array<RoleName, 9> kRoleNames = {{
+    {ValueRole::output, "output"},
+    {ValueRole::readback, "readback"},
+    {ValueRole::heartbeat_echo, "heartbeat_echo"},
+    {ValueRole::command, "command"},
+    {ValueRole::controller_mode, "controller_mode"},
+    {ValueRole::mv_status, "mv_status"},
+    {ValueRole::controller_move, "controller_move"},
+    {ValueRole::applied_mv, "applied_mv"},
+    {ValueRole::setpoint_in_force, "setpoint_in_force"},
+}};
+
+}  // namespace
+
+const char* role_name(ValueRole role) noexcept {
+  for (const RoleName& r : kRoleNames) {
+    if (r.role == role) return r.name;
+  }
+  return "output";
+}
+
+std::optional<ValueRole> role_of(std::string_view name) noexcept {
+  for (const RoleName& r : kRoleNames) {
+    if (name == r.name) return r.role;
+  }
+  return std::nullopt;
+}
 
 ConfigResult parse_gateway_config(std::string_view text_in, std::string_view source) {
   ConfigResult result;

@@ -8,6 +8,7 @@
 
 #include "base/config/document.hpp"
 #include "base/config/table.hpp"
+#include "base/config/writer.hpp"
 #include "hal/modbus/register_entry_toml.hpp"
 
 namespace excite::hal::modbus {
@@ -207,6 +208,20 @@ class ModbusTransport final : public TransportConfig {
 
 std::unique_ptr<TransportConfig> make_transport_config(std::string_view name) {
   return std::make_unique<ModbusTransport>(name == "modbus-rtu" ? "modbus-rtu" : "modbus-tcp");
+}
+
+std::string format_device_keys(const ModbusDevice& d) {
+  std::string out;
+  if (d.transport == "rtu") {
+    out = "serial_port = " + config::toml_string(d.serial_port) +
+          "\nbaud = " + std::to_string(d.baud) + "\nparity = " + config::toml_string(d.parity) +
+          "\ndata_bits = " + std::to_string(d.data_bits) +
+          "\nstop_bits = " + std::to_string(d.stop_bits) + "\n";
+  } else {
+    out = "host = " + config::toml_string(d.host) + "\nport = " + std::to_string(d.port) + "\n";
+  }
+  return out + "unit_id = " + std::to_string(d.unit_id) +
+         "\nresponse_timeout_ms = " + std::to_string(d.response_timeout_ms) + "\n";
 }
 
 const ModbusConfig* modbus_config_of(const TransportConfig& transport) noexcept {

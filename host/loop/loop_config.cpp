@@ -11,7 +11,9 @@
 #include "base/config/document.hpp"
 #include "base/config/writer.hpp"
 #include "firmware/app/gateway_config.hpp"
+#include "firmware/app/gateway_config_writer.hpp"
 #include "hal/can/can_transport.hpp"
+#include "hal/modbus/modbus_transport.hpp"
 #include "hal/modbus/register_entry_toml.hpp"
 #include "host/design/case_studies.hpp"
 #include "sim/plants/plant.hpp"
@@ -25,8 +27,6 @@
 namespace excite::host {
 namespace {
 
-using config::toml_number;
-using config::toml_string;
 using hal::modbus::EntryKind;
 using hal::modbus::format_register_entry;
 
@@ -41,12 +41,83 @@ hal::modbus::RegisterEntry counter(std::uint32_t address, int function_code) {
   return e;
 }
 
-// The operator command register, a holding register the gateway clears after each command
-// it reads (the acknowledgement: the same code written again is a new command).
-std::string command_value(std::uint32_t address) {
-  return "\n[[values]]\nname = \"command\"\nrole = \"command\"   # 1 start, 2 suspend, 3 "
-         "resume, 4 abort, 5 approve\nacknowledge = \"clear\"   # 0 written back after each\n" +
-         format_register_entry(counter(address, 3), EntryKind::value);
+// A float32 ABCD value at `address` (FC04 input register, or FC03 holding).
+hal::modbus::RegisterEntry float_value(std::uint32_t address, int function_code) {
+  hal::modbus::RegisterEntry e;
+  e.address = address;
+  e.function_code = function_code;
+  return e;
+}
+
+// The gateway's own settings in every file written here: the plant, the tick, the comm
+// guard holding, no real-time priority (the peer is a simulation on the same machine), a
+// simulated peer (lock-step allowed) with the plant's own watchdog declared.
+app::GatewayConfig gateway_settings(const LoopConfigOptions& opt, const sim::Plant& plant,
+                                    double watchdog_s) {
+  app::GatewayConfig g;
+  g.plant = plant.name() + " (excite-plant)";
+  if (opt.period_s > 0.0) g.period_s = opt.period_s;
+  g.realtime_priority = 0;
+  g.simulator = true;
+  if (watchdog_s > 0.0) g.peer_watchdog_s = watchdog_s;
+  return g;
+}
+
+// [device] over Modbus TCP: excite-plant at --host:--port, unit 1, a generous timeout (the
+// machine is shared).
+std::string modbus_device(const LoopConfigOptions& opt, const app::GatewayConfig& g) {
+  hal::modbus::ModbusDevice device;
+  device.host = opt.host;
+  device.port = opt.port;
+  device.response_timeout_ms = 1000;
+  return app::format_device_section("modbus-tcp", g, hal::modbus::format_device_keys(device));
+}
+
+app::SetpointSpec setpoint(const std::string& name, const std::string& unit, double range,
+                           double center, double max_move, const std::string& readback) {
+  app::SetpointSpec s;
+  s.name = name;
+  s.unit = unit;
+  s.min = center - range;
+  s.max = center + range;
+  s.max_move = max_move;
+  s.readback = readback;
+  return s;
+}
+
+app::ValueSpec value(const std::string& name, const std::string& unit,
+                     app::ValueRole role = app::ValueRole::output) {
+  app::ValueSpec v;
+  v.name = name;
+  v.unit = unit;
+  v.role = role;
+  return v;
+}
+
+// An output with --output-range test limits around its baseline y0 (none without them).
+app::ValueSpec output(const std::string& name, const std::string& unit, double y0,
+                      double output_range) {
+  app::ValueSpec v = value(name, unit);
+  if (output_range > 0.0) {
+    v.test_low = y0 - output_range;
+    v.test_high = y0 + output_range;
+    v.hysteresis = 0.1 * output_range;
+  }
+  return v;
+}
+
+// The heartbeat echo, and the operator command register: a holding register the gateway
+// clears after each command it reads (the acknowledgement: the same code written again is a
+// new command).
+std::string echo_and_command(const sim::server::ServerRegisters& regs) {
+  app::ValueSpec command = value("command", "-", app::ValueRole::command);
+  command.acknowledge = true;
+  const hal::modbus::RegisterEntry echo =
+      counter(regs.heartbeat_echo_address, regs.heartbeat_echo_function_code);
+  return app::format_value(value("hb_echo", "-", app::ValueRole::heartbeat_echo),
+                           format_register_entry(echo, EntryKind::value)) +
+         app::format_value(
+             command, format_register_entry(counter(*regs.command_address, 3), EntryKind::value));
 }
 
 // Both files read back by the partners' own readers (excite-gateway's configuration with
@@ -87,26 +158,15 @@ std::string gateway_toml(const LoopConfigOptions& opt, const sim::Plant& plant,
   const auto& map = server.registers.map;
   const auto in_units = plant.input_units();
   const auto out_units = plant.output_units();
-  std::ostringstream os;
-  os << "# excite-gateway configuration written by `excite loop-config --plant " << opt.plant
-     << "`,\n# the register map of plant.toml beside it (sim/server/README.md, Default register "
-        "map).\n# Keys: firmware/app/README.md.\n\n";
-  os << "[gateway]\nplant = " << toml_string(plant.name() + " (excite-plant)") << "\n";
-  if (opt.period_s > 0.0) os << "period_s = " << toml_number(opt.period_s) << "\n";
-  os << "comm_fail_limit = 3\ncomm_loss = \"hold\"\nrealtime_priority = 0\n\n";
-  os << "[device]\ntransport = \"modbus-tcp\"\nsimulator = true   # the peer is excite-plant: "
-        "--clock lockstep allowed\nhost = "
-     << toml_string(opt.host) << "\nport = " << opt.port
-     << "\nunit_id = 1\nresponse_timeout_ms = 1000\n\n";
-  // The plant's own watchdog (plant.toml), declared: the gateway refuses one shorter than
-  // two of its periods.
-  if (server.plant.watchdog_s > 0.0) {
-    os << "peer_watchdog_s = " << toml_number(server.plant.watchdog_s)
-       << "   # plant.toml's watchdog_s: at least two tick periods\n\n";
-  }
+  std::string out = "# excite-gateway configuration written by `excite loop-config --plant " +
+                    opt.plant +
+                    "`,\n# the register map of plant.toml beside it (sim/server/README.md, "
+                    "Default register map).\n# Keys: firmware/app/README.md.\n\n";
+  const app::GatewayConfig g = gateway_settings(opt, plant, server.plant.watchdog_s);
+  out += app::format_gateway_section(g) + modbus_device(opt, g);
   // The map as the plant server serves it, written by the schema's own writer: the same
   // entries, types and word orders on both sides.
-  os << "[map]\n" << hal::modbus::format_map_settings(map);
+  out += "[map]\n" + hal::modbus::format_map_settings(map);
   const double move = opt.max_move > 0.0 ? opt.max_move : 2.0 * range;
   for (std::size_t i = 0; i < map.setpoints.size(); ++i) {
     const auto& e = map.setpoints[i];
@@ -114,45 +174,21 @@ std::string gateway_toml(const LoopConfigOptions& opt, const sim::Plant& plant,
     // float32 step (|u0|·2⁻²⁴) from u0: the limits allow one step more, so a design that
     // uses exactly ±range is not refused for the register's rounding.
     const double slack = std::abs(u0[i]) * 0x1p-23;
-    os << "\n[[setpoints]]\nname = " << toml_string(e.name)
-       << "\nunit = " << toml_string(in_units[i]) << "\n"
-       << format_register_entry(e, EntryKind::setpoint)
-       << "min = " << toml_number(u0[i] - range - slack)
-       << "\nmax = " << toml_number(u0[i] + range + slack) << "\nmax_move = " << toml_number(move)
-       << "\nreadback = " << toml_string(e.name + "_sp") << "\n";
+    out += app::format_setpoint(
+        setpoint(e.name, in_units[i], range + slack, u0[i], move, e.name + "_sp"),
+        format_register_entry(e, EntryKind::setpoint));
   }
   for (std::size_t j = 0; j < map.values.size(); ++j) {
-    const auto& e = map.values[j];
-    os << "\n[[values]]\nname = " << toml_string(e.name) << "\nunit = " << toml_string(out_units[j])
-       << "\n"
-       << format_register_entry(e, EntryKind::value);
-    if (opt.output_range > 0.0) {
-      os << "test_low = " << toml_number(y0[j] - opt.output_range)
-         << "\ntest_high = " << toml_number(y0[j] + opt.output_range)
-         << "\nhysteresis = " << toml_number(0.1 * opt.output_range) << "\n";
-    }
+    out += app::format_value(output(map.values[j].name, out_units[j], y0[j], opt.output_range),
+                             format_register_entry(map.values[j], EntryKind::value));
   }
   for (std::size_t i = 0; i < map.setpoints.size(); ++i) {
     hal::modbus::RegisterEntry readback = map.setpoints[i];  // its holding register, read back
     readback.function_code = 3;
-    os << "\n[[values]]\nname = " << toml_string(readback.name + "_sp")
-       << "\nunit = " << toml_string(in_units[i]) << "\nrole = \"readback\"\n"
-       << format_register_entry(readback, EntryKind::value);
+    out += app::format_value(value(readback.name + "_sp", in_units[i], app::ValueRole::readback),
+                             format_register_entry(readback, EntryKind::value));
   }
-  os << "\n[[values]]\nname = \"hb_echo\"\nrole = \"heartbeat_echo\"\n"
-     << format_register_entry(counter(server.registers.heartbeat_echo_address,
-                                      server.registers.heartbeat_echo_function_code),
-                              EntryKind::value);
-  os << command_value(*server.registers.command_address);
-  return os.str();
-}
-
-// A float32 ABCD value at `address` (FC04 input register, or FC03 holding).
-hal::modbus::RegisterEntry float_value(std::uint32_t address, int function_code) {
-  hal::modbus::RegisterEntry e;
-  e.address = address;
-  e.function_code = function_code;
-  return e;
+  return out + echo_and_command(server.registers);
 }
 
 // The gateway in closed loop (sim/server/README.md, "Closed loop"): the offsets it writes,
@@ -173,32 +209,20 @@ std::string gateway_closed_loop_toml(const LoopConfigOptions& opt, const sim::Pl
   const bool mv = opt.offsets != "setpoint";
   const bool sp = opt.offsets != "mv";
   const double sp_range = opt.output_range > 0.0 ? opt.output_range : range;
-  std::ostringstream os;
-  os << "# excite-gateway configuration written by `excite loop-config --plant " << opt.plant
-     << " --controller " << std::filesystem::path(opt.controller).filename().string()
-     << " --offsets " << opt.offsets
-     << "`,\n# the closed-loop register map of plant.toml beside it (sim/server/README.md, "
-        "Closed loop).\n# Keys: firmware/app/README.md.\n\n";
-  os << "[gateway]\nplant = " << toml_string(plant.name() + " (excite-plant)") << "\n";
-  if (opt.period_s > 0.0) os << "period_s = " << toml_number(opt.period_s) << "\n";
-  os << "comm_fail_limit = 3\ncomm_loss = \"hold\"\nrealtime_priority = 0\n\n";
-  os << "[closed_loop]\noffsets = " << toml_string(opt.offsets)
-     << "\ncontroller = " << toml_string(controller_line)
-     << "\ncontroller_timeout_s = " << toml_number(opt.controller_timeout_s)
-     << "\nmv_baseline = [";  // the MVs' operating points: the run log's u = baseline + du
-  for (std::size_t i = 0; i < server.plant.input_baseline.size(); ++i) {
-    os << (i == 0 ? "" : ", ") << toml_number(server.plant.input_baseline[i]);
-  }
-  os << "]\n\n";
-  os << "[device]\ntransport = \"modbus-tcp\"\nsimulator = true   # the peer is excite-plant: "
-        "--clock lockstep allowed\nhost = "
-     << toml_string(opt.host) << "\nport = " << opt.port
-     << "\nunit_id = 1\nresponse_timeout_ms = 1000\n\n";
-  if (server.plant.watchdog_s > 0.0) {
-    os << "peer_watchdog_s = " << toml_number(server.plant.watchdog_s)
-       << "   # plant.toml's watchdog_s: at least two tick periods\n\n";
-  }
-  os << "[map]\n" << hal::modbus::format_map_settings(regs.map);
+  std::string out = "# excite-gateway configuration written by `excite loop-config --plant " +
+                    opt.plant + " --controller " +
+                    std::filesystem::path(opt.controller).filename().string() + " --offsets " +
+                    opt.offsets +
+                    "`,\n# the closed-loop register map of plant.toml beside it "
+                    "(sim/server/README.md, Closed loop).\n# Keys: firmware/app/README.md.\n\n";
+  const app::GatewayConfig g = gateway_settings(opt, plant, server.plant.watchdog_s);
+  app::ClosedLoopSpec loop;
+  loop.offsets = opt.offsets;
+  loop.controller = controller_line;
+  loop.controller_timeout_s = opt.controller_timeout_s;
+  loop.mv_baseline = server.plant.input_baseline;  // the run log's u = baseline + du
+  out += app::format_gateway_section(g) + app::format_closed_loop_section(loop) +
+         modbus_device(opt, g) + "[map]\n" + hal::modbus::format_map_settings(regs.map);
   struct Offset {
     std::string name;
     std::string unit;
@@ -214,57 +238,44 @@ std::string gateway_closed_loop_toml(const LoopConfigOptions& opt, const sim::Pl
   }
   const double move = opt.max_move > 0.0 ? opt.max_move : 2.0 * range;
   for (const Offset& o : offsets) {
-    hal::modbus::RegisterEntry e = float_value(o.address, 16);
-    os << "\n[[setpoints]]\nname = " << toml_string(o.name) << "\nunit = " << toml_string(o.unit)
-       << "\n"
-       << format_register_entry(e, EntryKind::setpoint) << "min = " << toml_number(-o.range)
-       << "\nmax = " << toml_number(o.range)
-       << "\nmax_move = " << toml_number(std::max(move, 2.0 * o.range))
-       << "\nreadback = " << toml_string(o.name + "_rb") << "\n";
+    out += app::format_setpoint(
+        setpoint(o.name, o.unit, o.range, 0.0, std::max(move, 2.0 * o.range), o.name + "_rb"),
+        format_register_entry(float_value(o.address, 16), EntryKind::setpoint));
   }
-  const auto value = [&os](const std::string& name, const std::string& unit, const char* role,
-                           const hal::modbus::RegisterEntry& e) {
-    os << "\n[[values]]\nname = " << toml_string(name) << "\nunit = " << toml_string(unit) << "\n";
-    if (role != nullptr) os << "role = \"" << role << "\"\n";
-    os << format_register_entry(e, EntryKind::value);
+  const auto data = [&out](const app::ValueSpec& v, const hal::modbus::RegisterEntry& e) {
+    out += app::format_value(v, format_register_entry(e, EntryKind::value));
   };
   for (std::size_t j = 0; j < regs.map.values.size(); ++j) {
-    value(regs.map.values[j].name, out_units[j], nullptr, regs.map.values[j]);
-    if (opt.output_range > 0.0) {
-      const double y0 = server.plant.output_baseline[j];
-      os << "test_low = " << toml_number(y0 - opt.output_range)
-         << "\ntest_high = " << toml_number(y0 + opt.output_range)
-         << "\nhysteresis = " << toml_number(0.1 * opt.output_range) << "\n";
-    }
+    data(output(regs.map.values[j].name, out_units[j], server.plant.output_baseline[j],
+                opt.output_range),
+         regs.map.values[j]);
   }
   for (const Offset& o : offsets)
-    value(o.name + "_rb", o.unit, "readback", float_value(o.address, 3));
-  os << "\n[[values]]\nname = \"hb_echo\"\nrole = \"heartbeat_echo\"\n"
-     << format_register_entry(
-            counter(regs.heartbeat_echo_address, regs.heartbeat_echo_function_code),
-            EntryKind::value);
-  os << command_value(*regs.command_address);
-  os << "\n[[values]]\nname = \"mode\"\nrole = \"controller_mode\"   # 0 off, 1 control, 2 test, "
-        "3 suspended\n"
-     << format_register_entry(counter(r + 5 * n + 2 * m, 4), EntryKind::value);
+    data(value(o.name + "_rb", o.unit, app::ValueRole::readback), float_value(o.address, 3));
+  out += echo_and_command(regs);
+  data(value("mode", "-", app::ValueRole::controller_mode), counter(r + 5 * n + 2 * m, 4));
   for (std::uint32_t i = 0; i < n; ++i) {
-    value("st_" + in_names[i], "-", "mv_status", counter(r + 4 * n + 2 * m + i, 4));
+    data(value("st_" + in_names[i], "-", app::ValueRole::mv_status),
+         counter(r + 4 * n + 2 * m + i, 4));
   }
   for (std::uint32_t i = 0; i < n; ++i) {
-    value("uc_" + in_names[i], in_units[i], "controller_move", float_value(r + 2 * i, 4));
+    data(value("uc_" + in_names[i], in_units[i], app::ValueRole::controller_move),
+         float_value(r + 2 * i, 4));
   }
   for (std::uint32_t i = 0; i < n; ++i) {
-    value("ua_" + in_names[i], in_units[i], "applied_mv", float_value(r + 2 * n + 2 * i, 4));
+    data(value("ua_" + in_names[i], in_units[i], app::ValueRole::applied_mv),
+         float_value(r + 2 * n + 2 * i, 4));
   }
   for (std::uint32_t j = 0; j < m; ++j) {
-    value("ysp_" + out_names[j], out_units[j], "setpoint_in_force",
-          float_value(r + 4 * n + 2 * j, 4));
+    data(value("ysp_" + out_names[j], out_units[j], app::ValueRole::setpoint_in_force),
+         float_value(r + 4 * n + 2 * j, 4));
   }
-  return os.str();
+  return out;
 }
 
 // The gateway over CAN: sim/server's default CAN frame map, the same limits as over Modbus.
-std::string gateway_can_toml(const LoopConfigOptions& opt, const sim::Plant& plant, double range,
+std::string gateway_can_toml(const LoopConfigOptions& opt, const sim::Plant& plant,
+                             const sim::server::ServerConfig& server, double range,
                              const std::vector<double>& u0, const std::vector<double>& y0) {
   const sim::server::CanLoopMap loop = sim::server::default_can_map(
       plant.inputs(), plant.outputs(), plant.input_names(), plant.output_names());
@@ -272,50 +283,38 @@ std::string gateway_can_toml(const LoopConfigOptions& opt, const sim::Plant& pla
   const auto in_units = plant.input_units();
   const auto out_units = plant.output_units();
   const auto n = map.setpoints.size();
-  std::ostringstream os;
-  os << "# excite-gateway configuration written by `excite loop-config --plant " << opt.plant
-     << " --transport can`,\n# the default CAN frame map excite-plant --can serves "
-        "(sim/server/README.md).\n# Keys: firmware/app/README.md; frames: hal/README.md.\n\n";
-  os << "[gateway]\nplant = " << toml_string(plant.name() + " (excite-plant)") << "\n";
-  if (opt.period_s > 0.0) os << "period_s = " << toml_number(opt.period_s) << "\n";
-  os << "comm_fail_limit = 3\ncomm_loss = \"hold\"\nrealtime_priority = 0\n\n";
-  os << "[device]\ntransport = \"can\"\nsimulator = true   # the peer is excite-plant: "
-        "--clock lockstep allowed\n\n";
+  std::string out = "# excite-gateway configuration written by `excite loop-config --plant " +
+                    opt.plant +
+                    " --transport can`,\n# the default CAN frame map excite-plant --can serves "
+                    "(sim/server/README.md).\n# Keys: firmware/app/README.md; frames: "
+                    "hal/README.md.\n\n";
+  // CAN has no [device] keys of its own; its settings are the [can] section.
+  const app::GatewayConfig g = gateway_settings(opt, plant, server.plant.watchdog_s);
+  out += app::format_gateway_section(g) + app::format_device_section("can", g, "");
   hal::can::CanConfig can;
   can.interface = opt.can_interface;
   can.value_timeout_ms = 1000;
   can.map.heartbeat = map.heartbeat;
-  os << "[can]\n" << hal::can::format_can_settings(can);
+  out += "[can]\n" + hal::can::format_can_settings(can);
   const double move = opt.max_move > 0.0 ? opt.max_move : 2.0 * range;
   for (std::size_t i = 0; i < n; ++i) {
     const auto& s = map.setpoints[i];
     const double slack = std::abs(u0[i]) * 0x1p-23;  // float32, as over Modbus
-    os << "\n[[setpoints]]\nname = " << toml_string(s.name)
-       << "\nunit = " << toml_string(in_units[i]) << "\n";
-    os << hal::can::format_can_entry(s) << "min = " << toml_number(u0[i] - range - slack)
-       << "\nmax = " << toml_number(u0[i] + range + slack) << "\nmax_move = " << toml_number(move)
-       << "\nreadback = " << toml_string(s.name + "_sp") << "\n";
+    out += app::format_setpoint(
+        setpoint(s.name, in_units[i], range + slack, u0[i], move, s.name + "_sp"),
+        hal::can::format_can_entry(s));
   }
   for (std::size_t k = 0; k < map.values.size(); ++k) {
     const auto& s = map.values[k];
-    const bool output = k < y0.size();
-    const bool readback = !output && k < y0.size() + n;
-    os << "\n[[values]]\nname = " << toml_string(s.name) << "\n";
-    if (output) {
-      os << "unit = " << toml_string(out_units[k]) << "\n";
-    } else if (readback) {
-      os << "unit = " << toml_string(in_units[k - y0.size()]) << "\nrole = \"readback\"\n";
-    } else {
-      os << "role = \"heartbeat_echo\"\n";
-    }
-    os << hal::can::format_can_entry(s);
-    if (output && opt.output_range > 0.0) {
-      os << "test_low = " << toml_number(y0[k] - opt.output_range)
-         << "\ntest_high = " << toml_number(y0[k] + opt.output_range)
-         << "\nhysteresis = " << toml_number(0.1 * opt.output_range) << "\n";
-    }
+    const bool is_output = k < y0.size();
+    const bool readback = !is_output && k < y0.size() + n;
+    const app::ValueSpec v = is_output ? output(s.name, out_units[k], y0[k], opt.output_range)
+                             : readback
+                                 ? value(s.name, in_units[k - y0.size()], app::ValueRole::readback)
+                                 : value(s.name, "-", app::ValueRole::heartbeat_echo);
+    out += app::format_value(v, hal::can::format_can_entry(s));
   }
-  return os.str();
+  return out;
 }
 
 // Every number and choice of the command line, by name, before anything is built.
@@ -441,8 +440,9 @@ LoopConfigPair make_loop_config(const LoopConfigOptions& opt) {
       server, "excite-plant configuration written by `excite loop-config --plant " + opt.plant +
                   "`; its gateway side: gateway.toml");
   pair.gateway_toml = closed ? gateway_closed_loop_toml(opt, *plant, server, range, controller_line)
-                      : opt.transport == "can" ? gateway_can_toml(opt, *plant, range, u0v, y0v)
-                                               : gateway_toml(opt, *plant, server, range, u0v, y0v);
+                      : opt.transport == "can"
+                          ? gateway_can_toml(opt, *plant, server, range, u0v, y0v)
+                          : gateway_toml(opt, *plant, server, range, u0v, y0v);
   check_with_partners(pair);
   pair.notes = std::move(notes);
   return pair;

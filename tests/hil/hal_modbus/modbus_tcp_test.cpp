@@ -194,8 +194,7 @@ TEST(ModbusTcp, AnIllegalDataValueIsARefusalNamingTheRequestAndItsSetpoints) {
   EXPECT_TRUE(refused.write);
   EXPECT_EQ(refused.setpoints, 0b111U);
   EXPECT_STREQ(refused.request.data(), "FC16 registers 100..105");
-  EXPECT_STREQ(refused.reason.data(),
-               "exception 3, illegal data value — the device's own limits?");
+  EXPECT_STREQ(refused.reason.data(), "exception 3, illegal data value — the device's own limits?");
   EXPECT_EQ(bus.exception_counts()[3], 1U);
   EXPECT_EQ(bus.exception_counts()[4], 1U);
   std::array<double, 3> values{};
@@ -203,7 +202,8 @@ TEST(ModbusTcp, AnIllegalDataValueIsARefusalNamingTheRequestAndItsSetpoints) {
   EXPECT_EQ(bus.read(values), StatusCode::peer_error);
   EXPECT_FALSE(bus.last_refusal().write);
   EXPECT_EQ(bus.last_refusal().setpoints, 0U);
-  EXPECT_STREQ(bus.last_refusal().request.data(), "FC03 registers 300..300");  // the first read request
+  // The first read request is the holding register's.
+  EXPECT_STREQ(bus.last_refusal().request.data(), "FC03 registers 300..300");
   EXPECT_EQ(bus.read(values), StatusCode::ok) << bus.detail();
   EXPECT_FALSE(bus.last_refusal().valid);
 }

@@ -37,6 +37,12 @@ enum class ValueRole : std::uint8_t {
   setpoint_in_force,  // a CV's setpoint in force (deviation)
 };
 
+/// A role's key in the file ("readback" for ValueRole::readback), one table for the reader
+/// and the writer (gateway_config_writer.hpp).
+const char* role_name(ValueRole role) noexcept;
+/// The role named `name`, or none.
+std::optional<ValueRole> role_of(std::string_view name) noexcept;
+
 /// [closed_loop]: the gateway writes test offsets to a running controller (issue 42 §2).
 struct ClosedLoopSpec {
   // Which offsets the setpoints are: "mv" (MV test offsets, a dither added to the
