@@ -104,7 +104,7 @@ void check_arguments(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double 
 // factor of the better start's (the two are then not clearly ranked).
 constexpr double kAmbiguousStart = 4.0;
 // Iterations for one element fitted alone to its part of the output (a start only).
-constexpr int kAloneIterations = 30;
+constexpr int kStartAloneIterations = 30;
 
 // ‖y − ŷ‖² over the scored rows of the start elements (one per input of `inputs`).
 double start_cost(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
@@ -282,7 +282,7 @@ std::optional<std::vector<ElementModel>> arx_start(const Rows& rows,
         rows.bank->grid()[static_cast<std::size_t>(rows.bank->choose_one(col, z, gain))];
     g.gain = gain;
     const MisoResult alone =
-        fit_miso(rows.U, z, {rows.screen.usable[e]}, {g}, rows.T_min, rows.bounds, kAloneIterations,
+        fit_miso(rows.U, z, {rows.screen.usable[e]}, {g}, rows.T_min, rows.bounds, kStartAloneIterations,
                  rows.layout, Eigen::MatrixXd(y_start.size(), 0), LmOptions{}.cost_tolerance,
                  MisoUncertainty::none);
     start.push_back(alone.elements.front().value);

@@ -12,7 +12,7 @@ namespace excite::host {
 namespace {
 
 // Iterations of one element fitted alone to its part of the output (a trial, not the result).
-constexpr int kAloneIterations = 12;
+constexpr int kTrialAloneIterations = 12;
 // Rounds of changes per row.
 constexpr int kRounds = 6;
 // A delay within this many samples of a whole number is tried on the other side too.
@@ -114,7 +114,7 @@ AloneFit fit_alone(const Eigen::MatrixXd& U, const Eigen::VectorXd& part, int in
   for (const ElementModel& s : starts) {
     if (!discretisable({s}, T_min)) continue;
     const MisoResult alone =
-        fit_miso(U, part, {input}, {s}, T_min, bounds, kAloneIterations, layout,
+        fit_miso(U, part, {input}, {s}, T_min, bounds, kTrialAloneIterations, layout,
                  Eigen::MatrixXd(U.rows(), 0), LmOptions{}.cost_tolerance, MisoUncertainty::none);
     const double sse = weighted_sse(alone.y_hat, part, layout);
     if (sse < best.sse) best = {alone.elements.front().value, sse};

@@ -17,10 +17,6 @@ namespace {
 
 using nlohmann::json;
 
-json number(double v) {
-  return std::isfinite(v) ? json(v) : json(nullptr);
-}
-
 // A run.json or a unit file is about 1 KB (a 100-point length grid on a 4×4 plant: 6 KB).
 constexpr std::uintmax_t kMaxRecordBytes = 1 << 20;
 
@@ -114,13 +110,21 @@ class Reader {
 
 json accuracy_json(const Accuracy& a) {
   return {{"gain_identified", a.gain_identified},
-          {"sigma_n_error", number(a.sigma_n_error)},
-          {"weakest_angle_deg", number(a.weakest_angle_deg)},
+          {"sigma_n_error", json_number(a.sigma_n_error)},
+          {"weakest_angle_deg", json_number(a.weakest_angle_deg)},
           {"minor_signs_right", a.minor_signs_right},
           {"met", a.met}};
 }
 
 }  // namespace
+
+json json_number(double v) {
+  return std::isfinite(v) ? json(v) : json(nullptr);
+}
+
+double number_of(const json& v) {
+  return v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN();
+}
 
 json config_json(const Config& c) {
   return {{"format", "excite montecarlo run v1"},
@@ -194,23 +198,23 @@ json unit_json(const UnitResult& u) {
   for (const LengthPoint& p : u.lengths)
     lengths.push_back({{"percent", p.percent}, {"samples", p.samples}, {"met", p.met}});
   json sv = json::array();
-  for (const double v : u.singular_values) sv.push_back(number(v));
+  for (const double v : u.singular_values) sv.push_back(json_number(v));
   json gain = json::array();
-  for (const double v : u.gain) gain.push_back(number(v));
+  for (const double v : u.gain) gain.push_back(json_number(v));
   json true_gain = json::array();
-  for (const double v : u.true_gain) true_gain.push_back(number(v));
+  for (const double v : u.true_gain) true_gain.push_back(json_number(v));
   return {{"design", u.design},
           {"number", u.number},
           {"seed", u.seed},
           {"samples", u.samples},
           {"sample_time_min", u.sample_time_min},
-          {"fit_avg", number(u.fit_avg)},
-          {"crossfit_avg", number(u.crossfit_avg)},
-          {"crossfit_worst", number(u.crossfit_worst)},
-          {"ratio", number(u.ratio)},
-          {"upsilon", number(u.upsilon)},
-          {"ratio_noisy", number(u.ratio_noisy)},
-          {"upsilon_noisy", number(u.upsilon_noisy)},
+          {"fit_avg", json_number(u.fit_avg)},
+          {"crossfit_avg", json_number(u.crossfit_avg)},
+          {"crossfit_worst", json_number(u.crossfit_worst)},
+          {"ratio", json_number(u.ratio)},
+          {"upsilon", json_number(u.upsilon)},
+          {"ratio_noisy", json_number(u.ratio_noisy)},
+          {"upsilon_noisy", json_number(u.upsilon_noisy)},
           {"singular_values", sv},
           {"gain", gain},
           {"true_gain", true_gain},

@@ -9,6 +9,7 @@
 #include "host/campaign/gnuplot.hpp"
 #include "host/campaign/report.hpp"
 #include "host/campaign/report_figures.hpp"
+#include "host/montecarlo/records.hpp"
 #include "host/montecarlo/statistics.hpp"
 #include "host/output/html_page.hpp"
 #include "host/output/whole_file.hpp"
@@ -68,10 +69,6 @@ std::string fixed(double v, int digits) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
   return buffer;
-}
-
-double as_double(const json& v) {
-  return v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN();
 }
 
 // The designs as the figures place them: the others first, then the directional ones, each
@@ -262,7 +259,7 @@ std::string plot_shares(const json& summary, const Layout& l, const fs::path& fi
     for (const json& point : (*d)["lengths"]) {
       char row[128];
       std::snprintf(row, sizeof row, "%d %.10g %.10g %.10g\n", point["percent"].get<int>(),
-                    as_double(point["share"]), point["wilson95"][0].get<double>(),
+                    number_of(point["share"]), point["wilson95"][0].get<double>(),
                     point["wilson95"][1].get<double>());
       data << row;
     }
@@ -319,9 +316,9 @@ struct SpreadCell {
   int digits;
 };
 HtmlPage& operator<<(HtmlPage& h, const SpreadCell& c) {
-  return h << "<b>" << fixed(as_double(c.spread["median"]), c.digits) << "</b> ["
-           << fixed(as_double(c.spread["p10"]), c.digits) << " – "
-           << fixed(as_double(c.spread["p90"]), c.digits) << "]";
+  return h << "<b>" << fixed(number_of(c.spread["median"]), c.digits) << "</b> ["
+           << fixed(number_of(c.spread["p10"]), c.digits) << " – "
+           << fixed(number_of(c.spread["p90"]), c.digits) << "]";
 }
 
 // A table row's class: shaded for a directional design.
@@ -367,7 +364,7 @@ void head_section(HtmlPage& h, const json& summary, std::size_t designs) {
        "for "
     << designs << " designs over " << seeds << " noise seeds (" << first_seed << " to "
     << first_seed + static_cast<std::uint64_t>(seeds) - 1 << "), measurement noise variance "
-    << as_double(run["noise_variance"]) << " on every output. Rows of directional designs are "
+    << number_of(run["noise_variance"]) << " on every output. Rows of directional designs are "
     << "shaded; in the figures the other designs are orange and the directional ones blue.</p>";
   h << "<p><b>True plant: "
     << (perturb > 0.0 ? Markup("perturbed</b> in every seed: ") : Markup("nominal</b>: "))
@@ -389,8 +386,8 @@ void verdicts_section(HtmlPage& h, const json& summary) {
   for (const json& v : summary["verdicts"]) {
     h << "<tr><td>" << v["label"].get<std::string>() << "</td><td>"
       << v["better"].get<std::string>() << "</td><td>"
-      << fixed(as_double(v["directional_median"]), 3) << "</td><td>"
-      << fixed(as_double(v["others_median"]), 3) << "</td>";
+      << fixed(number_of(v["directional_median"]), 3) << "</td><td>"
+      << fixed(number_of(v["others_median"]), 3) << "</td>";
     if (v["verdict"].is_null()) {
       h << "<td colspan='3'>– (needs designs of both groups)</td></tr>";
       continue;
@@ -440,7 +437,7 @@ void length_section(HtmlPage& h, const json& summary, const Layout& layout) {
         << "</td><td>" << std::string(p.directional ? "directional" : "other") << "</td><td>"
         << d["samples"].get<long long>() << "</td><td>" << share_text(d["criterion"]) << "</td><td>"
         << (t90.is_null() ? std::string("none") : std::to_string(t90["percent"].get<int>()))
-        << "</td><td>" << (t90.is_null() ? std::string("–") : fixed(as_double(t90["minutes"]), 0))
+        << "</td><td>" << (t90.is_null() ? std::string("–") : fixed(number_of(t90["minutes"]), 0))
         << "</td></tr>";
     }
   }
@@ -484,9 +481,9 @@ void bias_section(HtmlPage& h, const json& summary, const Layout& layout) {
         if (!e["bias_exceeds_spread"].get<bool>()) continue;
         char text[160];
         std::snprintf(text, sizeof text, "g%d%d %.3g (true %.3g, error %+.3g, range %.3g)",
-                      e["output"].get<int>() + 1, e["input"].get<int>() + 1, as_double(e["median"]),
-                      as_double(e["true"]), as_double(e["error"]["median"]),
-                      as_double(e["error"]["p90"]) - as_double(e["error"]["p10"]));
+                      e["output"].get<int>() + 1, e["input"].get<int>() + 1, number_of(e["median"]),
+                      number_of(e["true"]), number_of(e["error"]["median"]),
+                      number_of(e["error"]["p90"]) - number_of(e["error"]["p10"]));
         biased += (biased.empty() ? "" : "; ") + std::string(text);
       }
       h << "<tr" << row_class(p.directional) << "><td>" << p.name

@@ -10,6 +10,7 @@
 #include "host/campaign/report_figures.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/measures/accuracy.hpp"
+#include "host/montecarlo/records.hpp"
 #include "host/montecarlo/statistics.hpp"
 #include "sim/library/perturb.hpp"
 
@@ -18,15 +19,11 @@ namespace {
 
 using nlohmann::json;
 
-json number(double v) {
-  return std::isfinite(v) ? json(v) : json(nullptr);
-}
-
 json spread_json(const std::vector<double>& values) {
   const Spread s = spread_of(values);
-  return {{"median", number(s.median)},
-          {"p10", number(s.p10)},
-          {"p90", number(s.p90)},
+  return {{"median", json_number(s.median)},
+          {"p10", json_number(s.p10)},
+          {"p90", json_number(s.p90)},
           {"finite", s.finite},
           {"left_out", s.left_out}};
 }
@@ -132,8 +129,8 @@ json verdicts_json(const Config& config, const std::vector<UnitResult>& units) {
       by_seed[g][static_cast<std::size_t>(u.seed - config.first_seed)].push_back(x);
     }
     const double dir = median_of(pooled[1]), plain = median_of(pooled[0]);
-    v["directional_median"] = number(dir);
-    v["others_median"] = number(plain);
+    v["directional_median"] = json_number(dir);
+    v["others_median"] = json_number(plain);
     const int overall = both ? compare(dir, plain, m.higher_is_better) : kNotCompared;
     v["verdict"] = overall == kNotCompared ? json(nullptr)
                    : overall > 0           ? json("directional better")
@@ -243,12 +240,8 @@ std::string format(const char* pattern, double a, double b, double c) {
   return buffer;
 }
 
-double as_double(const json& v) {
-  return v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN();
-}
-
 std::string spread_text(const json& s, const char* pattern) {
-  return format(pattern, as_double(s["median"]), as_double(s["p10"]), as_double(s["p90"]));
+  return format(pattern, number_of(s["median"]), number_of(s["p10"]), number_of(s["p90"]));
 }
 
 }  // namespace
@@ -404,7 +397,7 @@ std::string verdict_lines(const json& summary) {
                   "  %s: %s (%.4g against %.4g); holds in %d of %d seeds; "
                   "best directional better in %d of %d\n",
                   v["label"].get<std::string>().c_str(), v["verdict"].get<std::string>().c_str(),
-                  as_double(v["directional_median"]), as_double(v["others_median"]),
+                  number_of(v["directional_median"]), number_of(v["others_median"]),
                   v["holds_in_seeds"]["met"].get<int>(), v["holds_in_seeds"]["of"].get<int>(),
                   v["best_directional_better_in_seeds"]["met"].get<int>(),
                   v["best_directional_better_in_seeds"]["of"].get<int>());

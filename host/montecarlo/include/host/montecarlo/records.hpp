@@ -17,6 +17,11 @@
 
 namespace excite::host::montecarlo {
 
+/// A number as the folder's files write it: a finite v as itself, NaN and ±inf as null.
+nlohmann::json json_number(double v);
+/// A number as they read it back: null (or anything not a number) as NaN.
+double number_of(const nlohmann::json& v);
+
 nlohmann::json config_json(const Config& config);
 /// Throws std::runtime_error "FILE: FIELD = VALUE, expected …" for a malformed file.
 Config read_config(const std::filesystem::path& file);

@@ -25,14 +25,10 @@ namespace excite::sim::server {
 /// The controller's mode, the run log's (off 0, control 1, test 2, suspended 3: its register
 /// value, uint16; its text runlog::to_text).
 using LoopMode = runlog::LoopMode;
-/// Each MV's status register (uint16).
-enum class LoopStatus : std::uint16_t {
-  ok = 0,
-  clamped_low = 1,   // the applied MV sits on its lower limit
-  clamped_high = 2,  // … on its upper limit
-  windup = 3,        // the controller plus the offset ask beyond a limit: the clamp cuts it
-  manual = 4,        // the controller is off: the MV is the operator's, held
-};
+/// Each MV's status, the run log's (ok 0, clamped low 1, clamped high 2, windup 3: the
+/// controller plus the offset ask beyond a limit and the clamp cuts it, manual 4: the
+/// controller is off and the MV is the operator's, held); its register value, uint16.
+using LoopStatus = runlog::MvState;
 
 class ClosedLoop {
  public:
