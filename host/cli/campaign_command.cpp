@@ -3,7 +3,7 @@
 //                 [--threads N] [--loop] [--overwrite] [--allow-unequal-length]
 //                 [--structure auto|NAME]
 // excite campaign --plant NAME --controller FILE -o DIR [--loop] [--excitation setpoint|mv]
-//                 [--limit CV=LO:HI ...] [--limit-fraction F] [--designs A,B]
+//                 [--limit CV=LO:HI ...] [--limit-fraction F] [--mv-fraction F] [--designs A,B]
 //                 [--open-loop-report PATH]
 //   the campaign with the controller on (issue 42 §4, host/loop/closed_loop_campaign.hpp):
 //   the closed-loop designs (every plain preset, setpoint excitation or MV dither), each run
@@ -62,6 +62,7 @@ struct CampaignCommandOptions {
   std::string excitation = "setpoint";
   std::vector<std::string> limits;  // CV=LO:HI
   double limit_fraction = 0.5;
+  double mv_fraction = 0.0;
   std::vector<std::string> designs;
   std::string open_loop_report;
 };
@@ -118,6 +119,7 @@ void run_closed_loop(const CampaignCommandOptions& opt,
   c.excitation = opt.excitation;
   c.designs = opt.designs;
   c.limit_fraction = opt.limit_fraction;
+  c.mv_fraction = opt.mv_fraction;
   if (!opt.limits.empty()) {
     const CvLimits limits =
         parse_cv_limits(opt.limits, sim::make_plant(c.plant)->output_names(), "the plant's");
@@ -257,6 +259,12 @@ void add_campaign_command(CLI::App& app) {
                   "with --controller, setpoint: the amplitude's share of each CV's test limit")
       ->capture_default_str()
       ->check(CLI::Range(1e-6, 1.0));
+  cmd->add_option("--mv-fraction", opt->mv_fraction,
+                  "with --controller, setpoint: r scaled down until its steady-state MV moves "
+                  "stay within this share of each MV's limits (the controller file's [[mv]]); "
+                  "0: sized by the CV limits alone")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--designs", opt->designs,
                   "with --controller: the plain presets to run (default: every one)")
       ->delimiter(',');

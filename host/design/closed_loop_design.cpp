@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "host/design/closed_loop_design.hpp"
 
+#include <Eigen/QR>
 #include <Eigen/SVD>
 
 #include <algorithm>
@@ -70,6 +71,48 @@ void rotate_into_output_directions(Design& d, const Eigen::MatrixXd& gain,
                  std::string(preset.acronym).substr(0, plan::kNameCapacity - 5) + "OutDir");
 }
 
+// The MV moves r asks for in steady state, u(k) = G(0)⁺ r(k) (G(0) = prior.gain, CVs × MVs),
+// kept within mv_fraction of each MV's room by scaling r down (never up: the CV limits size it
+// first). Without MV limits: nothing.
+void fit_into_mv_room(Design& d, const Eigen::MatrixXd& gain, const SetpointDesignRequest& req) {
+  const Eigen::Index n = req.mv_low.size();
+  if (n == 0 && req.mv_high.size() == 0) return;
+  if (req.mv_high.size() != n || gain.cols() != n || gain.rows() != d.table.cols()) {
+    throw std::invalid_argument(
+        "MV limits = " + std::to_string(n) + " low, " + std::to_string(req.mv_high.size()) +
+        " high, expected one pair per MV of a prior G(0) with one row per CV (" +
+        std::to_string(gain.rows()) + " x " + std::to_string(gain.cols()) + ")");
+  }
+  if (!(req.mv_fraction > 0.0 && req.mv_fraction <= 1.0)) {
+    throw std::invalid_argument("MV room fraction = " + g_text(req.mv_fraction) +
+                                ", expected 0 < f <= 1");
+  }
+  const Eigen::MatrixXd moves =
+      d.table *
+      gain.completeOrthogonalDecomposition().pseudoInverse().transpose();  // samples × MVs
+  double scale = 1.0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double lo = req.mv_low(i), hi = req.mv_high(i);
+    if (!(lo < 0.0 && hi > 0.0)) {
+      throw std::invalid_argument("MV " + std::to_string(i + 1) + " limits = " + g_text(lo) + ":" +
+                                  g_text(hi) + ", expected low < 0 < high");
+    }
+    const double room = req.mv_fraction * std::min(-lo, hi);  // infinite: no limit
+    const double peak = moves.col(i).cwiseAbs().maxCoeff();
+    if (peak > 0.0 && std::isfinite(room)) scale = std::min(scale, room / peak);
+  }
+  if (scale < 1.0) {
+    signal::Recipe& r = d.plan->recipe;
+    for (std::size_t c = 0; c < static_cast<std::size_t>(d.table.cols()); ++c) {
+      for (std::size_t i = 0; i < r.source_count; ++i) r.mix[c][i] *= scale;
+    }
+    d.table = make_table(r);
+  }
+  d.notes.push_back("MV room: r scaled by " + g_text(scale) +
+                    " so the steady-state moves inv(G(0)) r stay within " +
+                    g_text(req.mv_fraction) + " x each MV's limits");
+}
+
 }  // namespace
 
 Design design_setpoint_excitation(const PriorKnowledge& prior, const PresetInfo& preset,
@@ -117,6 +160,7 @@ Design design_setpoint_excitation(const PriorKnowledge& prior, const PresetInfo&
     }
     rotate_into_output_directions(d, prior.gain, amplitude, preset);
   }
+  fit_into_mv_room(d, prior.gain, req);
   d.notes.push_back(
       "setpoint excitation: r in CV units, amplitude per CV = " + g_text(req.fraction) +
       " x its test limit; under integral action u ~ inv(G(0)) r");

@@ -53,14 +53,35 @@ std::vector<const PresetInfo*> closed_loop_set(const std::vector<std::string>& n
 
 Design design_for(const ClosedLoopCampaignOptions& o, const PriorKnowledge& prior,
                   const PresetInfo& preset, const std::vector<std::string>& cvs,
-                  const Eigen::VectorXd& low, const Eigen::VectorXd& high) {
+                  const Eigen::VectorXd& low, const Eigen::VectorXd& high,
+                  const std::vector<sim::control::MvSettings>& mvs) {
   if (o.excitation == "mv") return design_mv_dither(prior, preset, 0);
   SetpointDesignRequest request;
   request.cv_names = cvs;
   request.cv_low = low;
   request.cv_high = high;
   request.fraction = o.limit_fraction;
+  if (o.mv_fraction > 0.0) {  // the MVs' room, from the controller file
+    request.mv_fraction = o.mv_fraction;
+    request.mv_low.resize(static_cast<Eigen::Index>(mvs.size()));
+    request.mv_high.resize(static_cast<Eigen::Index>(mvs.size()));
+    for (std::size_t i = 0; i < mvs.size(); ++i) {
+      request.mv_low(static_cast<Eigen::Index>(i)) = mvs[i].min;
+      request.mv_high(static_cast<Eigen::Index>(i)) = mvs[i].max;
+    }
+  }
   return design_setpoint_excitation(prior, preset, request, 0);
+}
+
+// Rows where any MV was not free: clamped, wound up or in manual (the run log's st_ columns).
+std::size_t mv_limited_rows(const runlog::RunLog& log) {
+  std::size_t rows = 0;
+  for (std::size_t k = 0; k < log.rows(); ++k) {
+    bool limited = false;
+    for (const auto& st : log.closed_loop.st) limited |= st[k] != runlog::MvState::ok;
+    rows += limited ? 1U : 0U;
+  }
+  return rows;
 }
 
 // A closed-loop run in process, as `excite simulate PLAN --controller FILE` makes it.
@@ -174,7 +195,7 @@ std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
     fs::create_directories(work);
     e.run_log = "runs/" + folder + "/run.csv";
     e.model = "models/" + folder + ".json";
-    const Design design = design_for(o, prior, preset, cvs, low, high);
+    const Design design = design_for(o, prior, preset, cvs, low, high, file.dmc.mv);
     const fs::path plan_path = work / (e.name + ".plan");
     write_plan_file(*design.plan, plan_path);
     const std::uint64_t seed = o.seed + static_cast<std::uint64_t>(e.number);
@@ -207,12 +228,15 @@ std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
       log = std::move(read.log);
     }
     e.rows = log.rows();
+    e.rows_mv_limited = mv_limited_rows(log);
     e.identified = identify_log(log, e.run_log);
     nlohmann::json j = model_json(e.identified.two_stage, log.input_names, log.output_names);
     j["closed_loop"] = closed_loop_block(e.identified, log);
     fs::create_directories(dir / "models");
     write_whole_file(dir / e.model, j.dump(2) + "\n");
-    if (say) say(e.name + ": identified (two-stage), " + e.model);
+    if (say)
+      say(e.name + ": identified (two-stage), " + e.model + "; rows with an MV limited " +
+          std::to_string(e.rows_mv_limited) + " of " + std::to_string(e.rows));
   });
   return out;
 }

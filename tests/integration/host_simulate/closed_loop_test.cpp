@@ -12,6 +12,8 @@
 #include <string>
 
 #include "firmware/runlog/reader.hpp"
+#include "host/design/case_studies.hpp"
+#include "host/design/closed_loop_design.hpp"
 #include "sim/control/controller_file.hpp"
 #include "sim/control/make_controller.hpp"
 #include "sim/plants/plant.hpp"
@@ -190,6 +192,45 @@ TEST(ClosedLoopSimulation, RefusesASignalOfTheWrongWidthByName) {
                  "plan channels = 3, expected 2 (the outputs of woodberry2x2 for setpoint "
                  "excitation)");
   }
+}
+
+// Rows where any MV was clamped (st ≠ ok).
+int mv_limited_rows(const SimulatedRun& run) {
+  int rows = 0;
+  for (const auto& row : run.closed_loop->st) {
+    rows += std::any_of(row.begin(), row.end(), [](MvState s) { return s != MvState::ok; });
+  }
+  return rows;
+}
+
+// The MVs' room (issue 41 §2, closed_loop_design.hpp), on the plant's side: alatiqi4x4 under
+// the example DMC (MVs ±0.6), prbsUnc setpoint excitation at half the DMC's CV limits. Sized by
+// the CV limits alone, the controller drives MVs onto their limits (each such row would
+// suspend a test through the gateway); sized by the MV room too, no MV reaches its limit.
+TEST(ClosedLoopSimulation, SetpointExcitationSizedByTheMvRoomClampsNoMv) {
+  Loop l = example("alatiqi4x4.dmc.toml", "alatiqi4x4");
+  const PriorKnowledge prior = case_study("alatiqi4x4");
+  SetpointDesignRequest request;
+  request.cv_names = l.plant->output_names();
+  request.cv_low.resize(4);
+  request.cv_high.resize(4);
+  for (Eigen::Index c = 0; c < 4; ++c) {
+    request.cv_low(c) = l.file.dmc.cv[static_cast<std::size_t>(c)].limit_low;
+    request.cv_high(c) = l.file.dmc.cv[static_cast<std::size_t>(c)].limit_high;
+  }
+  request.fraction = 0.5;
+  const auto run_of = [&l, &prior](const SetpointDesignRequest& req) {
+    const Design d = design_setpoint_excitation(prior, find_preset("prbsUnc"), req, 0);
+    return simulate_closed_loop(Eigen::MatrixXd(d.table), "prbsUnc", 1.0, *l.plant, *l.controller,
+                                l.options, {});
+  };
+  const int by_cvs = mv_limited_rows(run_of(request));
+  request.mv_low = l.options.mv_min;
+  request.mv_high = l.options.mv_max;
+  request.mv_fraction = 0.5;
+  const int by_mvs = mv_limited_rows(run_of(request));
+  EXPECT_GT(by_cvs, 40) << "the CV limits alone drive MVs onto their limits";
+  EXPECT_EQ(by_mvs, 0);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
 #include <Eigen/SVD>
 
 #include <algorithm>
@@ -130,6 +131,68 @@ TEST(SetpointDesign, RefusesADirectionalPresetAndMissingLimitsByName) {
     EXPECT_NE(std::string(e.what()).find("--limit y2 = -0.5:inf, expected finite test limits"),
               std::string::npos);
   }
+}
+
+// The MVs' room (issue 41 §2): under integral action u ≈ G(0)⁻¹ r, and alatiqi4x4's weak
+// direction asks for MV moves 1/σ₄ ≈ 6 times r. With the DMC's ±0.6 MV limits, r is scaled
+// down until the steady-state moves of the whole table peak at mv_fraction of the room on the
+// MV that limits it, the others below; generous limits leave r as the CV limits sized it.
+TEST(SetpointDesign, RIsScaledDownUntilItsSteadyStateMvMovesFitTheMvRoom) {
+  const PriorKnowledge prior = case_study("alatiqi4x4");
+  const Design by_cvs =
+      design_setpoint_excitation(prior, find_preset("prbsUnc"), four_cvs(false), 7);
+  SetpointDesignRequest request = four_cvs(false);
+  request.mv_low = Eigen::Vector4d::Constant(-0.6);
+  request.mv_high = Eigen::Vector4d::Constant(0.6);
+  request.mv_fraction = 0.5;
+  const Design d = design_setpoint_excitation(prior, find_preset("prbsUnc"), request, 7);
+  const Eigen::MatrixXd inverse = prior.gain.inverse();
+  const Eigen::MatrixXd unsized = Eigen::MatrixXd(by_cvs.table) * inverse.transpose();
+  const Eigen::MatrixXd moves = Eigen::MatrixXd(d.table) * inverse.transpose();
+  ASSERT_GT(unsized.cwiseAbs().maxCoeff(), 0.3) << "the CV limits alone ask for more than the room";
+  EXPECT_NEAR(moves.cwiseAbs().maxCoeff(), 0.3, 1e-9);
+  // The same signals, scaled: every channel by one factor, the CVs' ratios kept.
+  const double scale = d.table.cwiseAbs().maxCoeff() / by_cvs.table.cwiseAbs().maxCoeff();
+  EXPECT_LT(scale, 1.0);
+  EXPECT_NEAR(
+      (Eigen::MatrixXd(d.table) - scale * Eigen::MatrixXd(by_cvs.table)).cwiseAbs().maxCoeff(), 0.0,
+      1e-12);
+  EXPECT_NE(
+      std::find_if(d.notes.begin(), d.notes.end(),
+                   [](const std::string& n) { return n.starts_with("MV room: r scaled by"); }),
+      d.notes.end());
+
+  request.mv_low = Eigen::Vector4d::Constant(-1e6);
+  request.mv_high = Eigen::Vector4d::Constant(1e6);
+  const Design roomy = design_setpoint_excitation(prior, find_preset("prbsUnc"), request, 7);
+  EXPECT_EQ(Eigen::MatrixXd(roomy.table), Eigen::MatrixXd(by_cvs.table));
+}
+
+TEST(SetpointDesign, RefusesMvLimitsThatDoNotFitThePriorOrAreNotAboutZero) {
+  const PriorKnowledge prior = case_study("alatiqi4x4");
+  const auto says = [&prior](SetpointDesignRequest request, const std::string& what) {
+    try {
+      (void)design_setpoint_excitation(prior, find_preset("prbsUnc"), request, 7);
+      ADD_FAILURE() << "accepted; expected: " << what;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  SetpointDesignRequest three = four_cvs(false);
+  three.mv_low = Eigen::Vector3d::Constant(-0.6);
+  three.mv_high = Eigen::Vector3d::Constant(0.6);
+  says(three,
+       "MV limits = 3 low, 3 high, expected one pair per MV of a prior G(0) with one row "
+       "per CV (4 x 4)");
+  SetpointDesignRequest above = four_cvs(false);
+  above.mv_low = Eigen::Vector4d(-0.6, 0.1, -0.6, -0.6);
+  above.mv_high = Eigen::Vector4d::Constant(0.6);
+  says(above, "MV 2 limits = 0.1:0.6, expected low < 0 < high");
+  SetpointDesignRequest share = four_cvs(false);
+  share.mv_low = Eigen::Vector4d::Constant(-0.6);
+  share.mv_high = Eigen::Vector4d::Constant(0.6);
+  share.mv_fraction = 1.5;
+  says(share, "MV room fraction = 1.5, expected 0 < f <= 1");
 }
 
 }  // namespace

@@ -30,13 +30,21 @@ struct SetpointDesignRequest {
   Eigen::VectorXd cv_low, cv_high;    // CV test limits, deviations: low < 0 < high, finite
   double fraction = 0.5;              // a_c = fraction · min(|low_c|, high_c), 0 < fraction ≤ 1
   bool along_output_directions = false;  // r = c · W s: needs prior.gain
+  // The MVs' room (issue 41 §2): the controller's MV limits, deviations (low < 0 < high), one
+  // pair per MV; empty: r is sized by the CV limits alone. With them (and prior.gain, CVs ×
+  // MVs), r is scaled down until the MV moves it asks for in steady state, u = G(0)⁺ r over the
+  // whole table, stay within mv_fraction of each MV's room, min(|low_i|, high_i). A controller
+  // with integral action moves the MVs so at low frequency, and an MV driven to its limit
+  // clamps: the controller no longer follows r and the test suspends.
+  Eigen::VectorXd mv_low, mv_high;
+  double mv_fraction = 0.5;  // 0 < mv_fraction ≤ 1: the rest is left for the transients
 };
 
 /// A setpoint-excitation design of a plain `preset` (not a directional one: the directions
 /// here are the output directions, `along_output_directions`). Throws std::invalid_argument
 /// in the one message form: a directional preset, limits missing, not finite or not about
-/// 0, a fraction outside (0, 1], more than 8 CVs, output directions without a prior G(0) of
-/// as many rows as CVs.
+/// 0, a fraction outside (0, 1], more than 8 CVs, output directions or MV limits without a
+/// prior G(0) of as many rows as CVs (and, with MV limits, as many columns as MVs).
 Design design_setpoint_excitation(const PriorKnowledge& prior, const PresetInfo& preset,
                                   const SetpointDesignRequest& request,
                                   std::uint64_t created_unix_s);

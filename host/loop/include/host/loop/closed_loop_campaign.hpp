@@ -33,7 +33,11 @@ struct ClosedLoopCampaignOptions {
   /// Setpoint excitation: the CV test limits (deviations, low < 0 < high); empty: the
   /// controller file's CV limits ([[cv]] limits of a DMC), else refused.
   Eigen::VectorXd cv_low, cv_high;
-  double limit_fraction = 0.5;   // each CV's amplitude: this share of its test limit
+  double limit_fraction = 0.5;  // each CV's amplitude: this share of its test limit
+  // Setpoint excitation: r scaled down until the MV moves it asks for in steady state stay
+  // within this share of each MV's limits (the controller file's [[mv]] min, max;
+  // closed_loop_design.hpp); 0 (the default): r is sized by the CV limits alone.
+  double mv_fraction = 0.0;
   double noise_variance = -1.0;  // < 0: the case study's
   std::uint64_t seed = 1;        // design number e uses seed + e (as the open-loop campaign)
   bool loop = false;             // through the real gateway (programs), else in process
@@ -47,6 +51,7 @@ struct ClosedLoopExperiment {
   std::string run_log;  // relative to the campaign's folder: runs/NN-name/run.csv
   std::string model;    // models/NN-name.json
   std::size_t rows = 0;
+  std::size_t rows_mv_limited = 0;  // rows where an MV was clamped, wound up or in manual
   ClosedLoopIdentification identified;
 };
 
