@@ -27,11 +27,32 @@ struct DesignOptions {
   std::string preset;
   std::string output;
   bool quiet = false;
-  std::string excitation = "open";  // open | setpoint | mv (issue 41 §2)
-  std::vector<std::string> limits;  // setpoint: CV test limits CV=LOW:HIGH, every CV
-  double limit_fraction = 0.5;      // setpoint amplitude = fraction x the test limit
-  std::string directions = "none";  // setpoint: none | output
+  std::string excitation = "open";     // open | setpoint | mv (issue 41 §2)
+  std::vector<std::string> limits;     // setpoint: CV test limits CV=LOW:HIGH, every CV
+  double limit_fraction = 0.5;         // setpoint amplitude = fraction x the test limit
+  std::string directions = "none";     // setpoint: none | output
+  std::vector<std::string> mv_limits;  // setpoint: the controller's MV limits MV=LOW:HIGH
+  double mv_fraction = 0.5;            // setpoint with --mv-limit: r within this share of them
 };
+
+// Setpoint excitation: the CVs' test limits and, with --mv-limit, the MVs' room.
+SetpointDesignRequest setpoint_request(const DesignOptions& opt) {
+  const auto plant = sim::make_plant(opt.plant);
+  SetpointDesignRequest request;
+  request.cv_names = plant->output_names();
+  const CvLimits limits = parse_cv_limits(opt.limits, request.cv_names, "the plant's");
+  request.cv_low = limits.low;
+  request.cv_high = limits.high;
+  request.fraction = opt.limit_fraction;
+  request.along_output_directions = opt.directions == "output";
+  if (!opt.mv_limits.empty()) {
+    const CvLimits mvs = parse_mv_limits(opt.mv_limits, plant->input_names(), "the plant's");
+    request.mv_low = mvs.low;
+    request.mv_high = mvs.high;
+    request.mv_fraction = opt.mv_fraction;
+  }
+  return request;
+}
 
 void run(const DesignOptions& opt) {
   refuse_output_among_inputs(opt.output, {opt.spec});
@@ -54,6 +75,11 @@ void run(const DesignOptions& opt) {
     prior = case_study(opt.plant);
     preset_name = opt.preset;
   }
+  if (opt.excitation == "mv" && !opt.mv_limits.empty()) {
+    throw std::invalid_argument(
+        "--mv-limit with --excitation = mv, expected --excitation "
+        "setpoint (it sizes r by the MVs' room)");
+  }
   if (opt.excitation != "open") {
     if (opt.plant.empty() || design.plan) {
       throw std::invalid_argument("--excitation = " + opt.excitation +
@@ -63,19 +89,11 @@ void run(const DesignOptions& opt) {
     if (opt.excitation == "mv") {
       design = design_mv_dither(prior, preset, creation_time());
     } else {
-      const std::vector<std::string> cvs = sim::make_plant(opt.plant)->output_names();
-      const CvLimits limits = parse_cv_limits(opt.limits, cvs, "the plant's");
-      SetpointDesignRequest request;
-      request.cv_names = cvs;
-      request.cv_low = limits.low;
-      request.cv_high = limits.high;
-      request.fraction = opt.limit_fraction;
-      request.along_output_directions = opt.directions == "output";
-      design = design_setpoint_excitation(prior, preset, request, creation_time());
+      design = design_setpoint_excitation(prior, preset, setpoint_request(opt), creation_time());
     }
-  } else if (!opt.limits.empty() || opt.directions != "none") {
+  } else if (!opt.limits.empty() || opt.directions != "none" || !opt.mv_limits.empty()) {
     throw std::invalid_argument(
-        "--limit/--directions with --excitation = open, expected "
+        "--limit/--directions/--mv-limit with --excitation = open, expected "
         "--excitation setpoint (they size and turn the CV setpoints)");
   }
   if (!design.plan) design = design_preset(prior, find_preset(preset_name), creation_time());
@@ -123,6 +141,14 @@ void add_design_command(CLI::App& app) {
                   "prior's output directions W of G(0) = W Sigma V')")
       ->capture_default_str()
       ->check(CLI::IsMember({"none", "output"}));
+  cmd->add_option("--mv-limit", opt->mv_limits,
+                  "setpoint excitation: the controller's MV limits MV=LOW:HIGH (deviations); r "
+                  "is scaled down until its steady-state MV moves G(0)^-1 r stay within "
+                  "--mv-fraction of them");
+  cmd->add_option("--mv-fraction", opt->mv_fraction,
+                  "setpoint excitation with --mv-limit: the share of each MV's room r may use")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 1.0));
   cmd->callback([opt] { run(*opt); });
 }
 

@@ -53,46 +53,6 @@ struct IdentifyCommandOptions {
   int stage1_lags = 0;          // 0: project_on_reference's default
 };
 
-// G(0) of a model with its standard errors, element by element.
-nlohmann::json gains_json(const IdentifiedModel& m) {
-  nlohmann::json g = nlohmann::json::array(), se = nlohmann::json::array();
-  for (int o = 0; o < m.outputs; ++o) {
-    nlohmann::json row = nlohmann::json::array(), row_se = nlohmann::json::array();
-    for (int i = 0; i < m.inputs; ++i) {
-      const ElementEstimate& e = m.element(o, i);
-      row.push_back(e.estimated() ? nlohmann::json(e.value.static_gain()) : nlohmann::json());
-      row_se.push_back(std::isfinite(e.std_error.gain) ? nlohmann::json(e.std_error.gain)
-                                                       : nlohmann::json());
-    }
-    g.push_back(row);
-    se.push_back(row_se);
-  }
-  return {{"gain", g}, {"gain_std_error", se}};
-}
-
-// What the closed-loop identification adds to the model file: the method, stage 1, the
-// direct fit's G(0) and the elements where feedback bias is suspected.
-nlohmann::json closed_loop_json(const ClosedLoopIdentification& id, const runlog::RunLog& log,
-                                const std::string& method) {
-  nlohmann::json bias = nlohmann::json::array();
-  for (const GainDisagreement& d : id.feedback_bias) {
-    bias.push_back({{"element", element_name(log, d.output, d.input)},
-                    {"two_stage", d.two_stage},
-                    {"direct", d.direct},
-                    {"sigma", d.sigma}});
-  }
-  std::vector<double> fit(id.stage1.fit_percent.data(),
-                          id.stage1.fit_percent.data() + id.stage1.fit_percent.size());
-  const bool direct = method == "direct";
-  return {
-      {"method", direct ? "direct" : "two-stage"},
-      {"excitation", std::string(runlog::to_text(log.closed_loop.excitation))},
-      {"controller", log.closed_loop.controller},
-      {"stage1", {{"fir_lags", id.stage1.lags}, {"u_explained_by_r_percent", fit}}},
-      {direct ? "two_stage" : "direct", gains_json(direct ? id.two_stage.model : id.direct.model)},
-      {"feedback_bias_suspected", bias}};
-}
-
 // The model file's channel limit, before any fit (a 65-input run once took 77 s and wrote a
 // model no other command reads).
 void check_model_channels(const runlog::RunLog& first, const std::string& path) {
@@ -206,7 +166,7 @@ void run(const IdentifyCommandOptions& opt) {
              : identify(data.U, data.Y, data.sample_time_min, data.layout, options);
   nlohmann::json j = model_json(result, first.input_names, first.output_names);
   j["data"] = layout_json(data.report, opt.run_paths);
-  if (closed) j["closed_loop"] = closed_loop_json(*closed, first, opt.method);
+  if (closed) j["closed_loop"] = closed_loop_json(*closed, first, opt.method == "direct");
   if (!opt.model_path.empty()) write_whole_file(opt.model_path, j.dump(2) + '\n');
   if (opt.json) {
     std::cout << j.dump(2) << '\n';

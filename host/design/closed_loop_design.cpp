@@ -160,10 +160,10 @@ Design design_setpoint_excitation(const PriorKnowledge& prior, const PresetInfo&
     }
     rotate_into_output_directions(d, prior.gain, amplitude, preset);
   }
-  fit_into_mv_room(d, prior.gain, req);
   d.notes.push_back(
       "setpoint excitation: r in CV units, amplitude per CV = " + g_text(req.fraction) +
       " x its test limit; under integral action u ~ inv(G(0)) r");
+  fit_into_mv_room(d, prior.gain, req);
   mark(d, plan::Excitation::setpoint, "closed-loop setpoint");
   return d;
 }

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "host/export/json_util.hpp"
+#include "host/identify/identification_text.hpp"
 #include "host/output/input_path.hpp"
 #include "host/output/json_file.hpp"
 
@@ -134,7 +135,44 @@ std::optional<Eigen::MatrixXd> read_gain_covariance(const nlohmann::json& out,
   return cov;
 }
 
+// G(0) of a model with its standard errors, element by element.
+nlohmann::json gains_json(const IdentifiedModel& m) {
+  nlohmann::json g = nlohmann::json::array(), se = nlohmann::json::array();
+  for (int o = 0; o < m.outputs; ++o) {
+    nlohmann::json row = nlohmann::json::array(), row_se = nlohmann::json::array();
+    for (int i = 0; i < m.inputs; ++i) {
+      const ElementEstimate& e = m.element(o, i);
+      row.push_back(e.estimated() ? nlohmann::json(e.value.static_gain()) : nlohmann::json());
+      row_se.push_back(std::isfinite(e.std_error.gain) ? nlohmann::json(e.std_error.gain)
+                                                       : nlohmann::json());
+    }
+    g.push_back(row);
+    se.push_back(row_se);
+  }
+  return {{"gain", g}, {"gain_std_error", se}};
+}
+
 }  // namespace
+
+nlohmann::json closed_loop_json(const ClosedLoopIdentification& id, const runlog::RunLog& log,
+                                bool direct_written) {
+  nlohmann::json bias = nlohmann::json::array();
+  for (const GainDisagreement& d : id.feedback_bias) {
+    bias.push_back({{"element", element_name(log, d.output, d.input)},
+                    {"two_stage", d.two_stage},
+                    {"direct", d.direct},
+                    {"sigma", d.sigma}});
+  }
+  std::vector<double> fit(id.stage1.fit_percent.data(),
+                          id.stage1.fit_percent.data() + id.stage1.fit_percent.size());
+  const IdentifiedModel& other = direct_written ? id.two_stage.model : id.direct.model;
+  return {{"method", direct_written ? "direct" : "two-stage"},
+          {"excitation", std::string(runlog::to_text(log.closed_loop.excitation))},
+          {"controller", log.closed_loop.controller},
+          {"stage1", {{"fir_lags", id.stage1.lags}, {"u_explained_by_r_percent", fit}}},
+          {direct_written ? "two_stage" : "direct", gains_json(other)},
+          {"feedback_bias_suspected", bias}};
+}
 
 nlohmann::json model_json(const IdentificationResult& result,
                           const std::vector<std::string>& input_names,

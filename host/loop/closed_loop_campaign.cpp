@@ -73,6 +73,23 @@ Design design_for(const ClosedLoopCampaignOptions& o, const PriorKnowledge& prio
   return design_setpoint_excitation(prior, preset, request, 0);
 }
 
+// The controller's own CV limits (a DMC file's [[cv]] limits), for a setpoint excitation
+// given no --limit.
+void controller_cv_limits(const sim::control::ControllerFile& file, Eigen::Index p,
+                          Eigen::VectorXd& low, Eigen::VectorXd& high) {
+  if (static_cast<Eigen::Index>(file.dmc.cv.size()) != p) {
+    throw std::invalid_argument(
+        "--limit = (none), expected CV test limits for a setpoint "
+        "excitation (or a DMC controller file with [[cv]] limits)");
+  }
+  low.resize(p);
+  high.resize(p);
+  for (Eigen::Index c = 0; c < p; ++c) {
+    low(c) = file.dmc.cv[static_cast<std::size_t>(c)].limit_low;
+    high(c) = file.dmc.cv[static_cast<std::size_t>(c)].limit_high;
+  }
+}
+
 // Rows where any MV was not free: clamped, wound up or in manual (the run log's st_ columns).
 std::size_t mv_limited_rows(const runlog::RunLog& log) {
   std::size_t rows = 0;
@@ -132,27 +149,6 @@ ClosedLoopIdentification identify_log(const runlog::RunLog& log, const std::stri
   return identify_closed_loop(data.U, R, data.Y, data.sample_time_min, data.layout, options);
 }
 
-nlohmann::json closed_loop_block(const ClosedLoopIdentification& id, const runlog::RunLog& log) {
-  std::vector<double> explained(id.stage1.fit_percent.data(),
-                                id.stage1.fit_percent.data() + id.stage1.fit_percent.size());
-  nlohmann::json direct = nlohmann::json::array();
-  const IdentifiedModel& m = id.direct.model;
-  for (int o = 0; o < m.outputs; ++o) {
-    nlohmann::json row = nlohmann::json::array();
-    for (int i = 0; i < m.inputs; ++i) {
-      const ElementEstimate& e = m.element(o, i);
-      row.push_back(e.estimated() ? nlohmann::json(e.value.static_gain()) : nlohmann::json());
-    }
-    direct.push_back(row);
-  }
-  return {{"method", "two-stage"},
-          {"excitation", std::string(runlog::to_text(log.closed_loop.excitation))},
-          {"controller", log.closed_loop.controller},
-          {"stage1", {{"fir_lags", id.stage1.lags}, {"u_explained_by_r_percent", explained}}},
-          {"direct", {{"gain", direct}}},
-          {"feedback_bias_suspected", id.feedback_bias.size()}};
-}
-
 }  // namespace
 
 std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
@@ -166,22 +162,10 @@ std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
   const auto plant = sim::make_plant(o.plant);
   const std::vector<std::string> cvs = plant->output_names();
   const auto p = static_cast<Eigen::Index>(cvs.size());
+  const sim::control::ControllerFile file = sim::control::load_controller_file(o.controller);
   Eigen::VectorXd low = o.cv_low;
   Eigen::VectorXd high = o.cv_high;
-  const sim::control::ControllerFile file = sim::control::load_controller_file(o.controller);
-  if (o.excitation == "setpoint" && low.size() == 0) {  // the controller's own CV limits
-    if (static_cast<Eigen::Index>(file.dmc.cv.size()) != p) {
-      throw std::invalid_argument(
-          "--limit = (none), expected CV test limits for a setpoint "
-          "excitation (or a DMC controller file with [[cv]] limits)");
-    }
-    low.resize(p);
-    high.resize(p);
-    for (Eigen::Index c = 0; c < p; ++c) {
-      low(c) = file.dmc.cv[static_cast<std::size_t>(c)].limit_low;
-      high(c) = file.dmc.cv[static_cast<std::size_t>(c)].limit_high;
-    }
-  }
+  if (o.excitation == "setpoint" && low.size() == 0) controller_cv_limits(file, p, low, high);
   const double noise =
       o.noise_variance >= 0.0 ? o.noise_variance : case_study_noise_variance(o.plant);
   std::vector<ClosedLoopExperiment> out(set.size());
@@ -231,7 +215,7 @@ std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
     e.rows_mv_limited = mv_limited_rows(log);
     e.identified = identify_log(log, e.run_log);
     nlohmann::json j = model_json(e.identified.two_stage, log.input_names, log.output_names);
-    j["closed_loop"] = closed_loop_block(e.identified, log);
+    j["closed_loop"] = closed_loop_json(e.identified, log, false);
     fs::create_directories(dir / "models");
     write_whole_file(dir / e.model, j.dump(2) + "\n");
     if (say)

@@ -98,5 +98,33 @@ TEST_F(ClosedLoopCommands, ASetpointPlanIsDesignedInspectedAndRunOnlyUnderAContr
   EXPECT_EQ(static_cast<unsigned char>(bytes_of(path("ol.plan")).at(8)), 3U);
 }
 
+// --mv-limit (issue 41 §2): r scaled down until its steady-state MV moves fit the MVs' room,
+// said in the design's notes and seen in inspect's predicted moves; a bad MV refused by name.
+TEST_F(ClosedLoopCommands, ASetpointPlanFitsTheMvRoomItIsGiven) {
+  const std::string setpoint =
+      "design --plant woodberry2x2 --preset prbsUnc --excitation setpoint --limit y1=-2:2 "
+      "--limit y2=-1:1 ";
+  const Result design = excite(setpoint + "--mv-limit u1=-0.05:0.05 -o " + path("mv.plan"));
+  ASSERT_EQ(design.exit_code, 0) << design.out;
+  // Unsized, u1 would move (19.4·1 + 18.9·0.5)/123.58 = 0.233; half of its ±0.05 is 0.025.
+  EXPECT_TRUE(contains(design.out, "MV room: r scaled by 0.107088 so the steady-state moves"))
+      << design.out;
+  const Result inspect = excite("inspect " + path("mv.plan") + " --plant woodberry2x2");
+  ASSERT_EQ(inspect.exit_code, 0) << inspect.out;
+  EXPECT_TRUE(contains(inspect.out, "u1    -0.025    0.025")) << inspect.out;
+
+  const Result unknown = excite(setpoint + "--mv-limit u9=-1:1 -o " + path("x.plan"));
+  EXPECT_NE(unknown.exit_code, 0);
+  EXPECT_TRUE(contains(unknown.out,
+                       "--mv-limit \"u9=-1:1\": MV \"u9\", expected one of the plant's inputs: "
+                       "u1, u2"))
+      << unknown.out;
+  const Result open = excite("design --plant woodberry2x2 --preset prbsUnc --mv-limit u1=-1:1 -o " +
+                             path("x.plan"));
+  EXPECT_NE(open.exit_code, 0);
+  EXPECT_TRUE(contains(open.out, "--mv-limit with --excitation = open")) << open.out;
+  EXPECT_FALSE(std::ifstream(path("x.plan")).good()) << "nothing written";
+}
+
 }  // namespace
 }  // namespace excite_cli_test

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // --limit CV=LOW:HIGH, repeated: CV test limits as deviations from each CV's baseline
-// (excite scale, excite test).
+// (excite scale, excite test, excite design); --mv-limit MV=LOW:HIGH the same for the MVs
+// (excite design's setpoint excitation: the controller's MV limits).
 
 #include <string>
 #include <vector>
@@ -15,5 +16,10 @@ namespace excite::host {
 /// `outputs`, described as `whose` outputs, e.g. "the model's") or a non-finite number.
 CvLimits parse_cv_limits(const std::vector<std::string>& texts,
                          const std::vector<std::string>& outputs, const std::string& whose);
+
+/// The same for --mv-limit MV=LOW:HIGH over the inputs named `inputs` (the low and high
+/// vectors then hold one entry per input).
+CvLimits parse_mv_limits(const std::vector<std::string>& texts,
+                         const std::vector<std::string>& inputs, const std::string& whose);
 
 }  // namespace excite::host

@@ -9,7 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "firmware/runlog/reader.hpp"
 #include "host/export/formats.hpp"
+#include "host/identify/closed_loop.hpp"
 #include "host/identify/identify.hpp"
 
 namespace excite::host {
@@ -24,6 +26,15 @@ namespace excite::host {
 nlohmann::json model_json(const IdentificationResult& result,
                           const std::vector<std::string>& input_names,
                           const std::vector<std::string>& output_names);
+
+/// The model file's `closed_loop` block for a model identified from a closed-loop run (issue 41
+/// §3): {"method": the model written ("two-stage" or "direct"), "excitation", "controller",
+/// "stage1": {"fir_lags", "u_explained_by_r_percent": per input}, the other method's
+/// {"gain", "gain_std_error"} under its name ("direct" or "two_stage"), the cross-check, and
+/// "feedback_bias_suspected": [{"element", "two_stage", "direct", "sigma"}…]}. One writer for
+/// `excite identify` and the closed-loop campaign.
+nlohmann::json closed_loop_json(const ClosedLoopIdentification& id, const runlog::RunLog& log,
+                                bool direct_written);
 
 /// At most this many inputs and this many outputs in a model file, checked before anything
 /// is allocated for them (the identified elements are inputs × outputs).
