@@ -282,9 +282,9 @@ std::optional<std::vector<ElementModel>> arx_start(const Rows& rows,
         rows.bank->grid()[static_cast<std::size_t>(rows.bank->choose_one(col, z, gain))];
     g.gain = gain;
     const MisoResult alone =
-        fit_miso(rows.U, z, {rows.screen.usable[e]}, {g}, rows.T_min, rows.bounds, kStartAloneIterations,
-                 rows.layout, Eigen::MatrixXd(y_start.size(), 0), LmOptions{}.cost_tolerance,
-                 MisoUncertainty::none);
+        fit_miso(rows.U, z, {rows.screen.usable[e]}, {g}, rows.T_min, rows.bounds,
+                 kStartAloneIterations, rows.layout, Eigen::MatrixXd(y_start.size(), 0),
+                 LmOptions{}.cost_tolerance, MisoUncertainty::none);
     start.push_back(alone.elements.front().value);
   }
   return start;

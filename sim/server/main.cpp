@@ -84,11 +84,11 @@ void parse_endpoint(const std::string& text, std::string& host, std::uint16_t& p
 }
 
 struct CommandLine {
-  std::string config_path;    // empty: the default register map for --plant
+  std::string config_path;               // empty: the default register map for --plant
   std::string transport = "modbus-tcp";  // the server, by its name in servers.hpp
   std::string can_interface;             // --can: the interface
-  ServerOverrides overrides;  // over the configuration file
-  ServeOptions options;       // transport, clock, log, faults
+  ServerOverrides overrides;             // over the configuration file
+  ServeOptions options;                  // transport, clock, log, faults
 };
 
 // What the command line gives before it is checked: numbers read wide, checked by name.
@@ -370,9 +370,8 @@ int main(int argc, char** argv) {
           "no input limits under a controller (the controller file's [[mv]] min and max bound "
           "the applied MVs)");
     }
-    return server.serve({process, image, layout, options, cl.config_path.empty(),
-                         cl.can_interface, loop.get(), install_handlers,
-                         [] { return g_stop != 0; }});
+    return server.serve({process, image, layout, options, cl.config_path.empty(), cl.can_interface,
+                         loop.get(), install_handlers, [] { return g_stop != 0; }});
   } catch (const std::exception& e) {
     std::cerr << "excite-plant: " << e.what() << "\n";
     return kExitBadInput;

@@ -2,16 +2,16 @@
 // A fixture for check_function_length.py: a firmware function of 81 lines.
 
 int tick_everything(int x) {
-  x += 0;  // one line of the body
-  x += 1;  // one line of the body
-  x += 2;  // one line of the body
-  x += 3;  // one line of the body
-  x += 4;  // one line of the body
-  x += 5;  // one line of the body
-  x += 6;  // one line of the body
-  x += 7;  // one line of the body
-  x += 8;  // one line of the body
-  x += 9;  // one line of the body
+  x += 0;   // one line of the body
+  x += 1;   // one line of the body
+  x += 2;   // one line of the body
+  x += 3;   // one line of the body
+  x += 4;   // one line of the body
+  x += 5;   // one line of the body
+  x += 6;   // one line of the body
+  x += 7;   // one line of the body
+  x += 8;   // one line of the body
+  x += 9;   // one line of the body
   x += 10;  // one line of the body
   x += 11;  // one line of the body
   x += 12;  // one line of the body
@@ -86,6 +86,7 @@ int tick_everything(int x) {
 }
 
 // Not a function: a table, and a function of exactly 80 lines below.
+// clang-format off
 const int kTable[] = {
     0,
     1,
@@ -178,6 +179,7 @@ const int kTable[] = {
     88,
     89,
 };
+// clang-format on
 
 int eighty_lines(int x) {
   x -= 0;
