@@ -241,7 +241,7 @@ std::string Gateway::refusal_report() const {
   if (!e.write) return "device refused the read of " + request + at + ": " + what;
   std::string named;
   int n = 0;
-  for (std::size_t c = 0; c < config_.setpoints.size() && c < 64; ++c) {
+  for (std::size_t c = 0; c < config_.setpoints.size() && c < hal::kMaxRefusalSetpoints; ++c) {
     if (((e.setpoints >> c) & 1U) == 0) continue;
     const std::string where =
         config_.transport

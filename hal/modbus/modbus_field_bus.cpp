@@ -206,7 +206,7 @@ void ModbusFieldBus::keep_refusal(int code, bool write, const Request* request) 
   const unsigned first = request->address;
   std::snprintf(refusal_.request.data(), refusal_.request.size(), "FC%02d registers %u..%u",
                 request->function_code, first, first + request->count - 1U);
-  for (std::size_t i = 0; write && i < plan_.setpoints.size() && i < 64; ++i) {
+  for (std::size_t i = 0; write && i < plan_.setpoints.size() && i < kMaxRefusalSetpoints; ++i) {
     const Codec& c = plan_.setpoints[i];
     const std::size_t width = c.type == RegisterType::float32 ? 2U : 1U;
     if (c.offset < request->offset + request->count && c.offset + width > request->offset) {
@@ -217,7 +217,7 @@ void ModbusFieldBus::keep_refusal(int code, bool write, const Request* request) 
 
 StatusCode ModbusFieldBus::write(std::span<const double> setpoints,
                                  std::uint16_t heartbeat) noexcept {
-  refusal_ = {};
+  refusal_.valid = false;  // its words are read only when valid
   if (ctx_ == nullptr) {
     set_detail("not configured");
     return StatusCode::unavailable;
@@ -267,7 +267,7 @@ StatusCode ModbusFieldBus::write(std::span<const double> setpoints,
 }
 
 StatusCode ModbusFieldBus::read(std::span<double> values) noexcept {
-  refusal_ = {};
+  refusal_.valid = false;  // its words are read only when valid
   if (ctx_ == nullptr) {
     set_detail("not configured");
     return StatusCode::unavailable;
@@ -303,7 +303,7 @@ StatusCode ModbusFieldBus::read(std::span<double> values) noexcept {
 }
 
 StatusCode ModbusFieldBus::write_value(std::size_t index, double value) noexcept {
-  refusal_ = {};
+  refusal_.valid = false;  // its words are read only when valid
   if (ctx_ == nullptr) {
     set_detail("not configured");
     return StatusCode::unavailable;

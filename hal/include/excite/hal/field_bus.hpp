@@ -10,6 +10,9 @@
 
 namespace excite::hal {
 
+/// Setpoints a refusal can name: the bits of PeerRefusal::setpoints (the engine has at most 8).
+inline constexpr std::size_t kMaxRefusalSetpoints = 64;
+
 /// The peer refused a request itself: it would refuse it again, so this is not a link fault
 /// and retrying will not help. The transport that saw the refusal fills this record, and only
 /// that transport words it. The words are fixed text, so keeping the record on the cyclic path
