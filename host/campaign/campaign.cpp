@@ -37,6 +37,8 @@ SampleLayout first_rows(const SampleLayout& layout, Eigen::Index rows) {
   return out;
 }
 
+}  // namespace
+
 Balance balance_of(const Eigen::MatrixXd& Y, const GainAnalysis& true_gain) {
   Balance b;
   const DirectionalBalance d = directional_balance(Y, true_gain.output_directions);
@@ -45,8 +47,6 @@ Balance balance_of(const Eigen::MatrixXd& Y, const GainAnalysis& true_gain) {
   b.upsilon = output_correlation_determinant(Y);
   return b;
 }
-
-}  // namespace
 
 // One designed experiment run and identified. A plant of its own, so experiments run in
 // parallel.

@@ -116,16 +116,16 @@ void run_closed_loop(const CampaignCommandOptions& opt,
   ClosedLoopCampaignOptions c;
   c.plant = opt.campaign.plant;
   c.controller = opt.controller;
-  c.excitation = opt.excitation;
+  c.design.excitation = opt.excitation;
   c.designs = opt.designs;
-  c.limit_fraction = opt.limit_fraction;
-  c.mv_fraction = opt.mv_fraction;
+  c.design.limit_fraction = opt.limit_fraction;
+  c.design.mv_fraction = opt.mv_fraction;
   if (!opt.limits.empty()) {
     const CvLimits limits =
         parse_cv_limits(opt.limits, sim::make_plant(c.plant)->output_names(), "the plant's");
-    c.cv_low = limits.low;
-    c.cv_high = limits.high;
-    if (!c.cv_low.allFinite() || !c.cv_high.allFinite()) {
+    c.design.cv_low = limits.low;
+    c.design.cv_high = limits.high;
+    if (!c.design.cv_low.allFinite() || !c.design.cv_high.allFinite()) {
       throw std::invalid_argument(
           "--limit = (not every CV), expected a test limit for every "
           "CV of " +
@@ -145,7 +145,7 @@ void run_closed_loop(const CampaignCommandOptions& opt,
         (out / "runs").string());
   }
   const std::vector<ClosedLoopExperiment> runs = run_closed_loop_campaign(c, out, say);
-  const ClosedLoopCampaignHeader header{c.plant, c.controller, c.excitation, c.loop,
+  const ClosedLoopCampaignHeader header{c.plant, c.controller, c.design.excitation, c.loop,
                                         opt.open_loop_report};
   write_closed_loop_summary(header, runs, out);
   write_closed_loop_report(header, runs, out);

@@ -8,6 +8,10 @@
 
 namespace excite::host {
 
+int default_stage1_lags(Eigen::Index rows, Eigen::Index channels) {
+  return static_cast<int>(std::clamp<Eigen::Index>(rows / (8 * channels), 20, 200));
+}
+
 Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags) {
   const Eigen::Index N = U.rows();
   const Eigen::Index m = R.cols();
@@ -25,7 +29,7 @@ Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& 
         "method needs r to explain u)");
   }
   if (lags == 0) {
-    lags = static_cast<int>(std::clamp<Eigen::Index>(N / (8 * m), 20, 200));
+    lags = default_stage1_lags(N, m);
   }
   const Eigen::Index P = static_cast<Eigen::Index>(lags) * m;
   if (lags < 1 || 2 * P >= N) {

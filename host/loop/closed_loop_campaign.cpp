@@ -10,7 +10,6 @@
 
 #include "firmware/runlog/format.hpp"
 #include "host/design/case_studies.hpp"
-#include "host/design/closed_loop_design.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/design/presets.hpp"
 #include "host/design/table.hpp"
@@ -29,66 +28,6 @@ namespace excite::host {
 namespace {
 
 namespace fs = std::filesystem;
-
-const PresetInfo& preset_named(const std::string& name) {
-  const PresetInfo& p = find_preset(name);
-  if (p.uses_directions()) {
-    throw std::invalid_argument("--designs = " + name +
-                                ", expected a plain preset (a directional one has no "
-                                "closed-loop design: the controller makes the rotation)");
-  }
-  return p;
-}
-
-// The closed-loop designs: the plain presets named, or every plain preset.
-std::vector<const PresetInfo*> closed_loop_set(const std::vector<std::string>& names) {
-  std::vector<const PresetInfo*> set;
-  if (names.empty()) {
-    for (const PresetInfo& p : presets())
-      if (!p.uses_directions()) set.push_back(&p);
-  }
-  for (const std::string& n : names) set.push_back(&preset_named(n));
-  return set;
-}
-
-Design design_for(const ClosedLoopCampaignOptions& o, const PriorKnowledge& prior,
-                  const PresetInfo& preset, const std::vector<std::string>& cvs,
-                  const Eigen::VectorXd& low, const Eigen::VectorXd& high,
-                  const std::vector<sim::control::MvSettings>& mvs) {
-  if (o.excitation == "mv") return design_mv_dither(prior, preset, 0);
-  SetpointDesignRequest request;
-  request.cv_names = cvs;
-  request.cv_low = low;
-  request.cv_high = high;
-  request.fraction = o.limit_fraction;
-  if (o.mv_fraction > 0.0) {  // the MVs' room, from the controller file
-    request.mv_fraction = o.mv_fraction;
-    request.mv_low.resize(static_cast<Eigen::Index>(mvs.size()));
-    request.mv_high.resize(static_cast<Eigen::Index>(mvs.size()));
-    for (std::size_t i = 0; i < mvs.size(); ++i) {
-      request.mv_low(static_cast<Eigen::Index>(i)) = mvs[i].min;
-      request.mv_high(static_cast<Eigen::Index>(i)) = mvs[i].max;
-    }
-  }
-  return design_setpoint_excitation(prior, preset, request, 0);
-}
-
-// The controller's own CV limits (a DMC file's [[cv]] limits), for a setpoint excitation
-// given no --limit.
-void controller_cv_limits(const sim::control::ControllerFile& file, Eigen::Index p,
-                          Eigen::VectorXd& low, Eigen::VectorXd& high) {
-  if (static_cast<Eigen::Index>(file.dmc.cv.size()) != p) {
-    throw std::invalid_argument(
-        "--limit = (none), expected CV test limits for a setpoint "
-        "excitation (or a DMC controller file with [[cv]] limits)");
-  }
-  low.resize(p);
-  high.resize(p);
-  for (Eigen::Index c = 0; c < p; ++c) {
-    low(c) = file.dmc.cv[static_cast<std::size_t>(c)].limit_low;
-    high(c) = file.dmc.cv[static_cast<std::size_t>(c)].limit_high;
-  }
-}
 
 // Rows where any MV was not free: clamped, wound up or in manual (the run log's st_ columns).
 std::size_t mv_limited_rows(const runlog::RunLog& log) {
@@ -114,7 +53,8 @@ SimulatedRun run_in_process(const ClosedLoopCampaignOptions& o, const plan::Plan
   const Eigen::MatrixXd g0 = plant->static_gain();
   const auto controller = sim::control::make_controller(file, *model, &g0);
   ClosedLoopOptions loop;
-  loop.excitation = o.excitation == "mv" ? runlog::Excitation::mv : runlog::Excitation::setpoint;
+  loop.excitation =
+      o.design.excitation == "mv" ? runlog::Excitation::mv : runlog::Excitation::setpoint;
   set_controller(loop, file, fs::path(o.controller).filename().string());
   SimulationOptions sim;
   sim.noise_variance = noise_variance;
@@ -154,18 +94,14 @@ ClosedLoopIdentification identify_log(const runlog::RunLog& log, const std::stri
 std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
     const ClosedLoopCampaignOptions& o, const fs::path& dir,
     const std::function<void(const std::string&)>& say) {
-  if (o.excitation != "setpoint" && o.excitation != "mv") {
-    throw std::invalid_argument("--excitation = " + o.excitation + ", expected setpoint or mv");
-  }
+  check_excitation(o.design.excitation);
   const PriorKnowledge prior = case_study(o.plant);
-  const std::vector<const PresetInfo*> set = closed_loop_set(o.designs);  // names first
+  const std::vector<const PresetInfo*> set = closed_loop_presets(o.designs);  // names first
   const auto plant = sim::make_plant(o.plant);
   const std::vector<std::string> cvs = plant->output_names();
-  const auto p = static_cast<Eigen::Index>(cvs.size());
   const sim::control::ControllerFile file = sim::control::load_controller_file(o.controller);
-  Eigen::VectorXd low = o.cv_low;
-  Eigen::VectorXd high = o.cv_high;
-  if (o.excitation == "setpoint" && low.size() == 0) controller_cv_limits(file, p, low, high);
+  ClosedLoopDesignOptions design_options = o.design;
+  resolve_cv_limits(design_options, file, static_cast<Eigen::Index>(cvs.size()));
   const double noise =
       o.noise_variance >= 0.0 ? o.noise_variance : case_study_noise_variance(o.plant);
   std::vector<ClosedLoopExperiment> out(set.size());
@@ -179,7 +115,7 @@ std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
     fs::create_directories(work);
     e.run_log = "runs/" + folder + "/run.csv";
     e.model = "models/" + folder + ".json";
-    const Design design = design_for(o, prior, preset, cvs, low, high, file.dmc.mv);
+    const Design design = design_closed_loop(design_options, prior, preset, cvs, file);
     const fs::path plan_path = work / (e.name + ".plan");
     write_plan_file(*design.plan, plan_path);
     const std::uint64_t seed = o.seed + static_cast<std::uint64_t>(e.number);
@@ -192,11 +128,13 @@ std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
       run.config.noise_var = noise;
       run.config.seed = seed;
       run.config.controller = fs::absolute(o.controller).string();
-      run.config.offsets = o.excitation;
+      run.config.offsets = o.design.excitation;
       // The gateway's CV setpoint offsets within ± the largest CV test limit; no CV test
       // limits of the gateway's own beyond that.
-      if (o.excitation == "setpoint")
-        run.config.output_range = std::max(high.maxCoeff(), (-low).maxCoeff());
+      if (design_options.excitation == "setpoint") {
+        run.config.output_range =
+            std::max(design_options.cv_high.maxCoeff(), (-design_options.cv_low).maxCoeff());
+      }
       run.programs = o.programs;
       LoopResult streamed = stream_in_the_loop(run);
       log = std::move(streamed.log);

@@ -91,6 +91,10 @@ struct Balance {
   double upsilon = 0.0;            // det(corr(Y)) (6.2.1)
 };
 
+/// The balance of outputs Y (N × p) along `true_gain`'s output directions (5.5.2) and their
+/// correlation determinant (6.2.1).
+Balance balance_of(const Eigen::MatrixXd& Y, const GainAnalysis& true_gain);
+
 struct Experiment {
   int number = 0;    // Table 6.1
   std::string name;  // acronym
@@ -117,9 +121,9 @@ struct Experiment {
   double truth_fit_on_worst = kUnknown;
   double loss_avg = kUnknown, loss_worst = kUnknown;
   int loss_worst_on = -1;  // index into CampaignResult::experiments
-  Balance balance_clean;  // on the noise-free outputs: a property of the excitation
-  Balance balance_noisy;  // on the measured (noisy) outputs: the scored rows, each segment
-                          // about its own mean
+  Balance balance_clean;   // on the noise-free outputs: a property of the excitation
+  Balance balance_noisy;   // on the measured (noisy) outputs: the scored rows, each segment
+                           // about its own mean
 };
 
 /// SPEC §4, thesis §6.3: every experiment as long as every other ("T_L = 4080 min was the
@@ -139,8 +143,8 @@ struct CampaignResult {
   GainAnalysis design_gain;               // what the designs used
   std::string design_gain_source;         // "true G(0)" or "step test (stepSeq)"
   std::optional<GainAnalysis> step_gain;  // the step test's estimate, when it has one
-  std::optional<Structure> structure;  // forced on every element (options.structure), or BIC's
-  bool truth_known = true;             // options.truth_known
+  std::optional<Structure> structure;     // forced on every element (options.structure), or BIC's
+  bool truth_known = true;                // options.truth_known
   std::vector<Experiment> experiments;
   Eigen::MatrixXd crossfit;  // fit(a, b): model a on data b, averaged over outputs (b's
                              // scored rows, the model from rest at each of b's segments)

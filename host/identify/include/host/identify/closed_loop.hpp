@@ -41,6 +41,9 @@ struct Stage1Fit {
 /// sizes differ, R is zero throughout, or lags·m ≥ N / 2.
 Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags = 0);
 
+/// The default stage-1 lags for N rows and m r channels: min(200, max(20, N / (8·m))).
+int default_stage1_lags(Eigen::Index rows, Eigen::Index channels);
+
 /// An element whose two G(0) estimates disagree beyond k·σ, σ = √(SE₁² + SE₂²).
 struct GainDisagreement {
   int output = 0;

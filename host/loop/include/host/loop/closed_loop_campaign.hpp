@@ -19,28 +19,21 @@
 #include <string>
 #include <vector>
 
+#include "host/campaign/closed_loop_designs.hpp"
 #include "host/identify/closed_loop.hpp"
 #include "host/loop/stream.hpp"
 
 namespace excite::host {
 
 struct ClosedLoopCampaignOptions {
-  std::string plant;                    // a library plant with a case study
-  std::string controller;               // the controller file (sim/control/README.md)
-  std::string excitation = "setpoint";  // or "mv"
+  std::string plant;       // a library plant with a case study
+  std::string controller;  // the controller file (sim/control/README.md)
   /// Preset acronyms to run, in this order; empty: every plain preset of Table 6.1.
   std::vector<std::string> designs;
-  /// Setpoint excitation: the CV test limits (deviations, low < 0 < high); empty: the
-  /// controller file's CV limits ([[cv]] limits of a DMC), else refused.
-  Eigen::VectorXd cv_low, cv_high;
-  double limit_fraction = 0.5;  // each CV's amplitude: this share of its test limit
-  // Setpoint excitation: r scaled down until the MV moves it asks for in steady state stay
-  // within this share of each MV's limits (the controller file's [[mv]] min, max;
-  // closed_loop_design.hpp); 0 (the default): r is sized by the CV limits alone.
-  double mv_fraction = 0.0;
-  double noise_variance = -1.0;  // < 0: the case study's
-  std::uint64_t seed = 1;        // design number e uses seed + e (as the open-loop campaign)
-  bool loop = false;             // through the real gateway (programs), else in process
+  ClosedLoopDesignOptions design;  // setpoint or MV dither, CV limits, the MVs' room
+  double noise_variance = -1.0;    // < 0: the case study's
+  std::uint64_t seed = 1;          // design number e uses seed + e (as the open-loop campaign)
+  bool loop = false;               // through the real gateway (programs), else in process
   LoopPrograms programs;
   int threads = 1;  // designs run and identified in parallel
 };

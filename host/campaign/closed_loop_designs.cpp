@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: MIT
+#include "host/campaign/closed_loop_designs.hpp"
+
+#include <stdexcept>
+
+#include "host/design/closed_loop_design.hpp"
+
+namespace excite::host {
+
+void check_excitation(const std::string& excitation) {
+  if (excitation != "setpoint" && excitation != "mv")
+    throw std::invalid_argument("--excitation = " + excitation + ", expected setpoint or mv");
+}
+
+std::vector<const PresetInfo*> closed_loop_presets(const std::vector<std::string>& names) {
+  std::vector<const PresetInfo*> set;
+  if (names.empty()) {
+    for (const PresetInfo& p : presets())
+      if (!p.uses_directions()) set.push_back(&p);
+  }
+  for (const std::string& name : names) {
+    const PresetInfo& p = find_preset(name);
+    if (p.uses_directions()) {
+      throw std::invalid_argument("--designs = " + name +
+                                  ", expected a plain preset (a directional one has no "
+                                  "closed-loop design: the controller makes the rotation)");
+    }
+    set.push_back(&p);
+  }
+  return set;
+}
+
+void resolve_cv_limits(ClosedLoopDesignOptions& o, const sim::control::ControllerFile& file,
+                       Eigen::Index outputs) {
+  if (o.excitation != "setpoint" || o.cv_low.size() > 0) return;
+  if (static_cast<Eigen::Index>(file.dmc.cv.size()) != outputs) {
+    throw std::invalid_argument(
+        "--limit = (none), expected CV test limits for a setpoint "
+        "excitation (or a DMC controller file with [[cv]] limits)");
+  }
+  o.cv_low.resize(outputs);
+  o.cv_high.resize(outputs);
+  for (Eigen::Index c = 0; c < outputs; ++c) {
+    o.cv_low(c) = file.dmc.cv[static_cast<std::size_t>(c)].limit_low;
+    o.cv_high(c) = file.dmc.cv[static_cast<std::size_t>(c)].limit_high;
+  }
+}
+
+Design design_closed_loop(const ClosedLoopDesignOptions& o, const PriorKnowledge& prior,
+                          const PresetInfo& preset, const std::vector<std::string>& cv_names,
+                          const sim::control::ControllerFile& file) {
+  if (o.excitation == "mv") return design_mv_dither(prior, preset, 0);
+  SetpointDesignRequest request;
+  request.cv_names = cv_names;
+  request.cv_low = o.cv_low;
+  request.cv_high = o.cv_high;
+  request.fraction = o.limit_fraction;
+  if (o.mv_fraction > 0.0) {  // the MVs' room, from the controller file
+    const auto n = static_cast<Eigen::Index>(file.dmc.mv.size());
+    request.mv_fraction = o.mv_fraction;
+    request.mv_low.resize(n);
+    request.mv_high.resize(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      request.mv_low(i) = file.dmc.mv[static_cast<std::size_t>(i)].min;
+      request.mv_high(i) = file.dmc.mv[static_cast<std::size_t>(i)].max;
+    }
+  }
+  return design_setpoint_excitation(prior, preset, request, 0);
+}
+
+}  // namespace excite::host

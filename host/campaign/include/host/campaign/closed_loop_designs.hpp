@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The closed-loop designs of a study (issue 41 §2, §4): which presets, and each one's design
+// for a test with the controller on. Shared by the campaign with the controller on
+// (host/loop/closed_loop_campaign.hpp) and the Monte Carlo run closed loop
+// (host/montecarlo): both run the same designs.
+//
+// The designs are the plain (not directional) presets of Table 6.1: the controller makes the
+// rotation (u ≈ G(0)⁻¹ r), so a directional design has no closed-loop form. Setpoint
+// excitation sizes r from the CV test limits (and, with mv_fraction > 0, the controller's MV
+// room: host/design/closed_loop_design.hpp); MV dither is the open-loop preset marked as such.
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+#include "host/design/presets.hpp"
+#include "host/design/prior_knowledge.hpp"
+#include "sim/control/controller_file.hpp"
+
+namespace excite::host {
+
+struct ClosedLoopDesignOptions {
+  std::string excitation = "setpoint";  // or "mv"
+  /// Setpoint excitation: the CV test limits (deviations, low < 0 < high); empty: the
+  /// controller file's ([[cv]] limits of a DMC), else refused (resolve_cv_limits).
+  Eigen::VectorXd cv_low, cv_high;
+  double limit_fraction = 0.5;  // each CV's amplitude: this share of its test limit
+  // Setpoint excitation: r scaled down until the MV moves it asks for in steady state stay
+  // within this share of each MV's limits (the controller file's [[mv]] min, max); 0: r is
+  // sized by the CV limits alone.
+  double mv_fraction = 0.0;
+};
+
+/// Throws std::invalid_argument "--excitation = X, expected setpoint or mv" otherwise.
+void check_excitation(const std::string& excitation);
+
+/// The presets named (acronyms, in the order given), or every plain preset of Table 6.1 when
+/// `names` is empty. Throws std::invalid_argument "--designs = NAME, expected a plain preset
+/// …" for a directional one, and find_preset's message for an unknown one.
+std::vector<const PresetInfo*> closed_loop_presets(const std::vector<std::string>& names);
+
+/// Setpoint excitation given no CV limits: the controller file's [[cv]] limits (one pair per
+/// of the `outputs` CVs). Throws std::invalid_argument "--limit = (none), expected …" when the
+/// file has none. Nothing changes for MV dither or limits already given.
+void resolve_cv_limits(ClosedLoopDesignOptions& options, const sim::control::ControllerFile& file,
+                       Eigen::Index outputs);
+
+/// The closed-loop design of `preset` (options resolved: resolve_cv_limits): a setpoint
+/// excitation on the CVs `cv_names` (design_setpoint_excitation, the MV room from `file`'s
+/// [[mv]] when mv_fraction > 0) or the MV dither (design_mv_dither). Throws what they throw.
+Design design_closed_loop(const ClosedLoopDesignOptions& options, const PriorKnowledge& prior,
+                          const PresetInfo& preset, const std::vector<std::string>& cv_names,
+                          const sim::control::ControllerFile& file);
+
+}  // namespace excite::host
