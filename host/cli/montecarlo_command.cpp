@@ -118,6 +118,7 @@ struct Options {
   mc::Config config;
   std::string shard = "1/1";
   std::string perturb = "0";
+  std::string controller_perturb = "0";
   std::string output_dir;
   int threads = 1;
   std::vector<std::string> merge_dirs;
@@ -126,6 +127,16 @@ struct Options {
   std::string emit_slurm;  // script file; empty: run here
   int slurm_tasks = 10;
 };
+
+// "--controller-perturb = TEXT" as sim::parse_perturb reads "--perturb", named as itself.
+double parse_controller_perturb(const std::string& text) {
+  try {
+    return sim::parse_perturb(text);
+  } catch (const std::invalid_argument&) {
+    throw std::invalid_argument("--controller-perturb = " + text +
+                                ", expected a number of percent, 0 <= X < 100");
+  }
+}
 
 // Writes the Slurm submission script instead of running (host/montecarlo/slurm.hpp).
 void emit_slurm(const Options& opt) {
@@ -146,6 +157,11 @@ void emit_slurm(const Options& opt) {
 void run(Options opt) {
   opt.config.shard = mc::parse_shard(opt.shard);
   opt.config.perturb_percent = sim::parse_perturb(opt.perturb);
+  mc::ClosedLoopConfig& loop = opt.config.closed_loop;
+  if (loop.on()) {
+    loop.controller = fs::absolute(loop.controller).lexically_normal().string();
+    loop.model_perturb_percent = parse_controller_perturb(opt.controller_perturb);
+  }
   if (opt.config.noise_variance < 0.0)
     opt.config.noise_variance = case_study_noise_variance(opt.config.plant);
   case_study(opt.config.plant);  // an unknown plant or one without a case study: its message
@@ -201,6 +217,49 @@ void merge(const Options& opt) {
   out.commit();
 }
 
+// The options of a run with the controller on (issue 41 §4), each only with --controller.
+void add_closed_loop_options(CLI::App& cmd, Options& opt) {
+  mc::ClosedLoopConfig& loop = opt.config.closed_loop;
+  CLI::Option* controller =
+      cmd.add_option("--controller", loop.controller,
+                     "with the controller on (issue 41): the closed-loop designs (plain presets), "
+                     "each unit run in process under this controller file (sim/control/README.md) "
+                     "and identified (--method), its test-length prefixes too");
+  cmd.add_option("--excitation", loop.excitation,
+                 "with --controller: r on the CV setpoints (setpoint) or an MV dither (mv)")
+      ->capture_default_str()
+      ->needs(controller);
+  cmd.add_option("--method", loop.method,
+                 "with --controller: the estimate judged, two-stage (the projection on r) or "
+                 "direct (the output-error fit on the applied u: consistent under white noise, "
+                 "biased under a coloured disturbance)")
+      ->capture_default_str()
+      ->needs(controller);
+  cmd.add_option("--limit-fraction", loop.limit_fraction,
+                 "with --controller, setpoint: each CV's amplitude, share of its test limit "
+                 "(the controller file's [[cv]] limits)")
+      ->capture_default_str()
+      ->needs(controller);
+  cmd.add_option("--mv-fraction", loop.mv_fraction,
+                 "with --controller, setpoint: r scaled down until its steady-state MV moves "
+                 "stay within this share of each MV's limits (0: off)")
+      ->capture_default_str()
+      ->needs(controller);
+  cmd.add_option("--controller-perturb", opt.controller_perturb,
+                 "with --controller: the controller's model perturbed per seed, every gain, "
+                 "time constant and delay within +-X % (percent, 0 <= X < 100)")
+      ->capture_default_str()
+      ->needs(controller);
+  cmd.add_option("--disturbance-std", loop.disturbance_std,
+                 "with --controller: the coloured output disturbance's standard deviation")
+      ->capture_default_str()
+      ->needs(controller);
+  cmd.add_option("--disturbance-tau-min", loop.disturbance_tau_min,
+                 "with --controller: the disturbance's time constant, minutes")
+      ->capture_default_str()
+      ->needs(controller);
+}
+
 }  // namespace
 
 void add_montecarlo_command(CLI::App& app) {
@@ -235,6 +294,7 @@ void add_montecarlo_command(CLI::App& app) {
                   "perturbed true plant: every gain, time constant and delay within +-X % per "
                   "seed; the designs keep the nominal plant (percent, 0 <= X < 100)")
       ->capture_default_str();
+  add_closed_loop_options(*cmd, *opt);
   cmd->add_option("--shard", opt->shard, "run shard i of N of the (design × seed) units")
       ->capture_default_str();
   cmd->add_option("-o,--output-dir", opt->output_dir,

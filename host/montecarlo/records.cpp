@@ -127,16 +127,28 @@ double number_of(const json& v) {
 }
 
 json config_json(const Config& c) {
-  return {{"format", "excite montecarlo run v1"},
-          {"plant", c.plant},
-          {"designs", c.designs},
-          {"seeds", c.seeds},
-          {"first_seed", c.first_seed},
-          {"noise_variance", c.noise_variance},
-          {"length_step_percent", c.length_step_percent},
-          {"perturb_percent", c.perturb_percent},
-          {"length_grid_start", c.length_grid_start == GridStart::warm ? "warm" : "cold"},
-          {"shard", std::to_string(c.shard.index) + "/" + std::to_string(c.shard.count)}};
+  json j = {{"format", "excite montecarlo run v1"},
+            {"plant", c.plant},
+            {"designs", c.designs},
+            {"seeds", c.seeds},
+            {"first_seed", c.first_seed},
+            {"noise_variance", c.noise_variance},
+            {"length_step_percent", c.length_step_percent},
+            {"perturb_percent", c.perturb_percent},
+            {"length_grid_start", c.length_grid_start == GridStart::warm ? "warm" : "cold"},
+            {"shard", std::to_string(c.shard.index) + "/" + std::to_string(c.shard.count)}};
+  if (c.closed_loop.on()) {
+    const ClosedLoopConfig& l = c.closed_loop;
+    j["closed_loop"] = {{"controller", l.controller},
+                        {"excitation", l.excitation},
+                        {"method", l.method},
+                        {"limit_fraction", l.limit_fraction},
+                        {"mv_fraction", l.mv_fraction},
+                        {"controller_perturb_percent", l.model_perturb_percent},
+                        {"disturbance_std", l.disturbance_std},
+                        {"disturbance_tau_min", l.disturbance_tau_min}};
+  }
+  return j;
 }
 
 Config read_config(const std::filesystem::path& file) {
@@ -173,6 +185,20 @@ Config read_config(const std::filesystem::path& file) {
     if (start != "warm" && start != "cold") r.wrong("length_grid_start", "\"warm\" or \"cold\"");
     c.length_grid_start = start == "warm" ? GridStart::warm : GridStart::cold;
   }
+  // Absent: open loop (every run before issue 41 §4).
+  if (j.contains("closed_loop")) {
+    const Reader l(file, r.at("closed_loop"));
+    ClosedLoopConfig& cl = c.closed_loop;
+    cl.controller = l.string("controller");
+    if (cl.controller.empty()) l.wrong("controller", "the controller file's path");
+    cl.excitation = l.string("excitation");
+    cl.method = l.string("method");
+    cl.limit_fraction = l.real("limit_fraction");
+    cl.mv_fraction = l.real("mv_fraction");
+    cl.model_perturb_percent = l.real("controller_perturb_percent");
+    cl.disturbance_std = l.real("disturbance_std");
+    cl.disturbance_tau_min = l.real("disturbance_tau_min");
+  }
   try {
     c.shard = parse_shard(r.string("shard"));
   } catch (const std::invalid_argument&) {
@@ -203,23 +229,25 @@ json unit_json(const UnitResult& u) {
   for (const double v : u.gain) gain.push_back(json_number(v));
   json true_gain = json::array();
   for (const double v : u.true_gain) true_gain.push_back(json_number(v));
-  return {{"design", u.design},
-          {"number", u.number},
-          {"seed", u.seed},
-          {"samples", u.samples},
-          {"sample_time_min", u.sample_time_min},
-          {"fit_avg", json_number(u.fit_avg)},
-          {"crossfit_avg", json_number(u.crossfit_avg)},
-          {"crossfit_worst", json_number(u.crossfit_worst)},
-          {"ratio", json_number(u.ratio)},
-          {"upsilon", json_number(u.upsilon)},
-          {"ratio_noisy", json_number(u.ratio_noisy)},
-          {"upsilon_noisy", json_number(u.upsilon_noisy)},
-          {"singular_values", sv},
-          {"gain", gain},
-          {"true_gain", true_gain},
-          {"accuracy", accuracy_json(u.accuracy)},
-          {"lengths", lengths}};
+  json j = {{"design", u.design},
+            {"number", u.number},
+            {"seed", u.seed},
+            {"samples", u.samples},
+            {"sample_time_min", u.sample_time_min},
+            {"fit_avg", json_number(u.fit_avg)},
+            {"crossfit_avg", json_number(u.crossfit_avg)},
+            {"crossfit_worst", json_number(u.crossfit_worst)},
+            {"ratio", json_number(u.ratio)},
+            {"upsilon", json_number(u.upsilon)},
+            {"ratio_noisy", json_number(u.ratio_noisy)},
+            {"upsilon_noisy", json_number(u.upsilon_noisy)},
+            {"singular_values", sv},
+            {"gain", gain},
+            {"true_gain", true_gain},
+            {"accuracy", accuracy_json(u.accuracy)},
+            {"lengths", lengths}};
+  if (!u.not_run.empty()) j["not_run"] = u.not_run;
+  return j;
 }
 
 UnitResult read_unit(const std::filesystem::path& file) {
@@ -247,6 +275,7 @@ UnitResult read_unit(const std::filesystem::path& file) {
   u.accuracy.weakest_angle_deg = a.real("weakest_angle_deg");
   u.accuracy.minor_signs_right = a.boolean("minor_signs_right");
   u.accuracy.met = a.boolean("met");
+  if (j.contains("not_run")) u.not_run = r.string("not_run");  // absent: the unit was run
   if (!r.at("lengths").is_array()) r.wrong("lengths", "an array");
   for (const json& p : r.at("lengths")) {
     const Reader l(file, p);

@@ -369,6 +369,14 @@ void head_section(HtmlPage& h, const json& summary, std::size_t designs) {
   h << "<p><b>True plant: "
     << (perturb > 0.0 ? Markup("perturbed</b> in every seed: ") : Markup("nominal</b>: "))
     << run["true_plant"].get<std::string>() << ".</p>";
+  if (run.contains("closed_loop"))
+    h << "<p><b>Controller on:</b> " << run["closed_loop"]["text"].get<std::string>() << ".</p>";
+  for (const json& d : summary["designs"]) {
+    if (!d.contains("not_run")) continue;
+    h << "<p><b>" << d["design"].get<std::string>() << ": " << d["not_run"]["seeds"].get<int>()
+      << " seeds not run</b>, not in its shares or T90 (first: "
+      << d["not_run"]["first"].get<std::string>() << ").</p>";
+  }
   h << "<p><b>Accuracy criterion:</b> " << summary["criterion"]["text"].get<std::string>()
     << ". <b>T90:</b> " << summary["t90_definition"].get<std::string>()
     << ". Spreads: " << summary["spread"].get<std::string>() << "; shares with the "

@@ -255,6 +255,55 @@ std::optional<std::size_t> t90_index(const std::vector<double>& shares) {
   return from;
 }
 
+namespace {
+
+// The run's closed loop (work.hpp ClosedLoopConfig), its options and a sentence that says it.
+json closed_loop_run_json(const ClosedLoopConfig& l) {
+  const std::string model = l.model_perturb_percent > 0.0
+                                ? "its model perturbed per seed within +-" +
+                                      sim::percent_text(l.model_perturb_percent) +
+                                      " % (every gain, time constant and delay)"
+                                : "its model as the controller file gives it";
+  return {{"controller", l.controller},
+          {"excitation", l.excitation},
+          {"method", l.method},
+          {"limit_fraction", l.limit_fraction},
+          {"mv_fraction", l.mv_fraction},
+          {"controller_perturb_percent", l.model_perturb_percent},
+          {"disturbance_std", l.disturbance_std},
+          {"disturbance_tau_min", l.disturbance_tau_min},
+          {"text", "closed loop in process under " + l.controller + ", " + model + "; " +
+                       (l.excitation == "mv" ? "MV dither" : "setpoint excitation") +
+                       (l.method == "direct"
+                            ? "; identified direct (the output-error fit on the applied u, the "
+                              "test-length prefixes too)"
+                            : "; identified two-stage (the test-length prefixes too, stage 1 on "
+                              "the prefix alone)") +
+                       "; no cross-validation"}};
+}
+
+// design_json over the units that were run; those not run (UnitResult::not_run) counted
+// apart, with the first one's reason.
+json ran_design_json(const std::string& name, const std::vector<const UnitResult*>& units,
+                     std::size_t inputs, const Eigen::MatrixXd& true_gain) {
+  std::vector<const UnitResult*> ran;
+  std::string first_why;
+  for (const UnitResult* u : units) {
+    if (u->not_run.empty()) {
+      ran.push_back(u);
+    } else if (first_why.empty()) {
+      first_why = "seed " + std::to_string(u->seed) + ": " + u->not_run;
+    }
+  }
+  if (ran.empty()) throw std::runtime_error(name + ": no seed was run (" + first_why + ")");
+  json j = design_json(name, ran, inputs, true_gain);
+  if (ran.size() < units.size())
+    j["not_run"] = {{"seeds", units.size() - ran.size()}, {"first", first_why}};
+  return j;
+}
+
+}  // namespace
+
 json summary_json(const Config& config, const std::vector<UnitResult>& units) {
   const TruePlant truth = true_plant_of(case_study(config.plant).gain);
   const auto inputs = static_cast<std::size_t>(truth.gain.singular_values.size());
@@ -271,7 +320,7 @@ json summary_json(const Config& config, const std::vector<UnitResult>& units) {
       throw std::runtime_error(config.designs[d] + ": " + std::to_string(of_design.size()) +
                                " seeds finished, expected " + std::to_string(config.seeds));
     }
-    designs.push_back(design_json(config.designs[d], of_design, inputs, truth.gain.gain));
+    designs.push_back(ran_design_json(config.designs[d], of_design, inputs, truth.gain.gain));
   }
   Config c = config;
   c.shard = {};
@@ -293,6 +342,7 @@ json summary_json(const Config& config, const std::vector<UnitResult>& units) {
                                        "the designs use the nominal plant, the criterion, the "
                                        "balance and the gain errors the seed's perturbed one"
                                  : "the nominal plant in every seed"}};
+  if (c.closed_loop.on()) j["run"]["closed_loop"] = closed_loop_run_json(c.closed_loop);
   j["criterion"] = {
       {"text",
        "identified G(0): every principal minor's sign right, sigma_n within 20 %, the weakest "
@@ -319,7 +369,10 @@ json summary_json(const Config& config, const std::vector<UnitResult>& units) {
       "the best other one. |sigma_n error| and the v_n angle: lower is better";
   j["true_singular_values"] = true_sv;
   j["designs"] = designs;
-  j["verdicts"] = verdicts_json(c, units);
+  std::vector<UnitResult> ran;
+  for (const UnitResult& u : units)
+    if (u.not_run.empty()) ran.push_back(u);
+  j["verdicts"] = verdicts_json(c, ran);
   return j;
 }
 
@@ -355,6 +408,13 @@ std::string designs_table(const json& summary) {
                   spread_text(d["weakest_direction_angle_deg"], "%.1f [%.1f-%.1f]").c_str(), share,
                   t90.c_str());
     out += line;
+  }
+  for (const json& d : summary["designs"]) {
+    if (!d.contains("not_run")) continue;
+    out += "  " + d["design"].get<std::string>() + ": " +
+           std::to_string(d["not_run"]["seeds"].get<int>()) +
+           " seeds not run, not in its shares or T90 (first: " +
+           d["not_run"]["first"].get<std::string>() + ")\n";
   }
   return out;
 }
@@ -433,6 +493,8 @@ std::string summary_text(const json& summary) {
                     "; criterion: " + summary["criterion"]["text"].get<std::string>() + "\n";
   if (run.value("perturb_percent", 0.0) > 0.0)
     out += "true plant: " + run["true_plant"].get<std::string>() + "\n";
+  if (run.contains("closed_loop"))
+    out += "controller on: " + run["closed_loop"]["text"].get<std::string>() + "\n";
   return out + designs_table(summary) + biased_elements(summary) + verdict_lines(summary) +
          shares_by_length(summary);
 }

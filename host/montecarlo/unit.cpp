@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "host/design/case_studies.hpp"
+#include "host/identify/closed_loop.hpp"
 #include "host/identify/structure_search.hpp"
 #include "host/identify/validate.hpp"
 #include "host/process/parallel.hpp"
@@ -45,8 +46,9 @@ SimulatedRun measured_run(const Prepared& p, std::size_t b, const CampaignOption
 // prefix alone. Warm: the fit starts from `start`, the model of the previous grid length
 // (IdentifyOptions::start), and is only polished when the rows added since then bring nothing
 // new (nothing_new). nullopt: a prefix too short to identify.
+// Closed loop (`R` not empty), two-stage: stage 1 on the prefix's rows of U and r alone.
 std::optional<IdentificationResult> identify_prefix(const Prepared& p, const Experiment& e,
-                                                    Eigen::Index rows,
+                                                    const Eigen::MatrixXd& R, Eigen::Index rows,
                                                     const std::optional<IdentifiedModel>& start,
                                                     bool polish_only) {
   IdentifyOptions options;
@@ -58,7 +60,13 @@ std::optional<IdentificationResult> identify_prefix(const Prepared& p, const Exp
     return std::nullopt;
   options.start = start;
   if (polish_only) options.start_use = IdentifyOptions::StartUse::polish;
-  return identify(e.U.topRows(rows), e.Y.topRows(rows), e.sample_time_min, options);
+  if (R.size() == 0)
+    return identify(e.U.topRows(rows), e.Y.topRows(rows), e.sample_time_min, options);
+  const Eigen::Index lags = default_stage1_lags(rows, R.cols());
+  if (2 * lags * R.cols() >= rows || R.topRows(rows).cwiseAbs().maxCoeff() == 0.0)
+    return std::nullopt;
+  const Stage1Fit stage1 = project_on_reference(e.U.topRows(rows), R.topRows(rows));
+  return identify(stage1.u_hat, e.Y.topRows(rows), e.sample_time_min, options);
 }
 
 }  // namespace
@@ -108,7 +116,8 @@ constexpr double kResidualGrowth = 1.1;
 }  // namespace
 
 GridEvaluation evaluate_length_grid(const Prepared& p, const TruePlant& truth, const Experiment& e,
-                                    const std::vector<int>& grid, GridStart start_mode) {
+                                    const std::vector<int>& grid, GridStart start_mode,
+                                    const Eigen::MatrixXd& R) {
   GridEvaluation out;
   std::optional<IdentifiedModel> previous;  // the last prefix's model (warm only)
   Eigen::Index previous_rows = 0;
@@ -130,7 +139,7 @@ GridEvaluation evaluate_length_grid(const Prepared& p, const TruePlant& truth, c
       std::optional<IdentificationResult> r;
       std::optional<IdentificationResult> w;  // the warm fit, when checked
       if (settled) {
-        r = identify_prefix(p, e, rows, previous, polish);
+        r = identify_prefix(p, e, R, rows, previous, polish);
         // A settled chain is checked again when a row's residual grew by more than
         // kResidualGrowth over the previous length's: under the same model the residual is the
         // noise, whatever the length, so the added data moved the optimum away from the chain
@@ -140,19 +149,19 @@ GridEvaluation evaluate_length_grid(const Prepared& p, const TruePlant& truth, c
           checked = r->fits[j].residual_rms > kResidualGrowth * previous_rms[j];
         if (checked) {
           w = std::move(r);
-          r = identify_prefix(p, e, rows, std::nullopt, false);
+          r = identify_prefix(p, e, R, rows, std::nullopt, false);
         } else {
           ++out.warm;
           out.polished += polish ? 1 : 0;
         }
       } else {
-        r = identify_prefix(p, e, rows, std::nullopt, false);
+        r = identify_prefix(p, e, R, rows, std::nullopt, false);
       }
       if (checked && r) {
         // Until settled, the warm fit against the cold one: the better BIC kept (the cold one
         // on a tie), and the warm one trusted alone only after kSettledLengths agreements.
         ++out.checked;
-        if (!w) w = identify_prefix(p, e, rows, previous, polish);
+        if (!w) w = identify_prefix(p, e, R, rows, previous, polish);
         const Eigen::MatrixXd Y = e.Y.topRows(rows);
         const double cold_bic = prefix_bic(*r, Y);
         const double warm_bic = prefix_bic(*w, Y);
@@ -205,12 +214,69 @@ std::unique_ptr<Prepared> prepare(const Config& config, int threads) {
     }
   }
   p->designs.resize(p->presets.size());
+  if (config.closed_loop.on()) {
+    prepare_closed_loop(*p, prior);
+    return p;
+  }
   parallel_for(static_cast<int>(p->presets.size()), threads, [&](int d) {
     p->designs[static_cast<std::size_t>(d)] =
         design_preset(prior, p->presets[static_cast<std::size_t>(d)], 0);
   });
   return p;
 }
+
+namespace {
+
+// The unit's figures of experiment `e` against `truth` (the seed's true plant; `perturbed`:
+// not the nominal one, so its G(0) is kept).
+UnitResult unit_result(const Experiment& e, std::uint64_t seed, const TruePlant& truth,
+                       bool perturbed) {
+  UnitResult r;
+  r.design = e.name;
+  r.number = e.number;
+  r.seed = seed;
+  r.samples = e.U.rows();
+  r.sample_time_min = e.sample_time_min;
+  r.fit_avg = e.fit_avg;
+  r.ratio = e.balance_clean.ratio;
+  r.upsilon = e.balance_clean.upsilon;
+  r.ratio_noisy = e.balance_noisy.ratio;
+  r.upsilon_noisy = e.balance_noisy.upsilon;
+  if (e.identified.gain) {
+    const GainAnalysis& g = *e.identified.gain;
+    r.singular_values.assign(g.singular_values.data(),
+                             g.singular_values.data() + g.singular_values.size());
+    for (Eigen::Index i = 0; i < g.gain.rows(); ++i)
+      for (Eigen::Index j = 0; j < g.gain.cols(); ++j) r.gain.push_back(g.gain(i, j));
+  }
+  if (perturbed) {
+    const Eigen::MatrixXd& g = truth.gain.gain;
+    for (Eigen::Index i = 0; i < g.rows(); ++i)
+      for (Eigen::Index j = 0; j < g.cols(); ++j) r.true_gain.push_back(g(i, j));
+  }
+  r.accuracy = judge(truth, e.identified.gain);
+  return r;
+}
+
+// A unit not run (`why`): the run's length, nothing met at any length.
+UnitResult not_run(const Prepared& p, const Unit& unit, const std::string& why) {
+  const auto a = static_cast<std::size_t>(unit.design);
+  UnitResult r;
+  r.design = p.presets[a].acronym;
+  r.number = p.presets[a].number;
+  r.seed = unit.seed;
+  r.samples = p.designs[a].table.rows();
+  r.sample_time_min = p.designs[a].plan->meta.sample_time_min;
+  r.fit_avg = r.crossfit_avg = r.crossfit_worst = kNaN;
+  r.ratio = r.upsilon = r.ratio_noisy = r.upsilon_noisy = kNaN;
+  r.accuracy = judge(p.truth, std::nullopt);
+  for (const int percent : length_grid(p.config))
+    r.lengths.push_back({percent, r.samples * percent / 100, false});
+  r.not_run = why;
+  return r;
+}
+
+}  // namespace
 
 UnitResult run_unit(const Prepared& p, const Unit& unit) {
   const auto a = static_cast<std::size_t>(unit.design);
@@ -226,32 +292,27 @@ UnitResult run_unit(const Prepared& p, const Unit& unit) {
     options.true_plant = [&] { return sim::make_linear_plant(p.config.plant, *perturbed); };
   }
   const TruePlant& truth = perturbed_truth ? *perturbed_truth : p.truth;
+  if (p.controller) {
+    const auto plant = perturbed ? sim::make_linear_plant(p.config.plant, *perturbed)
+                                 : sim::make_plant(p.config.plant);
+    const SeedController controller = seed_controller(p, unit.seed, truth.gain.gain);
+    if (!controller.controller) return not_run(p, unit, controller.refused);
+    const ClosedLoopRun run =
+        closed_loop_experiment(p, unit, *plant, *controller.controller, truth);
+    UnitResult r = unit_result(run.experiment, unit.seed, truth, perturbed.has_value());
+    r.crossfit_avg = r.crossfit_worst = kNaN;  // closed loop: no cross-validation (README)
+    const double experiment_done_s = thread_cpu_s();
+    r.times.experiment_s = experiment_done_s - start_s;
+    GridEvaluation grid = evaluate_length_grid(
+        p, truth, run.experiment, length_grid(p.config), p.config.length_grid_start,
+        p.config.closed_loop.method == "direct" ? Eigen::MatrixXd() : run.R);
+    r.lengths = std::move(grid.points);
+    r.times.lengths_s = thread_cpu_s() - experiment_done_s;
+    return r;
+  }
   const Experiment e = run_experiment(p.designs[a], p.presets[a], options, p.config.noise_variance,
                                       truth.gain, p.max_time_constant_min);
-  UnitResult r;
-  r.design = e.name;
-  r.number = e.number;
-  r.seed = unit.seed;
-  r.samples = e.U.rows();
-  r.sample_time_min = e.sample_time_min;
-  r.fit_avg = e.fit_avg;
-  r.ratio = e.balance_clean.ratio;
-  r.upsilon = e.balance_clean.upsilon;
-  r.ratio_noisy = e.balance_noisy.ratio;
-  r.upsilon_noisy = e.balance_noisy.upsilon;
-  if (e.identified.gain) {
-    const GainAnalysis& g = *e.identified.gain;
-    r.singular_values.assign(g.singular_values.data(),
-                             g.singular_values.data() + g.singular_values.size());
-    for (Eigen::Index i = 0; i < g.gain.rows(); ++i)
-      for (Eigen::Index j = 0; j < g.gain.cols(); ++j) r.gain.push_back(g.gain(i, j));
-  }
-  if (perturbed_truth) {
-    const Eigen::MatrixXd& g = truth.gain.gain;
-    for (Eigen::Index i = 0; i < g.rows(); ++i)
-      for (Eigen::Index j = 0; j < g.cols(); ++j) r.true_gain.push_back(g(i, j));
-  }
-  r.accuracy = judge(truth, e.identified.gain);
+  UnitResult r = unit_result(e, unit.seed, truth, perturbed.has_value());
   const double experiment_done_s = thread_cpu_s();
   r.times.experiment_s = experiment_done_s - start_s;
 

@@ -7,6 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "host/campaign/closed_loop_designs.hpp"
 #include "host/design/presets.hpp"
 #include "sim/library/library.hpp"
 #include "sim/library/perturb.hpp"
@@ -32,10 +33,43 @@ Shard parse_shard(const std::string& text) {
   return s;
 }
 
+namespace {
+
+// The closed loop's own options (work.hpp ClosedLoopConfig), each refused by its option's name.
+void check_closed_loop(const Config& config) {
+  const ClosedLoopConfig& c = config.closed_loop;
+  check_excitation(c.excitation);
+  if (c.method != "two-stage" && c.method != "direct")
+    throw std::invalid_argument("--method = " + c.method + ", expected two-stage or direct");
+  (void)closed_loop_presets(config.designs);  // plain presets only
+  if (!(c.limit_fraction > 0.0 && c.limit_fraction <= 1.0))
+    throw std::invalid_argument("--limit-fraction = " + std::to_string(c.limit_fraction) +
+                                ", expected 0 < fraction <= 1");
+  if (!(c.mv_fraction >= 0.0 && c.mv_fraction <= 1.0))
+    throw std::invalid_argument(
+        "--mv-fraction = " + std::to_string(c.mv_fraction) +
+        ", expected 0 <= fraction <= 1 (0: r sized by the CV limits alone)");
+  if (!(c.model_perturb_percent >= 0.0 && c.model_perturb_percent < sim::kMaxPerturbPercent))
+    throw std::invalid_argument(
+        "--controller-perturb = " + sim::percent_text(c.model_perturb_percent) +
+        ", expected a number of percent, 0 <= X < 100");
+  if (!(std::isfinite(c.disturbance_std) && c.disturbance_std >= 0.0))
+    throw std::invalid_argument("--disturbance-std = " + std::to_string(c.disturbance_std) +
+                                ", expected a finite number >= 0");
+  if (c.disturbance_std > 0.0 &&
+      !(std::isfinite(c.disturbance_tau_min) && c.disturbance_tau_min > 0.0))
+    throw std::invalid_argument("--disturbance-tau-min = " + std::to_string(c.disturbance_tau_min) +
+                                ", expected a time constant > 0 min with --disturbance-std > 0");
+}
+
+}  // namespace
+
 void normalise(Config& config) {
   const auto& table = presets();
   if (config.designs.empty()) {
-    for (const PresetInfo& p : table) config.designs.emplace_back(p.acronym);
+    for (const PresetInfo& p : table) {
+      if (!config.closed_loop.on() || !p.uses_directions()) config.designs.emplace_back(p.acronym);
+    }
   } else {
     for (const std::string& name : config.designs) {
       if (std::none_of(table.begin(), table.end(),
@@ -71,6 +105,7 @@ void normalise(Config& config) {
     throw std::invalid_argument("--noise-var = " + std::to_string(config.noise_variance) +
                                 ", expected a finite number >= 0");
   sim::check_perturbable(config.plant, config.perturb_percent);
+  if (config.closed_loop.on()) check_closed_loop(config);
 }
 
 std::vector<Unit> all_units(const Config& config) {

@@ -282,3 +282,44 @@ TEST_F(MonteCarlo, EmitSlurmScriptRunsItsArrayAndMergeToTheSingleProcessSummary)
       << bytes_of(path("stub.log"));
   EXPECT_TRUE(std::filesystem::exists(path("cluster") + "/shard-3/run.json"));
 }
+
+// Issue 41 §4: the run with the controller on, in process: woodberry2x2 under the example PI,
+// prbsUnc as an MV dither, identified two-stage; its options kept in run.json, the summary
+// and the Slurm script, and refused without --controller.
+TEST_F(MonteCarlo, RunsClosedLoopUnderAControllerFileAndSaysSo) {
+  const std::string pi = std::string(EXCITE_CONTROL_EXAMPLES) + "/woodberry2x2.pi.toml";
+  const std::string run =
+      "montecarlo --plant woodberry2x2 --designs prbsUnc --seeds 2 "
+      "--length-step 50 --controller " +
+      pi + " --excitation mv";
+  auto r = excite(run + " --threads 2 -o " + path("cl"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("controller on: closed loop in process under " + pi), std::string::npos)
+      << r.out;
+  const nlohmann::json s = nlohmann::json::parse(bytes_of(path("cl") + "/summary.json"));
+  EXPECT_EQ(s["run"]["closed_loop"]["excitation"], "mv");
+  EXPECT_EQ(s["designs"][0]["criterion"]["of"], 2);
+  EXPECT_TRUE(s["designs"][0]["crossfit_worst"]["median"].is_null()) << s["designs"][0].dump();
+  const nlohmann::json config = nlohmann::json::parse(bytes_of(path("cl") + "/run.json"));
+  EXPECT_EQ(config["closed_loop"]["controller"], pi);
+
+  r = excite(run + " --emit-slurm " + path("job.sh") + " -o " + path("slurm"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const std::string script = bytes_of(path("job.sh"));
+  EXPECT_NE(script.find(" --controller '" + pi +
+                        "' --excitation mv --method two-stage --limit-fraction 0.5 "
+                        "--mv-fraction 0 --controller-perturb 0 --disturbance-std 0 "
+                        "--disturbance-tau-min 0 "),
+            std::string::npos)
+      << script;
+
+  r = excite("montecarlo --plant woodberry2x2 --seeds 1 --excitation mv -o " + path("x"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.out.find("--excitation requires --controller"), std::string::npos) << r.out;
+  r = excite("montecarlo --plant woodberry2x2 --seeds 1 --designs prbsSimDir --controller " + pi +
+             " -o " + path("x"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("--designs = prbsSimDir, expected a plain preset"), std::string::npos)
+      << r.out;
+  EXPECT_FALSE(fs::exists(path("x")));
+}

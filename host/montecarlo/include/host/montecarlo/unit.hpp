@@ -13,10 +13,14 @@
 #include <vector>
 
 #include "host/campaign/campaign.hpp"
+#include "host/campaign/closed_loop_experiment.hpp"
 #include "host/design/presets.hpp"
+#include "host/design/prior_knowledge.hpp"
 #include "host/identify/identify.hpp"
 #include "host/measures/accuracy.hpp"
 #include "host/montecarlo/work.hpp"
+#include "sim/control/controller.hpp"
+#include "sim/control/controller_file.hpp"
 #include "sim/lti/transfer_matrix.hpp"
 
 namespace excite::host::montecarlo {
@@ -53,7 +57,11 @@ struct UnitResult {
   std::vector<double> true_gain;        // the seed's perturbed true G(0), row-major; empty: nominal
   Accuracy accuracy;                    // on the whole run, against the seed's true plant
   std::vector<LengthPoint> lengths;     // length_grid(config), the last one the whole run
-  UnitTimes times;                      // not in the file
+  // Why the unit was not run; empty: it was. Closed loop: the controller refused the seed's
+  // perturbed model (not integrally controllable for the plant) — a DMC that would not be
+  // commissioned. Such a unit meets nothing, and the summary counts it apart (summary.hpp).
+  std::string not_run;
+  UnitTimes times;  // not in the file
 };
 
 /// What every unit of a run shares, made once (designs are seed-free) and read-only after.
@@ -64,7 +72,11 @@ struct Prepared {
   std::optional<sim::TransferMatrix> nominal;  // set when config.perturb_percent > 0
   double max_time_constant_min = 0.0;          // β·τ_H of the case study (SPEC §6)
   std::vector<PresetInfo> presets;             // config.designs'
-  std::vector<Design> designs;
+  std::vector<Design> designs;                 // closed loop: the closed-loop designs
+  // Closed loop (config.closed_loop.on()): the controller file, read once; its model's
+  // nominal transfer matrix when the model is perturbed per seed.
+  std::optional<sim::control::ControllerFile> controller;
+  std::optional<sim::TransferMatrix> controller_model;
 };
 
 /// Whether the rows from_rows … to_rows − 1 of a run add nothing new to its first from_rows:
@@ -95,10 +107,14 @@ struct GridEvaluation {
 /// below cold's + 0.01) at three consecutive lengths (checked again at a length where a row's
 /// residual rms exceeds the previous length's by more than 10 %); from then on each length only
 /// from the previous one's model, and only polished where nothing_new (host/montecarlo/README.md,
-/// "The length grid warm-started").
+/// "The length grid warm-started"). `reference` (closed loop: the test signal r, N × channels;
+/// empty: open loop): each prefix identified two-stage, stage 1 (project_on_reference) on the
+/// prefix's rows of U and r alone, so no later row shapes û; a prefix too short for stage 1's
+/// lags, or with r still 0 throughout, is not identified.
 GridEvaluation evaluate_length_grid(const Prepared& prepared, const TruePlant& truth,
                                     const Experiment& experiment, const std::vector<int>& grid,
-                                    GridStart start);
+                                    GridStart start,
+                                    const Eigen::MatrixXd& reference = Eigen::MatrixXd());
 
 /// The BIC of a fit summed over its rows (host/identify row_criterion: each row's output error
 /// over Y's rows, the free parameters of its estimated elements); Y the outputs it was fitted
@@ -107,6 +123,30 @@ double prefix_bic(const IdentificationResult& fit, const Eigen::MatrixXd& Y);
 /// Designs every design of `config` (on `threads` threads). Throws std::invalid_argument for
 /// a plant without a case study.
 std::unique_ptr<Prepared> prepare(const Config& config, int threads);
+
+/// Closed loop (closed_loop_unit.cpp): reads the controller file, makes its controller on its
+/// own model for the nominal plant (so a file that does not fit the plant is refused once,
+/// not per seed), checks that the model can be perturbed when asked to (a linear library
+/// plant, a DMC) and designs the closed-loop designs (host/campaign/closed_loop_designs.hpp).
+/// Throws std::invalid_argument naming the option, or config::Error the file's field.
+void prepare_closed_loop(Prepared& prepared, const PriorKnowledge& prior);
+
+/// Closed loop: the controller of seed `seed` on a plant of G(0) `plant_gain` — the
+/// controller file's, on its model perturbed for controller_model_seed(seed) when asked — or,
+/// when the controller refuses that model for this plant (a DMC's model not integrally
+/// controllable: make_controller.hpp), no controller and the refusal's message.
+struct SeedController {
+  std::unique_ptr<sim::control::Controller> controller;  // null: refused
+  std::string refused;
+};
+SeedController seed_controller(const Prepared& prepared, std::uint64_t seed,
+                               const Eigen::MatrixXd& plant_gain);
+
+/// Closed loop: unit's design run on `plant` (the seed's true plant, G(0) in `truth`) under
+/// `controller` (seed_controller's), with noise seed 100·s + number and the coloured
+/// disturbance, identified as config.closed_loop.method says.
+ClosedLoopRun closed_loop_experiment(const Prepared& prepared, const Unit& unit, sim::Plant& plant,
+                                     sim::control::Controller& controller, const TruePlant& truth);
 
 /// CPU time of the calling thread, seconds (CLOCK_THREAD_CPUTIME_ID).
 double thread_cpu_s();

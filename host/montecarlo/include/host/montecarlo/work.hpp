@@ -29,6 +29,33 @@ Shard parse_shard(const std::string& text);
 /// montecarlo --warm-grid`: not yet the default, some verdicts differ; README).
 enum class GridStart { warm, cold };
 
+/// A run with the controller on (issue 41 §4; host/montecarlo/README.md, "With the controller
+/// on"): every unit's design run closed loop in process (host/simulate/closed_loop.hpp) under
+/// the controller of `controller`, identified two-stage (host/identify/closed_loop.hpp; the
+/// test-length grid's prefixes too, stage 1 on the prefix alone) or direct (the output-error
+/// fit on the applied u). `controller` empty: open loop.
+struct ClosedLoopConfig {
+  std::string controller;               // the controller file, an absolute path
+  std::string excitation = "setpoint";  // or "mv" (host/campaign/closed_loop_designs.hpp)
+  std::string method = "two-stage";     // or "direct": which estimate is judged
+  double limit_fraction = 0.5;          // setpoint: each CV's amplitude, share of its limit
+  double mv_fraction = 0.0;             // setpoint: r within this share of the MVs' room; 0: off
+  // The controller's model perturbed per seed within ±X % (sim/library/perturb.hpp, drawn for
+  // controller_model_seed(s)): a DMC built on a wrong model, as in a real plant. 0: the
+  // controller file's model as it is.
+  double model_perturb_percent = 0.0;
+  double disturbance_std = 0.0;      // the coloured output disturbance (SimulationOptions)
+  double disturbance_tau_min = 0.0;  // its time constant, > 0 when the std is
+  bool on() const { return !controller.empty(); }
+};
+
+/// The seed of seed s's controller-model perturbation: another draw than the true plant's
+/// (perturb.hpp seeded by s), so that with both perturbed the controller's model is not the
+/// truth.
+inline constexpr std::uint64_t controller_model_seed(std::uint64_t seed) {
+  return seed ^ 0x636f6e74726f6c00ULL;  // "control\0"
+}
+
 struct Config {
   std::string plant;
   std::vector<std::string> designs;  // Table 6.1 acronyms, in Table order, no repeats
@@ -40,6 +67,7 @@ struct Config {
   Shard shard;
   GridStart length_grid_start = GridStart::cold;  // run.json "length_grid_start"; absent: cold
                                                   // (the runs before the warm grid)
+  ClosedLoopConfig closed_loop;                   // run.json "closed_loop"; absent: open loop
 };
 
 /// Noise seed of experiment `number` (Table 6.1) in Monte Carlo seed s: 100·s + number —
@@ -60,9 +88,11 @@ std::vector<Unit> shard_units(const Config& config);
 /// The grid of the test-length evaluation in percent of the run, ascending, ending at 100.
 std::vector<int> length_grid(const Config& config);
 
-/// Fills `designs` (empty: all 17 of Table 6.1; else checks each name and puts them in Table
-/// order) and checks the rest (a perturbation needs a linear library plant); throws
-/// std::invalid_argument naming the option, the value and what was expected.
+/// Fills `designs` (empty: all 17 of Table 6.1, or closed loop every plain one; else checks
+/// each name, closed loop a plain one, and puts them in Table order) and checks the rest (a
+/// perturbation needs a linear library plant, so does the controller's model's, the closed
+/// loop's options in range); throws std::invalid_argument naming the option, the value and
+/// what was expected.
 void normalise(Config& config);
 
 }  // namespace excite::host::montecarlo
