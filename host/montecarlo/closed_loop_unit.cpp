@@ -53,6 +53,16 @@ void prepare_closed_loop(Prepared& p, const PriorKnowledge& prior) {
   design.mv_fraction = c.mv_fraction;
   const std::vector<std::string> cvs = sim::make_plant(p.config.plant)->output_names();
   resolve_cv_limits(design, file, static_cast<Eigen::Index>(cvs.size()));
+  if (design.cv_low.size() > 0) {
+    p.cv_low = design.cv_low;
+    p.cv_high = design.cv_high;
+  } else if (file.dmc.cv.size() == cvs.size()) {  // MV dither under a DMC: its CV limits
+    ClosedLoopDesignOptions setpoint = design;
+    setpoint.excitation = "setpoint";
+    resolve_cv_limits(setpoint, file, static_cast<Eigen::Index>(cvs.size()));
+    p.cv_low = setpoint.cv_low;
+    p.cv_high = setpoint.cv_high;
+  }
   for (std::size_t d = 0; d < p.presets.size(); ++d)
     p.designs[d] = design_closed_loop(design, prior, p.presets[d], cvs, file);
   p.controller = std::move(file);

@@ -247,6 +247,10 @@ json unit_json(const UnitResult& u) {
             {"accuracy", accuracy_json(u.accuracy)},
             {"lengths", lengths}};
   if (!u.not_run.empty()) j["not_run"] = u.not_run;
+  if (std::isfinite(u.cv_peak_ratio)) {
+    j["cv_peak_ratio"] = u.cv_peak_ratio;
+    j["cv_violation_rows"] = u.cv_violation_rows;
+  }
   return j;
 }
 
@@ -276,6 +280,10 @@ UnitResult read_unit(const std::filesystem::path& file) {
   u.accuracy.minor_signs_right = a.boolean("minor_signs_right");
   u.accuracy.met = a.boolean("met");
   if (j.contains("not_run")) u.not_run = r.string("not_run");  // absent: the unit was run
+  if (j.contains("cv_peak_ratio")) {  // absent: no CV test limits known (open loop)
+    u.cv_peak_ratio = r.real("cv_peak_ratio");
+    u.cv_violation_rows = r.integer("cv_violation_rows");
+  }
   if (!r.at("lengths").is_array()) r.wrong("lengths", "an array");
   for (const json& p : r.at("lengths")) {
     const Reader l(file, p);
@@ -327,6 +335,10 @@ void check_unit(const UnitResult& u, const Config& config, const Unit& unit, int
   const double angle = u.accuracy.weakest_angle_deg;
   if (angle < 0.0 || angle > 90.0)
     wrong("accuracy.weakest_angle_deg", text(angle), "0 to 90 (degrees) or null");
+  if (u.cv_violation_rows < 0 || u.cv_violation_rows > u.samples)
+    wrong("cv_violation_rows", std::to_string(u.cv_violation_rows),
+          "0 to the unit's " + std::to_string(u.samples));
+  if (u.cv_peak_ratio < 0.0) wrong("cv_peak_ratio", text(u.cv_peak_ratio), "a number >= 0");
   const std::vector<int> grid = length_grid(config);
   if (u.lengths.size() != grid.size())
     wrong("lengths", std::to_string(u.lengths.size()) + " points",

@@ -372,6 +372,14 @@ void head_section(HtmlPage& h, const json& summary, std::size_t designs) {
   if (run.contains("closed_loop"))
     h << "<p><b>Controller on:</b> " << run["closed_loop"]["text"].get<std::string>() << ".</p>";
   for (const json& d : summary["designs"]) {
+    if (!d.contains("cv_limits")) continue;
+    const json& l = d["cv_limits"];
+    h << "<p><b>" << d["design"].get<std::string>() << ", CV test limits:</b> "
+      << l["seeds_outside"].get<int>() << " of " << l["of"].get<int>()
+      << " seeds outside them; peak |CV| / limit, median " << number_of(l["peak_ratio"]["median"])
+      << ", largest " << number_of(l["largest_peak_ratio"]) << ".</p>";
+  }
+  for (const json& d : summary["designs"]) {
     if (!d.contains("not_run")) continue;
     h << "<p><b>" << d["design"].get<std::string>() << ": " << d["not_run"]["seeds"].get<int>()
       << " seeds not run</b>, not in its shares or T90 (first: "

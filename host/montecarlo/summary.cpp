@@ -297,6 +297,25 @@ json ran_design_json(const std::string& name, const std::vector<const UnitResult
   }
   if (ran.empty()) throw std::runtime_error(name + ": no seed was run (" + first_why + ")");
   json j = design_json(name, ran, inputs, true_gain);
+  int limited = 0, outside = 0;
+  long long most_rows = 0;
+  double largest = 0.0;
+  for (const UnitResult* u : ran) {
+    if (!std::isfinite(u->cv_peak_ratio)) continue;
+    ++limited;
+    outside += u->cv_violation_rows > 0 ? 1 : 0;
+    most_rows = std::max(most_rows, u->cv_violation_rows);
+    largest = std::max(largest, u->cv_peak_ratio);
+  }
+  if (limited > 0) {  // closed loop with CV test limits
+    j["cv_limits"] = {
+        {"seeds_outside", outside},
+        {"of", limited},
+        {"peak_ratio",
+         spread_json(collect(ran, [](const UnitResult& u) { return u.cv_peak_ratio; }))},
+        {"largest_peak_ratio", largest},
+        {"max_rows_outside", most_rows}};
+  }
   if (ran.size() < units.size())
     j["not_run"] = {{"seeds", units.size() - ran.size()}, {"first", first_why}};
   return j;
@@ -408,6 +427,15 @@ std::string designs_table(const json& summary) {
                   spread_text(d["weakest_direction_angle_deg"], "%.1f [%.1f-%.1f]").c_str(), share,
                   t90.c_str());
     out += line;
+  }
+  for (const json& d : summary["designs"]) {
+    if (!d.contains("cv_limits")) continue;
+    const json& l = d["cv_limits"];
+    out += "  " + d["design"].get<std::string>() +
+           ": CV test limits: " + std::to_string(l["seeds_outside"].get<int>()) + " of " +
+           std::to_string(l["of"].get<int>()) + " seeds outside them (at most " +
+           std::to_string(l["max_rows_outside"].get<long long>()) + " rows); peak |CV| / limit " +
+           spread_text(l["peak_ratio"], "%.2f [%.2f-%.2f]") + "\n";
   }
   for (const json& d : summary["designs"]) {
     if (!d.contains("not_run")) continue;

@@ -258,6 +258,22 @@ UnitResult unit_result(const Experiment& e, std::uint64_t seed, const TruePlant&
   return r;
 }
 
+// The measured CVs Y against the CV test limits (closed loop; none known: nothing counted).
+void count_cv_excursions(const Prepared& p, const Eigen::MatrixXd& Y, UnitResult& r) {
+  if (p.cv_low.size() != Y.cols()) return;
+  r.cv_peak_ratio = 0.0;
+  for (Eigen::Index k = 0; k < Y.rows(); ++k) {
+    bool outside = false;
+    for (Eigen::Index c = 0; c < Y.cols(); ++c) {
+      const double y = Y(k, c);
+      const double share = y >= 0.0 ? y / p.cv_high(c) : y / p.cv_low(c);
+      r.cv_peak_ratio = std::max(r.cv_peak_ratio, share);
+      outside |= share > 1.0;
+    }
+    r.cv_violation_rows += outside ? 1 : 0;
+  }
+}
+
 // A unit not run (`why`): the run's length, nothing met at any length.
 UnitResult not_run(const Prepared& p, const Unit& unit, const std::string& why) {
   const auto a = static_cast<std::size_t>(unit.design);
@@ -300,6 +316,7 @@ UnitResult run_unit(const Prepared& p, const Unit& unit) {
     const ClosedLoopRun run =
         closed_loop_experiment(p, unit, *plant, *controller.controller, truth);
     UnitResult r = unit_result(run.experiment, unit.seed, truth, perturbed.has_value());
+    count_cv_excursions(p, run.experiment.Y, r);
     r.crossfit_avg = r.crossfit_worst = kNaN;  // closed loop: no cross-validation (README)
     const double experiment_done_s = thread_cpu_s();
     r.times.experiment_s = experiment_done_s - start_s;

@@ -34,20 +34,26 @@ namespace {
 const std::string kPi = std::string(EXCITE_CONTROL_EXAMPLES) + "/woodberry2x2.pi.toml";
 const std::string kDmc = std::string(EXCITE_CONTROL_EXAMPLES) + "/alatiqi4x4.dmc.toml";
 
-// woodberry2x2 under the example PI, prbsUnc as an MV dither (a PI file has no CV limits).
-mc::Config pi_dither(double controller_perturb = 0.0) {
+// One seed of prbsUnc on `plant` under `controller`, noise 5e-4, the 50 % grid; normalised.
+mc::Config prbs_unc(const std::string& plant, const std::string& controller, std::uint64_t seed,
+                    double controller_perturb = 0.0, const std::string& excitation = "setpoint") {
   mc::Config c;
-  c.plant = "woodberry2x2";
+  c.plant = plant;
   c.designs = {"prbsUnc"};
   c.seeds = 1;
-  c.first_seed = 3;
+  c.first_seed = seed;
   c.noise_variance = 5e-4;
   c.length_step_percent = 50;
-  c.closed_loop.controller = kPi;
-  c.closed_loop.excitation = "mv";
+  c.closed_loop.controller = controller;
+  c.closed_loop.excitation = excitation;
   c.closed_loop.model_perturb_percent = controller_perturb;
   mc::normalise(c);
   return c;
+}
+
+// woodberry2x2 under the example PI, prbsUnc as an MV dither (a PI file has no CV limits).
+mc::Config pi_dither(double controller_perturb = 0.0) {
+  return prbs_unc("woodberry2x2", kPi, 3, controller_perturb, "mv");
 }
 
 }  // namespace
@@ -198,16 +204,7 @@ TEST(ClosedLoopUnit, ASeedWhoseModelTheDmcRefusesIsNotRunAndCountedApart) {
   }
   ASSERT_NE(refused, 0U) << "no seed of 200 draws a model that is not integrally controllable";
   ASSERT_NE(fine, 0U);
-  mc::Config c;
-  c.plant = "alatiqi4x4";
-  c.designs = {"prbsUnc"};
-  c.seeds = 1;
-  c.first_seed = refused;
-  c.noise_variance = 5e-4;
-  c.length_step_percent = 50;
-  c.closed_loop.controller = kDmc;
-  c.closed_loop.model_perturb_percent = 60.0;
-  mc::normalise(c);
+  mc::Config c = prbs_unc("alatiqi4x4", kDmc, refused, 60.0);
   const auto prepared = mc::prepare(c, 1);
 
   // WHEN its unit is run
@@ -300,4 +297,51 @@ TEST(ClosedLoopUnit, RunJsonKeepsTheClosedLoopAndAnOlderFolderReadsAsOpenLoop) {
   j.erase("closed_loop");  // a folder of a run before issue 41 §4
   { std::ofstream(dir / "run.json") << j.dump(2); }
   EXPECT_FALSE(mc::read_config(dir / "run.json").closed_loop.on());
+}
+
+TEST(ClosedLoopUnit, TheMeasuredCvsAreCountedAgainstTheControllersCvTestLimits) {
+  // GIVEN a DMC on woodberry2x2 with CV test limits ±0.2, and r at all of them (fraction 1:
+  // the CVs overshoot their setpoints, so some rows are outside)
+  sim::control::ControllerFile file;
+  file.kind = sim::control::ControllerKind::dmc;
+  file.model.plant = "woodberry2x2";
+  file.model.delay_samples = 1;
+  file.dmc.prediction_horizon = 60;
+  file.dmc.control_horizon = 3;
+  file.dmc.mv.assign(2, sim::control::MvSettings{});
+  file.dmc.cv.assign(2, sim::control::CvSettings{});
+  for (sim::control::CvSettings& cv : file.dmc.cv) {
+    cv.limit_low = -0.2;
+    cv.limit_high = 0.2;
+  }
+  file.mv_given = file.cv_given = true;
+  const std::filesystem::path path = std::filesystem::path(testing::TempDir()) / "wb.dmc.toml";
+  { std::ofstream(path) << sim::control::controller_file_toml(file); }
+  mc::Config c = prbs_unc("woodberry2x2", path.string(), 2);
+  c.length_step_percent = 0;
+  c.closed_loop.limit_fraction = 1.0;
+  const auto prepared = mc::prepare(c, 1);
+
+  // WHEN the unit runs, and its run is made again to count by hand
+  const mc::UnitResult u = mc::run_unit(*prepared, {0, 2, 0});
+  const auto plant = sim::make_plant("woodberry2x2");
+  const mc::SeedController controller =
+      mc::seed_controller(*prepared, 2, prepared->truth.gain.gain);
+  ASSERT_TRUE(controller.controller);
+  const Eigen::MatrixXd Y = mc::closed_loop_experiment(*prepared, {0, 2, 0}, *plant,
+                                                       *controller.controller, prepared->truth)
+                                .experiment.Y;
+  const Eigen::ArrayXXd share = Y.array().abs() / 0.2;
+  long long outside = 0;
+  for (Eigen::Index k = 0; k < Y.rows(); ++k) outside += share.row(k).maxCoeff() > 1.0 ? 1 : 0;
+
+  // THEN the unit's figures are the hand count's, and they are a violation
+  EXPECT_DOUBLE_EQ(u.cv_peak_ratio, share.maxCoeff());
+  EXPECT_EQ(u.cv_violation_rows, outside);
+  EXPECT_GT(u.cv_violation_rows, 0);
+  const std::filesystem::path unit_file = std::filesystem::path(testing::TempDir()) / "cv.json";
+  { std::ofstream(unit_file) << mc::unit_json(u).dump(1); }
+  const mc::UnitResult back = mc::read_unit(unit_file);
+  EXPECT_EQ(back.cv_violation_rows, u.cv_violation_rows);
+  EXPECT_EQ(back.cv_peak_ratio, u.cv_peak_ratio);
 }

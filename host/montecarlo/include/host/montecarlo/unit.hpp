@@ -7,6 +7,7 @@
 // … % of the run (the prefix of the same run, not simulated again).
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -57,6 +58,11 @@ struct UnitResult {
   std::vector<double> true_gain;        // the seed's perturbed true G(0), row-major; empty: nominal
   Accuracy accuracy;                    // on the whole run, against the seed's true plant
   std::vector<LengthPoint> lengths;     // length_grid(config), the last one the whole run
+  // Closed loop, against the CV test limits (the controller file's [[cv]] limits; none: NaN
+  // and 0): the measured CVs' largest excursion as a share of the limit on its side (> 1: a
+  // violation), and the rows where any CV was outside its limits.
+  double cv_peak_ratio = std::numeric_limits<double>::quiet_NaN();
+  long long cv_violation_rows = 0;
   // Why the unit was not run; empty: it was. Closed loop: the controller refused the seed's
   // perturbed model (not integrally controllable for the plant) — a DMC that would not be
   // commissioned. Such a unit meets nothing, and the summary counts it apart (summary.hpp).
@@ -77,6 +83,7 @@ struct Prepared {
   // nominal transfer matrix when the model is perturbed per seed.
   std::optional<sim::control::ControllerFile> controller;
   std::optional<sim::TransferMatrix> controller_model;
+  Eigen::VectorXd cv_low, cv_high;  // the CV test limits (deviations); empty: none known
 };
 
 /// Whether the rows from_rows … to_rows − 1 of a run add nothing new to its first from_rows:
