@@ -274,8 +274,10 @@ void count_cv_excursions(const Prepared& p, const Eigen::MatrixXd& Y, UnitResult
   }
 }
 
-// A unit not run (`why`): the run's length, nothing met at any length.
-UnitResult not_run(const Prepared& p, const Unit& unit, const std::string& why) {
+// A unit not run (`why`): the run's length, nothing met at any length; the seed's true G(0)
+// kept when perturbed, as a unit that ran keeps it.
+UnitResult not_run(const Prepared& p, const Unit& unit, const std::string& why,
+                   const TruePlant& truth, bool perturbed) {
   const auto a = static_cast<std::size_t>(unit.design);
   UnitResult r;
   r.design = p.presets[a].acronym;
@@ -285,7 +287,12 @@ UnitResult not_run(const Prepared& p, const Unit& unit, const std::string& why) 
   r.sample_time_min = p.designs[a].plan->meta.sample_time_min;
   r.fit_avg = r.crossfit_avg = r.crossfit_worst = kNaN;
   r.ratio = r.upsilon = r.ratio_noisy = r.upsilon_noisy = kNaN;
-  r.accuracy = judge(p.truth, std::nullopt);
+  r.accuracy = judge(truth, std::nullopt);
+  if (perturbed) {
+    const Eigen::MatrixXd& g = truth.gain.gain;
+    for (Eigen::Index i = 0; i < g.rows(); ++i)
+      for (Eigen::Index j = 0; j < g.cols(); ++j) r.true_gain.push_back(g(i, j));
+  }
   for (const int percent : length_grid(p.config))
     r.lengths.push_back({percent, r.samples * percent / 100, false});
   r.not_run = why;
@@ -312,7 +319,8 @@ UnitResult run_unit(const Prepared& p, const Unit& unit) {
     const auto plant = perturbed ? sim::make_linear_plant(p.config.plant, *perturbed)
                                  : sim::make_plant(p.config.plant);
     const SeedController controller = seed_controller(p, unit.seed, truth.gain.gain);
-    if (!controller.controller) return not_run(p, unit, controller.refused);
+    if (!controller.controller)
+      return not_run(p, unit, controller.refused, truth, perturbed.has_value());
     const ClosedLoopRun run =
         closed_loop_experiment(p, unit, *plant, *controller.controller, truth);
     UnitResult r = unit_result(run.experiment, unit.seed, truth, perturbed.has_value());

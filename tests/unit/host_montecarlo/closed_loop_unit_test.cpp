@@ -205,6 +205,7 @@ TEST(ClosedLoopUnit, ASeedWhoseModelTheDmcRefusesIsNotRunAndCountedApart) {
   ASSERT_NE(refused, 0U) << "no seed of 200 draws a model that is not integrally controllable";
   ASSERT_NE(fine, 0U);
   mc::Config c = prbs_unc("alatiqi4x4", kDmc, refused, 60.0);
+  c.perturb_percent = 1.0;  // the true plant perturbed too: its G(0) is kept as a run's is
   const auto prepared = mc::prepare(c, 1);
 
   // WHEN its unit is run
@@ -218,6 +219,8 @@ TEST(ClosedLoopUnit, ASeedWhoseModelTheDmcRefusesIsNotRunAndCountedApart) {
   const std::filesystem::path file = std::filesystem::path(testing::TempDir()) / "not-run.json";
   { std::ofstream(file) << mc::unit_json(u).dump(1); }
   EXPECT_EQ(mc::read_unit(file).not_run, u.not_run);
+  EXPECT_EQ(u.true_gain.size(), 16U);
+  EXPECT_NO_THROW(mc::check_unit(mc::read_unit(file), c, {0, refused, 0}, 4, 4, file));
 
   // … and the summary counts it apart: its shares and T90 are over the seeds run.
   mc::UnitResult ran = u;
