@@ -257,29 +257,24 @@ std::optional<std::size_t> t90_index(const std::vector<double>& shares) {
 
 namespace {
 
-// The run's closed loop (work.hpp ClosedLoopConfig), its options and a sentence that says it.
-json closed_loop_run_json(const ClosedLoopConfig& l) {
+// The run's closed loop: its options as run.json keeps them (config_json), and a sentence.
+json closed_loop_run_json(const Config& c) {
+  const ClosedLoopConfig& l = c.closed_loop;
   const std::string model = l.model_perturb_percent > 0.0
                                 ? "its model perturbed per seed within +-" +
                                       sim::percent_text(l.model_perturb_percent) +
                                       " % (every gain, time constant and delay)"
                                 : "its model as the controller file gives it";
-  return {{"controller", l.controller},
-          {"excitation", l.excitation},
-          {"method", l.method},
-          {"limit_fraction", l.limit_fraction},
-          {"mv_fraction", l.mv_fraction},
-          {"controller_perturb_percent", l.model_perturb_percent},
-          {"disturbance_std", l.disturbance_std},
-          {"disturbance_tau_min", l.disturbance_tau_min},
-          {"text", "closed loop in process under " + l.controller + ", " + model + "; " +
-                       (l.excitation == "mv" ? "MV dither" : "setpoint excitation") +
-                       (l.method == "direct"
-                            ? "; identified direct (the output-error fit on the applied u, the "
+  json j = config_json(c)["closed_loop"];
+  j["text"] =
+      "closed loop in process under " + l.controller + ", " + model + "; " +
+      (l.excitation == "mv" ? "MV dither" : "setpoint excitation") +
+      (l.method == "direct" ? "; identified direct (the output-error fit on the applied u, the "
                               "test-length prefixes too)"
                             : "; identified two-stage (the test-length prefixes too, stage 1 on "
                               "the prefix alone)") +
-                       "; no cross-validation"}};
+      "; no cross-validation";
+  return j;
 }
 
 // design_json over the units that were run; those not run (UnitResult::not_run) counted
@@ -361,7 +356,7 @@ json summary_json(const Config& config, const std::vector<UnitResult>& units) {
                                        "the designs use the nominal plant, the criterion, the "
                                        "balance and the gain errors the seed's perturbed one"
                                  : "the nominal plant in every seed"}};
-  if (c.closed_loop.on()) j["run"]["closed_loop"] = closed_loop_run_json(c.closed_loop);
+  if (c.closed_loop.on()) j["run"]["closed_loop"] = closed_loop_run_json(c);
   j["criterion"] = {
       {"text",
        "identified G(0): every principal minor's sign right, sigma_n within 20 %, the weakest "
