@@ -1,24 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include "host/montecarlo/slurm.hpp"
 
-#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include "base/config/document.hpp"
 #include "sim/library/perturb.hpp"
 
 namespace excite::host::montecarlo {
-namespace {
-
-// A number as text that reads back to the same double.
-std::string exact(double v) {
-  char text[40];
-  std::snprintf(text, sizeof text, "%.17g", v);
-  return text;
-}
-
-}  // namespace
 
 std::string shell_word(const std::string& text) {
   std::string out = "'";
@@ -46,7 +36,7 @@ std::string slurm_script(const Config& config, const SlurmJob& job) {
   }
   std::string designs;
   for (const std::string& d : config.designs) designs += (designs.empty() ? "" : ",") + d;
-  const std::string noise = exact(config.noise_variance);
+  const std::string noise = config::format_number(config.noise_variance);
   const std::string tasks = std::to_string(job.tasks);
   const std::string threads = std::to_string(job.threads);
   const std::string exe = shell_word(job.excite.string());
@@ -55,11 +45,12 @@ std::string slurm_script(const Config& config, const SlurmJob& job) {
   if (config.closed_loop.on()) {
     const ClosedLoopConfig& l = config.closed_loop;
     closed_loop = " --controller " + shell_word(l.controller) + " --excitation " + l.excitation +
-                  " --method " + l.method + " --limit-fraction " + exact(l.limit_fraction) +
-                  " --mv-fraction " + exact(l.mv_fraction) + " --controller-perturb " +
+                  " --method " + l.method + " --limit-fraction " +
+                  config::format_number(l.limit_fraction) + " --mv-fraction " +
+                  config::format_number(l.mv_fraction) + " --controller-perturb " +
                   sim::percent_text(l.model_perturb_percent) + " --disturbance-std " +
-                  exact(l.disturbance_std) + " --disturbance-tau-min " +
-                  exact(l.disturbance_tau_min);
+                  config::format_number(l.disturbance_std) + " --disturbance-tau-min " +
+                  config::format_number(l.disturbance_tau_min);
   }
   std::string s;
   s += "#!/bin/sh\n";
