@@ -51,6 +51,7 @@ struct IdentifyCommandOptions {
   bool allow_mixed = false;     // pool runs of other plants or units (issue 19)
   std::string method = "auto";  // closed-loop runs: auto (= two-stage), two-stage, direct
   int stage1_lags = 0;          // 0: project_on_reference's default
+  NoiseModelOptions noise;      // closed-loop runs: the AR noise model of both fits
 };
 
 // The model file's channel limit, before any fit (a 65-input run once took 77 s and wrote a
@@ -124,7 +125,7 @@ std::optional<ClosedLoopIdentification> identify_if_closed_loop(
           Eigen::Map<const Eigen::VectorXd>(cl.r[c].data(), data.U.rows());
     }
     return identify_closed_loop(data.U, R, data.Y, data.sample_time_min, data.layout, options,
-                                opt.stage1_lags);
+                                opt.stage1_lags, opt.noise);
   } else if (opt.method != "auto" && opt.method != "direct") {
     throw std::invalid_argument("--method = " + opt.method +
                                 ", expected auto or direct for an open-loop run (the two-stage "
@@ -185,6 +186,9 @@ void run(const IdentifyCommandOptions& opt) {
                 << " (stage 1: FIR of " << closed->stage1.lags << " lags; u explained by r:";
       for (Eigen::Index i = 0; i < fit.size(); ++i) std::cout << ' ' << num(fit(i), 3) << " %";
       std::cout << ")\n";
+      print_noise_orders(std::cout,
+                         opt.method == "direct" ? closed->noise_direct : closed->noise_two_stage,
+                         first);
     }
     std::cout << '\n';
     print_identification(std::cout, result, first);
@@ -253,6 +257,17 @@ void add_identify_command(CLI::App& app) {
                   "the other is printed beside it as a cross-check")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "two-stage", "direct"}));
+  cmd->add_option("--noise-order", opt->noise.max_order,
+                  "a closed-loop run: the largest order of each output's AR noise model, "
+                  "chosen by BIC (both fits are prediction-error fits with it); 0: output "
+                  "error, no noise model (host/identify/README.md)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 60));
+  cmd->add_option("--noise-refits", opt->noise.refits,
+                  "a closed-loop run: rounds of (noise model from the output error, the row "
+                  "refitted on the prefiltered data)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 10));
   cmd->add_option("--stage1-lags", opt->stage1_lags,
                   "two-stage: FIR lags of u on r in stage 1 (0: min(200, max(20, N/(8 m))))")
       ->capture_default_str()

@@ -152,6 +152,13 @@ nlohmann::json gains_json(const IdentifiedModel& m) {
   return {{"gain", g}, {"gain_std_error", se}};
 }
 
+// Each output's AR noise-model order (0: white, the output-error fit).
+std::vector<int> noise_orders(const std::vector<ArNoiseModel>& noise) {
+  std::vector<int> orders;
+  for (const ArNoiseModel& a : noise) orders.push_back(a.order());
+  return orders;
+}
+
 }  // namespace
 
 nlohmann::json closed_loop_json(const ClosedLoopIdentification& id, const runlog::RunLog& log,
@@ -170,6 +177,9 @@ nlohmann::json closed_loop_json(const ClosedLoopIdentification& id, const runlog
           {"excitation", std::string(runlog::to_text(log.closed_loop.excitation))},
           {"controller", log.closed_loop.controller},
           {"stage1", {{"fir_lags", id.stage1.lags}, {"u_explained_by_r_percent", fit}}},
+          {"noise_model_orders",
+           {{"two_stage", noise_orders(id.noise_two_stage)},
+            {"direct", noise_orders(id.noise_direct)}}},
           {direct_written ? "two_stage" : "direct", gains_json(other)},
           {"feedback_bias_suspected", bias}};
 }

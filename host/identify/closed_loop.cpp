@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "host/identify/gain_sensitivity.hpp"
+
 namespace excite::host {
 
 int default_stage1_lags(Eigen::Index rows, Eigen::Index channels) {
@@ -88,68 +90,14 @@ std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& a, const
 double widen_for_coloured_residuals(IdentificationResult& result, const Eigen::MatrixXd& U,
                                     const Eigen::MatrixXd& Y, const SampleLayout& layout,
                                     int max_lag) {
-  IdentifiedModel& model = result.model;
-  const Eigen::Index N = U.rows();
-  const int n = model.inputs;
-  const Eigen::Index L =
-      max_lag > 0 ? max_lag : std::min<Eigen::Index>(200, std::max<Eigen::Index>(1, N / 10));
-  const Eigen::MatrixXd Yhat = simulate(model, U);
   double widest = 1.0;
-  for (int o = 0; o < model.outputs; ++o) {
-    // X: each estimated element's unit-gain response to its input (0 elsewhere).
-    Eigen::MatrixXd X = Eigen::MatrixXd::Zero(N, n);
-    std::vector<int> used;
-    for (int i = 0; i < n; ++i) {
-      const ElementEstimate& e = model.element(o, i);
-      if (!e.estimated() || !std::isfinite(e.std_error.gain) || e.value.gain == 0.0) continue;
-      IdentifiedModel unit = model;
-      for (ElementEstimate& u : unit.elements) u.value.gain = 0.0;
-      unit.element(o, i).value.gain = 1.0;
-      X.col(i) = simulate(unit, U).col(o);
-      used.push_back(i);
-    }
-    if (used.empty()) continue;
-    Eigen::MatrixXd Xu(N, static_cast<Eigen::Index>(used.size()));
-    for (std::size_t c = 0; c < used.size(); ++c) {
-      Xu.col(static_cast<Eigen::Index>(c)) = X.col(used[c]);
-    }
-    Eigen::VectorXd e = Y.col(o) - Yhat.col(o);
-    for (Eigen::Index k = 0; k < N; ++k) {
-      if (k >= layout.weight.size() || layout.weight(k) == 0.0 || !std::isfinite(e(k))) e(k) = 0.0;
-      if (k < layout.weight.size() && layout.weight(k) == 0.0) Xu.row(k).setZero();
-    }
-    const Eigen::Index M = layout.scored();
-    const Eigen::MatrixXd XtX = Xu.transpose() * Xu;
-    const Eigen::LDLT<Eigen::MatrixXd> ldlt(XtX);
-    if (ldlt.info() != Eigen::Success || M <= Xu.cols()) continue;
-    const Eigen::MatrixXd inv = ldlt.solve(Eigen::MatrixXd::Identity(Xu.cols(), Xu.cols()));
-    const Eigen::MatrixXd g = Xu.array().colwise() * e.array();  // rows: x_k e_k
-    Eigen::MatrixXd omega = g.transpose() * g;
-    for (Eigen::Index l = 1; l <= L && l < N; ++l) {
-      const double w = 1.0 - static_cast<double>(l) / static_cast<double>(L + 1);
-      const Eigen::MatrixXd gamma = g.bottomRows(N - l).transpose() * g.topRows(N - l);
-      omega += w * (gamma + gamma.transpose());
-    }
-    const Eigen::MatrixXd hac = inv * omega * inv;
-    const double s2 = e.squaredNorm() / static_cast<double>(M - Xu.cols());
-    Eigen::VectorXd factor = Eigen::VectorXd::Ones(n);
-    for (std::size_t c = 0; c < used.size(); ++c) {
-      const auto cc = static_cast<Eigen::Index>(c);
-      const double white = s2 * inv(cc, cc);
-      if (white > 0.0 && hac(cc, cc) > white) factor(used[c]) = std::sqrt(hac(cc, cc) / white);
-    }
-    for (int i = 0; i < n; ++i) {
-      ElementEstimate& el = model.element(o, i);
-      el.std_error.gain *= factor(i);
-      el.covariance.row(kGain) *= factor(i);
-      el.covariance.col(kGain) *= factor(i);
-      widest = std::max(widest, factor(i));
-    }
-    auto& cov = model.gain_covariance[static_cast<std::size_t>(o)];
-    cov = factor.asDiagonal() * cov * factor.asDiagonal();
+  for (int o = 0; o < result.model.outputs; ++o) {
+    widest = std::max(
+        widest, widen_row_for_coloured_residual(result.model, o, U, Y.col(o), layout, max_lag));
   }
   if (result.gain_uncertainty) {
-    result.gain_uncertainty = gain_uncertainty(model.static_gain(), model.gain_covariance);
+    result.gain_uncertainty =
+        gain_uncertainty(result.model.static_gain(), result.model.gain_covariance);
   }
   return widest;
 }
@@ -157,14 +105,19 @@ double widen_for_coloured_residuals(IdentificationResult& result, const Eigen::M
 ClosedLoopIdentification identify_closed_loop(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
                                               const Eigen::MatrixXd& Y, double T_min,
                                               const SampleLayout& layout,
-                                              const IdentifyOptions& options, int stage1_lags) {
+                                              const IdentifyOptions& options, int stage1_lags,
+                                              const NoiseModelOptions& noise) {
   ClosedLoopIdentification out;
   out.stage1 = project_on_reference(U, R, stage1_lags);
-  out.two_stage = identify(out.stage1.u_hat, Y, T_min, layout, options);
-  out.direct = identify(U, Y, T_min, layout, options);
-  out.se_widening_two_stage =
-      widen_for_coloured_residuals(out.two_stage, out.stage1.u_hat, Y, layout);
-  out.se_widening_direct = widen_for_coloured_residuals(out.direct, U, Y, layout);
+  NoiseModelFit two_stage =
+      identify_with_noise_model(out.stage1.u_hat, Y, T_min, layout, options, noise);
+  NoiseModelFit direct = identify_with_noise_model(U, Y, T_min, layout, options, noise);
+  out.two_stage = std::move(two_stage.result);
+  out.noise_two_stage = std::move(two_stage.noise);
+  out.se_widening_two_stage = two_stage.se_widening;
+  out.direct = std::move(direct.result);
+  out.noise_direct = std::move(direct.noise);
+  out.se_widening_direct = direct.se_widening;
   out.feedback_bias = gain_disagreements(out.two_stage.model, out.direct.model);
   return out;
 }

@@ -114,6 +114,15 @@ void print_identification(std::ostream& out, const IdentificationResult& r,
   }
 }
 
+void print_noise_orders(std::ostream& out, const std::vector<ArNoiseModel>& noise,
+                        const runlog::RunLog& log) {
+  out << "noise model (AR order by BIC, 0: white):";
+  for (std::size_t o = 0; o < noise.size(); ++o) {
+    out << (o == 0 ? " " : ", ") << log.output_names.at(o) << ' ' << noise[o].order();
+  }
+  out << '\n';
+}
+
 void print_closed_loop(std::ostream& out, const ClosedLoopIdentification& id,
                        const runlog::RunLog& log, bool direct) {
   const IdentifiedModel& other = direct ? id.two_stage.model : id.direct.model;

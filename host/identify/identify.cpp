@@ -454,9 +454,12 @@ std::string missing_gain(const IdentifiedModel& model) {
   return "";
 }
 
-// Directional quality of the identified G(0) when every gain is estimated, its uncertainty
-// when every row's gain covariance is known.
+}  // namespace
+
 void analyse_identified_gain(IdentificationResult& result) {
+  result.gain.reset();
+  result.gain_uncertainty.reset();
+  result.gain_unavailable_reason.clear();
   const IdentifiedModel& model = result.model;
   const std::string missing = missing_gain(model);
   if (!missing.empty()) {
@@ -470,8 +473,6 @@ void analyse_identified_gain(IdentificationResult& result) {
     result.gain_uncertainty = gain_uncertainty(model.static_gain(), model.gain_covariance);
   }
 }
-
-}  // namespace
 
 IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double T_min,
                               const SampleLayout& layout, const IdentifyOptions& options) {

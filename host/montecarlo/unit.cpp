@@ -46,7 +46,9 @@ SimulatedRun measured_run(const Prepared& p, std::size_t b, const CampaignOption
 // prefix alone. Warm: the fit starts from `start`, the model of the previous grid length
 // (IdentifyOptions::start), and is only polished when the rows added since then bring nothing
 // new (nothing_new). nullopt: a prefix too short to identify.
-// Closed loop (`R` not empty), two-stage: stage 1 on the prefix's rows of U and r alone.
+// Closed loop: the prediction-error fit with an AR noise model (noise_model.hpp), as the
+// whole run's; two-stage (`R` not empty): on stage 1's û from the prefix's rows of U and r
+// alone, direct (`R` empty): on U.
 std::optional<IdentificationResult> identify_prefix(const Prepared& p, const Experiment& e,
                                                     const Eigen::MatrixXd& R, Eigen::Index rows,
                                                     const std::optional<IdentifiedModel>& start,
@@ -60,13 +62,18 @@ std::optional<IdentificationResult> identify_prefix(const Prepared& p, const Exp
     return std::nullopt;
   options.start = start;
   if (polish_only) options.start_use = IdentifyOptions::StartUse::polish;
-  if (R.size() == 0)
+  if (!p.config.closed_loop.on())
     return identify(e.U.topRows(rows), e.Y.topRows(rows), e.sample_time_min, options);
-  const Eigen::Index lags = default_stage1_lags(rows, R.cols());
-  if (2 * lags * R.cols() >= rows || R.topRows(rows).cwiseAbs().maxCoeff() == 0.0)
-    return std::nullopt;
-  const Stage1Fit stage1 = project_on_reference(e.U.topRows(rows), R.topRows(rows));
-  return identify(stage1.u_hat, e.Y.topRows(rows), e.sample_time_min, options);
+  Eigen::MatrixXd U = e.U.topRows(rows);
+  if (R.size() > 0) {
+    const Eigen::Index lags = default_stage1_lags(rows, R.cols());
+    if (2 * lags * R.cols() >= rows || R.topRows(rows).cwiseAbs().maxCoeff() == 0.0)
+      return std::nullopt;
+    U = project_on_reference(U, R.topRows(rows)).u_hat;
+  }
+  return identify_with_noise_model(U, e.Y.topRows(rows), e.sample_time_min,
+                                   SampleLayout::whole(rows), options)
+      .result;
 }
 
 }  // namespace

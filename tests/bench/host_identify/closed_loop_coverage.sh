@@ -9,8 +9,10 @@
 # PLANT woodberry2x2 (PI, CV limits ±2, first-order elements) or alatiqi4x4 (DMC, CV limits
 # ±0.55, 0.1 of them as amplitude); DSTD the coloured disturbance's std (τ 20 min; 0: none);
 # white noise variance 1e-2 (woodberry2x2) or 5e-4 (alatiqi4x4).
+# EXTRA (5th argument): more `excite identify` options, e.g. "--noise-order 0" (the
+# output-error fits of before the noise model) or "--noise-refits 4".
 set -euo pipefail
-PLANT=${1:?plant}; SEEDS=${2:-100}; DSTD=${3:-0}; METHOD=${4:-two-stage}
+PLANT=${1:?plant}; SEEDS=${2:-100}; DSTD=${3:-0}; METHOD=${4:-two-stage}; EXTRA=${5:-}
 ROOT=$(cd "$(dirname "$0")/../../.." && pwd)
 E=${EXCITE:-$ROOT/build/default/bin/excite}
 W=$(mktemp -d); trap 'rm -rf "$W"' EXIT
@@ -30,7 +32,7 @@ DIST=""; [ "$DSTD" != "0" ] && DIST="--disturbance-std $DSTD --disturbance-tau-m
 for s in $(seq 1 "$SEEDS"); do
   "$E" simulate "$W/sp.plan" --plant "$PLANT" --controller "$CTRL" --periods $PERIODS \
     --noise-var $NOISE $DIST --seed "$s" -o "$W/run.csv" > /dev/null
-  "$E" identify "$W/run.csv" $ID --method "$METHOD" --json 2> /dev/null > "$W/id_$s.json" || true
+  "$E" identify "$W/run.csv" $ID --method "$METHOD" $EXTRA --json 2> /dev/null > "$W/id_$s.json" || true
 done
 "$E" gains --plant "$PLANT" --json > "$W/truth.json" 2> /dev/null || true
 python3 - "$W" "$SEEDS" "$PLANT" <<'PY'

@@ -188,6 +188,16 @@ TEST_F(ClosedLoopInProcessAndThroughTheGateway, GiveTheSameMovesAndTheSameG0) {
   for (std::size_t o = 0; o < 2; ++o) {
     const auto& x = ma["outputs"][o];
     const auto& y = mb["outputs"][o];
+    // A delay on a whole sample in both fits, a hair either side of it (the ZOH response is
+    // not differentiable in T_d there: its Jacobian is one-sided, and the row's σ with it). The
+    // gateway's float32 rounding moved one fit's 3.0 to 2.99999 (measured: σ 1.8 % apart).
+    bool delay_across_a_sample = false;
+    for (std::size_t i = 0; i < 2; ++i) {
+      const double td_a = x["elements"][i]["Td"].get<double>();
+      const double td_b = y["elements"][i]["Td"].get<double>();
+      delay_across_a_sample |= std::floor(td_a) != std::floor(td_b) && std::abs(td_a - td_b) < 1e-3;
+    }
+    const double se_tolerance = delay_across_a_sample ? 0.03 : 0.005;
     EXPECT_EQ(x["fit"], mf["outputs"][o]["fit"]) << "output " << o;
     const double fit = std::abs(x["fit"].get<double>() - y["fit"].get<double>());
     largest_fit = std::max(largest_fit, fit);
@@ -203,8 +213,11 @@ TEST_F(ClosedLoopInProcessAndThroughTheGateway, GiveTheSameMovesAndTheSameG0) {
       largest_se = std::max(largest_se, dse);
       EXPECT_LE(dk, 0.1) << "G(0)(" << o << "," << i << "): " << ex["K"] << " against " << ey["K"]
                          << " ± " << se;
-      EXPECT_LE(dse, 0.005) << "G(0)(" << o << "," << i << ") σ: " << ex["se"]["K"] << " against "
-                            << se;
+      EXPECT_LE(dse, se_tolerance)
+          << "G(0)(" << o << "," << i << ") σ: " << ex["se"]["K"] << " against " << se << " (Td "
+          << ex["Td"] << " against " << ey["Td"] << "), noise-model orders "
+          << ma["closed_loop"]["noise_model_orders"] << " against "
+          << mb["closed_loop"]["noise_model_orders"];
     }
   }
   std::printf(

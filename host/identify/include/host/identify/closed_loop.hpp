@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "host/identify/identify.hpp"
+#include "host/identify/noise_model.hpp"
 #include "host/identify/segments.hpp"
 
 namespace excite::host {
@@ -54,10 +55,12 @@ struct GainDisagreement {
 
 struct ClosedLoopIdentification {
   Stage1Fit stage1;
-  double se_widening_two_stage = 1.0;  // widen_for_coloured_residuals' largest factor
+  double se_widening_two_stage = 1.0;  // NoiseModelFit::se_widening of each
   double se_widening_direct = 1.0;
   IdentificationResult two_stage;               // on (û, y): the estimate
   IdentificationResult direct;                  // on (u, y): the cross-check
+  std::vector<ArNoiseModel> noise_two_stage;    // per output, each fit's AR noise model
+  std::vector<ArNoiseModel> noise_direct;       // (order 0: output error on that row)
   std::vector<GainDisagreement> feedback_bias;  // "feedback bias suspected" in these elements
 };
 
@@ -81,13 +84,17 @@ double widen_for_coloured_residuals(IdentificationResult& result, const Eigen::M
                                     int max_lag = 0);
 
 /// Both methods on one closed-loop run: U applied inputs, R the test signal r (N × m), Y.
-/// `stage1_lags` as in project_on_reference. Both results' gain standard errors are widened
-/// for their coloured residuals (widen_for_coloured_residuals). Throws what identify() and
-/// stage 1 throw.
+/// `stage1_lags` as in project_on_reference. Each is the prediction-error fit with an AR
+/// noise model per output (noise_model.hpp; `noise.max_order` 0: output error): on (û, y)
+/// the two-stage estimate, on (u, y) the direct one — consistent in closed loop when the
+/// noise model describes the disturbance (the output-error direct fit is not, with a
+/// coloured one). The gain standard errors allow for the estimated noise model and for the
+/// colour left in the residual. Throws what identify() and stage 1 throw.
 ClosedLoopIdentification identify_closed_loop(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
                                               const Eigen::MatrixXd& Y, double T_min,
                                               const SampleLayout& layout,
                                               const IdentifyOptions& options = {},
-                                              int stage1_lags = 0);
+                                              int stage1_lags = 0,
+                                              const NoiseModelOptions& noise = {});
 
 }  // namespace excite::host

@@ -19,6 +19,10 @@ namespace excite::host {
 void print_identification(std::ostream& out, const IdentificationResult& r,
                           const runlog::RunLog& log);
 
+/// One line: each output's AR noise-model order (noise_model.hpp), by the log's names.
+void print_noise_orders(std::ostream& out, const std::vector<ArNoiseModel>& noise,
+                        const runlog::RunLog& log);
+
 /// A closed-loop run's cross-check: the other method's G(0) ± SE (the two-stage one when
 /// `direct` is the model written, else the direct fit's) and the elements where the two
 /// disagree by more than 2σ (feedback bias suspected).

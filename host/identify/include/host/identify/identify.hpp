@@ -109,6 +109,12 @@ IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y
 IdentificationResult identify(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double T_min,
                               const SampleLayout& layout, const IdentifyOptions& options = {});
 
+/// Fills result.gain (the analysis of the model's G(0)) when every gain is estimated and
+/// finite, else result.gain_unavailable_reason; result.gain_uncertainty when also every row's
+/// gain covariance is known. identify() calls it; a caller that changes rows of the model
+/// calls it again.
+void analyse_identified_gain(IdentificationResult& result);
+
 /// Smallest N that identify() accepts for n inputs.
 Eigen::Index minimum_samples(int inputs, double T_min, const IdentifyOptions& options = {});
 

@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// One output row's gains: the prediction's sensitivity to them, and the widening of their
+// standard errors where identify()'s σ̂²(JᵀJ)⁻¹ is too small (issue 41 §3; used by
+// closed_loop.hpp and noise_model.hpp).
+//
+// ŷ_o = Σ_i K_oi · h_oi ∗ u_i with h_oi element (o, i)'s unit-gain response: ŷ_o is linear in
+// the row's gains, so ∂ŷ_o/∂K_oi = h_oi ∗ u_i exactly.
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "host/identify/model.hpp"
+#include "host/identify/segments.hpp"
+
+namespace excite::host {
+
+/// ŷ's column `output`: the row's estimated elements driven by U (N × n), each segment from
+/// rest. An element not estimated contributes nothing (callers pass rows they can simulate).
+Eigen::VectorXd simulate_row(const IdentifiedModel& model, int output, const Eigen::MatrixXd& U,
+                             const std::vector<Segment>& segments);
+
+struct RowGainSensitivity {
+  Eigen::MatrixXd X;      // N × used.size(): column c is ∂ŷ_o/∂K_{o, used[c]}
+  std::vector<int> used;  // the row's inputs whose gain is estimated, nonzero, with a finite SE
+};
+
+/// The sensitivities of row `output`'s prediction to its gains, U (N × n), per segment.
+RowGainSensitivity row_gain_sensitivity(const IdentifiedModel& model, int output,
+                                        const Eigen::MatrixXd& U,
+                                        const std::vector<Segment>& segments);
+
+/// Multiplies the standard error of K_{output, i} by factor(i) (each ≥ 1) for every input i,
+/// with the element's covariance row and column and the row's gain covariance.
+void widen_row_gains(IdentifiedModel& model, int output, const Eigen::VectorXd& factor);
+
+/// Row `output`'s gain SEs widened (never narrowed) for a coloured residual: the sandwich
+/// ("HAC", Newey and West, Econometrica 55 (1987) 703) with Bartlett weights over `max_lag`
+/// lags (0: min(200, N/10)),
+///   Cov = (XᵀX)⁻¹ [Σ_{|l|≤L} (1 − |l|/(L+1)) Σ_k x_k e_k e_{k−l} x_{k−l}ᵀ] (XᵀX)⁻¹,
+/// X the row's gain sensitivities and e = y − ŷ_o on the scored rows of `layout`; each
+/// gain's variance becomes Cov_ii where that exceeds σ̂²(XᵀX)⁻¹_ii. Returns the largest
+/// factor applied to an SE (1: none).
+double widen_row_for_coloured_residual(IdentifiedModel& model, int output, const Eigen::MatrixXd& U,
+                                       const Eigen::VectorXd& y, const SampleLayout& layout,
+                                       int max_lag = 0);
+
+}  // namespace excite::host

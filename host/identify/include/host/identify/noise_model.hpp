@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// The prediction-error fit with a noise model: the direct method that stays consistent in
+// closed loop (issue 41 §3; Ljung, System Identification, 2nd ed., §13.4: the direct method
+// is consistent under feedback when the noise model can describe the disturbance; Forssell
+// and Ljung, Automatica 35 (1999) 1215; CLOSED-LOOP.md, "Identification under feedback").
+//
+// Per output o, a Box–Jenkins model with an autoregressive noise model:
+//   y_o = Σ_i G_oi u_i + v_o,   A_o(q) v_o = e_o white,   A_o(q) = 1 + a_1 q⁻¹ + … + a_n q⁻ⁿ.
+// A long enough AR describes the coloured output disturbance plus white measurement noise of
+// the simulator (an ARMA(1,1)). The one-step prediction error is
+//   ε_o = A_o (y_o − Σ_i G_oi u_i) = A_o y_o − Σ_i G_oi (A_o u_i)
+// (G_oi and A_o commute; each segment from rest), so for a fixed A_o minimising Σ ε_o² is the
+// output-error fit of identify.hpp on the prefiltered data (A_o u, A_o y_o), and for a fixed
+// G it is the least-squares AR fit of the output error. identify_with_noise_model alternates
+// the two, starting from A_o = 1 (the output-error fit): each step lowers Σ ε_o² when the
+// fit reaches its minimum. Under feedback u carries the controller's answer to past v, which
+// biases the output-error fit (A_o = 1) when v is coloured; with A_o right ε_o is white and
+// the estimate is consistent.
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "host/identify/identify.hpp"
+#include "host/identify/segments.hpp"
+
+namespace excite::host {
+
+/// A(q) = 1 + a_1 q⁻¹ + … + a_n q⁻ⁿ, the inverse of the noise filter; n = 0: white noise.
+struct ArNoiseModel {
+  Eigen::VectorXd a;                 // a_1 … a_n
+  double innovation_variance = 0.0;  // of e = A(q) v
+  int order() const { return static_cast<int>(a.size()); }
+};
+
+/// A(q) by least squares on v (the output error), its order 0 … max_order chosen by BIC
+/// (M ln(RSS_n/M) + n ln M over the same M rows for every order: those whose n_max
+/// predecessors lie in their segment and are, with the row itself, scored). Each segment's
+/// scored mean is removed first (an offset is not noise). Throws std::invalid_argument for a
+/// size mismatch or max_order < 0; fewer than 10·(max_order + 1) usable rows lower max_order.
+ArNoiseModel fit_ar_noise(const Eigen::VectorXd& v, const SampleLayout& layout, int max_order);
+
+/// X (rows of `layout`) filtered by A(q), each segment from rest: x(k) + Σ_j a_j x(k − j),
+/// k − j taken in k's segment only.
+Eigen::MatrixXd prefilter(const Eigen::MatrixXd& X, const ArNoiseModel& noise,
+                          const SampleLayout& layout);
+
+/// The layout of the prefiltered rows: a row is scored when it and its n predecessors in its
+/// segment are (a span not scored spoils the n rows after it).
+SampleLayout prefiltered_layout(const SampleLayout& layout, int order);
+
+struct NoiseModelOptions {
+  int max_order = 20;  // largest AR order per output (BIC chooses); 0: output error
+  int refits = 2;      // rounds of (A_o from the output error, G on the prefiltered data)
+};
+
+struct NoiseModelFit {
+  // G: each row's fit on its prefiltered data, fit % and residual rms measured again on the
+  // data as given (y − ŷ, what an output-error fit reports), the residual tests on ε (the
+  // prediction error, which the noise model should leave white). Gain SEs: the prediction-
+  // error covariance σ̂²(JᵀJ)⁻¹ on the prefiltered data, widened for the estimated a_j (below)
+  // and for what colour is left in ε (widen_row_for_coloured_residual).
+  IdentificationResult result;
+  std::vector<ArNoiseModel> noise;  // per output; order 0 where BIC chose white noise
+  double se_widening = 1.0;         // the largest factor either widening applied to an SE
+};
+
+/// The prediction-error fit with an AR noise model per output (above). Starts from
+/// identify(U, Y, …, options) — the output-error fit, its structures chosen as options say —
+/// then, per output, `refits` rounds of: fit A_o to the output error, and polish the row on
+/// (A_o u, A_o y_o) from the previous row, in its structures. A row whose output error BIC
+/// calls white stays the output-error fit. The gains' SEs allow for the a_j being estimated
+/// too: with X_f the row's gain sensitivities on the prefiltered data and Z the lagged output
+/// errors (∂ε/∂a_j = v(k − j)), each gain's variance is (X_fᵀ (I − Z(ZᵀZ)⁻¹Zᵀ) X_f)⁻¹_ii
+/// instead of (X_fᵀ X_f)⁻¹_ii, times σ̂² (under feedback u is correlated with past v, and the
+/// two parameter sets are not orthogonal as they are in open loop). Throws what identify()
+/// throws.
+NoiseModelFit identify_with_noise_model(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y,
+                                        double T_min, const SampleLayout& layout,
+                                        const IdentifyOptions& options = {},
+                                        const NoiseModelOptions& noise = {});
+
+}  // namespace excite::host

@@ -1,0 +1,113 @@
+// SPDX-License-Identifier: MIT
+// The AR noise model of the prediction-error fit (host/identify/noise_model.hpp): its least-
+// squares fit and order by BIC, the prefilter per segment, the rows the prefilter spoils, and
+// that with the noise model off the fit is identify()'s.
+#include "host/identify/noise_model.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <string>
+
+#include "test_data.hpp"
+
+namespace excite::host {
+namespace {
+
+// v(k) = −Σ a_j v(k − j) + e(k), e white of unit variance, from rest.
+Eigen::VectorXd ar_process(const std::vector<double>& a, Eigen::Index rows, unsigned seed) {
+  std::mt19937_64 g(seed);
+  std::normal_distribution<double> e(0.0, 1.0);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(rows);
+  for (Eigen::Index k = 0; k < rows; ++k) {
+    v(k) = e(g);
+    for (std::size_t j = 1; j <= a.size(); ++j) {
+      const auto lag = static_cast<Eigen::Index>(j);
+      if (k >= lag) v(k) -= a[j - 1] * v(k - lag);
+    }
+  }
+  return v;
+}
+
+TEST(ArNoise, RecoversAnAr2ItsOrderAndItsInnovationVariance) {
+  // A(q) = 1 − 1.2 q⁻¹ + 0.5 q⁻²: poles at 0.6 ± 0.37i, a slow coloured noise.
+  const Eigen::VectorXd v = ar_process({-1.2, 0.5}, 20000, 7);
+  const ArNoiseModel m = fit_ar_noise(v, SampleLayout::whole(v.size()), 10);
+  ASSERT_EQ(m.order(), 2);
+  EXPECT_NEAR(m.a(0), -1.2, 0.02);
+  EXPECT_NEAR(m.a(1), 0.5, 0.02);
+  EXPECT_NEAR(m.innovation_variance, 1.0, 0.03);
+}
+
+TEST(ArNoise, WhiteNoiseGetsOrderZeroAndAnOffsetIsNotNoise) {
+  // White noise about an offset of 5 (an offset per segment is removed before the fit: a
+  // constant would otherwise read as a unit root).
+  Eigen::VectorXd v = ar_process({}, 5000, 3);
+  v.array() += 5.0;
+  const ArNoiseModel m = fit_ar_noise(v, SampleLayout::whole(v.size()), 10);
+  EXPECT_EQ(m.order(), 0);
+  EXPECT_NEAR(m.innovation_variance, 1.0, 0.06);
+}
+
+TEST(ArNoise, RefusesANegativeOrderOrAWrongLengthByName) {
+  const Eigen::VectorXd v = ar_process({}, 100, 1);
+  try {
+    fit_ar_noise(v, SampleLayout::whole(100), -1);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "output error rows, AR order = 100, -1, expected 100 rows and an order >= 0");
+  }
+  EXPECT_THROW(fit_ar_noise(v, SampleLayout::whole(99), 2), std::invalid_argument);
+  // Too few rows for the order asked lower it: 100 rows carry at most order 9.
+  EXPECT_LE(fit_ar_noise(ar_process({-0.9}, 100, 2), SampleLayout::whole(100), 40).order(), 9);
+}
+
+TEST(Prefilter, FiltersEachSegmentFromRestAndSpoilsTheRowsAfterAnUnscoredSpan) {
+  SampleLayout layout;
+  layout.segments = {{0, 2}, {2, 8}};
+  layout.weight = Eigen::VectorXd::Ones(8);
+  layout.weight(4) = 0.0;
+  ArNoiseModel noise;
+  noise.a = Eigen::Vector2d(0.5, -0.25);
+  Eigen::MatrixXd X(8, 1);
+  X << 1, 2, 3, 4, 5, 6, 7, 8;
+  // x(k) + 0.5 x(k − 1) − 0.25 x(k − 2), each segment from rest (rows 0–1, then 2–7).
+  Eigen::VectorXd expected(8);
+  expected << 1, 2.5, 3, 5.5, 6.25, 7.5, 8.75, 10.0;
+  EXPECT_LT((prefilter(X, noise, layout).col(0) - expected).cwiseAbs().maxCoeff(), 1e-12);
+  // Row 4 is not scored: it and the two rows after it read it.
+  const SampleLayout f = prefiltered_layout(layout, 2);
+  Eigen::VectorXd weight(8);
+  weight << 1, 1, 1, 1, 0, 0, 0, 1;
+  EXPECT_EQ(f.weight, weight);
+  EXPECT_EQ(f.segments.size(), 2U);
+}
+
+TEST(NoiseModelFit, WithTheNoiseModelOffItIsTheOutputErrorFit) {
+  // A 1×2 first-order plant driven by two PRBS, white output noise.
+  const Eigen::MatrixXd U = testing::prbs_inputs(2, 7, 5, 40, 1200, 1.0);
+  IdentifiedModel truth;
+  truth.inputs = 2;
+  truth.outputs = 1;
+  truth.sample_time_min = 1.0;
+  truth.elements.resize(2);
+  truth.elements[0].value = ElementModel{2.0, 3.0, 10.0, 0.0};
+  truth.elements[1].value = ElementModel{-1.0, 1.0, 6.0, 0.0};
+  for (ElementEstimate& e : truth.elements) e.value.structure = Structure::first_order;
+  const Eigen::MatrixXd Y = simulate(truth, U) + 0.05 * ar_process({}, 1200, 9);
+  IdentifyOptions options;
+  options.structure = Structure::first_order;
+  const IdentificationResult oe = identify(U, Y, 1.0, options);
+  const NoiseModelFit off = identify_with_noise_model(U, Y, 1.0, SampleLayout::whole(1200), options,
+                                                      NoiseModelOptions{0, 2});
+  EXPECT_EQ(off.noise[0].order(), 0);
+  EXPECT_EQ(off.result.model.static_gain(), oe.model.static_gain());
+  // White noise: BIC keeps the output-error fit on with the noise model on too.
+  const NoiseModelFit on = identify_with_noise_model(U, Y, 1.0, SampleLayout::whole(1200), options);
+  EXPECT_EQ(on.noise[0].order(), 0);
+  EXPECT_EQ(on.result.model.static_gain(), oe.model.static_gain());
+}
+
+}  // namespace
+}  // namespace excite::host
