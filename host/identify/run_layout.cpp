@@ -99,6 +99,12 @@ StackedRuns stack_runs(const std::vector<const runlog::RunLog*>& logs,
       out.Y.col(j).segment(base, rows) =
           Eigen::Map<const Eigen::VectorXd>(log->dy[static_cast<std::size_t>(j)].data(), rows);
     }
+    // A closed-loop run's clamped rows are the controller's MVs on their box limits: the
+    // logged u is what the plant got, and the controller saturates when the disturbance is
+    // large, so leaving them out would choose rows by the disturbance (run_layout.hpp).
+    const std::uint32_t not_scored =
+        log->closed_loop.closed ? kNotScored & ~static_cast<std::uint32_t>(runlog::kClamped)
+                                : kNotScored;
     bool comm_lost_before = false;
     for (Eigen::Index k = 0; k < rows; ++k) {
       const std::uint32_t f = log->flags[static_cast<std::size_t>(k)];
@@ -114,7 +120,7 @@ StackedRuns stack_runs(const std::vector<const runlog::RunLog*>& logs,
         starts.push_back({base + k, rows_of(rule.warm_up_min, T)});
       }
       comm_lost_before = comm_lost;
-      if (!rule.keep_flagged && (f & kNotScored) != 0U) {
+      if (!rule.keep_flagged && (f & not_scored) != 0U) {
         out.layout.weight(base + k) = 0.0;
         ++rep.flagged_excluded;
       }

@@ -7,7 +7,12 @@
 //   - not scored (weight 0, still simulated with its logged inputs, so the model's state
 //     carries across the span): suspended (inputs held at the baseline, logged), stale,
 //     clamped (du is the clamped value written, but the design's input was not applied),
-//     bad_value (a value missing or bad at its source), comm_lost;
+//     bad_value (a value missing or bad at its source), comm_lost; in a closed-loop run
+//     (run-log v4) clamped rows are scored: there the flag says the controller's MV sat on
+//     its box limit, du is what the plant got, and the controller saturates when the
+//     disturbance is large, so leaving them out would choose rows by the disturbance and
+//     bias the fit (issue 41 §3: the direct fit's coverage on woodberry2x2 under PI with a
+//     coloured disturbance, 100 seeds, 88.5 % without them, 94.2 % with them);
 //   - a NEW SEGMENT starts (the model restarts from rest, state unknown): at each run's
 //     first row; at a row flagged discontinuity (the plant restarted, its time or heartbeat
 //     jumped) or skipped (ticks missing before it); at the first row after a comm_lost span

@@ -1,0 +1,141 @@
+// SPDX-License-Identifier: MIT
+// Closed-loop intervals are honest (issue 41 §3): over 100 seeds of woodberry2x2 under the
+// example decentralised PI, the nominal 95 % interval K ± 1.96·SE(K) of each gain covers the
+// true gain in 90–98 % of the seeds: the direct prediction-error fit with its AR noise model
+// (host/identify/noise_model.hpp), with white noise alone and under a coloured output
+// disturbance. The run prints every element's coverage and the spread of (K̂ − K)/SE, and the
+// two-stage estimate's, which is not calibrated yet (host/identify/README.md, "Closed-loop
+// runs"): too wide with white noise alone, too narrow under the disturbance.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+
+#include "host/identify/closed_loop.hpp"
+#include "host/simulate/closed_loop.hpp"
+#include "sim/control/controller_file.hpp"
+#include "sim/control/make_controller.hpp"
+#include "sim/plants/plant.hpp"
+
+namespace excite::host {
+namespace {
+
+constexpr int kSeeds = 100;
+constexpr Eigen::Index kRows = 2000;
+
+// r: ±1 random binary per CV, switching with probability 1/20 each minute; one fixed signal
+// (seed 1234), as a designed plan is: only the noise changes with the seed.
+Eigen::MatrixXd reference_signal() {
+  std::mt19937_64 g(1234);
+  Eigen::MatrixXd r(kRows, 2);
+  for (Eigen::Index c = 0; c < 2; ++c) {
+    double level = 1.0;
+    for (Eigen::Index k = 0; k < kRows; ++k) {
+      if (g() % 20 == 0) level = -level;
+      r(k, c) = level;
+    }
+  }
+  return r;
+}
+
+struct Coverage {
+  Eigen::Matrix2d covered = Eigen::Matrix2d::Zero();  // seeds whose interval holds the truth
+  Eigen::Matrix2d z_sum = Eigen::Matrix2d::Zero();    // Σ (K̂ − K)/SE
+  Eigen::Matrix2d z_square = Eigen::Matrix2d::Zero();
+  int seeds = 0;
+
+  void add(const IdentifiedModel& m, const Eigen::Matrix2d& truth) {
+    ++seeds;
+    for (int o = 0; o < 2; ++o) {
+      for (int i = 0; i < 2; ++i) {
+        const ElementEstimate& e = m.element(o, i);
+        const double z = (e.value.static_gain() - truth(o, i)) / e.std_error.gain;
+        covered(o, i) += std::abs(z) <= 1.96 ? 1.0 : 0.0;
+        z_sum(o, i) += z;
+        z_square(o, i) += z * z;
+      }
+    }
+  }
+  double share(int o, int i) const { return covered(o, i) / seeds; }
+  double overall() const { return covered.sum() / (4.0 * seeds); }
+  void print(const char* name) const {
+    std::printf("%s: %.1f %% of %d seeds\n", name, 100.0 * overall(), seeds);
+    for (int o = 0; o < 2; ++o) {
+      for (int i = 0; i < 2; ++i) {
+        const double mean = z_sum(o, i) / seeds;
+        std::printf("  G%d%d %5.1f %%  mean z %+.2f  SD z %.2f\n", o + 1, i + 1,
+                    100.0 * share(o, i), mean, std::sqrt(z_square(o, i) / seeds - mean * mean));
+      }
+    }
+  }
+};
+
+struct Both {
+  Coverage direct, two_stage;
+};
+
+// kSeeds closed-loop runs with white noise of variance 10⁻² and a coloured disturbance of
+// std `disturbance_std` (τ 20 min), each identified both ways, every element first order.
+Both over_seeds(double disturbance_std) {
+  const auto file = sim::control::load_controller_file(std::string(EXCITE_CONTROL_EXAMPLES) +
+                                                       "/woodberry2x2.pi.toml");
+  const Eigen::Matrix2d truth = sim::make_plant("woodberry2x2")->static_gain();
+  auto model = sim::control::load_model(file);
+  const Eigen::MatrixXd g0 = truth;
+  ClosedLoopOptions loop;
+  loop.mv_min = Eigen::Vector2d(-0.3, -0.3);
+  loop.mv_max = Eigen::Vector2d(0.3, 0.3);
+  IdentifyOptions options;
+  options.structure = Structure::first_order;
+  options.max_time_constant_min = 100.0;
+  const Eigen::MatrixXd r = reference_signal();
+  Both out;
+  for (int s = 1; s <= kSeeds; ++s) {
+    auto plant = sim::make_plant("woodberry2x2");  // at rest, as the controller
+    auto controller = sim::control::make_controller(file, *model, &g0);
+    SimulationOptions noise;
+    noise.seed = static_cast<std::uint64_t>(s);
+    noise.noise_variance = 1e-2;
+    noise.disturbance_std = disturbance_std;
+    noise.disturbance_tau_min = 20.0;
+    const SimulatedRun run = simulate_closed_loop(r, "r", 1.0, *plant, *controller, loop, noise);
+    // Every row scored: a closed-loop run's clamped rows are (run_layout.hpp).
+    const ClosedLoopIdentification id =
+        identify_closed_loop(run.du, r, run.dy, 1.0, SampleLayout::whole(kRows), options);
+    out.direct.add(id.direct.model, truth);
+    out.two_stage.add(id.two_stage.model, truth);
+  }
+  return out;
+}
+
+void expect_calibrated(const Coverage& c) {
+  EXPECT_GE(c.overall(), 0.90);
+  EXPECT_LE(c.overall(), 0.98);
+  for (int o = 0; o < 2; ++o) {
+    for (int i = 0; i < 2; ++i) EXPECT_GE(c.share(o, i), 0.85) << "G" << o + 1 << i + 1;
+  }
+}
+
+TEST(ClosedLoopCalibration, WoodberryUnderPiWithWhiteNoise) {
+  const Both b = over_seeds(0.0);
+  b.direct.print("direct, white noise");
+  b.two_stage.print("two-stage, white noise");
+  expect_calibrated(b.direct);
+  // The two-stage intervals are wide, not narrow (measured 99 %, SD of z 0.3–0.6): stage 2's
+  // error G(u − û) is counted as noise, but with r the same in every seed its part that r
+  // makes (the MVs' clamps) repeats from seed to seed, a bias of +0.5–0.9 SE, not a spread.
+  EXPECT_GE(b.two_stage.overall(), 0.90);
+}
+
+TEST(ClosedLoopCalibration, WoodberryUnderPiWithAColouredDisturbance) {
+  const Both b = over_seeds(0.3);
+  b.direct.print("direct, coloured disturbance 0.3, tau 20 min");
+  b.two_stage.print("two-stage, coloured disturbance (not calibrated: printed only)");
+  expect_calibrated(b.direct);
+}
+
+}  // namespace
+}  // namespace excite::host
