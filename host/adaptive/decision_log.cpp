@@ -180,6 +180,7 @@ nlohmann::json study_json(const StudyResult& s) {
     nlohmann::json need = nlohmann::json::array();
     for (const double d : x.estimate_need) need.push_back(number(d));
     seeds.push_back({{"seed", x.seed},
+                     {"not_run", x.not_run},
                      {"stopped_by_rule", x.stopped_by_rule},
                      {"stop_min", x.stop_min},
                      {"stop_reason", x.stop_reason},
@@ -198,9 +199,20 @@ nlohmann::json study_json(const StudyResult& s) {
   const auto t90 = [&](const std::optional<std::size_t>& i) {
     return i ? nlohmann::json(s.grid_min[*i]) : nlohmann::json(nullptr);
   };
+  nlohmann::json closed_loop = nullptr;  // open loop
+  if (const auto& c = o.closed_loop) {
+    closed_loop = {{"controller", c->controller},
+                   {"estimate", c->two_stage ? "two-stage" : "direct"},
+                   {"limit_fraction", c->limit_fraction},
+                   {"mv_fraction", c->mv_fraction},
+                   {"disturbance_std", c->disturbance_std},
+                   {"disturbance_tau_min", c->disturbance_tau_min}};
+  }
   return {{"format", "excite adaptive study v1"},
           {"plant", o.plant},
+          {"closed_loop", closed_loop},
           {"seeds", o.seeds},
+          {"not_run", s.not_run},
           {"first_seed", o.first_seed},
           {"perturb_percent", o.perturb_percent},
           {"segment_min", s.segment_min},
@@ -227,6 +239,18 @@ std::string study_text(const StudyResult& s) {
     << s.options.first_seed << ", segments of " << fixed(s.segment_min, 0) << " min";
   if (s.options.perturb_percent > 0.0)
     t << ", plant perturbed +-" << s.options.perturb_percent << " %";
+  if (const auto& c = s.options.closed_loop) {
+    t << "\n  closed loop: r on the CV setpoints under " << c->controller << " at "
+      << c->limit_fraction << " of the CV limits, the " << (c->two_stage ? "two-stage" : "direct")
+      << " estimate";
+    if (c->disturbance_std > 0.0)
+      t << ", coloured disturbance " << c->disturbance_std << " (tau " << c->disturbance_tau_min
+        << " min)";
+    if (s.not_run > 0)
+      t << "\n  not run: " << s.not_run << " of " << s.options.seeds
+        << " seeds (the controller refused the seed's plant; the shares are over the "
+        << s.options.seeds - s.not_run << " run)";
+  }
   t << "\n  stopped by the rule: " << stopped << " of " << s.options.seeds
     << "; of those, the model misses the criterion against the truth: " << wrong
     << "\n  CV limit violations (noise-free outputs): " << violated << " of " << s.options.seeds

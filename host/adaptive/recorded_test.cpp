@@ -12,10 +12,12 @@
 #include "host/adaptive/segments.hpp"
 #include "host/adaptive/study.hpp"
 #include "host/adaptive/test_folder.hpp"
+#include "host/campaign/closed_loop_designs.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/export/model_file.hpp"
 #include "host/output/whole_file.hpp"
 #include "host/simulate/simulate.hpp"
+#include "sim/control/controller_file.hpp"
 #include "sim/library/perturb.hpp"
 #include "sim/plants/plant.hpp"
 
@@ -143,6 +145,17 @@ void run_gateway_test(const GatewayTest& t, std::ostream& out) {
       << " segment plan(s)\n";
 }
 
+namespace {
+
+// The controller file's [[cv]] limits, for a closed-loop study given no --limit.
+CvLimits controller_cv_limits(const ClosedLoopStudyOptions& c, Eigen::Index outputs) {
+  ClosedLoopDesignOptions design;
+  resolve_cv_limits(design, sim::control::load_controller_file(c.controller), outputs);
+  return {design.cv_low, design.cv_high};
+}
+
+}  // namespace
+
 void run_recorded_study(const RecordedStudy& study, std::ostream& out) {
   const PriorKnowledge prior = case_study(study.plant);
   sim::check_perturbable(study.plant, study.perturb_percent);
@@ -154,9 +167,12 @@ void run_recorded_study(const RecordedStudy& study, std::ostream& out) {
   s.noise_variance = study.noise_variance;
   s.perturb_percent = study.perturb_percent;
   s.adaptive = study.adaptive;
+  s.closed_loop = study.closed_loop;
   if (!study.limits.empty()) {
     s.adaptive.limits =
         parse_cv_limits(study.limits, sim::make_plant(study.plant)->output_names(), "the plant's");
+  } else if (s.closed_loop) {
+    s.adaptive.limits = controller_cv_limits(*s.closed_loop, prior.gain.rows());
   }
   check_adaptive_test(prior, s.adaptive);
   prepare_test_folder(study.folder, {"study.json"});

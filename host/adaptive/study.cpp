@@ -3,10 +3,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
+#include "base/config/error.hpp"
+#include "host/adaptive/closed_loop_adaptive.hpp"
 #include "host/adaptive/plant_runner.hpp"
 #include "host/adaptive/segments.hpp"
 #include "host/design/case_studies.hpp"
@@ -14,6 +18,8 @@
 #include "host/measures/accuracy.hpp"
 #include "host/montecarlo/summary.hpp"
 #include "host/process/parallel.hpp"
+#include "sim/control/controller_file.hpp"
+#include "sim/control/make_controller.hpp"
 #include "sim/library/library.hpp"
 #include "sim/library/perturb.hpp"
 #include "sim/plants/plant.hpp"
@@ -36,17 +42,59 @@ double peak_ratio(const Eigen::MatrixXd& dy, const CvLimits& limits) {
   return peak;
 }
 
+// One seed's test under the controller file's controller; nullopt when the controller
+// refuses the seed's plant (`refused` says why).
+std::optional<AdaptiveResult> closed_loop_test(const StudyOptions& o, const PriorKnowledge& prior,
+                                               sim::Plant& plant, double noise_variance,
+                                               std::uint64_t seed, std::string& refused) {
+  const ClosedLoopStudyOptions& c = *o.closed_loop;
+  const sim::control::ControllerFile file = sim::control::load_controller_file(c.controller);
+  const auto model = sim::control::load_model(file);
+  const Eigen::MatrixXd g0 = plant.static_gain();
+  std::unique_ptr<sim::control::Controller> controller;
+  try {
+    controller = sim::control::make_controller(file, *model, &g0);
+  } catch (const config::Error& e) {
+    refused = std::string("the controller refuses this seed's plant: ") + e.what();
+    return std::nullopt;
+  }
+  ClosedLoopOptions loop;
+  set_controller(loop, file, std::filesystem::path(c.controller).filename().string());
+  SimulationOptions noise;
+  noise.seed = seed;
+  noise.noise_variance = noise_variance;
+  noise.disturbance_std = c.disturbance_std;
+  noise.disturbance_tau_min = c.disturbance_tau_min;
+  ClosedLoopPlant closed(plant, *controller, loop, noise, prior.sample_time_min);
+  ClosedLoopAdaptiveOptions options;
+  options.adaptive = o.adaptive;
+  options.adaptive.identify.threads = 1;
+  options.limit_fraction = c.limit_fraction;
+  options.mv_fraction = c.mv_fraction;
+  options.two_stage = c.two_stage;
+  return run_closed_loop_adaptive_test(prior, closed, options);
+}
+
 SeedOutcome run_seed(const StudyOptions& o, const PriorKnowledge& prior, double noise_variance,
                      std::uint64_t seed) {
   auto plant = true_plant(o.plant, o.perturb_percent, seed);
   const TruePlant truth = true_plant_of(plant->static_gain());
-  PlantRunner runner(*plant, prior.sample_time_min, noise_variance, seed);
   AdaptiveOptions adaptive = o.adaptive;
   adaptive.identify.threads = 1;
-  const AdaptiveResult r = run_adaptive_test(prior, runner, adaptive);
-
   SeedOutcome s;
   s.seed = seed;
+  AdaptiveResult r;
+  if (o.closed_loop) {
+    std::optional<AdaptiveResult> closed =
+        closed_loop_test(o, prior, *plant, noise_variance, seed, s.stop_reason);
+    s.not_run = !closed;
+    if (!closed) return s;  // the controller refused this seed's plant
+    r = std::move(*closed);
+  } else {
+    PlantRunner runner(*plant, prior.sample_time_min, noise_variance, seed);
+    r = run_adaptive_test(prior, runner, adaptive);
+  }
+
   s.stopped_by_rule = r.criterion_met;
   s.stop_min = r.length_min();
   s.stop_reason = r.stop_reason;
@@ -111,6 +159,7 @@ StudyResult run_study(const StudyOptions& o) {
         run_seed(o, prior, noise_variance, o.first_seed + static_cast<std::uint64_t>(i));
   });
 
+  for (const SeedOutcome& s : result.seeds) result.not_run += s.not_run ? 1 : 0;
   const SegmentSources sources = segment_sources(prior);
   result.segment_min =
       whole_bit_rows(*sources.plain.plan, o.adaptive.segment_min > 0.0 ? o.adaptive.segment_min
@@ -127,8 +176,9 @@ StudyResult run_study(const StudyOptions& o) {
       if (s.stopped_by_rule && s.met_at_stop && s.stop_min <= at + 1e-9) ++stopped_met;
       if (met_at(s, at)) ++met;
     }
-    result.share_stopped_met.push_back(static_cast<double>(stopped_met) / o.seeds);
-    result.share_met.push_back(static_cast<double>(met) / o.seeds);
+    const double run = std::max(1, o.seeds - result.not_run);
+    result.share_stopped_met.push_back(stopped_met / run);
+    result.share_met.push_back(met / run);
   }
   for (std::size_t i = 0; i < result.grid_min.size(); ++i) {
     if (result.share_stopped_met[i] >= montecarlo::kT90Share) {

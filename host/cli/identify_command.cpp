@@ -253,7 +253,9 @@ void add_identify_command(CLI::App& app) {
       ->excludes("--structure");
   cmd->add_option("--method", opt->method,
                   "a closed-loop run (run-log v4): auto or two-stage (the projection on r, "
-                  "host/identify/README.md), or direct (the output-error fit on the applied u); "
+                  "host/identify/README.md), or direct (the fit on the applied u); both are "
+                  "prediction-error fits with "
+                  "an AR noise model per output (--noise-order); "
                   "the other is printed beside it as a cross-check")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "two-stage", "direct"}));

@@ -231,8 +231,8 @@ void add_closed_loop_options(CLI::App& cmd, Options& opt) {
       ->needs(controller);
   cmd.add_option("--method", loop.method,
                  "with --controller: the estimate judged, two-stage (the projection on r) or "
-                 "direct (the output-error fit on the applied u: consistent under white noise, "
-                 "biased under a coloured disturbance)")
+                 "direct (the prediction-error fit with an AR noise model on the applied u: "
+                 "consistent under feedback when the noise model describes the disturbance)")
       ->capture_default_str()
       ->needs(controller);
   cmd.add_option("--limit-fraction", loop.limit_fraction,

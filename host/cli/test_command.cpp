@@ -4,6 +4,9 @@
 //             [--weight-floor F]
 //             [--residual-tests] [--colour]
 // excite test --plant NAME --seeds N [--seed FIRST] [--threads T] … -o DIR
+// excite test --plant NAME --seeds N --controller FILE [--method direct|two-stage]
+//             [--limit-fraction F] [--mv-fraction F] [--disturbance-std S
+//             --disturbance-tau-min T] … -o DIR
 // excite test --plant NAME | --spec FILE --inbox DIR --run-log FILE [--segment-timeout-min M]
 //             … -o OUT
 // The adaptive plant test (issue 26 §3–§5, host/adaptive/README.md): on a simulated plant
@@ -38,6 +41,8 @@ struct TestCommandOptions {
   std::string perturb = "0";
   std::vector<std::string> limits;
   AdaptiveOptions adaptive;
+  ClosedLoopStudyOptions closed_loop;  // used when closed_loop.controller is given
+  std::string method = "direct";
 };
 
 // Options → one call of host/adaptive/recorded_test.hpp, which checks everything before
@@ -60,9 +65,19 @@ void run(const TestCommandOptions& opt) {
         "--run-log to run through a gateway)");
   }
   const double perturb = sim::parse_perturb(opt.perturb);
+  if (!opt.closed_loop.controller.empty() && opt.seeds == 0) {
+    throw std::invalid_argument(
+        "--seeds = (none) with --controller, expected a study: the test with the controller "
+        "on runs in process over seeds (--seeds 1 for one test)");
+  }
   if (opt.seeds > 0) {
+    std::optional<ClosedLoopStudyOptions> closed_loop;
+    if (!opt.closed_loop.controller.empty()) {
+      closed_loop = opt.closed_loop;
+      closed_loop->two_stage = opt.method == "two-stage";
+    }
     run_recorded_study({opt.plant, opt.output, opt.seed, opt.seeds, opt.threads, opt.noise_variance,
-                        perturb, opt.limits, opt.adaptive},
+                        perturb, opt.limits, opt.adaptive, closed_loop},
                        std::cout);
   } else {
     run_simulated_test(
@@ -156,6 +171,39 @@ void add_adaptive_options(CLI::App* cmd, TestCommandOptions& o) {
                 "widen the gain intervals by the residuals' long-run variance ratio");
 }
 
+// With the controller on (issue 41 §4; host/adaptive/README.md): a study only, in process.
+void add_closed_loop_options(CLI::App* cmd, TestCommandOptions& o, CLI::Option* inbox) {
+  ClosedLoopStudyOptions& c = o.closed_loop;
+  CLI::Option* controller =
+      cmd->add_option("--controller", c.controller,
+                      "a study with the controller on: each segment's r on the CV setpoints of "
+                      "this controller file's controller (needs --seeds; the CV limits default "
+                      "to a DMC file's)")
+          ->check(CLI::ExistingFile)
+          ->excludes(inbox);
+  const auto needs = [&](CLI::Option* option) { option->needs(controller); };
+  needs(cmd->add_option("--method", o.method,
+                        "with --controller: the estimate, direct (the prediction-error fit with "
+                        "its noise model on the applied u) or two-stage")
+            ->capture_default_str()
+            ->check(CLI::IsMember({"direct", "two-stage"})));
+  needs(cmd->add_option("--limit-fraction", c.limit_fraction,
+                        "with --controller: r's amplitude as a share of each CV's test limit")
+            ->capture_default_str()
+            ->check(CLI::Range(1e-6, 1.0)));
+  needs(cmd->add_option("--mv-fraction", c.mv_fraction,
+                        "with --controller: r cut until the latest estimate's G(0)^-1 r stays "
+                        "within this share of the MVs' limits (0: not cut)")
+            ->capture_default_str()
+            ->check(finite_non_negative()));
+  needs(cmd->add_option("--disturbance-std", c.disturbance_std,
+                        "with --controller: a coloured output disturbance of this std")
+            ->check(finite_non_negative()));
+  needs(cmd->add_option("--disturbance-tau-min", c.disturbance_tau_min,
+                        "with --controller: the disturbance's time constant, min")
+            ->check(finite_non_negative()));
+}
+
 }  // namespace
 
 void add_test_command(CLI::App& app) {
@@ -168,6 +216,7 @@ void add_test_command(CLI::App& app) {
   CLI::Option* inbox = add_where_options(cmd, *opt);
   add_simulation_options(cmd, *opt, inbox);
   add_adaptive_options(cmd, *opt);
+  add_closed_loop_options(cmd, *opt, inbox);
   cmd->callback([opt] { run(*opt); });
 }
 

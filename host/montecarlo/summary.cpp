@@ -269,10 +269,11 @@ json closed_loop_run_json(const Config& c) {
   j["text"] =
       "closed loop in process under " + l.controller + ", " + model + "; " +
       (l.excitation == "mv" ? "MV dither" : "setpoint excitation") +
-      (l.method == "direct" ? "; identified direct (the output-error fit on the applied u, the "
-                              "test-length prefixes too)"
-                            : "; identified two-stage (the test-length prefixes too, stage 1 on "
-                              "the prefix alone)") +
+      (l.method == "direct" ? "; identified direct (the prediction-error fit with an AR noise "
+                              "model on the applied u, the test-length prefixes too)"
+                            : "; identified two-stage (the prediction-error fit with an AR noise "
+                              "model on u's part that r explains, the test-length prefixes too, "
+                              "stage 1 on the prefix alone)") +
       "; no cross-validation";
   return j;
 }

@@ -14,11 +14,13 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
 
 #include "host/adaptive/adaptive_test.hpp"
+#include "host/adaptive/study.hpp"
 #include "host/design/prior_knowledge.hpp"
 
 namespace excite::host {
@@ -57,6 +59,8 @@ struct RecordedStudy {
   double perturb_percent = 0.0;
   std::vector<std::string> limits;
   AdaptiveOptions adaptive;
+  std::optional<ClosedLoopStudyOptions> closed_loop;  // the controller on; no limits given:
+                                                      // the controller file's CV limits
 };
 void run_recorded_study(const RecordedStudy& study, std::ostream& out);
 

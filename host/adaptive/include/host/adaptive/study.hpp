@@ -27,6 +27,19 @@
 
 namespace excite::host {
 
+/// A study with the controller on (closed_loop_adaptive.hpp): every seed's test superimposed
+/// on the CV setpoints of the file's controller, built on the file's model (a DMC refuses a
+/// seed's perturbed plant whose G(0) its model does not control integrally: that seed is
+/// counted as a test that did not stop, the reason kept).
+struct ClosedLoopStudyOptions {
+  std::string controller;        // the controller file (sim/control/README.md)
+  double limit_fraction = 0.5;   // r at this share of each CV's test limit
+  double mv_fraction = 1.0;      // r cut until Ĝ(0)⁻¹ r fits this share of the MVs' limits
+  bool two_stage = false;        // the estimate: direct (false) or two-stage
+  double disturbance_std = 0.0;  // the coloured output disturbance (host/simulate)
+  double disturbance_tau_min = 0.0;
+};
+
 struct StudyOptions {
   std::string plant;  // a case-study plant (its prior knowledge is the test's)
   int seeds = 100;
@@ -35,11 +48,15 @@ struct StudyOptions {
   double noise_variance = -1.0;  // < 0: the case study's
   double perturb_percent = 0.0;  // > 0: every seed on its own perturbed linear plant
   AdaptiveOptions adaptive;      // identify.threads is set to 1 (seeds run in parallel)
+  std::optional<ClosedLoopStudyOptions> closed_loop;  // the controller on (adaptive.limits
+                                                      // required)
 };
 
 /// What one seed's test did, judged against its truth.
 struct SeedOutcome {
   std::uint64_t seed = 0;
+  bool not_run = false;  // the controller refused the seed's plant (closed loop; stop_reason
+                         // says why): left out of the shares, counted apart
   bool stopped_by_rule = false;
   double stop_min = 0.0;  // the test's length
   std::string stop_reason;
@@ -59,9 +76,11 @@ struct SeedOutcome {
 
 struct StudyResult {
   StudyOptions options;
+  int not_run = 0;                        // seeds the controller refused (closed loop)
   double segment_min = 0.0;               // H as run (whole bits)
   std::vector<double> grid_min;           // H, 2H, …, the longest test
-  std::vector<double> share_stopped_met;  // per grid length: stopped by the rule with a good model
+  std::vector<double> share_stopped_met;  // per grid length: stopped by the rule with a good
+                                          // model, a share of the seeds run
   std::vector<double> share_met;          // per grid length: the model in force meets it
   std::optional<std::size_t> t90_stop, t90_oracle;  // index into grid_min
   std::vector<SeedOutcome> seeds;

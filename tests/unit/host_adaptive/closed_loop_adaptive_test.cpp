@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: MIT
+// The adaptive test with the controller on (host/adaptive/closed_loop_adaptive.hpp): the loop
+// that continues one record, the re-aimed segments, the stop, the refusals.
+#include "host/adaptive/closed_loop_adaptive.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "host/design/case_studies.hpp"
+#include "host/measures/accuracy.hpp"
+#include "sim/control/controller_file.hpp"
+#include "sim/control/make_controller.hpp"
+
+namespace excite::host {
+namespace {
+
+struct WoodBerryUnderPi {
+  PriorKnowledge prior = case_study("woodberry2x2");
+  std::unique_ptr<sim::Plant> plant = sim::make_plant("woodberry2x2");
+  sim::control::ControllerFile file = sim::control::load_controller_file(
+      std::string(EXCITE_CONTROL_EXAMPLES) + "/woodberry2x2.pi.toml");
+  std::unique_ptr<sim::control::Controller> controller;
+  std::unique_ptr<ClosedLoopPlant> loop;
+
+  explicit WoodBerryUnderPi(std::uint64_t seed) {
+    const Eigen::MatrixXd g0 = plant->static_gain();
+    controller = sim::control::make_controller(file, *sim::control::load_model(file), &g0);
+    ClosedLoopOptions options;
+    set_controller(options, file, "woodberry2x2.pi.toml");
+    SimulationOptions noise;
+    noise.seed = seed;
+    noise.noise_variance = 1e-2;
+    loop = std::make_unique<ClosedLoopPlant>(*plant, *controller, options, noise,
+                                             prior.sample_time_min);
+  }
+};
+
+ClosedLoopAdaptiveOptions limits_of_2() {
+  ClosedLoopAdaptiveOptions o;
+  o.adaptive.limits = CvLimits{Eigen::Vector2d(-2.0, -2.0), Eigen::Vector2d(2.0, 2.0)};
+  return o;
+}
+
+TEST(ClosedLoopAdaptive, ALongerRecordContinuesTheShorterOneExactly) {
+  // The test simulates its whole r record again after each segment: its noise is drawn row
+  // by row from the seed, so the rows already measured come out the same.
+  WoodBerryUnderPi w(5);
+  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(300, 2);
+  r.block(10, 0, 290, 1).setConstant(1.0);
+  r.block(150, 1, 150, 1).setConstant(-0.5);
+  const SimulatedRun longer = w.loop->run(r);
+  const SimulatedRun shorter = w.loop->run(r.topRows(200));
+  EXPECT_EQ(longer.dy.topRows(200), shorter.dy);
+  EXPECT_EQ(longer.du.topRows(200), shorter.du);
+  // Noise-free: the same r without the noise.
+  EXPECT_NE(w.loop->run(r, true).dy, longer.dy);
+}
+
+TEST(ClosedLoopAdaptive, WoodBerryUnderPiStopsByTheRuleAfterReAimedSegments) {
+  WoodBerryUnderPi w(1);
+  const AdaptiveResult r = run_closed_loop_adaptive_test(w.prior, *w.loop, limits_of_2());
+  EXPECT_TRUE(r.criterion_met) << r.stop_reason;
+  ASSERT_GE(r.segments.size(), 3U);  // the rule needs an estimate a settling time earlier
+  EXPECT_FALSE(r.segments[0].directional);
+  EXPECT_TRUE(r.segments.back().directional) << r.segments.back().why;
+  // Every row measured and simulated noise-free; the CVs held inside their limits (r at half).
+  EXPECT_EQ(r.U.rows(), r.Y.rows());
+  EXPECT_EQ(r.Y_true.rows(), r.Y.rows());
+  ASSERT_EQ(r.rows_outside_limits.size(), 2U);
+  EXPECT_LT(r.Y_true.cwiseAbs().maxCoeff(), 2.0);
+  // The stopping estimate meets the accuracy criterion against the truth.
+  const TruePlant truth = true_plant_of(w.plant->static_gain());
+  EXPECT_TRUE(judge(truth, r.estimates.back().result.gain).met);
+}
+
+TEST(ClosedLoopAdaptive, OptionsAreRefusedByName) {
+  WoodBerryUnderPi w(1);
+  ClosedLoopAdaptiveOptions none;
+  try {
+    run_closed_loop_adaptive_test(w.prior, *w.loop, none);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "CV limits = none for a 2x2 plant, expected one per CV of a square plant (r is "
+              "sized by them)");
+  }
+  ClosedLoopAdaptiveOptions o = limits_of_2();
+  o.limit_fraction = 1.5;
+  EXPECT_THROW(run_closed_loop_adaptive_test(w.prior, *w.loop, o), std::invalid_argument);
+  o = limits_of_2();
+  o.adaptive.limits->high(1) = -1.0;
+  try {
+    run_closed_loop_adaptive_test(w.prior, *w.loop, o);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), "CV 2 limits = -2:-1, expected LOW < 0 < HIGH");
+  }
+}
+
+}  // namespace
+}  // namespace excite::host
