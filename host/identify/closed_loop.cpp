@@ -6,8 +6,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "host/identify/gain_sensitivity.hpp"
-
 namespace excite::host {
 
 int default_stage1_lags(Eigen::Index rows, Eigen::Index channels) {
@@ -85,21 +83,6 @@ std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& a, const
     }
   }
   return out;
-}
-
-double widen_for_coloured_residuals(IdentificationResult& result, const Eigen::MatrixXd& U,
-                                    const Eigen::MatrixXd& Y, const SampleLayout& layout,
-                                    int max_lag) {
-  double widest = 1.0;
-  for (int o = 0; o < result.model.outputs; ++o) {
-    widest = std::max(
-        widest, widen_row_for_coloured_residual(result.model, o, U, Y.col(o), layout, max_lag));
-  }
-  if (result.gain_uncertainty) {
-    result.gain_uncertainty =
-        gain_uncertainty(result.model.static_gain(), result.model.gain_covariance);
-  }
-  return widest;
 }
 
 ClosedLoopIdentification identify_closed_loop(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,

@@ -127,11 +127,16 @@ double refit_row(const RowData& d, int output, NoiseModelFit& fit) {
     if (!v.allFinite()) break;
     ArNoiseModel next = fit_ar_noise(v, d.layout, d.noise.max_order);
     if (next.order() == 0) break;
-    Uf = prefilter(d.U, next, d.layout);
+    Eigen::MatrixXd next_Uf = prefilter(d.U, next, d.layout);
     const Eigen::VectorXd yf = prefilter(d.y, next, d.layout);
     const SampleLayout lf = prefiltered_layout(d.layout, next.order());
-    IdentificationResult row =
-        identify(Uf, yf, d.T_min, lf, polish_options(d.options, model, output));
+    IdentificationResult row;
+    try {
+      row = identify(next_Uf, yf, d.T_min, lf, polish_options(d.options, model, output));
+    } catch (const std::invalid_argument&) {
+      break;  // the prefilter left too few scored rows: the row stays as it is
+    }
+    Uf = std::move(next_Uf);
     for (int i = 0; i < model.inputs; ++i) model.element(output, i) = row.model.element(0, i);
     model.gain_covariance[static_cast<std::size_t>(output)] = row.model.gain_covariance[0];
     fit.result.fits[static_cast<std::size_t>(output)] = row.fits[0];

@@ -6,18 +6,19 @@
 //
 // Under feedback the applied input u is correlated with past disturbances: u = S_i·r −
 // C·S·v (S_i the input sensitivity from r to u, v the output disturbance). An output-error
-// fit of y on u (the **direct** method without a noise model) is then biased when v is
-// coloured. The **two-stage (projection)** method removes the part of u the disturbance
-// made:
-//   stage 1  û = Ŝ_i r: each input regressed by least squares on the lags 0 … L−1 of every r
-//            channel (a long FIR of the input sensitivity); û is uncorrelated with v
-//            because r is (excite generates r);
-//   stage 2  the open-loop identification (identify.hpp: per-element structures, grades,
-//            gain covariances) on (û, y): y = G û + (G (u − û) + v), whose error term is
-//            uncorrelated with û, so the estimate is consistent with the output-error (wrong,
-//            fixed) noise model.
-// The direct fit on (u, y) is kept beside it as a cross-check: where the two G(0) disagree
-// beyond 2σ (the two standard errors combined) feedback bias is suspected in that element.
+// fit of y on u (the direct method without a noise model) is then biased when v is coloured.
+// Two remedies, both used:
+//   - the **direct** method with a noise model (noise_model.hpp): the prediction-error fit
+//     with an AR noise model per output is consistent when the noise model describes v;
+//   - the **two-stage (projection)** method removes the part of u the disturbance made:
+//     stage 1  û = Ŝ_i r: each input regressed by least squares on the lags 0 … L−1 of every
+//              r channel (a long FIR of the input sensitivity); û is uncorrelated with v
+//              because r is (excite generates r);
+//     stage 2  the same prediction-error fit on (û, y): y = G û + (G (u − û) + v), whose
+//              error term is uncorrelated with û, so the estimate is consistent whatever
+//              noise model it carries (it needs the loop linear in r).
+// Where the two G(0) disagree beyond 2σ (the two standard errors combined), feedback bias is
+// suspected in that element.
 
 #include <Eigen/Dense>
 #include <string>
@@ -68,20 +69,6 @@ struct ClosedLoopIdentification {
 /// elements either model did not estimate, or without a standard error, are skipped.
 std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& two_stage,
                                                  const IdentifiedModel& direct, double k = 2.0);
-
-/// Standard errors of the gains that allow for a coloured residual (a sandwich, "HAC"
-/// estimate: Newey and West, Econometrica 55 (1987) 703). identify()'s σ̂²(XᵀX)⁻¹ assumes a
-/// white output error; in closed loop stage 2's error G(u − û) + v is coloured, and that
-/// covariance is too small by the residual's correlation time. Per output row, with X the
-/// N × n sensitivities of ŷ to the row's gains (each element's unit-gain response to its
-/// input, exact: ŷ is linear in K) and e the residual on the scored rows:
-///   Cov = (XᵀX)⁻¹ [Σ_{|l|≤L} (1 − |l|/(L+1)) Σ_k x_k e_k e_{k−l} x_{k−l}ᵀ] (XᵀX)⁻¹,
-/// and each gain's variance is widened (never narrowed) by Cov_ii / (σ̂²(XᵀX)⁻¹)_ii, the row's
-/// gain covariance and each element's gain SE with it; the G(0) uncertainty is recomputed.
-/// `max_lag` 0: L = min(200, N/10). Returns the largest widening factor of an SE.
-double widen_for_coloured_residuals(IdentificationResult& result, const Eigen::MatrixXd& U,
-                                    const Eigen::MatrixXd& Y, const SampleLayout& layout,
-                                    int max_lag = 0);
 
 /// Both methods on one closed-loop run: U applied inputs, R the test signal r (N × m), Y.
 /// `stage1_lags` as in project_on_reference. Each is the prediction-error fit with an AR

@@ -69,7 +69,8 @@ struct NoiseModelFit {
 /// identify(U, Y, …, options) — the output-error fit, its structures chosen as options say —
 /// then, per output, `refits` rounds of: fit A_o to the output error, and polish the row on
 /// (A_o u, A_o y_o) from the previous row, in its structures. A row whose output error BIC
-/// calls white stays the output-error fit. The gains' SEs allow for the a_j being estimated
+/// calls white stays the output-error fit, as does one whose prefiltered data identify()
+/// refuses (too few scored rows left). The gains' SEs allow for the a_j being estimated
 /// too: with X_f the row's gain sensitivities on the prefiltered data and Z the lagged output
 /// errors (∂ε/∂a_j = v(k − j)), each gain's variance is (X_fᵀ (I − Z(ZᵀZ)⁻¹Zᵀ) X_f)⁻¹_ii
 /// instead of (X_fᵀ X_f)⁻¹_ii, times σ̂² (under feedback u is correlated with past v, and the
