@@ -42,6 +42,21 @@ double peak_ratio(const Eigen::MatrixXd& dy, const CvLimits& limits) {
   return peak;
 }
 
+// The controller file against the nominal plant before any seed runs: a file that does not
+// fit (sizes, sample time, its model not integrally controllable for the plant) is refused
+// as a whole, so a seed's refusal below can only come from its own plant.
+void check_controller_file(const StudyOptions& o) {
+  const sim::control::ControllerFile file =
+      sim::control::load_controller_file(o.closed_loop->controller);
+  const Eigen::MatrixXd g0 = sim::make_plant(o.plant)->static_gain();
+  (void)sim::control::make_controller(file, *sim::control::load_model(file), &g0);
+  if (!o.adaptive.limits) {
+    throw std::invalid_argument(
+        "CV limits = none with a controller file, expected --limit (or a DMC file's [[cv]] "
+        "limits): r is sized by them");
+  }
+}
+
 // One seed's test under the controller file's controller; nullopt when the controller
 // refuses the seed's plant (`refused` says why).
 std::optional<AdaptiveResult> closed_loop_test(const StudyOptions& o, const PriorKnowledge& prior,
@@ -151,6 +166,7 @@ StudyResult run_study(const StudyOptions& o) {
   const double noise_variance =
       o.noise_variance >= 0.0 ? o.noise_variance : case_study_noise_variance(o.plant);
 
+  if (o.closed_loop) check_controller_file(o);
   StudyResult result;
   result.options = o;
   result.seeds.resize(static_cast<std::size_t>(o.seeds));

@@ -100,6 +100,38 @@ TEST_F(AdaptiveTestCommand, AStudyJudgesEverySeedAgainstTheTruth) {
   }
 }
 
+TEST_F(AdaptiveTestCommand, AStudyWithTheControllerOnSaysSoAndStops) {
+  // Issue 41 §4: each segment's r on the CV setpoints of woodberry2x2's example PI.
+  const std::string pi = std::string(EXCITE_CONTROL_EXAMPLES) + "/woodberry2x2.pi.toml";
+  const Result r = excite("test --plant woodberry2x2 --seeds 3 --controller " + pi +
+                          " --limit y1=-2:2 --limit y2=-2:2 -o " + path("cl"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_TRUE(contains(r.out, "closed loop: r on the CV setpoints under " + pi +
+                                  " at 0.5 of the CV limits, the direct estimate"))
+      << r.out;
+  const nlohmann::json s = nlohmann::json::parse(std::ifstream(path("cl/study.json")));
+  EXPECT_EQ(s["closed_loop"]["estimate"], "direct");
+  EXPECT_EQ(s["not_run"], 0);
+  for (const nlohmann::json& seed : s["per_seed"]) {
+    EXPECT_EQ(seed["stopped_by_rule"], true) << seed.dump();
+    EXPECT_EQ(seed["met_at_stop"], true) << seed.dump();
+    EXPECT_EQ(seed["violated"], false) << seed.dump();
+  }
+  // Refused by name, nothing made: one test, an option without the file, no limits for a PI.
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"--controller " + pi, "--seeds = (none) with --controller, expected a study"},
+      {"--seeds 2 --method two-stage", "--method requires --controller"},
+      {"--seeds 2 --controller " + pi,
+       "--limit = (none), expected CV test limits for a setpoint excitation"},
+  };
+  for (const auto& [args, message] : bad) {
+    const Result b = excite("test --plant woodberry2x2 " + args + " -o " + path("bad"));
+    EXPECT_NE(b.exit_code, 0) << args;
+    EXPECT_TRUE(contains(b.out, message)) << args << "\n" << b.out;
+    EXPECT_FALSE(std::filesystem::exists(path("bad"))) << args;
+  }
+}
+
 TEST_F(AdaptiveTestCommand, BadOptionsAreRefusedByName) {
   struct Case {
     std::string args, message;
