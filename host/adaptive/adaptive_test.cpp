@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <stdexcept>
 
 #include "host/adaptive/residual_colour.hpp"
@@ -291,12 +290,7 @@ class Test {
     } else {
       e.uncertainty = e.result.gain_uncertainty;
     }
-    const int earlier = latest_aimable(e.length_min - settling_min);
-    const GainEvidence previous =
-        earlier >= 0 ? evidence_of(result_.estimates[static_cast<std::size_t>(earlier)])
-                     : GainEvidence{};
-    e.confidence = confidence_of(evidence_of(e), earlier >= 0 ? &previous : nullptr, options_.rule);
-    e.predicted_stop_min = predicted_stop_min(e.confidence, e.length_min);
+    judge_estimate(e, result_.estimates, settling_min, options_.rule);
     result_.estimates.push_back(std::move(e));
     if (observer_ != nullptr) observer_->estimated(result_);
     return &result_.estimates.back();
@@ -307,16 +301,6 @@ class Test {
     result_.stop_reason = std::move(reason);
     if (observer_ != nullptr) observer_->stopped(result_);
     return std::move(result_);
-  }
-
-  // The latest estimate with a usable G(0) uncertainty made on at most `longest_min` of data
-  // (default: any); -1: none.
-  int latest_aimable(double longest_min = std::numeric_limits<double>::infinity()) const {
-    for (int i = static_cast<int>(result_.estimates.size()) - 1; i >= 0; --i) {
-      const Reestimate& e = result_.estimates[static_cast<std::size_t>(i)];
-      if (e.confidence.gain_identified && e.length_min <= longest_min + 1e-9) return i;
-    }
-    return -1;
   }
 
   // The segment after the estimate `e` (null: the record is still too short to identify),
@@ -394,7 +378,7 @@ class Test {
 
   // Along V̂ Σ̂⁻¹ of the latest usable estimate, weighted by need; plain without one.
   SegmentDecision aimed_segment(int index, const Reestimate& e) const {
-    const int estimate = latest_aimable();
+    const int estimate = latest_aimable(result_.estimates);
     if (estimate < 0) {
       return plain_segment(index, "plain: no usable G(0) yet (" + e.confidence.missing + ")");
     }
@@ -456,6 +440,23 @@ GainEvidence evidence_of(const Reestimate& e) {
     g.unavailable = "no G(0) uncertainty (a gain on a bound, or a residual not finite)";
   }
   return g;
+}
+
+int latest_aimable(const std::vector<Reestimate>& estimates, double longest_min) {
+  for (int i = static_cast<int>(estimates.size()) - 1; i >= 0; --i) {
+    const Reestimate& e = estimates[static_cast<std::size_t>(i)];
+    if (e.confidence.gain_identified && e.length_min <= longest_min + 1e-9) return i;
+  }
+  return -1;
+}
+
+void judge_estimate(Reestimate& e, const std::vector<Reestimate>& earlier, double settling_min,
+                    const StopRule& rule) {
+  const int i = latest_aimable(earlier, e.length_min - settling_min);
+  const GainEvidence previous =
+      i >= 0 ? evidence_of(earlier[static_cast<std::size_t>(i)]) : GainEvidence{};
+  e.confidence = confidence_of(evidence_of(e), i >= 0 ? &previous : nullptr, rule);
+  e.predicted_stop_min = predicted_stop_min(e.confidence, e.length_min);
 }
 
 void check_adaptive_test(const PriorKnowledge& prior, const AdaptiveOptions& options) {

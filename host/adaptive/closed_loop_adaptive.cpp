@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -126,15 +125,6 @@ class ClosedLoopTest {
     return s;
   }
 
-  // The latest estimate with a usable G(0) made on at most `longest_min` of data; -1: none.
-  int latest_aimable(double longest_min = std::numeric_limits<double>::infinity()) const {
-    for (int i = static_cast<int>(result_.estimates.size()) - 1; i >= 0; --i) {
-      const Reestimate& e = result_.estimates[static_cast<std::size_t>(i)];
-      if (e.confidence.gain_identified && e.length_min <= longest_min + 1e-9) return i;
-    }
-    return -1;
-  }
-
   // Plain (no usable estimate yet) or re-aimed along Ŵ diag(w) of the latest usable one; the
   // MVs' room cut last.
   void add_segment(int index, const Reestimate* last) {
@@ -142,7 +132,7 @@ class ClosedLoopTest {
     d.index = index;
     d.first_row = R_.rows();
     d.rows = static_cast<std::uint32_t>(std::min<long long>(rows_, max_rows_ - d.first_row));
-    const int aim = last != nullptr ? latest_aimable() : -1;
+    const int aim = last != nullptr ? latest_aimable(result_.estimates) : -1;
     const auto n = static_cast<Eigen::Index>(prior_.input_count());
     Eigen::MatrixXd mix = Eigen::MatrixXd::Identity(n, n);  // CV j × source i
     Eigen::MatrixXd gain = prior_.gain;
@@ -197,14 +187,7 @@ class ClosedLoopTest {
     e.result =
         identify_with_noise_model(U, result_.Y, result_.sample_time_min, whole, identify_).result;
     e.uncertainty = e.result.gain_uncertainty;
-    const double settling_min = prior_.beta * prior_.tau_high_min;
-    const int earlier = latest_aimable(e.length_min - settling_min);
-    const GainEvidence previous =
-        earlier >= 0 ? evidence_of(result_.estimates[static_cast<std::size_t>(earlier)])
-                     : GainEvidence{};
-    e.confidence =
-        confidence_of(evidence_of(e), earlier >= 0 ? &previous : nullptr, o_.adaptive.rule);
-    e.predicted_stop_min = predicted_stop_min(e.confidence, e.length_min);
+    judge_estimate(e, result_.estimates, prior_.beta * prior_.tau_high_min, o_.adaptive.rule);
     result_.estimates.push_back(std::move(e));
     return &result_.estimates.back();
   }

@@ -35,6 +35,7 @@
 
 #include <Eigen/Core>
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -106,6 +107,17 @@ struct SegmentDecision {
 
 /// What the stop rule reads of an estimate (pointers into it).
 GainEvidence evidence_of(const Reestimate& estimate);
+
+/// Index of the latest of `estimates` with a usable G(0) uncertainty made on at most
+/// `longest_min` of data (default: any); -1: none.
+int latest_aimable(const std::vector<Reestimate>& estimates,
+                   double longest_min = std::numeric_limits<double>::infinity());
+
+/// Sets e.confidence (the stop rule, confidence.hpp, against the latest usable estimate made
+/// on at least `settling_min` less data than e) and e.predicted_stop_min. e.result and
+/// e.uncertainty must be set.
+void judge_estimate(Reestimate& e, const std::vector<Reestimate>& earlier, double settling_min,
+                    const StopRule& rule);
 
 struct AdaptiveResult {
   std::vector<SegmentDecision> segments;
