@@ -3,9 +3,10 @@
 // One closed-loop experiment in process (issue 41 §4): the campaign's experiment with the
 // controller on. A closed-loop design (closed_loop_designs.hpp) is run on the plant under
 // the controller (host/simulate/closed_loop.hpp) twice — noise-free, for the balance, and
-// measured, with the noise and the coloured disturbance — and the measured run identified
-// two-stage, the direct fit beside it (host/identify/closed_loop.hpp), as `excite identify`
-// identifies a closed-loop run log.
+// measured, with the noise and the coloured disturbance — and the measured run identified by
+// the one method asked for, as `excite identify` identifies a closed-loop run log
+// (host/identify/closed_loop.hpp: the prediction-error fit with an AR noise model, on stage
+// 1's û or on u; the cross-check is not made).
 
 #include <Eigen/Core>
 
@@ -27,7 +28,6 @@ struct ClosedLoopRun {
   /// directions. No cross-fit (0).
   Experiment experiment;
   Eigen::MatrixXd R;                // the test signal r (N × r channels): stage 1's regressor
-  ClosedLoopIdentification both;    // both methods
   std::size_t rows_mv_limited = 0;  // measured rows where an MV sat on its box limit
 };
 
@@ -40,8 +40,8 @@ struct ClosedLoopExperimentOptions {
 
 /// Runs `design` (a closed-loop plan: setpoint or MV dither) on `plant` under `controller`
 /// (both reset first by each run) and identifies the measured run. `true_gain`: the plant's
-/// G(0) analysis, for the balance. Throws what simulate_closed_loop and identify_closed_loop
-/// throw.
+/// G(0) analysis, for the balance. Throws what simulate_closed_loop, project_on_reference and
+/// identify() throw.
 ClosedLoopRun run_closed_loop_experiment(const Design& design, const PresetInfo& preset,
                                          sim::Plant& plant, sim::control::Controller& controller,
                                          const ClosedLoopExperimentOptions& options,
