@@ -229,32 +229,18 @@ class Test {
   std::string count_outside(const Eigen::MatrixXd& dy) {
     if (!options_.limits) return {};
     const CvLimits& l = *options_.limits;
-    const auto n = l.low.size();
-    if (result_.rows_outside_limits.empty()) {
-      result_.rows_outside_limits.assign(static_cast<std::size_t>(n), 0);
-      result_.worst_outside_limits = Eigen::VectorXd::Constant(n, std::nan(""));
+    const std::vector<long long> rows = count_outside_limits(dy, l, result_);
+    for (std::size_t j = 0; j < rows.size(); ++j) {
+      if (rows[j] == 0) continue;
+      const auto jj = static_cast<Eigen::Index>(j);
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    "output %lld measured outside its limits %.3g:%.3g in %lld of %lld rows",
+                    static_cast<long long>(j + 1), l.low(jj), l.high(jj), rows[j],
+                    static_cast<long long>(dy.rows()));
+      return text;
     }
-    std::string first;
-    for (Eigen::Index j = 0; j < n && j < dy.cols(); ++j) {
-      long long rows = 0;
-      for (Eigen::Index k = 0; k < dy.rows(); ++k) {
-        const double y = dy(k, j);
-        if (y >= l.low(j) && y <= l.high(j)) continue;
-        ++rows;
-        double& worst = result_.worst_outside_limits(j);
-        if (!(std::abs(y) <= std::abs(worst))) worst = y;
-      }
-      result_.rows_outside_limits[static_cast<std::size_t>(j)] += rows;
-      if (rows > 0 && first.empty()) {
-        char text[200];
-        std::snprintf(text, sizeof text,
-                      "output %lld measured outside its limits %.3g:%.3g in %lld of %lld rows",
-                      static_cast<long long>(j + 1), l.low(j), l.high(j), rows,
-                      static_cast<long long>(dy.rows()));
-        first = text;
-      }
-    }
-    return first;
+    return {};
   }
 
   // The next segment holds the operating point (no excitation).
@@ -276,10 +262,7 @@ class Test {
   const Reestimate* reestimate(int after_segment) {
     const int n = prior_.input_count();
     if (result_.U.rows() < minimum_samples(n, result_.sample_time_min, identify_)) return nullptr;
-    Reestimate e;
-    e.after_segment = after_segment;
-    e.samples = result_.U.rows();
-    e.length_min = result_.length_min();
+    Reestimate e = new_estimate(result_, after_segment);
     e.result = identify(result_.U, result_.Y, result_.sample_time_min, identify_);
     const double settling_min = prior_.beta * prior_.tau_high_min;
     e.colour = long_run_variance_ratio(
@@ -440,6 +423,35 @@ GainEvidence evidence_of(const Reestimate& e) {
     g.unavailable = "no G(0) uncertainty (a gain on a bound, or a residual not finite)";
   }
   return g;
+}
+
+Reestimate new_estimate(const AdaptiveResult& so_far, int after_segment) {
+  Reestimate e;
+  e.after_segment = after_segment;
+  e.samples = so_far.U.rows();
+  e.length_min = so_far.length_min();
+  return e;
+}
+
+std::vector<long long> count_outside_limits(const Eigen::MatrixXd& dy, const CvLimits& limits,
+                                            AdaptiveResult& result) {
+  const Eigen::Index n = limits.low.size();
+  if (result.rows_outside_limits.empty()) {
+    result.rows_outside_limits.assign(static_cast<std::size_t>(n), 0);
+    result.worst_outside_limits = Eigen::VectorXd::Constant(n, std::nan(""));
+  }
+  std::vector<long long> rows(static_cast<std::size_t>(n), 0);
+  for (Eigen::Index j = 0; j < n && j < dy.cols(); ++j) {
+    for (Eigen::Index k = 0; k < dy.rows(); ++k) {
+      const double y = dy(k, j);
+      if (y >= limits.low(j) && y <= limits.high(j)) continue;
+      ++rows[static_cast<std::size_t>(j)];
+      double& worst = result.worst_outside_limits(j);
+      if (!(std::abs(y) <= std::abs(worst))) worst = y;
+    }
+    result.rows_outside_limits[static_cast<std::size_t>(j)] += rows[static_cast<std::size_t>(j)];
+  }
+  return rows;
 }
 
 int latest_aimable(const std::vector<Reestimate>& estimates, double longest_min) {

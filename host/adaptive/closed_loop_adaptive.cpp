@@ -178,10 +178,7 @@ class ClosedLoopTest {
   const Reestimate* reestimate(int after_segment) {
     const int n = prior_.input_count();
     if (result_.U.rows() < minimum_samples(n, result_.sample_time_min, identify_)) return nullptr;
-    Reestimate e;
-    e.after_segment = after_segment;
-    e.samples = result_.U.rows();
-    e.length_min = result_.length_min();
+    Reestimate e = new_estimate(result_, after_segment);
     const SampleLayout whole = SampleLayout::whole(result_.U.rows());
     const Eigen::MatrixXd U = o_.two_stage ? project_on_reference(result_.U, R_).u_hat : result_.U;
     e.result =
@@ -196,18 +193,7 @@ class ClosedLoopTest {
     result_.criterion_met = met;
     result_.stop_reason = std::move(reason);
     result_.Y_true = loop_.run(R_, true).dy;
-    const CvLimits& l = *o_.adaptive.limits;
-    result_.rows_outside_limits.assign(static_cast<std::size_t>(l.low.size()), 0);
-    result_.worst_outside_limits = Eigen::VectorXd::Constant(l.low.size(), std::nan(""));
-    for (Eigen::Index j = 0; j < l.low.size(); ++j) {
-      for (Eigen::Index k = 0; k < result_.Y.rows(); ++k) {
-        const double y = result_.Y(k, j);
-        if (y >= l.low(j) && y <= l.high(j)) continue;
-        ++result_.rows_outside_limits[static_cast<std::size_t>(j)];
-        double& worst = result_.worst_outside_limits(j);
-        if (!(std::abs(y) <= std::abs(worst))) worst = y;
-      }
-    }
+    count_outside_limits(result_.Y, *o_.adaptive.limits, result_);
     return std::move(result_);
   }
 

@@ -134,6 +134,15 @@ struct AdaptiveResult {
   double length_min() const { return static_cast<double>(U.rows()) * sample_time_min; }
 };
 
+/// A new estimate of the record so far, after segment `after_segment`: its length set, the
+/// rest for the caller to fill.
+Reestimate new_estimate(const AdaptiveResult& so_far, int after_segment);
+
+/// Counts the rows of `dy` (rows × outputs) outside `limits` into result.rows_outside_limits
+/// and result.worst_outside_limits (sized on first use); returns this dy's count per output.
+std::vector<long long> count_outside_limits(const Eigen::MatrixXd& dy, const CvLimits& limits,
+                                            AdaptiveResult& result);
+
 /// Told of every step as it happens (the result so far, with the new entry last).
 class AdaptiveObserver {
  public:
