@@ -9,11 +9,14 @@ namespace excite::host {
 namespace {
 
 constexpr double kRoot = 1.96;  // the signed root √(ΔS/σ̂²) at the χ²₁ 95 % point
+constexpr double kNear = 0.05;  // a walk point this close to kRoot (relative) ends the side
 constexpr int kMaxSteps = 12;   // steps per side (each 1 to 8 times the last)
 // A walk point this many σ̂² below the estimate's cost: the estimate is not the row's
 // optimum (the convergence tests stop within 1e-4 σ̂² of one: bounded_lm.hpp).
 constexpr double kBetter = 0.5;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// At most this many restarts from a better optimum a walk found.
+constexpr int kRestarts = 2;
 
 Eigen::VectorXd gains_of(const MisoResult& fit) {
   Eigen::VectorXd K(static_cast<Eigen::Index>(fit.elements.size()));
@@ -60,9 +63,23 @@ class Walk {
     const double var = C(e, e);
     slope_ = Eigen::VectorXd::Unit(origin_.gains.size(), e);
     if (std::isfinite(var) && var > 0.0 && C.col(e).allFinite()) slope_ = C.col(e) / var;
+    // The other start of each walk point (gain_profile.hpp): the element with the dynamics
+    // of the row's largest response, |K|·‖u‖.
+    Eigen::Index largest = e;
+    double largest_part = 0.0;
+    for (std::size_t a = 0; a < fit.elements.size(); ++a) {
+      const double part = std::abs(fit.elements[a].value.gain) * row.U.col(row.inputs[a]).norm();
+      if (fit.elements[a].estimated() && part > largest_part) {
+        largest_part = part;
+        largest = static_cast<Eigen::Index>(a);
+      }
+    }
+    if (largest != e) alternative_ = fit.elements[static_cast<std::size_t>(largest)].value;
     const double se = fit.elements[static_cast<std::size_t>(e)].std_error.gain;
     const double scale = std::max(origin_.gains.cwiseAbs().maxCoeff(), 1e-12);
-    first_step_ = std::max(std::isfinite(se) && se > 0.0 ? se : 0.01 * scale, 1e-3 * scale);
+    // The first step aims at the linearised bound, K̂ ± 1.96·SE: where the linearisation
+    // holds, one point per side ends the walk.
+    first_step_ = std::max(std::isfinite(se) && se > 0.0 ? kRoot * se : 0.01 * scale, 1e-3 * scale);
   }
 
   // Walks to one side (+1 or −1); the end point, interpolated to the χ² bound when reached.
@@ -76,13 +93,18 @@ class Walk {
       Point next = at(prev, slope, prev.c + direction * step);
       if (better_) break;
       slope = (next.gains - prev.gains) / (next.c - prev.c);
+      // A point within kNear of the bound: the bound, on the line through it and the last.
+      if (std::abs(next.root - kRoot) <= kNear * kRoot) {
+        bounded = true;
+        return through(prev, next);
+      }
       if (next.root >= kRoot) {
         bounded = true;
         // Once more at the signed root's linear interpolation (exact for a quadratic
         // profile), then the bracket that holds the bound, interpolated.
-        const Point mid = at(prev, slope, interpolate(prev, next).c);
+        const Point mid = at(prev, slope, through(prev, next).c);
         if (better_) break;
-        return mid.root >= kRoot ? interpolate(prev, mid) : interpolate(mid, next);
+        return mid.root >= kRoot ? through(prev, mid) : through(mid, next);
       }
       // The signed root is linear in c for a quadratic profile: the next step aims a little
       // past where the last two points put the bound, at most 8 times the last step.
@@ -107,11 +129,18 @@ class Walk {
                       slope(static_cast<Eigen::Index>(a)) * (c - from.c);
     }
     start[static_cast<std::size_t>(e_)].gain = c;
-    MisoResult f = fit_miso(row_.U, row_.y, row_.inputs, start, row_.T_min, row_.bounds,
-                            row_.max_iterations, row_.layout, row_.trend,
-                            LmOptions{}.cost_tolerance, MisoUncertainty::none, HeldGain{e_, c});
-    ++fits_;
-    const double S = row_cost(row_, f);
+    MisoResult f = held_fit(start, c);
+    double S = row_cost(row_, f);
+    if (alternative_) {
+      start[static_cast<std::size_t>(e_)] = *alternative_;
+      start[static_cast<std::size_t>(e_)].gain = c;
+      MisoResult g = held_fit(start, c);
+      const double Sg = row_cost(row_, g);
+      if (Sg < S) {
+        f = std::move(g);
+        S = Sg;
+      }
+    }
     if (S < S0_ - kBetter * sigma2_) {
       // Polished free from there, with standard errors, for the caller to keep.
       better_ = fit_miso(row_.U, row_.y, row_.inputs, values_of(f), row_.T_min, row_.bounds,
@@ -121,11 +150,18 @@ class Walk {
     return {c, std::sqrt(std::max(S - S0_, 0.0) / sigma2_), gains_of(f), values_of(f)};
   }
 
-  // The point between a (root below kRoot) and b (at or above) where the root is kRoot,
-  // linearly interpolated (its gains too).
-  static Point interpolate(const Point& a, const Point& b) {
+  MisoResult held_fit(const std::vector<ElementModel>& start, double c) {
+    ++fits_;
+    return fit_miso(row_.U, row_.y, row_.inputs, start, row_.T_min, row_.bounds,
+                    row_.max_iterations, row_.layout, row_.trend, LmOptions{}.cost_tolerance,
+                    MisoUncertainty::none, HeldGain{e_, c});
+  }
+
+  // The point where the signed root is kRoot on the line through a and b (a's root below
+  // b's), between them or a little past b (its gains too).
+  static Point through(const Point& a, const Point& b) {
     const double t =
-        b.root > a.root ? std::clamp((kRoot - a.root) / (b.root - a.root), 0.0, 1.0) : 1.0;
+        b.root > a.root ? std::clamp((kRoot - a.root) / (b.root - a.root), 0.0, 1.0 + kNear) : 1.0;
     return {a.c + t * (b.c - a.c), kRoot, a.gains + t * (b.gains - a.gains), a.values};
   }
 
@@ -138,6 +174,7 @@ class Walk {
   double first_step_ = 0.0;
   int fits_ = 0;
   std::optional<MisoResult> better_;
+  std::optional<ElementModel> alternative_;
 };
 
 }  // namespace
@@ -162,6 +199,32 @@ GainInterval profile_gain(const RowProblem& row, const MisoResult& fit, int e) {
   out.ridge = Eigen::VectorXd::Unit(low.gains.size(), e);
   if (high.c > low.c) out.ridge = (high.gains - low.gains) / (high.c - low.c);
   return out;
+}
+
+MisoResult profile_gains(const RowProblem& row, MisoResult fit, const ProfileChoice& profiled) {
+  for (int restart = 0;; ++restart) {
+    MisoResult widened = fit;
+    bool restarted = false;
+    for (std::size_t e = 0; e < fit.elements.size() && !restarted; ++e) {
+      if (!fit.elements[e].estimated() || !profiled(fit, static_cast<int>(e))) continue;
+      GainInterval interval = profile_gain(row, fit, static_cast<int>(e));
+      if (interval.better) {
+        if (restart == kRestarts) continue;  // this gain keeps its linearised interval
+        const int iterations = fit.iterations;
+        fit = std::move(*interval.better);
+        fit.iterations += iterations;
+        restarted = true;
+      } else {
+        widen_along_ridge(widened, static_cast<int>(e), interval);
+      }
+    }
+    if (!restarted) return widened;
+  }
+}
+
+bool poorly_determined(const ElementEstimate& e) {
+  return e.estimated() && std::isfinite(e.std_error.gain) &&
+         e.std_error.gain > kPoorlyDetermined * std::abs(e.value.gain);
 }
 
 void add_gain_variance(MisoResult& fit, const Eigen::VectorXd& direction, double alpha) {

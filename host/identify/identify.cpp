@@ -349,9 +349,9 @@ MisoResult fit_warm(const Rows& rows, const Eigen::VectorXd& y,
   return miso;
 }
 
-// Row j's model: how well its inputs separate, the gains of inputs that move together
-// profiled (inputs_together.hpp), its elements and gain covariance written into the model;
-// returns ŷ.
+// Row j's model: how well its inputs separate, the gains of inputs that move together and the
+// gains near zero profiled (inputs_together.hpp), its elements and gain covariance written into the
+// model; returns ŷ.
 Eigen::VectorXd keep_row(const Rows& rows, int j, const Eigen::VectorXd& y, MisoResult miso,
                          IdentifiedModel& model, OutputFit& fit) {
   const std::vector<int>& usable = rows.screen.usable;
@@ -360,7 +360,7 @@ Eigen::VectorXd keep_row(const Rows& rows, int j, const Eigen::VectorXd& y, Miso
                            rows.layout, rows.trend};
   fit.separation = row_separation(problem, miso);
   fit.inputs_together = describe_together(usable, fit.separation);
-  miso = profile_inputs_together(problem, std::move(miso), fit.separation);
+  miso = profile_doubtful_gains(problem, std::move(miso), fit.separation);
   Eigen::MatrixXd& cov = model.gain_covariance[static_cast<std::size_t>(j)];
   for (std::size_t e = 0; e < usable.size(); ++e) {
     model.element(j, usable[e]) = miso.elements[e];

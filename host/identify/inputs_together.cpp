@@ -10,9 +10,6 @@
 namespace excite::host {
 namespace {
 
-// At most this many restarts from a better optimum a walk found.
-constexpr int kRestarts = 2;
-
 std::string number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3g", v);
@@ -47,32 +44,15 @@ InputSeparation row_separation(const RowProblem& row, const MisoResult& fit) {
   return filtered_known ? worse_of(as_moved, input_separation(filtered)) : as_moved;
 }
 
-MisoResult profile_inputs_together(const RowProblem& row, MisoResult fit,
-                                   const InputSeparation& separation) {
-  if (!(separation.independent.size() > 0 && separation.independent.minCoeff() < kCannotSplit))
-    return fit;
-  for (int restart = 0;; ++restart) {
-    MisoResult widened = fit;
-    bool restarted = false;
-    for (Eigen::Index e = 0; e < separation.independent.size() && !restarted; ++e) {
-      if (!(separation.independent(e) < kCannotSplit)) continue;
-      if (!fit.elements[static_cast<std::size_t>(e)].estimated()) continue;
-      GainInterval interval = profile_gain(row, fit, static_cast<int>(e));
-      if (interval.better) {
-        if (restart == kRestarts) continue;  // this gain keeps its linearised interval
-        const int iterations = fit.iterations;
-        fit = std::move(*interval.better);
-        fit.iterations += iterations;
-        restarted = true;
-      } else {
-        widen_along_ridge(widened, static_cast<int>(e), interval);
-      }
-    }
-    if (!restarted) {
-      own_part_floor(row, widened);
-      return widened;
-    }
-  }
+MisoResult profile_doubtful_gains(const RowProblem& row, MisoResult fit,
+                                  const InputSeparation& separation) {
+  const auto together = [&](int e) { return separation.independent(e) < kCannotSplit; };
+  MisoResult profiled = profile_gains(row, std::move(fit), [&](const MisoResult& f, int e) {
+    return together(e) || poorly_determined(f.elements[static_cast<std::size_t>(e)]);
+  });
+  if (separation.independent.size() > 0 && separation.independent.minCoeff() < kCannotSplit)
+    own_part_floor(row, profiled);
+  return profiled;
 }
 
 void own_part_floor(const RowProblem& row, MisoResult& fit) {

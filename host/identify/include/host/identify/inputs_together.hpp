@@ -39,12 +39,14 @@ constexpr double kCannotSplit = 0.02;
 /// scored rows.
 InputSeparation row_separation(const RowProblem& row, const MisoResult& fit);
 
-/// For a row with an input below kCannotSplit in `separation`: each such gain profiled (a
-/// better optimum found on a walk replaces the fit, and the profiles start again from it, at
-/// most twice), the row's covariance widened along each ridge, then to the own-part floor.
-/// Returns `fit` unchanged for any other row.
-MisoResult profile_inputs_together(const RowProblem& row, MisoResult fit,
-                                   const InputSeparation& separation);
+/// The gains of a row whose linearised intervals do not hold, profiled (profile_gains(): a
+/// better optimum found on a walk replaces the fit and the profiles start again from it, at
+/// most twice; the row's covariance widened along each ridge): each gain whose input is
+/// below kCannotSplit in `separation`, and each gain near zero (poorly_determined(),
+/// gain_profile.hpp). A row with an input below kCannotSplit then gets the own-part floor.
+/// Returns `fit` unchanged for a row with neither.
+MisoResult profile_doubtful_gains(const RowProblem& row, MisoResult fit,
+                                  const InputSeparation& separation);
 
 /// The covariance of the row's gains that the inputs' own parts alone support: the row as a
 /// linear regression on its inputs all filtered by one response (its largest element's, unit
