@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "host/identify/element.hpp"
+
 namespace excite::host {
 namespace {
 
@@ -64,7 +66,7 @@ class Walk {
     slope_ = Eigen::VectorXd::Unit(origin_.gains.size(), e);
     if (std::isfinite(var) && var > 0.0 && C.col(e).allFinite()) slope_ = C.col(e) / var;
     // The other start of each walk point (gain_profile.hpp): the element with the dynamics
-    // of the row's largest response, |K|·‖u‖.
+    // of the row's largest response, |K|·‖u‖, as far as its own structure has them.
     Eigen::Index largest = e;
     double largest_part = 0.0;
     for (std::size_t a = 0; a < fit.elements.size(); ++a) {
@@ -74,7 +76,12 @@ class Walk {
         largest = static_cast<Eigen::Index>(a);
       }
     }
-    if (largest != e) alternative_ = fit.elements[static_cast<std::size_t>(largest)].value;
+    if (largest != e) {
+      // In the element's own structure: the walk does not change structures (BIC chose it).
+      const ElementModel& own = fit.elements[static_cast<std::size_t>(e)].value;
+      alternative_ =
+          with_structure(fit.elements[static_cast<std::size_t>(largest)].value, own.structure);
+    }
     const double se = fit.elements[static_cast<std::size_t>(e)].std_error.gain;
     const double scale = std::max(origin_.gains.cwiseAbs().maxCoeff(), 1e-12);
     // The first step aims at the linearised bound, K̂ ± 1.96·SE: where the linearisation

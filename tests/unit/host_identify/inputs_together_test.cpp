@@ -78,7 +78,7 @@ TEST(GainProfile, MatchesTheLinearisedIntervalOnIndependentInputs) {
   }
 }
 
-// A gain a few standard errors from zero (|K| < 4 SE: kPoorlyDetermined) sits near the
+// A gain a few standard errors from zero (|K| < 8 SE: kPoorlyDetermined) sits near the
 // model's singular point, where K → 0 leaves the element's dynamics undetermined and the
 // output error is far from quadratic in K: identify() gives it the profile's interval, which
 // the linearised one fell short of. Row y1 of Wood–Berry with a small slow element on u2
