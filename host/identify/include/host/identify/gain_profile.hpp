@@ -25,7 +25,7 @@
 // another one: each point of the walk is fitted twice, from the last point and from the
 // element with the dynamics of the row's largest response (in its own structure, gain held),
 // and the better kept.
-// On alatiqi4x4 under its DMC this took G43's coverage from 83 to 89–91 % (100 seeds).
+// On alatiqi4x4 under its DMC this took G43's coverage from 83 to 87 % (100 seeds).
 //
 // Along the walk the other gains follow the ridge the data leave free; its direction, the
 // change of the row's gains per unit of the held gain, widens the row's gain covariance so
@@ -85,7 +85,7 @@ MisoResult profile_gains(const RowProblem& row, MisoResult fit, const ProfileCho
 /// element's dynamics fell into. Measured on alatiqi4x4 under its DMC (100 seeds, the direct
 /// fit; host/identify/README.md "Closed-loop runs"): G23 = −0.05 covered 29 % and G43 = −0.1
 /// 77 % with the linearised intervals; G13 = −0.25 and G14 = −0.49, 4–8 SE from zero, 84 and
-/// 86 %. With these gains profiled: 65, 89, 91 and 92 %.
+/// 86 %. With these gains profiled: 65, 87, 91 and 92 %.
 constexpr double kPoorlyDetermined = 0.125;
 bool poorly_determined(const ElementEstimate& e);
 
