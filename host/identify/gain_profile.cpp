@@ -67,16 +67,8 @@ class Walk {
     if (std::isfinite(var) && var > 0.0 && C.col(e).allFinite()) slope_ = C.col(e) / var;
     // The other start of each walk point (gain_profile.hpp): the element with the dynamics
     // of the row's largest response, |K|·‖u‖, as far as its own structure has them.
-    Eigen::Index largest = e;
-    double largest_part = 0.0;
-    for (std::size_t a = 0; a < fit.elements.size(); ++a) {
-      const double part = std::abs(fit.elements[a].value.gain) * row.U.col(row.inputs[a]).norm();
-      if (fit.elements[a].estimated() && part > largest_part) {
-        largest_part = part;
-        largest = static_cast<Eigen::Index>(a);
-      }
-    }
-    if (largest != e) {
+    const Eigen::Index largest = largest_response(row, fit);
+    if (largest >= 0 && largest != e) {
       // In the element's own structure: the walk does not change structures (BIC chose it).
       const ElementModel& own = fit.elements[static_cast<std::size_t>(e)].value;
       alternative_ =
@@ -206,6 +198,19 @@ GainInterval profile_gain(const RowProblem& row, const MisoResult& fit, int e) {
   out.ridge = Eigen::VectorXd::Unit(low.gains.size(), e);
   if (high.c > low.c) out.ridge = (high.gains - low.gains) / (high.c - low.c);
   return out;
+}
+
+Eigen::Index largest_response(const RowProblem& row, const MisoResult& fit) {
+  Eigen::Index largest = -1;
+  double largest_part = -1.0;
+  for (std::size_t a = 0; a < fit.elements.size(); ++a) {
+    const double part = std::abs(fit.elements[a].value.gain) * row.U.col(row.inputs[a]).norm();
+    if (fit.elements[a].estimated() && part > largest_part) {
+      largest_part = part;
+      largest = static_cast<Eigen::Index>(a);
+    }
+  }
+  return largest;
 }
 
 MisoResult profile_gains(const RowProblem& row, MisoResult fit, const ProfileChoice& profiled) {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "host/identify/inputs_together.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -62,17 +63,7 @@ void own_part_floor(const RowProblem& row, MisoResult& fit) {
   // The common response: the element whose part of the output is largest.
   Eigen::MatrixXd Z(scored, m);
   Eigen::VectorXd z(row.U.rows());
-  Eigen::Index largest = 0;
-  double largest_part = -1.0;
-  for (Eigen::Index e = 0; e < m; ++e) {
-    const ElementEstimate& est = fit.elements[static_cast<std::size_t>(e)];
-    const double part =
-        std::abs(est.value.gain) * row.U.col(row.inputs[static_cast<std::size_t>(e)]).norm();
-    if (est.estimated() && part > largest_part) {
-      largest_part = part;
-      largest = e;
-    }
-  }
+  const Eigen::Index largest = std::max<Eigen::Index>(largest_response(row, fit), 0);
   ElementModel unit = fit.elements[static_cast<std::size_t>(largest)].value;
   unit.gain = 1.0;
   try {

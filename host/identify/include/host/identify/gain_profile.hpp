@@ -89,6 +89,10 @@ MisoResult profile_gains(const RowProblem& row, MisoResult fit, const ProfileCho
 constexpr double kPoorlyDetermined = 0.125;
 bool poorly_determined(const ElementEstimate& e);
 
+/// The estimated element of `fit` whose part of the row's output is largest, |K|·‖u‖ (-1:
+/// none is estimated).
+Eigen::Index largest_response(const RowProblem& row, const MisoResult& fit);
+
 /// ‖y − ŷ‖² over the scored rows of `row`'s layout.
 double row_cost(const RowProblem& row, const MisoResult& fit);
 
