@@ -112,6 +112,37 @@ TEST(GainProfile, AGainNearZeroGetsAtLeastItsProfileInterval) {
   EXPECT_GE(profiled, 3);
 }
 
+// A row fitted to rounding (noise-free data in its model class) has exact gains: nothing is
+// profiled, where a walk would compare costs that differ by rounding noise (a noise-free
+// twoweak4x4 run spent half its identification on such walks). With noise, the same row's
+// gains are offered to the profile.
+TEST(GainProfile, ARowFittedToRoundingIsNotProfiled) {
+  const Eigen::MatrixXd U = prbs_inputs(2, 8, 3, 85, 1200, 1.0);
+  const std::vector<int> inputs{0, 1};
+  const MisoBounds bounds{20.0, 1200.0, natural_period_floor(1.0)};
+  const SampleLayout layout = SampleLayout::whole(U.rows());
+  const Eigen::MatrixXd trend(U.rows(), 0);
+  const std::vector<ElementModel> row_model{kWoodBerry[0], kWoodBerry[1]};
+  for (const double noise : {0.0, 0.04}) {
+    Eigen::MatrixXd Y = plant_outputs(row_model, 1, 2, 1.0, U);
+    if (noise > 0.0) add_noise(Y, noise, 1);
+    const Eigen::VectorXd y = Y.col(0);
+    const MisoResult fit = fit_miso(U, y, inputs, row_model, 1.0, bounds, 200, layout, trend);
+    const RowProblem row{U, y, inputs, 1.0, bounds, 200, layout, trend};
+    int offered = 0;
+    const MisoResult profiled = profile_gains(row, fit, [&](const MisoResult&, int) {
+      ++offered;
+      return false;
+    });
+    if (noise > 0.0) {
+      EXPECT_EQ(offered, 2);
+    } else {
+      EXPECT_EQ(offered, 0) << "cost " << row_cost(row, fit) << ", ‖y‖² " << y.squaredNorm();
+      EXPECT_EQ(profiled.gain_covariance, fit.gain_covariance);
+    }
+  }
+}
+
 // The issue's case: u2 = u1 + 0.001·(its own PRBS), noise sd 0.02, seeds 5–7. Each row names
 // the pair; no element is graded better than C; det G(0) has the true sign or is reported
 // undetermined. Before issue 43: y1 ← u1 at grade A with the wrong sign,

@@ -75,7 +75,8 @@ using ProfileChoice = std::function<bool(const MisoResult& fit, int e)>;
 /// Each estimated gain of `fit` that `profiled` names, profiled: a better optimum found on a
 /// walk replaces the fit and the profiles start again from it (at most twice; after that a
 /// gain whose walk still finds one keeps its linearised interval), and the row's covariance
-/// is widened along each ridge.
+/// is widened along each ridge. A row fitted to rounding (noise-free data in the model class)
+/// is returned as it is: its gains are exact, and its walks would compare rounding noise.
 MisoResult profile_gains(const RowProblem& row, MisoResult fit, const ProfileChoice& profiled);
 
 /// A gain near zero: fewer than 1/kPoorlyDetermined = 8 standard errors from it (its
