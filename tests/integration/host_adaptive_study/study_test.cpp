@@ -84,7 +84,8 @@ TEST(AdaptiveStudy, AlatiqiUnderItsDmcStopsHonestlyInsideTheCvLimits) {
   // The controller on (issue 41 §4): each segment's r on the CV setpoints of the example DMC
   // (its model the plant's own), at half of the file's CV test limits ±0.55, r cut to the MVs'
   // room (±0.6), the direct estimate with its noise model. Measured: 100 of 100 stopped, 0
-  // wrong, no CV outside its limits (noise-free peak 0.83 of them), T90 1 040 min.
+  // wrong, no CV outside its limits (noise-free peak 0.77 of them), T90 1 248 min at 58dfea8
+  // (1 040 min and a peak of 0.83 when first measured, before stop 55's identifier).
   StudyOptions o;
   o.plant = "alatiqi4x4";
   o.seeds = kSeeds;
