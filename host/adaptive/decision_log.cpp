@@ -187,6 +187,8 @@ nlohmann::json study_json(const StudyResult& s) {
                      {"estimate_min", x.estimate_min},
                      {"estimate_met", met},
                      {"estimate_need", need},
+                     {"estimate_missing", x.estimate_missing},
+                     {"true_sigma_n", x.true_sigma_n},
                      {"met_at_stop", x.met_at_stop},
                      {"sigma_n_error_at_stop", number(x.sigma_n_error_at_stop)},
                      {"angle_at_stop_deg", number(x.angle_at_stop_deg)},

@@ -98,6 +98,7 @@ SeedOutcome run_seed(const StudyOptions& o, const PriorKnowledge& prior, double 
   adaptive.identify.threads = 1;
   SeedOutcome s;
   s.seed = seed;
+  s.true_sigma_n = truth.gain.singular_values(truth.gain.singular_values.size() - 1);
   AdaptiveResult r;
   if (o.closed_loop) {
     std::optional<AdaptiveResult> closed =
@@ -119,6 +120,7 @@ SeedOutcome run_seed(const StudyOptions& o, const PriorKnowledge& prior, double 
     s.estimate_min.push_back(e.length_min);
     s.estimate_met.push_back(a.met);
     s.estimate_need.push_back(e.confidence.need);
+    s.estimate_missing.push_back(e.confidence.missing);
     s.met_at_stop = a.met;
     s.sigma_n_error_at_stop = a.sigma_n_error;
     s.angle_at_stop_deg = a.weakest_angle_deg;

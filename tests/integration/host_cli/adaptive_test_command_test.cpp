@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -94,10 +95,31 @@ TEST_F(AdaptiveTestCommand, AStudyJudgesEverySeedAgainstTheTruth) {
   EXPECT_EQ(s["format"], "excite adaptive study v1");
   ASSERT_EQ(s["per_seed"].size(), 4u);
   EXPECT_EQ(s["grid_min"].size(), s["share_met"].size());
+  // σ_n of Wood–Berry's G(0) = [12.8 −18.9; 6.6 −19.4]: σ_n² = (F − √(F² − 4 det²)) / 2,
+  // F the squared Frobenius norm.
+  const double F = 12.8 * 12.8 + 18.9 * 18.9 + 6.6 * 6.6 + 19.4 * 19.4;
+  const double det = 12.8 * -19.4 - -18.9 * 6.6;
+  const double sigma_n = std::sqrt((F - std::sqrt(F * F - 4.0 * det * det)) / 2.0);
   for (const nlohmann::json& seed : s["per_seed"]) {
     EXPECT_EQ(seed["stopped_by_rule"], true) << seed.dump();
     EXPECT_EQ(seed["met_at_stop"], true) << seed.dump();
+    EXPECT_NEAR(seed["true_sigma_n"].get<double>(), sigma_n, 1e-9 * sigma_n) << seed.dump();
+    // What held each estimate, in words; nothing at the one the rule stopped on.
+    ASSERT_EQ(seed["estimate_missing"].size(), seed["estimate_min"].size()) << seed.dump();
+    EXPECT_EQ(seed["estimate_missing"].back(), "") << seed.dump();
+    EXPECT_NE(seed["estimate_missing"].front(), "") << seed.dump();
   }
+  // With --perturb each seed has a plant of its own, and says which σ_n it had.
+  const Result p =
+      excite("test --plant woodberry2x2 --seeds 2 --perturb 10 --threads 2 -o " + path("p"));
+  ASSERT_EQ(p.exit_code, 0) << p.out;
+  const nlohmann::json ps = nlohmann::json::parse(std::ifstream(path("p/study.json")));
+  ASSERT_EQ(ps["per_seed"].size(), 2u);
+  const double first = ps["per_seed"][0]["true_sigma_n"].get<double>();
+  const double second = ps["per_seed"][1]["true_sigma_n"].get<double>();
+  EXPECT_NE(first, second);
+  EXPECT_NE(first, sigma_n);
+  EXPECT_NEAR(first, sigma_n, 0.5 * sigma_n);  // ±10 % per element moves σ_n, not wildly
 }
 
 TEST_F(AdaptiveTestCommand, AStudyWithTheControllerOnSaysSoAndStops) {

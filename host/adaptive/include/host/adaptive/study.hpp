@@ -60,9 +60,12 @@ struct SeedOutcome {
   bool stopped_by_rule = false;
   double stop_min = 0.0;  // the test's length
   std::string stop_reason;
-  std::vector<double> estimate_min;    // each re-estimate's length
-  std::vector<bool> estimate_met;      // its G(0) meets the criterion against the truth
-  std::vector<double> estimate_need;   // its stop-rule need (confidence.hpp)
+  std::vector<double> estimate_min;           // each re-estimate's length
+  std::vector<bool> estimate_met;             // its G(0) meets the criterion against the truth
+  std::vector<double> estimate_need;          // its stop-rule need (confidence.hpp)
+  std::vector<std::string> estimate_missing;  // what kept the rule from holding ("" when met)
+  double true_sigma_n = 0.0;           // σ_n of the seed's true G(0) (its perturbed plant's with
+                                       // perturb_percent): the weak direction the test had to find
   bool met_at_stop = false;            // the last estimate's verdict (false: none)
   double sigma_n_error_at_stop = 0.0;  // signed, relative; NaN without a G(0)
   double angle_at_stop_deg = 0.0;      // ∠(v̂_n, ±v_n); NaN without a G(0)
