@@ -13,6 +13,15 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+// "[2 4] 9.7 +- 12": the minor of rows and columns 2 and 4 (1-based), its 95 % half-width.
+std::string minor_text(const PrincipalMinor& m, double z) {
+  std::string text = "[";
+  for (const int i : m.rows) text += (text.size() > 1 ? " " : "") + std::to_string(i + 1);
+  char numbers[64];
+  std::snprintf(numbers, sizeof numbers, "] %.3g +- %.2g", m.value, z * m.std_error);
+  return text + numbers;
+}
+
 std::string ratio_text(const char* what, double need) {
   char text[120];
   std::snprintf(text, sizeof text, "%s at %.2f of its tolerance", what, need);
@@ -82,10 +91,14 @@ Confidence confidence_of(const GainEvidence& now, const GainEvidence* previous,
                    (rule.sigma_tolerance * std::abs(u.singular_values(r - 1)));
   c.angle_need = rule.z * u.input_angle_se_deg(r - 1) / rule.angle_tolerance_deg;
   c.minor_need = 0.0;
+  std::string uncertain_minors;
   for (const PrincipalMinor& m : u.principal_minors) {
     const double need = rule.z * m.std_error / std::abs(m.value);
     c.minor_need = std::max(c.minor_need, std::isnan(need) ? 1e300 : need);
-    if (!(std::abs(m.value) >= rule.z * m.std_error)) ++c.sign_uncertain_minors;
+    if (!(std::abs(m.value) >= rule.z * m.std_error)) {
+      ++c.sign_uncertain_minors;
+      uncertain_minors += (uncertain_minors.empty() ? ": " : ", ") + minor_text(m, rule.z);
+    }
   }
   c.need = std::max({c.sigma_n_need, c.angle_need, c.minor_need});
   std::string failed;
@@ -118,7 +131,8 @@ Confidence confidence_of(const GainEvidence& now, const GainEvidence* previous,
   if (c.sigma_n_need > 1.0) add(ratio_text("sigma_n's 95 % half-width", c.sigma_n_need));
   if (c.angle_need > 1.0) add(ratio_text("v_n's 95 % angle", c.angle_need));
   if (c.sign_uncertain_minors > 0) {
-    add(std::to_string(c.sign_uncertain_minors) + " principal minor(s) of uncertain sign");
+    add(std::to_string(c.sign_uncertain_minors) + " principal minor(s) of uncertain sign" +
+        uncertain_minors);
   }
   if (!c.has_previous) add("no earlier estimate to agree with");
   if (!disagreement.empty()) add(disagreement);

@@ -89,6 +89,15 @@ TEST(AdaptiveConfidence, TheRuleHoldsWhenEveryIntervalFitsAndTheEstimateAgrees) 
   EXPECT_FALSE(wide.met);
   EXPECT_NE(wide.missing.find("sigma_n's 95 % half-width at 1.03"), std::string::npos)
       << wide.missing;
+  // A minor whose interval holds 0 is named, with its value and half-width.
+  FakeEstimate flat = fake(0.1, 0.009, 1.0);
+  flat.uncertainty.principal_minors[2].std_error = 0.06;  // 0.1 ± 0.12
+  const Confidence open = confidence_of(flat.evidence(), &b);
+  EXPECT_FALSE(open.met);
+  EXPECT_EQ(open.sign_uncertain_minors, 1);
+  EXPECT_NE(open.missing.find("1 principal minor(s) of uncertain sign: [1 2] 0.1 +- 0.12"),
+            std::string::npos)
+      << open.missing;
 }
 
 TEST(AdaptiveConfidence, AJumpBeyondTheEarlierIntervalStopsNothing) {
