@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "firmware/runlog/format.hpp"
+#include "host/campaign/scored_fit.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/plan_file.hpp"
 #include "host/design/presets.hpp"
@@ -16,7 +17,9 @@
 #include "host/export/model_file.hpp"
 #include "host/identify/run_layout.hpp"
 #include "host/identify/run_log_limits.hpp"
+#include "host/identify/segments.hpp"
 #include "host/loop/campaign_runs.hpp"
+#include "host/measures/gain_directions.hpp"
 #include "host/output/whole_file.hpp"
 #include "host/process/parallel.hpp"
 #include "host/simulate/closed_loop.hpp"
@@ -66,13 +69,18 @@ SimulatedRun run_in_process(const ClosedLoopCampaignOptions& o, const plan::Plan
   return run;
 }
 
-// `excite identify LOG` on a v4 log: the flags rule, the time-constant bound β·τ_H of the
-// log, then both closed-loop methods.
-ClosedLoopIdentification identify_log(const runlog::RunLog& log, const std::string& name) {
+// The rows of a v4 log as `excite identify LOG` takes them: the flags rule, the warm-up.
+StackedRuns stack_log(const runlog::RunLog& log, const std::string& name) {
   FlagRule rule;
+  rule.warm_up_min = IdentifyOptions{}.max_delay_min;
+  return stack_runs({&log}, {name}, rule);
+}
+
+// `excite identify LOG` on a v4 log stacked by stack_log: the time-constant bound β·τ_H of
+// the log, then both closed-loop methods.
+ClosedLoopIdentification identify_log(const runlog::RunLog& log, const StackedRuns& data,
+                                      const std::string& name) {
   IdentifyOptions options;
-  rule.warm_up_min = options.max_delay_min;
-  const StackedRuns data = stack_runs({&log}, {name}, rule);
   if (log.time_scales.beta > 0.0 && log.time_scales.tau_high_min > 0.0)
     options.max_time_constant_min = log.time_scales.beta * log.time_scales.tau_high_min;
   const runlog::ClosedLoopLog& cl = log.closed_loop;
@@ -87,6 +95,33 @@ ClosedLoopIdentification identify_log(const runlog::RunLog& log, const std::stri
         Eigen::Map<const Eigen::VectorXd>(cl.r[c].data(), data.U.rows());
   }
   return identify_closed_loop(data.U, R, data.Y, data.sample_time_min, data.layout, options);
+}
+
+// SPEC §6 as the open-loop campaign does it: run a's two-stage model on run b's applied u,
+// scored from rest at each segment (a NaN fit makes the model's cross figures NaN), and
+// each model's figures over the other runs against the truth's fit on them (none for a
+// campaign of one design: its figures stay NaN).
+void cross_validate(std::vector<ClosedLoopExperiment>& runs, const std::vector<StackedRuns>& data,
+                    int threads) {
+  const auto R = static_cast<Eigen::Index>(runs.size());
+  parallel_for(static_cast<int>(R), threads, [&](int a) {
+    ClosedLoopExperiment& e = runs[static_cast<std::size_t>(a)];
+    e.crossfit.resize(R);
+    for (Eigen::Index b = 0; b < R; ++b) {
+      const StackedRuns& d = data[static_cast<std::size_t>(b)];
+      const std::vector<double> f = scored_fit(e.identified.two_stage.model, d.U, d.Y, d.layout);
+      double sum = 0.0;
+      for (const double v : f) sum += v;
+      e.crossfit(b) = sum / static_cast<double>(f.size());
+    }
+  });
+  if (R < 2) return;
+  Eigen::VectorXd truth(R);
+  for (Eigen::Index b = 0; b < R; ++b) truth(b) = runs[static_cast<std::size_t>(b)].truth_fit;
+  for (Eigen::Index a = 0; a < R; ++a) {
+    ClosedLoopExperiment& e = runs[static_cast<std::size_t>(a)];
+    e.cross = cross_fit_figures(e.crossfit, truth, a);
+  }
 }
 
 }  // namespace
@@ -104,7 +139,9 @@ std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
   resolve_cv_limits(design_options, file, static_cast<Eigen::Index>(cvs.size()));
   const double noise =
       o.noise_variance >= 0.0 ? o.noise_variance : case_study_noise_variance(o.plant);
+  const GainAnalysis true_gain = analyse_gain(plant->static_gain());
   std::vector<ClosedLoopExperiment> out(set.size());
+  std::vector<StackedRuns> data(set.size());
   parallel_for(static_cast<int>(set.size()), std::max(1, o.threads), [&](int k) {
     const PresetInfo& preset = *set[static_cast<std::size_t>(k)];
     ClosedLoopExperiment& e = out[static_cast<std::size_t>(k)];
@@ -151,7 +188,11 @@ std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
     }
     e.rows = log.rows();
     e.rows_mv_limited = mv_limited_rows(log);
-    e.identified = identify_log(log, e.run_log);
+    const StackedRuns& d = data[static_cast<std::size_t>(k)] = stack_log(log, e.run_log);
+    e.identified = identify_log(log, d, e.run_log);
+    e.balance = balance_of(scored_about_segment_means(d.Y, d.layout), true_gain);
+    e.truth_fit =
+        mean_finite(truth_fit(*sim::make_plant(o.plant), d.U, d.Y, d.sample_time_min, d.layout));
     nlohmann::json j = model_json(e.identified.two_stage, log.input_names, log.output_names);
     j["closed_loop"] = closed_loop_json(e.identified, log, false);
     fs::create_directories(dir / "models");
@@ -160,6 +201,7 @@ std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
       say(e.name + ": identified (two-stage), " + e.model + "; rows with an MV limited " +
           std::to_string(e.rows_mv_limited) + " of " + std::to_string(e.rows));
   });
+  cross_validate(out, data, o.threads);
   return out;
 }
 

@@ -86,6 +86,47 @@ std::string open_loop_cell(const fs::path& dir, const std::string& report,
   return matrix_table(rows) + "fit % " + fits;
 }
 
+nlohmann::json finite_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
+nlohmann::json finite_or_null(const Eigen::VectorXd& v) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const double x : v) a.push_back(finite_or_null(x));
+  return a;
+}
+
+nlohmann::json balance_json(const Balance& b) {
+  return {{"ratio", finite_or_null(b.ratio)},
+          {"projection_std", finite_or_null(b.projection_std)},
+          {"upsilon", finite_or_null(b.upsilon)}};
+}
+
+// The runs named as in the open-loop summary; null where NaN.
+nlohmann::json cross_json(const CrossFitFigures& f, const std::vector<ClosedLoopExperiment>& runs) {
+  const auto on = [&](Eigen::Index i) {
+    return i >= 0 ? nlohmann::json(runs[static_cast<std::size_t>(i)].name)
+                  : nlohmann::json(nullptr);
+  };
+  return {{"average", finite_or_null(f.average)},
+          {"best", finite_or_null(f.best)},
+          {"worst", finite_or_null(f.worst)},
+          {"worst_on", on(f.worst_on)},
+          {"loss_average", finite_or_null(f.loss_average)},
+          {"loss_worst", finite_or_null(f.loss_worst)},
+          {"loss_worst_on", on(f.loss_worst_on)}};
+}
+
+// "79.3 (worst 71.0 on prbsUnc), loss 0.4": the cross-validation of one model in words.
+std::string cross_text(const ClosedLoopExperiment& e,
+                       const std::vector<ClosedLoopExperiment>& runs) {
+  if (!std::isfinite(e.cross.average)) return "—";
+  std::string text = number(e.cross.average, "%.1f") + " (worst " + number(e.cross.worst, "%.1f") +
+                     " on " + runs[static_cast<std::size_t>(e.cross.worst_on)].name + ")";
+  if (std::isfinite(e.cross.loss_average)) text += ", loss " + number(e.cross.loss_average, "%.1f");
+  return text;
+}
+
 }  // namespace
 
 void write_closed_loop_summary(const ClosedLoopCampaignHeader& h,
@@ -113,7 +154,11 @@ void write_closed_loop_summary(const ClosedLoopCampaignHeader& h,
                                 {"gain_std_error", gain_rows(two.model, true)},
                                 {"direct_gain", gain_rows(e.identified.direct.model, false)},
                                 {"u_explained_by_r_percent", explained},
-                                {"feedback_bias_suspected", e.identified.feedback_bias.size()}});
+                                {"feedback_bias_suspected", e.identified.feedback_bias.size()},
+                                {"balance", balance_json(e.balance)},
+                                {"truth_fit_percent", finite_or_null(e.truth_fit)},
+                                {"crossfit_percent", finite_or_null(e.crossfit)},
+                                {"crossfit", cross_json(e.cross, runs)}});
   }
   write_whole_file(dir / "summary.json", j.dump(2) + "\n");
 }
@@ -150,7 +195,8 @@ void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
   s << matrix_table(truth);
   s << "\n<table><tr><th>#</th><th>design</th><th>rows</th><th>fit % per output</th>"
        "<th>G(0), two-stage ± SE</th><th>G(0), direct</th><th>u explained by r, %</th>"
-       "<th>feedback bias suspected</th><th>files</th>"
+       "<th>feedback bias suspected</th><th>balance ratio (Υ)</th><th>cross-fit %, average "
+       "over the other runs</th><th>files</th>"
     << (h.open_loop_report.empty() ? "" : "<th>the same design open loop: G(0), fit</th>")
     << "</tr>\n";
   for (const ClosedLoopExperiment& e : runs) {
@@ -163,13 +209,20 @@ void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
     s << "<tr><td>" << e.number << "</td><td>" << esc(e.name) << "</td><td>" << e.rows
       << "</td><td>" << fits << "</td><td>" << matrix_text(e.identified.two_stage.model, true)
       << "</td><td>" << matrix_text(e.identified.direct.model, false) << "</td><td>" << explained
-      << "</td><td>" << e.identified.feedback_bias.size() << " elements</td><td><a href=\""
-      << esc(e.run_log) << "\">run log</a> <a href=\"" << esc(e.model) << "\">model</a></td>";
+      << "</td><td>" << e.identified.feedback_bias.size() << " elements</td><td>"
+      << number(e.balance.ratio, "%.2f") << " (" << number(e.balance.upsilon, "%.2f")
+      << ")</td><td>" << esc(cross_text(e, runs)) << "</td><td><a href=\"" << esc(e.run_log)
+      << "\">run log</a> <a href=\"" << esc(e.model) << "\">model</a></td>";
     if (!h.open_loop_report.empty())
       s << "<td>" << open_loop_cell(dir, h.open_loop_report, e.model) << "</td>";
     s << "</tr>\n";
   }
-  s << "</table>\n</body></html>\n";
+  s << "</table>\n<p>Balance ratio: the smallest over the largest standard deviation of the "
+       "measured outputs projected on the true G(0)'s output directions (5.5.2; 1: every "
+       "direction as excited as the strongest); Υ: the determinant of the outputs' "
+       "correlation matrix (6.2.1). Cross-fit: each run's two-stage model simulated on every "
+       "other run's applied u from rest, fit % averaged over the outputs (SPEC §6); loss: "
+       "the true plant's fit on those runs minus the model's, in points.</p>\n</body></html>\n";
   write_whole_file(dir / "index.html", s.str());
 }
 

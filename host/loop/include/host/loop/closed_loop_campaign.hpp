@@ -8,7 +8,10 @@
 // through the real excite-gateway to `excite-plant --controller FILE` in lock-step
 // (stream_in_the_loop with loop-config's closed-loop pair; the gateway writes run-log v4),
 // or in process (host/simulate/closed_loop.hpp) — and identified as `excite identify` does
-// a v4 log: two-stage, the direct fit beside it (host/identify/closed_loop.hpp).
+// a v4 log: two-stage, the direct fit beside it (host/identify/closed_loop.hpp). Each run is
+// then judged as the open-loop campaign judges its runs (SPEC §6): the balance of its
+// outputs along the true G(0)'s output directions (5.5.2, 6.2.1) and every two-stage model
+// on every run (the cross-validation, host/measures/cross_fit.hpp).
 
 #include <Eigen/Core>
 
@@ -19,9 +22,11 @@
 #include <string>
 #include <vector>
 
+#include "host/campaign/campaign.hpp"
 #include "host/campaign/closed_loop_designs.hpp"
 #include "host/identify/closed_loop.hpp"
 #include "host/loop/stream.hpp"
+#include "host/measures/cross_fit.hpp"
 
 namespace excite::host {
 
@@ -46,6 +51,11 @@ struct ClosedLoopExperiment {
   std::size_t rows = 0;
   std::size_t rows_mv_limited = 0;  // rows where an MV was clamped, wound up or in manual
   ClosedLoopIdentification identified;
+  Balance balance;  // of the scored outputs about their segment means, along the true G(0)'s
+                    // output directions: what the controller made of r (5.5.2, 6.2.1)
+  double truth_fit = CrossFitFigures::kNaN;  // the true plant's mean fit % on this run
+  Eigen::VectorXd crossfit;  // the two-stage model's mean fit % on every run, in run order
+  CrossFitFigures cross;     // over the other runs, losses against truth_fit
 };
 
 /// Runs every design into `dir` (runs/NN-name/: the plan, run.csv, and in the loop the
