@@ -37,20 +37,10 @@ Eigen::MatrixXcd model_response(const IdentifiedModel& m, double omega) {
   return g;
 }
 
-// A column of samples as a curve of what its panel shows: min/max per pixel column, then
-// simplified within half a pixel. `hold`: the samples are held for one sample time (inputs,
-// zero-order hold), drawn as the staircase they are.
+// A column of samples as a curve of what an experiment's panel shows (simplified within half
+// a pixel when written).
 Polyline series(const Eigen::VectorXd& v, double dt, bool hold) {
-  std::vector<double> t, y;
-  for (Eigen::Index k = 0; k < v.size(); ++k) {
-    t.push_back(static_cast<double>(k) * dt);
-    y.push_back(v(k));
-    if (hold) {
-      t.push_back(static_cast<double>(k + 1) * dt);
-      y.push_back(v(k));
-    }
-  }
-  return min_max_columns(t, y, static_cast<int>(kSeriesWidthPx));
+  return time_series_curve(v, dt, hold, kSeriesWidthPx);
 }
 
 // Inputs and outputs of one experiment over time, two panels.
@@ -224,6 +214,19 @@ std::string plot_frequency(const CampaignResult& r, const sim::Plant& plant,
 }
 
 }  // namespace
+
+Polyline time_series_curve(const Eigen::VectorXd& v, double dt, bool hold, double width_px) {
+  std::vector<double> t, y;
+  for (Eigen::Index k = 0; k < v.size(); ++k) {
+    t.push_back(static_cast<double>(k) * dt);
+    y.push_back(v(k));
+    if (hold) {
+      t.push_back(static_cast<double>(k + 1) * dt);
+      y.push_back(v(k));
+    }
+  }
+  return min_max_columns(t, y, static_cast<int>(width_px));
+}
 
 bool is_directional_design(const std::string& name) {
   return name.ends_with("Dir") || name.find("Corr") != std::string::npos || name == "msGlmZipm";

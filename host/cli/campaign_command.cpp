@@ -145,8 +145,8 @@ void run_closed_loop(const CampaignCommandOptions& opt,
         (out / "runs").string());
   }
   const std::vector<ClosedLoopExperiment> runs = run_closed_loop_campaign(c, out, say);
-  const ClosedLoopCampaignHeader header{c.plant, c.controller, c.design.excitation, c.loop,
-                                        opt.open_loop_report};
+  const ClosedLoopCampaignHeader header{c.plant, c.controller,         c.design.excitation,
+                                        c.loop,  opt.open_loop_report, c.threads};
   write_closed_loop_summary(header, runs, out);
   write_closed_loop_report(header, runs, out);
   folder.commit();

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "host/loop/closed_loop_campaign_figures.hpp"
 #include "host/output/html_page.hpp"
 #include "host/output/whole_file.hpp"
 #include "sim/plants/plant.hpp"
@@ -222,7 +223,14 @@ void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
        "direction as excited as the strongest); Υ: the determinant of the outputs' "
        "correlation matrix (6.2.1). Cross-fit: each run's two-stage model simulated on every "
        "other run's applied u from rest, fit % averaged over the outputs (SPEC §6); loss: "
-       "the true plant's fit on those runs minus the model's, in points.</p>\n</body></html>\n";
+       "the true plant's fit on those runs minus the model's, in points.</p>\n";
+  const std::vector<std::string> figures = draw_closed_loop_figures(runs, dir, h.threads);
+  s << "<h2>The runs</h2>\n";
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    s << "<p><img src=\"" << esc(figures[k]) << "\" alt=\"" << esc(runs[k].name)
+      << ": the CVs, the setpoint offsets r and the MVs over time\"></p>\n";
+  }
+  s << "</body></html>\n";
   write_whole_file(dir / "index.html", s.str());
 }
 

@@ -106,6 +106,20 @@ TEST_F(ClosedLoopCampaign, StreamsEveryDesignUnderTheControllerAndIdentifiesEach
         << name;
   }
   EXPECT_NE(report.find("<th>balance ratio (Υ)</th>"), std::string::npos);
+  // A figure per run, drawn from its run log; the figures' sources are gone.
+  for (const auto& e : summary["experiments"]) {
+    const std::string svg =
+        "figures/" + fs::path(e["run_log"].get<std::string>()).parent_path().filename().string() +
+        ".svg";
+    EXPECT_NE(report.find("<img src=\"" + svg + "\""), std::string::npos) << svg;
+    const std::string drawn = slurp(out / svg);
+    EXPECT_NE(drawn.find("<svg"), std::string::npos) << svg;
+    EXPECT_NE(drawn.find("</svg>"), std::string::npos) << svg;
+    EXPECT_NE(drawn.find(e["name"].get<std::string>() + " under the controller"), std::string::npos)
+        << svg;
+    EXPECT_LT(drawn.size(), 300'000U) << svg;
+  }
+  EXPECT_FALSE(fs::exists(out / "figures" / ".gnuplot"));
 }
 
 // Without --loop the same campaign runs in process (excite simulate --controller's path):
@@ -150,6 +164,24 @@ TEST_F(ClosedLoopCampaign, InProcessTheSameDesignGivesTheGatewaysRun) {
   EXPECT_EQ(differ, 0U) << "values of uc and dy differing by more than 1e-7";
   std::printf("[ measured ] in process against through the gateway: largest |duc|, |ddy| %.3g\n",
               largest);
+}
+
+// The figure puts r where it was added: an MV dither's r beside the MVs (the run log's r
+// channels are then input indices), a setpoint excitation's beside the CVs.
+TEST_F(ClosedLoopCampaign, EachRunsFigureDrawsRWhereItWasAdded) {
+  for (const std::string excitation : {"mv", "setpoint"}) {
+    const fs::path out = path(excitation);
+    ASSERT_TRUE(shell(std::string(EXCITE_TOOL) + " campaign --plant woodberry2x2 --controller " +
+                      kPi + " --limit y1=-0.5:0.5 --limit y2=-0.25:0.25 --excitation " +
+                      excitation + " --designs prbsUnc -o " + out.string() + " > /dev/null 2> " +
+                      path("err").string()))
+        << slurp(path("err"));
+    const std::string svg = slurp(out / "figures" / "04-prbsUnc.svg");
+    const bool mv = excitation == "mv";
+    EXPECT_EQ(svg.find("r u1") != std::string::npos, mv) << excitation;
+    EXPECT_EQ(svg.find("r y1") != std::string::npos, !mv) << excitation;
+    EXPECT_EQ(svg.find("the dither r") != std::string::npos, mv) << excitation;
+  }
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "host/campaign/campaign.hpp"
+#include "host/campaign/plot_points.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::host {
@@ -22,6 +23,11 @@ bool is_directional_design(const std::string& name);
 /// "[mixed units]"; common_unit_token without the brackets ("-" when dimensionless).
 std::string common_unit_token(const std::vector<std::string>& units);
 std::string common_unit(const std::vector<std::string>& units);
+
+/// A column of samples over time as the curve a time-series panel `width_px` wide shows:
+/// min/max per pixel column (plot_points.hpp). `hold`: the samples are held for one sample
+/// time dt (inputs, zero-order hold), drawn as the staircase they are.
+Polyline time_series_curve(const Eigen::VectorXd& v, double dt, bool hold, double width_px);
 
 /// Writes the scripts and data of <name>.svg per experiment, projections.svg and sigma.svg;
 /// returns the scripts' names relative to `figures`. The experiments' figures are prepared on

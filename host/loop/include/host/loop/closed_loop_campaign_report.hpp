@@ -2,9 +2,10 @@
 #pragma once
 // `excite campaign --controller FILE`: what the closed-loop campaign writes beside its runs
 // and models (host/loop/closed_loop_campaign.hpp): summary.json and index.html, one row per
-// design (its two-stage G(0), the direct cross-check, how much of u r explains, the fits),
-// the plant's true G(0) above them. The open-loop report (host/campaign/report.hpp) is
-// another folder; the main job links the two (toolchain/dev case-study).
+// design (its two-stage G(0), the direct cross-check, how much of u r explains, the fits,
+// the balance and the cross-validation), the plant's true G(0) above them, and each run's
+// figure below (closed_loop_campaign_figures.hpp). The open-loop report (host/campaign/report.hpp)
+// is another folder; the main job links the two (toolchain/dev case-study).
 
 #include <filesystem>
 #include <string>
@@ -20,6 +21,7 @@ struct ClosedLoopCampaignHeader {
   std::string excitation;        // setpoint | mv
   bool loop = false;             // through the real gateway
   std::string open_loop_report;  // a relative link to the open-loop report, or ""
+  int threads = 1;               // gnuplot processes drawing the figures
 };
 
 void write_closed_loop_summary(const ClosedLoopCampaignHeader& header,
