@@ -145,8 +145,12 @@ void run_closed_loop(const CampaignCommandOptions& opt,
         (out / "runs").string());
   }
   const std::vector<ClosedLoopExperiment> runs = run_closed_loop_campaign(c, out, say);
-  const ClosedLoopCampaignHeader header{c.plant, c.controller,         c.design.excitation,
-                                        c.loop,  opt.open_loop_report, c.threads};
+  const ClosedLoopCampaignHeader header{.plant = c.plant,
+                                        .controller = c.controller,
+                                        .excitation = c.design.excitation,
+                                        .loop = c.loop,
+                                        .open_loop_report = opt.open_loop_report,
+                                        .threads = c.threads};
   write_closed_loop_summary(header, runs, out);
   write_closed_loop_report(header, runs, out);
   folder.commit();

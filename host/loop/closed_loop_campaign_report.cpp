@@ -228,7 +228,7 @@ void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
   s << "<h2>The runs</h2>\n";
   for (std::size_t k = 0; k < runs.size(); ++k) {
     s << "<p><img src=\"" << esc(figures[k]) << "\" alt=\"" << esc(runs[k].name)
-      << ": the CVs, the setpoint offsets r and the MVs over time\"></p>\n";
+      << ": the CVs, the MVs and r over time\"></p>\n";
   }
   s << "</body></html>\n";
   write_whole_file(dir / "index.html", s.str());
