@@ -195,9 +195,9 @@ void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
   }
   s << matrix_table(truth);
   s << "\n<table><tr><th>#</th><th>design</th><th>rows</th><th>fit % per output</th>"
+       "<th>balance ratio (Υ)</th><th>cross-fit %, average over the other runs</th>"
        "<th>G(0), two-stage ± SE</th><th>G(0), direct</th><th>u explained by r, %</th>"
-       "<th>feedback bias suspected</th><th>balance ratio (Υ)</th><th>cross-fit %, average "
-       "over the other runs</th><th>files</th>"
+       "<th>feedback bias suspected</th><th>files</th>"
     << (h.open_loop_report.empty() ? "" : "<th>the same design open loop: G(0), fit</th>")
     << "</tr>\n";
   for (const ClosedLoopExperiment& e : runs) {
@@ -208,11 +208,11 @@ void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
       explained +=
           (explained.empty() ? "" : " ") + number(e.identified.stage1.fit_percent(i), "%.0f");
     s << "<tr><td>" << e.number << "</td><td>" << esc(e.name) << "</td><td>" << e.rows
-      << "</td><td>" << fits << "</td><td>" << matrix_text(e.identified.two_stage.model, true)
-      << "</td><td>" << matrix_text(e.identified.direct.model, false) << "</td><td>" << explained
-      << "</td><td>" << e.identified.feedback_bias.size() << " elements</td><td>"
-      << number(e.balance.ratio, "%.2f") << " (" << number(e.balance.upsilon, "%.2f")
-      << ")</td><td>" << esc(cross_text(e, runs)) << "</td><td><a href=\"" << esc(e.run_log)
+      << "</td><td>" << fits << "</td><td>" << number(e.balance.ratio, "%.2f") << " ("
+      << number(e.balance.upsilon, "%.2f") << ")</td><td>" << esc(cross_text(e, runs))
+      << "</td><td>" << matrix_text(e.identified.two_stage.model, true) << "</td><td>"
+      << matrix_text(e.identified.direct.model, false) << "</td><td>" << explained << "</td><td>"
+      << e.identified.feedback_bias.size() << " elements</td><td><a href=\"" << esc(e.run_log)
       << "\">run log</a> <a href=\"" << esc(e.model) << "\">model</a></td>";
     if (!h.open_loop_report.empty())
       s << "<td>" << open_loop_cell(dir, h.open_loop_report, e.model) << "</td>";
