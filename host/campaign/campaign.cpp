@@ -124,10 +124,7 @@ void cross_validate_parallel(CampaignResult& result, int threads) {
     const Experiment& model = result.experiments[static_cast<std::size_t>(a)];
     for (Eigen::Index b = 0; b < R; ++b) {
       const Experiment& data = result.experiments[static_cast<std::size_t>(b)];
-      const std::vector<double> f = scored_fit(model.identified.model, data.U, data.Y, data.layout);
-      double sum = 0.0;
-      for (const double v : f) sum += v;
-      result.crossfit(a, b) = sum / static_cast<double>(f.size());
+      result.crossfit(a, b) = mean_scored_fit(model.identified.model, data.U, data.Y, data.layout);
     }
   });
   Eigen::VectorXd truth(result.truth_known ? R : 0);

@@ -29,6 +29,14 @@ Eigen::MatrixXd per_segment(const Eigen::MatrixXd& U, Eigen::Index outputs,
 
 }  // namespace
 
+double mean_scored_fit(const IdentifiedModel& model, const Eigen::MatrixXd& U,
+                       const Eigen::MatrixXd& Y, const SampleLayout& layout) {
+  const std::vector<double> f = scored_fit(model, U, Y, layout);
+  double sum = 0.0;
+  for (const double v : f) sum += v;
+  return sum / static_cast<double>(f.size());
+}
+
 double mean_finite(const std::vector<double>& v) {
   double sum = 0.0;
   int n = 0;

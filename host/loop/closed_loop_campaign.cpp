@@ -109,10 +109,7 @@ void cross_validate(std::vector<ClosedLoopExperiment>& runs, const std::vector<S
     e.crossfit.resize(R);
     for (Eigen::Index b = 0; b < R; ++b) {
       const StackedRuns& d = data[static_cast<std::size_t>(b)];
-      const std::vector<double> f = scored_fit(e.identified.two_stage.model, d.U, d.Y, d.layout);
-      double sum = 0.0;
-      for (const double v : f) sum += v;
-      e.crossfit(b) = sum / static_cast<double>(f.size());
+      e.crossfit(b) = mean_scored_fit(e.identified.two_stage.model, d.U, d.Y, d.layout);
     }
   });
   if (R < 2) return;

@@ -21,6 +21,11 @@ namespace excite::host {
 std::vector<double> scored_fit(const IdentifiedModel& model, const Eigen::MatrixXd& U,
                                const Eigen::MatrixXd& Y, const SampleLayout& layout);
 
+/// scored_fit averaged over the outputs; a NaN output fit makes it NaN (a model that cannot
+/// predict one output of a run has no fit on it: the cross-validation's rule, SPEC §6).
+double mean_scored_fit(const IdentifiedModel& model, const Eigen::MatrixXd& U,
+                       const Eigen::MatrixXd& Y, const SampleLayout& layout);
+
 /// Fit % per output of a prediction Y_hat (N × p, already from rest at each segment) of Y.
 std::vector<double> scored_fit_of(const Eigen::MatrixXd& Y_hat, const Eigen::MatrixXd& Y,
                                   const SampleLayout& layout);
