@@ -75,9 +75,15 @@ class RowModel {
         T_(T_min),
         layout_(layout),
         every_row_scored_((layout.weight.array() == 1.0).all()),
-        w_(U.rows()),
-        v_(U.rows()),
-        cache_(static_cast<std::size_t>(map.elements())) {}
+        W_(U.rows(), map.elements()),
+        V_(U.rows(), map.elements()),
+        first_lag_(static_cast<std::size_t>(map.elements())),
+        base_(first_lag_.size()),
+        poles_(first_lag_.size()),
+        cache_(static_cast<std::size_t>(map.elements())),
+        terms_(cache_.size()),
+        gains_(cache_.size()),
+        inputs_of_(cache_.size()) {}
 
   // Whether every row has weight 1 (multiplying by the weights would change nothing).
   bool every_row_scored() const { return every_row_scored_; }
@@ -88,13 +94,14 @@ class RowModel {
   }
 
   Eigen::VectorXd output(const Eigen::VectorXd& x) {
-    Eigen::VectorXd y_hat = Eigen::VectorXd::Zero(U_.rows());
-    Eigen::VectorXd z(U_.rows());
+    Eigen::VectorXd y_hat(U_.rows());
     for (Eigen::Index e = 0; e < map_.elements(); ++e) {
-      simulate_segments(discretised(e, map_.unit_element(x, e)), input(e), span_of(z),
-                        layout_.segments);
-      y_hat += map_.gain(x, e) * z;
+      const auto i = static_cast<std::size_t>(e);
+      terms_[i] = &discretised(e, map_.unit_element(x, e));
+      gains_[i] = map_.gain(x, e);
+      inputs_of_[i] = input(e);
     }
+    simulate_sum_segments(terms_, gains_, inputs_of_, span_of(y_hat), layout_.segments, delayed_);
     return y_hat;
   }
 
@@ -107,68 +114,86 @@ class RowModel {
   void jacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& lower,
                 const Eigen::VectorXd& upper, Eigen::MatrixXd& J) {
     const Eigen::Index N = U_.rows();
+    const Eigen::Index E = map_.elements();
+    const std::vector<Segment>& segs = layout_.segments;
     J.resize(N, x.size());
-    for (Eigen::Index e = 0; e < map_.elements(); ++e) {
-      const Eigen::Index o = map_.offset(e);
-      const ElementModel g = map_.unit_element(x, e);
-      // Taps by lag from the element's own whole-sample delay minus one, so a perturbed
-      // delay that crosses a sample boundary still fits the window.
-      const sim::DiscreteTerm& c = discretised(e, g);
-      const auto m0 = static_cast<std::size_t>(std::max(c.delay_samples - 1, 0));
-      const LagTaps base = lag_taps(c, m0);
+    // Taps by lag from each element's own whole-sample delay minus one, so a perturbed delay
+    // that crosses a sample boundary still fits the window. W = u / D, the elements side by side.
+    for (Eigen::Index e = 0; e < E; ++e) {
+      const auto i = static_cast<std::size_t>(e);
+      const sim::DiscreteTerm& c = discretised(e, map_.unit_element(x, e));
+      first_lag_[i] = static_cast<std::size_t>(std::max(c.delay_samples - 1, 0));
+      base_[i] = lag_taps(c, first_lag_[i]);
+      poles_[i] = base_[i].a;
       const std::span<const double> u = input(e);
-      std::copy(u.begin(), u.end(), w_.data());
-      const std::vector<Segment>& segs = layout_.segments;
-      all_pole_filter_segments(base.a, span_of(w_), segs);
-      auto z = J.col(o);  // K is every structure's first parameter
-      z.setZero();
-      for (std::size_t t = 0; t < kLagWindow; ++t) {
-        const auto lag = static_cast<Eigen::Index>(m0 + t);
-        if (base.b[t] != 0.0) add_lagged(z, w_, lag, base.b[t], segs);
-      }
-      v_ = z;
-      all_pole_filter_segments(base.a, span_of(v_), segs);
-      const double K = map_.gain(x, e);
-      const std::span<const int> free = map_.free(e);
-      for (std::size_t k = 1; k < free.size(); ++k) {
-        const int m = free[k];
-        const Eigen::Index col_index = o + static_cast<Eigen::Index>(k);
-        const double val = x(col_index);
-        const double h = 1e-6 * std::max(std::abs(val), m == kDamping ? 1.0 : T_);
-        const double hi = std::min(val + h, upper(col_index));
-        const double lo = std::max(val - h, lower(col_index));
-        ElementModel gp = g;
-        ElementModel gm = g;
-        gp[m] = hi;
-        gm[m] = lo;
-        LagTaps tp;
-        LagTaps tm;
-        try {
-          tp = lag_taps(gp, T_, m0);
-          tm = lag_taps(gm, T_, m0);
-        } catch (const std::invalid_argument&) {
-          J.col(col_index).setZero();  // a neighbour the discretisation cannot take: held
-          continue;
-        }
-        const double scale = K / (hi - lo);
-        auto col = J.col(col_index);
-        col.setZero();
-        for (std::size_t t = 0; t < kLagWindow; ++t) {
-          const auto lag = static_cast<Eigen::Index>(m0 + t);
-          const double db = scale * (tp.b[t] - tm.b[t]);
-          if (db != 0.0) add_lagged(col, w_, lag, db, segs);
-        }
-        for (std::size_t i = 0; i < kMaxPoles; ++i) {
-          const double da = scale * (tp.a[i] - tm.a[i]);
-          if (da != 0.0) add_lagged(col, v_, static_cast<Eigen::Index>(i + 1), -da, segs);
-        }
-      }
+      std::copy(u.begin(), u.end(), W_.col(e).data());
     }
+    all_pole_filter_columns(poles_, W_, segs);
+    // z = B w in K's column (every structure's first parameter), and V = z / D.
+    for (Eigen::Index e = 0; e < E; ++e) {
+      const auto i = static_cast<std::size_t>(e);
+      terms_of_column_.clear();
+      for (std::size_t t = 0; t < kLagWindow; ++t) {
+        if (base_[i].b[t] != 0.0) {
+          terms_of_column_.push_back(
+              {base_[i].b[t], W_.col(e).data(), static_cast<Eigen::Index>(first_lag_[i] + t)});
+        }
+      }
+      lagged_sum(J.col(map_.offset(e)), terms_of_column_, segs);
+      V_.col(e) = J.col(map_.offset(e));
+    }
+    all_pole_filter_columns(poles_, V_, segs);
+    for (Eigen::Index e = 0; e < E; ++e) derivative_columns(x, lower, upper, e, J);
     // Rows outside the cost have no residual, hence no sensitivity.
     if (!every_row_scored_) J.array().colwise() *= layout_.weight.array();
   }
 
  private:
+  // ∂ŷ/∂θ of element e's parameters after K, from its W and V columns (jacobian()).
+  void derivative_columns(const Eigen::VectorXd& x, const Eigen::VectorXd& lower,
+                          const Eigen::VectorXd& upper, Eigen::Index e, Eigen::MatrixXd& J) {
+    const auto i = static_cast<std::size_t>(e);
+    const Eigen::Index o = map_.offset(e);
+    const ElementModel g = map_.unit_element(x, e);
+    const double K = map_.gain(x, e);
+    const std::size_t m0 = first_lag_[i];
+    const std::span<const int> free = map_.free(e);
+    for (std::size_t k = 1; k < free.size(); ++k) {
+      const int m = free[k];
+      const Eigen::Index col_index = o + static_cast<Eigen::Index>(k);
+      const double val = x(col_index);
+      const double h = 1e-6 * std::max(std::abs(val), m == kDamping ? 1.0 : T_);
+      const double hi = std::min(val + h, upper(col_index));
+      const double lo = std::max(val - h, lower(col_index));
+      ElementModel gp = g;
+      ElementModel gm = g;
+      gp[m] = hi;
+      gm[m] = lo;
+      LagTaps tp;
+      LagTaps tm;
+      try {
+        tp = lag_taps(gp, T_, m0);
+        tm = lag_taps(gm, T_, m0);
+      } catch (const std::invalid_argument&) {
+        J.col(col_index).setZero();  // a neighbour the discretisation cannot take: held
+        continue;
+      }
+      const double scale = K / (hi - lo);
+      terms_of_column_.clear();
+      for (std::size_t t = 0; t < kLagWindow; ++t) {
+        const double db = scale * (tp.b[t] - tm.b[t]);
+        if (db != 0.0)
+          terms_of_column_.push_back({db, W_.col(e).data(), static_cast<Eigen::Index>(m0 + t)});
+      }
+      for (std::size_t p = 0; p < kMaxPoles; ++p) {
+        const double da = scale * (tp.a[p] - tm.a[p]);
+        if (da != 0.0)
+          terms_of_column_.push_back({-da, V_.col(e).data(), static_cast<Eigen::Index>(p + 1)});
+      }
+      lagged_sum(J.col(col_index), terms_of_column_, layout_.segments);
+    }
+  }
+
   // discretise(g, T) for element e, from the cache when g is the element it was last made for.
   const sim::DiscreteTerm& discretised(Eigen::Index e, const ElementModel& g) {
     Cached& c = cache_[static_cast<std::size_t>(e)];
@@ -198,9 +223,19 @@ class RowModel {
   double T_;
   const SampleLayout& layout_;
   bool every_row_scored_;
-  Eigen::VectorXd w_;  // scratch: u / D
-  Eigen::VectorXd v_;  // scratch: z / D
+  // jacobian()'s scratch, a column per element: W = u / D, V = z / D, the taps' window.
+  Eigen::MatrixXd W_;
+  Eigen::MatrixXd V_;
+  std::vector<std::size_t> first_lag_;
+  std::vector<LagTaps> base_;
+  std::vector<std::array<double, kMaxPoles>> poles_;
+  std::vector<LaggedTerm> terms_of_column_;
   std::vector<Cached> cache_;
+  // output()'s scratch: each element's term, gain and input, and the delayed inputs.
+  std::vector<const sim::DiscreteTerm*> terms_;
+  std::vector<double> gains_;
+  std::vector<std::span<const double>> inputs_of_;
+  std::vector<double> delayed_;
 };
 
 // A parameter whose squared component in a numerically null direction of JᵀJ exceeds this

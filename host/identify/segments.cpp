@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "host/identify/segments.hpp"
 
-#include <cmath>
+#include "sim/lti/difference_equation.hpp"
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -122,11 +125,114 @@ void simulate_segments(const sim::DiscreteTerm& g, std::span<const double> u, st
   }
 }
 
-void all_pole_filter_segments(const std::array<double, kMaxPoles>& a, std::span<double> x,
-                              const std::vector<Segment>& segments) {
+void simulate_sum_segments(std::span<const sim::DiscreteTerm* const> terms,
+                           std::span<const double> gains,
+                           std::span<const std::span<const double>> inputs, std::span<double> y,
+                           const std::vector<Segment>& segments, std::vector<double>& scratch) {
+  std::fill(y.begin(), y.end(), 0.0);
+  constexpr std::size_t kGroup = sim::kMaxSideBySide;
   for (const Segment& s : segments) {
-    all_pole_filter(
-        a, x.subspan(static_cast<std::size_t>(s.begin), static_cast<std::size_t>(s.end - s.begin)));
+    const auto begin = static_cast<std::size_t>(s.begin);
+    const auto n = static_cast<std::size_t>(s.end - s.begin);
+    scratch.resize(kGroup * n);
+    for (std::size_t first = 0; first < terms.size(); first += kGroup) {
+      const std::size_t count = std::min(kGroup, terms.size() - first);
+      std::array<const double*, kGroup> x{};
+      for (std::size_t j = 0; j < count; ++j) {
+        // The element's input delayed by its whole samples, zero before: its state stays
+        // at rest (±0) until the input arrives, as simulate_term's offset start leaves it.
+        double* delayed = scratch.data() + j * n;
+        const std::size_t d =
+            std::min(static_cast<std::size_t>(terms[first + j]->delay_samples), n);
+        std::fill(delayed, delayed + d, 0.0);
+        std::copy_n(inputs[first + j].data() + begin, n - d, delayed + d);
+        x[j] = delayed;
+      }
+      sim::tdf2_accumulate_sum(terms.subspan(first, count), gains.subspan(first, count),
+                               std::span<const double* const>(x.data(), count), y.data() + begin,
+                               n);
+    }
+  }
+}
+
+namespace {
+
+// G columns' all-pole recursions, one sample of each in turn (all_pole_filter's arithmetic).
+template <std::size_t G>
+void all_pole_side_by_side(const std::array<double, kMaxPoles>* a, double* const* x,
+                           std::size_t count) {
+  std::array<double, G> y1{};
+  std::array<double, G> y2{};
+  std::array<double, G> y3{};
+  for (std::size_t k = 0; k < count; ++k) {
+    for (std::size_t j = 0; j < G; ++j) {
+      const double yk = ((x[j][k] - a[j][2] * y3[j]) - a[j][1] * y2[j]) - a[j][0] * y1[j];
+      y3[j] = y2[j];
+      y2[j] = y1[j];
+      y1[j] = yk;
+      x[j][k] = yk;
+    }
+  }
+}
+
+}  // namespace
+
+void all_pole_filter_columns(std::span<const std::array<double, kMaxPoles>> a,
+                             Eigen::Ref<Eigen::MatrixXd> x, const std::vector<Segment>& segments) {
+  constexpr std::size_t kGroup = 4;
+  const auto columns = static_cast<std::size_t>(x.cols());
+  for (const Segment& s : segments) {
+    const auto n = static_cast<std::size_t>(s.end - s.begin);
+    for (std::size_t first = 0; first < columns; first += kGroup) {
+      const std::size_t count = std::min(kGroup, columns - first);
+      std::array<double*, kGroup> p{};
+      for (std::size_t j = 0; j < count; ++j)
+        p[j] = x.col(static_cast<Eigen::Index>(first + j)).data() + s.begin;
+      const std::array<double, kMaxPoles>* coefficients = a.data() + first;
+      switch (count) {
+        case 1:
+          all_pole_side_by_side<1>(coefficients, p.data(), n);
+          break;
+        case 2:
+          all_pole_side_by_side<2>(coefficients, p.data(), n);
+          break;
+        case 3:
+          all_pole_side_by_side<3>(coefficients, p.data(), n);
+          break;
+        default:
+          all_pole_side_by_side<4>(coefficients, p.data(), n);
+          break;
+      }
+    }
+  }
+}
+
+void lagged_sum(Eigen::Ref<Eigen::VectorXd> dst, std::span<const LaggedTerm> terms,
+                const std::vector<Segment>& segments) {
+  // Blocks of eight rows: four independent sums of two, so the additions overlap.
+  using Block = Eigen::Array<double, 8, 1>;
+  constexpr Eigen::Index kRows = Block::RowsAtCompileTime;
+  for (const Segment& s : segments) {
+    Eigen::Index longest = 0;
+    for (const LaggedTerm& t : terms) longest = std::max(longest, t.lag);
+    // Rows at which every term's source lies in the segment are summed by blocks in
+    // registers; the rows before (and a tail) term by term with the segment test.
+    const Eigen::Index full = std::min(s.begin + longest, s.end);
+    const auto one_by_one = [&](Eigen::Index k) {
+      double sum = 0.0;
+      for (const LaggedTerm& t : terms) {
+        if (k - t.lag >= s.begin) sum += t.c * t.src[k - t.lag];
+      }
+      dst(k) = sum;
+    };
+    for (Eigen::Index k = s.begin; k < full; ++k) one_by_one(k);
+    Eigen::Index k = full;
+    for (; k + kRows <= s.end; k += kRows) {
+      Block sum = Block::Zero();
+      for (const LaggedTerm& t : terms) sum += t.c * Eigen::Map<const Block>(t.src + k - t.lag);
+      Eigen::Map<Block>(dst.data() + k) = sum;
+    }
+    for (; k < s.end; ++k) one_by_one(k);
   }
 }
 

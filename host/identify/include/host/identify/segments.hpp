@@ -71,9 +71,33 @@ Eigen::MatrixXd trend_basis(const SampleLayout& layout, Trend trend,
 void simulate_segments(const sim::DiscreteTerm& g, std::span<const double> u, std::span<double> y,
                        const std::vector<Segment>& segments);
 
-/// all_pole_filter() per segment, each from rest.
-void all_pole_filter_segments(const std::array<double, kMaxPoles>& a, std::span<double> x,
-                              const std::vector<Segment>& segments);
+/// y = Σ_e gains[e]·G_e u_e per segment, each from rest: rounding for rounding y = 0 and then
+/// y += gains[e]·z_e for e = 0, 1, … with z_e from simulate_segments(), but the elements'
+/// recursions run side by side (sim::tdf2_accumulate_sum). `scratch` holds the delayed inputs;
+/// its contents on return are unspecified.
+void simulate_sum_segments(std::span<const sim::DiscreteTerm* const> terms,
+                           std::span<const double> gains,
+                           std::span<const std::span<const double>> inputs, std::span<double> y,
+                           const std::vector<Segment>& segments, std::vector<double>& scratch);
+
+/// all_pole_filter() on each column of `x` per segment, each from rest, with the column's own
+/// coefficients a[column]: the same values, the columns' recursions run side by side (each alone
+/// waits on its latency).
+void all_pole_filter_columns(std::span<const std::array<double, kMaxPoles>> a,
+                             Eigen::Ref<Eigen::MatrixXd> x, const std::vector<Segment>& segments);
+
+/// One term c · src(k − lag) of lagged_sum(); `src` has the rows of the layout.
+struct LaggedTerm {
+  double c = 0.0;
+  const double* src = nullptr;
+  Eigen::Index lag = 0;
+};
+
+/// dst(k) = Σ_t c_t · src_t(k − lag_t) over the terms whose k − lag_t lies in k's segment,
+/// summed from 0 in the terms' order: rounding for rounding dst = 0 and then add_lagged() per
+/// term, in one pass over dst.
+void lagged_sum(Eigen::Ref<Eigen::VectorXd> dst, std::span<const LaggedTerm> terms,
+                const std::vector<Segment>& segments);
 
 /// dst(k) += c · src(k − lag) for every k whose k − lag lies in the same segment.
 void add_lagged(Eigen::Ref<Eigen::VectorXd> dst, const Eigen::VectorXd& src, Eigen::Index lag,

@@ -6,6 +6,7 @@
 // Coefficients beyond nb/na are zero (DiscreteTerm keeps them so). No allocation.
 
 #include <cstddef>
+#include <span>
 
 #include "sim/lti/discretise.hpp"
 
@@ -28,5 +29,17 @@ inline double tdf2_step(const DiscreteTerm& d, double* s, double x) {
 /// y[k] += H(z) x[k] for k in [0, count), from zero state, ignoring d.delay_samples (the
 /// caller offsets the pointers). The whole-experiment fast path.
 void tdf2_accumulate(const DiscreteTerm& d, const double* x, double* y, std::size_t count);
+
+/// Terms run side by side (at most this many in one call).
+inline constexpr std::size_t kMaxSideBySide = 4;
+
+/// y[k] += Σ_j gains[j]·(H_j(z) x[j])[k] for k in [0, count), terms j = 0 … n−1 (1 ≤ n ≤
+/// kMaxSideBySide, the spans of one length), each from zero state, delays ignored as in
+/// tdf2_accumulate (x[j][k] is the term's delayed input). Per sample the terms are added to
+/// y in the order j = 0, 1, …: rounding for rounding the sums of accumulating each term into
+/// zeros z_j by tdf2_accumulate and adding gains[j]·z_j to y in turn (up to the sign of a
+/// zero). One recursion alone waits on its own latency; run side by side they overlap.
+void tdf2_accumulate_sum(std::span<const DiscreteTerm* const> terms, std::span<const double> gains,
+                         std::span<const double* const> x, double* y, std::size_t count);
 
 }  // namespace excite::sim
