@@ -14,6 +14,14 @@ Eigen::VectorXd clamp(const Eigen::VectorXd& x, const LmProblem& p) {
 
 }  // namespace
 
+void normal_matrix(const Eigen::MatrixXd& J, Eigen::MatrixXd& H) {
+  const Eigen::Index P = J.cols();
+  H.resize(P, P);
+  for (Eigen::Index a = 0; a < P; ++a)
+    H.col(a).head(a + 1).noalias() = J.leftCols(a + 1).transpose() * J.col(a);
+  H.triangularView<Eigen::StrictlyLower>() = H.transpose();
+}
+
 LmResult minimise_bounded(const LmProblem& problem, Eigen::VectorXd x0, const LmOptions& options) {
   const Eigen::Index P = x0.size();
   LmResult out;
@@ -34,10 +42,8 @@ LmResult minimise_bounded(const LmProblem& problem, Eigen::VectorXd x0, const Lm
       return out;
     }
     problem.jacobian(out.x, J);
-    // JᵀJ by a symmetric rank update (half the work of the general product).
-    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(P, P);
-    H.selfadjointView<Eigen::Lower>().rankUpdate(J.transpose());
-    H.triangularView<Eigen::StrictlyUpper>() = H.transpose();
+    Eigen::MatrixXd H;
+    normal_matrix(J, H);
     const Eigen::VectorXd g = J.transpose() * r;  // −½ ∇cost: the descent direction
 
     // Free parameters: not on a bound with the gradient pointing outwards.

@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: MIT
 // The row fit's kernels that run several recursions side by side (issue 44) give the numbers of
 // the one-at-a-time code they replaced, bit for bit: the structure search's path, hence every
-// model, depends on the last bit of a residual.
+// model, depends on the last bit of a residual. normal_matrix sums in another order: to
+// rounding.
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <vector>
 
+#include "host/identify/bounded_lm.hpp"
 #include "host/identify/segments.hpp"
 #include "test_data.hpp"
 
@@ -141,6 +143,19 @@ TEST(SideBySide, TheLaggedSumIsTheLaggedTermsAddedInTurn) {
   lagged_sum(one_pass, terms, segments);
   EXPECT_TRUE(same_bits(one_pass, in_turn));
   EXPECT_EQ(one_pass(295), -1.7 * w(295));  // a segment's first row: the lag-0 term only
+}
+
+TEST(SideBySide, TheNormalMatrixIsJTransposedJ) {
+  for (const Eigen::Index columns : {1, 3, 16, 23}) {
+    const Eigen::MatrixXd J = Eigen::MatrixXd::Random(kRows, columns);
+    Eigen::MatrixXd H;
+    normal_matrix(J, H);
+    const Eigen::MatrixXd reference = J.transpose() * J;
+    EXPECT_LT((H - reference).cwiseAbs().maxCoeff(), 1e-13 * reference.cwiseAbs().maxCoeff())
+        << columns << " columns";
+    EXPECT_TRUE((H.array() == H.transpose().array()).all())
+        << "symmetric, " << columns << " columns";
+  }
 }
 
 }  // namespace
