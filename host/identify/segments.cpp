@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "host/identify/segments.hpp"
 
-#include "sim/lti/difference_equation.hpp"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "sim/lti/difference_equation.hpp"
 
 namespace excite::host {
 
@@ -212,9 +212,9 @@ void lagged_sum(Eigen::Ref<Eigen::VectorXd> dst, std::span<const LaggedTerm> ter
   // Blocks of eight rows: four independent sums of two, so the additions overlap.
   using Block = Eigen::Array<double, 8, 1>;
   constexpr Eigen::Index kRows = Block::RowsAtCompileTime;
+  Eigen::Index longest = 0;
+  for (const LaggedTerm& t : terms) longest = std::max(longest, t.lag);
   for (const Segment& s : segments) {
-    Eigen::Index longest = 0;
-    for (const LaggedTerm& t : terms) longest = std::max(longest, t.lag);
     // Rows at which every term's source lies in the segment are summed by blocks in
     // registers; the rows before (and a tail) term by term with the segment test.
     const Eigen::Index full = std::min(s.begin + longest, s.end);
