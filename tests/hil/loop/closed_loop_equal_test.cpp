@@ -13,11 +13,15 @@
 // |Δuc| ≤ 1.1e-8 on |uc| up to 0.26). Then the same identified G(0) on the same rows (the
 // gateway's log also has its end-of-run rows, completed, returning and safe, with r back at
 // zero: three more rows of data that move σ by 0.58 %, so they are cut here): each output's
-// fit within 0.1 points, each element's standard error within 0.5 % and its gain within 0.1 of
+// fit within 0.1 points, each element's standard error within 0.5 % and its gain within 0.5 of
 // it. The gains differ at all only through that rounding: the in-process log rounded to
 // float32 identifies to the gateway's model exactly (asserted, every number of both model
-// files' G(0) and fits), while the unrounded one moves output y1's first-order fit along its
-// flat K–T_p1 direction by 0.08 σ.
+// files' G(0) and fits), while the unrounded one moves output y1's gains: 0.08 σ when stage 1
+// formed û from its FIR's coefficients, 0.31 σ since û is the projection from the QR's
+// orthogonal factor (host/identify/closed_loop.cpp). That is the second noise-model refit's
+// end (the default of two rounds) moving along y1's correlated gains (ρ = −0.86) with the
+// log's 1e-8 rounding, its output-error fit 0.002 points apart: with one round the two logs'
+// gains agree to 0.03 σ. The gateway's part is the exact equality above.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -211,7 +215,7 @@ TEST_F(ClosedLoopInProcessAndThroughTheGateway, GiveTheSameMovesAndTheSameG0) {
       const double dse = std::abs(ex["se"]["K"].get<double>() / se - 1.0);
       largest_k = std::max(largest_k, dk);
       largest_se = std::max(largest_se, dse);
-      EXPECT_LE(dk, 0.1) << "G(0)(" << o << "," << i << "): " << ex["K"] << " against " << ey["K"]
+      EXPECT_LE(dk, 0.5) << "G(0)(" << o << "," << i << "): " << ex["K"] << " against " << ey["K"]
                          << " ± " << se;
       EXPECT_LE(dse, se_tolerance)
           << "G(0)(" << o << "," << i << ") σ: " << ex["se"]["K"] << " against " << se << " (Td "
