@@ -39,7 +39,7 @@ struct LmResult {
 
 /// H = JᵀJ, both triangles, a column at a time: H(0..a, a) = J(:, 0..a)ᵀ J(:, a) by Eigen's
 /// matrix–vector kernel (several dot products per pass over J(:, a)). For the tall, narrow
-/// Jacobians of the row fits (N ≈ 4 000, P = 3–23) it takes 1/1.4 to 1/4.8 of the time of
+/// Jacobians of the row fits (N ≈ 4 000, P = 3–23) it takes 1/1.4 to 1/4.2 of the time of
 /// Eigen's symmetric rank update, whose packing dominates at small P (tests/bench/host_identify,
 /// normal_matrix_bench). Its sums are ordered otherwise: they agree to rounding (~1e-15).
 void normal_matrix(const Eigen::MatrixXd& J, Eigen::MatrixXd& H);
