@@ -10,7 +10,8 @@
 // After the benchmarks it prints, per log, the process CPU time of each (the least of
 // `--repeats=R` runs, default 3, against the shared machine's scatter), the ratio of the two,
 // and the mean fit: the goal is the search within 0.33 s (prbsUnc) and 0.8 s
-// (prbsSimDir) on this machine, where `--structure two_poles` took 0.14-0.18 and 0.36-0.45 s.
+// (prbsSimDir) on this machine. The times measured, with `--structure two_poles`'s beside
+// them, are in host/identify/README.md ("Second pass"): figures quoted here went stale.
 
 #include <benchmark/benchmark.h>
 
