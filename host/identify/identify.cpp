@@ -14,6 +14,7 @@
 #include "host/identify/input_screen.hpp"
 #include "host/identify/inputs_together.hpp"
 #include "host/identify/miso_fit.hpp"
+#include "host/identify/own_part_start.hpp"
 #include "host/identify/response_bank.hpp"
 #include "host/identify/structure_search.hpp"
 #include "host/identify/validate.hpp"
@@ -152,17 +153,6 @@ std::optional<std::vector<ElementModel>> warm_start_of(const IdentifyOptions& o,
   return start;
 }
 
-// The grid elements a bank's choice names, with its gains: one start element per bank input.
-std::vector<ElementModel> start_of(const ResponseBank& bank, const ResponseBank::Choice& choice) {
-  std::vector<ElementModel> start;
-  for (std::size_t e = 0; e < choice.grid_index.size(); ++e) {
-    ElementModel g = bank.grid()[static_cast<std::size_t>(choice.grid_index[e])];
-    g.gain = choice.gain(static_cast<Eigen::Index>(e));
-    start.push_back(g);
-  }
-  return start;
-}
-
 void mark_row(IdentifiedModel& model, int out, ElementStatus status, const std::string& why) {
   for (int i = 0; i < model.inputs; ++i) {
     ElementEstimate& e = model.element(out, i);
@@ -247,6 +237,10 @@ struct Rows {
     }
     for (int i = 0; i < n; ++i) U_scored.col(i) = layout.scored_rows(U.col(i));
     together = inputs_moving_together(U_scored, screen.usable);
+    if (any_cold && together.size() == 2) {
+      own_part.emplace(U, screen.usable, static_cast<std::size_t>(together[0]),
+                       static_cast<std::size_t>(together[1]), T_min, o.max_delay_min, layout);
+    }
   }
 
   const Eigen::MatrixXd& U;
@@ -265,6 +259,7 @@ struct Rows {
   const Eigen::MatrixXd trend;
   Eigen::MatrixXd U_scored;  // the inputs on the scored rows
   std::vector<Eigen::Index> together;
+  std::optional<OwnPartStarts> own_part;  // for a pair that moves together, on a cold row
 };
 
 // Each usable element fitted alone to its own part of the output, as the row's ARX model
@@ -292,8 +287,9 @@ std::optional<std::vector<ElementModel>> arx_start(const Rows& rows,
 
 // A cold row (multi-start): the row's ARX model (sees all elements at once; exact on data the
 // structure fits), the grid basin search and, for inputs that move together, the shared and
-// pair starts. The start of least output error is polished; so is each other start within
-// kAmbiguousStart of it, and always the shared and pair starts (their start costs say little
+// pair starts and, for a pair, the starts from each one's own part (own_part_start.hpp). The
+// start of least output error is polished; so is each other start within kAmbiguousStart of
+// it, and always the starts for inputs that move together (their start costs say little
 // about where the fits from them end); the better end is kept and the structures chosen from
 // it (structure_search.hpp).
 MisoResult fit_cold(const Rows& rows, const Eigen::VectorXd& y, const Eigen::VectorXd& y_start,
@@ -302,14 +298,18 @@ MisoResult fit_cold(const Rows& rows, const Eigen::VectorXd& y, const Eigen::Vec
   const ResponseBank& bank = *rows.bank;
   std::vector<std::vector<ElementModel>> starts;
   if (auto arx = arx_start(rows, y_start)) starts.push_back(std::move(*arx));
-  starts.push_back(start_of(bank, bank.choose(y_start)));
+  starts.push_back(bank.elements(bank.choose(y_start)));
   const std::size_t shared_index = starts.size();
   if (rows.together.size() > 1) {
-    starts.push_back(start_of(bank, bank.choose_shared(y_start, rows.together)));
+    starts.push_back(bank.elements(bank.choose_shared(y_start, rows.together)));
   }
-  const std::size_t pair_index = starts.size();
   if (rows.together.size() == 2) {
-    starts.push_back(start_of(bank, bank.choose_pair(y_start, rows.together[0], rows.together[1])));
+    starts.push_back(bank.elements(bank.choose_pair(y_start, rows.together[0], rows.together[1])));
+    const RowProblem row{rows.U,      y_start,     usable,
+                         rows.T_min,  rows.bounds, rows.options.max_iterations,
+                         rows.layout, rows.trend};
+    for (auto& start : rows.own_part->starts(row, bank, starts.back()))
+      starts.push_back(std::move(start));
   }
   std::vector<double> cost;
   for (const auto& start : starts)
@@ -325,8 +325,7 @@ MisoResult fit_cold(const Rows& rows, const Eigen::VectorXd& y, const Eigen::Vec
   };
   MisoResult miso = fit_from(starts[first]);
   for (std::size_t s = 0; s < starts.size(); ++s) {
-    if (s == first ||
-        (s != shared_index && s != pair_index && !(cost[s] <= kAmbiguousStart * cost[first])))
+    if (s == first || (s < shared_index && !(cost[s] <= kAmbiguousStart * cost[first])))
       continue;
     MisoResult other = fit_from(starts[s]);
     if (sse(other) < sse(miso)) std::swap(miso, other);

@@ -42,10 +42,11 @@ int ResponseBank::choose_one(Eigen::Index e, const Eigen::VectorXd& z, double& g
   return static_cast<int>(b.index);
 }
 
-ResponseBank::Best ResponseBank::best_response(Eigen::Index i, const Eigen::VectorXd& r) const {
-  const Eigen::VectorXf proj =
-      responses_[static_cast<std::size_t>(i)].transpose() * r.cast<float>();
-  const Eigen::VectorXf& n2 = norms2_[static_cast<std::size_t>(i)];
+namespace {
+
+// Of responses with projections zᵀr `proj` and squared norms ‖z‖² `n2`, the one whose 1-D
+// least-squares gain reduces ‖r‖² most: the largest (zᵀr)²/‖z‖².
+Eigen::Index best_column(const Eigen::VectorXf& proj, const Eigen::VectorXf& n2) {
   Eigen::Index best = 0;
   float best_score = -1.0F;
   for (Eigen::Index g = 0; g < proj.size(); ++g) {
@@ -55,7 +56,27 @@ ResponseBank::Best ResponseBank::best_response(Eigen::Index i, const Eigen::Vect
       best = g;
     }
   }
+  return best;
+}
+
+}  // namespace
+
+ResponseBank::Best ResponseBank::best_response(Eigen::Index i, const Eigen::VectorXd& r) const {
+  const Eigen::VectorXf proj =
+      responses_[static_cast<std::size_t>(i)].transpose() * r.cast<float>();
+  const Eigen::VectorXf& n2 = norms2_[static_cast<std::size_t>(i)];
+  const Eigen::Index best = best_column(proj, n2);
   return {best, proj(best), n2(best)};
+}
+
+std::vector<ElementModel> ResponseBank::elements(const Choice& choice) const {
+  std::vector<ElementModel> out;
+  for (std::size_t e = 0; e < choice.grid_index.size(); ++e) {
+    ElementModel g = grid_[static_cast<std::size_t>(choice.grid_index[e])];
+    g.gain = choice.gain(static_cast<Eigen::Index>(e));
+    out.push_back(g);
+  }
+  return out;
 }
 
 ResponseBank::Choice ResponseBank::choose(const Eigen::VectorXd& y) const {
@@ -170,6 +191,17 @@ ResponseBank::Choice ResponseBank::choose_pair(const Eigen::VectorXd& y, Eigen::
   selected.col(b) = Rb.col(best_q).cast<double>();
   c.gain = selected.colPivHouseholderQr().solve(y);
   return c;
+}
+
+int ResponseBank::choose_own_part(Eigen::Index b, Eigen::Index a, double beta,
+                                  const Eigen::VectorXd& z, double& gain) const {
+  const Eigen::MatrixXf R = responses_[static_cast<std::size_t>(b)] -
+                            static_cast<float>(beta) * responses_[static_cast<std::size_t>(a)];
+  const Eigen::VectorXf proj = R.transpose() * z.cast<float>();
+  const Eigen::VectorXf n2 = R.colwise().squaredNorm().transpose();
+  const Eigen::Index best = best_column(proj, n2);
+  gain = n2(best) > 0.0F ? static_cast<double>(proj(best) / n2(best)) : 0.0;
+  return static_cast<int>(best);
 }
 
 }  // namespace excite::host

@@ -9,7 +9,10 @@
 //   u_b ← √(1 − ρ²)·(s_b/s_a)·u_a + ρ·u_b      (s: each input's RMS)
 // so that ρ of u_b's movement is its own and the rest is u_a's (ρ = 1 %, 10 %, 30 %: a ratio
 // station, a cascade, a loosely coupled pair). Before issue 43 the 1 % case put Wood–Berry's
-// y1 ← u1 at grade A with the wrong sign (K = −7.7 ± 0.7, true +12.8).
+// y1 ← u1 at grade A with the wrong sign (K = −7.7 ± 0.7, true +12.8); until the starts from
+// each input's own part (own_part_start.hpp) its intervals covered 22–83 %. alatiqi4x4 at
+// 1 % is not calibrated yet (its rows y3 and y4 cover 56–75 %: host/identify/README.md) and
+// is held to the grade and naming checks only.
 // EXCITE_COLLINEAR_SEEDS overrides the seed count (default 100); the run prints the table.
 
 #include <gtest/gtest.h>
@@ -44,6 +47,7 @@ struct Case {
   int first;           // u_a, 0-based
   int second;          // u_b
   double independent;  // ρ
+  bool calibrated = true;  // held to the coverage bounds
 };
 
 std::string name_of(const ::testing::TestParamInfo<Case>& info) {
@@ -146,11 +150,11 @@ TEST_P(Collinear, IntervalsCoverTheTruthAndNoConfidentGradeIsWrong) {
         << element << ": graded A or B, the truth outside";
     pooled.covered += t.covered;
     pooled.runs += t.runs;
-    if (c.independent < kCannotSplit) continue;  // coverage not met there (README, issue 43)
+    if (!c.calibrated) continue;  // coverage not met there (README, issue 43)
     EXPECT_GE(t.percent(), 87.0) << element;
   }
   std::printf("  every gain pooled: %.1f %%\n", pooled.percent());
-  if (c.independent >= kCannotSplit) {
+  if (c.calibrated) {
     EXPECT_GE(pooled.percent(), 92.0);
     EXPECT_LE(pooled.percent(), 98.0);
     EXPECT_GE(sigma_min.percent(), 87.0);
@@ -166,7 +170,7 @@ TEST_P(Collinear, IntervalsCoverTheTruthAndNoConfidentGradeIsWrong) {
 INSTANTIATE_TEST_SUITE_P(
     NearlyCollinearInputs, Collinear,
     ::testing::Values(Case{"woodberry2x2", 0, 1, 0.01}, Case{"woodberry2x2", 0, 1, 0.10},
-                      Case{"woodberry2x2", 0, 1, 0.30}, Case{"alatiqi4x4", 0, 1, 0.01},
+                      Case{"woodberry2x2", 0, 1, 0.30}, Case{"alatiqi4x4", 0, 1, 0.01, false},
                       Case{"alatiqi4x4", 0, 1, 0.10}, Case{"alatiqi4x4", 0, 1, 0.30}),
     name_of);
 

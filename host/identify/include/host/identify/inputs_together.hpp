@@ -13,11 +13,13 @@
 //  - ρ = 1 %: the fit ended in a basin 50–500 σ̂² above the refit from the truth in most
 //    rows (the data determine the split through the elements' different dynamics, and the
 //    search did not find it), its intervals covering 0–6 %, and 61–87 of 100 seeds graded
-//    A or B with the truth outside. Below kCannotSplit the row gets two more starts
-//    (ResponseBank::choose_shared, choose_pair), the profile of each such gain
-//    (gain_profile.hpp: a better optimum on its walk is kept), the own-part floor
-//    (own_part_floor()) and at most grade C (grade_together()): confident and wrong fell
-//    from 61–87 to 0–3 seeds in 100 per element, coverage rose to 22–83 % — not calibrated.
+//    A or B with the truth outside. Below kCannotSplit the row gets more starts
+//    (ResponseBank::choose_shared, choose_pair, and for a pair the starts from each input's
+//    own part, own_part_start.hpp), the profile of each such gain (gain_profile.hpp: a better
+//    optimum on its walk is kept), the own-part floor (own_part_floor()) and at most grade C
+//    (grade_together()): confident and wrong fell from 61–87 to 0–3 seeds in 100 per
+//    element; coverage rose to 22–83 % and, with the own-part starts, to 95–96 % (σ_min 93 %).
+//    alatiqi4x4's (u1, u2) at 1 % is not calibrated yet (rows y3 and y4: 56–75 %).
 
 #include <string>
 
@@ -61,8 +63,8 @@ void own_part_floor(const RowProblem& row, MisoResult& fit);
 std::string describe_together(const std::vector<int>& inputs, const InputSeparation& separation);
 
 /// Grades at most C, with the reason, each element of `row` (row[i]: the element of input i)
-/// whose input is below kCannotSplit: there the intervals, profile and floor included, still
-/// covered only 22–83 % (Wood–Berry) and 42–80 % (alatiqi4x4's u1, u2) over 100 seeds.
+/// whose input is below kCannotSplit: there the intervals cover 95–96 % on Wood–Berry but
+/// 56–94 % on alatiqi4x4's u1, u2 over 100 seeds, where the split rests on delays alone.
 /// `usable` maps the separation's entries to inputs.
 void grade_together(const std::vector<ElementEstimate*>& row, const std::vector<int>& usable,
                     const InputSeparation& separation);

@@ -38,6 +38,9 @@ class ResponseBank {
   };
   Choice choose(const Eigen::VectorXd& y) const;
 
+  /// The grid elements `choice` names, with its gains: one start element per bank input.
+  std::vector<ElementModel> elements(const Choice& choice) const;
+
   /// As choose(), with the bank inputs of `group` sharing one grid element (their gains
   /// free), chosen after each sweep of the others (choose() is the empty group): the start for
   /// inputs that move together (issue 43). Their output's valley along the split of their gains has
@@ -56,6 +59,11 @@ class ResponseBank {
   /// For the part z of an output due to bank input e alone: the grid element (index) with
   /// the best 1-D least-squares gain (returned in `gain`).
   int choose_one(Eigen::Index e, const Eigen::VectorXd& z, double& gain) const;
+
+  /// As choose_one(), for the own part of bank input b: b less beta times bank input a
+  /// (the responses are linear in the input).
+  int choose_own_part(Eigen::Index b, Eigen::Index a, double beta, const Eigen::VectorXd& z,
+                      double& gain) const;
 
  private:
   // The grid element of bank input i whose response best fits r by its 1-D least-squares

@@ -1,0 +1,101 @@
+// SPDX-License-Identifier: MIT
+#include "host/identify/own_part_start.hpp"
+
+#include "host/identify/miso_fit.hpp"
+
+namespace excite::host {
+
+struct OwnPartStarts::Side {
+  Side(const Eigen::MatrixXd& U, const std::vector<int>& inputs, std::size_t a_, std::size_t b_,
+       double T_min, double max_delay_min, const SampleLayout& layout)
+      : a(a_), b(b_), beta(beta_of(U, inputs, layout)), U_own(own_part(U, inputs)),
+        arx(U_own, inputs, T_min, max_delay_min, layout) {}
+
+  // b's least-squares multiple of a over the scored rows.
+  double beta_of(const Eigen::MatrixXd& U, const std::vector<int>& inputs,
+                 const SampleLayout& layout) const {
+    const Eigen::VectorXd ua = layout.scored_rows(U.col(inputs[a]));
+    const Eigen::VectorXd ub = layout.scored_rows(U.col(inputs[b]));
+    const double energy = ua.squaredNorm();
+    return energy > 0.0 ? ua.dot(ub) / energy : 0.0;
+  }
+  // U with input b replaced by its own part u_b − β·u_a.
+  Eigen::MatrixXd own_part(const Eigen::MatrixXd& U, const std::vector<int>& inputs) const {
+    Eigen::MatrixXd out = U;
+    out.col(inputs[b]) -= beta * U.col(inputs[a]);
+    return out;
+  }
+
+  std::size_t a;  // the input that keeps its movement (position in `inputs`)
+  std::size_t b;  // the input replaced by its own part
+  double beta;
+  Eigen::MatrixXd U_own;
+  ArxBasis arx;  // on U_own (declared after it: it keeps a reference)
+};
+
+namespace {
+
+// Element g's response to u, each segment from rest.
+Eigen::VectorXd response_of(const ElementModel& g, const Eigen::VectorXd& u, double T_min,
+                            const SampleLayout& layout) {
+  Eigen::VectorXd out(u.size());
+  simulate_segments(discretise(g, T_min), {u.data(), static_cast<std::size_t>(u.size())},
+                    {out.data(), static_cast<std::size_t>(out.size())}, layout.segments);
+  return out;
+}
+
+// One element on input column `column` of U fitted alone to z from grid element `index`
+// with gain `gain`.
+ElementModel fit_one(const Eigen::MatrixXd& U, int column, const Eigen::VectorXd& z,
+                     const ResponseBank& bank, int index, double gain, const RowProblem& row) {
+  ElementModel g = bank.grid()[static_cast<std::size_t>(index)];
+  g.gain = gain;
+  return fit_miso(U, z, {column}, {g}, row.T_min, row.bounds, row.max_iterations, row.layout,
+                  Eigen::MatrixXd(z.size(), 0), LmOptions{}.cost_tolerance,
+                  MisoUncertainty::none)
+      .elements.front()
+      .value;
+}
+
+}  // namespace
+
+OwnPartStarts::OwnPartStarts(const Eigen::MatrixXd& U, const std::vector<int>& inputs,
+                             std::size_t a, std::size_t b, double T_min, double max_delay_min,
+                             const SampleLayout& layout) {
+  sides_[0] = std::make_unique<const Side>(U, inputs, a, b, T_min, max_delay_min, layout);
+  sides_[1] = std::make_unique<const Side>(U, inputs, b, a, T_min, max_delay_min, layout);
+}
+
+OwnPartStarts::~OwnPartStarts() = default;
+
+std::vector<std::vector<ElementModel>> OwnPartStarts::starts(
+    const RowProblem& row, const ResponseBank& bank, const std::vector<ElementModel>& from) const {
+  return {start(*sides_[0], row, bank, from), start(*sides_[1], row, bank, from)};
+}
+
+std::vector<ElementModel> OwnPartStarts::start(const Side& side, const RowProblem& row,
+                                               const ResponseBank& bank,
+                                               std::vector<ElementModel> from) const {
+  const auto Z = side.arx.contributions(row.y);
+  if (!Z) return from;
+  const Eigen::VectorXd& w = row.layout.weight;
+  const int column_a = row.inputs[side.a], column_b = row.inputs[side.b];
+  const auto a = static_cast<Eigen::Index>(side.a), b = static_cast<Eigen::Index>(side.b);
+  // b's element: alone on its own part's contribution (the bank's responses are linear in
+  // the input, so the own part's are b's less β times a's).
+  const Eigen::VectorXd zb = Z->col(b);
+  double gain = 0.0;
+  int index = bank.choose_own_part(b, a, side.beta, zb.cwiseProduct(w), gain);
+  from[side.b] = fit_one(side.U_own, column_b, zb, bank, index, gain, row);
+  // a's element: alone on what b's element on the whole u_b and the other elements leave.
+  Eigen::VectorXd za = row.y - response_of(from[side.b], row.U.col(column_b), row.T_min, row.layout);
+  for (std::size_t e = 0; e < from.size(); ++e) {
+    if (e == side.a || e == side.b) continue;
+    za -= response_of(from[e], row.U.col(row.inputs[e]), row.T_min, row.layout);
+  }
+  index = bank.choose_one(a, za.cwiseProduct(w), gain);
+  from[side.a] = fit_one(row.U, column_a, za, bank, index, gain, row);
+  return from;
+}
+
+}  // namespace excite::host
