@@ -25,20 +25,6 @@ constexpr int kRestarts = 2;
 // end at 1e-29 to 1e-25, and their walks found "better" optima at 1e-12 of the gain).
 constexpr double kRounding = 1e-20;
 
-Eigen::VectorXd gains_of(const MisoResult& fit) {
-  Eigen::VectorXd K(static_cast<Eigen::Index>(fit.elements.size()));
-  for (std::size_t a = 0; a < fit.elements.size(); ++a) {
-    K(static_cast<Eigen::Index>(a)) = fit.elements[a].value.gain;
-  }
-  return K;
-}
-
-std::vector<ElementModel> values_of(const MisoResult& fit) {
-  std::vector<ElementModel> v;
-  for (const ElementEstimate& e : fit.elements) v.push_back(e.value);
-  return v;
-}
-
 Eigen::Index free_parameter_count(const MisoResult& fit) {
   Eigen::Index P = 0;
   for (const ElementEstimate& e : fit.elements) {

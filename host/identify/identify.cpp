@@ -285,54 +285,73 @@ std::optional<std::vector<ElementModel>> arx_start(const Rows& rows,
   return start;
 }
 
-// A cold row (multi-start): the row's ARX model (sees all elements at once; exact on data the
+// The starts of a cold row: the row's ARX model (sees all elements at once; exact on data the
 // structure fits), the grid basin search and, for inputs that move together, the shared and
-// pair starts and, for a pair, the starts from each one's own part (own_part_start.hpp). The
-// start of least output error is polished; so is each other start within kAmbiguousStart of
-// it, and always the starts for inputs that move together (their start costs say little
-// about where the fits from them end); the better end is kept and the structures chosen from
-// it (structure_search.hpp).
-MisoResult fit_cold(const Rows& rows, const Eigen::VectorXd& y, const Eigen::VectorXd& y_start,
-                    const StructureSearch& search) {
-  const std::vector<int>& usable = rows.screen.usable;
-  const ResponseBank& bank = *rows.bank;
+// pair starts and, for a pair, the starts from each one's own part (own_part_start.hpp).
+// `together` is where the starts for inputs that move together begin.
+struct ColdStarts {
   std::vector<std::vector<ElementModel>> starts;
-  if (auto arx = arx_start(rows, y_start)) starts.push_back(std::move(*arx));
-  starts.push_back(bank.elements(bank.choose(y_start)));
-  const std::size_t shared_index = starts.size();
+  std::size_t together = 0;
+};
+
+ColdStarts cold_starts(const Rows& rows, const Eigen::VectorXd& y_start) {
+  const ResponseBank& bank = *rows.bank;
+  ColdStarts c;
+  if (auto arx = arx_start(rows, y_start)) c.starts.push_back(std::move(*arx));
+  c.starts.push_back(bank.elements(bank.choose(y_start)));
+  c.together = c.starts.size();
   if (rows.together.size() > 1) {
-    starts.push_back(bank.elements(bank.choose_shared(y_start, rows.together)));
+    c.starts.push_back(bank.elements(bank.choose_shared(y_start, rows.together)));
   }
   if (rows.together.size() == 2) {
-    starts.push_back(bank.elements(bank.choose_pair(y_start, rows.together[0], rows.together[1])));
-    const RowProblem row{rows.U,      y_start,     usable,
+    c.starts.push_back(bank.elements(bank.choose_pair(y_start, rows.together[0], rows.together[1])));
+    const RowProblem row{rows.U,      y_start,     rows.screen.usable,
                          rows.T_min,  rows.bounds, rows.options.max_iterations,
                          rows.layout, rows.trend};
-    for (auto& start : rows.own_part->starts(row, bank, starts.back()))
-      starts.push_back(std::move(start));
+    for (auto& start : rows.own_part->starts(row, bank, c.starts.back()))
+      c.starts.push_back(std::move(start));
   }
+  return c;
+}
+
+// A cold row (multi-start, cold_starts()). The start of least output error is polished; so is
+// each other start within kAmbiguousStart of it, and always the starts for inputs that move
+// together (their start costs say little about where the fits from them end); for a pair,
+// the best end is polished once more with the pair's dynamics exchanged
+// (OwnPartStarts::exchanged). The best end is kept and the structures chosen from it
+// (structure_search.hpp). For a pair, every end is in `optima` (cover_other_optima()).
+MisoResult fit_cold(const Rows& rows, const Eigen::VectorXd& y, const Eigen::VectorXd& y_start,
+                    const StructureSearch& search, std::vector<RowOptimum>& optima) {
+  const std::vector<int>& usable = rows.screen.usable;
+  const ColdStarts c = cold_starts(rows, y_start);
   std::vector<double> cost;
-  for (const auto& start : starts)
+  for (const auto& start : c.starts)
     cost.push_back(start_cost(rows.U, y, usable, start, rows.T_min, rows.layout, rows.trend));
   const auto first =
       static_cast<std::size_t>(std::min_element(cost.begin(), cost.end()) - cost.begin());
-  const auto fit_from = [&](const std::vector<ElementModel>& start) {
-    return fit_miso(rows.U, y, usable, start, rows.T_min, rows.bounds, rows.options.max_iterations,
-                    rows.layout, rows.trend);
-  };
   const auto sse = [&](const MisoResult& m) {
     return (m.y_hat - y).cwiseProduct(rows.layout.weight).squaredNorm();
   };
-  MisoResult miso = fit_from(starts[first]);
-  for (std::size_t s = 0; s < starts.size(); ++s) {
-    if (s == first || (s < shared_index && !(cost[s] <= kAmbiguousStart * cost[first])))
-      continue;
-    MisoResult other = fit_from(starts[s]);
-    if (sse(other) < sse(miso)) std::swap(miso, other);
-    miso.iterations += other.iterations;
+  std::optional<MisoResult> miso;
+  const auto fit_from = [&](const std::vector<ElementModel>& start) {
+    MisoResult other = fit_miso(rows.U, y, usable, start, rows.T_min, rows.bounds,
+                                rows.options.max_iterations, rows.layout, rows.trend);
+    if (rows.own_part) optima.push_back({gains_of(other), sse(other)});
+    if (!miso) {
+      miso = std::move(other);
+      return;
+    }
+    if (sse(other) < sse(*miso)) std::swap(*miso, other);
+    miso->iterations += other.iterations;
+  };
+  fit_from(c.starts[first]);
+  for (std::size_t s = 0; s < c.starts.size(); ++s) {
+    if (s == first || (s < c.together && !(cost[s] <= kAmbiguousStart * cost[first]))) continue;
+    fit_from(c.starts[s]);
   }
-  return choose_structures(rows.U, y, usable, std::move(miso), rows.T_min, rows.bounds, rows.layout,
-                           rows.trend, search);
+  if (rows.own_part) fit_from(rows.own_part->exchanged(values_of(*miso)));
+  return choose_structures(rows.U, y, usable, std::move(*miso), rows.T_min, rows.bounds,
+                           rows.layout, rows.trend, search);
 }
 
 // A warm row: the earlier model polished in its structures, then (unless only polished) the
@@ -352,7 +371,8 @@ MisoResult fit_warm(const Rows& rows, const Eigen::VectorXd& y,
 // gains near zero profiled (inputs_together.hpp), its elements and gain covariance written into the
 // model; returns ŷ.
 Eigen::VectorXd keep_row(const Rows& rows, int j, const Eigen::VectorXd& y, MisoResult miso,
-                         IdentifiedModel& model, OutputFit& fit) {
+                         IdentifiedModel& model, OutputFit& fit,
+                         const std::vector<RowOptimum>& optima = {}) {
   const std::vector<int>& usable = rows.screen.usable;
   const RowProblem problem{rows.U,      y,           usable,
                            rows.T_min,  rows.bounds, rows.options.max_iterations,
@@ -360,6 +380,7 @@ Eigen::VectorXd keep_row(const Rows& rows, int j, const Eigen::VectorXd& y, Miso
   fit.separation = row_separation(problem, miso);
   fit.inputs_together = describe_together(usable, fit.separation);
   miso = profile_doubtful_gains(problem, std::move(miso), fit.separation);
+  cover_other_optima(problem, miso, fit.separation, optima);
   Eigen::MatrixXd& cov = model.gain_covariance[static_cast<std::size_t>(j)];
   for (std::size_t e = 0; e < usable.size(); ++e) {
     model.element(j, usable[e]) = miso.elements[e];
@@ -419,7 +440,9 @@ void fit_output(const Rows& rows, int j, IdentificationResult& result) {
   if (const auto& warm = rows.warm[static_cast<std::size_t>(j)]) {
     y_hat = keep_row(rows, j, y, fit_warm(rows, y, *warm, search), model, fit);
   } else if (!rows.screen.usable.empty()) {
-    y_hat = keep_row(rows, j, y, fit_cold(rows, y, y_start, search), model, fit);
+    std::vector<RowOptimum> optima;
+    MisoResult miso = fit_cold(rows, y, y_start, search, optima);
+    y_hat = keep_row(rows, j, y, std::move(miso), model, fit, optima);
   } else {
     fit.converged = true;
   }

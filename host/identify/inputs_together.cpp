@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 
 #include "host/identify/element.hpp"
@@ -89,6 +90,35 @@ void own_part_floor(const RowProblem& row, MisoResult& fit) {
   const Eigen::VectorXd d = eig.eigenvectors().col(0);  // the least informed direction
   const double floor = sigma2 / eig.eigenvalues()(0);
   add_gain_variance(fit, d, floor - d.dot(fit.gain_covariance * d));
+}
+
+void cover_other_optima(const RowProblem& row, MisoResult& fit, const InputSeparation& separation,
+                        const std::vector<RowOptimum>& optima) {
+  const auto m = static_cast<Eigen::Index>(row.inputs.size());
+  if (optima.size() < 2 || separation.independent.size() != m ||
+      !(separation.independent.minCoeff() < kCannotSplit) || !fit.gain_covariance.allFinite())
+    return;
+  Eigen::Index P = 0;
+  for (const ElementEstimate& est : fit.elements) {
+    P += static_cast<Eigen::Index>(free_parameters(est.value.structure).size());
+  }
+  const double dof = static_cast<double>(row.layout.scored() - row.trend.cols() - P);
+  if (!(dof > 0.0)) return;
+  const double sigma2 = row_cost(row, fit) / dof;
+  double least = std::numeric_limits<double>::infinity();
+  for (const RowOptimum& o : optima) least = std::min(least, o.sse);
+  const Eigen::VectorXd K = gains_of(fit);
+  for (const RowOptimum& o : optima) {
+    if (!(o.sse - least <= 1.96 * 1.96 * sigma2) || o.gains.size() != m) continue;
+    const Eigen::VectorXd d = o.gains - K;
+    double alpha = 0.0;  // the variance along d that puts each split gain's 1.96 SE at |d_e|
+    for (Eigen::Index e = 0; e < m; ++e) {
+      if (!(separation.independent(e) < kCannotSplit) || d(e) == 0.0) continue;
+      const double need = (d(e) / 1.96) * (d(e) / 1.96) - fit.gain_covariance(e, e);
+      alpha = std::max(alpha, need / (d(e) * d(e)));
+    }
+    add_gain_variance(fit, d, alpha);
+  }
 }
 
 std::string describe_together(const std::vector<int>& inputs, const InputSeparation& separation) {

@@ -492,4 +492,17 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
   return out;
 }
 
+Eigen::VectorXd gains_of(const MisoResult& fit) {
+  Eigen::VectorXd K(static_cast<Eigen::Index>(fit.elements.size()));
+  for (std::size_t a = 0; a < fit.elements.size(); ++a)
+    K(static_cast<Eigen::Index>(a)) = fit.elements[a].value.gain;
+  return K;
+}
+
+std::vector<ElementModel> values_of(const MisoResult& fit) {
+  std::vector<ElementModel> v;
+  for (const ElementEstimate& e : fit.elements) v.push_back(e.value);
+  return v;
+}
+
 }  // namespace excite::host

@@ -73,6 +73,17 @@ std::vector<std::vector<ElementModel>> OwnPartStarts::starts(
   return {start(*sides_[0], row, bank, from), start(*sides_[1], row, bank, from)};
 }
 
+std::vector<ElementModel> OwnPartStarts::exchanged(std::vector<ElementModel> from) const {
+  const Side& side = *sides_[0];
+  if (side.beta == 0.0) return from;
+  ElementModel a = from[side.b], b = from[side.a];
+  a.gain = side.beta * from[side.b].gain;
+  b.gain = from[side.a].gain / side.beta;
+  from[side.a] = a;
+  from[side.b] = b;
+  return from;
+}
+
 std::vector<ElementModel> OwnPartStarts::start(const Side& side, const RowProblem& row,
                                                const ResponseBank& bank,
                                                std::vector<ElementModel> from) const {

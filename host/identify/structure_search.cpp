@@ -128,12 +128,6 @@ AloneFit fit_alone(const Eigen::MatrixXd& U, const Eigen::VectorXd& part, int in
   return best;
 }
 
-std::vector<ElementModel> current_values(const MisoResult& fit) {
-  std::vector<ElementModel> out;
-  for (const ElementEstimate& e : fit.elements) out.push_back(e.value);
-  return out;
-}
-
 // Each element's share of its row: the norm of its simulated part over the sum of the
 // elements' (weighted rows).
 std::vector<double> part_shares(const Eigen::MatrixXd& U, const std::vector<int>& inputs,
@@ -226,7 +220,7 @@ MisoResult leave_local_optima(const Eigen::MatrixXd& U, const Eigen::VectorXd& y
       for (const double scale : kRestartScales) {
         for (const double sign : {-1.0, 1.0}) {
           // From the row as it is now (an earlier start may have moved it).
-          std::vector<ElementModel> start = current_values(current);
+          std::vector<ElementModel> start = values_of(current);
           ElementModel g = with_structure(start[e], s);
           g.gain = sign * std::abs(start[e].gain);
           if (is_free(g.structure, kTp1)) g.tau1_min = scale * slowest;
@@ -242,7 +236,7 @@ MisoResult leave_local_optima(const Eigen::MatrixXd& U, const Eigen::VectorXd& y
     const double td = current.elements[e].value.delay_min;
     const double whole = std::round(td / T_min);
     if (whole < 1.0 || std::abs(td - whole * T_min) > kDelayKink * T_min) continue;
-    std::vector<ElementModel> start = current_values(current);
+    std::vector<ElementModel> start = values_of(current);
     start[e].delay_min =
         td < whole * T_min ? (whole + kDelayKink) * T_min : (whole - kDelayKink) * T_min;
     start[e] = clamped(start[e], bounds);
@@ -303,7 +297,7 @@ bool restart_misplaced_dynamics(const Eigen::MatrixXd& U, const Eigen::VectorXd&
   bool kept = false;
   int iterations = current.iterations;
   for (const std::size_t e : suspects) {
-    const std::vector<ElementModel> now = current_values(current);
+    const std::vector<ElementModel> now = values_of(current);
     // The row's other elements in two poles: lags their slowest time scale and the next.
     std::vector<ElementModel> released = now;
     bool any_released = false;
@@ -576,7 +570,7 @@ class StructureSearcher {
     std::sort(candidates.begin(), candidates.end(),
               [](const Candidate& a, const Candidate& b) { return a.gain > b.gain; });
     const auto trial_of = [&](std::size_t first, std::size_t last) {
-      std::vector<ElementModel> start = current_values(p.fit);
+      std::vector<ElementModel> start = values_of(p.fit);
       for (std::size_t k = first; k < last; ++k) start[candidates[k].element] = candidates[k].model;
       MisoResult trial = refit(start);
       p.iterations += trial.iterations;

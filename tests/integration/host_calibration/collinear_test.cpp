@@ -11,8 +11,8 @@
 // station, a cascade, a loosely coupled pair). Before issue 43 the 1 % case put Wood–Berry's
 // y1 ← u1 at grade A with the wrong sign (K = −7.7 ± 0.7, true +12.8); until the starts from
 // each input's own part (own_part_start.hpp) its intervals covered 22–83 %. alatiqi4x4 at
-// 1 % is not calibrated yet (its rows y3 and y4 cover 56–75 %: host/identify/README.md) and
-// is held to the grade and naming checks only.
+// 1 % is not calibrated yet (its row y3 covers 67–68 %: host/identify/README.md) and is held
+// to the grade and naming checks only.
 // EXCITE_COLLINEAR_SEEDS overrides the seed count (default 100); the run prints the table.
 
 #include <gtest/gtest.h>

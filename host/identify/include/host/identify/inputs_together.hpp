@@ -15,11 +15,13 @@
 //    search did not find it), its intervals covering 0–6 %, and 61–87 of 100 seeds graded
 //    A or B with the truth outside. Below kCannotSplit the row gets more starts
 //    (ResponseBank::choose_shared, choose_pair, and for a pair the starts from each input's
-//    own part, own_part_start.hpp), the profile of each such gain (gain_profile.hpp: a better
-//    optimum on its walk is kept), the own-part floor (own_part_floor()) and at most grade C
-//    (grade_together()): confident and wrong fell from 61–87 to 0–3 seeds in 100 per
-//    element; coverage rose to 22–83 % and, with the own-part starts, to 95–96 % (σ_min 93 %).
-//    alatiqi4x4's (u1, u2) at 1 % is not calibrated yet (rows y3 and y4: 56–75 %).
+//    own part and the exchanged start, own_part_start.hpp), the profile of each such gain
+//    (gain_profile.hpp: a better optimum on its walk is kept), the other optima its starts
+//    ended in within the likelihood-ratio bound (cover_other_optima()), the own-part floor
+//    (own_part_floor()) and at most grade C (grade_together()): confident and wrong fell from
+//    61–87 to 0–3 seeds in 100 per element; coverage rose to 22–83 % and, with the own-part
+//    starts and the other optima, to 95–97 % (σ_min 95 %). alatiqi4x4's (u1, u2) at 1 % is
+//    not calibrated yet (90.5 % pooled; row y3 67–68 %).
 
 #include <string>
 
@@ -57,14 +59,29 @@ MisoResult profile_doubtful_gains(const RowProblem& row, MisoResult fit,
 /// there.
 void own_part_floor(const RowProblem& row, MisoResult& fit);
 
+/// A local optimum of a row's output error that one of its starts ended in: the elements'
+/// gains and the cost there.
+struct RowOptimum {
+  Eigen::VectorXd gains;
+  double sse = 0.0;
+};
+
+/// The gains' likelihood-ratio 95 % set holds every optimum whose cost is within 1.96² σ̂²
+/// of the least one found; a profile walk from one basin does not reach the others when the
+/// split is multimodal. For a row with an input below kCannotSplit in `separation`, the row's
+/// gain covariance is widened along K − K̂ of each such optimum in `optima` (the ends of the
+/// row's starts, one model class) until the gains of those inputs there are within 1.96 SE.
+void cover_other_optima(const RowProblem& row, MisoResult& fit, const InputSeparation& separation,
+                        const std::vector<RowOptimum>& optima);
+
 /// For an engineer: each input of the row below kTogether, the inputs it moves with and the
 /// gains' combination the data determine; "" when every input moves enough on its own.
 /// Inputs are named "input N", N = inputs[e] + 1.
 std::string describe_together(const std::vector<int>& inputs, const InputSeparation& separation);
 
 /// Grades at most C, with the reason, each element of `row` (row[i]: the element of input i)
-/// whose input is below kCannotSplit: there the intervals cover 95–96 % on Wood–Berry but
-/// 56–94 % on alatiqi4x4's u1, u2 over 100 seeds, where the split rests on delays alone.
+/// whose input is below kCannotSplit: there the intervals cover 95–97 % on Wood–Berry but
+/// 67–94 % on alatiqi4x4's u1, u2 over 100 seeds, where the split rests on delays alone.
 /// `usable` maps the separation's entries to inputs.
 void grade_together(const std::vector<ElementEstimate*>& row, const std::vector<int>& usable,
                     const InputSeparation& separation);

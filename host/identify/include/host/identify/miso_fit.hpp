@@ -70,6 +70,11 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                     MisoUncertainty uncertainty = MisoUncertainty::standard_errors,
                     std::optional<HeldGain> held = std::nullopt);
 
+/// A fit's elements' gains, in the order of its elements.
+Eigen::VectorXd gains_of(const MisoResult& fit);
+/// A fit's elements' values (a start for another fit).
+std::vector<ElementModel> values_of(const MisoResult& fit);
+
 /// Sets e.status to weak_gain, with its reason, when |K| < 2·SE(K) or SE(K) is infinite
 /// (the data barely show the element); leaves it otherwise.
 void mark_weak_gain(ElementEstimate& e);

@@ -45,6 +45,12 @@ class OwnPartStarts {
   std::vector<std::vector<ElementModel>> starts(const RowProblem& row, const ResponseBank& bank,
                                                 const std::vector<ElementModel>& from) const;
 
+  /// `from` with the pair's dynamics exchanged: a takes b's elements' dynamics with gain
+  /// β·K_b, b takes a's with K_a/β, so that G_a + β·G_b, what the data determine, stays.
+  /// The other side of a split that rests on the elements' dynamics (two elements alike but
+  /// for their delays leave an optimum with the delays exchanged).
+  std::vector<ElementModel> exchanged(std::vector<ElementModel> from) const;
+
  private:
   struct Side;  // one orientation: the input whose own part is taken, its β, its ARX basis
   std::vector<ElementModel> start(const Side& side, const RowProblem& row,
