@@ -25,14 +25,6 @@ constexpr int kRestarts = 2;
 // end at 1e-29 to 1e-25, and their walks found "better" optima at 1e-12 of the gain).
 constexpr double kRounding = 1e-20;
 
-Eigen::Index free_parameter_count(const MisoResult& fit) {
-  Eigen::Index P = 0;
-  for (const ElementEstimate& e : fit.elements) {
-    P += static_cast<Eigen::Index>(free_parameters(e.value.structure).size());
-  }
-  return P;
-}
-
 // A point of the walk: the held value, its signed root and the row's gains there.
 struct Point {
   double c = 0.0;
@@ -45,9 +37,7 @@ class Walk {
  public:
   Walk(const RowProblem& row, const MisoResult& fit, int e)
       : row_(row), e_(e), S0_(row_cost(row, fit)) {
-    const auto dof =
-        static_cast<double>(row.layout.scored() - row.trend.cols() - free_parameter_count(fit));
-    sigma2_ = S0_ / std::max(dof, 1.0);
+    sigma2_ = S0_ / std::max(row_dof(row, fit), 1.0);
     origin_ = {fit.elements[static_cast<std::size_t>(e)].value.gain, 0.0, gains_of(fit),
                values_of(fit)};
     // The linearised ridge: the regression of the row's gains on gain e (exact for a linear
@@ -171,6 +161,14 @@ class Walk {
 
 double row_cost(const RowProblem& row, const MisoResult& fit) {
   return (row.y - fit.y_hat).cwiseProduct(row.layout.weight).squaredNorm();
+}
+
+double row_dof(const RowProblem& row, const MisoResult& fit) {
+  Eigen::Index P = 0;
+  for (const ElementEstimate& e : fit.elements) {
+    P += static_cast<Eigen::Index>(free_parameters(e.value.structure).size());
+  }
+  return static_cast<double>(row.layout.scored() - row.trend.cols() - P);
 }
 
 GainInterval profile_gain(const RowProblem& row, const MisoResult& fit, int e) {

@@ -78,11 +78,7 @@ void own_part_floor(const RowProblem& row, MisoResult& fit) {
   } catch (const std::invalid_argument&) {
     return;
   }
-  Eigen::Index P = 0;
-  for (const ElementEstimate& est : fit.elements) {
-    P += static_cast<Eigen::Index>(free_parameters(est.value.structure).size());
-  }
-  const double dof = static_cast<double>(scored - row.trend.cols() - P);
+  const double dof = row_dof(row, fit);
   if (!(dof > 0.0)) return;
   const double sigma2 = row_cost(row, fit) / dof;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Z.transpose() * Z);
@@ -98,11 +94,7 @@ void cover_other_optima(const RowProblem& row, MisoResult& fit, const InputSepar
   if (optima.size() < 2 || separation.independent.size() != m ||
       !(separation.independent.minCoeff() < kCannotSplit) || !fit.gain_covariance.allFinite())
     return;
-  Eigen::Index P = 0;
-  for (const ElementEstimate& est : fit.elements) {
-    P += static_cast<Eigen::Index>(free_parameters(est.value.structure).size());
-  }
-  const double dof = static_cast<double>(row.layout.scored() - row.trend.cols() - P);
+  const double dof = row_dof(row, fit);
   if (!(dof > 0.0)) return;
   const double sigma2 = row_cost(row, fit) / dof;
   double least = std::numeric_limits<double>::infinity();

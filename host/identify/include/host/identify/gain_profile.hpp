@@ -96,6 +96,9 @@ Eigen::Index largest_response(const RowProblem& row, const MisoResult& fit);
 
 /// ‖y − ŷ‖² over the scored rows of `row`'s layout.
 double row_cost(const RowProblem& row, const MisoResult& fit);
+/// The degrees of freedom of that cost: the scored rows less the trend's columns and the
+/// elements' free parameters (σ̂² = row_cost / row_dof).
+double row_dof(const RowProblem& row, const MisoResult& fit);
 
 /// The row's gain covariance widened along `interval.ridge` until the variance of gain e is
 /// that of the profile interval, ((upper − lower)/(2·1.96))² (never narrowed); every

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// A start for a row whose two inputs move together (issue 43): each element of the pair
-// found from the other input's own part.
+// Starts for a row whose two inputs move together (issue 43): one element of the pair found
+// from its input's own part, the other from what that element leaves.
 //
 // With u_b ≈ β·u_a the output determines G_a + β·G_b well and the split between them only
 // through u_b's small own part u_b − β·u_a and the elements' different dynamics. In the
@@ -45,8 +45,8 @@ class OwnPartStarts {
   std::vector<std::vector<ElementModel>> starts(const RowProblem& row, const ResponseBank& bank,
                                                 const std::vector<ElementModel>& from) const;
 
-  /// `from` with the pair's dynamics exchanged: a takes b's elements' dynamics with gain
-  /// β·K_b, b takes a's with K_a/β, so that G_a + β·G_b, what the data determine, stays.
+  /// `from` with the pair's dynamics exchanged: a's element takes b's dynamics with gain
+  /// β·K_b, b's takes a's with K_a/β, so that G_a + β·G_b, what the data determine, stays.
   /// The other side of a split that rests on the elements' dynamics (two elements alike but
   /// for their delays leave an optimum with the delays exchanged).
   std::vector<ElementModel> exchanged(std::vector<ElementModel> from) const;
