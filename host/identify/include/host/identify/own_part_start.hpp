@@ -8,8 +8,8 @@
 // inputs as moved the split is near singular: the row's ARX model drops it (its truncated
 // SVD), the grid's pair start chooses it from responses nearly alike, and the joint fits
 // from those starts end in a basin 30–500 σ̂² above the refit from the truth (Wood–Berry,
-// u2 = u1 at a 1 % own part: row y2 in 28 of 30 seeds, row y1 in 6, each the same wrong
-// basin seed after seed). In the inputs (u_a, u_b − β·u_a) the same row is well
+// u2 = u1 at a 1 % own part: row y2 in 25 of 30 seeds, row y1 in 5, row y2 at or near the
+// same wrong gains seed after seed). In the inputs (u_a, u_b − β·u_a) the same row is well
 // conditioned: G_b is the only response to the own part, which moves independently of u_a.
 // So the row's ARX model on those inputs gives G_b's contribution, one element is fitted to
 // it alone, and G_a is then fitted alone to what G_b on the whole u_b leaves. Both
