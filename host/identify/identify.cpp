@@ -106,6 +106,10 @@ void check_arguments(const Eigen::MatrixXd& U, const Eigen::MatrixXd& Y, double 
 constexpr double kAmbiguousStart = 4.0;
 // Iterations for one element fitted alone to its part of the output (a start only).
 constexpr int kStartAloneIterations = 30;
+// A cold end whose cost is below this share of the output's (in squares; row_criterion's
+// floor, structure_search.cpp) fits noise-free data in the model class: the own-part starts
+// cannot lead anywhere better.
+constexpr double kNoiseFree = 1e-12;
 
 // ‖y − ŷ‖² over the scored rows of the start elements (one per input of `inputs`).
 double start_cost(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
@@ -287,8 +291,7 @@ std::optional<std::vector<ElementModel>> arx_start(const Rows& rows,
 
 // The starts of a cold row: the row's ARX model (sees all elements at once; exact on data the
 // structure fits), the grid basin search and, for inputs that move together, the shared and
-// pair starts and, for a pair, the starts from each one's own part (own_part_start.hpp).
-// `together` is where the starts for inputs that move together begin.
+// pair starts. `together` is where the starts for inputs that move together begin.
 struct ColdStarts {
   std::vector<std::vector<ElementModel>> starts;
   std::size_t together = 0;
@@ -305,21 +308,19 @@ ColdStarts cold_starts(const Rows& rows, const Eigen::VectorXd& y_start) {
   }
   if (rows.together.size() == 2) {
     c.starts.push_back(bank.elements(bank.choose_pair(y_start, rows.together[0], rows.together[1])));
-    const RowProblem row{rows.U,      y_start,     rows.screen.usable,
-                         rows.T_min,  rows.bounds, rows.options.max_iterations,
-                         rows.layout, rows.trend};
-    for (auto& start : rows.own_part->starts(row, bank, c.starts.back()))
-      c.starts.push_back(std::move(start));
   }
   return c;
 }
 
 // A cold row (multi-start, cold_starts()). The start of least output error is polished; so is
 // each other start within kAmbiguousStart of it, and always the starts for inputs that move
-// together (their start costs say little about where the fits from them end); for a pair,
-// the best end is polished once more with the pair's dynamics exchanged
-// (OwnPartStarts::exchanged). The best end is kept and the structures chosen from it
-// (structure_search.hpp). For a pair, every end is in `optima` (cover_other_optima()).
+// together (their start costs say little about where the fits from them end). For a pair,
+// unless the best end fits noise-free data (kNoiseFree: no start can do better, and on
+// twoweak4x4's noise-free prbsSimDir run, whose pair is below kCannotSplit, they quadrupled
+// its time), so are the starts from each one's own part (own_part_start.hpp), from the pair
+// start, and then the best end with the pair's dynamics exchanged (OwnPartStarts::exchanged).
+// The best end is kept and the structures chosen from it (structure_search.hpp). For a pair,
+// every end is in `optima` (cover_other_optima()).
 MisoResult fit_cold(const Rows& rows, const Eigen::VectorXd& y, const Eigen::VectorXd& y_start,
                     const StructureSearch& search, std::vector<RowOptimum>& optima) {
   const std::vector<int>& usable = rows.screen.usable;
@@ -349,7 +350,18 @@ MisoResult fit_cold(const Rows& rows, const Eigen::VectorXd& y, const Eigen::Vec
     if (s == first || (s < c.together && !(cost[s] <= kAmbiguousStart * cost[first]))) continue;
     fit_from(c.starts[s]);
   }
-  if (rows.own_part) fit_from(rows.own_part->exchanged(values_of(*miso)));
+  const RowProblem row{rows.U,      y,           usable,
+                       rows.T_min,  rows.bounds, rows.options.max_iterations,
+                       rows.layout, rows.trend};
+  const double scale = y.cwiseProduct(rows.layout.weight).squaredNorm();
+  if (rows.own_part && !(row_cost(row, *miso) <= kNoiseFree * scale)) {
+    const RowProblem row_start{rows.U,      y_start,     usable,
+                               rows.T_min,  rows.bounds, rows.options.max_iterations,
+                               rows.layout, rows.trend};
+    for (const auto& start : rows.own_part->starts(row_start, *rows.bank, c.starts.back()))
+      fit_from(start);
+    fit_from(rows.own_part->exchanged(values_of(*miso)));
+  }
   return choose_structures(rows.U, y, usable, std::move(*miso), rows.T_min, rows.bounds,
                            rows.layout, rows.trend, search);
 }

@@ -1,28 +1,38 @@
 // SPDX-License-Identifier: MIT
 #include "host/identify/own_part_start.hpp"
 
+#include <mutex>
+#include <optional>
+
 #include "host/identify/miso_fit.hpp"
 
 namespace excite::host {
 
 struct OwnPartStarts::Side {
-  Side(const Eigen::MatrixXd& U, const std::vector<int>& inputs, std::size_t a_, std::size_t b_,
-       double T_min, double max_delay_min, const SampleLayout& layout)
-      : a(a_), b(b_), beta(beta_of(U, inputs, layout)), U_own(own_part(U, inputs)),
-        arx(U_own, inputs, T_min, max_delay_min, layout) {}
+  Side(const Eigen::MatrixXd& U, const std::vector<int>& inputs_, std::size_t a_, std::size_t b_,
+       double T_min_, double max_delay_min_, const SampleLayout& layout_)
+      : a(a_), b(b_), beta(beta_of(U, inputs_, layout_)), U_own(own_part(U, inputs_)),
+        inputs(inputs_), T_min(T_min_), max_delay_min(max_delay_min_), layout(layout_) {}
+
+  // The ARX basis on U_own, built on first use (a row fitted to rounding needs none; on a
+  // long run its QR is seconds). Thread-safe.
+  const ArxBasis& arx() const {
+    std::call_once(built, [&] { basis.emplace(U_own, inputs, T_min, max_delay_min, layout); });
+    return *basis;
+  }
 
   // b's least-squares multiple of a over the scored rows.
-  double beta_of(const Eigen::MatrixXd& U, const std::vector<int>& inputs,
-                 const SampleLayout& layout) const {
-    const Eigen::VectorXd ua = layout.scored_rows(U.col(inputs[a]));
-    const Eigen::VectorXd ub = layout.scored_rows(U.col(inputs[b]));
+  double beta_of(const Eigen::MatrixXd& U, const std::vector<int>& columns,
+                 const SampleLayout& scored) const {
+    const Eigen::VectorXd ua = scored.scored_rows(U.col(columns[a]));
+    const Eigen::VectorXd ub = scored.scored_rows(U.col(columns[b]));
     const double energy = ua.squaredNorm();
     return energy > 0.0 ? ua.dot(ub) / energy : 0.0;
   }
   // U with input b replaced by its own part u_b − β·u_a.
-  Eigen::MatrixXd own_part(const Eigen::MatrixXd& U, const std::vector<int>& inputs) const {
+  Eigen::MatrixXd own_part(const Eigen::MatrixXd& U, const std::vector<int>& columns) const {
     Eigen::MatrixXd out = U;
-    out.col(inputs[b]) -= beta * U.col(inputs[a]);
+    out.col(columns[b]) -= beta * U.col(columns[a]);
     return out;
   }
 
@@ -30,7 +40,12 @@ struct OwnPartStarts::Side {
   std::size_t b;  // the input replaced by its own part
   double beta;
   Eigen::MatrixXd U_own;
-  ArxBasis arx;  // on U_own (declared after it: it keeps a reference)
+  std::vector<int> inputs;
+  double T_min;
+  double max_delay_min;
+  SampleLayout layout;
+  mutable std::once_flag built;
+  mutable std::optional<ArxBasis> basis;  // on U_own (it keeps a reference to it)
 };
 
 namespace {
@@ -87,7 +102,7 @@ std::vector<ElementModel> OwnPartStarts::exchanged(std::vector<ElementModel> fro
 std::vector<ElementModel> OwnPartStarts::start(const Side& side, const RowProblem& row,
                                                const ResponseBank& bank,
                                                std::vector<ElementModel> from) const {
-  const auto Z = side.arx.contributions(row.y);
+  const auto Z = side.arx().contributions(row.y);
   if (!Z) return from;
   const Eigen::VectorXd& w = row.layout.weight;
   const int column_a = row.inputs[side.a], column_b = row.inputs[side.b];

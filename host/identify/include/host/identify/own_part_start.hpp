@@ -30,8 +30,8 @@ class OwnPartStarts {
  public:
   /// For inputs a and b (positions in `inputs`, the columns of U the row's elements take) that
   /// move together: β of each on the other over the scored rows of `layout`, and the ARX
-  /// bases on the inputs with one of them replaced by its own part (built once, shared by
-  /// every output's row). Keeps references to nothing passed.
+  /// bases on the inputs with one of them replaced by its own part (built once, on first use
+  /// by starts(), shared by every output's row). Keeps references to nothing passed.
   OwnPartStarts(const Eigen::MatrixXd& U, const std::vector<int>& inputs, std::size_t a,
                 std::size_t b, double T_min, double max_delay_min, const SampleLayout& layout);
   ~OwnPartStarts();
