@@ -307,7 +307,8 @@ ColdStarts cold_starts(const Rows& rows, const Eigen::VectorXd& y_start) {
     c.starts.push_back(bank.elements(bank.choose_shared(y_start, rows.together)));
   }
   if (rows.together.size() == 2) {
-    c.starts.push_back(bank.elements(bank.choose_pair(y_start, rows.together[0], rows.together[1])));
+    c.starts.push_back(
+        bank.elements(bank.choose_pair(y_start, rows.together[0], rows.together[1])));
   }
   return c;
 }

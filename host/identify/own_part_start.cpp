@@ -11,11 +11,17 @@ namespace excite::host {
 struct OwnPartStarts::Side {
   Side(const Eigen::MatrixXd& U, const std::vector<int>& inputs_, std::size_t a_, std::size_t b_,
        double T_min_, double max_delay_min_, const SampleLayout& layout_)
-      : a(a_), b(b_), beta(beta_of(U, inputs_, layout_)), U_own(own_part(U, inputs_)),
-        inputs(inputs_), T_min(T_min_), max_delay_min(max_delay_min_), layout(layout_) {}
+      : a(a_),
+        b(b_),
+        beta(beta_of(U, inputs_, layout_)),
+        U_own(own_part(U, inputs_)),
+        inputs(inputs_),
+        T_min(T_min_),
+        max_delay_min(max_delay_min_),
+        layout(layout_) {}
 
-  // The ARX basis on U_own, built on first use (a row fitted to rounding needs none; on a
-  // long run its QR is seconds). Thread-safe.
+  // The ARX basis on U_own, built on first use (a row whose cold end fits noise-free data
+  // needs none; on a long run its QR is seconds). Thread-safe.
   const ArxBasis& arx() const {
     std::call_once(built, [&] { basis.emplace(U_own, inputs, T_min, max_delay_min, layout); });
     return *basis;
@@ -66,8 +72,7 @@ ElementModel fit_one(const Eigen::MatrixXd& U, int column, const Eigen::VectorXd
   ElementModel g = bank.grid()[static_cast<std::size_t>(index)];
   g.gain = gain;
   return fit_miso(U, z, {column}, {g}, row.T_min, row.bounds, row.max_iterations, row.layout,
-                  Eigen::MatrixXd(z.size(), 0), LmOptions{}.cost_tolerance,
-                  MisoUncertainty::none)
+                  Eigen::MatrixXd(z.size(), 0), LmOptions{}.cost_tolerance, MisoUncertainty::none)
       .elements.front()
       .value;
 }
@@ -114,7 +119,8 @@ std::vector<ElementModel> OwnPartStarts::start(const Side& side, const RowProble
   int index = bank.choose_own_part(b, a, side.beta, zb.cwiseProduct(w), gain);
   from[side.b] = fit_one(side.U_own, column_b, zb, bank, index, gain, row);
   // a's element: alone on what b's element on the whole u_b and the other elements leave.
-  Eigen::VectorXd za = row.y - response_of(from[side.b], row.U.col(column_b), row.T_min, row.layout);
+  Eigen::VectorXd za =
+      row.y - response_of(from[side.b], row.U.col(column_b), row.T_min, row.layout);
   for (std::size_t e = 0; e < from.size(); ++e) {
     if (e == side.a || e == side.b) continue;
     za -= response_of(from[e], row.U.col(row.inputs[e]), row.T_min, row.layout);

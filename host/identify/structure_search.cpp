@@ -159,8 +159,8 @@ bool keep_if_better(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                     int& iterations) {
   const Eigen::VectorXd y_scored = layout.scored_rows(y);
   const double energy = (y_scored.array() - y_scored.mean()).matrix().squaredNorm();
-  const double now = row_criterion(weighted_sse(current.y_hat, y, layout), energy,
-                                   layout.scored(), parameter_count(current.elements));
+  const double now = row_criterion(weighted_sse(current.y_hat, y, layout), energy, layout.scored(),
+                                   parameter_count(current.elements));
   if (!(row_criterion(0.0, energy, layout.scored(), parameter_count(start)) < now)) return false;
   if (!discretisable(start, T_min)) return false;
   MisoResult other = fit_miso(U, y, inputs, start, T_min, bounds, max_iterations, layout, trend);

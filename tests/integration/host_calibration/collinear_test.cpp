@@ -44,9 +44,9 @@ int seeds() {
 
 struct Case {
   std::string plant;
-  int first;           // u_a, 0-based
-  int second;          // u_b
-  double independent;  // ρ
+  int first;               // u_a, 0-based
+  int second;              // u_b
+  double independent;      // ρ
   bool calibrated = true;  // held to the coverage bounds
 };
 

@@ -53,8 +53,8 @@ class OwnPartStarts {
 
  private:
   struct Side;  // one orientation: the input whose own part is taken, its β, its ARX basis
-  std::vector<ElementModel> start(const Side& side, const RowProblem& row,
-                                  const ResponseBank& bank, std::vector<ElementModel> from) const;
+  std::vector<ElementModel> start(const Side& side, const RowProblem& row, const ResponseBank& bank,
+                                  std::vector<ElementModel> from) const;
   std::unique_ptr<const Side> sides_[2];
 };
 
