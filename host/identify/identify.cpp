@@ -351,11 +351,9 @@ MisoResult fit_cold(const Rows& rows, const Eigen::VectorXd& y, const Eigen::Vec
     if (s == first || (s < c.together && !(cost[s] <= kAmbiguousStart * cost[first]))) continue;
     fit_from(c.starts[s]);
   }
-  const RowProblem row{rows.U,      y,           usable,
-                       rows.T_min,  rows.bounds, rows.options.max_iterations,
-                       rows.layout, rows.trend};
-  const double scale = y.cwiseProduct(rows.layout.weight).squaredNorm();
-  if (rows.own_part && !(row_cost(row, *miso) <= kNoiseFree * scale)) {
+  // (own_part exists for a pair only, whose pair start cold_starts() put last)
+  if (rows.own_part &&
+      !(sse(*miso) <= kNoiseFree * y.cwiseProduct(rows.layout.weight).squaredNorm())) {
     const RowProblem row_start{rows.U,      y_start,     usable,
                                rows.T_min,  rows.bounds, rows.options.max_iterations,
                                rows.layout, rows.trend};
