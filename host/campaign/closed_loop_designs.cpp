@@ -12,6 +12,16 @@ void check_excitation(const std::string& excitation) {
     throw std::invalid_argument("--excitation = " + excitation + ", expected setpoint or mv");
 }
 
+void check_directions(const std::string& directions, const std::string& excitation) {
+  if (directions != "none" && directions != "output")
+    throw std::invalid_argument("--directions = " + directions + ", expected none or output");
+  if (directions == "output" && excitation != "setpoint") {
+    throw std::invalid_argument("--directions = output with --excitation = " + excitation +
+                                ", expected setpoint excitation (r along the prior's output "
+                                "directions; an MV dither is the open-loop preset)");
+  }
+}
+
 std::vector<const PresetInfo*> closed_loop_presets(const std::vector<std::string>& names) {
   std::vector<const PresetInfo*> set;
   if (names.empty()) {
@@ -49,12 +59,14 @@ void resolve_cv_limits(ClosedLoopDesignOptions& o, const sim::control::Controlle
 Design design_closed_loop(const ClosedLoopDesignOptions& o, const PriorKnowledge& prior,
                           const PresetInfo& preset, const std::vector<std::string>& cv_names,
                           const sim::control::ControllerFile& file) {
+  check_directions(o.directions, o.excitation);
   if (o.excitation == "mv") return design_mv_dither(prior, preset, 0);
   SetpointDesignRequest request;
   request.cv_names = cv_names;
   request.cv_low = o.cv_low;
   request.cv_high = o.cv_high;
   request.fraction = o.limit_fraction;
+  request.along_output_directions = o.directions == "output";
   if (o.mv_fraction > 0.0) {  // the MVs' room, from the controller file
     const auto n = static_cast<Eigen::Index>(file.dmc.mv.size());
     request.mv_fraction = o.mv_fraction;

@@ -4,7 +4,7 @@
 //                 [--structure auto|NAME]
 // excite campaign --plant NAME --controller FILE -o DIR [--loop] [--excitation setpoint|mv]
 //                 [--limit CV=LO:HI ...] [--limit-fraction F] [--mv-fraction F] [--designs A,B]
-//                 [--open-loop-report PATH]
+//                 [--directions none|output] [--open-loop-report PATH]
 //   the campaign with the controller on (issue 42 §4, host/loop/closed_loop_campaign.hpp):
 //   the closed-loop designs (every plain preset, setpoint excitation or MV dither), each run
 //   closed loop (--loop: through the real gateway to excite-plant --controller; else in
@@ -63,6 +63,7 @@ struct CampaignCommandOptions {
   std::vector<std::string> limits;  // CV=LO:HI
   double limit_fraction = 0.5;
   double mv_fraction = 0.0;
+  std::string directions = "none";
   std::vector<std::string> designs;
   std::string open_loop_report;
 };
@@ -120,6 +121,7 @@ void run_closed_loop(const CampaignCommandOptions& opt,
   c.designs = opt.designs;
   c.design.limit_fraction = opt.limit_fraction;
   c.design.mv_fraction = opt.mv_fraction;
+  c.design.directions = opt.directions;
   if (!opt.limits.empty()) {
     const CvLimits limits =
         parse_cv_limits(opt.limits, sim::make_plant(c.plant)->output_names(), "the plant's");
@@ -148,6 +150,7 @@ void run_closed_loop(const CampaignCommandOptions& opt,
   const ClosedLoopCampaignHeader header{.plant = c.plant,
                                         .controller = c.controller,
                                         .excitation = c.design.excitation,
+                                        .directions = c.design.directions,
                                         .loop = c.loop,
                                         .open_loop_report = opt.open_loop_report,
                                         .threads = c.threads};
@@ -174,9 +177,10 @@ void run(CampaignCommandOptions opt) {
     run_closed_loop(opt, say);
     return;
   }
-  if (!opt.limits.empty() || !opt.designs.empty() || !opt.open_loop_report.empty()) {
+  if (!opt.limits.empty() || !opt.designs.empty() || !opt.open_loop_report.empty() ||
+      opt.directions != "none") {
     throw std::invalid_argument(
-        "--limit/--designs/--open-loop-report without --controller, "
+        "--limit/--designs/--directions/--open-loop-report without --controller, "
         "expected --controller FILE (they choose the closed-loop "
         "designs)");
   }
@@ -269,6 +273,11 @@ void add_campaign_command(CLI::App& app) {
                   "0: sized by the CV limits alone")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--directions", opt->directions,
+                  "with --controller, setpoint: none (each CV its own signal) or output (the "
+                  "same signals along the prior's output directions W of G(0) = W Sigma V')")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"none", "output"}));
   cmd->add_option("--designs", opt->designs,
                   "with --controller: the plain presets to run (default: every one)")
       ->delimiter(',');

@@ -245,6 +245,12 @@ void add_closed_loop_options(CLI::App& cmd, Options& opt) {
                  "stay within this share of each MV's limits (0: off)")
       ->capture_default_str()
       ->needs(controller);
+  cmd.add_option("--directions", loop.directions,
+                 "with --controller, setpoint: none (each CV its own signal) or output (the same "
+                 "signals along the prior's output directions, r = c W s; under integral action "
+                 "the MVs' room goes to the weak input directions)")
+      ->capture_default_str()
+      ->needs(controller);
   cmd.add_option("--controller-perturb", opt.controller_perturb,
                  "with --controller: the controller's model perturbed per seed, every gain, "
                  "time constant and delay within +-X % (percent, 0 <= X < 100)")

@@ -137,6 +137,7 @@ void write_closed_loop_summary(const ClosedLoopCampaignHeader& h,
   j["plant"] = h.plant;
   j["controller"] = fs::path(h.controller).filename().string();
   j["excitation"] = h.excitation;
+  j["directions"] = h.directions;
   j["through_the_gateway"] = h.loop;
   j["experiments"] = nlohmann::json::array();
   for (const ClosedLoopExperiment& e : runs) {
@@ -176,8 +177,8 @@ void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
        ".m td{border:none;padding:0 .4em}.m{margin-bottom:.4em}"
        "</style></head><body>\n";
   s << "<h1>" << esc(h.plant) << ": the closed-loop designs</h1>\n<p>Controller "
-    << esc(fs::path(h.controller).filename().string()) << ", " << esc(h.excitation)
-    << " excitation, "
+    << esc(fs::path(h.controller).filename().string()) << ", " << esc(h.excitation) << " excitation"
+    << (h.directions == "output" ? " along the prior's output directions" : "") << ", "
     << (h.loop ? "every run streamed through the real excite-gateway to excite-plant "
                  "--controller (lock-step; the gateway's run-log v4)"
                : "every run simulated in process (excite simulate --controller)")

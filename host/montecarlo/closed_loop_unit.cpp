@@ -51,6 +51,7 @@ void prepare_closed_loop(Prepared& p, const PriorKnowledge& prior) {
   design.excitation = c.excitation;
   design.limit_fraction = c.limit_fraction;
   design.mv_fraction = c.mv_fraction;
+  design.directions = c.directions;
   const std::vector<std::string> cvs = sim::make_plant(p.config.plant)->output_names();
   resolve_cv_limits(design, file, static_cast<Eigen::Index>(cvs.size()));
   if (design.cv_low.size() > 0) {

@@ -47,10 +47,10 @@ std::string slurm_script(const Config& config, const SlurmJob& job) {
     closed_loop = " --controller " + shell_word(l.controller) + " --excitation " + l.excitation +
                   " --method " + l.method + " --limit-fraction " +
                   config::format_number(l.limit_fraction) + " --mv-fraction " +
-                  config::format_number(l.mv_fraction) + " --controller-perturb " +
-                  sim::percent_text(l.model_perturb_percent) + " --disturbance-std " +
-                  config::format_number(l.disturbance_std) + " --disturbance-tau-min " +
-                  config::format_number(l.disturbance_tau_min);
+                  config::format_number(l.mv_fraction) + " --directions " + l.directions +
+                  " --controller-perturb " + sim::percent_text(l.model_perturb_percent) +
+                  " --disturbance-std " + config::format_number(l.disturbance_std) +
+                  " --disturbance-tau-min " + config::format_number(l.disturbance_tau_min);
   }
   std::string s;
   s += "#!/bin/sh\n";

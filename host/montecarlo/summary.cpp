@@ -268,7 +268,9 @@ json closed_loop_run_json(const Config& c) {
   json j = config_json(c)["closed_loop"];
   j["text"] =
       "closed loop in process under " + l.controller + ", " + model + "; " +
-      (l.excitation == "mv" ? "MV dither" : "setpoint excitation") +
+      (l.excitation == "mv"       ? "MV dither"
+       : l.directions == "output" ? "setpoint excitation along the prior's output directions"
+                                  : "setpoint excitation") +
       (l.method == "direct" ? "; identified direct (the prediction-error fit with an AR noise "
                               "model on the applied u, the test-length prefixes too)"
                             : "; identified two-stage (the prediction-error fit with an AR noise "

@@ -6,6 +6,7 @@
 // setpoint excitation, the controller named), the plant's own controller log ends with every
 // offset and setpoint offset at zero and the controller in control, and a two-stage model
 // per run, listed in summary.json and linked from index.html.
+#include <Eigen/SVD>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -182,6 +183,44 @@ TEST_F(ClosedLoopCampaign, EachRunsFigureDrawsRWhereItWasAdded) {
     EXPECT_EQ(svg.find("r y1") != std::string::npos, !mv) << excitation;
     EXPECT_EQ(svg.find("the dither r") != std::string::npos, mv) << excitation;
   }
+}
+
+// --directions output (issue 41 §2): r is the same preset's signals along the prior's output
+// directions, r(k) = c·W s(k). prbsUnc's s is one binary PRBS per channel, so each column of
+// Wᵀ r takes two values (±c·a), where the plain design's r, turned the same way, takes four.
+TEST_F(ClosedLoopCampaign, OutputDirectionsPutRAlongThePriorsOutputDirections) {
+  const std::string common = " campaign --plant woodberry2x2 --controller " + kPi +
+                             " --limit y1=-0.5:0.5 --limit y2=-0.25:0.25 --designs prbsUnc";
+  const auto values_along_w = [&](const std::string& options, const fs::path& out) {
+    EXPECT_TRUE(shell(std::string(EXCITE_TOOL) + common + options + " -o " + out.string() +
+                      " > /dev/null 2> " + path("err").string()))
+        << slurp(path("err"));
+    const runlog::RunLog log = read_log_or_fail(out / "runs" / "04-prbsUnc" / "run.csv");
+    EXPECT_EQ(log.closed_loop.r.size(), 2U);
+    // W of woodberry2x2's G(0) = [[12.8, -18.9], [6.6, -19.4]] (the case study's prior).
+    Eigen::Matrix2d g0;
+    g0 << 12.8, -18.9, 6.6, -19.4;
+    const Eigen::Matrix2d W = Eigen::JacobiSVD<Eigen::Matrix2d>(g0, Eigen::ComputeFullU).matrixU();
+    std::vector<std::size_t> counts;
+    for (Eigen::Index i = 0; i < 2; ++i) {
+      std::vector<double> values;
+      for (std::size_t k = 0; k < log.rows(); ++k) {
+        const double v = W(0, i) * log.closed_loop.r[0][k] + W(1, i) * log.closed_loop.r[1][k];
+        if (std::none_of(values.begin(), values.end(),
+                         [&](double seen) { return std::abs(seen - v) <= 1e-9; }))
+          values.push_back(v);
+      }
+      counts.push_back(values.size());
+    }
+    return counts;
+  };
+  EXPECT_EQ(values_along_w(" --directions output", path("along")),
+            (std::vector<std::size_t>{2, 2}));
+  const nlohmann::json summary = nlohmann::json::parse(slurp(path("along") / "summary.json"));
+  EXPECT_EQ(summary["directions"], "output");
+  EXPECT_NE(slurp(path("along") / "index.html").find("along the prior's output directions"),
+            std::string::npos);
+  EXPECT_EQ(values_along_w("", path("plain")), (std::vector<std::size_t>{4, 4}));
 }
 
 }  // namespace

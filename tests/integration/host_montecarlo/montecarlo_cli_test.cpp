@@ -306,16 +306,22 @@ TEST_F(MonteCarlo, RunsClosedLoopUnderAControllerFileAndSaysSo) {
   r = excite(run + " --emit-slurm " + path("job.sh") + " -o " + path("slurm"));
   ASSERT_EQ(r.exit_code, 0) << r.out;
   const std::string script = bytes_of(path("job.sh"));
-  EXPECT_NE(script.find(" --controller '" + pi +
-                        "' --excitation mv --method two-stage --limit-fraction 0.5 "
-                        "--mv-fraction 0 --controller-perturb 0 --disturbance-std 0 "
-                        "--disturbance-tau-min 0 "),
-            std::string::npos)
+  EXPECT_NE(
+      script.find(" --controller '" + pi +
+                  "' --excitation mv --method two-stage --limit-fraction 0.5 "
+                  "--mv-fraction 0 --directions none --controller-perturb 0 --disturbance-std 0 "
+                  "--disturbance-tau-min 0 "),
+      std::string::npos)
       << script;
 
   r = excite("montecarlo --plant woodberry2x2 --seeds 1 --excitation mv -o " + path("x"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.out.find("--excitation requires --controller"), std::string::npos) << r.out;
+  r = excite(run + " --directions output -o " + path("x"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("--directions = output with --excitation = mv, expected setpoint"),
+            std::string::npos)
+      << r.out;
   r = excite("montecarlo --plant woodberry2x2 --seeds 1 --designs prbsSimDir --controller " + pi +
              " -o " + path("x"));
   EXPECT_EQ(r.exit_code, 1);

@@ -276,6 +276,38 @@ TEST(ClosedLoopUnit, OptionsAreCheckedByName) {
   mc::Config model = c;
   model.closed_loop.model_perturb_percent = 100.0;
   refused(model, "--controller-perturb = 100, expected a number of percent, 0 <= X < 100");
+  mc::Config directions = c;
+  directions.closed_loop.directions = "input";
+  refused(directions, "--directions = input, expected none or output");
+  directions.closed_loop.directions = "output";
+  directions.closed_loop.excitation = "mv";
+  refused(directions, "--directions = output with --excitation = mv, expected setpoint excitation");
+}
+
+// --directions output: the same preset's signals, put along the prior's output directions W
+// (G(0) = W Σ Vᵀ): Wᵀ r is, source by source, the plain design's CV signal rescaled.
+TEST(ClosedLoopUnit, OutputDirectionsPutEachPlainSignalAlongOneOfThePriorsOutputDirections) {
+  mc::Config plain_config = prbs_unc("alatiqi4x4", kDmc, 1);
+  mc::Config along_config = plain_config;
+  along_config.closed_loop.directions = "output";
+  const auto plain = mc::prepare(plain_config, 1);
+  const auto along = mc::prepare(along_config, 1);
+  const Eigen::MatrixXd& r_plain = plain->designs[0].table;
+  const Eigen::MatrixXd& r_along = along->designs[0].table;
+  ASSERT_EQ(r_plain.rows(), r_along.rows());
+  const Eigen::MatrixXd& W = plain->truth.gain.output_directions;  // the case study's prior
+  const Eigen::MatrixXd turned = r_along * W;                      // row k: (Wᵀ r(k))ᵀ
+  for (Eigen::Index i = 0; i < r_plain.cols(); ++i) {
+    // The same signal up to one factor: |cos| of the angle between the columns is 1.
+    const double cosine = std::abs(turned.col(i).dot(r_plain.col(i))) /
+                          (turned.col(i).norm() * r_plain.col(i).norm());
+    EXPECT_NEAR(cosine, 1.0, 1e-12) << "direction " << i;
+  }
+  // And not the plain design: its CV signals are not along W.
+  const Eigen::MatrixXd plain_turned = r_plain * W;
+  EXPECT_LT(std::abs(plain_turned.col(0).dot(r_plain.col(0))) /
+                (plain_turned.col(0).norm() * r_plain.col(0).norm()),
+            0.99);
 }
 
 TEST(ClosedLoopUnit, RunJsonKeepsTheClosedLoopAndAnOlderFolderReadsAsOpenLoop) {
@@ -296,6 +328,15 @@ TEST(ClosedLoopUnit, RunJsonKeepsTheClosedLoopAndAnOlderFolderReadsAsOpenLoop) {
   EXPECT_EQ(back.closed_loop.disturbance_tau_min, 20.0);
   EXPECT_EQ(back.closed_loop.limit_fraction, c.closed_loop.limit_fraction);
   EXPECT_EQ(back.designs, c.designs);
+
+  mc::Config along = prbs_unc("alatiqi4x4", kDmc, 1);
+  along.closed_loop.directions = "output";
+  nlohmann::json k = mc::config_json(along);
+  { std::ofstream(dir / "run.json") << k.dump(2); }
+  EXPECT_EQ(mc::read_config(dir / "run.json").closed_loop.directions, "output");
+  k["closed_loop"].erase("directions");  // a folder of a run before --directions
+  { std::ofstream(dir / "run.json") << k.dump(2); }
+  EXPECT_EQ(mc::read_config(dir / "run.json").closed_loop.directions, "none");
 
   j.erase("closed_loop");  // a folder of a run before issue 41 §4
   { std::ofstream(dir / "run.json") << j.dump(2); }

@@ -6,7 +6,8 @@
 // (host/montecarlo): both run the same designs.
 //
 // The designs are the plain (not directional) presets of Table 6.1: the controller makes the
-// rotation (u ≈ G(0)⁻¹ r), so a directional design has no closed-loop form. Setpoint
+// rotation (u ≈ G(0)⁻¹ r), so a directional design has no closed-loop form; r itself can be
+// put along the prior's output directions (directions = "output"). Setpoint
 // excitation sizes r from the CV test limits (and, with mv_fraction > 0, the controller's MV
 // room: host/design/closed_loop_design.hpp); MV dither is the open-loop preset marked as such.
 
@@ -31,10 +32,19 @@ struct ClosedLoopDesignOptions {
   // within this share of each MV's limits (the controller file's [[mv]] min, max); 0: r is
   // sized by the CV limits alone.
   double mv_fraction = 0.0;
+  // Setpoint excitation: "none" (each CV its own signal) or "output" (the same signals along
+  // the prior's output directions, r = c·W s: host/design/closed_loop_design.hpp). Under
+  // integral action u ≈ V Σ⁻¹ Wᵀ r, so W's last columns spend the MVs' room on the weak
+  // input directions.
+  std::string directions = "none";
 };
 
 /// Throws std::invalid_argument "--excitation = X, expected setpoint or mv" otherwise.
 void check_excitation(const std::string& excitation);
+
+/// Throws std::invalid_argument naming --directions unless it is "none" or "output", and
+/// "output" only with setpoint excitation (an MV dither is the open-loop preset as it is).
+void check_directions(const std::string& directions, const std::string& excitation);
 
 /// The presets named (acronyms, in the order given), or every plain preset of Table 6.1 when
 /// `names` is empty. Throws std::invalid_argument "--designs = NAME, expected a plain preset
@@ -49,7 +59,9 @@ void resolve_cv_limits(ClosedLoopDesignOptions& options, const sim::control::Con
 
 /// The closed-loop design of `preset` (options resolved: resolve_cv_limits): a setpoint
 /// excitation on the CVs `cv_names` (design_setpoint_excitation, the MV room from `file`'s
-/// [[mv]] when mv_fraction > 0) or the MV dither (design_mv_dither). Throws what they throw.
+/// [[mv]] when mv_fraction > 0, along the prior's output directions when directions =
+/// "output") or the MV dither (design_mv_dither). Throws check_directions' message and what
+/// they throw.
 Design design_closed_loop(const ClosedLoopDesignOptions& options, const PriorKnowledge& prior,
                           const PresetInfo& preset, const std::vector<std::string>& cv_names,
                           const sim::control::ControllerFile& file);

@@ -17,11 +17,12 @@ namespace excite::host {
 
 struct ClosedLoopCampaignHeader {
   std::string plant;
-  std::string controller;        // the file as given
-  std::string excitation;        // setpoint | mv
-  bool loop = false;             // through the real gateway
-  std::string open_loop_report;  // a relative link to the open-loop report, or ""
-  int threads = 1;               // gnuplot processes drawing the figures
+  std::string controller;           // the file as given
+  std::string excitation;           // setpoint | mv
+  std::string directions = "none";  // setpoint: none | output (r along the prior's W)
+  bool loop = false;                // through the real gateway
+  std::string open_loop_report;     // a relative link to the open-loop report, or ""
+  int threads = 1;                  // gnuplot processes drawing the figures
 };
 
 void write_closed_loop_summary(const ClosedLoopCampaignHeader& header,

@@ -40,6 +40,8 @@ struct ClosedLoopConfig {
   std::string method = "two-stage";     // or "direct": which estimate is judged
   double limit_fraction = 0.5;          // setpoint: each CV's amplitude, share of its limit
   double mv_fraction = 0.0;             // setpoint: r within this share of the MVs' room; 0: off
+  std::string directions = "none";      // setpoint: "output": r along the prior's output
+                                        // directions (closed_loop_designs.hpp)
   // The controller's model perturbed per seed within ±X % (sim/library/perturb.hpp, drawn for
   // controller_model_seed(s)): a DMC built on a wrong model, as in a real plant. 0: the
   // controller file's model as it is.
