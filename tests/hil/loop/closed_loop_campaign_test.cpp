@@ -15,6 +15,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "host/design/case_studies.hpp"
 #include "loop_facts.hpp"
 #include "loop_fixture.hpp"
 
@@ -197,10 +198,10 @@ TEST_F(ClosedLoopCampaign, OutputDirectionsPutRAlongThePriorsOutputDirections) {
         << slurp(path("err"));
     const runlog::RunLog log = read_log_or_fail(out / "runs" / "04-prbsUnc" / "run.csv");
     EXPECT_EQ(log.closed_loop.r.size(), 2U);
-    // W of woodberry2x2's G(0) = [[12.8, -18.9], [6.6, -19.4]] (the case study's prior).
-    Eigen::Matrix2d g0;
-    g0 << 12.8, -18.9, 6.6, -19.4;
-    const Eigen::Matrix2d W = Eigen::JacobiSVD<Eigen::Matrix2d>(g0, Eigen::ComputeFullU).matrixU();
+    // W of the case study's prior G(0), the one the design rotates by.
+    const Eigen::MatrixXd W = Eigen::JacobiSVD<Eigen::MatrixXd>(
+                                  host::case_study("woodberry2x2").gain, Eigen::ComputeFullU)
+                                  .matrixU();
     std::vector<std::size_t> counts;
     for (Eigen::Index i = 0; i < 2; ++i) {
       std::vector<double> values;
@@ -221,6 +222,17 @@ TEST_F(ClosedLoopCampaign, OutputDirectionsPutRAlongThePriorsOutputDirections) {
   EXPECT_NE(slurp(path("along") / "index.html").find("along the prior's output directions"),
             std::string::npos);
   EXPECT_EQ(values_along_w("", path("plain")), (std::vector<std::size_t>{4, 4}));
+  // Without a controller there is no r to turn: refused before any work.
+  EXPECT_FALSE(shell(std::string(EXCITE_TOOL) +
+                     " campaign --plant woodberry2x2 --directions "
+                     "output -o " +
+                     path("open").string() + " > /dev/null 2> " + path("err").string()));
+  EXPECT_NE(slurp(path("err"))
+                .find("--limit/--designs/--directions/--open-loop-report without "
+                      "--controller, expected --controller FILE"),
+            std::string::npos)
+      << slurp(path("err"));
+  EXPECT_FALSE(fs::exists(path("open")));
 }
 
 }  // namespace
