@@ -11,6 +11,7 @@
 #include "host/adaptive/segments.hpp"
 #include "host/design/table.hpp"
 #include "host/identify/closed_loop.hpp"
+#include "host/measures/gain_directions.hpp"
 
 namespace excite::host {
 
@@ -125,8 +126,8 @@ class ClosedLoopTest {
     return s;
   }
 
-  // Plain (no usable estimate yet) or re-aimed along Ŵ diag(w) of the latest usable one; the
-  // MVs' room cut last.
+  // Plain or along the prior's Ŵ (no usable estimate yet), or re-aimed along Ŵ diag(w) of the
+  // latest usable one; the MVs' room cut last.
   void add_segment(int index, const Reestimate* last) {
     SegmentDecision d;
     d.index = index;
@@ -143,14 +144,22 @@ class ClosedLoopTest {
       d.from_estimate = aim;
       d.weights = direction_weights(e.confidence, static_cast<int>(n), o_.adaptive.weight_floor);
       mix = e.result.gain->output_directions * d.weights.asDiagonal();
-      for (Eigen::Index j = 0; j < n; ++j) mix.row(j) /= mix.row(j).cwiseAbs().sum();
       gain = e.result.gain->gain;
       d.why = "along the output directions of the estimate at " + minutes(e.samples) +
               ", weights (need over the largest)";
       for (Eigen::Index i = 0; i < n; ++i) d.why += " " + short_number(d.weights(i));
+    } else if (o_.prior_directions) {
+      d.directional = true;  // from_estimate -1: the prior's directions
+      mix = analyse_gain(prior_.gain).output_directions;
+      d.why = "along the prior's output directions, equal weights, at " +
+              short_number(o_.limit_fraction) + " of each CV's test limit" +
+              (last == nullptr ? "" : " (no usable G(0) yet)");
     } else {
       d.why = "plain: every CV its own PRBS at " + short_number(o_.limit_fraction) +
               " of its test limit" + (last == nullptr ? "" : " (no usable G(0) yet)");
+    }
+    if (d.directional) {  // D: each CV's row to a peak of 1 (|r_j| ≤ a_j)
+      for (Eigen::Index j = 0; j < n; ++j) mix.row(j) /= mix.row(j).cwiseAbs().sum();
     }
     Eigen::MatrixXd r = sources(d.first_row, d.rows) * mix.transpose() * amplitude_.asDiagonal();
     d.scale = mv_room(gain, r, d.why);
@@ -193,6 +202,7 @@ class ClosedLoopTest {
     result_.criterion_met = met;
     result_.stop_reason = std::move(reason);
     result_.Y_true = loop_.run(R_, true).dy;
+    result_.R = R_;
     count_outside_limits(result_.Y, *o_.adaptive.limits, result_);
     return std::move(result_);
   }

@@ -207,6 +207,7 @@ nlohmann::json study_json(const StudyResult& s) {
                    {"estimate", c->two_stage ? "two-stage" : "direct"},
                    {"limit_fraction", c->limit_fraction},
                    {"mv_fraction", c->mv_fraction},
+                   {"first_segment", c->prior_directions ? "output directions" : "plain"},
                    {"disturbance_std", c->disturbance_std},
                    {"disturbance_tau_min", c->disturbance_tau_min}};
   }
@@ -245,6 +246,7 @@ std::string study_text(const StudyResult& s) {
     t << "\n  closed loop: r on the CV setpoints under " << c->controller << " at "
       << c->limit_fraction << " of the CV limits, the " << (c->two_stage ? "two-stage" : "direct")
       << " estimate";
+    if (c->prior_directions) t << ", the first segment along the prior's output directions";
     if (c->disturbance_std > 0.0)
       t << ", coloured disturbance " << c->disturbance_std << " (tau " << c->disturbance_tau_min
         << " min)";

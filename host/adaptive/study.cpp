@@ -87,6 +87,7 @@ std::optional<AdaptiveResult> closed_loop_test(const StudyOptions& o, const Prio
   options.limit_fraction = c.limit_fraction;
   options.mv_fraction = c.mv_fraction;
   options.two_stage = c.two_stage;
+  options.prior_directions = c.prior_directions;
   return run_closed_loop_adaptive_test(prior, closed, options);
 }
 

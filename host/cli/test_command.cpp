@@ -5,7 +5,8 @@
 //             [--residual-tests] [--colour]
 // excite test --plant NAME --seeds N [--seed FIRST] [--threads T] … -o DIR
 // excite test --plant NAME --seeds N --controller FILE [--method direct|two-stage]
-//             [--limit-fraction F] [--mv-fraction F] [--disturbance-std S
+//             [--directions none|output] [--limit-fraction F] [--mv-fraction F] [--disturbance-std
+//             S
 //             --disturbance-tau-min T] … -o DIR
 // excite test --plant NAME | --spec FILE --inbox DIR --run-log FILE [--segment-timeout-min M]
 //             … -o OUT
@@ -43,6 +44,7 @@ struct TestCommandOptions {
   AdaptiveOptions adaptive;
   ClosedLoopStudyOptions closed_loop;  // used when closed_loop.controller is given
   std::string method = "direct";
+  std::string directions = "none";  // with --controller: segment 0's r
 };
 
 // Options → one call of host/adaptive/recorded_test.hpp, which checks everything before
@@ -75,6 +77,7 @@ void run(const TestCommandOptions& opt) {
     if (!opt.closed_loop.controller.empty()) {
       closed_loop = opt.closed_loop;
       closed_loop->two_stage = opt.method == "two-stage";
+      closed_loop->prior_directions = opt.directions == "output";
     }
     run_recorded_study({opt.plant, opt.output, opt.seed, opt.seeds, opt.threads, opt.noise_variance,
                         perturb, opt.limits, opt.adaptive, closed_loop},
@@ -187,6 +190,12 @@ void add_closed_loop_options(CLI::App* cmd, TestCommandOptions& o, CLI::Option* 
                         "its noise model on the applied u) or two-stage")
             ->capture_default_str()
             ->check(CLI::IsMember({"direct", "two-stage"})));
+  needs(cmd->add_option("--directions", o.directions,
+                        "with --controller: the first segment's r, none (each CV its own PRBS) "
+                        "or output (along the prior's output directions); later segments follow "
+                        "the estimate's")
+            ->capture_default_str()
+            ->check(CLI::IsMember({"none", "output"})));
   needs(cmd->add_option("--limit-fraction", c.limit_fraction,
                         "with --controller: r's amplitude as a share of each CV's test limit")
             ->capture_default_str()

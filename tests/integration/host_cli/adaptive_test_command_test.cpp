@@ -139,10 +139,23 @@ TEST_F(AdaptiveTestCommand, AStudyWithTheControllerOnSaysSoAndStops) {
     EXPECT_EQ(seed["met_at_stop"], true) << seed.dump();
     EXPECT_EQ(seed["violated"], false) << seed.dump();
   }
+  for (const nlohmann::json& seed : s["per_seed"])
+    EXPECT_LT(seed["directional_segments"], seed["segments"]) << "segment 0 plain";
+  // The first segment along the prior's output directions: every segment directional.
+  const Result o = excite("test --plant woodberry2x2 --seeds 1 --controller " + pi +
+                          " --directions output --limit y1=-2:2 --limit y2=-2:2 -o " + path("out"));
+  ASSERT_EQ(o.exit_code, 0) << o.out;
+  EXPECT_TRUE(contains(o.out, "the first segment along the prior's output directions")) << o.out;
+  const nlohmann::json so = nlohmann::json::parse(std::ifstream(path("out/study.json")));
+  EXPECT_EQ(so["closed_loop"]["first_segment"], "output directions");
+  EXPECT_EQ(so["per_seed"][0]["directional_segments"], so["per_seed"][0]["segments"]);
+  EXPECT_EQ(so["per_seed"][0]["met_at_stop"], true);
   // Refused by name, nothing made: one test, an option without the file, no limits for a PI.
   const std::vector<std::pair<std::string, std::string>> bad = {
       {"--controller " + pi, "--seeds = (none) with --controller, expected a study"},
       {"--seeds 2 --method two-stage", "--method requires --controller"},
+      {"--seeds 2 --directions output", "--directions requires --controller"},
+      {"--seeds 2 --controller " + pi + " --directions input", "--directions: input not in"},
       {"--seeds 2 --controller " + pi,
        "--limit = (none), expected CV test limits for a setpoint excitation"},
   };

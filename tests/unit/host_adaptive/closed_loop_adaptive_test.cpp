@@ -5,10 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "host/design/case_studies.hpp"
 #include "host/measures/accuracy.hpp"
+#include "host/measures/gain_directions.hpp"
 #include "sim/control/controller_file.hpp"
 #include "sim/control/make_controller.hpp"
 
@@ -72,6 +75,50 @@ TEST(ClosedLoopAdaptive, WoodBerryUnderPiStopsByTheRuleAfterReAimedSegments) {
   // The stopping estimate meets the accuracy criterion against the truth.
   const TruePlant truth = true_plant_of(w.plant->static_gain());
   EXPECT_TRUE(judge(truth, r.estimates.back().result.gain).met);
+}
+
+TEST(ClosedLoopAdaptive, TheFirstSegmentAlongThePriorsOutputDirectionsPutsEachSourceOnOne) {
+  // One segment, plain and along the prior's W. Wood-Berry's W is a rotation, so both rows of
+  // W have the same absolute sum and r = a·c·W s: Wᵀr takes two values per column (±a·c),
+  // where plain r = a·s gives Wᵀr four (every sign pattern of s on each row of Wᵀ).
+  const auto first_segment = [](bool prior_directions) {
+    WoodBerryUnderPi w(1);
+    ClosedLoopAdaptiveOptions o = limits_of_2();
+    o.prior_directions = prior_directions;
+    o.adaptive.segment_min = 1e6;     // one segment, the prior's whole prbsUnc length: every
+    o.adaptive.max_length_min = 0.0;  // sign pattern of the sources occurs
+    AdaptiveResult r = run_closed_loop_adaptive_test(w.prior, *w.loop, o);
+    EXPECT_EQ(r.R.rows(), r.U.rows());
+    r.R = r.R.topRows(r.segments[0].rows).eval();  // the first segment's r
+    return std::make_pair(r, analyse_gain(w.prior.gain).output_directions);
+  };
+  const auto distinct = [](const Eigen::VectorXd& x) {
+    std::vector<double> v;
+    for (const double value : x) {
+      if (std::none_of(v.begin(), v.end(), [&](double seen) {
+            return std::abs(seen - value) <= 1e-9 * x.cwiseAbs().maxCoeff();
+          })) {
+        v.push_back(value);
+      }
+    }
+    return v.size();
+  };
+  const auto [along, W] = first_segment(true);
+  EXPECT_TRUE(along.segments[0].directional);
+  EXPECT_EQ(along.segments[0].from_estimate, -1);
+  EXPECT_NE(along.segments[0].why.find("prior's output directions"), std::string::npos)
+      << along.segments[0].why;
+  const Eigen::MatrixXd s_along = along.R * W;  // rows × directions: Wᵀr per row
+  for (Eigen::Index i = 0; i < 2; ++i) EXPECT_EQ(distinct(s_along.col(i)), 2U) << "direction " << i;
+  // Each CV's peak |r_j| is its amplitude, half of ±2 (times the MVs' room's scale).
+  for (Eigen::Index j = 0; j < 2; ++j) {
+    EXPECT_NEAR(along.R.col(j).cwiseAbs().maxCoeff(), along.segments[0].scale, 1e-12);
+  }
+
+  const auto [plain, W_plain] = first_segment(false);
+  EXPECT_FALSE(plain.segments[0].directional);
+  const Eigen::MatrixXd s_plain = plain.R * W_plain;
+  for (Eigen::Index i = 0; i < 2; ++i) EXPECT_EQ(distinct(s_plain.col(i)), 4U) << "direction " << i;
 }
 
 TEST(ClosedLoopAdaptive, OptionsAreRefusedByName) {

@@ -96,7 +96,8 @@ struct SegmentDecision {
   long long first_row = 0;  // in the whole record, when decided (a gateway in real time may
                             // log held rows before the segment's first row: InboxRunner)
   std::uint32_t rows = 0;
-  bool directional = false;  // along V̂ Σ̂⁻¹ of estimate `from_estimate`; else plain
+  bool directional = false;  // along V̂ Σ̂⁻¹ of estimate `from_estimate` (closed loop: along
+                             // the prior's output directions when -1); else plain
   int from_estimate = -1;    // index into AdaptiveResult::estimates; -1: none
   Eigen::VectorXd weights;   // per direction (directional) or per input (plain: all 1)
   double scale = 1.0;        // the mix's factor: first_scale for plain segments, amplitude
@@ -126,6 +127,7 @@ struct AdaptiveResult {
   std::string stop_reason;
   double sample_time_min = 0.0;
   Eigen::MatrixXd U, Y, Y_true;  // the whole test so far (Y_true empty unless the runner knows)
+  Eigen::MatrixXd R;             // with the controller on: r, the setpoint offsets (rows × CVs)
   // Under CV limits, per output: the measured rows outside its limits, and the measured
   // deviation furthest outside them (NaN: none). Empty without limits.
   std::vector<long long> rows_outside_limits;

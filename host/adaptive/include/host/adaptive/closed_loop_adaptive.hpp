@@ -5,6 +5,9 @@
 //
 //   segment 0   plain: r_j = a_j s_j, each CV its own PRBS source s_j (the prior's prbsUnc
 //               sources, ±1), a_j = limit_fraction · min(−low_j, high_j) of its test limits;
+//               with prior_directions, r = diag(a) D W s instead: W the output directions
+//               of the prior's G(0), equal weights, D as in 3 below (every segment before
+//               an estimate is usable);
 //   after each segment, once the record is long enough to identify:
 //     1. identify from all data so far: the prediction-error fit with an AR noise model per
 //        output on the applied u (the direct method, noise_model.hpp: consistent and
@@ -34,11 +37,12 @@
 namespace excite::host {
 
 struct ClosedLoopAdaptiveOptions {
-  AdaptiveOptions adaptive;     // segment_min, max_length_min, rule, weight_floor, identify;
-                                // limits: the CV test limits r is sized by (required)
-  double limit_fraction = 0.5;  // a_j: this share of each CV's test limit, in (0, 1]
-  double mv_fraction = 1.0;     // ≥ 0; 0: r not cut for the MVs' room
-  bool two_stage = false;       // the estimate: direct (false) or two-stage
+  AdaptiveOptions adaptive;       // segment_min, max_length_min, rule, weight_floor, identify;
+                                  // limits: the CV test limits r is sized by (required)
+  double limit_fraction = 0.5;    // a_j: this share of each CV's test limit, in (0, 1]
+  double mv_fraction = 1.0;       // ≥ 0; 0: r not cut for the MVs' room
+  bool two_stage = false;         // the estimate: direct (false) or two-stage
+  bool prior_directions = false;  // segment 0 along the prior's output directions (above)
 };
 
 /// The plant under its controller, with the measurement noise and the coloured disturbance

@@ -32,11 +32,12 @@ namespace excite::host {
 /// seed's perturbed plant whose G(0) its model does not control integrally: that seed is
 /// counted as a test that did not stop, the reason kept).
 struct ClosedLoopStudyOptions {
-  std::string controller;        // the controller file (sim/control/README.md)
-  double limit_fraction = 0.5;   // r at this share of each CV's test limit
-  double mv_fraction = 1.0;      // r cut until Ĝ(0)⁻¹ r fits this share of the MVs' limits
-  bool two_stage = false;        // the estimate: direct (false) or two-stage
-  double disturbance_std = 0.0;  // the coloured output disturbance (host/simulate)
+  std::string controller;         // the controller file (sim/control/README.md)
+  double limit_fraction = 0.5;    // r at this share of each CV's test limit
+  double mv_fraction = 1.0;       // r cut until Ĝ(0)⁻¹ r fits this share of the MVs' limits
+  bool two_stage = false;         // the estimate: direct (false) or two-stage
+  bool prior_directions = false;  // segment 0 along the prior's output directions
+  double disturbance_std = 0.0;   // the coloured output disturbance (host/simulate)
   double disturbance_tau_min = 0.0;
 };
 
