@@ -186,6 +186,11 @@ void run(const IdentifyCommandOptions& opt) {
                 << " (stage 1: FIR of " << closed->stage1.lags << " lags; u explained by r:";
       for (Eigen::Index i = 0; i < fit.size(); ++i) std::cout << ' ' << num(fit(i), 3) << " %";
       std::cout << ")\n";
+      if (opt.method != "direct" && closed->stage1_se_factor.size() > 0) {
+        std::cout << "two-stage gain SEs with stage 1's error counted: "
+                  << num(closed->stage1_se_factor.minCoeff(), 3) << " to "
+                  << num(closed->stage1_se_factor.maxCoeff(), 3) << " times stage 2's own\n";
+      }
       print_noise_orders(std::cout,
                          opt.method == "direct" ? closed->noise_direct : closed->noise_two_stage,
                          first);

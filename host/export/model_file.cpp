@@ -172,11 +172,21 @@ nlohmann::json closed_loop_json(const ClosedLoopIdentification& id, const runlog
   }
   std::vector<double> fit(id.stage1.fit_percent.data(),
                           id.stage1.fit_percent.data() + id.stage1.fit_percent.size());
+  nlohmann::json se_factor = nlohmann::json::array();  // per output, per input
+  for (Eigen::Index o = 0; o < id.stage1_se_factor.rows(); ++o) {
+    nlohmann::json row = nlohmann::json::array();
+    for (Eigen::Index i = 0; i < id.stage1_se_factor.cols(); ++i)
+      row.push_back(id.stage1_se_factor(o, i));
+    se_factor.push_back(row);
+  }
   const IdentifiedModel& other = direct_written ? id.two_stage.model : id.direct.model;
   return {{"method", direct_written ? "direct" : "two-stage"},
           {"excitation", std::string(runlog::to_text(log.closed_loop.excitation))},
           {"controller", log.closed_loop.controller},
-          {"stage1", {{"fir_lags", id.stage1.lags}, {"u_explained_by_r_percent", fit}}},
+          {"stage1",
+           {{"fir_lags", id.stage1.lags},
+            {"u_explained_by_r_percent", fit},
+            {"two_stage_se_factor", se_factor}}},
           {"noise_model_orders",
            {{"two_stage", noise_orders(id.noise_two_stage)},
             {"direct", noise_orders(id.noise_direct)}}},

@@ -6,31 +6,28 @@
 #include <stdexcept>
 #include <string>
 
+#include "host/identify/two_stage_uncertainty.hpp"
+
 namespace excite::host {
 
 int default_stage1_lags(Eigen::Index rows, Eigen::Index channels) {
   return static_cast<int>(std::clamp<Eigen::Index>(rows / (8 * channels), 20, 200));
 }
 
-Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags) {
-  const Eigen::Index N = U.rows();
+ReferenceProjection::ReferenceProjection(const Eigen::MatrixXd& R, int lags) {
+  const Eigen::Index N = R.rows();
   const Eigen::Index m = R.cols();
-  if (R.rows() != N || m == 0 || U.cols() == 0) {
-    throw std::invalid_argument("r rows x channels = " + std::to_string(R.rows()) + "x" +
-                                std::to_string(m) + ", expected " + std::to_string(N) +
-                                " rows (as u) and at least one channel");
+  if (N == 0 || m == 0) {
+    throw std::invalid_argument("r rows x channels = " + std::to_string(N) + "x" +
+                                std::to_string(m) + ", expected at least one row and channel");
   }
-  if (!R.allFinite() || !U.allFinite()) {
-    throw std::invalid_argument("u, r = (not finite), expected finite values");
-  }
+  if (!R.allFinite()) throw std::invalid_argument("r = (not finite), expected finite values");
   if (R.cwiseAbs().maxCoeff() == 0.0) {
     throw std::invalid_argument(
         "r = 0 throughout, expected a test signal (the two-stage "
         "method needs r to explain u)");
   }
-  if (lags == 0) {
-    lags = default_stage1_lags(N, m);
-  }
+  if (lags == 0) lags = default_stage1_lags(N, m);
   const Eigen::Index P = static_cast<Eigen::Index>(lags) * m;
   if (lags < 1 || 2 * P >= N) {
     throw std::invalid_argument("stage-1 lags = " + std::to_string(lags) + " x " +
@@ -38,25 +35,45 @@ Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& 
                                 std::to_string(N / 2) + " parameters for " + std::to_string(N) +
                                 " rows");
   }
-  // Φ (N × L·m): column l·m + c is r_c(k − l), 0 before row 0.
   Eigen::MatrixXd phi = Eigen::MatrixXd::Zero(N, P);
   for (int l = 0; l < lags; ++l) {
     for (Eigen::Index c = 0; c < m; ++c) {
       phi.col(l * m + c).tail(N - l) = R.col(c).head(N - l);
     }
   }
-  // û = Q₁Q₁ᵀu, Q₁ the first rank() Householder vectors of a column-pivoting QR (rank-
-  // revealing: an r channel that is zero or a copy of another leaves columns it drops):
-  // orthogonal transformations only. Solving R₁x = Q₁ᵀu and forming Φx loses the projection
-  // when Φ is nearly rank-deficient — a multisine r of few lines spans far fewer dimensions
-  // than its lags: alatiqi4x4 msGlmSim under its DMC, 508 columns of numerical rank ≈ 190,
-  // gave u2 a fit of −29 % that way (no projection fits worse than 0), 17 % this way.
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(phi);
-  Eigen::MatrixXd coordinates = qr.householderQ().transpose() * U;
-  coordinates.bottomRows(N - qr.rank()).setZero();
+  lags_ = lags;
+  qr_.compute(phi);
+}
+
+// P_Φ X = Q₁Q₁ᵀX, Q₁ the first rank() Householder vectors. Solving R₁b = Q₁ᵀX and forming Φb
+// loses the projection when Φ is nearly rank-deficient — a multisine r of few lines spans far
+// fewer dimensions than its lags: alatiqi4x4 msGlmSim under its DMC, 508 columns of numerical
+// rank ≈ 190, gave u2 a fit of −29 % that way (no projection fits worse than 0), 17 % this way.
+Eigen::MatrixXd ReferenceProjection::operator()(const Eigen::MatrixXd& X) const {
+  Eigen::MatrixXd coordinates = qr_.householderQ().transpose() * X;
+  coordinates.bottomRows(X.rows() - qr_.rank()).setZero();
+  return qr_.householderQ() * coordinates;
+}
+
+Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags) {
+  if (R.rows() != U.rows() || U.cols() == 0) {
+    throw std::invalid_argument("r rows x channels = " + std::to_string(R.rows()) + "x" +
+                                std::to_string(R.cols()) + ", expected " +
+                                std::to_string(U.rows()) + " rows (as u) and at least one channel");
+  }
+  return project_on_reference(U, ReferenceProjection(R, lags));
+}
+
+Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const ReferenceProjection& P) {
+  if (U.rows() != P.rows() || U.cols() == 0) {
+    throw std::invalid_argument("u rows x inputs = " + std::to_string(U.rows()) + "x" +
+                                std::to_string(U.cols()) + ", expected " +
+                                std::to_string(P.rows()) + " rows (as r) and at least one input");
+  }
+  if (!U.allFinite()) throw std::invalid_argument("u = (not finite), expected finite values");
   Stage1Fit fit;
-  fit.lags = lags;
-  fit.u_hat = qr.householderQ() * coordinates;
+  fit.lags = P.lags();
+  fit.u_hat = P(U);
   fit.fit_percent.resize(U.cols());
   for (Eigen::Index j = 0; j < U.cols(); ++j) {
     const double spread = (U.col(j).array() - U.col(j).mean()).matrix().norm();
@@ -97,9 +114,23 @@ ClosedLoopIdentification identify_closed_loop(const Eigen::MatrixXd& U, const Ei
                                               const IdentifyOptions& options, int stage1_lags,
                                               const NoiseModelOptions& noise) {
   ClosedLoopIdentification out;
-  out.stage1 = project_on_reference(U, R, stage1_lags);
+  if (R.rows() != U.rows()) {
+    throw std::invalid_argument("r rows = " + std::to_string(R.rows()) + ", expected " +
+                                std::to_string(U.rows()) + " (as u)");
+  }
+  const ReferenceProjection P(R, stage1_lags);
+  out.stage1 = project_on_reference(U, P);
   NoiseModelFit two_stage =
       identify_with_noise_model(out.stage1.u_hat, Y, T_min, layout, options, noise);
+  IdentifiedModel& model = two_stage.result.model;
+  out.stage1_se_factor.resize(model.outputs, model.inputs);
+  for (int o = 0; o < model.outputs; ++o) {
+    out.stage1_se_factor.row(o) =
+        count_stage1_in_row(model, o, U, out.stage1.u_hat, Y.col(o),
+                            two_stage.noise[static_cast<std::size_t>(o)], layout, P)
+            .transpose();
+  }
+  analyse_identified_gain(two_stage.result);
   NoiseModelFit direct = identify_with_noise_model(U, Y, T_min, layout, options, noise);
   out.two_stage = std::move(two_stage.result);
   out.noise_two_stage = std::move(two_stage.noise);

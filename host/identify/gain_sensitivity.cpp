@@ -60,12 +60,26 @@ void widen_row_gains(IdentifiedModel& model, int output, const Eigen::VectorXd& 
   cov = factor.asDiagonal() * cov * factor.asDiagonal();
 }
 
+Eigen::MatrixXd long_run_covariance(const Eigen::MatrixXd& g, Eigen::Index max_lag) {
+  const Eigen::Index N = g.rows();
+  Eigen::MatrixXd omega = g.transpose() * g;
+  for (Eigen::Index l = 1; l <= max_lag && l < N; ++l) {
+    const double w = 1.0 - static_cast<double>(l) / static_cast<double>(max_lag + 1);
+    const Eigen::MatrixXd gamma = g.bottomRows(N - l).transpose() * g.topRows(N - l);
+    omega += w * (gamma + gamma.transpose());
+  }
+  return omega;
+}
+
+Eigen::Index default_long_run_lags(Eigen::Index rows) {
+  return std::min<Eigen::Index>(200, std::max<Eigen::Index>(1, rows / 10));
+}
+
 double widen_row_for_coloured_residual(IdentifiedModel& model, int output, const Eigen::MatrixXd& U,
                                        const Eigen::VectorXd& y, const SampleLayout& layout,
                                        int max_lag) {
   const Eigen::Index N = U.rows();
-  const Eigen::Index L =
-      max_lag > 0 ? max_lag : std::min<Eigen::Index>(200, std::max<Eigen::Index>(1, N / 10));
+  const Eigen::Index L = max_lag > 0 ? max_lag : default_long_run_lags(N);
   RowGainSensitivity s = row_gain_sensitivity(model, output, U, layout.segments);
   if (s.used.empty()) return 1.0;
   Eigen::VectorXd e = y - simulate_row(model, output, U, layout.segments);
@@ -81,13 +95,7 @@ double widen_row_for_coloured_residual(IdentifiedModel& model, int output, const
   if (ldlt.info() != Eigen::Success || M <= P) return 1.0;
   const Eigen::MatrixXd inv = ldlt.solve(Eigen::MatrixXd::Identity(P, P));
   const Eigen::MatrixXd g = s.X.array().colwise() * e.array();  // rows: x_k e_k
-  Eigen::MatrixXd omega = g.transpose() * g;
-  for (Eigen::Index l = 1; l <= L && l < N; ++l) {
-    const double w = 1.0 - static_cast<double>(l) / static_cast<double>(L + 1);
-    const Eigen::MatrixXd gamma = g.bottomRows(N - l).transpose() * g.topRows(N - l);
-    omega += w * (gamma + gamma.transpose());
-  }
-  const Eigen::MatrixXd hac = inv * omega * inv;
+  const Eigen::MatrixXd hac = inv * long_run_covariance(g, L) * inv;
   const double s2 = e.squaredNorm() / static_cast<double>(M - P);
   Eigen::VectorXd factor = Eigen::VectorXd::Ones(model.inputs);
   for (Eigen::Index c = 0; c < P; ++c) {

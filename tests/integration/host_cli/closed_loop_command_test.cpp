@@ -37,6 +37,14 @@ TEST_F(ClosedLoopCommands, SimulateWritesV4AndIdentifyChoosesTheTwoStageMethodFr
   EXPECT_EQ(j.at("closed_loop").at("method"), "two-stage");
   EXPECT_EQ(j.at("closed_loop").at("excitation"), "setpoint");
   EXPECT_EQ(j.at("closed_loop").at("direct").at("gain").size(), 2U);
+  // The two-stage SEs count stage 1's error, and the run says by how much.
+  EXPECT_TRUE(contains(id.out, "two-stage gain SEs with stage 1's error counted: "));
+  const nlohmann::json& factor = j.at("closed_loop").at("stage1").at("two_stage_se_factor");
+  ASSERT_EQ(factor.size(), 2U);
+  for (const auto& row : factor) {
+    ASSERT_EQ(row.size(), 2U);
+    for (const auto& f : row) EXPECT_GT(f.get<double>(), 0.0);
+  }
 
   // --method direct writes the direct model, with the two-stage one as the cross-check.
   const Result direct = excite("identify " + path("cl.csv") +

@@ -113,6 +113,7 @@ TEST(TwoStage, UnbiasedWhereTheDirectFitIsBiasedUnderAColouredDisturbance) {
   const Eigen::Matrix2d two_stage_error = (m.two_stage - truth).cwiseQuotient(truth);
   print_errors("mean relative gain error over 8 seeds, output error", direct_error,
                two_stage_error);
+  std::printf("feedback bias suspected in %d of 8 seeds\n", m.seeds_with_bias_flagged);
   // THEN the direct output-error fit on the applied u is biased towards 0 in every element
   // (measured: −23, −16, −14, −17 %): u carries the controller's answer to past disturbance,
   // which the output-error fit reads as the plant's response …
@@ -122,8 +123,10 @@ TEST(TwoStage, UnbiasedWhereTheDirectFitIsBiasedUnderAColouredDisturbance) {
   // mean over 8 seeds has a spread of about 3 %). Skipping stage 1 (û = u) makes it the
   // direct fit, and this fails.
   EXPECT_LT(two_stage_error.cwiseAbs().maxCoeff(), 0.08);
-  // … and every seed's result says "feedback bias suspected" somewhere.
-  EXPECT_EQ(m.seeds_with_bias_flagged, 8);
+  // … and nearly every seed's result says "feedback bias suspected" somewhere (measured 7 of
+  // 8; 8 before the two-stage SEs counted stage 1's error, which widens them here:
+  // host/identify/two_stage_uncertainty.hpp).
+  EXPECT_GE(m.seeds_with_bias_flagged, 6);
 }
 
 TEST(DirectWithNoiseModel, UnbiasedUnderTheColouredDisturbanceThatBiasesTheOutputErrorFit) {
@@ -135,6 +138,7 @@ TEST(DirectWithNoiseModel, UnbiasedUnderTheColouredDisturbanceThatBiasesTheOutpu
   const Eigen::Matrix2d two_stage_error = (m.two_stage - truth).cwiseQuotient(truth);
   print_errors("mean relative gain error over 8 seeds, AR noise model", direct_error,
                two_stage_error);
+  std::printf("feedback bias suspected in %d of 8 seeds\n", m.seeds_with_bias_flagged);
   // THEN the direct prediction-error fit on the applied u is unbiased: its noise model
   // describes the disturbance, so the prediction error is white and no longer correlated
   // with u (with the noise model off it is the −14 to −23 % fit above) …
@@ -143,7 +147,7 @@ TEST(DirectWithNoiseModel, UnbiasedUnderTheColouredDisturbanceThatBiasesTheOutpu
   // … the two-stage estimate stays unbiased …
   EXPECT_LT(two_stage_error.cwiseAbs().maxCoeff(), 0.08);
   // … and "feedback bias suspected" fires in few seeds (2σ on four elements a seed).
-  EXPECT_LE(m.seeds_with_bias_flagged, 2);  // measured 2 of 8; every seed with output error
+  EXPECT_LE(m.seeds_with_bias_flagged, 2);  // measured 1 of 8 (2 before stage 1 was counted)
 }
 
 TEST(TwoStage, WithoutTheDisturbanceTheDirectFitIsUnbiasedToo) {
@@ -153,6 +157,87 @@ TEST(TwoStage, WithoutTheDisturbanceTheDirectFitIsUnbiasedToo) {
   const GainMeans m = over_seeds(4, 0.0, kOutputError);
   EXPECT_LT((m.direct - truth).cwiseQuotient(truth).cwiseAbs().maxCoeff(), 0.01);
   EXPECT_LT((m.two_stage - truth).cwiseQuotient(truth).cwiseAbs().maxCoeff(), 0.05);
+}
+
+// A first-order loop written out (K 2, τ 5 min, one sample of delay, T 1 min), N rows, r =
+// ±1 random binary: u = r + `dither`·w − `feedback`·y (w white, unit variance, apart from r),
+// y = G u + v, v = AR(1) with pole `pole` driven by white noise of std `noise`.
+LoopData first_order_loop(std::uint64_t seed, double dither, double feedback, double pole,
+                          double noise, Eigen::Index rows) {
+  std::mt19937_64 g(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  LoopData run;
+  run.R = binary_signal(rows, 1, 1.0, 10);
+  run.U.resize(rows, 1);
+  run.Y.resize(rows, 1);
+  const double a = std::exp(-1.0 / 5.0);
+  double x = 0.0, v = 0.0, u_before = 0.0;
+  for (Eigen::Index k = 0; k < rows; ++k) {
+    x = a * x + 2.0 * (1.0 - a) * u_before;
+    v = pole * v + noise * normal(g);
+    run.Y(k, 0) = x + v;
+    run.U(k, 0) = run.R(k, 0) + dither * normal(g) - feedback * run.Y(k, 0);
+    u_before = run.U(k, 0);
+  }
+  return run;
+}
+
+struct GainSpread {
+  double sd = 0.0;          // of K̂ over the seeds
+  double rms_se = 0.0;      // of the two-stage SE, stage 1 counted
+  double rms_stage2 = 0.0;  // of stage 2's own SE (identify_with_noise_model on û)
+};
+
+GainSpread two_stage_spread(double dither, double feedback, double pole, double noise) {
+  constexpr int kSeeds = 40;
+  constexpr Eigen::Index kN = 1000;
+  IdentifyOptions options;
+  options.structure = Structure::first_order;
+  options.max_time_constant_min = 50.0;
+  const SampleLayout whole = SampleLayout::whole(kN);
+  double sum = 0.0, square = 0.0, se = 0.0, stage2 = 0.0;
+  for (int s = 1; s <= kSeeds; ++s) {
+    const LoopData run =
+        first_order_loop(static_cast<std::uint64_t>(s), dither, feedback, pole, noise, kN);
+    const ClosedLoopIdentification id =
+        identify_closed_loop(run.U, run.R, run.Y, 1.0, whole, options, 30);
+    const NoiseModelFit own =
+        identify_with_noise_model(id.stage1.u_hat, run.Y, 1.0, whole, options);
+    const double k = id.two_stage.model.element(0, 0).value.gain;
+    sum += k;
+    square += k * k;
+    se += std::pow(id.two_stage.model.element(0, 0).std_error.gain, 2);
+    stage2 += std::pow(own.result.model.element(0, 0).std_error.gain, 2);
+  }
+  const double mean = sum / kSeeds;
+  return {std::sqrt(square / kSeeds - mean * mean), std::sqrt(se / kSeeds),
+          std::sqrt(stage2 / kSeeds)};
+}
+
+TEST(TwoStage, TheGainsSeCountsStage1sErrorUnderFeedbackAndNeverNarrows) {
+  // GIVEN a loop u = r − 0.8·y under a coloured disturbance (AR(1), pole 0.95): û's error is
+  // correlated with the noise through the feedback, which stage 2's residual does not show
+  // (host/identify/two_stage_uncertainty.hpp).
+  const GainSpread loop = two_stage_spread(0.0, 0.8, 0.95, 0.05);
+  // AND u = r + a dither that r does not make (open loop, white noise): stage 2 counts
+  // G·(u − û) as noise, and its SE is far wider than the spread of K̂.
+  const GainSpread dither = two_stage_spread(0.5, 0.0, 0.0, 0.05);
+  std::printf(
+      "SD of K over 40 seeds, RMS SE with stage 1, stage 2's own:\n"
+      "  loop   %.4f %.4f %.4f\n  dither %.4f %.4f %.4f\n",
+      loop.sd, loop.rms_se, loop.rms_stage2, dither.sd, dither.rms_se, dither.rms_stage2);
+  // THEN in the loop the SE with stage 1 counted follows the spread, on the safe side
+  // (measured 1.18 times it; 40 seeds give the SD within about 11 %), where stage 2's own is
+  // too narrow (0.55 times; the first bound fails without the correction) …
+  EXPECT_GT(loop.rms_se / loop.sd, 0.75);
+  EXPECT_LT(loop.rms_se / loop.sd, 1.4);
+  EXPECT_LT(loop.rms_stage2 / loop.sd, 0.7);
+  // … and with the dither it is stage 2's own, not narrowed: the two-step sandwich alone
+  // would give 1.3 times the spread here, but where the part of u that r makes is not all
+  // in û (a FIR too short, a loop not linear in r) the same residual is a bias, the same in
+  // every run with this r (measured on woodberry2x2: README "The two-stage standard errors").
+  EXPECT_NEAR(dither.rms_se / dither.rms_stage2, 1.0, 1e-12);
+  EXPECT_GT(dither.rms_stage2 / dither.sd, 4.0);
 }
 
 TEST(Stage1, RecoversAnInputThatIsAnFirOfRExactlyAndRefusesByName) {

@@ -36,12 +36,33 @@ struct Stage1Fit {
   Eigen::VectorXd fit_percent;  // per input, 100·(1 − ‖u − û‖/‖u − ū‖): how much of u is r's
 };
 
+/// P_Φ, the orthogonal projection on the span of Φ (N × L·m), whose column l·m + c is
+/// r_c(k − l), rows before 0 taken as 0 (at rest): stage 1's regressors. Built once by a
+/// column-pivoting QR (rank-revealing: an r channel that is zero or a copy of another leaves
+/// columns it drops); applying it uses orthogonal transformations only. Throws
+/// std::invalid_argument (one message form) when R is empty, not finite or zero throughout,
+/// or lags·m ≥ N / 2; `lags` 0: default_stage1_lags.
+class ReferenceProjection {
+ public:
+  ReferenceProjection(const Eigen::MatrixXd& R, int lags = 0);
+  /// P_Φ X, X with N rows.
+  Eigen::MatrixXd operator()(const Eigen::MatrixXd& X) const;
+  int lags() const { return lags_; }
+  Eigen::Index rows() const { return qr_.rows(); }
+
+ private:
+  int lags_ = 0;
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr_;
+};
+
 /// Stage 1: û = the least-squares FIR projection of each column of U (N × n) on the lags
 /// 0 … lags−1 of every column of R (N × m), rows before 0 taken as 0 (at rest). `lags` 0:
 /// the default, min(200, max(20, N / (8·m))) — long enough for the closed loop's settling
 /// at a few parameters per 8 rows. Throws std::invalid_argument (one message form) when the
 /// sizes differ, R is zero throughout, or lags·m ≥ N / 2.
 Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags = 0);
+/// Stage 1 with P_Φ built (U's rows must be P's).
+Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const ReferenceProjection& P);
 
 /// The default stage-1 lags for N rows and m r channels: min(200, max(20, N / (8·m))).
 int default_stage1_lags(Eigen::Index rows, Eigen::Index channels);
@@ -58,6 +79,9 @@ struct ClosedLoopIdentification {
   Stage1Fit stage1;
   double se_widening_two_stage = 1.0;  // NoiseModelFit::se_widening of each
   double se_widening_direct = 1.0;
+  // p × n: the factor counting stage 1's error put on each two-stage gain SE (≥ 1;
+  // two_stage_uncertainty.hpp; 1 where none was applied)
+  Eigen::MatrixXd stage1_se_factor;
   IdentificationResult two_stage;               // on (û, y): the estimate
   IdentificationResult direct;                  // on (u, y): the cross-check
   std::vector<ArNoiseModel> noise_two_stage;    // per output, each fit's AR noise model
@@ -76,7 +100,8 @@ std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& two_stag
 /// the two-stage estimate, on (u, y) the direct one — consistent in closed loop when the
 /// noise model describes the disturbance (the output-error direct fit is not, with a
 /// coloured one). The gain standard errors allow for the estimated noise model and for the
-/// colour left in the residual. Throws what identify() and stage 1 throw.
+/// colour left in the residual, and the two-stage ones for stage 1's error in û
+/// (count_stage1_in_row). Throws what identify() and stage 1 throw.
 ClosedLoopIdentification identify_closed_loop(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
                                               const Eigen::MatrixXd& Y, double T_min,
                                               const SampleLayout& layout,

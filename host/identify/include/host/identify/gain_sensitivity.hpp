@@ -34,6 +34,13 @@ RowGainSensitivity row_gain_sensitivity(const IdentifiedModel& model, int output
 /// with the element's covariance row and column and the row's gain covariance.
 void widen_row_gains(IdentifiedModel& model, int output, const Eigen::VectorXd& factor);
 
+/// The Bartlett-weighted long-run covariance of the rows g_k of g (Newey and West,
+/// Econometrica 55 (1987) 703): Σ_{|l|≤L} (1 − |l|/(L+1)) Σ_k g_k g_{k−l}ᵀ, L = max_lag.
+Eigen::MatrixXd long_run_covariance(const Eigen::MatrixXd& g, Eigen::Index max_lag);
+
+/// The lags the long-run covariances here take by default over N rows: min(200, N/10).
+Eigen::Index default_long_run_lags(Eigen::Index rows);
+
 /// Row `output`'s gain SEs widened (never narrowed) for a coloured residual: the sandwich
 /// ("HAC", Newey and West, Econometrica 55 (1987) 703) with Bartlett weights over `max_lag`
 /// lags (0: min(200, N/10)),
