@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "host/identify/gain_sensitivity.hpp"
 
@@ -40,8 +41,9 @@ Eigen::MatrixXd through_element(const IdentifiedModel& model, int output, int in
 }
 
 // ∂ŷ_o/∂θ on Uf for the row's estimated elements' free parameters other than K that are
-// neither on a bound nor without an SE (central differences, step 1e-4·max(|θ|, 1), one-sided
-// at 0): the gains' covariance is the block of the whole row's.
+// neither on a bound nor without an SE (central differences, step 1e-4·max(|θ|, 1), kept in
+// the parameter's range: T's ≥ 0, Tz either sign, kMinDamping ≤ ζ ≤ 1): the gains'
+// covariance is the block of the whole row's.
 Eigen::MatrixXd other_parameter_sensitivities(const IdentifiedModel& model, int output,
                                               const Eigen::MatrixXd& Uf,
                                               const std::vector<Segment>& segments) {
@@ -53,10 +55,14 @@ Eigen::MatrixXd other_parameter_sensitivities(const IdentifiedModel& model, int 
       if (q == kGain || el.at_bound[static_cast<std::size_t>(q)] != Bound::none ||
           !std::isfinite(el.std_error[q]))
         continue;
-      ElementModel up = el.value, down = el.value;
+      const double inf = std::numeric_limits<double>::infinity();
+      const double low = q == kZero ? -inf : q == kDamping ? kMinDamping : 0.0;
+      const double high = q == kDamping ? 1.0 : inf;
       const double h = 1e-4 * std::max(std::abs(el.value[q]), 1.0);
-      up[q] += h;
-      down[q] = std::max(down[q] - h, 0.0);
+      ElementModel up = el.value, down = el.value;
+      up[q] = std::min(el.value[q] + h, high);
+      down[q] = std::max(el.value[q] - h, low);
+      if (!(up[q] > down[q])) continue;
       columns.push_back(
           (element_output(discretise(up, model.sample_time_min), Uf.col(i), segments) -
            element_output(discretise(down, model.sample_time_min), Uf.col(i), segments)) /
