@@ -14,14 +14,18 @@ Eigen::VectorXd element_response(const IdentifiedModel& model, int output, int i
                                  double gain) {
   ElementModel g = model.element(output, input).value;
   g.gain = gain;
-  const auto N = static_cast<std::size_t>(U.rows());
-  const Eigen::VectorXd u = U.col(input);
-  Eigen::VectorXd y(U.rows());
-  simulate_segments(discretise(g, model.sample_time_min), {u.data(), N}, {y.data(), N}, segments);
-  return y;
+  return element_output(discretise(g, model.sample_time_min), U.col(input), segments);
 }
 
 }  // namespace
+
+Eigen::VectorXd element_output(const sim::DiscreteTerm& g, const Eigen::VectorXd& u,
+                               const std::vector<Segment>& segments) {
+  const auto N = static_cast<std::size_t>(u.size());
+  Eigen::VectorXd y(u.size());
+  simulate_segments(g, {u.data(), N}, {y.data(), N}, segments);
+  return y;
+}
 
 Eigen::VectorXd simulate_row(const IdentifiedModel& model, int output, const Eigen::MatrixXd& U,
                              const std::vector<Segment>& segments) {

@@ -22,15 +22,6 @@ Eigen::MatrixXd reversed_in_segments(const Eigen::MatrixXd& X,
   return out;
 }
 
-// u through element g, per segment from rest.
-Eigen::VectorXd element_output(const sim::DiscreteTerm& g, const Eigen::VectorXd& u,
-                               const std::vector<Segment>& segments) {
-  const auto N = static_cast<std::size_t>(u.size());
-  Eigen::VectorXd y(u.size());
-  simulate_segments(g, {u.data(), N}, {y.data(), N}, segments);
-  return y;
-}
-
 // Each column of X through element (output, input), its gain included.
 Eigen::MatrixXd through_element(const IdentifiedModel& model, int output, int input,
                                 const Eigen::MatrixXd& X, const std::vector<Segment>& segments) {

@@ -15,6 +15,10 @@
 
 namespace excite::host {
 
+/// u through one discretised element, each segment from rest.
+Eigen::VectorXd element_output(const sim::DiscreteTerm& g, const Eigen::VectorXd& u,
+                               const std::vector<Segment>& segments);
+
 /// ŷ's column `output`: the row's estimated elements driven by U (N × n), each segment from
 /// rest. An element not estimated contributes nothing (callers pass rows they can simulate).
 Eigen::VectorXd simulate_row(const IdentifiedModel& model, int output, const Eigen::MatrixXd& U,
