@@ -189,9 +189,11 @@ class ClosedLoopTest {
     if (result_.U.rows() < minimum_samples(n, result_.sample_time_min, identify_)) return nullptr;
     Reestimate e = new_estimate(result_, after_segment);
     const SampleLayout whole = SampleLayout::whole(result_.U.rows());
-    const Eigen::MatrixXd U = o_.two_stage ? project_on_reference(result_.U, R_).u_hat : result_.U;
-    e.result =
-        identify_with_noise_model(U, result_.Y, result_.sample_time_min, whole, identify_).result;
+    const double T = result_.sample_time_min;
+    // The stop rule reads the gain SEs: the two-stage ones count stage 1's error.
+    e.result = o_.two_stage
+                   ? identify_two_stage(result_.U, R_, result_.Y, T, whole, identify_).fit.result
+                   : identify_with_noise_model(result_.U, result_.Y, T, whole, identify_).result;
     e.uncertainty = e.result.gain_uncertainty;
     judge_estimate(e, result_.estimates, prior_.beta * prior_.tau_high_min, o_.adaptive.rule);
     result_.estimates.push_back(std::move(e));

@@ -56,10 +56,14 @@ ClosedLoopRun run_closed_loop_experiment(const Design& design, const PresetInfo&
   if (options.max_time_constant_min > 0.0)
     identify_options.max_time_constant_min = options.max_time_constant_min;
   // Only the estimate asked for (identify_closed_loop's two fits cost twice as much): the
-  // prediction-error fit with its noise model on u (direct) or on stage 1's û (two-stage).
-  const Eigen::MatrixXd U = options.direct ? e.U : project_on_reference(e.U, out.R).u_hat;
+  // prediction-error fit with its noise model on u (direct) or on stage 1's û (two-stage,
+  // its SEs counting stage 1's error).
   e.identified =
-      identify_with_noise_model(U, e.Y, e.sample_time_min, e.layout, identify_options).result;
+      options.direct
+          ? identify_with_noise_model(e.U, e.Y, e.sample_time_min, e.layout, identify_options)
+                .result
+          : identify_two_stage(e.U, out.R, e.Y, e.sample_time_min, e.layout, identify_options)
+                .fit.result;
   std::vector<double> fits;
   for (const OutputFit& f : e.identified.fits) fits.push_back(f.fit_percent);
   e.fit_avg = mean_finite(fits);

@@ -108,33 +108,43 @@ std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& a, const
   return out;
 }
 
+TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
+                               const Eigen::MatrixXd& Y, double T_min, const SampleLayout& layout,
+                               const IdentifyOptions& options, int stage1_lags,
+                               const NoiseModelOptions& noise) {
+  if (R.rows() != U.rows()) {
+    throw std::invalid_argument("r rows = " + std::to_string(R.rows()) + ", expected " +
+                                std::to_string(U.rows()) + " (as u)");
+  }
+  TwoStageFit out;
+  const ReferenceProjection P(R, stage1_lags);
+  out.stage1 = project_on_reference(U, P);
+  out.fit = identify_with_noise_model(out.stage1.u_hat, Y, T_min, layout, options, noise);
+  IdentifiedModel& model = out.fit.result.model;
+  out.stage1_se_factor.resize(model.outputs, model.inputs);
+  for (int o = 0; o < model.outputs; ++o) {
+    out.stage1_se_factor.row(o) =
+        count_stage1_in_row(model, o, U, out.stage1.u_hat, Y.col(o),
+                            out.fit.noise[static_cast<std::size_t>(o)], layout, P)
+            .transpose();
+  }
+  analyse_identified_gain(out.fit.result);
+  return out;
+}
+
 ClosedLoopIdentification identify_closed_loop(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
                                               const Eigen::MatrixXd& Y, double T_min,
                                               const SampleLayout& layout,
                                               const IdentifyOptions& options, int stage1_lags,
                                               const NoiseModelOptions& noise) {
   ClosedLoopIdentification out;
-  if (R.rows() != U.rows()) {
-    throw std::invalid_argument("r rows = " + std::to_string(R.rows()) + ", expected " +
-                                std::to_string(U.rows()) + " (as u)");
-  }
-  const ReferenceProjection P(R, stage1_lags);
-  out.stage1 = project_on_reference(U, P);
-  NoiseModelFit two_stage =
-      identify_with_noise_model(out.stage1.u_hat, Y, T_min, layout, options, noise);
-  IdentifiedModel& model = two_stage.result.model;
-  out.stage1_se_factor.resize(model.outputs, model.inputs);
-  for (int o = 0; o < model.outputs; ++o) {
-    out.stage1_se_factor.row(o) =
-        count_stage1_in_row(model, o, U, out.stage1.u_hat, Y.col(o),
-                            two_stage.noise[static_cast<std::size_t>(o)], layout, P)
-            .transpose();
-  }
-  analyse_identified_gain(two_stage.result);
+  TwoStageFit two_stage = identify_two_stage(U, R, Y, T_min, layout, options, stage1_lags, noise);
   NoiseModelFit direct = identify_with_noise_model(U, Y, T_min, layout, options, noise);
-  out.two_stage = std::move(two_stage.result);
-  out.noise_two_stage = std::move(two_stage.noise);
-  out.se_widening_two_stage = two_stage.se_widening;
+  out.stage1 = std::move(two_stage.stage1);
+  out.stage1_se_factor = std::move(two_stage.stage1_se_factor);
+  out.two_stage = std::move(two_stage.fit.result);
+  out.noise_two_stage = std::move(two_stage.fit.noise);
+  out.se_widening_two_stage = two_stage.fit.se_widening;
   out.direct = std::move(direct.result);
   out.noise_direct = std::move(direct.noise);
   out.se_widening_direct = direct.se_widening;

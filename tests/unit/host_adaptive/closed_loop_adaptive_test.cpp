@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "host/design/case_studies.hpp"
+#include "host/identify/closed_loop.hpp"
 #include "host/measures/accuracy.hpp"
 #include "host/measures/gain_directions.hpp"
 #include "sim/control/controller_file.hpp"
@@ -26,7 +27,8 @@ struct WoodBerryUnderPi {
   std::unique_ptr<sim::control::Controller> controller;
   std::unique_ptr<ClosedLoopPlant> loop;
 
-  explicit WoodBerryUnderPi(std::uint64_t seed) {
+  // `disturbance_std` > 0: the coloured output disturbance too, τ 20 min.
+  explicit WoodBerryUnderPi(std::uint64_t seed, double disturbance_std = 0.0) {
     const Eigen::MatrixXd g0 = plant->static_gain();
     controller = sim::control::make_controller(file, *sim::control::load_model(file), &g0);
     ClosedLoopOptions options;
@@ -34,6 +36,8 @@ struct WoodBerryUnderPi {
     SimulationOptions noise;
     noise.seed = seed;
     noise.noise_variance = 1e-2;
+    noise.disturbance_std = disturbance_std;
+    noise.disturbance_tau_min = 20.0;
     loop = std::make_unique<ClosedLoopPlant>(*plant, *controller, options, noise,
                                              prior.sample_time_min);
   }
@@ -75,6 +79,36 @@ TEST(ClosedLoopAdaptive, WoodBerryUnderPiStopsByTheRuleAfterReAimedSegments) {
   // The stopping estimate meets the accuracy criterion against the truth.
   const TruePlant truth = true_plant_of(w.plant->static_gain());
   EXPECT_TRUE(judge(truth, r.estimates.back().result.gain).met);
+}
+
+TEST(ClosedLoopAdaptive, TheTwoStageEstimatesTheRuleReadsCountStage1sError) {
+  // GIVEN the two-stage estimate under a coloured disturbance, where stage 1's error widens
+  // the SEs (host/identify/two_stage_uncertainty.hpp).
+  WoodBerryUnderPi w(1, 0.3);
+  ClosedLoopAdaptiveOptions o = limits_of_2();
+  o.two_stage = true;
+  const AdaptiveResult r = run_closed_loop_adaptive_test(w.prior, *w.loop, o);
+  ASSERT_FALSE(r.estimates.empty()) << r.stop_reason;
+  // WHEN the last estimate's rows are identified two-stage again, with the test's options.
+  const Reestimate& last = r.estimates.back();
+  const auto rows = static_cast<Eigen::Index>(last.samples);
+  IdentifyOptions options = o.adaptive.identify;
+  options.max_time_constant_min = w.prior.beta * w.prior.tau_high_min;
+  const TwoStageFit again =
+      identify_two_stage(r.U.topRows(rows), r.R.topRows(rows), r.Y.topRows(rows), r.sample_time_min,
+                         SampleLayout::whole(rows), options);
+  // THEN the SEs the rule read are those, stage 1 counted, wider than stage 2's own somewhere.
+  EXPECT_GT(again.stage1_se_factor.maxCoeff(), 1.0);
+  ASSERT_TRUE(last.uncertainty.has_value());
+  ASSERT_TRUE(again.fit.result.gain_uncertainty.has_value());
+  EXPECT_EQ(last.uncertainty->singular_value_se,
+            again.fit.result.gain_uncertainty->singular_value_se);
+  for (int i = 0; i < 2; ++i) {
+    for (int j = 0; j < 2; ++j) {
+      EXPECT_EQ(last.result.model.element(i, j).std_error.gain,
+                again.fit.result.model.element(i, j).std_error.gain);
+    }
+  }
 }
 
 TEST(ClosedLoopAdaptive, TheFirstSegmentAlongThePriorsOutputDirectionsPutsEachSourceOnOne) {

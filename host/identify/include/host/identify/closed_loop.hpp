@@ -94,6 +94,26 @@ struct ClosedLoopIdentification {
 std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& two_stage,
                                                  const IdentifiedModel& direct, double k = 2.0);
 
+/// The two-stage estimate alone (the closed-loop adaptive test's and the Monte Carlo
+/// experiment's, which need no direct fit beside it).
+struct TwoStageFit {
+  Stage1Fit stage1;
+  NoiseModelFit fit;  // on (û, y); its gain SEs and gain_uncertainty count stage 1's error
+  // p × n: the factor counting stage 1's error put on each gain SE (≥ 1;
+  // two_stage_uncertainty.hpp; 1 where none was applied)
+  Eigen::MatrixXd stage1_se_factor;
+};
+
+/// Stage 1 (û = P_Φ U, P_Φ on R's lags; `stage1_lags` as in project_on_reference), then the
+/// prediction-error fit with an AR noise model per output on (û, Y) (noise_model.hpp), each
+/// row's gain SEs widened for stage 1's error (count_stage1_in_row) and G(0)'s uncertainty
+/// (gain_uncertainty) formed again from them. Throws what identify() and stage 1 throw, and
+/// std::invalid_argument when R's rows are not U's.
+TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
+                               const Eigen::MatrixXd& Y, double T_min, const SampleLayout& layout,
+                               const IdentifyOptions& options = {}, int stage1_lags = 0,
+                               const NoiseModelOptions& noise = {});
+
 /// Both methods on one closed-loop run: U applied inputs, R the test signal r (N × m), Y.
 /// `stage1_lags` as in project_on_reference. Each is the prediction-error fit with an AR
 /// noise model per output (noise_model.hpp; `noise.max_order` 0: output error): on (û, y)
@@ -101,7 +121,7 @@ std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& two_stag
 /// noise model describes the disturbance (the output-error direct fit is not, with a
 /// coloured one). The gain standard errors allow for the estimated noise model and for the
 /// colour left in the residual, and the two-stage ones for stage 1's error in û
-/// (count_stage1_in_row). Throws what identify() and stage 1 throw.
+/// (identify_two_stage). Throws what identify() and stage 1 throw.
 ClosedLoopIdentification identify_closed_loop(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
                                               const Eigen::MatrixXd& Y, double T_min,
                                               const SampleLayout& layout,
