@@ -51,6 +51,7 @@ struct IdentifyCommandOptions {
   bool allow_mixed = false;     // pool runs of other plants or units (issue 19)
   std::string method = "auto";  // closed-loop runs: auto (= two-stage), two-stage, direct
   int stage1_lags = 0;          // 0: project_on_reference's default
+  double stage1_pole = -1.0;    // negative: choose_stage1_pole
   NoiseModelOptions noise;      // closed-loop runs: the AR noise model of both fits
 };
 
@@ -125,7 +126,7 @@ std::optional<ClosedLoopIdentification> identify_if_closed_loop(
           Eigen::Map<const Eigen::VectorXd>(cl.r[c].data(), data.U.rows());
     }
     return identify_closed_loop(data.U, R, data.Y, data.sample_time_min, data.layout, options,
-                                opt.stage1_lags, opt.noise);
+                                opt.stage1_lags, opt.noise, opt.stage1_pole);
   } else if (opt.method != "auto" && opt.method != "direct") {
     throw std::invalid_argument("--method = " + opt.method +
                                 ", expected auto or direct for an open-loop run (the two-stage "
@@ -183,7 +184,8 @@ void run(const IdentifyCommandOptions& opt) {
                 << (opt.method == "direct" ? "direct fit on the applied u"
                                            : "two-stage estimate on the part of u that r "
                                              "explains")
-                << " (stage 1: FIR of " << closed->stage1.lags << " lags; u explained by r:";
+                << " (stage 1: " << closed->stage1.lags << " Laguerre functions of pole "
+                << num(closed->stage1.pole, 3) << " per r channel; u explained by r:";
       for (Eigen::Index i = 0; i < fit.size(); ++i) std::cout << ' ' << num(fit(i), 3) << " %";
       std::cout << ")\n";
       if (opt.method != "direct" && closed->stage1_se_factor.size() > 0) {
@@ -276,9 +278,13 @@ void add_identify_command(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(1, 10));
   cmd->add_option("--stage1-lags", opt->stage1_lags,
-                  "two-stage: FIR lags of u on r in stage 1 (0: min(200, max(20, N/(8 m))))")
+                  "two-stage: Laguerre functions of each r channel in stage 1 (0: min(200, "
+                  "max(20, N/(8 m))))")
       ->capture_default_str()
       ->check(CLI::Range(0, 2000));
+  cmd->add_option("--stage1-pole", opt->stage1_pole,
+                  "two-stage: the Laguerre pole (0: a FIR; default: chosen from u)")
+      ->check(CLI::Range(0.0, 0.999));
   cmd->callback([opt] { run(*opt); });
 }
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -14,7 +15,7 @@ int default_stage1_lags(Eigen::Index rows, Eigen::Index channels) {
   return static_cast<int>(std::clamp<Eigen::Index>(rows / (8 * channels), 20, 200));
 }
 
-ReferenceProjection::ReferenceProjection(const Eigen::MatrixXd& R, int lags) {
+ReferenceProjection::ReferenceProjection(const Eigen::MatrixXd& R, int lags, double pole) {
   const Eigen::Index N = R.rows();
   const Eigen::Index m = R.cols();
   if (N == 0 || m == 0) {
@@ -27,6 +28,10 @@ ReferenceProjection::ReferenceProjection(const Eigen::MatrixXd& R, int lags) {
         "r = 0 throughout, expected a test signal (the two-stage "
         "method needs r to explain u)");
   }
+  if (!(pole >= 0.0 && pole < 1.0)) {
+    throw std::invalid_argument("stage-1 pole = " + std::to_string(pole) +
+                                ", expected 0 <= pole < 1");
+  }
   if (lags == 0) lags = default_stage1_lags(N, m);
   const Eigen::Index P = static_cast<Eigen::Index>(lags) * m;
   if (lags < 1 || 2 * P >= N) {
@@ -35,13 +40,25 @@ ReferenceProjection::ReferenceProjection(const Eigen::MatrixXd& R, int lags) {
                                 std::to_string(N / 2) + " parameters for " + std::to_string(N) +
                                 " rows");
   }
-  Eigen::MatrixXd phi = Eigen::MatrixXd::Zero(N, P);
-  for (int l = 0; l < lags; ++l) {
-    for (Eigen::Index c = 0; c < m; ++c) {
-      phi.col(l * m + c).tail(N - l) = R.col(c).head(N - l);
+  Eigen::MatrixXd phi(N, P);
+  const double a = pole, gain = std::sqrt(1.0 - a * a);
+  for (Eigen::Index c = 0; c < m; ++c) {
+    double state = 0.0;  // x₀ = √(1 − a²)/(1 − a q⁻¹) r_c
+    for (Eigen::Index k = 0; k < N; ++k) {
+      state = a * state + gain * R(k, c);
+      phi(k, c) = state;
+    }
+    // x_l(k) = a·x_l(k−1) + x_{l−1}(k−1) − a·x_{l−1}(k): (1 − a q⁻¹) x_l = (q⁻¹ − a) x_{l−1}
+    for (int l = 1; l < lags; ++l) {
+      const Eigen::Index to = l * m + c, from = (l - 1) * m + c;
+      phi(0, to) = -a * phi(0, from);
+      for (Eigen::Index k = 1; k < N; ++k) {
+        phi(k, to) = a * phi(k - 1, to) + phi(k - 1, from) - a * phi(k, from);
+      }
     }
   }
   lags_ = lags;
+  pole_ = pole;
   qr_.compute(phi);
 }
 
@@ -55,13 +72,47 @@ Eigen::MatrixXd ReferenceProjection::operator()(const Eigen::MatrixXd& X) const 
   return qr_.householderQ() * coordinates;
 }
 
-Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags) {
+namespace {
+
+// The memory of L Laguerre functions of pole a: the span of their impulse responses,
+// L·(1 + a)/(1 − a) samples (a = 0: L lags).
+double laguerre_memory(int functions, double pole) {
+  return functions * (1.0 + pole) / (1.0 - pole);
+}
+
+}  // namespace
+
+double choose_stage1_pole(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags) {
+  constexpr double kPoles[] = {0.0, 0.5, 0.7, 0.8, 0.87, 0.92, 0.95, 0.97, 0.98};
+  if (lags == 0) lags = default_stage1_lags(R.rows(), R.cols());
+  const int few = std::min(kStage1PoleFunctions, lags);
+  Eigen::VectorXd spread(U.cols());
+  for (Eigen::Index j = 0; j < U.cols(); ++j)
+    spread(j) = std::max((U.col(j).array() - U.col(j).mean()).matrix().squaredNorm(), 1e-300);
+  double scale = 0.0, least = std::numeric_limits<double>::infinity();
+  for (const double a : kPoles) {
+    const Eigen::MatrixXd left = U - ReferenceProjection(R, few, a)(U);
+    const double unexplained = left.colwise().squaredNorm().cwiseQuotient(spread.transpose()).sum();
+    if (unexplained < least) {
+      least = unexplained;
+      scale = a;
+    }
+  }
+  // The pole whose `lags` functions reach kStage1MemoryFactor times the memory of the best
+  // few: L·(1 + a)/(1 − a) = M, a = (M/L − 1)/(M/L + 1), within [0, the best few's pole].
+  const double ratio = kStage1MemoryFactor * laguerre_memory(few, scale) / lags;
+  return std::clamp((ratio - 1.0) / (ratio + 1.0), 0.0, scale);
+}
+
+Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags,
+                               double pole) {
   if (R.rows() != U.rows() || U.cols() == 0) {
     throw std::invalid_argument("r rows x channels = " + std::to_string(R.rows()) + "x" +
                                 std::to_string(R.cols()) + ", expected " +
                                 std::to_string(U.rows()) + " rows (as u) and at least one channel");
   }
-  return project_on_reference(U, ReferenceProjection(R, lags));
+  if (pole < 0.0) pole = choose_stage1_pole(U, R, lags);
+  return project_on_reference(U, ReferenceProjection(R, lags, pole));
 }
 
 Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const ReferenceProjection& P) {
@@ -73,6 +124,7 @@ Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const ReferenceProjecti
   if (!U.allFinite()) throw std::invalid_argument("u = (not finite), expected finite values");
   Stage1Fit fit;
   fit.lags = P.lags();
+  fit.pole = P.pole();
   fit.u_hat = P(U);
   fit.fit_percent.resize(U.cols());
   for (Eigen::Index j = 0; j < U.cols(); ++j) {
@@ -111,13 +163,14 @@ std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& a, const
 TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
                                const Eigen::MatrixXd& Y, double T_min, const SampleLayout& layout,
                                const IdentifyOptions& options, int stage1_lags,
-                               const NoiseModelOptions& noise) {
+                               const NoiseModelOptions& noise, double stage1_pole) {
   if (R.rows() != U.rows()) {
     throw std::invalid_argument("r rows = " + std::to_string(R.rows()) + ", expected " +
                                 std::to_string(U.rows()) + " (as u)");
   }
   TwoStageFit out;
-  const ReferenceProjection P(R, stage1_lags);
+  const double pole = stage1_pole < 0.0 ? choose_stage1_pole(U, R, stage1_lags) : stage1_pole;
+  const ReferenceProjection P(R, stage1_lags, pole);
   out.stage1 = project_on_reference(U, P);
   out.fit = identify_with_noise_model(out.stage1.u_hat, Y, T_min, layout, options, noise);
   IdentifiedModel& model = out.fit.result.model;
@@ -136,9 +189,10 @@ ClosedLoopIdentification identify_closed_loop(const Eigen::MatrixXd& U, const Ei
                                               const Eigen::MatrixXd& Y, double T_min,
                                               const SampleLayout& layout,
                                               const IdentifyOptions& options, int stage1_lags,
-                                              const NoiseModelOptions& noise) {
+                                              const NoiseModelOptions& noise, double stage1_pole) {
   ClosedLoopIdentification out;
-  TwoStageFit two_stage = identify_two_stage(U, R, Y, T_min, layout, options, stage1_lags, noise);
+  TwoStageFit two_stage =
+      identify_two_stage(U, R, Y, T_min, layout, options, stage1_lags, noise, stage1_pole);
   NoiseModelFit direct = identify_with_noise_model(U, Y, T_min, layout, options, noise);
   out.stage1 = std::move(two_stage.stage1);
   out.stage1_se_factor = std::move(two_stage.stage1_se_factor);

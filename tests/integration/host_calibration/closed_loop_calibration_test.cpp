@@ -28,12 +28,12 @@ constexpr Eigen::Index kRows = 2000;
 
 // r: ±1 random binary per CV, switching with probability 1/20 each minute; one fixed signal
 // (seed 1234), as a designed plan is: only the noise changes with the seed.
-Eigen::MatrixXd reference_signal() {
+Eigen::MatrixXd reference_signal(Eigen::Index rows) {
   std::mt19937_64 g(1234);
-  Eigen::MatrixXd r(kRows, 2);
+  Eigen::MatrixXd r(rows, 2);
   for (Eigen::Index c = 0; c < 2; ++c) {
     double level = 1.0;
-    for (Eigen::Index k = 0; k < kRows; ++k) {
+    for (Eigen::Index k = 0; k < rows; ++k) {
       if (g() % 20 == 0) level = -level;
       r(k, c) = level;
     }
@@ -48,10 +48,15 @@ struct Coverage {
   Eigen::Matrix2d k_sum = Eigen::Matrix2d::Zero();  // Σ K̂, Σ K̂², Σ SE²
   Eigen::Matrix2d k_square = Eigen::Matrix2d::Zero();
   Eigen::Matrix2d se_square = Eigen::Matrix2d::Zero();
+  double sigma_n_error = 0.0;  // Σ (σ̂_n − σ_n)/σ_n
   int seeds = 0;
 
   void add(const IdentifiedModel& m, const Eigen::Matrix2d& truth) {
     ++seeds;
+    const double sigma_n = Eigen::JacobiSVD<Eigen::Matrix2d>(truth).singularValues()(1);
+    const Eigen::Matrix2d estimate = m.static_gain();
+    sigma_n_error +=
+        Eigen::JacobiSVD<Eigen::Matrix2d>(estimate).singularValues()(1) / sigma_n - 1.0;
     for (int o = 0; o < 2; ++o) {
       for (int i = 0; i < 2; ++i) {
         const ElementEstimate& e = m.element(o, i);
@@ -69,7 +74,8 @@ struct Coverage {
   double share(int o, int i) const { return covered(o, i) / seeds; }
   double overall() const { return covered.sum() / (4.0 * seeds); }
   void print(const char* name) const {
-    std::printf("%s: %.1f %% of %d seeds\n", name, 100.0 * overall(), seeds);
+    std::printf("%s: %.1f %% of %d seeds, sigma_n off by %+.1f %% on average\n", name,
+                100.0 * overall(), seeds, 100.0 * sigma_n_error / seeds);
     for (int o = 0; o < 2; ++o) {
       for (int i = 0; i < 2; ++i) {
         const double mean = z_sum(o, i) / seeds;
@@ -88,9 +94,10 @@ struct Both {
   Coverage direct, two_stage;
 };
 
-// kSeeds closed-loop runs with white noise of variance 10⁻² and a coloured disturbance of
-// std `disturbance_std` (τ 20 min), each identified both ways, every element first order.
-Both over_seeds(double disturbance_std) {
+// kSeeds closed-loop runs of `rows` rows with white noise of variance 10⁻² and a coloured
+// disturbance of std `disturbance_std` (τ 20 min), each identified both ways, every element
+// first order.
+Both over_seeds(double disturbance_std, Eigen::Index rows = kRows) {
   const auto file = sim::control::load_controller_file(std::string(EXCITE_CONTROL_EXAMPLES) +
                                                        "/woodberry2x2.pi.toml");
   const Eigen::Matrix2d truth = sim::make_plant("woodberry2x2")->static_gain();
@@ -102,7 +109,7 @@ Both over_seeds(double disturbance_std) {
   IdentifyOptions options;
   options.structure = Structure::first_order;
   options.max_time_constant_min = 100.0;
-  const Eigen::MatrixXd r = reference_signal();
+  const Eigen::MatrixXd r = reference_signal(rows);
   Both out;
   for (int s = 1; s <= kSeeds; ++s) {
     auto plant = sim::make_plant("woodberry2x2");  // at rest, as the controller
@@ -115,7 +122,7 @@ Both over_seeds(double disturbance_std) {
     const SimulatedRun run = simulate_closed_loop(r, "r", 1.0, *plant, *controller, loop, noise);
     // Every row scored: a closed-loop run's clamped rows are (run_layout.hpp).
     const ClosedLoopIdentification id =
-        identify_closed_loop(run.du, r, run.dy, 1.0, SampleLayout::whole(kRows), options);
+        identify_closed_loop(run.du, r, run.dy, 1.0, SampleLayout::whole(rows), options);
     out.direct.add(id.direct.model, truth);
     out.two_stage.add(id.two_stage.model, truth);
   }
@@ -149,9 +156,27 @@ TEST(ClosedLoopCalibration, WoodberryUnderPiWithAColouredDisturbance) {
   b.direct.print("direct, coloured disturbance 0.3, tau 20 min");
   b.two_stage.print("two-stage, coloured disturbance 0.3, tau 20 min");
   expect_calibrated(b.direct);
-  // Without stage 1's error counted: 72.2 %, SD of z 1.73–1.94. Measured 91.2 %, 88–96 %
+  // Without stage 1's error counted: 72.2 %, SD of z 1.73–1.94. Measured 91.5 %, 89–97 %
   // per element.
   expect_calibrated(b.two_stage);
+}
+
+TEST(ClosedLoopCalibration, WoodberryUnderPiOnAShortRecordTheTwoStageEstimateIsNotBiased) {
+  // GIVEN 270 rows, where the adaptive test stops: the default stage 1 affords 20 functions
+  // per r channel, and the PI loop's input sensitivity settles over some 100 minutes
+  // (integral times 8 and 24 min).
+  const Both b = over_seeds(0.0, 270);
+  b.direct.print("direct, white noise, 270 rows");
+  b.two_stage.print("two-stage, white noise, 270 rows");
+  // THEN with the Laguerre pole chosen from the data (0.7 here) the two-stage σ_n is a few %
+  // off the truth on average (measured −4.3 %; the direct fit +0.1 %), and its intervals
+  // cover (97 %). A FIR of the 20 lags leaves the rest of the settling in u − û, which stage
+  // 2 reads as a bias: +11.1 % (FIRs of 40 and 60 lags −4.1 and −5.7 %). On the woodberry2x2
+  // adaptive test with `--method two-stage` that bias had 78 of 100 seeds stop on a model
+  // that missed the criterion (host/identify/README.md, "Stage 1: Laguerre functions").
+  EXPECT_LT(std::abs(b.two_stage.sigma_n_error / b.two_stage.seeds), 0.07);
+  EXPECT_GE(b.two_stage.overall(), 0.90);
+  expect_calibrated(b.direct);
 }
 
 }  // namespace

@@ -45,6 +45,21 @@ TEST_F(ClosedLoopCommands, SimulateWritesV4AndIdentifyChoosesTheTwoStageMethodFr
     ASSERT_EQ(row.size(), 2U);
     for (const auto& f : row) EXPECT_GT(f.get<double>(), 0.0);
   }
+  // Stage 1's basis: Laguerre functions, the pole chosen from u unless given (0: a FIR).
+  EXPECT_TRUE(contains(id.out, " Laguerre functions of pole ")) << id.out;
+  const double pole = j.at("closed_loop").at("stage1").at("laguerre_pole").get<double>();
+  EXPECT_GE(pole, 0.0);
+  EXPECT_LT(pole, 1.0);
+  const Result fir =
+      excite("identify " + path("cl.csv") +
+             " --structure first_order --stage1-lags 30 --stage1-pole 0 -o " + path("fir.json"));
+  ASSERT_EQ(fir.exit_code, 0) << fir.out;
+  const nlohmann::json f = nlohmann::json::parse(bytes_of(path("fir.json")));
+  EXPECT_EQ(f.at("closed_loop").at("stage1").at("laguerre_pole").get<double>(), 0.0);
+  EXPECT_EQ(f.at("closed_loop").at("stage1").at("laguerre_functions").get<int>(), 30);
+  const Result bad = excite("identify " + path("cl.csv") + " --stage1-pole 1");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_TRUE(contains(bad.out, "--stage1-pole")) << bad.out;
 
   // --method direct writes the direct model, with the two-stage one as the cross-check.
   const Result direct = excite("identify " + path("cl.csv") +

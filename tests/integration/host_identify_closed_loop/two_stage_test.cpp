@@ -284,6 +284,36 @@ TEST(Stage1, RecoversAnInputThatIsAnFirOfRExactlyAndRefusesByName) {
   EXPECT_THROW(project_on_reference(U, R, 100), std::invalid_argument);  // 200 of 400 rows
 }
 
+TEST(Stage1, ALaguerrePoleReachesASettlingThatTheFirsLagsCannot) {
+  // GIVEN u = (1 − a)/(1 − a q⁻¹) r with a = 0.9: a settling of some 40 samples.
+  constexpr Eigen::Index kN = 300;
+  const Eigen::MatrixXd R = binary_signal(kN, 1, 1.0, 10);
+  Eigen::MatrixXd U(kN, 1);
+  double state = 0.0;
+  for (Eigen::Index k = 0; k < kN; ++k) U(k, 0) = state = 0.9 * state + 0.1 * R(k, 0);
+  // THEN the FIR of 20 lags (pole 0) misses the tail, where one Laguerre function of the
+  // loop's pole is exact …
+  EXPECT_LT(project_on_reference(U, R, 20, 0.0).fit_percent(0), 90.0);
+  const Stage1Fit one = project_on_reference(U, R, 1, 0.9);
+  EXPECT_LT((one.u_hat - U).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_EQ(one.pole, 0.9);
+  // … the pole chosen from u reaches it with the default functions …
+  const Stage1Fit chosen = project_on_reference(U, R, 20);
+  EXPECT_GE(chosen.pole, 0.8);
+  EXPECT_GT(chosen.fit_percent(0), 99.0);
+  // … more functions reach it with a smaller pole (less of a slow disturbance fitted), and
+  // a u that is an FIR of r keeps the FIR …
+  EXPECT_LT(choose_stage1_pole(U, R, 140), chosen.pole - 0.2);
+  EXPECT_EQ(choose_stage1_pole(R, R, 20), 0.0);
+  // … and a pole outside [0, 1) is refused by name.
+  try {
+    ReferenceProjection(R, 20, 1.0);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("stage-1 pole = 1"), std::string::npos) << e.what();
+  }
+}
+
 // A reference of a few sinusoids spans far fewer dimensions than its lags (each line two):
 // Φ is nearly rank-deficient, and û must still be the projection — no input fits below 0,
 // and û is orthogonal to the residual. Solving for the FIR's coefficients and forming Φx

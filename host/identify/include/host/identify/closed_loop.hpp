@@ -11,9 +11,9 @@
 //   - the **direct** method with a noise model (noise_model.hpp): the prediction-error fit
 //     with an AR noise model per output is consistent when the noise model describes v;
 //   - the **two-stage (projection)** method removes the part of u the disturbance made:
-//     stage 1  û = Ŝ_i r: each input regressed by least squares on the lags 0 … L−1 of every
-//              r channel (a long FIR of the input sensitivity); û is uncorrelated with v
-//              because r is (excite generates r);
+//     stage 1  û = Ŝ_i r: each input regressed by least squares on L Laguerre functions of
+//              every r channel (an expansion of the input sensitivity; pole 0: a FIR of L
+//              lags); û is uncorrelated with v because r is (excite generates r);
 //     stage 2  the same prediction-error fit on (û, y): y = G û + (G (u − û) + v), whose
 //              error term is uncorrelated with û, so the estimate is consistent whatever
 //              noise model it carries (it needs the loop linear in r).
@@ -31,36 +31,58 @@
 namespace excite::host {
 
 struct Stage1Fit {
-  int lags = 0;           // L: FIR taps per r channel (lags 0 … L−1)
+  int lags = 0;           // L: Laguerre functions per r channel (pole 0: lags 0 … L−1)
+  double pole = 0.0;      // a: the Laguerre pole
   Eigen::MatrixXd u_hat;  // N × n: the part of u that r explains
   Eigen::VectorXd fit_percent;  // per input, 100·(1 − ‖u − û‖/‖u − ū‖): how much of u is r's
 };
 
-/// P_Φ, the orthogonal projection on the span of Φ (N × L·m), whose column l·m + c is
-/// r_c(k − l), rows before 0 taken as 0 (at rest): stage 1's regressors. Built once by a
-/// column-pivoting QR (rank-revealing: an r channel that is zero or a copy of another leaves
-/// columns it drops); applying it uses orthogonal transformations only. Throws
-/// std::invalid_argument (one message form) when R is empty, not finite or zero throughout,
-/// or lags·m ≥ N / 2; `lags` 0: default_stage1_lags.
+/// P_Φ, the orthogonal projection on the span of Φ (N × L·m), whose column l·m + c is r_c
+/// through the l-th discrete Laguerre function of `pole` a (rows before 0 taken as 0, at
+/// rest): x₀ = √(1 − a²)/(1 − a q⁻¹) r_c, x_l = (q⁻¹ − a)/(1 − a q⁻¹) x_{l−1}. With a = 0
+/// this is the FIR of lags 0 … L−1; with a near the loop's slow pole, L functions reach a
+/// settling that needs many more lags (Wahlberg, IEEE TAC 36 (1991) 551; Heuberger, Van den
+/// Hof and Wahlberg, Modelling and Identification with Rational Orthogonal Basis Functions,
+/// 2005). Stage 1's regressors. Built once by a column-pivoting QR (rank-revealing: an r
+/// channel that is zero or a copy of another leaves columns it drops); applying it uses
+/// orthogonal transformations only. Throws std::invalid_argument (one message form) when R
+/// is empty, not finite or zero throughout, lags·m ≥ N / 2, or the pole is outside [0, 1);
+/// `lags` 0: default_stage1_lags.
 class ReferenceProjection {
  public:
-  ReferenceProjection(const Eigen::MatrixXd& R, int lags = 0);
+  ReferenceProjection(const Eigen::MatrixXd& R, int lags = 0, double pole = 0.0);
   /// P_Φ X, X with N rows.
   Eigen::MatrixXd operator()(const Eigen::MatrixXd& X) const;
   int lags() const { return lags_; }
+  double pole() const { return pole_; }
   Eigen::Index rows() const { return qr_.rows(); }
 
  private:
   int lags_ = 0;
+  double pole_ = 0.0;
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr_;
 };
 
-/// Stage 1: û = the least-squares FIR projection of each column of U (N × n) on the lags
-/// 0 … lags−1 of every column of R (N × m), rows before 0 taken as 0 (at rest). `lags` 0:
-/// the default, min(200, max(20, N / (8·m))) — long enough for the closed loop's settling
-/// at a few parameters per 8 rows. Throws std::invalid_argument (one message form) when the
-/// sizes differ, R is zero throughout, or lags·m ≥ N / 2.
-Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags = 0);
+/// The Laguerre pole for stage 1 with `lags` functions per r channel (0: the default).
+/// First the loop's time scale: of the grid 0, 0.5, 0.7, 0.8, 0.87, 0.92, 0.95, 0.97, 0.98,
+/// the pole a* whose kStage1PoleFunctions functions (at most `lags`) per r channel leave the least
+/// of U unexplained (Σ over inputs of ‖u − û‖²/‖u − ū‖²). Then the pole that gives `lags` functions
+/// kStage1MemoryFactor times the memory of those few (memory: L·(1 + a)/(1 − a) samples), within
+/// [0, a*]: a long record affords lags enough for a FIR (pole 0), and its slow functions would only
+/// fit more of the slow disturbance in u, which biases stage 2; a short one reaches the loop's
+/// settling through the pole. û stays a function of r alone: the choice reads u, never y. Throws
+/// what ReferenceProjection throws.
+inline constexpr int kStage1PoleFunctions = 6;
+inline constexpr double kStage1MemoryFactor = 4.0;
+double choose_stage1_pole(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags = 0);
+
+/// Stage 1: û = the least-squares projection of each column of U (N × n) on `lags`
+/// Laguerre functions (pole `pole`; negative: choose_stage1_pole) of every column of R
+/// (N × m), rows before 0 taken as 0 (at rest). `lags` 0: the default, min(200, max(20,
+/// N / (8·m))). Throws std::invalid_argument (one message form) when the sizes differ, R is
+/// zero throughout, or lags·m ≥ N / 2.
+Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags = 0,
+                               double pole = -1.0);
 /// Stage 1 with P_Φ built (U's rows must be P's).
 Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const ReferenceProjection& P);
 
@@ -104,7 +126,7 @@ struct TwoStageFit {
   Eigen::MatrixXd stage1_se_factor;
 };
 
-/// Stage 1 (û = P_Φ U, P_Φ on R's lags; `stage1_lags` as in project_on_reference), then the
+/// Stage 1 (û = P_Φ U; `stage1_lags` and `stage1_pole` as in project_on_reference), then the
 /// prediction-error fit with an AR noise model per output on (û, Y) (noise_model.hpp), each
 /// row's gain SEs widened for stage 1's error (count_stage1_in_row) and G(0)'s uncertainty
 /// (gain_uncertainty) formed again from them. Throws what identify() and stage 1 throw, and
@@ -112,21 +134,19 @@ struct TwoStageFit {
 TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
                                const Eigen::MatrixXd& Y, double T_min, const SampleLayout& layout,
                                const IdentifyOptions& options = {}, int stage1_lags = 0,
-                               const NoiseModelOptions& noise = {});
+                               const NoiseModelOptions& noise = {}, double stage1_pole = -1.0);
 
 /// Both methods on one closed-loop run: U applied inputs, R the test signal r (N × m), Y.
-/// `stage1_lags` as in project_on_reference. Each is the prediction-error fit with an AR
-/// noise model per output (noise_model.hpp; `noise.max_order` 0: output error): on (û, y)
-/// the two-stage estimate, on (u, y) the direct one — consistent in closed loop when the
-/// noise model describes the disturbance (the output-error direct fit is not, with a
-/// coloured one). The gain standard errors allow for the estimated noise model and for the
-/// colour left in the residual, and the two-stage ones for stage 1's error in û
-/// (identify_two_stage). Throws what identify() and stage 1 throw.
-ClosedLoopIdentification identify_closed_loop(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
-                                              const Eigen::MatrixXd& Y, double T_min,
-                                              const SampleLayout& layout,
-                                              const IdentifyOptions& options = {},
-                                              int stage1_lags = 0,
-                                              const NoiseModelOptions& noise = {});
+/// `stage1_lags`, `stage1_pole` as in project_on_reference. Each is the prediction-error fit with
+/// an AR noise model per output (noise_model.hpp; `noise.max_order` 0: output error): on (û, y) the
+/// two-stage estimate, on (u, y) the direct one — consistent in closed loop when the noise model
+/// describes the disturbance (the output-error direct fit is not, with a coloured one). The gain
+/// standard errors allow for the estimated noise model and for the colour left in the residual, and
+/// the two-stage ones for stage 1's error in û (identify_two_stage). Throws what identify() and
+/// stage 1 throw.
+ClosedLoopIdentification identify_closed_loop(
+    const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, const Eigen::MatrixXd& Y, double T_min,
+    const SampleLayout& layout, const IdentifyOptions& options = {}, int stage1_lags = 0,
+    const NoiseModelOptions& noise = {}, double stage1_pole = -1.0);
 
 }  // namespace excite::host
