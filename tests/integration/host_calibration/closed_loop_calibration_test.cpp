@@ -168,7 +168,7 @@ TEST(ClosedLoopCalibration, WoodberryUnderPiOnAShortRecordTheTwoStageEstimateIsN
   const Both b = over_seeds(0.0, 270);
   b.direct.print("direct, white noise, 270 rows");
   b.two_stage.print("two-stage, white noise, 270 rows");
-  // THEN with the Laguerre pole chosen from the data (0.7 here) the two-stage σ_n is a few %
+  // THEN with the Laguerre pole chosen from the data the two-stage σ_n is a few %
   // off the truth on average (measured −4.3 %; the direct fit +0.1 %), and its intervals
   // cover (97 %). A FIR of the 20 lags leaves the rest of the settling in u − û, which stage
   // 2 reads as a bias: +11.1 % (FIRs of 40 and 60 lags −4.1 and −5.7 %). On the woodberry2x2
