@@ -80,10 +80,26 @@ double laguerre_memory(int functions, double pole) {
   return functions * (1.0 + pole) / (1.0 - pole);
 }
 
+void require_rows_of_u(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R) {
+  if (R.rows() != U.rows() || U.cols() == 0) {
+    throw std::invalid_argument("r rows x channels = " + std::to_string(R.rows()) + "x" +
+                                std::to_string(R.cols()) + ", expected " +
+                                std::to_string(U.rows()) + " rows (as u) and at least one channel");
+  }
+}
+
+// Stage 1's projection for U: `pole` negative is chosen (choose_stage1_pole).
+ReferenceProjection stage1_projection(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags,
+                                      double pole) {
+  require_rows_of_u(U, R);
+  return ReferenceProjection(R, lags, pole < 0.0 ? choose_stage1_pole(U, R, lags) : pole);
+}
+
 }  // namespace
 
 double choose_stage1_pole(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags) {
   constexpr double kPoles[] = {0.0, 0.5, 0.7, 0.8, 0.87, 0.92, 0.95, 0.97, 0.98};
+  require_rows_of_u(U, R);
   if (lags == 0) lags = default_stage1_lags(R.rows(), R.cols());
   const int few = std::min(kStage1PoleFunctions, lags);
   Eigen::VectorXd spread(U.cols());
@@ -106,13 +122,7 @@ double choose_stage1_pole(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, in
 
 Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags,
                                double pole) {
-  if (R.rows() != U.rows() || U.cols() == 0) {
-    throw std::invalid_argument("r rows x channels = " + std::to_string(R.rows()) + "x" +
-                                std::to_string(R.cols()) + ", expected " +
-                                std::to_string(U.rows()) + " rows (as u) and at least one channel");
-  }
-  if (pole < 0.0) pole = choose_stage1_pole(U, R, lags);
-  return project_on_reference(U, ReferenceProjection(R, lags, pole));
+  return project_on_reference(U, stage1_projection(U, R, lags, pole));
 }
 
 Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const ReferenceProjection& P) {
@@ -164,13 +174,8 @@ TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& 
                                const Eigen::MatrixXd& Y, double T_min, const SampleLayout& layout,
                                const IdentifyOptions& options, int stage1_lags,
                                const NoiseModelOptions& noise, double stage1_pole) {
-  if (R.rows() != U.rows()) {
-    throw std::invalid_argument("r rows = " + std::to_string(R.rows()) + ", expected " +
-                                std::to_string(U.rows()) + " (as u)");
-  }
   TwoStageFit out;
-  const double pole = stage1_pole < 0.0 ? choose_stage1_pole(U, R, stage1_lags) : stage1_pole;
-  const ReferenceProjection P(R, stage1_lags, pole);
+  const ReferenceProjection P = stage1_projection(U, R, stage1_lags, stage1_pole);
   out.stage1 = project_on_reference(U, P);
   out.fit = identify_with_noise_model(out.stage1.u_hat, Y, T_min, layout, options, noise);
   IdentifiedModel& model = out.fit.result.model;

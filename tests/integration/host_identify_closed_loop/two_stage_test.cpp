@@ -305,7 +305,15 @@ TEST(Stage1, ALaguerrePoleReachesASettlingThatTheFirsLagsCannot) {
   // a u that is an FIR of r keeps the FIR …
   EXPECT_LT(choose_stage1_pole(U, R, 140), chosen.pole - 0.2);
   EXPECT_EQ(choose_stage1_pole(R, R, 20), 0.0);
-  // … and a pole outside [0, 1) is refused by name.
+  // … and rows of u other than r's, or a pole outside [0, 1), are refused by name.
+  try {
+    choose_stage1_pole(U.topRows(100), R, 20);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("r rows x channels = 300x1, expected 100 rows (as u)"),
+              std::string::npos)
+        << e.what();
+  }
   try {
     ReferenceProjection(R, 20, 1.0);
     FAIL();

@@ -71,7 +71,7 @@ class ReferenceProjection {
 /// [0, a*]: a long record affords lags enough for a FIR (pole 0), and its slow functions would only
 /// fit more of the slow disturbance in u, which biases stage 2; a short one reaches the loop's
 /// settling through the pole. û stays a function of r alone: the choice reads u, never y. Throws
-/// what ReferenceProjection throws.
+/// what ReferenceProjection throws, and std::invalid_argument when R's rows are not U's.
 inline constexpr int kStage1PoleFunctions = 6;
 inline constexpr double kStage1MemoryFactor = 4.0;
 double choose_stage1_pole(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags = 0);
