@@ -262,14 +262,14 @@ void add_identify_command(CLI::App& app) {
                   "a closed-loop run (run-log v4): auto or two-stage (the projection on r, "
                   "host/identify/README.md), or direct (the fit on the applied u); both are "
                   "prediction-error fits with "
-                  "an AR noise model per output (--noise-order); "
+                  "an AR or ARMA(1,1) noise model per output (--noise-order); "
                   "the other is printed beside it as a cross-check")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "two-stage", "direct"}));
   cmd->add_option("--noise-order", opt->noise.max_order,
                   "a closed-loop run: the largest order of each output's AR noise model, "
-                  "chosen by BIC (both fits are prediction-error fits with it); 0: output "
-                  "error, no noise model (host/identify/README.md)")
+                  "chosen by BIC, against an ARMA(1,1) too (both fits are prediction-error "
+                  "fits with it); 0: output error, no noise model (host/identify/README.md)")
       ->capture_default_str()
       ->check(CLI::Range(0, 60));
   cmd->add_option("--noise-refits", opt->noise.refits,

@@ -229,10 +229,11 @@ void add_closed_loop_options(CLI::App& cmd, Options& opt) {
                  "with --controller: r on the CV setpoints (setpoint) or an MV dither (mv)")
       ->capture_default_str()
       ->needs(controller);
-  cmd.add_option("--method", loop.method,
-                 "with --controller: the estimate judged, two-stage (the projection on r) or "
-                 "direct (the prediction-error fit with an AR noise model on the applied u: "
-                 "consistent under feedback when the noise model describes the disturbance)")
+  cmd.add_option(
+         "--method", loop.method,
+         "with --controller: the estimate judged, two-stage (the projection on r) or "
+         "direct (the prediction-error fit with an AR or ARMA(1,1) noise model on the applied u: "
+         "consistent under feedback when the noise model describes the disturbance)")
       ->capture_default_str()
       ->needs(controller);
   cmd.add_option("--limit-fraction", loop.limit_fraction,

@@ -152,11 +152,19 @@ nlohmann::json gains_json(const IdentifiedModel& m) {
   return {{"gain", g}, {"gain_std_error", se}};
 }
 
-// Each output's AR noise-model order (0: white, the output-error fit).
+// Each output's number of noise-model parameters (0: white, the output-error fit; an AR's
+// order; 2 for the ARMA(1,1)).
 std::vector<int> noise_orders(const std::vector<ArNoiseModel>& noise) {
   std::vector<int> orders;
-  for (const ArNoiseModel& a : noise) orders.push_back(a.order());
+  for (const ArNoiseModel& a : noise) orders.push_back(a.parameters());
   return orders;
+}
+
+// Each output's noise model by name: "white", "AR(n)" or "ARMA(1,1)".
+std::vector<std::string> noise_names(const std::vector<ArNoiseModel>& noise) {
+  std::vector<std::string> names;
+  for (const ArNoiseModel& a : noise) names.push_back(a.name());
+  return names;
 }
 
 }  // namespace
@@ -180,19 +188,22 @@ nlohmann::json closed_loop_json(const ClosedLoopIdentification& id, const runlog
     se_factor.push_back(row);
   }
   const IdentifiedModel& other = direct_written ? id.two_stage.model : id.direct.model;
-  return {{"method", direct_written ? "direct" : "two-stage"},
-          {"excitation", std::string(runlog::to_text(log.closed_loop.excitation))},
-          {"controller", log.closed_loop.controller},
-          {"stage1",
-           {{"laguerre_functions", id.stage1.lags},
-            {"laguerre_pole", id.stage1.pole},
-            {"u_explained_by_r_percent", fit},
-            {"two_stage_se_factor", se_factor}}},
-          {"noise_model_orders",
-           {{"two_stage", noise_orders(id.noise_two_stage)},
-            {"direct", noise_orders(id.noise_direct)}}},
-          {direct_written ? "two_stage" : "direct", gains_json(other)},
-          {"feedback_bias_suspected", bias}};
+  return {
+      {"method", direct_written ? "direct" : "two-stage"},
+      {"excitation", std::string(runlog::to_text(log.closed_loop.excitation))},
+      {"controller", log.closed_loop.controller},
+      {"stage1",
+       {{"laguerre_functions", id.stage1.lags},
+        {"laguerre_pole", id.stage1.pole},
+        {"u_explained_by_r_percent", fit},
+        {"two_stage_se_factor", se_factor}}},
+      {"noise_model_orders",
+       {{"two_stage", noise_orders(id.noise_two_stage)},
+        {"direct", noise_orders(id.noise_direct)}}},
+      {"noise_models",
+       {{"two_stage", noise_names(id.noise_two_stage)}, {"direct", noise_names(id.noise_direct)}}},
+      {direct_written ? "two_stage" : "direct", gains_json(other)},
+      {"feedback_bias_suspected", bias}};
 }
 
 nlohmann::json model_json(const IdentificationResult& result,

@@ -116,9 +116,9 @@ void print_identification(std::ostream& out, const IdentificationResult& r,
 
 void print_noise_orders(std::ostream& out, const std::vector<ArNoiseModel>& noise,
                         const runlog::RunLog& log) {
-  out << "noise model (AR order by BIC, 0: white):";
+  out << "noise model (by BIC: white, AR(n) or ARMA(1,1)):";
   for (std::size_t o = 0; o < noise.size(); ++o) {
-    out << (o == 0 ? " " : ", ") << log.output_names.at(o) << ' ' << noise[o].order();
+    out << (o == 0 ? " " : ", ") << log.output_names.at(o) << ' ' << noise[o].name();
   }
   out << '\n';
 }

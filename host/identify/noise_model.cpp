@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "host/identify/gain_sensitivity.hpp"
 #include "host/identify/validate.hpp"
@@ -14,6 +16,35 @@ namespace excite::host {
 namespace {
 
 constexpr int kRowsPerParameter = 10;
+constexpr double kExpansionTail = 1e-3;  // Σ |a_k| left out of an ARMA(1,1)'s expansion
+constexpr int kExpansionMax = 100;
+
+// A(q) of an ARMA(1,1): a_k = (zero − pole) zero^(k−1), k = 1 … K, K the first length whose
+// tail |zero − pole| |zero|^K / (1 − |zero|) is below kExpansionTail.
+Eigen::VectorXd arma_expansion(const ArmaPoleZero& m) {
+  const double gap = std::abs(m.zero - m.pole);
+  const double z = std::abs(m.zero);
+  int K = 1;
+  while (K < kExpansionMax && gap * std::pow(z, K) / (1.0 - z) > kExpansionTail) ++K;
+  Eigen::VectorXd a(K);
+  for (int k = 0; k < K; ++k) a(k) = (m.zero - m.pole) * std::pow(m.zero, k);
+  return a;
+}
+
+// x through 1/(1 − zero·q⁻¹), each segment from rest.
+Eigen::VectorXd through_zero(const Eigen::VectorXd& x, double zero, const SampleLayout& layout) {
+  Eigen::VectorXd out = x;
+  for (const Segment& s : layout.segments) {
+    for (Eigen::Index k = s.begin + 1; k < s.end; ++k) out(k) += zero * out(k - 1);
+  }
+  return out;
+}
+
+double sum_of_squares(const Eigen::VectorXd& x, const std::vector<Eigen::Index>& rows) {
+  double sum = 0.0;
+  for (const Eigen::Index k : rows) sum += x(k) * x(k);
+  return sum;
+}
 
 // v with each segment's mean over its scored rows removed.
 Eigen::VectorXd about_segment_means(const Eigen::VectorXd& v, const SampleLayout& layout) {
@@ -72,15 +103,29 @@ IdentifyOptions polish_options(const IdentifyOptions& options, const IdentifiedM
   return o;
 }
 
-// Widens row `output`'s gain SEs for the estimated a_j (noise_model.hpp): X_f the gain
-// sensitivities on the prefiltered data, Z the lagged output error v. Returns the largest
-// factor.
+// ∂ε/∂(noise parameters) of the output error v (noise_model.hpp): an AR's lags of v, an
+// ARMA(1,1)'s two columns, each segment from rest. Signs are immaterial to the projection.
+Eigen::MatrixXd noise_parameter_sensitivities(const Eigen::VectorXd& v, const ArNoiseModel& noise,
+                                              const SampleLayout& layout) {
+  if (!noise.arma) return lagged_columns(v, noise.order(), layout);
+  const ArmaPoleZero& m = *noise.arma;
+  Eigen::MatrixXd sources(v.size(), 2);
+  sources.col(0) = through_zero(v, m.zero, layout);
+  sources.col(1) = through_zero(arma_prediction_error(v, m, layout), m.zero, layout);
+  Eigen::MatrixXd Z = Eigen::MatrixXd::Zero(v.size(), 2);
+  for (int c = 0; c < 2; ++c) add_lagged(Z.col(c), sources.col(c), 1, 1.0, layout.segments);
+  return Z;
+}
+
+// Widens row `output`'s gain SEs for the estimated noise parameters (noise_model.hpp): X_f
+// the gain sensitivities on the prefiltered data, Z the prediction error's sensitivities to
+// the noise parameters. Returns the largest factor.
 double widen_for_noise_parameters(IdentifiedModel& model, int output, const Eigen::MatrixXd& Uf,
                                   const Eigen::VectorXd& v, const ArNoiseModel& noise,
                                   const SampleLayout& filtered) {
   RowGainSensitivity s = row_gain_sensitivity(model, output, Uf, filtered.segments);
   if (s.used.empty()) return 1.0;
-  Eigen::MatrixXd Z = lagged_columns(v, noise.order(), filtered);
+  Eigen::MatrixXd Z = noise_parameter_sensitivities(v, noise, filtered);
   for (Eigen::Index k = 0; k < Z.rows(); ++k) {
     if (filtered.weight(k) != 0.0) continue;
     s.X.row(k).setZero();
@@ -203,12 +248,73 @@ ArNoiseModel fit_ar_noise(const Eigen::VectorXd& v, const SampleLayout& layout, 
   for (int n = 1; n <= n_max; ++n) {
     if (bic(n) < bic(best)) best = n;
   }
-  if (best == 0) return out;
+  if (best == 0) return out;  // no ARMA on white noise: it would fit a pole and zero that cancel
+  if (M >= kRowsPerParameter * 3) {
+    const ArmaPoleZero arma = fit_arma11(x, rows, layout);
+    const double m = static_cast<double>(M);
+    const double rss_arma = sum_of_squares(arma_prediction_error(x, arma, layout), rows);
+    if (m * std::log(std::max(rss_arma, 1e-300) / m) + 2.0 * std::log(m) < bic(best)) {
+      out.a = arma_expansion(arma);
+      out.arma = arma;
+      out.innovation_variance = rss_arma / m;
+      return out;
+    }
+  }
   const Eigen::VectorXd c =
       R.topLeftCorner(best, best).triangularView<Eigen::Upper>().solve(R.col(n_max).head(best));
   out.a = -c;
   out.innovation_variance = rss(best) / static_cast<double>(M);
   return out;
+}
+
+std::string ArNoiseModel::name() const {
+  if (arma) return "ARMA(1,1)";
+  return order() == 0 ? "white" : "AR(" + std::to_string(order()) + ")";
+}
+
+Eigen::VectorXd arma_prediction_error(const Eigen::VectorXd& x, const ArmaPoleZero& arma,
+                                      const SampleLayout& layout) {
+  Eigen::VectorXd e = x;
+  for (const Segment& s : layout.segments) {
+    for (Eigen::Index k = s.begin + 1; k < s.end; ++k)
+      e(k) = x(k) - arma.pole * x(k - 1) + arma.zero * e(k - 1);
+  }
+  return e;
+}
+
+ArmaPoleZero fit_arma11(const Eigen::VectorXd& x, const std::vector<Eigen::Index>& rows,
+                        const SampleLayout& layout) {
+  const auto cost = [&](const ArmaPoleZero& m) {
+    return sum_of_squares(arma_prediction_error(x, m, layout), rows);
+  };
+  ArmaPoleZero best;
+  double least = cost(best);
+  for (int p = 0; p <= 49; ++p) {
+    for (int z = -9; z <= 9; ++z) {
+      const ArmaPoleZero m{0.02 * p, 0.1 * z};
+      const double c = cost(m);
+      if (c < least) {
+        least = c;
+        best = m;
+      }
+    }
+  }
+  for (double step = 0.01; step > 1e-5; step /= 2.0) {
+    for (bool moved = true; moved;) {
+      moved = false;
+      for (const auto& [dp, dz] : {std::pair{step, 0.0}, {-step, 0.0}, {0.0, step}, {0.0, -step}}) {
+        const ArmaPoleZero m{std::clamp(best.pole + dp, 0.0, 0.999),
+                             std::clamp(best.zero + dz, -0.9, 0.9)};
+        const double c = cost(m);
+        if (c < least) {
+          least = c;
+          best = m;
+          moved = true;
+        }
+      }
+    }
+  }
+  return best;
 }
 
 Eigen::MatrixXd prefilter(const Eigen::MatrixXd& X, const ArNoiseModel& noise,

@@ -9,10 +9,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "host/identify/closed_loop.hpp"
 #include "host/simulate/closed_loop.hpp"
@@ -92,7 +94,25 @@ struct Coverage {
 
 struct Both {
   Coverage direct, two_stage;
+  std::vector<double> direct_level;  // A(1) = 1 + Σ a_j of each seed's direct noise models
 };
+
+// A(1) of the simulator's output noise: a first-order disturbance of std `disturbance_std`,
+// pole φ = exp(−T/τ), plus white noise of variance `white`, is the ARMA(1,1) of that pole and
+// the zero θ of its innovation form, so A(1) = (1 − φ)/(1 − θ).
+double true_level(double disturbance_std, double tau_min, double white) {
+  const double phi = std::exp(-1.0 / tau_min);
+  const double drive = disturbance_std * disturbance_std * (1.0 - phi * phi);
+  const double c0 = drive + white * (1.0 + phi * phi);  // θ/(1 + θ²) = c1/c0
+  const double c1 = white * phi;
+  const double theta = (c0 / c1 - std::sqrt(c0 * c0 / (c1 * c1) - 4.0)) / 2.0;
+  return (1.0 - phi) / (1.0 - theta);
+}
+
+double median(std::vector<double> x) {
+  std::sort(x.begin(), x.end());
+  return x[x.size() / 2];
+}
 
 // kSeeds closed-loop runs of `rows` rows with white noise of variance 10⁻² and a coloured
 // disturbance of std `disturbance_std` (τ 20 min), each identified both ways, every element
@@ -124,6 +144,7 @@ Both over_seeds(double disturbance_std, Eigen::Index rows = kRows) {
     const ClosedLoopIdentification id =
         identify_closed_loop(run.du, r, run.dy, 1.0, SampleLayout::whole(rows), options);
     out.direct.add(id.direct.model, truth);
+    for (const ArNoiseModel& a : id.noise_direct) out.direct_level.push_back(1.0 + a.a.sum());
     out.two_stage.add(id.two_stage.model, truth);
   }
   return out;
@@ -177,6 +198,29 @@ TEST(ClosedLoopCalibration, WoodberryUnderPiOnAShortRecordTheTwoStageEstimateIsN
   EXPECT_LT(std::abs(b.two_stage.sigma_n_error / b.two_stage.seeds), 0.07);
   EXPECT_GE(b.two_stage.overall(), 0.90);
   expect_calibrated(b.direct);
+}
+
+TEST(ClosedLoopCalibration,
+     WoodberryUnderPiOnAShortRecordTheDirectNoiseModelKeepsTheDisturbancesLevel) {
+  // GIVEN 540 rows under the coloured disturbance: its time constant fits in the record 27
+  // times. On so few rows BIC keeps an AR of order 1 to 3, whose A(1) is well above the
+  // disturbance's: it sees less noise at low frequency than there is, where the gains are
+  // read, and their SEs come out short.
+  const Both b = over_seeds(0.3, 540);
+  b.direct.print("direct, coloured disturbance 0.3, tau 20 min, 540 rows");
+  b.two_stage.print("two-stage, coloured disturbance 0.3, tau 20 min, 540 rows");
+  const double ratio = median(b.direct_level) / true_level(0.3, 20.0, 1e-2);
+  std::printf("direct noise models' A(1): median %.2f times the disturbance's\n", ratio);
+  // THEN with the ARMA(1,1) among the candidates the median A(1) comes closer to the
+  // disturbance's (measured 1.34 times it; 1.47 with the AR alone). It is still above it: on
+  // 27 time constants the pole's estimate falls short of 1, and the fitted G takes some of
+  // the disturbance's slow part (host/identify/README.md).
+  EXPECT_GT(ratio, 0.8);
+  EXPECT_LT(ratio, 1.4);
+  // AND the direct fit's intervals come closer to calibrated (measured 88.2 %, 86–91 % per
+  // element; 86.5 % with the AR alone; the rest is not calibrated yet, host/identify/
+  // README.md, "Short records under the coloured disturbance")
+  EXPECT_GE(b.direct.overall(), 0.85);
 }
 
 }  // namespace

@@ -45,6 +45,24 @@ TEST_F(ClosedLoopCommands, SimulateWritesV4AndIdentifyChoosesTheTwoStageMethodFr
     ASSERT_EQ(row.size(), 2U);
     for (const auto& f : row) EXPECT_GT(f.get<double>(), 0.0);
   }
+  // Each output's noise model by name, and its number of parameters.
+  EXPECT_TRUE(contains(id.out, "noise model (by BIC: white, AR(n) or ARMA(1,1)): y1 ")) << id.out;
+  for (const char* fit : {"two_stage", "direct"}) {
+    const nlohmann::json& names = j.at("closed_loop").at("noise_models").at(fit);
+    const nlohmann::json& orders = j.at("closed_loop").at("noise_model_orders").at(fit);
+    ASSERT_EQ(names.size(), 2U);
+    ASSERT_EQ(orders.size(), 2U);
+    for (std::size_t o = 0; o < 2; ++o) {
+      const std::string name = names[o].get<std::string>();
+      const int n = orders[o].get<int>();
+      const std::string expected =
+          name == "ARMA(1,1)" ? name : (n == 0 ? "white" : "AR(" + std::to_string(n) + ")");
+      EXPECT_EQ(name, expected) << fit << " output " << o;
+      if (name == "ARMA(1,1)") {
+        EXPECT_EQ(n, 2);
+      }
+    }
+  }
   // Stage 1's basis: Laguerre functions, the pole chosen from u unless given (0: a FIR).
   EXPECT_TRUE(contains(id.out, " Laguerre functions of pole ")) << id.out;
   const double pole = j.at("closed_loop").at("stage1").at("laguerre_pole").get<double>();

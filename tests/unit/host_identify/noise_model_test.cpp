@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
-// The AR noise model of the prediction-error fit (host/identify/noise_model.hpp): its least-
-// squares fit and order by BIC, the prefilter per segment, the rows the prefilter spoils, and
-// that with the noise model off the fit is identify()'s.
+// The noise model of the prediction-error fit (host/identify/noise_model.hpp): its least-
+// squares fit and order by BIC, the ARMA(1,1) beside the AR orders, the prefilter per segment,
+// the rows the prefilter spoils, and that with the noise model off the fit is identify()'s.
 #include "host/identify/noise_model.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <string>
 
@@ -37,6 +38,34 @@ TEST(ArNoise, RecoversAnAr2ItsOrderAndItsInnovationVariance) {
   EXPECT_NEAR(m.a(0), -1.2, 0.02);
   EXPECT_NEAR(m.a(1), 0.5, 0.02);
   EXPECT_NEAR(m.innovation_variance, 1.0, 0.03);
+}
+
+TEST(ArNoise, AFirstOrderDisturbanceUnderWhiteNoiseGetsTheArma11AndItsLowFrequencyLevel) {
+  // GIVEN the simulator's coloured case: a first-order disturbance of pole 0.95 and std 1 plus
+  // white noise of std 1/3, an ARMA(1,1) of zero 0.398 (its innovation form).
+  const double pole = 0.95;
+  Eigen::VectorXd v = std::sqrt(1.0 - pole * pole) * ar_process({-pole}, 20000, 11);
+  v += ar_process({}, 20000, 12) / 3.0;
+  const double c0 = (1.0 - pole * pole) + (1.0 + pole * pole) / 9.0;  // (1 − θq⁻¹) e's
+  const double c1 = pole / 9.0;                                       // lags 0 and 1
+  const double zero = (c0 / c1 - std::sqrt(c0 * c0 / (c1 * c1) - 4.0)) / 2.0;
+  // WHEN the noise model is fitted
+  const ArNoiseModel m = fit_ar_noise(v, SampleLayout::whole(v.size()), 20);
+  // THEN BIC prefers the ARMA(1,1) to every AR of order ≤ 20, and the pole and zero are the
+  // process's
+  ASSERT_TRUE(m.arma.has_value());
+  EXPECT_EQ(m.name(), "ARMA(1,1)");
+  EXPECT_EQ(m.parameters(), 2);
+  EXPECT_NEAR(m.arma->pole, pole, 0.01);
+  EXPECT_NEAR(m.arma->zero, zero, 0.03);
+  // AND the prefilter, its expansion, has A(1) = (1 − pole)/(1 − zero) to within the cut tail
+  // (10⁻³): the disturbance's level at low frequency, what a gain's SE rests on.
+  EXPECT_NEAR(1.0 + m.a.sum(), (1.0 - m.arma->pole) / (1.0 - m.arma->zero), 1e-3);
+  // AND the prefilter's rows are the ARMA's prediction error
+  const SampleLayout whole = SampleLayout::whole(v.size());
+  const Eigen::VectorXd x = v.array() - v.mean();
+  const Eigen::VectorXd e = arma_prediction_error(x, *m.arma, whole);
+  EXPECT_LT((prefilter(x, m, whole).col(0) - e).tail(19000).cwiseAbs().maxCoeff(), 1e-2);
 }
 
 TEST(ArNoise, WhiteNoiseGetsOrderZeroAndAnOffsetIsNotNoise) {
