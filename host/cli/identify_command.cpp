@@ -52,7 +52,7 @@ struct IdentifyCommandOptions {
   std::string method = "auto";  // closed-loop runs: auto (= two-stage), two-stage, direct
   int stage1_lags = 0;          // 0: project_on_reference's default
   double stage1_pole = -1.0;    // negative: choose_stage1_pole
-  NoiseModelOptions noise;      // closed-loop runs: the AR noise model of both fits
+  NoiseModelOptions noise;      // closed-loop runs: the noise model of both fits
 };
 
 // The model file's channel limit, before any fit (a 65-input run once took 77 s and wrote a

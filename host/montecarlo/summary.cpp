@@ -271,11 +271,12 @@ json closed_loop_run_json(const Config& c) {
       (l.excitation == "mv"       ? "MV dither"
        : l.directions == "output" ? "setpoint excitation along the prior's output directions"
                                   : "setpoint excitation") +
-      (l.method == "direct" ? "; identified direct (the prediction-error fit with an AR noise "
-                              "model on the applied u, the test-length prefixes too)"
-                            : "; identified two-stage (the prediction-error fit with an AR noise "
-                              "model on u's part that r explains, the test-length prefixes too, "
-                              "stage 1 on the prefix alone)") +
+      (l.method == "direct"
+           ? "; identified direct (the prediction-error fit with an AR or ARMA(1,1) "
+             "noise model on the applied u, the test-length prefixes too)"
+           : "; identified two-stage (the prediction-error fit with an AR or ARMA(1,1) "
+             "noise model on u's part that r explains, the test-length prefixes too, "
+             "stage 1 on the prefix alone)") +
       "; no cross-validation";
   return j;
 }

@@ -46,7 +46,7 @@ SimulatedRun measured_run(const Prepared& p, std::size_t b, const CampaignOption
 // prefix alone. Warm: the fit starts from `start`, the model of the previous grid length
 // (IdentifyOptions::start), and is only polished when the rows added since then bring nothing
 // new (nothing_new). nullopt: a prefix too short to identify.
-// Closed loop: the prediction-error fit with an AR noise model (noise_model.hpp), as the
+// Closed loop: the prediction-error fit with a noise model (noise_model.hpp), as the
 // whole run's; two-stage (`R` not empty): on stage 1's û from the prefix's rows of U and r
 // alone, direct (`R` empty): on U.
 std::optional<IdentificationResult> identify_prefix(const Prepared& p, const Experiment& e,

@@ -219,7 +219,7 @@ TEST(ClosedLoopCalibration,
   EXPECT_LT(ratio, 1.4);
   // AND the direct fit's intervals come closer to calibrated (measured 88.2 %, 86–91 % per
   // element; 86.5 % with the AR alone; the rest is not calibrated yet, host/identify/
-  // README.md, "Short records under the coloured disturbance")
+  // README.md, "Not calibrated yet: short records under the coloured disturbance")
   EXPECT_GE(b.direct.overall(), 0.85);
 }
 

@@ -46,8 +46,10 @@ TEST(ArNoise, AFirstOrderDisturbanceUnderWhiteNoiseGetsTheArma11AndItsLowFrequen
   const double pole = 0.95;
   Eigen::VectorXd v = std::sqrt(1.0 - pole * pole) * ar_process({-pole}, 20000, 11);
   v += ar_process({}, 20000, 12) / 3.0;
-  const double c0 = (1.0 - pole * pole) + (1.0 + pole * pole) / 9.0;  // (1 − θq⁻¹) e's
-  const double c1 = pole / 9.0;                                       // lags 0 and 1
+  // (1 − pole·q⁻¹) v has autocovariances c0 and −c1 at lags 0 and 1, an MA(1) of zero θ
+  // with θ/(1 + θ²) = c1/c0.
+  const double c0 = (1.0 - pole * pole) + (1.0 + pole * pole) / 9.0;
+  const double c1 = pole / 9.0;
   const double zero = (c0 / c1 - std::sqrt(c0 * c0 / (c1 * c1) - 4.0)) / 2.0;
   // WHEN the noise model is fitted
   const ArNoiseModel m = fit_ar_noise(v, SampleLayout::whole(v.size()), 20);

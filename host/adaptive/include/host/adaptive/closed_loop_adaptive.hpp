@@ -9,7 +9,7 @@
 //               of the prior's G(0), equal weights, D as in 3 below (every segment before
 //               an estimate is usable);
 //   after each segment, once the record is long enough to identify:
-//     1. identify from all data so far: the prediction-error fit with an AR noise model per
+//     1. identify from all data so far: the prediction-error fit with a noise model per
 //        output on the applied u (the direct method, noise_model.hpp: consistent and
 //        calibrated under feedback), or two-stage on r;
 //     2. the stop rule of confidence.hpp, unchanged (the accuracy criterion at 95 %

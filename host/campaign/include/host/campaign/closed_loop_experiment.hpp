@@ -5,7 +5,7 @@
 // the controller (host/simulate/closed_loop.hpp) twice — noise-free, for the balance, and
 // measured, with the noise and the coloured disturbance — and the measured run identified by
 // the one method asked for, as `excite identify` identifies a closed-loop run log
-// (host/identify/closed_loop.hpp: the prediction-error fit with an AR noise model, on stage
+// (host/identify/closed_loop.hpp: the prediction-error fit with a noise model, on stage
 // 1's û or on u; the cross-check is not made).
 
 #include <Eigen/Core>

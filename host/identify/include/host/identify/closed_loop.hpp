@@ -9,7 +9,7 @@
 // fit of y on u (the direct method without a noise model) is then biased when v is coloured.
 // Two remedies, both used:
 //   - the **direct** method with a noise model (noise_model.hpp): the prediction-error fit
-//     with an AR noise model per output is consistent when the noise model describes v;
+//     with a noise model per output is consistent when the noise model describes v;
 //   - the **two-stage (projection)** method removes the part of u the disturbance made:
 //     stage 1  û = Ŝ_i r: each input regressed by least squares on L Laguerre functions of
 //              every r channel (an expansion of the input sensitivity; pole 0: a FIR of L
@@ -106,7 +106,7 @@ struct ClosedLoopIdentification {
   Eigen::MatrixXd stage1_se_factor;
   IdentificationResult two_stage;               // on (û, y): the estimate
   IdentificationResult direct;                  // on (u, y): the cross-check
-  std::vector<ArNoiseModel> noise_two_stage;    // per output, each fit's AR noise model
+  std::vector<ArNoiseModel> noise_two_stage;    // per output, each fit's noise model
   std::vector<ArNoiseModel> noise_direct;       // (order 0: output error on that row)
   std::vector<GainDisagreement> feedback_bias;  // "feedback bias suspected" in these elements
 };
@@ -127,7 +127,7 @@ struct TwoStageFit {
 };
 
 /// Stage 1 (û = P_Φ U; `stage1_lags` and `stage1_pole` as in project_on_reference), then the
-/// prediction-error fit with an AR noise model per output on (û, Y) (noise_model.hpp), each
+/// prediction-error fit with a noise model per output on (û, Y) (noise_model.hpp), each
 /// row's gain SEs widened for stage 1's error (count_stage1_in_row) and G(0)'s uncertainty
 /// (gain_uncertainty) formed again from them. Throws what identify() and stage 1 throw, and
 /// std::invalid_argument when R's rows are not U's.
@@ -138,7 +138,7 @@ TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& 
 
 /// Both methods on one closed-loop run: U applied inputs, R the test signal r (N × m), Y.
 /// `stage1_lags`, `stage1_pole` as in project_on_reference. Each is the prediction-error fit with
-/// an AR noise model per output (noise_model.hpp; `noise.max_order` 0: output error): on (û, y) the
+/// a noise model per output (noise_model.hpp; `noise.max_order` 0: output error): on (û, y) the
 /// two-stage estimate, on (u, y) the direct one — consistent in closed loop when the noise model
 /// describes the disturbance (the output-error direct fit is not, with a coloured one). The gain
 /// standard errors allow for the estimated noise model and for the colour left in the residual, and
