@@ -2,6 +2,7 @@
 #include "host/identify/noise_model.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -31,13 +32,11 @@ Eigen::VectorXd arma_expansion(const ArmaPoleZero& m) {
   return a;
 }
 
-// x through 1/(1 − zero·q⁻¹), each segment from rest.
-Eigen::VectorXd through_zero(const Eigen::VectorXd& x, double zero, const SampleLayout& layout) {
-  Eigen::VectorXd out = x;
-  for (const Segment& s : layout.segments) {
-    for (Eigen::Index k = s.begin + 1; k < s.end; ++k) out(k) += zero * out(k - 1);
-  }
-  return out;
+// Each column of x through 1/(1 − zero·q⁻¹) in place, each segment from rest.
+void through_zero(Eigen::Ref<Eigen::MatrixXd> x, double zero, const SampleLayout& layout) {
+  const std::vector<std::array<double, kMaxPoles>> a(static_cast<std::size_t>(x.cols()),
+                                                     {-zero, 0.0, 0.0});
+  all_pole_filter_columns(a, x, layout.segments);
 }
 
 double sum_of_squares(const Eigen::VectorXd& x, const std::vector<Eigen::Index>& rows) {
@@ -110,8 +109,8 @@ Eigen::MatrixXd noise_parameter_sensitivities(const Eigen::VectorXd& v, const Ar
   if (!noise.arma) return lagged_columns(v, noise.order(), layout);
   const ArmaPoleZero& m = *noise.arma;
   Eigen::MatrixXd sources(v.size(), 2);
-  sources.col(0) = through_zero(v, m.zero, layout);
-  sources.col(1) = through_zero(arma_prediction_error(v, m, layout), m.zero, layout);
+  sources << v, arma_prediction_error(v, m, layout);
+  through_zero(sources, m.zero, layout);
   Eigen::MatrixXd Z = Eigen::MatrixXd::Zero(v.size(), 2);
   for (int c = 0; c < 2; ++c) add_lagged(Z.col(c), sources.col(c), 1, 1.0, layout.segments);
   return Z;
@@ -275,10 +274,8 @@ std::string ArNoiseModel::name() const {
 Eigen::VectorXd arma_prediction_error(const Eigen::VectorXd& x, const ArmaPoleZero& arma,
                                       const SampleLayout& layout) {
   Eigen::VectorXd e = x;
-  for (const Segment& s : layout.segments) {
-    for (Eigen::Index k = s.begin + 1; k < s.end; ++k)
-      e(k) = x(k) - arma.pole * x(k - 1) + arma.zero * e(k - 1);
-  }
+  add_lagged(e, x, 1, -arma.pole, layout.segments);
+  through_zero(e, arma.zero, layout);
   return e;
 }
 
