@@ -220,11 +220,7 @@ ArNoiseModel fit_ar_noise(const Eigen::VectorXd& v, const SampleLayout& layout, 
   ArNoiseModel out;
   const auto M = static_cast<Eigen::Index>(rows.size());
   if (M == 0) return out;
-  const double mean_square = [&] {
-    double sum = 0.0;
-    for (const Eigen::Index k : rows) sum += x(k) * x(k);
-    return sum / static_cast<double>(M);
-  }();
+  const double mean_square = sum_of_squares(x, rows) / static_cast<double>(M);
   out.innovation_variance = mean_square;
   if (max_order == 0 || mean_square == 0.0) return out;
   // [Φ x] with Φ's column j − 1 the lag j: one QR gives every order's residual sum of
