@@ -235,10 +235,11 @@ ArNoiseModel fit_ar_noise(const Eigen::VectorXd& v, const SampleLayout& layout, 
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(A);
   const Eigen::MatrixXd R = qr.matrixQR().topRows(n_max + 1).triangularView<Eigen::Upper>();
   const auto rss = [&](int n) { return R.col(n_max).segment(n, n_max + 1 - n).squaredNorm(); };
-  const auto bic = [&](int n) {
-    const double m = static_cast<double>(M);
-    return m * std::log(std::max(rss(n), 1e-300) / m) + n * std::log(m);
+  const double m = static_cast<double>(M);
+  const auto criterion = [m](double rss_p, int p) {  // BIC of p parameters over the M rows
+    return m * std::log(std::max(rss_p, 1e-300) / m) + p * std::log(m);
   };
+  const auto bic = [&](int n) { return criterion(rss(n), n); };
   int best = 0;
   for (int n = 1; n <= n_max; ++n) {
     if (bic(n) < bic(best)) best = n;
@@ -246,9 +247,8 @@ ArNoiseModel fit_ar_noise(const Eigen::VectorXd& v, const SampleLayout& layout, 
   if (best == 0) return out;  // no ARMA on white noise: it would fit a pole and zero that cancel
   if (M >= kRowsPerParameter * 3) {
     const ArmaPoleZero arma = fit_arma11(x, rows, layout);
-    const double m = static_cast<double>(M);
     const double rss_arma = sum_of_squares(arma_prediction_error(x, arma, layout), rows);
-    if (m * std::log(std::max(rss_arma, 1e-300) / m) + 2.0 * std::log(m) < bic(best)) {
+    if (criterion(rss_arma, 2) < bic(best)) {
       out.a = arma_expansion(arma);
       out.arma = arma;
       out.innovation_variance = rss_arma / m;
