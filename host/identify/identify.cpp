@@ -338,7 +338,7 @@ MisoResult fit_cold(const Rows& rows, const Eigen::VectorXd& y, const Eigen::Vec
   const auto fit_from = [&](const std::vector<ElementModel>& start) {
     MisoResult other = fit_miso(rows.U, y, usable, start, rows.T_min, rows.bounds,
                                 rows.options.max_iterations, rows.layout, rows.trend);
-    if (rows.own_part) optima.push_back({gains_of(other), sse(other)});
+    if (rows.own_part) optima.push_back({gains_of(other), sse(other), gain_errors_of(other)});
     if (!miso) {
       miso = std::move(other);
       return;
@@ -360,6 +360,7 @@ MisoResult fit_cold(const Rows& rows, const Eigen::VectorXd& y, const Eigen::Vec
     for (const auto& start : rows.own_part->starts(row_start, *rows.bank, c.starts.back()))
       fit_from(start);
     fit_from(rows.own_part->exchanged(values_of(*miso)));
+    for (const auto& start : rows.own_part->shared(row_start, values_of(*miso))) fit_from(start);
   }
   return choose_structures(rows.U, y, usable, std::move(*miso), rows.T_min, rows.bounds,
                            rows.layout, rows.trend, search);

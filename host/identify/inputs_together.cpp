@@ -100,13 +100,19 @@ void cover_other_optima(const RowProblem& row, MisoResult& fit, const InputSepar
   double least = std::numeric_limits<double>::infinity();
   for (const RowOptimum& o : optima) least = std::min(least, o.sse);
   const Eigen::VectorXd K = gains_of(fit);
+  const Eigen::VectorXd se = fit.gain_covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
   for (const RowOptimum& o : optima) {
-    if (!(o.sse - least <= 1.96 * 1.96 * sigma2) || o.gains.size() != m) continue;
+    const double rise = (o.sse - least) / sigma2;
+    if (!(rise <= 1.96 * 1.96) || o.gains.size() != m) continue;
     const Eigen::VectorXd d = o.gains - K;
-    double alpha = 0.0;  // the variance along d that puts each split gain's 1.96 SE at |d_e|
+    // Around the other optimum the set reaches √(1.96² − rise) = 1.96·left of its SEs.
+    const double left = std::sqrt(1.0 - rise / (1.96 * 1.96));
+    double alpha = 0.0;  // the variance along d that puts each split gain's 1.96 SE that far
     for (Eigen::Index e = 0; e < m; ++e) {
       if (!(separation.independent(e) < kCannotSplit) || d(e) == 0.0) continue;
-      const double need = (d(e) / 1.96) * (d(e) / 1.96) - fit.gain_covariance(e, e);
+      const double there = o.se.size() == m && std::isfinite(o.se(e)) ? o.se(e) : se(e);
+      const double reach = std::abs(d(e)) / 1.96 + left * there;
+      const double need = reach * reach - fit.gain_covariance(e, e);
       alpha = std::max(alpha, need / (d(e) * d(e)));
     }
     add_gain_variance(fit, d, alpha);

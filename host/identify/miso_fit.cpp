@@ -499,6 +499,13 @@ Eigen::VectorXd gains_of(const MisoResult& fit) {
   return K;
 }
 
+Eigen::VectorXd gain_errors_of(const MisoResult& fit) {
+  Eigen::VectorXd se(static_cast<Eigen::Index>(fit.elements.size()));
+  for (std::size_t a = 0; a < fit.elements.size(); ++a)
+    se(static_cast<Eigen::Index>(a)) = fit.elements[a].std_error.gain;
+  return se;
+}
+
 std::vector<ElementModel> values_of(const MisoResult& fit) {
   std::vector<ElementModel> v;
   for (const ElementEstimate& e : fit.elements) v.push_back(e.value);

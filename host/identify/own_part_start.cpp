@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "host/identify/own_part_start.hpp"
 
+#include <cmath>
 #include <mutex>
 #include <optional>
+#include <utility>
 
 #include "host/identify/miso_fit.hpp"
 
@@ -128,6 +130,42 @@ std::vector<ElementModel> OwnPartStarts::start(const Side& side, const RowProble
   index = bank.choose_one(a, za.cwiseProduct(w), gain);
   from[side.a] = fit_one(row.U, column_a, za, bank, index, gain, row);
   return from;
+}
+
+std::vector<std::vector<ElementModel>> OwnPartStarts::shared(const RowProblem& row,
+                                                             std::vector<ElementModel> from) const {
+  const Side& side = *sides_[0];
+  const auto ua = row.U.col(row.inputs[side.a]), ub = row.U.col(row.inputs[side.b]);
+  // What the other elements leave: the pair's part of the output.
+  Eigen::VectorXd z = row.y;
+  for (std::size_t e = 0; e < from.size(); ++e) {
+    if (e == side.a || e == side.b) continue;
+    z -= response_of(from[e], row.U.col(row.inputs[e]), row.T_min, row.layout);
+  }
+  z = z.cwiseProduct(row.layout.weight);
+  const bool a_larger =
+      std::abs(from[side.a].gain) * ua.norm() >= std::abs(from[side.b].gain) * ub.norm();
+  ElementModel unit = from[a_larger ? side.a : side.b];
+  unit.gain = 1.0;
+  Eigen::MatrixXd Z(z.size(), 2);
+  Z.col(0) = response_of(unit, ua, row.T_min, row.layout).cwiseProduct(row.layout.weight);
+  Z.col(1) = response_of(unit, ub, row.T_min, row.layout).cwiseProduct(row.layout.weight);
+  const Eigen::Vector2d k = Z.colPivHouseholderQr().solve(z);
+  from[side.a] = unit;
+  from[side.b] = unit;
+  std::vector<std::pair<double, double>> splits{{k(0), k(1)}};
+  if (side.beta != 0.0) {
+    const double combination = k(0) + side.beta * k(1);
+    for (const double to_a : {0.25, 0.5, 0.75})
+      splits.emplace_back(to_a * combination, (1.0 - to_a) * combination / side.beta);
+  }
+  std::vector<std::vector<ElementModel>> out;
+  for (const auto& [ka, kb] : splits) {
+    from[side.a].gain = ka;
+    from[side.b].gain = kb;
+    out.push_back(from);
+  }
+  return out;
 }
 
 }  // namespace excite::host

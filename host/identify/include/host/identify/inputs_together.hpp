@@ -20,8 +20,9 @@
 //    ended in within the likelihood-ratio bound (cover_other_optima()), the own-part floor
 //    (own_part_floor()) and at most grade C (grade_together()): confident and wrong fell from
 //    61–87 to 0–3 seeds in 100 per element; coverage rose to 22–83 % and, with the own-part
-//    starts and the other optima, to 95–97 % (σ_min 95 %). alatiqi4x4's (u1, u2) at 1 % is
-//    not calibrated yet (90.5 % pooled; row y3 67–68 %).
+//    starts and the other optima, to 95–97 % (σ_min 95 %). alatiqi4x4's (u1, u2) at 1 %:
+//    90.5 % pooled with row y3 at 67–68 %, and 94.9 % (y3 94 %) with the starts along the
+//    combination (OwnPartStarts::shared) and the other optima's neighbourhoods.
 
 #include <string>
 
@@ -60,17 +61,23 @@ MisoResult profile_doubtful_gains(const RowProblem& row, MisoResult fit,
 void own_part_floor(const RowProblem& row, MisoResult& fit);
 
 /// A local optimum of a row's output error that one of its starts ended in: the elements'
-/// gains and the cost there.
+/// gains, the cost and the gains' linearised standard errors there (NaN: not known).
 struct RowOptimum {
   Eigen::VectorXd gains;
   double sse = 0.0;
+  Eigen::VectorXd se;
 };
 
 /// The gains' likelihood-ratio 95 % set holds every optimum whose cost is within 1.96² σ̂²
-/// of the least one found; a profile walk from one basin does not reach the others when the
-/// split is multimodal. For a row with an input below kCannotSplit in `separation`, the row's
-/// gain covariance is widened along K − K̂ of each such optimum in `optima` (the ends of the
-/// row's starts, one model class) until the gains of those inputs there are within 1.96 SE.
+/// of the least one found, and around each such optimum the values whose cost rise stays
+/// below the bound; a profile walk from one basin does not reach the others when the split
+/// is multimodal. For a row with an input below kCannotSplit in `separation`, the row's gain
+/// covariance is widened along K − K̂ of each such optimum in `optima` (the ends of the row's
+/// starts, one model class), rise r σ̂² above the least, until the gains of those inputs
+/// reach past it by 1.96·√(1 − r/1.96²) of their SEs there (the estimate's where those are
+/// not known). Reaching only the optimum itself left alatiqi4x4's row y3 at a
+/// 1 % own part covering 79–80 % (100 seeds), with the truth's basin 0.5–3.6 σ̂² above the
+/// least in each seed checked that missed; past it, 95 %.
 void cover_other_optima(const RowProblem& row, MisoResult& fit, const InputSeparation& separation,
                         const std::vector<RowOptimum>& optima);
 
@@ -80,8 +87,9 @@ void cover_other_optima(const RowProblem& row, MisoResult& fit, const InputSepar
 std::string describe_together(const std::vector<int>& inputs, const InputSeparation& separation);
 
 /// Grades at most C, with the reason, each element of `row` (row[i]: the element of input i)
-/// whose input is below kCannotSplit: there the intervals cover 95–97 % on Wood–Berry but
-/// 67–94 % on alatiqi4x4's u1, u2 over 100 seeds, where the split rests on delays alone.
+/// whose input is below kCannotSplit: the split rests on the dynamics alone (on alatiqi4x4's
+/// u1, u2 on 6 min of delay), and an interval is only as good as the search that found the
+/// basins (96–97 % on Wood–Berry, 91–100 % on alatiqi4x4 over 100 seeds).
 /// `usable` maps the separation's entries to inputs.
 void grade_together(const std::vector<ElementEstimate*>& row, const std::vector<int>& usable,
                     const InputSeparation& separation);

@@ -72,6 +72,8 @@ MisoResult fit_miso(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
 
 /// A fit's elements' gains, in the order of its elements.
 Eigen::VectorXd gains_of(const MisoResult& fit);
+/// A fit's elements' gain standard errors, in the order of its elements.
+Eigen::VectorXd gain_errors_of(const MisoResult& fit);
 /// A fit's elements' values (a start for another fit).
 std::vector<ElementModel> values_of(const MisoResult& fit);
 
