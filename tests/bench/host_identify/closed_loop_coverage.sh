@@ -11,6 +11,8 @@
 # white noise variance 1e-2 (woodberry2x2) or 5e-4 (alatiqi4x4).
 # EXTRA (5th argument): more `excite identify` options, e.g. "--noise-order 0" (the
 # output-error fits of before the noise model) or "--noise-refits 4".
+# CONTROLLER=FILE in the environment replaces the plant's example controller file (e.g. its
+# MV limits widened: host/identify/README.md, "The two-stage standard errors").
 set -euo pipefail
 PLANT=${1:?plant}; SEEDS=${2:-100}; DSTD=${3:-0}; METHOD=${4:-two-stage}; EXTRA=${5:-}
 ROOT=$(cd "$(dirname "$0")/../../.." && pwd)
@@ -18,10 +20,10 @@ E=${EXCITE:-$ROOT/build/default/bin/excite}
 W=$(mktemp -d); trap 'rm -rf "$W"' EXIT
 case $PLANT in
   woodberry2x2)
-    CTRL=$ROOT/sim/control/examples/woodberry2x2.pi.toml; NOISE=1e-2; PERIODS=2
+    CTRL=${CONTROLLER:-$ROOT/sim/control/examples/woodberry2x2.pi.toml}; NOISE=1e-2; PERIODS=2
     LIMITS="--limit y1=-2:2 --limit y2=-2:2"; FRACTION=0.5; ID="--structure first_order" ;;
   alatiqi4x4)
-    CTRL=$ROOT/sim/control/examples/alatiqi4x4.dmc.toml; NOISE=5e-4; PERIODS=1
+    CTRL=${CONTROLLER:-$ROOT/sim/control/examples/alatiqi4x4.dmc.toml}; NOISE=5e-4; PERIODS=1
     LIMITS="--limit y1=-0.55:0.55 --limit y2=-0.55:0.55 --limit y3=-0.55:0.55 --limit y4=-0.55:0.55"
     FRACTION=0.1; ID="" ;;
   *) echo "plant = $PLANT, expected woodberry2x2 or alatiqi4x4" >&2; exit 2 ;;
