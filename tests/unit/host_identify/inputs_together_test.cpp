@@ -253,8 +253,8 @@ TEST(OwnPartStarts, TheExchangedStartKeepsTheCombinationAndSwapsTheDynamics) {
 
 // Another optimum within the χ²₁ 95 % bound of the least cost is inside the likelihood-ratio
 // set, and so is its neighbourhood up to the bound: the split gains' intervals reach past it
-// by what is left of the bound there, in its own SEs. One
-// beyond the bound, or on a row whose inputs split (own parts above kCannotSplit), changes nothing.
+// by what is left of the bound there, in its own SEs. One beyond the bound, or on a row
+// whose inputs split (own parts above kCannotSplit), changes nothing.
 TEST(CoverOtherOptima, AnOptimumWithinTheBoundIsInsideTheIntervalsAndOneBeyondIsNot) {
   const Eigen::MatrixXd moved = prbs_inputs(2, 8, 3, 85, 1200, 0.07);
   const auto& [inputs, bounds, layout, trend] = TwoInputRow(moved.rows());

@@ -61,7 +61,7 @@ MisoResult profile_doubtful_gains(const RowProblem& row, MisoResult fit,
 void own_part_floor(const RowProblem& row, MisoResult& fit);
 
 /// A local optimum of a row's output error that one of its starts ended in: the elements'
-/// gains, the cost and the gains' linearised standard errors there (NaN: not known).
+/// gains, the cost and the gains' linearised standard errors there (NaN or empty: not known).
 struct RowOptimum {
   Eigen::VectorXd gains;
   double sse = 0.0;
@@ -75,9 +75,9 @@ struct RowOptimum {
 /// covariance is widened along K − K̂ of each such optimum in `optima` (the ends of the row's
 /// starts, one model class), rise r σ̂² above the least, until the gains of those inputs
 /// reach past it by 1.96·√(1 − r/1.96²) of their SEs there (the estimate's where those are
-/// not known). Reaching only the optimum itself left alatiqi4x4's row y3 at a
-/// 1 % own part covering 79–80 % (100 seeds), with the truth's basin 0.5–3.6 σ̂² above the
-/// least in each seed checked that missed; past it, 95 %.
+/// not known). Reaching only the optimum itself left alatiqi4x4's row y3 at a 1 % own part
+/// covering 81–83 % (100 seeds), the truth's basin 0.5–3.6 σ̂² above the least in the seeds
+/// checked that missed; reaching past it, 94 %.
 void cover_other_optima(const RowProblem& row, MisoResult& fit, const InputSeparation& separation,
                         const std::vector<RowOptimum>& optima);
 

@@ -53,8 +53,8 @@ class OwnPartStarts {
 
   /// Starts along the combination (four): `from` with both of the pair's elements in the
   /// dynamics of the one whose part of the output, |K|·‖u‖, is larger, their gains the least-
-  /// squares split of what the other elements leave of row.y, then that fit's K_a + β·K_b
-  /// split a quarter, a half and three quarters to a. For an end where one element carries
+  /// squares split of what the other elements leave of row.y, then that split's K_a + β·K_b
+  /// given a quarter, a half and three quarters to a. For an end where one element carries
   /// the combination and the other bends to fit the own part (alatiqi4x4's row y3, two
   /// elements alike but for 6 min of delay, at a 1 % own part: an optimum 1–9 σ̂² above the
   /// refit from the truth in 8 of 30 seeds), the split is then the fit's to find again.
