@@ -67,6 +67,17 @@ Eigen::VectorXd response_of(const ElementModel& g, const Eigen::VectorXd& u, dou
   return out;
 }
 
+// What the elements of `from` other than a and b leave of row.y: the pair's part of the output.
+Eigen::VectorXd pair_part(const RowProblem& row, const std::vector<ElementModel>& from,
+                          std::size_t a, std::size_t b) {
+  Eigen::VectorXd z = row.y;
+  for (std::size_t e = 0; e < from.size(); ++e) {
+    if (e == a || e == b) continue;
+    z -= response_of(from[e], row.U.col(row.inputs[e]), row.T_min, row.layout);
+  }
+  return z;
+}
+
 // One element on input column `column` of U fitted alone to z from grid element `index`
 // with gain `gain`.
 ElementModel fit_one(const Eigen::MatrixXd& U, int column, const Eigen::VectorXd& z,
@@ -121,12 +132,8 @@ std::vector<ElementModel> OwnPartStarts::start(const Side& side, const RowProble
   int index = bank.choose_own_part(b, a, side.beta, zb.cwiseProduct(w), gain);
   from[side.b] = fit_one(side.U_own, column_b, zb, bank, index, gain, row);
   // a's element: alone on what b's element on the whole u_b and the other elements leave.
-  Eigen::VectorXd za =
-      row.y - response_of(from[side.b], row.U.col(column_b), row.T_min, row.layout);
-  for (std::size_t e = 0; e < from.size(); ++e) {
-    if (e == side.a || e == side.b) continue;
-    za -= response_of(from[e], row.U.col(row.inputs[e]), row.T_min, row.layout);
-  }
+  const Eigen::VectorXd za = pair_part(row, from, side.a, side.b) -
+                             response_of(from[side.b], row.U.col(column_b), row.T_min, row.layout);
   index = bank.choose_one(a, za.cwiseProduct(w), gain);
   from[side.a] = fit_one(row.U, column_a, za, bank, index, gain, row);
   return from;
@@ -136,13 +143,7 @@ std::vector<std::vector<ElementModel>> OwnPartStarts::shared(const RowProblem& r
                                                              std::vector<ElementModel> from) const {
   const Side& side = *sides_[0];
   const auto ua = row.U.col(row.inputs[side.a]), ub = row.U.col(row.inputs[side.b]);
-  // What the other elements leave: the pair's part of the output.
-  Eigen::VectorXd z = row.y;
-  for (std::size_t e = 0; e < from.size(); ++e) {
-    if (e == side.a || e == side.b) continue;
-    z -= response_of(from[e], row.U.col(row.inputs[e]), row.T_min, row.layout);
-  }
-  z = z.cwiseProduct(row.layout.weight);
+  const Eigen::VectorXd z = pair_part(row, from, side.a, side.b).cwiseProduct(row.layout.weight);
   const bool a_larger =
       std::abs(from[side.a].gain) * ua.norm() >= std::abs(from[side.b].gain) * ub.norm();
   ElementModel unit = from[a_larger ? side.a : side.b];

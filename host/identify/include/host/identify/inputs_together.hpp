@@ -21,7 +21,7 @@
 //    (own_part_floor()) and at most grade C (grade_together()): confident and wrong fell from
 //    61–87 to 0–3 seeds in 100 per element; coverage rose to 22–83 % and, with the own-part
 //    starts and the other optima, to 95–97 % (σ_min 95 %). alatiqi4x4's (u1, u2) at 1 %:
-//    90.5 % pooled with row y3 at 67–68 %, and 94.9 % (y3 94 %) with the starts along the
+//    90.5 % pooled with row y3 at 67–68 %, and 94.8 % (y3 94 %) with the starts along the
 //    combination (OwnPartStarts::shared) and the other optima's neighbourhoods.
 
 #include <string>
