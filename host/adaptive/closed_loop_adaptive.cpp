@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -70,6 +71,21 @@ void check_closed_loop_options(const PriorKnowledge& prior, const ClosedLoopAdap
   }
 }
 
+// The largest α ≤ 1 with |Ĝ(0)⁻¹ α r| ≤ mv_fraction · the MV's limit on every row of r
+// (rows × CVs) and every MV; 1 without MV limits or with mv_fraction 0.
+double mv_room_scale(const Eigen::MatrixXd& gain, const Eigen::MatrixXd& r,
+                     const ClosedLoopOptions& loop, double mv_fraction) {
+  if (mv_fraction <= 0.0 || loop.mv_min.size() != gain.cols()) return 1.0;
+  const Eigen::MatrixXd moves = gain.fullPivLu().solve(r.transpose());  // MV × row
+  double alpha = 1.0;
+  for (Eigen::Index i = 0; i < moves.rows(); ++i) {
+    const double room = mv_fraction * std::min(-loop.mv_min(i), loop.mv_max(i));
+    const double peak = moves.row(i).cwiseAbs().maxCoeff();
+    if (peak > room) alpha = std::min(alpha, room / peak);
+  }
+  return alpha;
+}
+
 // The closed-loop test, one segment after the other (closed_loop_adaptive.hpp).
 class ClosedLoopTest {
  public:
@@ -114,10 +130,11 @@ class ClosedLoopTest {
     return short_number(static_cast<double>(rows) * result_.sample_time_min) + " min";
   }
 
-  // Rows [first, first + rows) of the prior's prbsUnc sources, each ±1.
+  // Rows [first, first + rows) of the prior's prbsUnc sources from prbs_phase on, each ±1.
   Eigen::MatrixXd sources(long long first, std::uint32_t rows) const {
-    const plan::Plan cut =
-        cut_segment(*sources_.plain.plan, static_cast<std::uint64_t>(first), rows);
+    const std::uint64_t hold = sources_.plain.plan->recipe.sources[0].prbs.hold_samples;
+    const plan::Plan cut = cut_segment(
+        *sources_.plain.plan, static_cast<std::uint64_t>(first) + o_.prbs_phase * hold, rows);
     Eigen::MatrixXd s = make_table(cut.recipe);
     for (Eigen::Index i = 0; i < s.cols(); ++i) {
       const double peak = s.col(i).cwiseAbs().maxCoeff();
@@ -168,18 +185,8 @@ class ClosedLoopTest {
     result_.segments.push_back(std::move(d));
   }
 
-  // The largest α ≤ 1 with |Ĝ(0)⁻¹ α r| ≤ mv_fraction · the MV's limit on every row and MV;
-  // 1 without MV limits or with mv_fraction 0.
   double mv_room(const Eigen::MatrixXd& gain, const Eigen::MatrixXd& r, std::string& why) const {
-    const ClosedLoopOptions& loop = loop_.loop();
-    if (o_.mv_fraction <= 0.0 || loop.mv_min.size() != gain.cols()) return 1.0;
-    const Eigen::MatrixXd moves = gain.fullPivLu().solve(r.transpose());  // MV × row
-    double alpha = 1.0;
-    for (Eigen::Index i = 0; i < moves.rows(); ++i) {
-      const double room = o_.mv_fraction * std::min(-loop.mv_min(i), loop.mv_max(i));
-      const double peak = moves.row(i).cwiseAbs().maxCoeff();
-      if (peak > room) alpha = std::min(alpha, room / peak);
-    }
+    const double alpha = mv_room_scale(gain, r, loop_.loop(), o_.mv_fraction);
     if (alpha < 1.0) why += "; scale " + short_number(alpha) + " for the MVs' room";
     return alpha;
   }
@@ -222,6 +229,26 @@ class ClosedLoopTest {
 };
 
 }  // namespace
+
+ClosedLoopSpeed weak_direction_speed(const PriorKnowledge& prior,
+                                     const ClosedLoopAdaptiveOptions& options, sim::Plant& model,
+                                     sim::control::Controller& controller,
+                                     const ClosedLoopOptions& loop) {
+  check_closed_loop_options(prior, options);
+  const CvLimits& l = *options.adaptive.limits;
+  const Eigen::VectorXd amplitude = (-l.low).cwiseMin(l.high) * options.limit_fraction;
+  const Eigen::MatrixXd W = analyse_gain(prior.gain).output_directions;
+  const Eigen::VectorXd w = W.col(W.cols() - 1);
+  double c = std::numeric_limits<double>::infinity();
+  for (Eigen::Index j = 0; j < w.size(); ++j) {
+    if (w(j) != 0.0) c = std::min(c, amplitude(j) / std::abs(w(j)));
+  }
+  Eigen::VectorXd step = c * w;
+  step *= mv_room_scale(prior.gain, step.transpose(), loop, options.mv_fraction);
+  const int hold =
+      static_cast<int>(std::ceil(4.0 * prior.beta * prior.tau_high_min / prior.sample_time_min));
+  return closed_loop_speed(step, hold, prior.sample_time_min, model, controller, loop);
+}
 
 AdaptiveResult run_closed_loop_adaptive_test(const PriorKnowledge& prior, ClosedLoopPlant& loop,
                                              const ClosedLoopAdaptiveOptions& options) {

@@ -208,8 +208,13 @@ nlohmann::json study_json(const StudyResult& s) {
                    {"limit_fraction", c->limit_fraction},
                    {"mv_fraction", c->mv_fraction},
                    {"first_segment", c->prior_directions ? "output directions" : "plain"},
+                   {"prbs_phase", c->prbs_phase},
                    {"disturbance_std", c->disturbance_std},
                    {"disturbance_tau_min", c->disturbance_tau_min}};
+    if (const auto& speed = s.loop_speed) {
+      closed_loop["loop_time_constant_min"] = speed->time_constant_min;
+      closed_loop["loop_time_constant_reached"] = speed->reached;
+    }
   }
   return {{"format", "excite adaptive study v1"},
           {"plant", o.plant},
@@ -219,6 +224,8 @@ nlohmann::json study_json(const StudyResult& s) {
           {"first_seed", o.first_seed},
           {"perturb_percent", o.perturb_percent},
           {"segment_min", s.segment_min},
+          {"tau_low_min", s.tau_low_min},
+          {"switch_time_min", s.switch_time_min},
           {"grid_min", s.grid_min},
           {"share_stopped_met", s.share_stopped_met},
           {"share_met", s.share_met},
@@ -247,9 +254,19 @@ std::string study_text(const StudyResult& s) {
       << c->limit_fraction << " of the CV limits, the " << (c->two_stage ? "two-stage" : "direct")
       << " estimate";
     if (c->prior_directions) t << ", the first segment along the prior's output directions";
+    if (c->prbs_phase > 0) t << ", the PRBS from switching interval " << c->prbs_phase;
     if (c->disturbance_std > 0.0)
       t << ", coloured disturbance " << c->disturbance_std << " (tau " << c->disturbance_tau_min
         << " min)";
+    if (const auto& speed = s.loop_speed) {
+      t << "\n  the loop follows a switch of r along the prior's weakest output direction in "
+        << (speed->reached ? "" : "more than ") << fixed(speed->time_constant_min, 0)
+        << " min (63 %, on the controller's model): PRBS T_sw = " << fixed(s.switch_time_min, 0)
+        << " min by (4.2.3) with tau_L = " << fixed(s.tau_low_min, 0) << " min";
+    } else {
+      t << "\n  PRBS T_sw = " << fixed(s.switch_time_min, 0)
+        << " min by (4.2.3) with the plant's tau_L = " << fixed(s.tau_low_min, 0) << " min";
+    }
     if (s.not_run > 0)
       t << "\n  not run: " << s.not_run << " of " << s.options.seeds
         << " seeds (the controller refused the seed's plant; the shares are over the "

@@ -57,6 +57,26 @@ void check_controller_file(const StudyOptions& o) {
   }
 }
 
+ClosedLoopOptions loop_options(const ClosedLoopStudyOptions& c,
+                               const sim::control::ControllerFile& file) {
+  ClosedLoopOptions loop;
+  set_controller(loop, file, std::filesystem::path(c.controller).filename().string());
+  return loop;
+}
+
+ClosedLoopAdaptiveOptions closed_loop_options(const StudyOptions& o) {
+  const ClosedLoopStudyOptions& c = *o.closed_loop;
+  ClosedLoopAdaptiveOptions options;
+  options.adaptive = o.adaptive;
+  options.adaptive.identify.threads = 1;
+  options.limit_fraction = c.limit_fraction;
+  options.mv_fraction = c.mv_fraction;
+  options.two_stage = c.two_stage;
+  options.prior_directions = c.prior_directions;
+  options.prbs_phase = c.prbs_phase;
+  return options;
+}
+
 // One seed's test under the controller file's controller; nullopt when the controller
 // refuses the seed's plant (`refused` says why).
 std::optional<AdaptiveResult> closed_loop_test(const StudyOptions& o, const PriorKnowledge& prior,
@@ -73,22 +93,29 @@ std::optional<AdaptiveResult> closed_loop_test(const StudyOptions& o, const Prio
     refused = std::string("the controller refuses this seed's plant: ") + e.what();
     return std::nullopt;
   }
-  ClosedLoopOptions loop;
-  set_controller(loop, file, std::filesystem::path(c.controller).filename().string());
   SimulationOptions noise;
   noise.seed = seed;
   noise.noise_variance = noise_variance;
   noise.disturbance_std = c.disturbance_std;
   noise.disturbance_tau_min = c.disturbance_tau_min;
-  ClosedLoopPlant closed(plant, *controller, loop, noise, prior.sample_time_min);
-  ClosedLoopAdaptiveOptions options;
-  options.adaptive = o.adaptive;
-  options.adaptive.identify.threads = 1;
-  options.limit_fraction = c.limit_fraction;
-  options.mv_fraction = c.mv_fraction;
-  options.two_stage = c.two_stage;
-  options.prior_directions = c.prior_directions;
-  return run_closed_loop_adaptive_test(prior, closed, options);
+  ClosedLoopPlant closed(plant, *controller, loop_options(c, file), noise, prior.sample_time_min);
+  return run_closed_loop_adaptive_test(prior, closed, closed_loop_options(o));
+}
+
+// With the controller on, (4.2.3)'s τ_L for the segments' PRBS: the loop's time constant
+// along the prior's weakest output direction (weak_direction_speed, the controller on its
+// own model), no shorter than the case study's τ_L (the open-loop rule) and no longer than
+// τ_H (the design's bound, (4.2.4)). `speed` says what the loop gave.
+PriorKnowledge closed_loop_prior(const StudyOptions& o, PriorKnowledge prior,
+                                 ClosedLoopSpeed& speed) {
+  const ClosedLoopStudyOptions& c = *o.closed_loop;
+  const sim::control::ControllerFile file = sim::control::load_controller_file(c.controller);
+  const auto model = sim::control::load_model(file);
+  const auto controller = sim::control::make_controller(file, *model);
+  speed = weak_direction_speed(prior, closed_loop_options(o), *model, *controller,
+                               loop_options(c, file));
+  prior.tau_low_min = std::clamp(speed.time_constant_min, prior.tau_low_min, prior.tau_high_min);
+  return prior;
 }
 
 SeedOutcome run_seed(const StudyOptions& o, const PriorKnowledge& prior, double noise_variance,
@@ -164,7 +191,6 @@ StudyResult run_study(const StudyOptions& o) {
   if (o.threads < 1) {
     throw std::invalid_argument("threads = " + std::to_string(o.threads) + ", expected >= 1");
   }
-  const PriorKnowledge prior = case_study(o.plant);
   sim::check_perturbable(o.plant, o.perturb_percent);
   const double noise_variance =
       o.noise_variance >= 0.0 ? o.noise_variance : case_study_noise_variance(o.plant);
@@ -172,6 +198,13 @@ StudyResult run_study(const StudyOptions& o) {
   if (o.closed_loop) check_controller_file(o);
   StudyResult result;
   result.options = o;
+  PriorKnowledge prior = case_study(o.plant);
+  if (o.closed_loop && o.closed_loop->switch_from_loop) {
+    ClosedLoopSpeed speed;
+    prior = closed_loop_prior(o, prior, speed);
+    result.loop_speed = speed;
+  }
+  result.tau_low_min = prior.tau_low_min;
   result.seeds.resize(static_cast<std::size_t>(o.seeds));
   parallel_for(o.seeds, o.threads, [&](int i) {
     result.seeds[static_cast<std::size_t>(i)] =
@@ -180,6 +213,8 @@ StudyResult run_study(const StudyOptions& o) {
 
   for (const SeedOutcome& s : result.seeds) result.not_run += s.not_run ? 1 : 0;
   const SegmentSources sources = segment_sources(prior);
+  result.switch_time_min =
+      sources.plain.plan->recipe.sources[0].prbs.hold_samples * prior.sample_time_min;
   result.segment_min =
       whole_bit_rows(*sources.plain.plan, o.adaptive.segment_min > 0.0 ? o.adaptive.segment_min
                                                                        : 4.0 * prior.tau_high_min) *

@@ -6,7 +6,8 @@
 // excite test --plant NAME --seeds N [--seed FIRST] [--threads T] … -o DIR
 // excite test --plant NAME --seeds N --controller FILE [--method direct|two-stage]
 //             [--directions none|output] [--limit-fraction F] [--mv-fraction F]
-//             [--disturbance-std S --disturbance-tau-min T] … -o DIR
+//             [--switching loop|plant] [--prbs-phase K] [--disturbance-std S --disturbance-tau-min
+//             T] … -o DIR
 // excite test --plant NAME | --spec FILE --inbox DIR --run-log FILE [--segment-timeout-min M]
 //             … -o OUT
 // The adaptive plant test (issue 26 §3–§5, host/adaptive/README.md): on a simulated plant
@@ -44,6 +45,7 @@ struct TestCommandOptions {
   ClosedLoopStudyOptions closed_loop;  // used when closed_loop.controller is given
   std::string method = "direct";
   std::string directions = "none";  // with --controller: segment 0's r
+  std::string switching = "loop";   // with --controller: T_sw from the loop or the plant
 };
 
 // Options → one call of host/adaptive/recorded_test.hpp, which checks everything before
@@ -77,6 +79,7 @@ void run(const TestCommandOptions& opt) {
       closed_loop = opt.closed_loop;
       closed_loop->two_stage = opt.method == "two-stage";
       closed_loop->prior_directions = opt.directions == "output";
+      closed_loop->switch_from_loop = opt.switching == "loop";
     }
     run_recorded_study({opt.plant, opt.output, opt.seed, opt.seeds, opt.threads, opt.noise_variance,
                         perturb, opt.limits, opt.adaptive, closed_loop},
@@ -204,6 +207,17 @@ void add_closed_loop_options(CLI::App* cmd, TestCommandOptions& o, CLI::Option* 
                         "within this share of the MVs' limits (0: not cut)")
             ->capture_default_str()
             ->check(finite_non_negative()));
+  needs(cmd->add_option("--switching", o.switching,
+                        "with --controller: the PRBS's switching time by (4.2.3) from the loop's "
+                        "speed along the prior's weakest output direction (loop) or from the "
+                        "plant's tau_L, as open loop (plant)")
+            ->capture_default_str()
+            ->check(CLI::IsMember({"loop", "plant"})));
+  needs(cmd->add_option("--prbs-phase", c.prbs_phase,
+                        "with --controller: start the PRBS this many switching intervals in (every "
+                        "seed gets the same r; another phase is another r of the same spectrum)")
+            ->capture_default_str()
+            ->check(CLI::Range(0, 1'000'000)));
   needs(cmd->add_option("--disturbance-std", c.disturbance_std,
                         "with --controller: a coloured output disturbance of this std")
             ->check(finite_non_negative()));

@@ -155,6 +155,9 @@ TEST_F(AdaptiveTestCommand, AStudyWithTheControllerOnSaysSoAndStops) {
       {"--controller " + pi, "--seeds = (none) with --controller, expected a study"},
       {"--seeds 2 --method two-stage", "--method requires --controller"},
       {"--seeds 2 --directions output", "--directions requires --controller"},
+      {"--seeds 2 --switching plant", "--switching requires --controller"},
+      {"--seeds 2 --prbs-phase 3", "--prbs-phase requires --controller"},
+      {"--seeds 2 --controller " + pi + " --switching open", "--switching: open not in"},
       {"--seeds 2 --controller " + pi + " --directions input", "--directions: input not in"},
       {"--seeds 2 --controller " + pi,
        "--limit = (none), expected CV test limits for a setpoint excitation"},
@@ -165,6 +168,38 @@ TEST_F(AdaptiveTestCommand, AStudyWithTheControllerOnSaysSoAndStops) {
     EXPECT_TRUE(contains(b.out, message)) << args << "\n" << b.out;
     EXPECT_FALSE(std::filesystem::exists(path("bad"))) << args;
   }
+}
+
+TEST_F(AdaptiveTestCommand, WithTheControllerOnThePrbsSwitchesAtTheLoopsPace) {
+  // colaA under its DMC: the loop follows r along the weakest output direction far slower
+  // than the plant's τ_L (15 min), and (4.2.3) takes the loop's time constant; with
+  // --switching plant it takes the plant's. One short seed each: the design is what is read.
+  const std::string examples = EXCITE_CONTROL_EXAMPLES;
+  const auto study = [&](const std::string& plant, const std::string& args, const char* folder) {
+    const Result r = excite("test --plant " + plant + " --seeds 1 --max-min 300 --controller " +
+                            examples + "/" + plant + ".dmc.toml " + args + " -o " + path(folder));
+    EXPECT_EQ(r.exit_code, 0) << r.out;
+    const std::string study_json = path(folder) + "/study.json";
+    return std::make_pair(r.out, nlohmann::json::parse(std::ifstream(study_json)));
+  };
+  const auto [loop_text, loop] = study("colaA", "", "loop");
+  EXPECT_TRUE(contains(loop_text,
+                       "the loop follows a switch of r along the prior's weakest "
+                       "output direction in "))
+      << loop_text;
+  const double tau = loop["closed_loop"]["loop_time_constant_min"];
+  EXPECT_TRUE(loop["closed_loop"]["loop_time_constant_reached"]);
+  EXPECT_EQ(loop["tau_low_min"], tau);
+  const auto [plant_text, plant] = study("colaA", "--switching plant", "plant");
+  EXPECT_TRUE(contains(plant_text, "with the plant's tau_L = 15 min")) << plant_text;
+  EXPECT_EQ(plant["tau_low_min"], 15.0);
+  EXPECT_GT(tau, 4.0 * 15.0);
+  EXPECT_GT(loop["switch_time_min"].get<double>(), 4.0 * plant["switch_time_min"].get<double>());
+  // alatiqi4x4's DMC follows its weakest direction slower than the plant settles (τ_H 50 min):
+  // τ_L stops at τ_H, the design's bound.
+  const auto [slow_text, slow] = study("alatiqi4x4", "", "slow");
+  EXPECT_GT(slow["closed_loop"]["loop_time_constant_min"].get<double>(), 50.0) << slow_text;
+  EXPECT_EQ(slow["tau_low_min"], 50.0);
 }
 
 TEST_F(AdaptiveTestCommand, BadOptionsAreRefusedByName) {

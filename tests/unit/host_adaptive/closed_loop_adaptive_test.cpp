@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "host/adaptive/segments.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/identify/closed_loop.hpp"
 #include "host/measures/accuracy.hpp"
@@ -153,6 +154,45 @@ TEST(ClosedLoopAdaptive, TheFirstSegmentAlongThePriorsOutputDirectionsPutsEachSo
   EXPECT_FALSE(plain.segments[0].directional);
   const Eigen::MatrixXd s_plain = plain.R * W_plain;
   for (Eigen::Index i = 0; i < 2; ++i) EXPECT_EQ(distinct(s_plain.col(i)), 4U) << "direction " << i;
+}
+
+TEST(ClosedLoopAdaptive, APrbsPhaseStartsTheSourcesThatManySwitchingIntervalsIn) {
+  // One plain segment each, not cut for the MVs' room (so r is a·s exactly): from phase 0
+  // over 600 rows, and from phase 5 over 300.
+  const auto first_segment = [](std::uint64_t phase, double rows) {
+    WoodBerryUnderPi w(1);
+    ClosedLoopAdaptiveOptions o = limits_of_2();
+    o.mv_fraction = 0.0;
+    o.prbs_phase = phase;
+    o.adaptive.segment_min = rows;
+    o.adaptive.max_length_min = rows;
+    return run_closed_loop_adaptive_test(w.prior, *w.loop, o).R;
+  };
+  const std::uint32_t hold =
+      segment_sources(case_study("woodberry2x2")).plain.plan->recipe.sources[0].prbs.hold_samples;
+  const Eigen::MatrixXd from_0 = first_segment(0, 600.0);
+  const Eigen::MatrixXd from_5 = first_segment(5, 300.0);
+  ASSERT_GE(from_0.rows(), 5 * hold + from_5.rows());
+  EXPECT_EQ(from_5, from_0.middleRows(5 * hold, from_5.rows()));
+  EXPECT_NE(from_5, from_0.topRows(from_5.rows()));
+}
+
+TEST(ClosedLoopAdaptive, ThePisLoopFollowsWoodBerrysWeakDirectionSlowerThanItsStrongOne) {
+  // weak_direction_speed times a switch along the prior's weakest output direction on the
+  // controller's own model; the same switch's size along the strongest direction is faster.
+  WoodBerryUnderPi w(1);
+  auto model = sim::control::load_model(w.file);
+  ClosedLoopOptions loop;
+  set_controller(loop, w.file, "woodberry2x2.pi.toml");
+  const ClosedLoopSpeed weak =
+      weak_direction_speed(w.prior, limits_of_2(), *model, *w.controller, loop);
+  const Eigen::MatrixXd W = analyse_gain(w.prior.gain).output_directions;
+  const ClosedLoopSpeed strong =
+      closed_loop_speed(0.1 * W.col(0), 200, 1.0, *model, *w.controller, loop);
+  ASSERT_TRUE(weak.reached);
+  ASSERT_TRUE(strong.reached);
+  EXPECT_GT(weak.time_constant_min, 2.0 * strong.time_constant_min);
+  EXPECT_GT(weak.time_constant_min, w.prior.tau_low_min);
 }
 
 TEST(ClosedLoopAdaptive, OptionsAreRefusedByName) {

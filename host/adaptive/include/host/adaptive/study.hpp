@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "host/adaptive/adaptive_test.hpp"
+#include "host/simulate/closed_loop_speed.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::host {
@@ -37,6 +38,8 @@ struct ClosedLoopStudyOptions {
   double mv_fraction = 1.0;       // r cut until Ĝ(0)⁻¹ r fits this share of the MVs' limits
   bool two_stage = false;         // the estimate: direct (false) or two-stage
   bool prior_directions = false;  // segment 0 along the prior's output directions
+  bool switch_from_loop = true;   // (4.2.3)'s τ_L: the loop's (StudyResult) or the plant's
+  std::uint64_t prbs_phase = 0;   // the PRBS started this many switching intervals in
   double disturbance_std = 0.0;   // the coloured output disturbance (host/simulate)
   double disturbance_tau_min = 0.0;
 };
@@ -80,12 +83,16 @@ struct SeedOutcome {
 
 struct StudyResult {
   StudyOptions options;
-  int not_run = 0;                        // seeds the controller refused (closed loop)
-  double segment_min = 0.0;               // H as run (whole bits)
-  std::vector<double> grid_min;           // H, 2H, …, the longest test
-  std::vector<double> share_stopped_met;  // per grid length: stopped by the rule with a good
-                                          // model, a share of the seeds run
-  std::vector<double> share_met;          // per grid length: the model in force meets it
+  int not_run = 0;           // seeds the controller refused (closed loop)
+  double segment_min = 0.0;  // H as run (whole bits)
+  double tau_low_min = 0.0;  // (4.2.3)'s τ_L of the segments' PRBS: the case study's, or with
+                             // the controller on loop_speed's within [the case study's, τ_H]
+  std::optional<ClosedLoopSpeed> loop_speed;  // the controller on: weak_direction_speed
+  double switch_time_min = 0.0;               // the PRBS's T_sw from τ_L by (4.2.3)
+  std::vector<double> grid_min;               // H, 2H, …, the longest test
+  std::vector<double> share_stopped_met;      // per grid length: stopped by the rule with a good
+                                              // model, a share of the seeds run
+  std::vector<double> share_met;              // per grid length: the model in force meets it
   std::optional<std::size_t> t90_stop, t90_oracle;  // index into grid_min
   std::vector<SeedOutcome> seeds;
 };
