@@ -6,8 +6,8 @@
 // excite test --plant NAME --seeds N [--seed FIRST] [--threads T] … -o DIR
 // excite test --plant NAME --seeds N --controller FILE [--method direct|two-stage]
 //             [--directions none|output] [--limit-fraction F] [--mv-fraction F]
-//             [--switching loop|plant] [--prbs-phase K] [--disturbance-std S --disturbance-tau-min
-//             T] … -o DIR
+//             [--switching loop|plant] [--prbs-phase K]
+//             [--disturbance-std S --disturbance-tau-min T] … -o DIR
 // excite test --plant NAME | --spec FILE --inbox DIR --run-log FILE [--segment-timeout-min M]
 //             … -o OUT
 // The adaptive plant test (issue 26 §3–§5, host/adaptive/README.md): on a simulated plant

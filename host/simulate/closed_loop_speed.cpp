@@ -2,6 +2,7 @@
 #include "host/simulate/closed_loop_speed.hpp"
 
 #include <Eigen/Dense>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -12,8 +13,9 @@ ClosedLoopSpeed closed_loop_speed(const Eigen::VectorXd& step, int hold_rows,
                                   sim::control::Controller& controller,
                                   const ClosedLoopOptions& loop) {
   if (!(step.allFinite() && step.squaredNorm() > 0.0)) {
-    throw std::invalid_argument("closed-loop speed: setpoint step of norm " +
-                                std::to_string(step.norm()) +
+    char norm[32];
+    std::snprintf(norm, sizeof norm, "%g", step.norm());
+    throw std::invalid_argument(std::string("closed-loop speed: setpoint step of norm ") + norm +
                                 ", expected a finite step that is not zero");
   }
   if (hold_rows < 2) {

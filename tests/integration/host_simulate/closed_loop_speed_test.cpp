@@ -87,8 +87,8 @@ TEST(ClosedLoopSpeed, AZeroStepOrAHoldOfOneRowIsRefusedByName) {
     return std::string("(no throw)");
   };
   EXPECT_EQ(message(Eigen::VectorXd::Zero(2), 100),
-            "closed-loop speed: setpoint step of norm 0.000000, expected a finite step that is "
-            "not zero");
+            "closed-loop speed: setpoint step of norm 0, expected a finite step that is not "
+            "zero");
   EXPECT_EQ(message(Eigen::VectorXd::Constant(2, 1e-4), 1),
             "closed-loop speed: hold = 1 rows, expected at least 2");
 }
