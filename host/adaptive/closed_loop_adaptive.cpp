@@ -5,11 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <stdexcept>
 #include <string>
 
 #include "host/adaptive/segments.hpp"
+#include "host/campaign/closed_loop_designs.hpp"
 #include "host/design/table.hpp"
 #include "host/identify/closed_loop.hpp"
 #include "host/measures/gain_directions.hpp"
@@ -69,21 +69,6 @@ void check_closed_loop_options(const PriorKnowledge& prior, const ClosedLoopAdap
   if (!(o.mv_fraction >= 0.0 && std::isfinite(o.mv_fraction))) {
     throw std::invalid_argument("MV fraction = " + short_number(o.mv_fraction) + ", expected >= 0");
   }
-}
-
-// The largest α ≤ 1 with |Ĝ(0)⁻¹ α r| ≤ mv_fraction · the MV's limit on every row of r
-// (rows × CVs) and every MV; 1 without MV limits or with mv_fraction 0.
-double mv_room_scale(const Eigen::MatrixXd& gain, const Eigen::MatrixXd& r,
-                     const ClosedLoopOptions& loop, double mv_fraction) {
-  if (mv_fraction <= 0.0 || loop.mv_min.size() != gain.cols()) return 1.0;
-  const Eigen::MatrixXd moves = gain.fullPivLu().solve(r.transpose());  // MV × row
-  double alpha = 1.0;
-  for (Eigen::Index i = 0; i < moves.rows(); ++i) {
-    const double room = mv_fraction * std::min(-loop.mv_min(i), loop.mv_max(i));
-    const double peak = moves.row(i).cwiseAbs().maxCoeff();
-    if (peak > room) alpha = std::min(alpha, room / peak);
-  }
-  return alpha;
 }
 
 // The closed-loop test, one segment after the other (closed_loop_adaptive.hpp).
@@ -186,7 +171,8 @@ class ClosedLoopTest {
   }
 
   double mv_room(const Eigen::MatrixXd& gain, const Eigen::MatrixXd& r, std::string& why) const {
-    const double alpha = mv_room_scale(gain, r, loop_.loop(), o_.mv_fraction);
+    const ClosedLoopOptions& loop = loop_.loop();
+    const double alpha = mv_room_scale(gain, r, loop.mv_min, loop.mv_max, o_.mv_fraction);
     if (alpha < 1.0) why += "; scale " + short_number(alpha) + " for the MVs' room";
     return alpha;
   }
@@ -229,26 +215,6 @@ class ClosedLoopTest {
 };
 
 }  // namespace
-
-ClosedLoopSpeed weak_direction_speed(const PriorKnowledge& prior,
-                                     const ClosedLoopAdaptiveOptions& options, sim::Plant& model,
-                                     sim::control::Controller& controller,
-                                     const ClosedLoopOptions& loop) {
-  check_closed_loop_options(prior, options);
-  const CvLimits& l = *options.adaptive.limits;
-  const Eigen::VectorXd amplitude = (-l.low).cwiseMin(l.high) * options.limit_fraction;
-  const Eigen::MatrixXd W = analyse_gain(prior.gain).output_directions;
-  const Eigen::VectorXd w = W.col(W.cols() - 1);
-  double c = std::numeric_limits<double>::infinity();
-  for (Eigen::Index j = 0; j < w.size(); ++j) {
-    if (w(j) != 0.0) c = std::min(c, amplitude(j) / std::abs(w(j)));
-  }
-  Eigen::VectorXd step = c * w;
-  step *= mv_room_scale(prior.gain, step.transpose(), loop, options.mv_fraction);
-  const int hold =
-      static_cast<int>(std::ceil(4.0 * prior.beta * prior.tau_high_min / prior.sample_time_min));
-  return closed_loop_speed(step, hold, prior.sample_time_min, model, controller, loop);
-}
 
 AdaptiveResult run_closed_loop_adaptive_test(const PriorKnowledge& prior, ClosedLoopPlant& loop,
                                              const ClosedLoopAdaptiveOptions& options) {

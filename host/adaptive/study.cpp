@@ -13,6 +13,7 @@
 #include "host/adaptive/closed_loop_adaptive.hpp"
 #include "host/adaptive/plant_runner.hpp"
 #include "host/adaptive/segments.hpp"
+#include "host/campaign/closed_loop_designs.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/table.hpp"
 #include "host/measures/accuracy.hpp"
@@ -57,26 +58,6 @@ void check_controller_file(const StudyOptions& o) {
   }
 }
 
-ClosedLoopOptions loop_options(const ClosedLoopStudyOptions& c,
-                               const sim::control::ControllerFile& file) {
-  ClosedLoopOptions loop;
-  set_controller(loop, file, std::filesystem::path(c.controller).filename().string());
-  return loop;
-}
-
-ClosedLoopAdaptiveOptions closed_loop_options(const StudyOptions& o) {
-  const ClosedLoopStudyOptions& c = *o.closed_loop;
-  ClosedLoopAdaptiveOptions options;
-  options.adaptive = o.adaptive;
-  options.adaptive.identify.threads = 1;
-  options.limit_fraction = c.limit_fraction;
-  options.mv_fraction = c.mv_fraction;
-  options.two_stage = c.two_stage;
-  options.prior_directions = c.prior_directions;
-  options.prbs_phase = c.prbs_phase;
-  return options;
-}
-
 // One seed's test under the controller file's controller; nullopt when the controller
 // refuses the seed's plant (`refused` says why).
 std::optional<AdaptiveResult> closed_loop_test(const StudyOptions& o, const PriorKnowledge& prior,
@@ -93,29 +74,34 @@ std::optional<AdaptiveResult> closed_loop_test(const StudyOptions& o, const Prio
     refused = std::string("the controller refuses this seed's plant: ") + e.what();
     return std::nullopt;
   }
+  ClosedLoopOptions loop;
+  set_controller(loop, file, std::filesystem::path(c.controller).filename().string());
   SimulationOptions noise;
   noise.seed = seed;
   noise.noise_variance = noise_variance;
   noise.disturbance_std = c.disturbance_std;
   noise.disturbance_tau_min = c.disturbance_tau_min;
-  ClosedLoopPlant closed(plant, *controller, loop_options(c, file), noise, prior.sample_time_min);
-  return run_closed_loop_adaptive_test(prior, closed, closed_loop_options(o));
+  ClosedLoopPlant closed(plant, *controller, loop, noise, prior.sample_time_min);
+  ClosedLoopAdaptiveOptions options;
+  options.adaptive = o.adaptive;
+  options.adaptive.identify.threads = 1;
+  options.limit_fraction = c.limit_fraction;
+  options.mv_fraction = c.mv_fraction;
+  options.two_stage = c.two_stage;
+  options.prior_directions = c.prior_directions;
+  options.prbs_phase = c.prbs_phase;
+  return run_closed_loop_adaptive_test(prior, closed, options);
 }
 
-// With the controller on, (4.2.3)'s τ_L for the segments' PRBS: the loop's time constant
-// along the prior's weakest output direction (weak_direction_speed, the controller on its
-// own model), no shorter than the case study's τ_L (the open-loop rule) and no longer than
-// τ_H (the design's bound, (4.2.4)). `speed` says what the loop gave.
-PriorKnowledge closed_loop_prior(const StudyOptions& o, PriorKnowledge prior,
-                                 ClosedLoopSpeed& speed) {
+// With the controller on, (4.2.3)'s τ_L for the segments' PRBS: the loop's along the prior's
+// weakest output direction (at_the_loops_pace), for the switch segment 0 along the output
+// directions gives it.
+LoopPace loop_pace(const StudyOptions& o, const PriorKnowledge& prior) {
   const ClosedLoopStudyOptions& c = *o.closed_loop;
-  const sim::control::ControllerFile file = sim::control::load_controller_file(c.controller);
-  const auto model = sim::control::load_model(file);
-  const auto controller = sim::control::make_controller(file, *model);
-  speed = weak_direction_speed(prior, closed_loop_options(o), *model, *controller,
-                               loop_options(c, file));
-  prior.tau_low_min = std::clamp(speed.time_constant_min, prior.tau_low_min, prior.tau_high_min);
-  return prior;
+  const CvLimits& limits = *o.adaptive.limits;
+  const Eigen::VectorXd amplitude = (-limits.low).cwiseMin(limits.high) * c.limit_fraction;
+  return at_the_loops_pace(prior, amplitude, c.mv_fraction,
+                           sim::control::load_controller_file(c.controller));
 }
 
 SeedOutcome run_seed(const StudyOptions& o, const PriorKnowledge& prior, double noise_variance,
@@ -200,9 +186,9 @@ StudyResult run_study(const StudyOptions& o) {
   result.options = o;
   PriorKnowledge prior = case_study(o.plant);
   if (o.closed_loop && o.closed_loop->switch_from_loop) {
-    ClosedLoopSpeed speed;
-    prior = closed_loop_prior(o, prior, speed);
-    result.loop_speed = speed;
+    const LoopPace pace = loop_pace(o, prior);
+    prior = pace.prior;
+    result.loop_speed = pace.speed;
   }
   result.tau_low_min = prior.tau_low_min;
   result.seeds.resize(static_cast<std::size_t>(o.seeds));

@@ -1,9 +1,15 @@
 // SPDX-License-Identifier: MIT
 #include "host/campaign/closed_loop_designs.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
+#include <string>
 
 #include "host/design/closed_loop_design.hpp"
+#include "host/measures/gain_directions.hpp"
+#include "sim/control/make_controller.hpp"
 
 namespace excite::host {
 
@@ -78,6 +84,48 @@ Design design_closed_loop(const ClosedLoopDesignOptions& o, const PriorKnowledge
     }
   }
   return design_setpoint_excitation(prior, preset, request, 0);
+}
+
+double mv_room_scale(const Eigen::MatrixXd& gain, const Eigen::MatrixXd& r,
+                     const Eigen::VectorXd& mv_low, const Eigen::VectorXd& mv_high,
+                     double mv_fraction) {
+  if (mv_fraction <= 0.0 || mv_low.size() != gain.cols()) return 1.0;
+  const Eigen::MatrixXd moves = gain.fullPivLu().solve(r.transpose());  // MV × row
+  double alpha = 1.0;
+  for (Eigen::Index i = 0; i < moves.rows(); ++i) {
+    const double room = mv_fraction * std::min(-mv_low(i), mv_high(i));
+    const double peak = moves.row(i).cwiseAbs().maxCoeff();
+    if (peak > room) alpha = std::min(alpha, room / peak);
+  }
+  return alpha;
+}
+
+LoopPace at_the_loops_pace(const PriorKnowledge& prior, const Eigen::VectorXd& amplitude,
+                           double mv_fraction, const sim::control::ControllerFile& file) {
+  const auto model = sim::control::load_model(file);
+  const auto controller = sim::control::make_controller(file, *model);
+  ClosedLoopOptions loop;
+  set_controller(loop, file, file.source);
+  const Eigen::MatrixXd W = analyse_gain(prior.gain).output_directions;
+  if (amplitude.size() != W.rows()) {
+    throw std::invalid_argument("loop's pace: " + std::to_string(amplitude.size()) +
+                                " CV amplitudes, expected " + std::to_string(W.rows()) +
+                                " (one per output of the prior's G(0))");
+  }
+  const Eigen::VectorXd w = W.col(W.cols() - 1);
+  double c = std::numeric_limits<double>::infinity();
+  for (Eigen::Index j = 0; j < w.size(); ++j) {
+    if (w(j) != 0.0) c = std::min(c, amplitude(j) / std::abs(w(j)));
+  }
+  Eigen::VectorXd step = c * w;
+  step *= mv_room_scale(prior.gain, step.transpose(), loop.mv_min, loop.mv_max, mv_fraction);
+  const int hold =
+      static_cast<int>(std::ceil(4.0 * prior.beta * prior.tau_high_min / prior.sample_time_min));
+  LoopPace pace{prior,
+                closed_loop_speed(step, hold, prior.sample_time_min, *model, *controller, loop)};
+  pace.prior.tau_low_min =
+      std::clamp(pace.speed.time_constant_min, prior.tau_low_min, prior.tau_high_min);
+  return pace;
 }
 
 }  // namespace excite::host

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "host/adaptive/segments.hpp"
+#include "host/campaign/closed_loop_designs.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/identify/closed_loop.hpp"
 #include "host/measures/accuracy.hpp"
@@ -178,21 +179,23 @@ TEST(ClosedLoopAdaptive, APrbsPhaseStartsTheSourcesThatManySwitchingIntervalsIn)
 }
 
 TEST(ClosedLoopAdaptive, ThePisLoopFollowsWoodBerrysWeakDirectionSlowerThanItsStrongOne) {
-  // weak_direction_speed times a switch along the prior's weakest output direction on the
-  // controller's own model; the same switch's size along the strongest direction is faster.
+  // at_the_loops_pace times a switch along the prior's weakest output direction, the
+  // controller on its own model; the same switch's size along the strongest direction is
+  // followed faster. The weak direction's loop outlasts the plant's τ_H, so τ_L stops there.
   WoodBerryUnderPi w(1);
+  const LoopPace pace = at_the_loops_pace(w.prior, Eigen::Vector2d(1.0, 1.0), 1.0, w.file);
   auto model = sim::control::load_model(w.file);
   ClosedLoopOptions loop;
   set_controller(loop, w.file, "woodberry2x2.pi.toml");
-  const ClosedLoopSpeed weak =
-      weak_direction_speed(w.prior, limits_of_2(), *model, *w.controller, loop);
   const Eigen::MatrixXd W = analyse_gain(w.prior.gain).output_directions;
   const ClosedLoopSpeed strong =
       closed_loop_speed(0.1 * W.col(0), 200, 1.0, *model, *w.controller, loop);
-  ASSERT_TRUE(weak.reached);
+  ASSERT_TRUE(pace.speed.reached);
   ASSERT_TRUE(strong.reached);
-  EXPECT_GT(weak.time_constant_min, 2.0 * strong.time_constant_min);
-  EXPECT_GT(weak.time_constant_min, w.prior.tau_low_min);
+  EXPECT_GT(pace.speed.time_constant_min, 2.0 * strong.time_constant_min);
+  ASSERT_GT(pace.speed.time_constant_min, w.prior.tau_high_min);
+  EXPECT_EQ(pace.prior.tau_low_min, w.prior.tau_high_min);
+  EXPECT_EQ(pace.prior.tau_high_min, w.prior.tau_high_min);  // only τ_L moves
 }
 
 TEST(ClosedLoopAdaptive, OptionsAreRefusedByName) {

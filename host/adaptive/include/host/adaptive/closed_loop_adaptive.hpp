@@ -25,8 +25,8 @@
 // Ĝ(0)⁻¹ r stay within mv_fraction of every MV's limits — Ĝ(0) the latest usable estimate's,
 // the prior's before one (closed_loop_design.hpp does the same once, with the prior).
 // The sources' switching time is (4.2.3)'s from the prior's τ_L; a study with the controller
-// on puts the loop's time constant there (weak_direction_speed below, study.hpp), and
-// prbs_phase starts them further into the PRBS.
+// on puts the loop's time constant there (at_the_loops_pace, host/campaign
+// closed_loop_designs.hpp; study.hpp), and prbs_phase starts them further into the PRBS.
 // The CV limits are not enforced by amplitude control: the controller holds each CV near its
 // setpoint, r_j ≤ a_j; the rows outside are counted.
 
@@ -36,7 +36,6 @@
 
 #include "host/adaptive/adaptive_test.hpp"
 #include "host/simulate/closed_loop.hpp"
-#include "host/simulate/closed_loop_speed.hpp"
 #include "sim/control/controller.hpp"
 #include "sim/plants/plant.hpp"
 
@@ -81,18 +80,5 @@ class ClosedLoopPlant {
 /// a plant not square).
 AdaptiveResult run_closed_loop_adaptive_test(const PriorKnowledge& prior, ClosedLoopPlant& loop,
                                              const ClosedLoopAdaptiveOptions& options);
-
-/// How fast the loop follows r along the prior's weakest output direction w_n
-/// (closed_loop_speed.hpp): `controller` on `model`, its own model (what excite can simulate
-/// before the test), for the switch a segment along the prior's directions gives w_n: ±c w_n,
-/// c the largest factor that keeps each CV within its a_j, cut for the MVs' room as a segment
-/// is; each side held 4 β·τ_H, so that the loop has settled before the switch. A study with
-/// the controller on takes it as (4.2.3)'s τ_L for its segments' PRBS, within [the prior's
-/// τ_L, τ_H] (study.hpp). Throws as run_closed_loop_adaptive_test does for options refused
-/// by name.
-ClosedLoopSpeed weak_direction_speed(const PriorKnowledge& prior,
-                                     const ClosedLoopAdaptiveOptions& options, sim::Plant& model,
-                                     sim::control::Controller& controller,
-                                     const ClosedLoopOptions& loop);
 
 }  // namespace excite::host

@@ -87,7 +87,7 @@ struct StudyResult {
   double segment_min = 0.0;  // H as run (whole bits)
   double tau_low_min = 0.0;  // (4.2.3)'s τ_L of the segments' PRBS: the case study's, or with
                              // the controller on loop_speed's within [the case study's, τ_H]
-  std::optional<ClosedLoopSpeed> loop_speed;  // the controller on: weak_direction_speed
+  std::optional<ClosedLoopSpeed> loop_speed;  // the controller on: at_the_loops_pace's
   double switch_time_min = 0.0;               // the PRBS's T_sw from τ_L by (4.2.3)
   std::vector<double> grid_min;               // H, 2H, …, the longest test
   std::vector<double> share_stopped_met;      // per grid length: stopped by the rule with a good

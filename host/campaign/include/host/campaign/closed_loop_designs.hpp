@@ -18,6 +18,7 @@
 
 #include "host/design/presets.hpp"
 #include "host/design/prior_knowledge.hpp"
+#include "host/simulate/closed_loop_speed.hpp"
 #include "sim/control/controller_file.hpp"
 
 namespace excite::host {
@@ -65,5 +66,30 @@ void resolve_cv_limits(ClosedLoopDesignOptions& options, const sim::control::Con
 Design design_closed_loop(const ClosedLoopDesignOptions& options, const PriorKnowledge& prior,
                           const PresetInfo& preset, const std::vector<std::string>& cv_names,
                           const sim::control::ControllerFile& file);
+
+/// The largest α ≤ 1 with |G(0)⁻¹ α r| ≤ mv_fraction · min(−mv_low_i, mv_high_i) on every row
+/// of r (rows × CVs) and every MV i: r cut for the MVs' room. 1 with mv_fraction 0 or no MV
+/// limits (mv_low of another size than G(0)'s columns).
+double mv_room_scale(const Eigen::MatrixXd& gain, const Eigen::MatrixXd& r,
+                     const Eigen::VectorXd& mv_low, const Eigen::VectorXd& mv_high,
+                     double mv_fraction);
+
+/// Setpoint excitation at the loop's pace (host/adaptive/README.md, "The PRBS switches at the
+/// loop's pace"). With r on the setpoints a signal reaches the plant through the loop, and
+/// along the prior's weakest output direction w_n the loop is slow: the controller needs MV
+/// moves ∝ 1/σ_n there, and its move and box limits bound them. The controller of `file` is
+/// timed on its own model (closed_loop_speed.hpp) for the switch r along the output
+/// directions gives w_n: ±c·w_n, c the largest factor that keeps each CV j within
+/// amplitude_j, cut for the MVs' room (mv_room_scale, the file's MV limits); each side held
+/// 4 β·τ_H, so that the loop settles before the switch. `prior` comes back with that time as
+/// (4.2.3)'s τ_L, within [its τ_L, τ_H] (the design refuses τ_L > τ_H). Throws config::Error
+/// for a file whose model cannot be loaded and std::invalid_argument as closed_loop_speed
+/// does.
+struct LoopPace {
+  PriorKnowledge prior;   // τ_L the loop's
+  ClosedLoopSpeed speed;  // what the loop gave
+};
+LoopPace at_the_loops_pace(const PriorKnowledge& prior, const Eigen::VectorXd& amplitude,
+                           double mv_fraction, const sim::control::ControllerFile& file);
 
 }  // namespace excite::host
