@@ -252,6 +252,13 @@ void add_closed_loop_options(CLI::App& cmd, Options& opt) {
                  "the MVs' room goes to the weak input directions)")
       ->capture_default_str()
       ->needs(controller);
+  cmd.add_option("--switching", loop.switching,
+                 "with --controller, setpoint: the designs' (4.2.3) tau_L from the loop's speed "
+                 "along the prior's weakest output direction (loop) or the plant's, as open loop "
+                 "(plant)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"loop", "plant"}))
+      ->needs(controller);
   cmd.add_option("--controller-perturb", opt.controller_perturb,
                  "with --controller: the controller's model perturbed per seed, every gain, "
                  "time constant and delay within +-X % (percent, 0 <= X < 100)")

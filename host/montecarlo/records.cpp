@@ -145,6 +145,7 @@ json config_json(const Config& c) {
                         {"limit_fraction", l.limit_fraction},
                         {"mv_fraction", l.mv_fraction},
                         {"directions", l.directions},
+                        {"switching", l.switching},
                         {"controller_perturb_percent", l.model_perturb_percent},
                         {"disturbance_std", l.disturbance_std},
                         {"disturbance_tau_min", l.disturbance_tau_min}};
@@ -198,6 +199,8 @@ Config read_config(const std::filesystem::path& file) {
     cl.mv_fraction = l.real("mv_fraction");
     // Absent in the folders of runs before --directions: each CV its own signal.
     if (r.at("closed_loop").contains("directions")) cl.directions = l.string("directions");
+    // Absent in the folders of runs before --switching: the designs at the plant's pace.
+    cl.switching = r.at("closed_loop").contains("switching") ? l.string("switching") : "plant";
     cl.model_perturb_percent = l.real("controller_perturb_percent");
     cl.disturbance_std = l.real("disturbance_std");
     cl.disturbance_tau_min = l.real("disturbance_tau_min");

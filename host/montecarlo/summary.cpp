@@ -271,6 +271,10 @@ json closed_loop_run_json(const Config& c) {
       (l.excitation == "mv"       ? "MV dither"
        : l.directions == "output" ? "setpoint excitation along the prior's output directions"
                                   : "setpoint excitation") +
+      (l.excitation == "setpoint" && l.switching == "loop"
+           ? " at the loop's pace ((4.2.3)'s tau_L the loop's along the weakest output "
+             "direction)"
+           : "") +
       (l.method == "direct"
            ? "; identified direct (the prediction-error fit with an AR or ARMA(1,1) "
              "noise model on the applied u, the test-length prefixes too)"

@@ -306,13 +306,34 @@ TEST_F(MonteCarlo, RunsClosedLoopUnderAControllerFileAndSaysSo) {
   r = excite(run + " --emit-slurm " + path("job.sh") + " -o " + path("slurm"));
   ASSERT_EQ(r.exit_code, 0) << r.out;
   const std::string script = bytes_of(path("job.sh"));
-  EXPECT_NE(
-      script.find(" --controller '" + pi +
-                  "' --excitation mv --method two-stage --limit-fraction 0.5 "
-                  "--mv-fraction 0 --directions none --controller-perturb 0 --disturbance-std 0 "
-                  "--disturbance-tau-min 0 "),
-      std::string::npos)
+  EXPECT_NE(script.find(" --controller '" + pi +
+                        "' --excitation mv --method two-stage --limit-fraction 0.5 "
+                        "--mv-fraction 0 --directions none --switching loop --controller-perturb 0 "
+                        "--disturbance-std 0 --disturbance-tau-min 0 "),
+            std::string::npos)
       << script;
+
+  // Setpoint excitation under colaA's DMC: the designs at the loop's pace by default, where
+  // the DMC follows r along the weakest output direction far slower than the plant's τ_L
+  // (host/campaign/closed_loop_designs.hpp at_the_loops_pace): a longer switching time, so
+  // fewer samples in the same PRBS order; --switching plant keeps the open-loop design.
+  const std::string dmc = std::string(EXCITE_CONTROL_EXAMPLES) + "/colaA.dmc.toml";
+  const std::string cola =
+      "montecarlo --plant colaA --designs prbsUnc --seeds 1 --length-step 50 "
+      "--mv-fraction 1 --controller " +
+      dmc;
+  r = excite(cola + " -o " + path("loop"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("setpoint excitation at the loop's pace"), std::string::npos) << r.out;
+  r = excite(cola + " --switching plant -o " + path("plant"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_EQ(r.out.find("at the loop's pace"), std::string::npos) << r.out;
+  const nlohmann::json loop = nlohmann::json::parse(bytes_of(path("loop") + "/summary.json"));
+  const nlohmann::json plant = nlohmann::json::parse(bytes_of(path("plant") + "/summary.json"));
+  EXPECT_EQ(loop["run"]["closed_loop"]["switching"], "loop");
+  EXPECT_EQ(plant["run"]["closed_loop"]["switching"], "plant");
+  EXPECT_EQ(plant["designs"][0]["samples"], 511 * 21);  // T_sw 21 min from τ_L = 15 min
+  EXPECT_NE(loop["designs"][0]["samples"], plant["designs"][0]["samples"]);
 
   r = excite("montecarlo --plant woodberry2x2 --seeds 1 --excitation mv -o " + path("x"));
   EXPECT_EQ(r.exit_code, 2);

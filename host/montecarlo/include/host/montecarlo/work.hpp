@@ -42,6 +42,8 @@ struct ClosedLoopConfig {
   double mv_fraction = 0.0;             // setpoint: r within this share of the MVs' room; 0: off
   std::string directions = "none";      // setpoint: "output": r along the prior's output
                                         // directions (closed_loop_designs.hpp)
+  std::string switching = "loop";       // setpoint: (4.2.3)'s τ_L the loop's (at_the_loops_pace,
+                                        // closed_loop_designs.hpp) or the plant's ("plant")
   // The controller's model perturbed per seed within ±X % (sim/library/perturb.hpp, drawn for
   // controller_model_seed(s)): a DMC built on a wrong model, as in a real plant. 0: the
   // controller file's model as it is.
