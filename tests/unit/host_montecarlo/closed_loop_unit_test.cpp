@@ -337,6 +337,13 @@ TEST(ClosedLoopUnit, RunJsonKeepsTheClosedLoopAndAnOlderFolderReadsAsOpenLoop) {
   k["closed_loop"].erase("directions");  // a folder of a run before --directions
   { std::ofstream(dir / "run.json") << k.dump(2); }
   EXPECT_EQ(mc::read_config(dir / "run.json").closed_loop.directions, "none");
+  EXPECT_EQ(mc::read_config(dir / "run.json").closed_loop.switching, "loop");
+  k["closed_loop"].erase("switching");  // a folder of a run before --switching: plant's pace
+  { std::ofstream(dir / "run.json") << k.dump(2); }
+  EXPECT_EQ(mc::read_config(dir / "run.json").closed_loop.switching, "plant");
+  k["closed_loop"]["switching"] = "loop; rm -rf /";  // would reach the Slurm command line
+  { std::ofstream(dir / "run.json") << k.dump(2); }
+  EXPECT_THROW((void)mc::read_config(dir / "run.json"), std::runtime_error);  // refused by name
 
   j.erase("closed_loop");  // a folder of a run before issue 41 §4
   { std::ofstream(dir / "run.json") << j.dump(2); }
