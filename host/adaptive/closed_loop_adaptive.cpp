@@ -90,7 +90,7 @@ class ClosedLoopTest {
     if (identify_.max_time_constant_min <= 0.0)
       identify_.max_time_constant_min = prior.beta * prior.tau_high_min;
     const CvLimits& l = *o.adaptive.limits;
-    amplitude_ = (-l.low).cwiseMin(l.high) * o.limit_fraction;
+    amplitude_ = cv_amplitude(l.low, l.high, o.limit_fraction);
   }
 
   AdaptiveResult run() {

@@ -99,7 +99,7 @@ std::optional<AdaptiveResult> closed_loop_test(const StudyOptions& o, const Prio
 LoopPace loop_pace(const StudyOptions& o, const PriorKnowledge& prior) {
   const ClosedLoopStudyOptions& c = *o.closed_loop;
   const CvLimits& limits = *o.adaptive.limits;
-  const Eigen::VectorXd amplitude = (-limits.low).cwiseMin(limits.high) * c.limit_fraction;
+  const Eigen::VectorXd amplitude = cv_amplitude(limits.low, limits.high, c.limit_fraction);
   return at_the_loops_pace(prior, amplitude, c.mv_fraction,
                            sim::control::load_controller_file(c.controller));
 }

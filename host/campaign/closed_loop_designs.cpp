@@ -28,6 +28,11 @@ void check_directions(const std::string& directions, const std::string& excitati
   }
 }
 
+void check_switching(const std::string& switching) {
+  if (switching != "loop" && switching != "plant")
+    throw std::invalid_argument("--switching = " + switching + ", expected loop or plant");
+}
+
 std::vector<const PresetInfo*> closed_loop_presets(const std::vector<std::string>& names) {
   std::vector<const PresetInfo*> set;
   if (names.empty()) {
@@ -126,6 +131,28 @@ LoopPace at_the_loops_pace(const PriorKnowledge& prior, const Eigen::VectorXd& a
   pace.prior.tau_low_min =
       std::clamp(pace.speed.time_constant_min, prior.tau_low_min, prior.tau_high_min);
   return pace;
+}
+
+std::string loop_pace_line(const LoopPace& pace, const PriorKnowledge& prior) {
+  const auto minutes = [](double m) { return std::to_string(std::lround(m)); };
+  return "the loop follows a switch of r along the prior's weakest output direction in " +
+         std::string(pace.speed.reached ? "" : "more than ") +
+         minutes(pace.speed.time_constant_min) +
+         " min (63 %, on the controller's model): tau_L = " + minutes(pace.prior.tau_low_min) +
+         " min (the plant's " + minutes(prior.tau_low_min) + ")";
+}
+
+Eigen::VectorXd cv_amplitude(const Eigen::VectorXd& low, const Eigen::VectorXd& high,
+                             double fraction) {
+  return (-low).cwiseMin(high) * fraction;
+}
+
+std::optional<LoopPace> setpoint_pace(const ClosedLoopDesignOptions& o, const PriorKnowledge& prior,
+                                      const sim::control::ControllerFile& file) {
+  check_switching(o.switching);
+  if (o.excitation != "setpoint" || o.switching != "loop") return std::nullopt;
+  return at_the_loops_pace(prior, cv_amplitude(o.cv_low, o.cv_high, o.limit_fraction),
+                           o.mv_fraction, file);
 }
 
 }  // namespace excite::host

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -65,12 +66,9 @@ void prepare_closed_loop(Prepared& p, const PriorKnowledge& prior) {
     p.cv_high = setpoint.cv_high;
   }
   // Setpoint excitation at the loop's pace: (4.2.3)'s τ_L the loop's (closed_loop_designs.hpp).
-  PriorKnowledge designed_on = prior;
-  if (design.excitation == "setpoint" && c.switching == "loop") {
-    const Eigen::VectorXd amplitude =
-        (-design.cv_low).cwiseMin(design.cv_high) * design.limit_fraction;
-    designed_on = at_the_loops_pace(prior, amplitude, design.mv_fraction, file).prior;
-  }
+  design.switching = c.switching;
+  const std::optional<LoopPace> pace = setpoint_pace(design, prior, file);
+  const PriorKnowledge& designed_on = pace ? pace->prior : prior;
   for (std::size_t d = 0; d < p.presets.size(); ++d)
     p.designs[d] = design_closed_loop(design, designed_on, p.presets[d], cvs, file);
   p.controller = std::move(file);

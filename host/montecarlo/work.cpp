@@ -40,8 +40,7 @@ void check_closed_loop(const Config& config) {
   const ClosedLoopConfig& c = config.closed_loop;
   check_excitation(c.excitation);
   check_directions(c.directions, c.excitation);
-  if (c.switching != "loop" && c.switching != "plant")
-    throw std::invalid_argument("--switching = " + c.switching + ", expected loop or plant");
+  check_switching(c.switching);
   if (c.method != "two-stage" && c.method != "direct")
     throw std::invalid_argument("--method = " + c.method + ", expected two-stage or direct");
   (void)closed_loop_presets(config.designs);  // plain presets only

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -196,6 +197,36 @@ TEST(ClosedLoopAdaptive, ThePisLoopFollowsWoodBerrysWeakDirectionSlowerThanItsSt
   ASSERT_GT(pace.speed.time_constant_min, w.prior.tau_high_min);
   EXPECT_EQ(pace.prior.tau_low_min, w.prior.tau_high_min);
   EXPECT_EQ(pace.prior.tau_high_min, w.prior.tau_high_min);  // only τ_L moves
+}
+
+TEST(ClosedLoopAdaptive, AStudysSetpointDesignsTakeTheLoopsPaceOnlyWhenToldAndForSetpoints) {
+  // setpoint_pace: the campaign's and the Monte Carlo study's designs. CV limits −2:2 and
+  // −3:2 at half give amplitudes 1 (the nearer limit), as above; "plant" and an MV dither
+  // keep the prior's τ_L.
+  WoodBerryUnderPi w(1);
+  ClosedLoopDesignOptions o;
+  o.cv_low = Eigen::Vector2d(-2.0, -3.0);
+  o.cv_high = Eigen::Vector2d(2.0, 2.0);
+  o.limit_fraction = 0.5;
+  o.mv_fraction = 1.0;
+  EXPECT_EQ(cv_amplitude(o.cv_low, o.cv_high, o.limit_fraction), Eigen::Vector2d(1.0, 1.0));
+  const std::optional<LoopPace> pace = setpoint_pace(o, w.prior, w.file);
+  ASSERT_TRUE(pace);
+  const LoopPace direct = at_the_loops_pace(w.prior, Eigen::Vector2d(1.0, 1.0), 1.0, w.file);
+  EXPECT_EQ(pace->speed.time_constant_min, direct.speed.time_constant_min);
+  EXPECT_EQ(pace->prior.tau_low_min, direct.prior.tau_low_min);
+  o.switching = "plant";
+  EXPECT_FALSE(setpoint_pace(o, w.prior, w.file));
+  o.switching = "loop";
+  o.excitation = "mv";
+  EXPECT_FALSE(setpoint_pace(o, w.prior, w.file));
+  o.switching = "open";
+  try {
+    (void)setpoint_pace(o, w.prior, w.file);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), "--switching = open, expected loop or plant");
+  }
 }
 
 TEST(ClosedLoopAdaptive, OptionsAreRefusedByName) {

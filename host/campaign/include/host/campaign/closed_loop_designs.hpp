@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,9 @@ struct ClosedLoopDesignOptions {
   // integral action u ≈ V Σ⁻¹ Wᵀ r, so W's last columns spend the MVs' room on the weak
   // input directions.
   std::string directions = "none";
+  // Setpoint excitation: (4.2.3)'s τ_L from the loop's speed along the prior's weakest output
+  // direction ("loop": at_the_loops_pace) or the plant's, as open loop ("plant").
+  std::string switching = "loop";
 };
 
 /// Throws std::invalid_argument "--excitation = X, expected setpoint or mv" otherwise.
@@ -46,6 +50,9 @@ void check_excitation(const std::string& excitation);
 /// Throws std::invalid_argument naming --directions unless it is "none" or "output", and
 /// "output" only with setpoint excitation (an MV dither is the open-loop preset as it is).
 void check_directions(const std::string& directions, const std::string& excitation);
+
+/// Throws std::invalid_argument "--switching = X, expected loop or plant" otherwise.
+void check_switching(const std::string& switching);
 
 /// The presets named (acronyms, in the order given), or every plain preset of Table 6.1 when
 /// `names` is empty. Throws std::invalid_argument "--designs = NAME, expected a plain preset
@@ -91,5 +98,23 @@ struct LoopPace {
 };
 LoopPace at_the_loops_pace(const PriorKnowledge& prior, const Eigen::VectorXd& amplitude,
                            double mv_fraction, const sim::control::ControllerFile& file);
+
+/// One line on what `pace` took, against the plant's `prior`: "the loop follows a switch of r
+/// along the prior's weakest output direction in 94 min (63 %, on the controller's model):
+/// tau_L = 50 min (the plant's 12)".
+std::string loop_pace_line(const LoopPace& pace, const PriorKnowledge& prior);
+
+/// Each CV's setpoint amplitude: fraction · min(−low_j, high_j), the CV test limits as
+/// deviations (host/design/closed_loop_design.hpp sizes r so).
+Eigen::VectorXd cv_amplitude(const Eigen::VectorXd& low, const Eigen::VectorXd& high,
+                             double fraction);
+
+/// The pace a study's setpoint designs take (options resolved: resolve_cv_limits):
+/// at_the_loops_pace for the amplitudes cv_amplitude gives and the options' MV room, or
+/// nothing for an MV dither or switching = "plant" (the prior as it is). Throws
+/// check_switching's message and what at_the_loops_pace throws.
+std::optional<LoopPace> setpoint_pace(const ClosedLoopDesignOptions& options,
+                                      const PriorKnowledge& prior,
+                                      const sim::control::ControllerFile& file);
 
 }  // namespace excite::host
