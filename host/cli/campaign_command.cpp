@@ -4,7 +4,8 @@
 //                 [--structure auto|NAME]
 // excite campaign --plant NAME --controller FILE -o DIR [--loop] [--excitation setpoint|mv]
 //                 [--limit CV=LO:HI ...] [--limit-fraction F] [--mv-fraction F] [--designs A,B]
-//                 [--directions none|output] [--open-loop-report PATH]
+//                 [--directions none|output] [--switching loop|plant]
+//                 [--open-loop-report PATH]
 //   the campaign with the controller on (issue 42 §4, host/loop/closed_loop_campaign.hpp):
 //   the closed-loop designs (every plain preset, setpoint excitation or MV dither), each run
 //   closed loop (--loop: through the real gateway to excite-plant --controller; else in
@@ -64,6 +65,7 @@ struct CampaignCommandOptions {
   double limit_fraction = 0.5;
   double mv_fraction = 0.0;
   std::string directions = "none";
+  std::string switching = "loop";  // setpoint: (4.2.3)'s τ_L the loop's or the plant's
   std::vector<std::string> designs;
   std::string open_loop_report;
 };
@@ -122,6 +124,7 @@ void run_closed_loop(const CampaignCommandOptions& opt,
   c.design.limit_fraction = opt.limit_fraction;
   c.design.mv_fraction = opt.mv_fraction;
   c.design.directions = opt.directions;
+  c.design.switching = opt.switching;
   if (!opt.limits.empty()) {
     const CvLimits limits =
         parse_cv_limits(opt.limits, sim::make_plant(c.plant)->output_names(), "the plant's");
@@ -146,11 +149,15 @@ void run_closed_loop(const CampaignCommandOptions& opt,
         "--controller (Modbus TCP on 127.0.0.1, lock-step); runs in " +
         (out / "runs").string());
   }
-  const std::vector<ClosedLoopExperiment> runs = run_closed_loop_campaign(c, out, say);
+  const ClosedLoopCampaign campaign = run_closed_loop_campaign(c, out, say);
+  const std::vector<ClosedLoopExperiment>& runs = campaign.runs;
   const ClosedLoopCampaignHeader header{.plant = c.plant,
                                         .controller = c.controller,
                                         .excitation = c.design.excitation,
                                         .directions = c.design.directions,
+                                        .switching = c.design.switching,
+                                        .tau_low_min = campaign.tau_low_min,
+                                        .loop_speed = campaign.loop_speed,
                                         .loop = c.loop,
                                         .open_loop_report = opt.open_loop_report,
                                         .threads = c.threads};
@@ -178,9 +185,9 @@ void run(CampaignCommandOptions opt) {
     return;
   }
   if (!opt.limits.empty() || !opt.designs.empty() || !opt.open_loop_report.empty() ||
-      opt.directions != "none") {
+      opt.directions != "none" || opt.switching != "loop") {
     throw std::invalid_argument(
-        "--limit/--designs/--directions/--open-loop-report without --controller, "
+        "--limit/--designs/--directions/--switching/--open-loop-report without --controller, "
         "expected --controller FILE (they choose the closed-loop "
         "designs)");
   }
@@ -278,6 +285,12 @@ void add_campaign_command(CLI::App& app) {
                   "same signals along the prior's output directions W of G(0) = W Sigma V')")
       ->capture_default_str()
       ->check(CLI::IsMember({"none", "output"}));
+  cmd->add_option("--switching", opt->switching,
+                  "with --controller, setpoint: the designs' (4.2.3) tau_L from the loop's speed "
+                  "along the prior's weakest output direction (loop) or the plant's, as open "
+                  "loop (plant)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"loop", "plant"}));
   cmd->add_option("--designs", opt->designs,
                   "with --controller: the plain presets to run (default: every one)")
       ->delimiter(',');

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <ctime>
 #include <stdexcept>
+#include <string>
 
 #include "firmware/runlog/format.hpp"
 #include "host/campaign/scored_fit.hpp"
@@ -123,9 +124,8 @@ void cross_validate(std::vector<ClosedLoopExperiment>& runs, const std::vector<S
 
 }  // namespace
 
-std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
-    const ClosedLoopCampaignOptions& o, const fs::path& dir,
-    const std::function<void(const std::string&)>& say) {
+ClosedLoopCampaign run_closed_loop_campaign(const ClosedLoopCampaignOptions& o, const fs::path& dir,
+                                            const std::function<void(const std::string&)>& say) {
   check_excitation(o.design.excitation);
   const PriorKnowledge prior = case_study(o.plant);
   const std::vector<const PresetInfo*> set = closed_loop_presets(o.designs);  // names first
@@ -134,6 +134,9 @@ std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
   const sim::control::ControllerFile file = sim::control::load_controller_file(o.controller);
   ClosedLoopDesignOptions design_options = o.design;
   resolve_cv_limits(design_options, file, static_cast<Eigen::Index>(cvs.size()));
+  const std::optional<LoopPace> pace = setpoint_pace(design_options, prior, file);
+  const PriorKnowledge& designed_on = pace ? pace->prior : prior;
+  if (say && pace) say(loop_pace_line(*pace, prior));
   const double noise =
       o.noise_variance >= 0.0 ? o.noise_variance : case_study_noise_variance(o.plant);
   const GainAnalysis true_gain = analyse_gain(plant->static_gain());
@@ -149,7 +152,7 @@ std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
     fs::create_directories(work);
     e.run_log = "runs/" + folder + "/run.csv";
     e.model = "models/" + folder + ".json";
-    const Design design = design_closed_loop(design_options, prior, preset, cvs, file);
+    const Design design = design_closed_loop(design_options, designed_on, preset, cvs, file);
     const fs::path plan_path = work / (e.name + ".plan");
     write_plan_file(*design.plan, plan_path);
     const std::uint64_t seed = o.seed + static_cast<std::uint64_t>(e.number);
@@ -199,7 +202,8 @@ std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
           std::to_string(e.rows_mv_limited) + " of " + std::to_string(e.rows));
   });
   cross_validate(out, data, o.threads);
-  return out;
+  return {designed_on.tau_low_min, pace ? std::optional(pace->speed) : std::nullopt,
+          std::move(out)};
 }
 
 }  // namespace excite::host

@@ -128,6 +128,18 @@ std::string cross_text(const ClosedLoopExperiment& e,
   return text;
 }
 
+// Where the designs' (4.2.3) τ_L came from, one sentence.
+std::string pace_text(const ClosedLoopCampaignHeader& h) {
+  if (!h.loop_speed)
+    return "The designs switch at the plant's pace: τ_L = " + number(h.tau_low_min, "%.0f") +
+           " min, as open loop.";
+  return "The designs switch at the loop's pace: the controller, on its own model, follows a "
+         "switch of r along the prior's weakest output direction in " +
+         std::string(h.loop_speed->reached ? "" : "more than ") +
+         number(h.loop_speed->time_constant_min, "%.0f") +
+         " min (63 %), and τ_L = " + number(h.tau_low_min, "%.0f") + " min by (4.2.3).";
+}
+
 }  // namespace
 
 void write_closed_loop_summary(const ClosedLoopCampaignHeader& h,
@@ -139,6 +151,12 @@ void write_closed_loop_summary(const ClosedLoopCampaignHeader& h,
   j["excitation"] = h.excitation;
   j["directions"] = h.directions;
   j["through_the_gateway"] = h.loop;
+  if (h.excitation == "setpoint") j["switching"] = h.switching;
+  j["tau_low_min"] = h.tau_low_min;
+  if (h.loop_speed) {
+    j["loop_time_constant_min"] = h.loop_speed->time_constant_min;
+    j["loop_time_constant_reached"] = h.loop_speed->reached;
+  }
   j["experiments"] = nlohmann::json::array();
   for (const ClosedLoopExperiment& e : runs) {
     const IdentificationResult& two = e.identified.two_stage;
@@ -149,6 +167,7 @@ void write_closed_loop_summary(const ClosedLoopCampaignHeader& h,
     j["experiments"].push_back({{"number", e.number},
                                 {"name", e.name},
                                 {"rows", e.rows},
+                                {"rows_mv_limited", e.rows_mv_limited},
                                 {"run_log", e.run_log},
                                 {"model", e.model},
                                 {"fit_percent", fits},
@@ -182,7 +201,8 @@ void write_closed_loop_report(const ClosedLoopCampaignHeader& h,
     << (h.loop ? "every run streamed through the real excite-gateway to excite-plant "
                  "--controller (lock-step; the gateway's run-log v4)"
                : "every run simulated in process (excite simulate --controller)")
-    << ". Identified by the two-stage method (stage 1: the part of u that r explains; stage "
+    << ". " << pace_text(h)
+    << " Identified by the two-stage method (stage 1: the part of u that r explains; stage "
        "2: the per-element structures on it); the direct fit on the applied u beside it.";
   if (!h.open_loop_report.empty()) {
     s << " The open-loop designs of the same plant: <a href=\"" << esc(h.open_loop_report)

@@ -228,11 +228,50 @@ TEST_F(ClosedLoopCampaign, OutputDirectionsPutRAlongThePriorsOutputDirections) {
                      "output -o " +
                      path("open").string() + " > /dev/null 2> " + path("err").string()));
   EXPECT_NE(slurp(path("err"))
-                .find("--limit/--designs/--directions/--open-loop-report without "
+                .find("--limit/--designs/--directions/--switching/--open-loop-report without "
                       "--controller, expected --controller FILE"),
             std::string::npos)
       << slurp(path("err"));
   EXPECT_FALSE(fs::exists(path("open")));
+}
+
+// The designs switch at the loop's pace (issue 41 §4; closed_loop_designs.hpp setpoint_pace):
+// alatiqi4x4's DMC, on its own model, follows a switch of r along the prior's weakest output
+// direction far slower than the plant's τ_L of 12 min, so (4.2.3)'s τ_L becomes the loop's,
+// within τ_H = 50 min, and the run's PRBS switches more slowly than with --switching plant.
+TEST_F(ClosedLoopCampaign, SetpointDesignsSwitchAtTheLoopsPaceUnlessToldThePlants) {
+  const auto campaign = [&](const std::string& switching, const fs::path& out) {
+    EXPECT_TRUE(shell(std::string(EXCITE_TOOL) + " campaign --plant alatiqi4x4 --controller " +
+                      std::string(EXCITE_CONTROL_EXAMPLES) +
+                      "/alatiqi4x4.dmc.toml --limit-fraction 0.1 --designs prbsUnc" + switching +
+                      " -o " + out.string() + " > /dev/null 2> " + path("err").string()))
+        << slurp(path("err"));
+    const std::string log = slurp(out / "runs" / "04-prbsUnc" / "run.csv");
+    const std::size_t at = log.find("# switch_time_min: ");
+    EXPECT_NE(at, std::string::npos);
+    return std::make_pair(nlohmann::json::parse(slurp(out / "summary.json")),
+                          std::stod(log.substr(at + 19)));
+  };
+  const auto [loop, loop_switch] = campaign("", path("loop"));
+  EXPECT_EQ(loop["switching"], "loop");
+  EXPECT_EQ(loop["loop_time_constant_reached"], true);
+  EXPECT_GT(loop["loop_time_constant_min"].get<double>(), 50.0);
+  EXPECT_DOUBLE_EQ(loop["tau_low_min"].get<double>(), 50.0);  // the loop's, capped at τ_H
+  EXPECT_NE(slurp(path("loop") / "index.html").find("switch at the loop's pace"),
+            std::string::npos);
+  const auto [plant, plant_switch] = campaign(" --switching plant", path("plant"));
+  EXPECT_EQ(plant["switching"], "plant");
+  EXPECT_FALSE(plant.contains("loop_time_constant_min"));
+  EXPECT_DOUBLE_EQ(plant["tau_low_min"].get<double>(), host::case_study("alatiqi4x4").tau_low_min);
+  EXPECT_GT(loop_switch, 3.0 * plant_switch) << loop_switch << " against " << plant_switch;
+  for (const auto& summary : {loop, plant})
+    EXPECT_EQ(summary["experiments"][0]["rows_mv_limited"], 0) << summary.dump();
+  EXPECT_FALSE(shell(std::string(EXCITE_TOOL) +
+                     " campaign --plant alatiqi4x4 --switching plant -o " + path("open").string() +
+                     " > /dev/null 2> " + path("err").string()));
+  EXPECT_NE(slurp(path("err")).find("--switching/--open-loop-report without --controller"),
+            std::string::npos)
+      << slurp(path("err"));
 }
 
 }  // namespace

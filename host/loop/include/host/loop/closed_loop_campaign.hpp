@@ -27,6 +27,7 @@
 #include "host/identify/closed_loop.hpp"
 #include "host/loop/stream.hpp"
 #include "host/measures/cross_fit.hpp"
+#include "host/simulate/closed_loop_speed.hpp"
 
 namespace excite::host {
 
@@ -58,13 +59,21 @@ struct ClosedLoopExperiment {
   CrossFitFigures cross;     // over the other runs, losses against truth_fit
 };
 
+/// The campaign's designs and runs. Setpoint designs take (4.2.3)'s τ_L from the loop's speed
+/// by default (options.design.switching = "loop": setpoint_pace, closed_loop_designs.hpp).
+struct ClosedLoopCampaign {
+  double tau_low_min = 0.0;                   // the designs' τ_L
+  std::optional<ClosedLoopSpeed> loop_speed;  // when it is the loop's: what the loop gave
+  std::vector<ClosedLoopExperiment> runs;     // in the order of the designs
+};
+
 /// Runs every design into `dir` (runs/NN-name/: the plan, run.csv, and in the loop the
 /// configuration pair, the plant's run log and its controller log; models/NN-name.json: the
 /// two-stage model with its `closed_loop` block). `say` (may be empty) gets a line per run.
 /// Throws std::invalid_argument (one message form) for a bad option, what the controller
 /// file's reader, stream_in_the_loop and identification throw.
-std::vector<ClosedLoopExperiment> run_closed_loop_campaign(
-    const ClosedLoopCampaignOptions& options, const std::filesystem::path& dir,
-    const std::function<void(const std::string&)>& say);
+ClosedLoopCampaign run_closed_loop_campaign(const ClosedLoopCampaignOptions& options,
+                                            const std::filesystem::path& dir,
+                                            const std::function<void(const std::string&)>& say);
 
 }  // namespace excite::host
