@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // excite design --plant NAME --preset ACRONYM -o PLAN   (case-study prior knowledge)
 // excite design SPEC.toml -o PLAN                       (prior knowledge from a spec)
+// excite design --plant NAME --preset ACRONYM --excitation setpoint --limit CV=LO:HI ...
+//               [--controller FILE] -o PLAN  (closed loop: r on the CV setpoints)
 
 #include <cstdlib>
 #include <ctime>
@@ -8,6 +10,7 @@
 #include <stdexcept>
 
 #include "host/adaptive/cv_limit_text.hpp"
+#include "host/campaign/closed_loop_designs.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/creation_time.hpp"
 #include "host/cli/output_target.hpp"
@@ -16,6 +19,7 @@
 #include "host/design/plan_file.hpp"
 #include "host/design/presets.hpp"
 #include "host/design/spec.hpp"
+#include "sim/control/controller_file.hpp"
 #include "sim/plants/plant.hpp"
 
 namespace excite::host::cli {
@@ -33,6 +37,7 @@ struct DesignOptions {
   std::string directions = "none";     // setpoint: none | output
   std::vector<std::string> mv_limits;  // setpoint: the controller's MV limits MV=LOW:HIGH
   double mv_fraction = 0.5;            // setpoint with --mv-limit: r within this share of them
+  std::string controller;              // setpoint: (4.2.3)'s τ_L from this controller file's loop
 };
 
 // Setpoint excitation: the CVs' test limits and, with --mv-limit, the MVs' room.
@@ -52,6 +57,19 @@ SetpointDesignRequest setpoint_request(const DesignOptions& opt) {
     request.mv_fraction = opt.mv_fraction;
   }
   return request;
+}
+
+// Setpoint excitation with --controller: (4.2.3)'s τ_L the loop's (at_the_loops_pace,
+// host/campaign/closed_loop_designs.hpp), timed for the request's CV amplitudes and, with
+// --mv-limit, its MV room under the controller's own MV limits. Says what it took.
+PriorKnowledge at_the_controllers_pace(const DesignOptions& opt, const PriorKnowledge& prior,
+                                       const SetpointDesignRequest& request) {
+  const LoopPace pace =
+      at_the_loops_pace(prior, cv_amplitude(request.cv_low, request.cv_high, request.fraction),
+                        opt.mv_limits.empty() ? 0.0 : opt.mv_fraction,
+                        sim::control::load_controller_file(opt.controller));
+  if (!opt.quiet) std::cout << loop_pace_line(pace, prior) << '\n';
+  return pace.prior;
 }
 
 void run(const DesignOptions& opt) {
@@ -80,6 +98,11 @@ void run(const DesignOptions& opt) {
         "--mv-limit with --excitation = mv, expected --excitation "
         "setpoint (it sizes r by the MVs' room)");
   }
+  if (!opt.controller.empty() && opt.excitation != "setpoint") {
+    throw std::invalid_argument("--controller with --excitation = " + opt.excitation +
+                                ", expected --excitation setpoint (it times the loop r goes "
+                                "through)");
+  }
   if (opt.excitation != "open") {
     if (opt.plant.empty() || design.plan) {
       throw std::invalid_argument("--excitation = " + opt.excitation +
@@ -89,7 +112,9 @@ void run(const DesignOptions& opt) {
     if (opt.excitation == "mv") {
       design = design_mv_dither(prior, preset, creation_time());
     } else {
-      design = design_setpoint_excitation(prior, preset, setpoint_request(opt), creation_time());
+      const SetpointDesignRequest request = setpoint_request(opt);
+      if (!opt.controller.empty()) prior = at_the_controllers_pace(opt, prior, request);
+      design = design_setpoint_excitation(prior, preset, request, creation_time());
     }
   } else if (!opt.limits.empty() || opt.directions != "none" || !opt.mv_limits.empty()) {
     throw std::invalid_argument(
@@ -149,6 +174,12 @@ void add_design_command(CLI::App& app) {
                   "setpoint excitation with --mv-limit: the share of each MV's room r may use")
       ->capture_default_str()
       ->check(CLI::Range(1e-6, 1.0));
+  cmd->add_option("--controller", opt->controller,
+                  "setpoint excitation: the controller file (sim/control/README.md) whose loop "
+                  "r goes through; (4.2.3)'s tau_L is then the time the controller, on its own "
+                  "model, takes to follow a switch of r along the prior's weakest output "
+                  "direction (within the plant's tau_L and tau_H), not the plant's tau_L")
+      ->check(CLI::ExistingFile);
   cmd->callback([opt] { run(*opt); });
 }
 

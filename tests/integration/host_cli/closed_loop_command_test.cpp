@@ -167,5 +167,35 @@ TEST_F(ClosedLoopCommands, ASetpointPlanFitsTheMvRoomItIsGiven) {
   EXPECT_FALSE(std::ifstream(path("x.plan")).good()) << "nothing written";
 }
 
+// --controller (issue 41 §2, §4): the setpoint design switches at the loop's pace.
+// alatiqi4x4's DMC, on its own model, follows r along the prior's weakest output direction in
+// far more than the plant's τ_L of 12 min, so (4.2.3) takes τ_L = τ_H = 50 min: T_sw = 2.8·50/2
+// = 70 min instead of 16. Refused by name for an MV dither.
+TEST_F(ClosedLoopCommands, ASetpointPlanSwitchesAtTheLoopsPaceOfTheControllerGiven) {
+  std::string setpoint = "design --plant alatiqi4x4 --preset prbsUnc --excitation setpoint ";
+  for (const char* cv : {"y1", "y2", "y3", "y4"})
+    setpoint += "--limit " + std::string(cv) + "=-0.55:0.55 ";
+  setpoint += "--limit-fraction 0.1 ";
+  const std::string dmc = std::string(EXCITE_CONTROL_EXAMPLES) + "/alatiqi4x4.dmc.toml";
+  const Result plant = excite(setpoint + "-o " + path("plant.plan"));
+  ASSERT_EQ(plant.exit_code, 0) << plant.out;
+  EXPECT_TRUE(contains(plant.out, "-> T_sw = 16 min")) << plant.out;
+  const Result loop = excite(setpoint + "--controller " + dmc + " -o " + path("loop.plan"));
+  ASSERT_EQ(loop.exit_code, 0) << loop.out;
+  EXPECT_TRUE(
+      contains(loop.out, "(63 %, on the controller's model): tau_L = 50 min (the plant's 12)"))
+      << loop.out;
+  EXPECT_TRUE(contains(loop.out, "-> T_sw = 70 min")) << loop.out;
+
+  const Result mv =
+      excite("design --plant alatiqi4x4 --preset prbsUnc --excitation mv --controller " + dmc +
+             " -o " + path("x.plan"));
+  EXPECT_NE(mv.exit_code, 0);
+  EXPECT_TRUE(
+      contains(mv.out, "--controller with --excitation = mv, expected --excitation setpoint"))
+      << mv.out;
+  EXPECT_FALSE(std::ifstream(path("x.plan")).good()) << "nothing written";
+}
+
 }  // namespace
 }  // namespace excite_cli_test
