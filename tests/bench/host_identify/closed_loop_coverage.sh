@@ -13,6 +13,9 @@
 # output-error fits of before the noise model) or "--noise-refits 4".
 # CONTROLLER=FILE in the environment replaces the plant's example controller file (e.g. its
 # MV limits widened: host/identify/README.md, "The two-stage standard errors").
+# PACE=loop (the default, as every study with the controller on) designs the PRBS at the
+# loop's pace (`excite design --controller`); PACE=plant at the plant's τ_L, as open loop
+# (every figure measured before 2026-12-01). JOBS=N runs N seeds at a time (default 2).
 set -euo pipefail
 PLANT=${1:?plant}; SEEDS=${2:-100}; DSTD=${3:-0}; METHOD=${4:-two-stage}; EXTRA=${5:-}
 ROOT=$(cd "$(dirname "$0")/../../.." && pwd)
@@ -28,18 +31,27 @@ case $PLANT in
     FRACTION=0.1; ID="" ;;
   *) echo "plant = $PLANT, expected woodberry2x2 or alatiqi4x4" >&2; exit 2 ;;
 esac
+case ${PACE:=loop} in
+  loop) AT_THE_PACE="--controller $CTRL" ;;
+  plant) AT_THE_PACE="" ;;
+  *) echo "PACE = $PACE, expected loop or plant" >&2; exit 2 ;;
+esac
 "$E" design -q --plant "$PLANT" --preset prbsUnc --excitation setpoint $LIMITS \
-  --limit-fraction $FRACTION -o "$W/sp.plan"
+  --limit-fraction $FRACTION $AT_THE_PACE -o "$W/sp.plan"
 DIST=""; [ "$DSTD" != "0" ] && DIST="--disturbance-std $DSTD --disturbance-tau-min 20"
-for s in $(seq 1 "$SEEDS"); do
+one_seed() {
   "$E" simulate "$W/sp.plan" --plant "$PLANT" --controller "$CTRL" --periods $PERIODS \
-    --noise-var $NOISE $DIST --seed "$s" -o "$W/run.csv" > /dev/null
-  "$E" identify "$W/run.csv" $ID --method "$METHOD" $EXTRA --json 2> /dev/null > "$W/id_$s.json" || true
-done
+    --noise-var $NOISE $DIST --seed "$1" -o "$W/run_$1.csv" > /dev/null
+  "$E" identify "$W/run_$1.csv" $ID --method "$METHOD" $EXTRA --json 2> /dev/null \
+    > "$W/id_$1.json" || true
+  rm -f "$W/run_$1.csv"
+}
+export -f one_seed; export E W PLANT CTRL PERIODS NOISE DIST ID METHOD EXTRA
+seq 1 "$SEEDS" | xargs -P "${JOBS:-2}" -I{} bash -c 'one_seed {}'
 "$E" gains --plant "$PLANT" --json > "$W/truth.json" 2> /dev/null || true
-python3 - "$W" "$SEEDS" "$PLANT" <<'PY'
+python3 - "$W" "$SEEDS" "$PLANT" "$PACE" <<'PY'
 import json, sys, statistics as st, subprocess
-w, n, plant = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+w, n, plant, pace = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4]
 truth = {"woodberry2x2": [[12.8, -18.9], [6.6, -19.4]]}.get(plant)
 if truth is None:
     truth = json.load(open(f"{w}/truth.json"))["gain"]
@@ -58,7 +70,7 @@ for s in range(1, n + 1):
                 continue
             cover.setdefault((o, i), []).append(abs(k - t) <= 1.96 * se)
             z.setdefault((o, i), []).append((k - t) / se)
-print(f"{plant}: {runs} runs identified of {n}")
+print(f"{plant}: {runs} runs identified of {n}, the PRBS at the {pace}'s pace")
 for (o, i), c in sorted(cover.items()):
     print(f"  G{o+1}{i+1}: coverage {100*sum(c)/len(c):5.1f} %  SD of (K-K0)/SE {st.pstdev(z[(o,i)]):.2f}"
           f"  mean (K-K0)/SE {st.mean(z[(o,i)]):+.2f}"
