@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 
 #include "host/adaptive/cv_limit_text.hpp"
@@ -40,14 +41,23 @@ struct DesignOptions {
   std::string controller;              // setpoint: (4.2.3)'s τ_L from this controller file's loop
 };
 
-// Setpoint excitation: the CVs' test limits and, with --mv-limit, the MVs' room.
-SetpointDesignRequest setpoint_request(const DesignOptions& opt) {
+// Setpoint excitation: the CVs' test limits (--limit, else a DMC controller file's [[cv]]
+// limits) and, with --mv-limit, the MVs' room.
+SetpointDesignRequest setpoint_request(const DesignOptions& opt,
+                                       const sim::control::ControllerFile* controller) {
   const auto plant = sim::make_plant(opt.plant);
   SetpointDesignRequest request;
   request.cv_names = plant->output_names();
-  const CvLimits limits = parse_cv_limits(opt.limits, request.cv_names, "the plant's");
-  request.cv_low = limits.low;
-  request.cv_high = limits.high;
+  if (opt.limits.empty() && controller != nullptr) {
+    ClosedLoopDesignOptions from_file;
+    resolve_cv_limits(from_file, *controller, static_cast<Eigen::Index>(request.cv_names.size()));
+    request.cv_low = from_file.cv_low;
+    request.cv_high = from_file.cv_high;
+  } else {
+    const CvLimits limits = parse_cv_limits(opt.limits, request.cv_names, "the plant's");
+    request.cv_low = limits.low;
+    request.cv_high = limits.high;
+  }
   request.fraction = opt.limit_fraction;
   request.along_output_directions = opt.directions == "output";
   if (!opt.mv_limits.empty()) {
@@ -63,11 +73,11 @@ SetpointDesignRequest setpoint_request(const DesignOptions& opt) {
 // host/campaign/closed_loop_designs.hpp), timed for the request's CV amplitudes and, with
 // --mv-limit, its MV room under the controller's own MV limits. Says what it took.
 PriorKnowledge at_the_controllers_pace(const DesignOptions& opt, const PriorKnowledge& prior,
-                                       const SetpointDesignRequest& request) {
+                                       const SetpointDesignRequest& request,
+                                       const sim::control::ControllerFile& controller) {
   const LoopPace pace =
       at_the_loops_pace(prior, cv_amplitude(request.cv_low, request.cv_high, request.fraction),
-                        opt.mv_limits.empty() ? 0.0 : opt.mv_fraction,
-                        sim::control::load_controller_file(opt.controller));
+                        opt.mv_limits.empty() ? 0.0 : opt.mv_fraction, controller);
   if (!opt.quiet) std::cout << loop_pace_line(pace, prior) << '\n';
   return pace.prior;
 }
@@ -112,8 +122,11 @@ void run(const DesignOptions& opt) {
     if (opt.excitation == "mv") {
       design = design_mv_dither(prior, preset, creation_time());
     } else {
-      const SetpointDesignRequest request = setpoint_request(opt);
-      if (!opt.controller.empty()) prior = at_the_controllers_pace(opt, prior, request);
+      std::optional<sim::control::ControllerFile> controller;
+      if (!opt.controller.empty()) controller = sim::control::load_controller_file(opt.controller);
+      const SetpointDesignRequest request =
+          setpoint_request(opt, controller ? &*controller : nullptr);
+      if (controller) prior = at_the_controllers_pace(opt, prior, request, *controller);
       design = design_setpoint_excitation(prior, preset, request, creation_time());
     }
   } else if (!opt.limits.empty() || opt.directions != "none" || !opt.mv_limits.empty()) {
@@ -150,13 +163,15 @@ void add_design_command(CLI::App& app) {
   cmd->add_flag("-q,--quiet", opt->quiet, "print nothing on success");
   cmd->add_option("--excitation", opt->excitation,
                   "open (the MVs, open loop), setpoint (closed loop: the table is r on the CV "
-                  "setpoints, in CV units; needs --limit for every CV) or mv (closed loop: a "
+                  "setpoints, in CV units; needs --limit for every CV, or --controller with a DMC "
+                  "file's [[cv]] limits) or mv (closed loop: a "
                   "dither on the controller's MV output); plan version 4 for the closed loop")
       ->capture_default_str()
       ->check(CLI::IsMember({"open", "setpoint", "mv"}));
   cmd->add_option("--limit", opt->limits,
                   "setpoint excitation: CV test limits CV=LOW:HIGH (deviations), every CV; "
-                  "amplitude = --limit-fraction x min(|LOW|, HIGH)");
+                  "amplitude = --limit-fraction x min(|LOW|, HIGH) (default with --controller: "
+                  "the DMC file's [[cv]] limits)");
   cmd->add_option("--limit-fraction", opt->limit_fraction,
                   "setpoint excitation: the amplitude's share of each CV's test limit")
       ->capture_default_str()

@@ -186,6 +186,24 @@ TEST_F(ClosedLoopCommands, ASetpointPlanSwitchesAtTheLoopsPaceOfTheControllerGiv
       contains(loop.out, "(63 %, on the controller's model): tau_L = 50 min (the plant's 12)"))
       << loop.out;
   EXPECT_TRUE(contains(loop.out, "-> T_sw = 70 min")) << loop.out;
+  // Without --limit the DMC file's [[cv]] limits (±0.55, as given above): the same plan's
+  // table; a PI file has none, and the CV limits are asked for by name.
+  const Result from_file = excite(
+      "design --plant alatiqi4x4 --preset prbsUnc --excitation setpoint "
+      "--limit-fraction 0.1 --controller " +
+      dmc + " -o " + path("file.plan"));
+  ASSERT_EQ(from_file.exit_code, 0) << from_file.out;
+  const auto table = [&](const char* plan) {
+    const Result inspect = excite("inspect " + path(plan) + " --plant alatiqi4x4");
+    return inspect.out.substr(inspect.out.find("table"));
+  };
+  EXPECT_EQ(table("file.plan"), table("loop.plan"));
+  const Result pi = excite(
+      "design --plant woodberry2x2 --preset prbsUnc --excitation setpoint "
+      "--controller " +
+      kPi + " -o " + path("x.plan"));
+  EXPECT_NE(pi.exit_code, 0);
+  EXPECT_TRUE(contains(pi.out, "--limit = (none), expected CV test limits")) << pi.out;
 
   const Result mv =
       excite("design --plant alatiqi4x4 --preset prbsUnc --excitation mv --controller " + dmc +
