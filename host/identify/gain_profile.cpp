@@ -2,8 +2,11 @@
 #include "host/identify/gain_profile.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 #include "host/identify/element.hpp"
 
@@ -11,12 +14,16 @@ namespace excite::host {
 namespace {
 
 constexpr double kRoot = 1.96;  // the signed root √(ΔS/σ̂²) at the χ²₁ 95 % point
-constexpr double kNear = 0.05;  // a walk point this close to kRoot (relative) ends the side
+constexpr double kNear = 0.05;  // a walk point this close to the bound (relative) ends the side
 constexpr int kMaxSteps = 12;   // steps per side (each 1 to 8 times the last)
 // A walk point this many σ̂² below the estimate's cost: the estimate is not the row's
 // optimum (the convergence tests stop within 1e-4 σ̂² of one: bounded_lm.hpp).
 constexpr double kBetter = 0.5;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// A gain's SE widened along a projected ridge by less than this factor keeps K ± 1.96·SE.
+constexpr double kMaterial = 1.01;
+// Probes of a projection across zero (across_zero), at 1, 2, 4, … 128 times the scale.
+constexpr int kAcrossZeroProbes = 8;
 // At most this many restarts from a better optimum a walk found.
 constexpr int kRestarts = 2;
 // A row whose residual is this small a part of its output (in squares: an rms of 1e-10 of
@@ -33,13 +40,38 @@ struct Point {
   std::vector<ElementModel> values;
 };
 
+// The χ²₁ profile (profile_gain), or the projection of an element's joint region
+// (projected_gain_interval).
+enum class WalkKind { profile, projection };
+
+// The slowest lag of the row's estimated elements (T_p1, T_p2, T_n), 0 when none has one.
+double slowest_lag(const MisoResult& fit) {
+  double slowest = 0.0;
+  for (const ElementEstimate& est : fit.elements) {
+    if (!est.estimated()) continue;
+    for (const int k : {kTp1, kTp2, kNatural}) {
+      if (is_free(est.value.structure, k)) slowest = std::max(slowest, est.value[k]);
+    }
+  }
+  return slowest;
+}
+
 class Walk {
  public:
-  Walk(const RowProblem& row, const MisoResult& fit, int e)
-      : row_(row), e_(e), S0_(row_cost(row, fit)) {
+  // A profile walks to the signed root kRoot and stops at a point that fits better than the
+  // estimate (better()). A projection walks to √χ²_p (p the element's free parameters); a
+  // point that fits better counts as inside (root 0) and the walk goes on, the bound staying
+  // χ² above the estimate's cost, not the better point's (which can only widen the interval);
+  // and each point is also fitted from slow dynamics (the other sign's basin of a small
+  // element sits there: across_zero).
+  Walk(const RowProblem& row, const MisoResult& fit, int e, WalkKind kind = WalkKind::profile)
+      : row_(row), e_(e), S0_(row_cost(row, fit)), kind_(kind) {
+    const ElementModel& own = fit.elements[static_cast<std::size_t>(e)].value;
+    root_ = kind == WalkKind::profile
+                ? kRoot
+                : std::sqrt(chi_square_95(static_cast<int>(free_parameters(own.structure).size())));
     sigma2_ = S0_ / std::max(row_dof(row, fit), 1.0);
-    origin_ = {fit.elements[static_cast<std::size_t>(e)].value.gain, 0.0, gains_of(fit),
-               values_of(fit)};
+    origin_ = {own.gain, 0.0, gains_of(fit), values_of(fit)};
     // The linearised ridge: the regression of the row's gains on gain e (exact for a linear
     // model), where the covariance is known; else only gain e moves at first.
     const Eigen::MatrixXd& C = fit.gain_covariance;
@@ -47,19 +79,27 @@ class Walk {
     slope_ = Eigen::VectorXd::Unit(origin_.gains.size(), e);
     if (std::isfinite(var) && var > 0.0 && C.col(e).allFinite()) slope_ = C.col(e) / var;
     // The other start of each walk point (gain_profile.hpp): the element with the dynamics
-    // of the row's largest response, |K|·‖u‖, as far as its own structure has them.
+    // of the row's largest response, |K|·‖u‖, as far as its own structure has them. In the
+    // element's own structure: the walk does not change structures (BIC chose it).
     const Eigen::Index largest = largest_response(row, fit);
     if (largest >= 0 && largest != e) {
-      // In the element's own structure: the walk does not change structures (BIC chose it).
-      const ElementModel& own = fit.elements[static_cast<std::size_t>(e)].value;
-      alternative_ =
-          with_structure(fit.elements[static_cast<std::size_t>(largest)].value, own.structure);
+      alternatives_.push_back(
+          with_structure(fit.elements[static_cast<std::size_t>(largest)].value, own.structure));
+    }
+    // A projection's slow start: the element's own delay, its slowest lag twice the row's.
+    if (kind == WalkKind::projection && slowest_lag(fit) > 0.0) {
+      ElementModel slow = own;
+      for (const int k : {kTp1, kNatural}) {
+        if (is_free(own.structure, k))
+          slow[k] = std::min(2.0 * slowest_lag(fit), row.bounds.max_time_constant_min);
+      }
+      alternatives_.push_back(slow);
     }
     const double se = fit.elements[static_cast<std::size_t>(e)].std_error.gain;
     const double scale = std::max(origin_.gains.cwiseAbs().maxCoeff(), 1e-12);
-    // The first step aims at the linearised bound, K̂ ± 1.96·SE: where the linearisation
+    // The first step aims at the linearised bound, K̂ ± root·SE: where the linearisation
     // holds, one point per side ends the walk.
-    first_step_ = std::max(std::isfinite(se) && se > 0.0 ? kRoot * se : 0.01 * scale, 1e-3 * scale);
+    first_step_ = std::max(std::isfinite(se) && se > 0.0 ? root_ * se : 0.01 * scale, 1e-3 * scale);
   }
 
   // Walks to one side (+1 or −1); the end point, interpolated to the χ² bound when reached.
@@ -74,27 +114,32 @@ class Walk {
       if (better_) break;
       slope = (next.gains - prev.gains) / (next.c - prev.c);
       // A point within kNear of the bound: the bound, on the line through it and the last.
-      if (std::abs(next.root - kRoot) <= kNear * kRoot) {
+      if (std::abs(next.root - root_) <= kNear * root_) {
         bounded = true;
         return through(prev, next);
       }
-      if (next.root >= kRoot) {
+      if (next.root >= root_) {
         bounded = true;
         // Once more at the signed root's linear interpolation (exact for a quadratic
         // profile), then the bracket that holds the bound, interpolated.
         const Point mid = at(prev, slope, through(prev, next).c);
         if (better_) break;
-        return mid.root >= kRoot ? through(prev, mid) : through(mid, next);
+        return mid.root >= root_ ? through(prev, mid) : through(mid, next);
       }
       // The signed root is linear in c for a quadratic profile: the next step aims a little
       // past where the last two points put the bound, at most 8 times the last step.
       const double rise = next.root - prev.root;
-      const double aim = rise > 0.0 ? 1.2 * (kRoot - next.root) * step / rise : kInf;
+      const double aim = rise > 0.0 ? 1.2 * (root_ - next.root) * step / rise : kInf;
       step = std::clamp(aim, step, 8.0 * step);
       prev = std::move(next);
     }
     return prev;
   }
+
+  // The row refitted with gain e held at c, from the estimate's values (and from each
+  // alternative start): a probe away from the walk.
+  Point probe(double c) { return at(origin_, Eigen::VectorXd::Zero(origin_.gains.size()), c); }
+  double root() const { return root_; }
 
   int fits() const { return fits_; }
   const std::optional<MisoResult>& better() const { return better_; }
@@ -111,8 +156,8 @@ class Walk {
     start[static_cast<std::size_t>(e_)].gain = c;
     MisoResult f = held_fit(start, c);
     double S = row_cost(row_, f);
-    if (alternative_) {
-      start[static_cast<std::size_t>(e_)] = *alternative_;
+    for (const ElementModel& alternative : alternatives_) {
+      start[static_cast<std::size_t>(e_)] = alternative;
       start[static_cast<std::size_t>(e_)].gain = c;
       MisoResult g = held_fit(start, c);
       const double Sg = row_cost(row_, g);
@@ -121,7 +166,7 @@ class Walk {
         S = Sg;
       }
     }
-    if (S < S0_ - kBetter * sigma2_) {
+    if (kind_ == WalkKind::profile && S < S0_ - kBetter * sigma2_) {
       // Polished free from there, with standard errors, for the caller to keep.
       better_ = fit_miso(row_.U, row_.y, row_.inputs, values_of(f), row_.T_min, row_.bounds,
                          row_.max_iterations, row_.layout, row_.trend);
@@ -137,25 +182,88 @@ class Walk {
                     MisoUncertainty::none, HeldGain{e_, c});
   }
 
-  // The point where the signed root is kRoot on the line through a and b (a's root below
+  // The point where the signed root is root_ on the line through a and b (a's root below
   // b's), between them or a little past b (its gains too).
-  static Point through(const Point& a, const Point& b) {
+  Point through(const Point& a, const Point& b) const {
     const double t =
-        b.root > a.root ? std::clamp((kRoot - a.root) / (b.root - a.root), 0.0, 1.0 + kNear) : 1.0;
-    return {a.c + t * (b.c - a.c), kRoot, a.gains + t * (b.gains - a.gains), a.values};
+        b.root > a.root ? std::clamp((root_ - a.root) / (b.root - a.root), 0.0, 1.0 + kNear) : 1.0;
+    return {a.c + t * (b.c - a.c), root_, a.gains + t * (b.gains - a.gains), a.values};
   }
 
   const RowProblem& row_;
   int e_;
   double S0_;
+  WalkKind kind_;
+  double root_ = kRoot;
   double sigma2_ = 0.0;
   Point origin_;
   Eigen::VectorXd slope_;
   double first_step_ = 0.0;
   int fits_ = 0;
   std::optional<MisoResult> better_;
-  std::optional<ElementModel> alternative_;
+  std::vector<ElementModel> alternatives_;
 };
+
+// Gain e's profile walked to the walk's signed root on each side.
+GainInterval walked(Walk& walk, int e) {
+  GainInterval out;
+  const Point low = walk.side(-1, out.lower_bounded);
+  Point high = low;
+  if (!walk.better()) high = walk.side(+1, out.upper_bounded);
+  out.fits = walk.fits();
+  if (walk.better()) {
+    out.better = std::move(walk.better());
+    return out;
+  }
+  out.lower = low.c;
+  out.upper = high.c;
+  out.ridge = Eigen::VectorXd::Unit(low.gains.size(), e);
+  if (high.c > low.c) out.ridge = (high.gains - low.gains) / (high.c - low.c);
+  return out;
+}
+
+// A walked interval extended across zero where the region has a part of its own on the
+// other side (projected_gain_interval; at K = 0 the element adds nothing, and the cost can
+// rise there between two basins of either sign): probes at c = −sign(K̂)·2^k·max(|K̂|, SE),
+// k = 0, 1, …, beyond the walk's end on that side, until one is outside after one inside, or,
+// before any is inside, one outside no nearer the bound than the probe before it (at most
+// kAcrossZeroProbes). The interval is taken to the farthest probe inside, interpolated
+// towards the first outside after it (unbounded where the last probe is inside).
+void across_zero(Walk& walk, const ElementEstimate& est, GainInterval& out) {
+  const double K = est.value.gain;
+  const double direction = K > 0.0 ? -1.0 : 1.0;
+  const double end = direction < 0.0 ? out.lower : out.upper;
+  const double scale = std::max(std::abs(K), est.std_error.gain);
+  std::optional<Point> inside;
+  bool bounded = true;
+  double last_root = kInf;
+  for (int k = 0; k < kAcrossZeroProbes; ++k) {
+    const double c = direction * scale * std::ldexp(1.0, k);
+    if (direction * (c - end) <= 0.0) continue;  // within the walked interval
+    const Point p = walk.probe(c);
+    if (p.root <= walk.root()) {
+      inside = p;
+      bounded = k + 1 < kAcrossZeroProbes;
+      continue;
+    }
+    if (inside) {
+      const double t = std::clamp((walk.root() - inside->root) / (p.root - inside->root), 0.0, 1.0);
+      inside->c += t * (p.c - inside->c);
+      break;
+    }
+    if (p.root >= last_root) break;  // the cost rises away from zero: no part there
+    last_root = p.root;
+  }
+  out.fits = walk.fits();
+  if (!inside) return;
+  if (direction < 0.0) {
+    out.lower = std::min(out.lower, inside->c);
+    out.lower_bounded = bounded;
+  } else {
+    out.upper = std::max(out.upper, inside->c);
+    out.upper_bounded = bounded;
+  }
+}
 
 }  // namespace
 
@@ -173,20 +281,18 @@ double row_dof(const RowProblem& row, const MisoResult& fit) {
 
 GainInterval profile_gain(const RowProblem& row, const MisoResult& fit, int e) {
   Walk walk(row, fit, e);
-  GainInterval out;
-  const Point low = walk.side(-1, out.lower_bounded);
-  Point high = low;
-  if (!walk.better()) high = walk.side(+1, out.upper_bounded);
-  out.fits = walk.fits();
-  if (walk.better()) {
-    out.better = std::move(walk.better());
-    return out;
+  return walked(walk, e);
+}
+
+double chi_square_95(int p) {
+  // The 95 % points of χ²_p, p = 1…7 (Abramowitz and Stegun 1964, table 26.8).
+  static constexpr std::array<double, 7> kPoints{3.841,  5.991,  7.815, 9.488,
+                                                 11.070, 12.592, 14.067};
+  if (p < 1 || p > static_cast<int>(kPoints.size())) {
+    throw std::invalid_argument("chi-square degrees of freedom = " + std::to_string(p) +
+                                ", expected 1 to 7 (an element's free parameters)");
   }
-  out.lower = low.c;
-  out.upper = high.c;
-  out.ridge = Eigen::VectorXd::Unit(low.gains.size(), e);
-  if (high.c > low.c) out.ridge = (high.gains - low.gains) / (high.c - low.c);
-  return out;
+  return kPoints[static_cast<std::size_t>(p - 1)];
 }
 
 Eigen::Index largest_response(const RowProblem& row, const MisoResult& fit) {
@@ -200,6 +306,55 @@ Eigen::Index largest_response(const RowProblem& row, const MisoResult& fit) {
     }
   }
   return largest;
+}
+
+std::string projection_needed(const ElementEstimate& est) {
+  const double se = est.std_error.gain;
+  if (!est.estimated() || !(std::isfinite(se) && se > 0.0)) return "";
+  const auto p = static_cast<int>(free_parameters(est.value.structure).size());
+  if (std::abs(est.value.gain) < std::sqrt(chi_square_95(p)) * se)
+    return "projected from its joint 95 % region, which reaches K = 0";
+  for (const int k : free_parameters(est.value.structure)) {
+    if (k != kGain && (!std::isfinite(est.std_error[k]) ||
+                       est.at_bound[static_cast<std::size_t>(k)] != Bound::none))
+      return "projected from its joint 95 % region: its delay or a time constant is not determined";
+  }
+  return "";
+}
+
+std::optional<GainInterval> projected_gain_interval(const RowProblem& row, const MisoResult& fit,
+                                                    int e) {
+  const ElementEstimate& est = fit.elements.at(static_cast<std::size_t>(e));
+  if (projection_needed(est).empty()) return std::nullopt;
+  if (row_cost(row, fit) <= kRounding * row.y.cwiseProduct(row.layout.weight).squaredNorm())
+    return std::nullopt;
+  Walk walk(row, fit, e, WalkKind::projection);
+  GainInterval out = walked(walk, e);
+  if (est.value.gain > 0.0 ? out.lower_bounded : out.upper_bounded) across_zero(walk, est, out);
+  return out;
+}
+
+void project_gains_near_zero(const RowProblem& row, MisoResult& fit) {
+  MisoResult widened = fit;  // the covariance the followers' intervals read
+  std::vector<std::optional<GainBounds>> own(fit.elements.size());
+  for (std::size_t e = 0; e < fit.elements.size(); ++e) {
+    if (auto p = projected_gain_interval(row, fit, static_cast<int>(e))) {
+      own[e] = GainBounds{p->lower, p->upper};
+      widen_along_ridge(widened, static_cast<int>(e), *p);
+    }
+  }
+  for (std::size_t e = 0; e < fit.elements.size(); ++e) {
+    ElementEstimate& est = fit.elements[e];
+    if (own[e]) {
+      est.projected_gain = ProjectedGain{*own[e], projection_needed(est)};
+      continue;
+    }
+    const double se = widened.elements[e].std_error.gain;
+    if (!(se > kMaterial * est.std_error.gain)) continue;
+    est.projected_gain =
+        ProjectedGain{{est.value.gain - kRoot * se, est.value.gain + kRoot * se},
+                      "widened with the row's projected gain, which the data tie it to"};
+  }
 }
 
 MisoResult profile_gains(const RowProblem& row, MisoResult fit, const ProfileChoice& profiled) {

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "host/identify/identification_text.hpp"
 
+#include <cmath>
+
 #include "host/output/text_table.hpp"
 
 namespace excite::host {
@@ -30,6 +32,22 @@ void print_uncertainty(std::ostream& out, const GainUncertainty& u) {
     out << "  minor of rows/columns";
     for (const int k : pm.rows) out << ' ' << k + 1;
     out << " = " << num(pm.value, 4) << " +- " << num(pm.std_error, 3) << '\n';
+  }
+}
+
+// A line per gain of row o whose reported 95 % interval is wider than K ± 1.96·SE, and why.
+void print_projected_gains(std::ostream& out, const IdentifiedModel& m, int o,
+                           const runlog::RunLog& log) {
+  for (int i = 0; i < m.inputs; ++i) {
+    const ElementEstimate& e = m.element(o, i);
+    if (!e.projected_gain) continue;
+    const GainBounds reported = gain_interval_95(e);
+    const double half = 1.96 * e.std_error.gain;  // a projection the SE's widening overtook
+    if (std::isfinite(half) && reported.upper - reported.lower <= 2.02 * half) continue;
+    out << "  " << log.input_names[static_cast<std::size_t>(i)] << ": K's 95 % interval "
+        << num(reported.lower, 4) << " to " << num(reported.upper, 4)
+        << " (K +- 1.96 SE: " << num(e.value.gain - 1.96 * e.std_error.gain, 4) << " to "
+        << num(e.value.gain + 1.96 * e.std_error.gain, 4) << "): " << e.projected_gain->why << '\n';
   }
 }
 
@@ -100,6 +118,7 @@ void print_identification(std::ostream& out, const IdentificationResult& r,
       out << "  " << log.input_names[static_cast<std::size_t>(i)] << ": " << to_string(e.grade)
           << ", " << e.grade_reason << '\n';
     }
+    print_projected_gains(out, m, o, log);
     out << '\n';
   }
   if (r.gain) {

@@ -10,6 +10,7 @@
 
 #include "base/config/document.hpp"
 #include "host/identify/arx_start.hpp"
+#include "host/identify/gain_profile.hpp"
 #include "host/identify/grade.hpp"
 #include "host/identify/input_screen.hpp"
 #include "host/identify/inputs_together.hpp"
@@ -380,8 +381,9 @@ MisoResult fit_warm(const Rows& rows, const Eigen::VectorXd& y,
 }
 
 // Row j's model: how well its inputs separate, the gains of inputs that move together and the
-// gains near zero profiled (inputs_together.hpp), its elements and gain covariance written into the
-// model; returns ŷ.
+// gains near zero profiled (inputs_together.hpp), the projected interval of each gain its
+// element's joint region does not tell from zero (gain_profile.hpp), its elements and gain
+// covariance written into the model; returns ŷ.
 Eigen::VectorXd keep_row(const Rows& rows, int j, const Eigen::VectorXd& y, MisoResult miso,
                          IdentifiedModel& model, OutputFit& fit,
                          const std::vector<RowOptimum>& optima = {}) {
@@ -393,6 +395,7 @@ Eigen::VectorXd keep_row(const Rows& rows, int j, const Eigen::VectorXd& y, Miso
   fit.inputs_together = describe_together(usable, fit.separation);
   miso = profile_doubtful_gains(problem, std::move(miso), fit.separation);
   cover_other_optima(problem, miso, fit.separation, optima);
+  if (rows.options.project_gains) project_gains_near_zero(problem, miso);
   Eigen::MatrixXd& cov = model.gain_covariance[static_cast<std::size_t>(j)];
   for (std::size_t e = 0; e < usable.size(); ++e) {
     model.element(j, usable[e]) = miso.elements[e];

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "host/identify/model.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
@@ -58,6 +60,21 @@ bool ElementEstimate::on_upper_bound() const {
     if (at_bound[static_cast<std::size_t>(k)] == Bound::upper) return true;
   }
   return at_bound[kZero] != Bound::none;  // |T_z| on its bound, either sign
+}
+
+GainBounds gain_interval_95(const ElementEstimate& e) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  if (!e.estimated()) return {kNaN, kNaN};
+  const double K = e.value.gain;
+  const double half = 1.96 * e.std_error.gain;
+  GainBounds out{kNaN, kNaN};
+  if (std::isfinite(half)) out = {K - half, K + half};
+  if (e.projected_gain) {
+    const GainBounds& p = e.projected_gain->bounds;
+    out.lower = std::isfinite(out.lower) ? std::min(out.lower, p.lower) : p.lower;
+    out.upper = std::isfinite(out.upper) ? std::max(out.upper, p.upper) : p.upper;
+  }
+  return out;
 }
 
 Eigen::MatrixXd IdentifiedModel::static_gain() const {

@@ -56,6 +56,7 @@ std::optional<IdentificationResult> identify_prefix(const Prepared& p, const Exp
   IdentifyOptions options;
   options.threads = 1;
   options.max_time_constant_min = p.max_time_constant_min;
+  options.project_gains = false;  // the criterion reads G(0), no interval
   for (const ElementEstimate& g : e.identified.model.elements)
     options.structures.push_back(g.estimated() ? g.value.structure : Structure::two_poles);
   if (rows < minimum_samples(static_cast<int>(e.U.cols()), e.sample_time_min, options))

@@ -9,7 +9,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -123,6 +125,64 @@ TEST(GainProfile, AGainNearZeroGetsAtLeastItsProfileInterval) {
         << interval.lower << ", " << interval.upper << "]";
   }
   EXPECT_GE(profiled, 3);
+}
+
+// The same small element at a third of that gain (K = −0.1, about 2 SE from zero), whose joint
+// 95 % region (K, T_d, T_p1 of a first-order fit, or more) reaches K = 0 in most seeds: its
+// reported interval is the projection of that region, the profile walked to χ²_p instead of χ²₁,
+// reported beside the covariance and never folded into it (gain_profile.hpp,
+// project_gains_near_zero). Wider than K ± 1.96·SE, and it holds K̂. The large element, 40 SE from
+// zero with its dynamics determined, needs none.
+TEST(GainProfile, AGainItsJointRegionDoesNotTellFromZeroGetsTheRegionsProjection) {
+  const Eigen::MatrixXd U = prbs_inputs(2, 8, 3, 85, 1200, 1.0);
+  const std::vector<ElementModel> G = {{12.8, 1.0, 16.7, 0.0}, {-0.1, 6.0, 34.5, 34.5}};
+  const auto& [inputs, bounds, layout, trend] = TwoInputRow(U.rows());
+  int projected = 0;
+  for (const unsigned seed : {1U, 2U, 3U, 4U, 5U, 6U}) {
+    Eigen::MatrixXd Y = plant_outputs(G, 1, 2, 1.0, U);
+    add_noise(Y, 0.04, seed);
+    const IdentificationResult r = identify(U, Y, 1.0);
+    std::vector<ElementModel> start{r.model.element(0, 0).value, r.model.element(0, 1).value};
+    const Eigen::VectorXd y = Y.col(0);
+    const MisoResult fit = fit_miso(U, y, inputs, start, 1.0, bounds, 200, layout, trend);
+    const RowProblem row{U, y, inputs, 1.0, bounds, 200, layout, trend};
+    MisoResult reported = fit;
+    project_gains_near_zero(row, reported);
+    EXPECT_EQ(reported.gain_covariance, fit.gain_covariance) << "seed " << seed;
+    EXPECT_TRUE(projection_needed(fit.elements[0]).empty()) << "seed " << seed;
+    const ElementEstimate& weak = reported.elements[1];
+    EXPECT_EQ(weak.std_error.gain, fit.elements[1].std_error.gain);
+    if (projection_needed(fit.elements[1]).empty()) {
+      EXPECT_FALSE(weak.projected_gain) << "seed " << seed;
+      continue;
+    }
+    ++projected;
+    ASSERT_TRUE(weak.projected_gain) << "seed " << seed;
+    std::printf("seed %u: K = %.4f +- %.4f, reported [%.4f, %.4f]\n", seed, weak.value.gain,
+                1.96 * weak.std_error.gain, gain_interval_95(weak).lower,
+                gain_interval_95(weak).upper);
+    const GainBounds b = gain_interval_95(weak);
+    const double K = weak.value.gain, half = 1.96 * weak.std_error.gain;
+    EXPECT_LE(b.lower, K - half) << "seed " << seed;
+    EXPECT_GE(b.upper, K + half) << "seed " << seed;
+    EXPECT_GT(b.upper - b.lower, 2.2 * half) << "seed " << seed << ": K = " << K << " ± " << half
+                                             << ", reported [" << b.lower << ", " << b.upper << "]";
+    EXPECT_EQ(b.lower, weak.projected_gain->bounds.lower);
+    EXPECT_NE(weak.projected_gain->why.find("joint 95 % region"), std::string::npos);
+  }
+  EXPECT_GE(projected, 3);
+}
+
+TEST(GainProfile, TheChiSquarePointsAreTheTablesAndOtherDegreesAreRefusedByName) {
+  EXPECT_NEAR(chi_square_95(1), 1.96 * 1.96, 2e-3);
+  EXPECT_DOUBLE_EQ(chi_square_95(3), 7.815);
+  EXPECT_DOUBLE_EQ(chi_square_95(7), 14.067);
+  try {
+    chi_square_95(8);
+    ADD_FAILURE() << "p = 8 was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("= 8, expected 1 to 7"), std::string::npos) << e.what();
+  }
 }
 
 // A row fitted to rounding (noise-free data in its model class) has exact gains: nothing is

@@ -35,6 +35,7 @@
 #include <Eigen/Dense>
 #include <functional>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "host/identify/miso_fit.hpp"
@@ -68,6 +69,38 @@ struct GainInterval {
 /// The profile interval of the gain of element `e` of `fit` (the row's fit on `row`,
 /// with standard errors).
 GainInterval profile_gain(const RowProblem& row, const MisoResult& fit, int e);
+
+/// The 95 % point of χ²_p for p = 1…7 (an element's free parameters); throws
+/// std::invalid_argument for any other p.
+double chi_square_95(int p);
+
+/// Why element `est`'s gain interval is projected ("" where it is not): its joint 95 %
+/// region reaches K = 0 (linearised: |K̂| < √χ²_p·SE, p its free parameters), or its delay or
+/// a time constant is not determined (no finite SE, or on a bound: a small element's fit in a
+/// fast basin, its gain read from the fast part of the response). At K = 0 the element's
+/// dynamics are not determined at all, and near there, or where they are not determined
+/// anyway, the likelihood ratio of K alone is not χ²₁ (weak identification: Dufour,
+/// Econometrica 65 (1997) 1365; Andrews and Cheng, Econometrica 80 (2012) 2153), while the
+/// projection of the joint region keeps its level whatever the nuisance parameters do.
+std::string projection_needed(const ElementEstimate& est);
+
+/// The projection on its gain of element `e`'s joint 95 % region where projection_needed():
+/// the profile of the gain walked to S(c) − S(K̂) = χ²_p σ̂² instead of χ²₁ σ̂². A point of
+/// the walk that fits better than the estimate (a small element's other basin) counts as
+/// inside, and the walk goes on: the interval is then wider than the better optimum's own
+/// (never `better`). Empty where none is needed and for a row fitted to rounding.
+std::optional<GainInterval> projected_gain_interval(const RowProblem& row, const MisoResult& fit,
+                                                    int e);
+
+/// Sets ElementEstimate::projected_gain on the elements of `fit` that a projection reaches:
+/// each gain projection_needed() names gets its projected interval, and each other gain of
+/// the row the interval K ± 1.96·SE' of the row's covariance widened along each projection's
+/// ridge to its width, as profile_gains() widens it for a χ²₁ profile: the gains that the data
+/// tie to a projected one (the sum stays known) follow it. A gain whose SE' is within 1 % of
+/// its SE keeps none. Reported beside the χ²₁ covariance, never folded into it: the
+/// adaptive test's stop rule and G(0)'s uncertainty propagate the covariance (host/identify/
+/// README.md, "Closed-loop runs").
+void project_gains_near_zero(const RowProblem& row, MisoResult& fit);
 
 /// Whether gain e of a row's fit is profiled.
 using ProfileChoice = std::function<bool(const MisoResult& fit, int e)>;

@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 #include <array>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,19 @@ const char* to_string(Grade grade);
 /// Which of its bounds a parameter ended on.
 enum class Bound : unsigned char { none, lower, upper };
 
+/// An interval of a gain.
+struct GainBounds {
+  double lower = 0.0;
+  double upper = 0.0;
+};
+
+/// A gain's 95 % interval wider than K ± 1.96·SE, and why (gain_profile.hpp,
+/// project_gains_near_zero).
+struct ProjectedGain {
+  GainBounds bounds;
+  std::string why;
+};
+
 struct ElementEstimate {
   ElementModel value;      // structure and parameters; NaN fields when not estimated (status)
   ElementModel std_error;  // 1σ; NaN when not available (not estimated, at a bound, or not a
@@ -48,6 +62,9 @@ struct ElementEstimate {
   /// columns for a parameter on a bound, not estimated or not in the structure.
   using Covariance = Eigen::Matrix<double, kParameters, kParameters>;
   Covariance covariance = Covariance::Constant(std::numeric_limits<double>::quiet_NaN());
+  /// The gain's 95 % interval where a projection reaches it (gain_profile.hpp,
+  /// project_gains_near_zero); empty elsewhere.
+  std::optional<ProjectedGain> projected_gain;
   ElementStatus status = ElementStatus::identified;
   std::string reason;        // why the status is not `identified`; "" otherwise
   Grade grade = Grade::D;    // set by identify() (grade.hpp)
@@ -66,6 +83,11 @@ struct ElementEstimate {
     return status == ElementStatus::identified || status == ElementStatus::weak_gain;
   }
 };
+
+/// The gain's reported 95 % interval: K ± 1.96·SE, widened to hold the projected interval
+/// where the element has one (an interval of the gain's rate for an integrator). NaN bounds
+/// where the element is not estimated or its gain has no finite SE and no projection.
+GainBounds gain_interval_95(const ElementEstimate& e);
 
 /// p × n matrix of estimates; T in minutes.
 struct IdentifiedModel {
