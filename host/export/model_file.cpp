@@ -106,6 +106,18 @@ void read_uncertainty(const nlohmann::json& e, const std::string& where, Element
       }
     }
   }
+  if (e.contains("K_projected") && !e["K_projected"].is_null()) {
+    const nlohmann::json& p = e["K_projected"];
+    const bool numbers = p.is_object() && p.contains("lower") && p["lower"].is_number() &&
+                         p.contains("upper") && p["upper"].is_number();
+    if (!numbers || !(p["lower"].get<double>() <= est.value.gain &&
+                      est.value.gain <= p["upper"].get<double>())) {
+      throw std::invalid_argument(field(where, "K_projected") + " = " + shown(p) +
+                                  ", expected {lower, upper, why} with lower <= K <= upper");
+    }
+    est.projected_gain = ProjectedGain{{p["lower"].get<double>(), p["upper"].get<double>()},
+                                       text(p, "why", where + ".K_projected")};
+  }
   const std::string grade = text(e, "grade", where);
   for (const Grade g : {Grade::A, Grade::B, Grade::C, Grade::D}) {
     if (grade == to_string(g)) est.grade = g;
@@ -167,6 +179,36 @@ std::vector<std::string> noise_names(const std::vector<ArNoiseModel>& noise) {
   return names;
 }
 
+// One element of the model file (model_json).
+nlohmann::json element_json(const ElementEstimate& e, const std::string& input) {
+  nlohmann::json j = parameters(e.value);
+  j["structure"] = to_string(e.value.structure);
+  j["input"] = input;
+  j["se"] = free_parameters_json(e.std_error, e.value.structure);
+  nlohmann::json covariance = nlohmann::json::array();  // over "se"'s parameters, in order
+  for (const int a : free_parameters(e.value.structure)) {
+    nlohmann::json row = nlohmann::json::array();
+    for (const int b : free_parameters(e.value.structure))
+      row.push_back(to_json(e.covariance(a, b)));
+    covariance.push_back(row);
+  }
+  j["covariance"] = covariance;
+  // The reported 95 % interval of K (model.hpp, gain_interval_95), and the projection it
+  // holds where the element has one (read back; the interval is derived).
+  const GainBounds interval = gain_interval_95(e);
+  if (std::isfinite(interval.lower) && std::isfinite(interval.upper))
+    j["K_interval95"] = {interval.lower, interval.upper};
+  if (const auto& p = e.projected_gain) {
+    j["K_projected"] = {{"lower", p->bounds.lower}, {"upper", p->bounds.upper}, {"why", p->why}};
+  }
+  j["status"] = to_string(e.status);
+  j["reason"] = e.reason;
+  j["on_bound"] = e.on_bound();
+  j["grade"] = to_string(e.grade);
+  j["grade_reason"] = e.grade_reason;
+  return j;
+}
+
 }  // namespace
 
 nlohmann::json closed_loop_json(const ClosedLoopIdentification& id, const runlog::RunLog& log,
@@ -214,25 +256,8 @@ nlohmann::json model_json(const IdentificationResult& result,
   for (int o = 0; o < m.outputs; ++o) {
     nlohmann::json elements = nlohmann::json::array();
     for (int i = 0; i < m.inputs; ++i) {
-      const ElementEstimate& e = m.element(o, i);
-      nlohmann::json j = parameters(e.value);
-      j["structure"] = to_string(e.value.structure);
-      j["input"] = input_names.at(static_cast<std::size_t>(i));
-      j["se"] = free_parameters_json(e.std_error, e.value.structure);
-      nlohmann::json covariance = nlohmann::json::array();  // over "se"'s parameters, in order
-      for (const int a : free_parameters(e.value.structure)) {
-        nlohmann::json row = nlohmann::json::array();
-        for (const int b : free_parameters(e.value.structure))
-          row.push_back(to_json(e.covariance(a, b)));
-        covariance.push_back(row);
-      }
-      j["covariance"] = covariance;
-      j["status"] = to_string(e.status);
-      j["reason"] = e.reason;
-      j["on_bound"] = e.on_bound();
-      j["grade"] = to_string(e.grade);
-      j["grade_reason"] = e.grade_reason;
-      elements.push_back(j);
+      elements.push_back(
+          element_json(m.element(o, i), input_names.at(static_cast<std::size_t>(i))));
     }
     const OutputFit& fit = result.fits.at(static_cast<std::size_t>(o));
     const ResidualTests& t = fit.residual_tests;

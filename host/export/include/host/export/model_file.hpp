@@ -18,10 +18,13 @@ namespace excite::host {
 
 /// {"format":"excite model v2","sample_time_min","inputs":[names],"outputs":[{"name","fit",
 ///  "elements":[{"input","structure","K","Td","Tp1","Tp2","Tz","Tn","zeta","se":{…},
-///  "covariance":[[…]…],"status","reason","grade",…}…],"gain_covariance"}…],
+///  "covariance":[[…]…],"K_interval95":[lower, upper],"K_projected":{"lower","upper","why"},
+///  "status","reason","grade",…}…],"gain_covariance"}…],
 ///  "gain","singular_values","condition_number","xi","rga",…}; null for what is unknown.
 /// Every parameter is written (those outside the element's structure at their neutral values,
 /// element.hpp); "se" and "covariance" cover the structure's parameters, in Parameter order.
+/// "K_interval95" is the reported 95 % interval of K (gain_interval_95, derived on writing);
+/// "K_projected" the projection it holds, only where there is one (read back).
 /// v1 files (no structure: two_poles) still read.
 nlohmann::json model_json(const IdentificationResult& result,
                           const std::vector<std::string>& input_names,
