@@ -1,0 +1,137 @@
+// SPDX-License-Identifier: MIT
+// The reported 95 % intervals of a closed-loop identification are honest on alatiqi4x4 under
+// its example DMC (issue 41 §3): over 100 seeds, each gain's reported interval (model.hpp,
+// gain_interval_95: K ± 1.96·SE, or wider where a projection reaches it) covers the true gain
+// in 90–98 % of the seeds overall and in at least 85 % for every element but G23 (below),
+// the direct prediction-error fit with its noise model. Under the DMC every MV moves with the others (u ≈
+// G(0)⁻¹ r), and the row y2 splits G23 = −0.05 from G24 = 1.53 through little own movement:
+// there K ± 1.96·SE alone covers G23 in about half the seeds and G24 in 71 % (the bench,
+// host/identify/README.md "Closed-loop runs"); the projection of G23's joint region, which
+// reaches K = 0, is what covers both.
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "host/identify/noise_model.hpp"
+#include "host/simulate/closed_loop.hpp"
+#include "sim/control/controller_file.hpp"
+#include "sim/control/make_controller.hpp"
+#include "sim/plants/plant.hpp"
+
+namespace excite::host {
+namespace {
+
+constexpr int kSeeds = 100;
+constexpr int kThreads = 2;
+constexpr Eigen::Index kRows = 4410;  // the bench's design at the loop's pace
+constexpr double kAmplitude = 0.055;  // 0.1 of the CV test limits ±0.55
+
+// r: ±kAmplitude random binary per CV, switching with probability 1/70 each minute (the
+// loop's pace: T_sw = 70 min); one fixed signal (seed 1234): only the noise changes.
+Eigen::MatrixXd reference_signal() {
+  std::mt19937_64 g(1234);
+  Eigen::MatrixXd r(kRows, 4);
+  for (Eigen::Index c = 0; c < 4; ++c) {
+    double level = kAmplitude;
+    for (Eigen::Index k = 0; k < kRows; ++k) {
+      if (g() % 70 == 0) level = -level;
+      r(k, c) = level;
+    }
+  }
+  return r;
+}
+
+struct Coverage {
+  Eigen::Matrix4d by_se = Eigen::Matrix4d::Zero();      // seeds whose K ± 1.96·SE holds K
+  Eigen::Matrix4d reported = Eigen::Matrix4d::Zero();   // seeds whose reported interval does
+  Eigen::Matrix4d projected = Eigen::Matrix4d::Zero();  // seeds with a projected interval
+  int seeds = 0;
+
+  void add(const IdentifiedModel& m, const Eigen::Matrix4d& truth) {
+    ++seeds;
+    for (int o = 0; o < 4; ++o) {
+      for (int i = 0; i < 4; ++i) {
+        const ElementEstimate& e = m.element(o, i);
+        const double K = e.value.gain, t = truth(o, i);
+        by_se(o, i) += std::abs(K - t) <= 1.96 * e.std_error.gain ? 1.0 : 0.0;
+        const GainBounds b = gain_interval_95(e);
+        reported(o, i) += b.lower <= t && t <= b.upper ? 1.0 : 0.0;
+        projected(o, i) += e.projected_gain ? 1.0 : 0.0;
+      }
+    }
+  }
+};
+
+TEST(ClosedLoopCalibration, AlatiqiUnderItsDmcTheReportedIntervalsCoverEveryGain) {
+  const auto file = sim::control::load_controller_file(std::string(EXCITE_CONTROL_EXAMPLES) +
+                                                       "/alatiqi4x4.dmc.toml");
+  const Eigen::Matrix4d truth = sim::make_plant("alatiqi4x4")->static_gain();
+  const Eigen::MatrixXd g0 = truth;
+  ClosedLoopOptions loop;
+  set_controller(loop, file, "alatiqi4x4.dmc.toml");
+  IdentifyOptions options;
+  options.max_time_constant_min = 150.0;  // β·τ_H of the design, 3 × 50 min
+  const Eigen::MatrixXd r = reference_signal();
+  Coverage c;
+  std::mutex m;
+  std::atomic<int> next{1};
+  std::vector<std::thread> pool;
+  for (int t = 0; t < kThreads; ++t) {
+    pool.emplace_back([&] {
+      for (int s = next++; s <= kSeeds; s = next++) {
+        auto model = sim::control::load_model(file);
+        auto plant = sim::make_plant("alatiqi4x4");
+        auto controller = sim::control::make_controller(file, *model, &g0);
+        SimulationOptions noise;
+        noise.seed = static_cast<std::uint64_t>(s);
+        noise.noise_variance = 5e-4;
+        const SimulatedRun run =
+            simulate_closed_loop(r, "r", 1.0, *plant, *controller, loop, noise);
+        const NoiseModelFit fit =
+            identify_with_noise_model(run.du, run.dy, 1.0, SampleLayout::whole(kRows), options);
+        const std::lock_guard<std::mutex> lock(m);
+        c.add(fit.result.model, truth);
+      }
+    });
+  }
+  for (std::thread& t : pool) t.join();
+  ASSERT_EQ(c.seeds, kSeeds);
+  std::printf(
+      "alatiqi4x4 under its DMC, direct fit, %d seeds: K +- 1.96 SE covers %.1f %%, the "
+      "reported interval %.1f %%\n",
+      c.seeds, 100.0 * c.by_se.sum() / (16.0 * c.seeds),
+      100.0 * c.reported.sum() / (16.0 * c.seeds));
+  for (int o = 0; o < 4; ++o) {
+    for (int i = 0; i < 4; ++i) {
+      std::printf("  G%d%d %5.1f %% (K +- 1.96 SE %5.1f %%, %3.0f projected)\n", o + 1, i + 1,
+                  100.0 * c.reported(o, i) / c.seeds, 100.0 * c.by_se(o, i) / c.seeds,
+                  c.projected(o, i));
+    }
+  }
+  // Measured: 94.8 % overall (K ± 1.96·SE 89.9 %); G24 93 % (75 %), the other 14 at 91–98 %.
+  const double overall = c.reported.sum() / (16.0 * c.seeds);
+  EXPECT_GE(overall, 0.90);
+  EXPECT_LE(overall, 0.98);
+  for (int o = 0; o < 4; ++o) {
+    for (int i = 0; i < 4; ++i) {
+      if (o == 1 && i == 2) continue;  // G23, below
+      EXPECT_GE(c.reported(o, i) / c.seeds, 0.85) << "G" << o + 1 << i + 1;
+    }
+  }
+  // G23 is not calibrated yet (issue 41): measured 82 % reported, 46 % by K ± 1.96·SE. Its
+  // misses left are the σ²-order bias of a gain at 1 % of its row's largest and two
+  // integrator fits (host/identify/README.md, "The reported 95 % interval").
+  EXPECT_GE(c.reported(1, 2) / c.seeds, 0.75);
+  EXPECT_GE(c.reported(1, 2) - c.by_se(1, 2), 0.25 * c.seeds);
+}
+
+}  // namespace
+}  // namespace excite::host
