@@ -308,24 +308,38 @@ Eigen::Index largest_response(const RowProblem& row, const MisoResult& fit) {
   return largest;
 }
 
-std::string projection_needed(const ElementEstimate& est) {
+namespace {
+
+// Whether the data leave an element's dynamics undetermined, its gain read from the fast part
+// of the response: the delay on its upper bound, the main lag (T_p1, or T_n) shorter than a
+// sample (a gain and a delay: the fast basin), or ζ on its lower bound (a resonance the data
+// do not damp). A delay at 0, a second lag at 0 or two equal lags (their split without an SE)
+// are an element simpler than its structure, its gain determined.
+bool undetermined_dynamics(const ElementEstimate& est, double T_min) {
+  const auto bound = [&](int k) { return est.at_bound[static_cast<std::size_t>(k)]; };
+  const Structure s = est.value.structure;
+  const int lag = is_free(s, kTp1) ? kTp1 : kNatural;
+  return bound(kDelay) == Bound::upper || (is_free(s, lag) && est.value[lag] < T_min) ||
+         (is_free(s, kDamping) && bound(kDamping) == Bound::lower);
+}
+
+}  // namespace
+
+std::string projection_needed(const ElementEstimate& est, double T_min) {
   const double se = est.std_error.gain;
   if (!est.estimated() || !(std::isfinite(se) && se > 0.0)) return "";
   const auto p = static_cast<int>(free_parameters(est.value.structure).size());
   if (std::abs(est.value.gain) < std::sqrt(chi_square_95(p)) * se)
     return "projected from its joint 95 % region, which reaches K = 0";
-  for (const int k : free_parameters(est.value.structure)) {
-    if (k != kGain && (!std::isfinite(est.std_error[k]) ||
-                       est.at_bound[static_cast<std::size_t>(k)] != Bound::none))
-      return "projected from its joint 95 % region: its delay or a time constant is not determined";
-  }
+  if (undetermined_dynamics(est, T_min))
+    return "projected from its joint 95 % region: its dynamics are not determined";
   return "";
 }
 
 std::optional<GainInterval> projected_gain_interval(const RowProblem& row, const MisoResult& fit,
                                                     int e) {
   const ElementEstimate& est = fit.elements.at(static_cast<std::size_t>(e));
-  if (projection_needed(est).empty()) return std::nullopt;
+  if (projection_needed(est, row.T_min).empty()) return std::nullopt;
   if (row_cost(row, fit) <= kRounding * row.y.cwiseProduct(row.layout.weight).squaredNorm())
     return std::nullopt;
   Walk walk(row, fit, e, WalkKind::projection);
@@ -346,7 +360,7 @@ void project_gains_near_zero(const RowProblem& row, MisoResult& fit) {
   for (std::size_t e = 0; e < fit.elements.size(); ++e) {
     ElementEstimate& est = fit.elements[e];
     if (own[e]) {
-      est.projected_gain = ProjectedGain{*own[e], projection_needed(est)};
+      est.projected_gain = ProjectedGain{*own[e], projection_needed(est, row.T_min)};
       continue;
     }
     const double se = widened.elements[e].std_error.gain;

@@ -88,6 +88,45 @@ TEST_F(ClosedLoopCommands, SimulateWritesV4AndIdentifyChoosesTheTwoStageMethodFr
   EXPECT_TRUE(d.at("closed_loop").contains("two_stage"));
 }
 
+// alatiqi4x4 under its DMC (the case the reported intervals were made for: host/identify/
+// README.md, "The reported 95 % interval"), seed 2: row y2's G23 = −0.05 ends in the fast
+// basin, a gain and a delay, K = −0.025 ± 0.0096 with the truth 2.6 SE away. The text names
+// its projected interval, which holds −0.05, and the gains tied to it; the model file keeps
+// both intervals.
+TEST_F(ClosedLoopCommands, AGainInTheFastBasinIsReportedWithItsProjectedInterval) {
+  const std::string dmc = std::string(EXCITE_CONTROL_EXAMPLES) + "/alatiqi4x4.dmc.toml";
+  std::string limits;
+  for (const char* y : {"y1", "y2", "y3", "y4"})
+    limits += std::string(" --limit ") + y + "=-0.55:0.55";
+  ASSERT_EQ(excite("design -q --plant alatiqi4x4 --preset prbsUnc --excitation setpoint" + limits +
+                   " --limit-fraction 0.1 --controller " + dmc + " -o " + path("sp.plan"))
+                .exit_code,
+            0);
+  ASSERT_EQ(excite("simulate " + path("sp.plan") + " --plant alatiqi4x4 --controller " + dmc +
+                   " --noise-var 5e-4 --seed 2 -o " + path("cl.csv"))
+                .exit_code,
+            0);
+  const Result id =
+      excite("identify " + path("cl.csv") + " --method direct -o " + path("model.json"));
+  ASSERT_EQ(id.exit_code, 0) << id.out;
+  EXPECT_TRUE(contains(id.out, "u3: K's 95 % interval")) << id.out;
+  EXPECT_TRUE(contains(id.out,
+                       "projected from its joint 95 % region: its dynamics are not "
+                       "determined"))
+      << id.out;
+  EXPECT_TRUE(contains(id.out, "widened with the row's projected gain")) << id.out;
+  const nlohmann::json j = nlohmann::json::parse(bytes_of(path("model.json")));
+  const nlohmann::json& g23 = j.at("outputs").at(1).at("elements").at(2);
+  ASSERT_TRUE(g23.contains("K_projected")) << g23;
+  const double K = g23.at("K").get<double>(), half = 1.96 * g23.at("se").at("K").get<double>();
+  const double lower = g23.at("K_interval95").at(0).get<double>();
+  const double upper = g23.at("K_interval95").at(1).get<double>();
+  EXPECT_LT(-0.05, K - half) << g23;  // K ± 1.96·SE misses the truth
+  EXPECT_LE(lower, -0.05) << g23;     // the reported interval holds it
+  EXPECT_GE(upper, K + half) << g23;
+  EXPECT_EQ(lower, g23.at("K_projected").at("lower").get<double>());
+}
+
 TEST_F(ClosedLoopCommands, RefusesTwoStageOnAnOpenLoopRunAndABadExcitationByName) {
   ASSERT_EQ(
       excite("design -q --plant woodberry2x2 --preset prbsUnc -o " + path("wb.plan")).exit_code, 0);

@@ -75,14 +75,15 @@ GainInterval profile_gain(const RowProblem& row, const MisoResult& fit, int e);
 double chi_square_95(int p);
 
 /// Why element `est`'s gain interval is projected ("" where it is not): its joint 95 %
-/// region reaches K = 0 (linearised: |K̂| < √χ²_p·SE, p its free parameters), or its delay or
-/// a time constant is not determined (no finite SE, or on a bound: a small element's fit in a
-/// fast basin, its gain read from the fast part of the response). At K = 0 the element's
-/// dynamics are not determined at all, and near there, or where they are not determined
-/// anyway, the likelihood ratio of K alone is not χ²₁ (weak identification: Dufour,
-/// Econometrica 65 (1997) 1365; Andrews and Cheng, Econometrica 80 (2012) 2153), while the
-/// projection of the joint region keeps its level whatever the nuisance parameters do.
-std::string projection_needed(const ElementEstimate& est);
+/// region reaches K = 0 (linearised: |K̂| < √χ²_p·SE, p its free parameters), or its dynamics
+/// are not determined (the delay on its upper bound, the main lag T_p1 or T_n shorter than a
+/// sample T_min, or ζ on its lower bound: a small element's fit in a fast basin, its gain read
+/// from the fast part of the response). At K = 0 the element's dynamics are not determined at
+/// all, and near there, or where they are not determined anyway, the likelihood ratio of K
+/// alone is not χ²₁ (weak identification: Dufour, Econometrica 65 (1997) 1365; Andrews and
+/// Cheng, Econometrica 80 (2012) 2153), while the projection of the joint region keeps its
+/// level whatever the nuisance parameters do.
+std::string projection_needed(const ElementEstimate& est, double T_min);
 
 /// The projection on its gain of element `e`'s joint 95 % region where projection_needed():
 /// the profile of the gain walked to S(c) − S(K̂) = χ²_p σ̂² instead of χ²₁ σ̂². A point of
