@@ -93,6 +93,9 @@ class Test {
     identify_ = options.identify;
     if (identify_.max_time_constant_min <= 0.0)
       identify_.max_time_constant_min = prior.beta * prior.tau_high_min;
+    // The stop rule reads the covariance, not the reported intervals, and every segment is
+    // identified again: no projections (host/identify/README.md, "The reported 95 % interval").
+    identify_.project_gains = false;
     // The first segment: H, or longer when H is shorter than identify's minimum record.
     const double shortest_min = static_cast<double>(minimum_samples(
                                     prior.input_count(), plain.meta.sample_time_min, identify_)) *

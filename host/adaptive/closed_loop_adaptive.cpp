@@ -89,6 +89,9 @@ class ClosedLoopTest {
     identify_ = o.adaptive.identify;
     if (identify_.max_time_constant_min <= 0.0)
       identify_.max_time_constant_min = prior.beta * prior.tau_high_min;
+    // The stop rule reads the covariance, not the reported intervals, and every segment is
+    // identified again: no projections (host/identify/README.md, "The reported 95 % interval").
+    identify_.project_gains = false;
     const CvLimits& l = *o.adaptive.limits;
     amplitude_ = cv_amplitude(l.low, l.high, o.limit_fraction);
   }
