@@ -47,6 +47,24 @@ struct TwoInputRow {
   Eigen::MatrixXd trend;
 };
 
+// Row y1 of a 2-input plant `G` on U with noise sd 0.04 of `seed`: identify()'s model, and
+// the row refitted from it by fit_miso alone (no profile, no projection) on `r`'s bounds.
+struct RefittedRow {
+  RefittedRow(const Eigen::MatrixXd& U, const std::vector<ElementModel>& G, unsigned seed,
+              const TwoInputRow& r) {
+    Eigen::MatrixXd Y = plant_outputs(G, 1, 2, 1.0, U);
+    add_noise(Y, 0.04, seed);
+    identified = identify(U, Y, 1.0);
+    y = Y.col(0);
+    const std::vector<ElementModel> start{identified.model.element(0, 0).value,
+                                          identified.model.element(0, 1).value};
+    fit = fit_miso(U, y, r.inputs, start, 1.0, r.bounds, 200, r.layout, r.trend);
+  }
+  IdentificationResult identified;
+  Eigen::VectorXd y;
+  MisoResult fit;
+};
+
 TEST(InputSeparation, TheOwnPartOfAColumnIsItsResidualOnTheOthers) {
   const Eigen::MatrixXd moved = prbs_inputs(2, 9, 4, 170, 2044, 1.0);
   const double rho = 0.1;
@@ -105,17 +123,14 @@ TEST(GainProfile, MatchesTheLinearisedIntervalOnIndependentInputs) {
 TEST(GainProfile, AGainNearZeroGetsAtLeastItsProfileInterval) {
   const Eigen::MatrixXd U = prbs_inputs(2, 8, 3, 85, 1200, 1.0);
   const std::vector<ElementModel> G = {{12.8, 1.0, 16.7, 0.0}, {-0.3, 6.0, 34.5, 34.5}};
-  const auto& [inputs, bounds, layout, trend] = TwoInputRow(U.rows());
+  const TwoInputRow setup(U.rows());
+  const auto& [inputs, bounds, layout, trend] = setup;
   int profiled = 0;
   for (const unsigned seed : {1U, 2U, 3U, 4U, 5U, 6U}) {
-    Eigen::MatrixXd Y = plant_outputs(G, 1, 2, 1.0, U);
-    add_noise(Y, 0.04, seed);
-    const IdentificationResult r = identify(U, Y, 1.0);
-    const ElementEstimate& weak = r.model.element(0, 1);
-    std::vector<ElementModel> start{r.model.element(0, 0).value, weak.value};
-    const Eigen::VectorXd y = Y.col(0);
-    const MisoResult fit = fit_miso(U, y, inputs, start, 1.0, bounds, 200, layout, trend);
-    const RowProblem row{U, y, inputs, 1.0, bounds, 200, layout, trend};
+    const RefittedRow r(U, G, seed, setup);
+    const ElementEstimate& weak = r.identified.model.element(0, 1);
+    const MisoResult& fit = r.fit;
+    const RowProblem row{U, r.y, inputs, 1.0, bounds, 200, layout, trend};
     const GainInterval interval = profile_gain(row, fit, 1);
     const double K = weak.value.gain;
     if (!poorly_determined(weak) || interval.better) continue;
@@ -136,16 +151,13 @@ TEST(GainProfile, AGainNearZeroGetsAtLeastItsProfileInterval) {
 TEST(GainProfile, AGainItsJointRegionDoesNotTellFromZeroGetsTheRegionsProjection) {
   const Eigen::MatrixXd U = prbs_inputs(2, 8, 3, 85, 1200, 1.0);
   const std::vector<ElementModel> G = {{12.8, 1.0, 16.7, 0.0}, {-0.1, 6.0, 34.5, 34.5}};
-  const auto& [inputs, bounds, layout, trend] = TwoInputRow(U.rows());
+  const TwoInputRow setup(U.rows());
+  const auto& [inputs, bounds, layout, trend] = setup;
   int projected = 0;
   for (const unsigned seed : {1U, 2U, 3U, 4U, 5U, 6U}) {
-    Eigen::MatrixXd Y = plant_outputs(G, 1, 2, 1.0, U);
-    add_noise(Y, 0.04, seed);
-    const IdentificationResult r = identify(U, Y, 1.0);
-    std::vector<ElementModel> start{r.model.element(0, 0).value, r.model.element(0, 1).value};
-    const Eigen::VectorXd y = Y.col(0);
-    const MisoResult fit = fit_miso(U, y, inputs, start, 1.0, bounds, 200, layout, trend);
-    const RowProblem row{U, y, inputs, 1.0, bounds, 200, layout, trend};
+    const RefittedRow r(U, G, seed, setup);
+    const MisoResult& fit = r.fit;
+    const RowProblem row{U, r.y, inputs, 1.0, bounds, 200, layout, trend};
     MisoResult reported = fit;
     project_gains_near_zero(row, reported);
     EXPECT_EQ(reported.gain_covariance, fit.gain_covariance) << "seed " << seed;
