@@ -13,6 +13,7 @@
 // (host/identify/closed_loop.hpp) with the direct fit beside it as a cross-check; the model
 // written is the two-stage one (--method direct: the direct one). One closed-loop run at a time.
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -135,6 +136,26 @@ std::optional<ClosedLoopIdentification> identify_if_closed_loop(
   return std::nullopt;
 }
 
+// The two-stage gains' instrumental-variable step (two_stage_uncertainty.hpp): the largest
+// |ΔK| in stage 2's SEs, and the range of the SEs after over stage 2's own.
+void print_instrument_step(std::ostream& out, const ClosedLoopIdentification& id) {
+  if (id.stage1_se_factor.size() == 0) return;
+  double largest = 0.0;
+  for (Eigen::Index o = 0; o < id.iv_gain_step.rows(); ++o) {
+    for (Eigen::Index i = 0; i < id.iv_gain_step.cols(); ++i) {
+      const double own =
+          id.two_stage.model.element(static_cast<int>(o), static_cast<int>(i)).std_error.gain /
+          id.stage1_se_factor(o, i);
+      if (std::isfinite(own) && own > 0.0)
+        largest = std::max(largest, std::abs(id.iv_gain_step(o, i)) / own);
+    }
+  }
+  out << "two-stage gains finished by an instrumental-variable step on the applied u: |dK| up "
+         "to "
+      << num(largest, 2) << " of stage 2's SE; SEs " << num(id.stage1_se_factor.minCoeff(), 3)
+      << " to " << num(id.stage1_se_factor.maxCoeff(), 3) << " times stage 2's own\n";
+}
+
 void run(const IdentifyCommandOptions& opt) {
   // Every input file counts, --structures-from's too (it was once replaced by -o).
   std::vector<std::string> inputs = opt.run_paths;
@@ -188,11 +209,7 @@ void run(const IdentifyCommandOptions& opt) {
                 << num(closed->stage1.pole, 3) << " per r channel; u explained by r:";
       for (Eigen::Index i = 0; i < fit.size(); ++i) std::cout << ' ' << num(fit(i), 3) << " %";
       std::cout << ")\n";
-      if (opt.method != "direct" && closed->stage1_se_factor.size() > 0) {
-        std::cout << "two-stage gain SEs with stage 1's error counted: "
-                  << num(closed->stage1_se_factor.minCoeff(), 3) << " to "
-                  << num(closed->stage1_se_factor.maxCoeff(), 3) << " times stage 2's own\n";
-      }
+      if (opt.method != "direct") print_instrument_step(std::cout, *closed);
       print_noise_orders(std::cout,
                          opt.method == "direct" ? closed->noise_direct : closed->noise_two_stage,
                          first);
@@ -279,7 +296,7 @@ void add_identify_command(CLI::App& app) {
       ->check(CLI::Range(1, 10));
   cmd->add_option("--stage1-lags", opt->stage1_lags,
                   "two-stage: Laguerre functions of each r channel in stage 1 (0: min(200, "
-                  "max(20, N/(8 m))))")
+                  "max(20, N/(32 m))))")
       ->capture_default_str()
       ->check(CLI::Range(0, 2000));
   cmd->add_option("--stage1-pole", opt->stage1_pole,

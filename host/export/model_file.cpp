@@ -211,6 +211,17 @@ nlohmann::json element_json(const ElementEstimate& e, const std::string& input) 
 
 }  // namespace
 
+// X as an array of its rows (per output, per input).
+nlohmann::json rows_json(const Eigen::MatrixXd& X) {
+  nlohmann::json out = nlohmann::json::array();
+  for (Eigen::Index o = 0; o < X.rows(); ++o) {
+    nlohmann::json row = nlohmann::json::array();
+    for (Eigen::Index i = 0; i < X.cols(); ++i) row.push_back(X(o, i));
+    out.push_back(row);
+  }
+  return out;
+}
+
 nlohmann::json closed_loop_json(const ClosedLoopIdentification& id, const runlog::RunLog& log,
                                 bool direct_written) {
   nlohmann::json bias = nlohmann::json::array();
@@ -222,13 +233,6 @@ nlohmann::json closed_loop_json(const ClosedLoopIdentification& id, const runlog
   }
   std::vector<double> fit(id.stage1.fit_percent.data(),
                           id.stage1.fit_percent.data() + id.stage1.fit_percent.size());
-  nlohmann::json se_factor = nlohmann::json::array();  // per output, per input
-  for (Eigen::Index o = 0; o < id.stage1_se_factor.rows(); ++o) {
-    nlohmann::json row = nlohmann::json::array();
-    for (Eigen::Index i = 0; i < id.stage1_se_factor.cols(); ++i)
-      row.push_back(id.stage1_se_factor(o, i));
-    se_factor.push_back(row);
-  }
   const IdentifiedModel& other = direct_written ? id.two_stage.model : id.direct.model;
   return {
       {"method", direct_written ? "direct" : "two-stage"},
@@ -238,7 +242,8 @@ nlohmann::json closed_loop_json(const ClosedLoopIdentification& id, const runlog
        {{"laguerre_functions", id.stage1.lags},
         {"laguerre_pole", id.stage1.pole},
         {"u_explained_by_r_percent", fit},
-        {"two_stage_se_factor", se_factor}}},
+        {"two_stage_se_factor", rows_json(id.stage1_se_factor)},
+        {"iv_gain_step", rows_json(id.iv_gain_step)}}},
       {"noise_model_orders",
        {{"two_stage", noise_orders(id.noise_two_stage)},
         {"direct", noise_orders(id.noise_direct)}}},

@@ -12,7 +12,7 @@
 namespace excite::host {
 
 int default_stage1_lags(Eigen::Index rows, Eigen::Index channels) {
-  return static_cast<int>(std::clamp<Eigen::Index>(rows / (8 * channels), 20, 200));
+  return static_cast<int>(std::clamp<Eigen::Index>(rows / (32 * channels), 20, 200));
 }
 
 ReferenceProjection::ReferenceProjection(const Eigen::MatrixXd& R, int lags, double pole) {
@@ -180,11 +180,12 @@ TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& 
   out.fit = identify_with_noise_model(out.stage1.u_hat, Y, T_min, layout, options, noise);
   IdentifiedModel& model = out.fit.result.model;
   out.stage1_se_factor.resize(model.outputs, model.inputs);
+  out.iv_gain_step.resize(model.outputs, model.inputs);
   for (int o = 0; o < model.outputs; ++o) {
-    out.stage1_se_factor.row(o) =
-        count_stage1_in_row(model, o, U, out.stage1.u_hat, Y.col(o),
-                            out.fit.noise[static_cast<std::size_t>(o)], layout, P)
-            .transpose();
+    const InstrumentStep step =
+        instrument_step_in_row(model, o, U, out.stage1.u_hat, Y.col(o), layout, noise.max_order);
+    out.stage1_se_factor.row(o) = step.se_factor.transpose();
+    out.iv_gain_step.row(o) = step.gain_step.transpose();
   }
   analyse_identified_gain(out.fit.result);
   return out;
@@ -201,6 +202,7 @@ ClosedLoopIdentification identify_closed_loop(const Eigen::MatrixXd& U, const Ei
   NoiseModelFit direct = identify_with_noise_model(U, Y, T_min, layout, options, noise);
   out.stage1 = std::move(two_stage.stage1);
   out.stage1_se_factor = std::move(two_stage.stage1_se_factor);
+  out.iv_gain_step = std::move(two_stage.iv_gain_step);
   out.two_stage = std::move(two_stage.fit.result);
   out.noise_two_stage = std::move(two_stage.fit.noise);
   out.se_widening_two_stage = two_stage.fit.se_widening;

@@ -407,6 +407,8 @@ void add_gain_variance(MisoResult& fit, const Eigen::VectorXd& direction, double
     ElementEstimate& est = fit.elements[a];
     const auto i = static_cast<Eigen::Index>(a);
     if (!std::isfinite(C(i, i)) || !(C(i, i) > est.std_error.gain * est.std_error.gain)) continue;
+    const double before = std::isfinite(est.std_error.gain) ? est.std_error.gain : 0.0;
+    est.profile_variance += C(i, i) - before * before;
     est.std_error.gain = std::sqrt(C(i, i));
     est.covariance(kGain, kGain) = C(i, i);
     mark_weak_gain(est);

@@ -53,7 +53,7 @@ RowGainSensitivity row_gain_sensitivity(const IdentifiedModel& model, int output
   return s;
 }
 
-void widen_row_gains(IdentifiedModel& model, int output, const Eigen::VectorXd& factor) {
+void scale_row_gain_ses(IdentifiedModel& model, int output, const Eigen::VectorXd& factor) {
   for (int i = 0; i < model.inputs; ++i) {
     ElementEstimate& el = model.element(output, i);
     el.std_error.gain *= factor(i);
@@ -107,7 +107,7 @@ double widen_row_for_coloured_residual(IdentifiedModel& model, int output, const
     if (white > 0.0 && hac(c, c) > white)
       factor(s.used[static_cast<std::size_t>(c)]) = std::sqrt(hac(c, c) / white);
   }
-  widen_row_gains(model, output, factor);
+  scale_row_gain_ses(model, output, factor);
   return factor.maxCoeff();
 }
 

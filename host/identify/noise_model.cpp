@@ -146,7 +146,7 @@ double widen_for_noise_parameters(IdentifiedModel& model, int output, const Eige
     if (known(c) > 0.0 && estimated(c) > known(c))
       factor(s.used[static_cast<std::size_t>(c)]) = std::sqrt(estimated(c) / known(c));
   }
-  widen_row_gains(model, output, factor);
+  scale_row_gain_ses(model, output, factor);
   return factor.maxCoeff();
 }
 

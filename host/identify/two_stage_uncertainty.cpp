@@ -4,32 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "host/identify/gain_sensitivity.hpp"
 
 namespace excite::host {
 namespace {
-
-// X with each segment's rows in reverse order: the adjoint of a causal filter run per segment
-// from rest is reversal, the filter, reversal.
-Eigen::MatrixXd reversed_in_segments(const Eigen::MatrixXd& X,
-                                     const std::vector<Segment>& segments) {
-  Eigen::MatrixXd out(X.rows(), X.cols());
-  for (const Segment& s : segments) {
-    const Eigen::Index n = s.end - s.begin;
-    out.middleRows(s.begin, n) = X.middleRows(s.begin, n).colwise().reverse();
-  }
-  return out;
-}
-
-// Each column of X through element (output, input), its gain included.
-Eigen::MatrixXd through_element(const IdentifiedModel& model, int output, int input,
-                                const Eigen::MatrixXd& X, const std::vector<Segment>& segments) {
-  const sim::DiscreteTerm g = discretise(model.element(output, input).value, model.sample_time_min);
-  Eigen::MatrixXd out(X.rows(), X.cols());
-  for (Eigen::Index c = 0; c < X.cols(); ++c) out.col(c) = element_output(g, X.col(c), segments);
-  return out;
-}
 
 // ∂ŷ_o/∂θ on Uf for the row's estimated elements' free parameters other than K that are
 // neither on a bound nor without an SE (central differences, step 1e-4·max(|θ|, 1), kept in
@@ -66,60 +46,86 @@ Eigen::MatrixXd other_parameter_sensitivities(const IdentifiedModel& model, int 
   return out;
 }
 
-}  // namespace
-
-Eigen::VectorXd count_stage1_in_row(IdentifiedModel& model, int output, const Eigen::MatrixXd& U,
-                                    const Eigen::MatrixXd& u_hat, const Eigen::VectorXd& y,
-                                    const ArNoiseModel& noise, const SampleLayout& layout,
-                                    const ReferenceProjection& P) {
-  Eigen::VectorXd factor = Eigen::VectorXd::Ones(model.inputs);
-  const std::vector<Segment>& segments = layout.segments;
-  const SampleLayout scored = prefiltered_layout(layout, noise.order());
-  const Eigen::MatrixXd Uf = prefilter(u_hat, noise, layout);
+// ∂ŷ_o/∂θ on Uf: the gains' sensitivities (their inputs in `used`), then the other parameters'.
+Eigen::MatrixXd row_sensitivities(const IdentifiedModel& model, int output,
+                                  const Eigen::MatrixXd& Uf, const std::vector<Segment>& segments,
+                                  std::vector<int>& used) {
   RowGainSensitivity s = row_gain_sensitivity(model, output, Uf, segments);
-  if (s.used.empty()) return factor;
-  // J: the gains' sensitivities first, then the row's other parameters'.
+  used = s.used;
   const Eigen::MatrixXd more = other_parameter_sensitivities(model, output, Uf, segments);
   Eigen::MatrixXd J(s.X.rows(), s.X.cols() + more.cols());
   J << s.X, more;
-  // ε: stage 2's prediction error, A_o(v + G(u − û)) at the truth; ε_u: the estimate's on the
-  // applied u, the disturbance's part of it.
-  const Eigen::VectorXd yf = prefilter(y, noise, layout);
-  Eigen::VectorXd e = yf - simulate_row(model, output, Uf, segments);
-  Eigen::VectorXd e_u = yf - simulate_row(model, output, prefilter(U, noise, layout), segments);
-  for (Eigen::Index k = 0; k < e.size(); ++k) {
-    if (scored.weight(k) == 0.0 || !std::isfinite(e(k)) || !std::isfinite(e_u(k))) {
-      e(k) = 0.0;
-      e_u(k) = 0.0;
-      J.row(k).setZero();
+  return J;
+}
+
+// Row `output` linearised about stage 2's estimate on the data prefiltered by `noise`; rows
+// not scored (or not finite) are zero in all three.
+struct RowLinearisation {
+  std::vector<int> used;  // the inputs of Z's first columns, the gains
+  Eigen::MatrixXd Z;      // the sensitivities on û: the instruments
+  Eigen::MatrixXd J_u;    // the same on the applied u
+  Eigen::VectorXd e_u;    // the prediction error on the applied u
+};
+
+RowLinearisation linearise_row(const IdentifiedModel& model, int output, const Eigen::MatrixXd& U,
+                               const Eigen::MatrixXd& u_hat, const Eigen::VectorXd& y,
+                               const ArNoiseModel& noise, const SampleLayout& layout) {
+  const std::vector<Segment>& segments = layout.segments;
+  const Eigen::MatrixXd Uf = prefilter(u_hat, noise, layout);
+  const Eigen::MatrixXd Uuf = prefilter(U, noise, layout);
+  RowLinearisation row;
+  row.Z = row_sensitivities(model, output, Uf, segments, row.used);
+  std::vector<int> same;
+  row.J_u = row_sensitivities(model, output, Uuf, segments, same);
+  row.e_u = prefilter(y, noise, layout) - simulate_row(model, output, Uuf, segments);
+  const SampleLayout scored = prefiltered_layout(layout, noise.order());
+  for (Eigen::Index k = 0; k < row.e_u.size(); ++k) {
+    if (scored.weight(k) == 0.0 || !std::isfinite(row.e_u(k)) || !row.Z.row(k).allFinite() ||
+        !row.J_u.row(k).allFinite()) {
+      row.e_u(k) = 0.0;
+      row.Z.row(k).setZero();
+      row.J_u.row(k).setZero();
     }
   }
-  const Eigen::Index q = J.cols();
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(J.transpose() * J);
-  if (ldlt.info() != Eigen::Success) return factor;
-  const Eigen::MatrixXd inv = ldlt.solve(Eigen::MatrixXd::Identity(q, q));
-  // Aᵀ J, in each segment's reversed time (reversal, A, then each element, reversal).
-  const Eigen::MatrixXd back = prefilter(reversed_in_segments(J, segments), noise, layout);
-  Eigen::MatrixXd influence = J.array().colwise() * e_u.array();  // j_k ε_u,k, then + h_k w_k
-  for (int i = 0; i < model.inputs; ++i) {
-    if (!model.element(output, i).estimated()) continue;
-    const Eigen::MatrixXd adjoint =
-        reversed_in_segments(through_element(model, output, i, back, segments), segments);
-    const Eigen::MatrixXd h = adjoint - P(adjoint);
-    const Eigen::VectorXd w = U.col(i) - u_hat.col(i);
-    influence += (h.array().colwise() * w.array()).matrix();
-  }
-  const Eigen::Index L = default_long_run_lags(e.size());
-  const Eigen::MatrixXd own = J.array().colwise() * e.array();  // stage 2's: j_k ε_k
-  const Eigen::VectorXd stage2 = (inv * long_run_covariance(own, L) * inv).diagonal();
-  const Eigen::VectorXd both = (inv * long_run_covariance(influence, L) * inv).diagonal();
-  for (std::size_t c = 0; c < s.used.size(); ++c) {
+  return row;
+}
+
+}  // namespace
+
+InstrumentStep instrument_step_in_row(IdentifiedModel& model, int output, const Eigen::MatrixXd& U,
+                                      const Eigen::MatrixXd& u_hat, const Eigen::VectorXd& y,
+                                      const SampleLayout& layout, int max_noise_order) {
+  InstrumentStep out{Eigen::VectorXd::Zero(model.inputs), Eigen::VectorXd::Ones(model.inputs)};
+  // The step's prefilter: the noise model of the error on the applied u, v's at the truth
+  // (stage 2's describes v + G(u − û)).
+  const ArNoiseModel applied =
+      fit_ar_noise(y - simulate_row(model, output, U, layout.segments), layout, max_noise_order);
+  const RowLinearisation row = linearise_row(model, output, U, u_hat, y, applied, layout);
+  if (row.used.empty()) return out;
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(row.Z.transpose() * row.J_u);
+  if (!(lu.rcond() > 1e-12)) return out;
+  const Eigen::MatrixXd A_inv = lu.inverse();
+  const Eigen::VectorXd step = A_inv * (row.Z.transpose() * row.e_u);
+  const Eigen::MatrixXd score = row.Z.array().colwise() * row.e_u.array();  // z_k ε_u,k
+  const Eigen::Index L = default_long_run_lags(row.e_u.size());
+  const Eigen::VectorXd iv = (A_inv * long_run_covariance(score, L) * A_inv.transpose()).diagonal();
+  for (std::size_t c = 0; c < row.used.size(); ++c) {
     const auto k = static_cast<Eigen::Index>(c);
-    if (stage2(k) > 0.0 && std::isfinite(both(k)) && both(k) > stage2(k))
-      factor(s.used[c]) = std::sqrt(both(k) / stage2(k));
+    const int i = row.used[c];
+    ElementEstimate& el = model.element(output, i);
+    const double own = el.std_error.gain;
+    if (!std::isfinite(step(k)) || !(iv(k) > 0.0) || !std::isfinite(iv(k)) || !(own > 0.0))
+      continue;
+    out.gain_step(i) = step(k);
+    out.se_factor(i) = std::sqrt(iv(k) + el.profile_variance) / own;
+    el.value.gain += step(k);
+    if (el.projected_gain) {
+      el.projected_gain->bounds.lower += step(k);
+      el.projected_gain->bounds.upper += step(k);
+    }
   }
-  widen_row_gains(model, output, factor);
-  return factor;
+  scale_row_gain_ses(model, output, out.se_factor);
+  return out;
 }
 
 }  // namespace excite::host

@@ -37,13 +37,24 @@ TEST_F(ClosedLoopCommands, SimulateWritesV4AndIdentifyChoosesTheTwoStageMethodFr
   EXPECT_EQ(j.at("closed_loop").at("method"), "two-stage");
   EXPECT_EQ(j.at("closed_loop").at("excitation"), "setpoint");
   EXPECT_EQ(j.at("closed_loop").at("direct").at("gain").size(), 2U);
-  // The two-stage SEs count stage 1's error, and the run says by how much.
-  EXPECT_TRUE(contains(id.out, "two-stage gain SEs with stage 1's error counted: "));
-  const nlohmann::json& factor = j.at("closed_loop").at("stage1").at("two_stage_se_factor");
+  // The two-stage gains are finished by the instrumental-variable step, and the run says by
+  // how much they and their SEs moved.
+  EXPECT_TRUE(contains(id.out,
+                       "two-stage gains finished by an instrumental-variable step on "
+                       "the applied u: |dK| up to "))
+      << id.out;
+  const nlohmann::json& stage1 = j.at("closed_loop").at("stage1");
+  const nlohmann::json& factor = stage1.at("two_stage_se_factor");
+  const nlohmann::json& step = stage1.at("iv_gain_step");
   ASSERT_EQ(factor.size(), 2U);
-  for (const auto& row : factor) {
-    ASSERT_EQ(row.size(), 2U);
-    for (const auto& f : row) EXPECT_GT(f.get<double>(), 0.0);
+  ASSERT_EQ(step.size(), 2U);
+  for (std::size_t o = 0; o < 2; ++o) {
+    ASSERT_EQ(factor[o].size(), 2U);
+    ASSERT_EQ(step[o].size(), 2U);
+    for (std::size_t i = 0; i < 2; ++i) {
+      EXPECT_GT(factor[o][i].get<double>(), 0.0);
+      EXPECT_NE(step[o][i].get<double>(), 0.0);  // every gain moved
+    }
   }
   // Each output's noise model by name, and its number of parameters.
   EXPECT_TRUE(contains(id.out, "noise model (by BIC: white, AR(n) or ARMA(1,1)): y1 ")) << id.out;

@@ -33,8 +33,9 @@ nlohmann::json model_json(const IdentificationResult& result,
 /// The model file's `closed_loop` block for a model identified from a closed-loop run (issue 41
 /// §3): {"method": the model written ("two-stage" or "direct"), "excitation", "controller",
 /// "stage1": {"laguerre_functions" per r channel, "laguerre_pole" (0: a FIR of as many
-/// lags), "u_explained_by_r_percent": per input, "two_stage_se_factor": per output, per input
-/// (ClosedLoopIdentification::stage1_se_factor)}, the other method's
+/// lags), "u_explained_by_r_percent": per input, "two_stage_se_factor" and "iv_gain_step":
+/// per output, per input (ClosedLoopIdentification::stage1_se_factor, iv_gain_step)}, the
+/// other method's
 /// {"gain", "gain_std_error"} under its name ("direct" or "two_stage"), the cross-check, and
 /// "feedback_bias_suspected": [{"element", "two_stage", "direct", "sigma"}…]}. One writer for
 /// `excite identify` and the closed-loop campaign.

@@ -16,7 +16,10 @@
 //              lags); û is uncorrelated with v because r is (excite generates r);
 //     stage 2  the same prediction-error fit on (û, y): y = G û + (G (u − û) + v), whose
 //              error term is uncorrelated with û, so the estimate is consistent whatever
-//              noise model it carries (it needs the loop linear in r).
+//              noise model it carries when the loop is linear in r;
+//     then     one instrumental-variable step on the gains, with stage 2's sensitivities on
+//              û as instruments and the error on the applied u (two_stage_uncertainty.hpp):
+//              consistent when the loop is not linear in r either (the MVs' clamps).
 // Where the two G(0) disagree beyond 2σ (the two standard errors combined), feedback bias is
 // suspected in that element.
 
@@ -79,14 +82,14 @@ double choose_stage1_pole(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, in
 /// Stage 1: û = the least-squares projection of each column of U (N × n) on `lags`
 /// Laguerre functions (pole `pole`; negative: choose_stage1_pole) of every column of R
 /// (N × m), rows before 0 taken as 0 (at rest). `lags` 0: the default, min(200, max(20,
-/// N / (8·m))). Throws std::invalid_argument (one message form) when the sizes differ, R is
+/// N / (32·m))). Throws std::invalid_argument (one message form) when the sizes differ, R is
 /// zero throughout, or lags·m ≥ N / 2.
 Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags = 0,
                                double pole = -1.0);
 /// Stage 1 with P_Φ built (U's rows must be P's).
 Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const ReferenceProjection& P);
 
-/// The default stage-1 lags for N rows and m r channels: min(200, max(20, N / (8·m))).
+/// The default stage-1 lags for N rows and m r channels: min(200, max(20, N / (32·m))).
 int default_stage1_lags(Eigen::Index rows, Eigen::Index channels);
 
 /// An element whose two G(0) estimates disagree beyond k·σ, σ = √(SE₁² + SE₂²).
@@ -101,9 +104,10 @@ struct ClosedLoopIdentification {
   Stage1Fit stage1;
   double se_widening_two_stage = 1.0;  // NoiseModelFit::se_widening of each
   double se_widening_direct = 1.0;
-  // p × n: the factor counting stage 1's error put on each two-stage gain SE (≥ 1;
-  // two_stage_uncertainty.hpp; 1 where none was applied)
+  // p × n: each two-stage gain's SE after the instrumental-variable step over stage 2's own,
+  // and the step ΔK (two_stage_uncertainty.hpp; 1 and 0 where none was taken)
   Eigen::MatrixXd stage1_se_factor;
+  Eigen::MatrixXd iv_gain_step;
   IdentificationResult two_stage;               // on (û, y): the estimate
   IdentificationResult direct;                  // on (u, y): the cross-check
   std::vector<ArNoiseModel> noise_two_stage;    // per output, each fit's noise model
@@ -120,17 +124,18 @@ std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& two_stag
 /// experiment's, which need no direct fit beside it).
 struct TwoStageFit {
   Stage1Fit stage1;
-  NoiseModelFit fit;  // on (û, y); its gain SEs and gain_uncertainty count stage 1's error
-  // p × n: the factor counting stage 1's error put on each gain SE (≥ 1;
-  // two_stage_uncertainty.hpp; 1 where none was applied)
+  NoiseModelFit fit;  // on (û, y), its gains, SEs and gain_uncertainty after the IV step
+  // p × n: each gain's SE after the instrumental-variable step over stage 2's own, and the
+  // step ΔK (two_stage_uncertainty.hpp; 1 and 0 where none was taken)
   Eigen::MatrixXd stage1_se_factor;
+  Eigen::MatrixXd iv_gain_step;
 };
 
 /// Stage 1 (û = P_Φ U; `stage1_lags` and `stage1_pole` as in project_on_reference), then the
 /// prediction-error fit with a noise model per output on (û, Y) (noise_model.hpp), each
-/// row's gain SEs widened for stage 1's error (count_stage1_in_row) and G(0)'s uncertainty
-/// (gain_uncertainty) formed again from them. Throws what identify() and stage 1 throw, and
-/// std::invalid_argument when R's rows are not U's.
+/// row's gains finished by one instrumental-variable step with their SEs
+/// (instrument_step_in_row), and G(0)'s uncertainty (gain_uncertainty) formed again from them.
+/// Throws what identify() and stage 1 throw, and std::invalid_argument when R's rows are not U's.
 TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
                                const Eigen::MatrixXd& Y, double T_min, const SampleLayout& layout,
                                const IdentifyOptions& options = {}, int stage1_lags = 0,
@@ -142,8 +147,8 @@ TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& 
 /// two-stage estimate, on (u, y) the direct one — consistent in closed loop when the noise model
 /// describes the disturbance (the output-error direct fit is not, with a coloured one). The gain
 /// standard errors allow for the estimated noise model and for the colour left in the residual, and
-/// the two-stage ones for stage 1's error in û (identify_two_stage). Throws what identify() and
-/// stage 1 throw.
+/// the two-stage ones come from the instrumental-variable step (identify_two_stage). Throws what
+/// identify() and stage 1 throw.
 ClosedLoopIdentification identify_closed_loop(
     const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, const Eigen::MatrixXd& Y, double T_min,
     const SampleLayout& layout, const IdentifyOptions& options = {}, int stage1_lags = 0,

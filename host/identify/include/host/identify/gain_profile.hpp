@@ -140,7 +140,8 @@ double row_dof(const RowProblem& row, const MisoResult& fit);
 void widen_along_ridge(MisoResult& fit, int e, const GainInterval& interval);
 
 /// The row's gain covariance plus alpha·d dᵀ (nothing for alpha ≤ 0); every element's
-/// std_error.gain, its covariance's gain entry and weak_gain status follow (never narrowed).
+/// std_error.gain, its covariance's gain entry, profile_variance (what was added) and
+/// weak_gain status follow (never narrowed).
 void add_gain_variance(MisoResult& fit, const Eigen::VectorXd& direction, double alpha);
 
 }  // namespace excite::host

@@ -34,9 +34,9 @@ RowGainSensitivity row_gain_sensitivity(const IdentifiedModel& model, int output
                                         const Eigen::MatrixXd& U,
                                         const std::vector<Segment>& segments);
 
-/// Multiplies the standard error of K_{output, i} by factor(i) (each ≥ 1) for every input i,
+/// Multiplies the standard error of K_{output, i} by factor(i) (each > 0) for every input i,
 /// with the element's covariance row and column and the row's gain covariance.
-void widen_row_gains(IdentifiedModel& model, int output, const Eigen::VectorXd& factor);
+void scale_row_gain_ses(IdentifiedModel& model, int output, const Eigen::VectorXd& factor);
 
 /// The Bartlett-weighted long-run covariance of the rows g_k of g (Newey and West,
 /// Econometrica 55 (1987) 703): Σ_{|l|≤L} (1 − |l|/(L+1)) Σ_k g_k g_{k−l}ᵀ, L = max_lag.

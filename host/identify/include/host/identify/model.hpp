@@ -62,6 +62,9 @@ struct ElementEstimate {
   /// columns for a parameter on a bound, not estimated or not in the structure.
   using Covariance = Eigen::Matrix<double, kParameters, kParameters>;
   Covariance covariance = Covariance::Constant(std::numeric_limits<double>::quiet_NaN());
+  /// The gain variance a χ²₁ profile added to the linearised one where the data do not
+  /// determine the gain (gain_profile.hpp, add_gain_variance); 0 elsewhere.
+  double profile_variance = 0.0;
   /// The gain's 95 % interval where a projection reaches it (gain_profile.hpp,
   /// project_gains_near_zero); empty elsewhere.
   std::optional<ProjectedGain> projected_gain;

@@ -1,41 +1,46 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// The two-stage estimate's gain standard errors with stage 1's error counted (issue 41 §3;
-// closed_loop.hpp; host/identify/README.md, "The two-stage standard errors").
+// The two-stage estimate's gains, finished by one instrumental-variable step, and their
+// standard errors (issue 41 §3; closed_loop.hpp; host/identify/README.md, "The two-stage
+// gains: an instrumental-variable step").
 //
-// Stage 2 fits y_o on û = P_Φ u, and û is itself an estimate: û = û* + P_Φ w, with û* the
-// part of u that r makes and w = u − û* the rest (under feedback, the controller's answer to
-// the disturbance, correlated with the output's noise). Linearised about the estimate, the
-// row's parameters move by θ̂ − θ = (JᵀJ)⁻¹ Σ_k s_k with
-//   s_k = j_k ε_u,k + h_k w_k,   h = (I − P_Φ) Σ_i G_oiᵀ A_oᵀ J,
-// J the row's sensitivities on the prefiltered data (row j_k, zero where not scored), ε_u =
-// A_o(y_o − Σ_i Ĝ_oi u_i) the prediction error on the applied inputs, A_o the row's noise
-// prefilter (noise_model.hpp) and G_oiᵀ the adjoint of element (o, i) (each segment run
-// backwards; h's columns pair with w_i). Stage 2's own error term is j_k ε_k, ε = ε_u +
-// A_o Ĝ(u − û); s is that minus what stage 1 adds through û, P_Φ G_oiᵀ A_oᵀ J·w, rearranged so
-// that each term pairs quantities at one k (two-step estimators: Murphy and Topel, J. Bus.
-// Econ. Stat. 3 (1985) 370; Newey and McFadden, Handbook of Econometrics IV (1994) §6.1).
+// Stage 2 fits y_o on û = P_Φ u. Its prediction error ε = A_o(y_o − Σ_i Ĝ_oi û_i) holds, besides
+// the noise, A_o Ĝ(u − û): the controller's answer to the noise, and the part of u that r makes
+// but û does not hold when the loop is not linear in r (the MVs' clamps). Stage 2 counts the
+// first as noise (its SEs are too wide), and the second is a bias, the same in every run with
+// this r. The estimating equation of the instrumental-variable method with r's part of the
+// loop as instruments (Söderström and Stoica, Instrumental Variable Methods for System
+// Identification, 1983; in closed loop: Gilson and Van den Hof, Automatica 41 (2005) 241)
+//   Σ_k z_k ε_u,k(θ) = 0,   ε_u = A_o(y_o − Σ_i G_oi(θ) u_i),   z_k = ∂ŷ_o/∂θ on û,
+// reads the error on the applied u, which is A_o v at the truth whatever the loop does, and z
+// is a function of r. Linearised about stage 2's estimate (J_u the sensitivities on u):
+//   Δθ = (Zᵀ J_u)⁻¹ Zᵀ ε_u,   Cov = (Zᵀ J_u)⁻¹ Ω (Zᵀ J_u)⁻ᵀ,
+// Ω the long-run covariance of z_k ε_u,k (long_run_covariance, default lags).
 
 #include <Eigen/Dense>
 
-#include "host/identify/closed_loop.hpp"
 #include "host/identify/noise_model.hpp"
 #include "host/identify/segments.hpp"
 
 namespace excite::host {
 
-/// Row `output` of a two-stage `model` (fitted on u_hat = P(U) with the row's noise model
-/// `noise`): each gain's SE widened by √(C₂/C₁)_KK where that exceeds 1, C = (JᵀJ)⁻¹ Ω (JᵀJ)⁻¹
-/// and Ω the long-run covariance (long_run_covariance, default lags) of s above (C₂) or of
-/// stage 2's own j_k ε_k (C₁). What stage 2 already counted (the noise model's parameters,
-/// the colour left in ε) stays in the SE. Never narrowed: with a dither that r does not make
-/// C₂ < C₁, but the residual that C₁ counts also carries what r makes and û misses, a bias
-/// (README). J holds the gains and, by central differences, the row's other free parameters
-/// that are neither on a bound nor without an SE. Returns the factors per input (1 where
-/// none was applied).
-Eigen::VectorXd count_stage1_in_row(IdentifiedModel& model, int output, const Eigen::MatrixXd& U,
-                                    const Eigen::MatrixXd& u_hat, const Eigen::VectorXd& y,
-                                    const ArNoiseModel& noise, const SampleLayout& layout,
-                                    const ReferenceProjection& P);
+/// What the step did to one row, per input (0 and 1 where it did nothing).
+struct InstrumentStep {
+  Eigen::VectorXd gain_step;  // ΔK
+  Eigen::VectorXd se_factor;  // the gain's SE after, over stage 2's own
+};
+
+/// Row `output` of a two-stage `model` (fitted on u_hat = û):
+/// each gain moved by the step above and its SE made √(Cov_KK + profile_variance), what a χ²₁
+/// profile added where stage 2 could not tell the gain's dynamics (gain_profile.hpp). The
+/// step's prefilter A_o is the noise model (fit_ar_noise, orders up to `max_noise_order`) of
+/// the error on the applied u, y_o − Σ_i Ĝ_oi u_i (v's at the truth; stage 2's noise model
+/// describes v + G(u − û)). The dynamics stay stage 2's (they do not move K), and so do its
+/// grades and residual tests; a projected interval (gain_profile.hpp) moves with its gain.
+/// Z and J_u hold the gains and, by central differences, the row's other free parameters
+/// that are neither on a bound nor without an SE. Nothing moves where ZᵀJ_u is singular.
+InstrumentStep instrument_step_in_row(IdentifiedModel& model, int output, const Eigen::MatrixXd& U,
+                                      const Eigen::MatrixXd& u_hat, const Eigen::VectorXd& y,
+                                      const SampleLayout& layout, int max_noise_order);
 
 }  // namespace excite::host
