@@ -296,7 +296,7 @@ void add_identify_command(CLI::App& app) {
       ->check(CLI::Range(1, 10));
   cmd->add_option("--stage1-lags", opt->stage1_lags,
                   "two-stage: Laguerre functions of each r channel in stage 1 (0: min(200, "
-                  "max(20, N/(32 m))))")
+                  "max(20, N/(8 m))))")
       ->capture_default_str()
       ->check(CLI::Range(0, 2000));
   cmd->add_option("--stage1-pole", opt->stage1_pole,

@@ -12,6 +12,10 @@
 namespace excite::host {
 
 int default_stage1_lags(Eigen::Index rows, Eigen::Index channels) {
+  return static_cast<int>(std::clamp<Eigen::Index>(rows / (8 * channels), 20, 200));
+}
+
+int default_instrument_lags(Eigen::Index rows, Eigen::Index channels) {
   return static_cast<int>(std::clamp<Eigen::Index>(rows / (32 * channels), 20, 200));
 }
 
@@ -170,6 +174,14 @@ std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& a, const
   return out;
 }
 
+Eigen::MatrixXd instrument_inputs(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
+                                  int stage1_lags) {
+  const int lags =
+      std::min(default_instrument_lags(R.rows(), R.cols()),
+               stage1_lags > 0 ? stage1_lags : default_stage1_lags(R.rows(), R.cols()));
+  return ReferenceProjection(R, lags, choose_stage1_pole(U, R, lags))(U);
+}
+
 TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
                                const Eigen::MatrixXd& Y, double T_min, const SampleLayout& layout,
                                const IdentifyOptions& options, int stage1_lags,
@@ -181,9 +193,10 @@ TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& 
   IdentifiedModel& model = out.fit.result.model;
   out.stage1_se_factor.resize(model.outputs, model.inputs);
   out.iv_gain_step.resize(model.outputs, model.inputs);
+  const Eigen::MatrixXd u_iv = instrument_inputs(U, R, P.lags());
   for (int o = 0; o < model.outputs; ++o) {
     const InstrumentStep step =
-        instrument_step_in_row(model, o, U, out.stage1.u_hat, Y.col(o), layout, noise.max_order);
+        instrument_step_in_row(model, o, U, u_iv, Y.col(o), layout, noise.max_order);
     out.stage1_se_factor.row(o) = step.se_factor.transpose();
     out.iv_gain_step.row(o) = step.gain_step.transpose();
   }

@@ -62,16 +62,16 @@ Eigen::MatrixXd row_sensitivities(const IdentifiedModel& model, int output,
 // not scored (or not finite) are zero in all three.
 struct RowLinearisation {
   std::vector<int> used;  // the inputs of Z's first columns, the gains
-  Eigen::MatrixXd Z;      // the sensitivities on û: the instruments
+  Eigen::MatrixXd Z;      // the sensitivities on u_iv: the instruments
   Eigen::MatrixXd J_u;    // the same on the applied u
   Eigen::VectorXd e_u;    // the prediction error on the applied u
 };
 
 RowLinearisation linearise_row(const IdentifiedModel& model, int output, const Eigen::MatrixXd& U,
-                               const Eigen::MatrixXd& u_hat, const Eigen::VectorXd& y,
+                               const Eigen::MatrixXd& u_iv, const Eigen::VectorXd& y,
                                const ArNoiseModel& noise, const SampleLayout& layout) {
   const std::vector<Segment>& segments = layout.segments;
-  const Eigen::MatrixXd Uf = prefilter(u_hat, noise, layout);
+  const Eigen::MatrixXd Uf = prefilter(u_iv, noise, layout);
   const Eigen::MatrixXd Uuf = prefilter(U, noise, layout);
   RowLinearisation row;
   row.Z = row_sensitivities(model, output, Uf, segments, row.used);
@@ -93,14 +93,14 @@ RowLinearisation linearise_row(const IdentifiedModel& model, int output, const E
 }  // namespace
 
 InstrumentStep instrument_step_in_row(IdentifiedModel& model, int output, const Eigen::MatrixXd& U,
-                                      const Eigen::MatrixXd& u_hat, const Eigen::VectorXd& y,
+                                      const Eigen::MatrixXd& u_iv, const Eigen::VectorXd& y,
                                       const SampleLayout& layout, int max_noise_order) {
   InstrumentStep out{Eigen::VectorXd::Zero(model.inputs), Eigen::VectorXd::Ones(model.inputs)};
   // The step's prefilter: the noise model of the error on the applied u, v's at the truth
   // (stage 2's describes v + G(u − û)).
   const ArNoiseModel applied =
       fit_ar_noise(y - simulate_row(model, output, U, layout.segments), layout, max_noise_order);
-  const RowLinearisation row = linearise_row(model, output, U, u_hat, y, applied, layout);
+  const RowLinearisation row = linearise_row(model, output, U, u_iv, y, applied, layout);
   if (row.used.empty()) return out;
   const Eigen::PartialPivLU<Eigen::MatrixXd> lu(row.Z.transpose() * row.J_u);
   if (!(lu.rcond() > 1e-12)) return out;

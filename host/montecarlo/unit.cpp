@@ -11,6 +11,7 @@
 #include "host/design/case_studies.hpp"
 #include "host/identify/closed_loop.hpp"
 #include "host/identify/structure_search.hpp"
+#include "host/identify/two_stage_uncertainty.hpp"
 #include "host/identify/validate.hpp"
 #include "host/process/parallel.hpp"
 #include "host/simulate/simulate.hpp"
@@ -65,18 +66,25 @@ std::optional<IdentificationResult> identify_prefix(const Prepared& p, const Exp
   if (polish_only) options.start_use = IdentifyOptions::StartUse::polish;
   if (!p.config.closed_loop.on())
     return identify(e.U.topRows(rows), e.Y.topRows(rows), e.sample_time_min, options);
-  Eigen::MatrixXd U = e.U.topRows(rows);
-  if (R.size() > 0) {
-    const Eigen::Index lags = default_stage1_lags(rows, R.cols());
-    if (2 * lags * R.cols() >= rows || R.topRows(rows).cwiseAbs().maxCoeff() == 0.0)
-      return std::nullopt;
-    // Stage 1's error is not counted in these SEs (identify_two_stage does, at ~10 % more
-    // time): the criterion judges G(0) against the truth and reads no SE.
-    U = project_on_reference(U, R.topRows(rows)).u_hat;
+  const Eigen::MatrixXd U = e.U.topRows(rows);
+  const Eigen::MatrixXd Y = e.Y.topRows(rows);
+  const SampleLayout whole = SampleLayout::whole(rows);
+  if (R.size() == 0) {
+    return identify_with_noise_model(U, Y, e.sample_time_min, whole, options).result;
   }
-  return identify_with_noise_model(U, e.Y.topRows(rows), e.sample_time_min,
-                                   SampleLayout::whole(rows), options)
-      .result;
+  const Eigen::Index lags = default_stage1_lags(rows, R.cols());
+  if (2 * lags * R.cols() >= rows || R.topRows(rows).cwiseAbs().maxCoeff() == 0.0)
+    return std::nullopt;
+  // The two-stage estimate as identify_two_stage makes it: its gains, which the criterion
+  // judges, finished by the instrumental-variable step.
+  const Eigen::MatrixXd u_hat = project_on_reference(U, R.topRows(rows)).u_hat;
+  IdentificationResult fit =
+      identify_with_noise_model(u_hat, Y, e.sample_time_min, whole, options).result;
+  const Eigen::MatrixXd u_iv = instrument_inputs(U, R.topRows(rows));
+  for (int o = 0; o < fit.model.outputs; ++o)
+    instrument_step_in_row(fit.model, o, U, u_iv, Y.col(o), whole, NoiseModelOptions{}.max_order);
+  analyse_identified_gain(fit);
+  return fit;
 }
 
 }  // namespace

@@ -82,15 +82,28 @@ double choose_stage1_pole(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, in
 /// Stage 1: û = the least-squares projection of each column of U (N × n) on `lags`
 /// Laguerre functions (pole `pole`; negative: choose_stage1_pole) of every column of R
 /// (N × m), rows before 0 taken as 0 (at rest). `lags` 0: the default, min(200, max(20,
-/// N / (32·m))). Throws std::invalid_argument (one message form) when the sizes differ, R is
+/// N / (8·m))). Throws std::invalid_argument (one message form) when the sizes differ, R is
 /// zero throughout, or lags·m ≥ N / 2.
 Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R, int lags = 0,
                                double pole = -1.0);
 /// Stage 1 with P_Φ built (U's rows must be P's).
 Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const ReferenceProjection& P);
 
-/// The default stage-1 lags for N rows and m r channels: min(200, max(20, N / (32·m))).
+/// The default stage-1 lags for N rows and m r channels: min(200, max(20, N / (8·m))).
 int default_stage1_lags(Eigen::Index rows, Eigen::Index channels);
+
+/// The Laguerre functions per r channel of the instrumental-variable step's own projection
+/// (two_stage_uncertainty.hpp): min(200, max(20, N / (32·m))). With stage 1's N/8 regressors
+/// the instruments carry more of the controller's answer to the noise, and the step's SEs
+/// came out 10–30 % short (many instruments).
+int default_instrument_lags(Eigen::Index rows, Eigen::Index channels);
+
+/// The inputs the instrumental-variable step's instruments are formed on: U projected on
+/// min(default_instrument_lags, `stage1_lags`) Laguerre functions of every r channel
+/// (0: stage 1's default), their pole chosen by choose_stage1_pole. Throws what
+/// ReferenceProjection throws.
+Eigen::MatrixXd instrument_inputs(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
+                                  int stage1_lags = 0);
 
 /// An element whose two G(0) estimates disagree beyond k·σ, σ = √(SE₁² + SE₂²).
 struct GainDisagreement {

@@ -11,9 +11,11 @@
 // this r. The estimating equation of the instrumental-variable method with r's part of the
 // loop as instruments (Söderström and Stoica, Instrumental Variable Methods for System
 // Identification, 1983; in closed loop: Gilson and Van den Hof, Automatica 41 (2005) 241)
-//   Σ_k z_k ε_u,k(θ) = 0,   ε_u = A_o(y_o − Σ_i G_oi(θ) u_i),   z_k = ∂ŷ_o/∂θ on û,
+//   Σ_k z_k ε_u,k(θ) = 0,   ε_u = A_o(y_o − Σ_i G_oi(θ) u_i),   z_k = ∂ŷ_o/∂θ on u_iv,
 // reads the error on the applied u, which is A_o v at the truth whatever the loop does, and z
-// is a function of r. Linearised about stage 2's estimate (J_u the sensitivities on u):
+// is a function of r: u_iv is u projected on r's Laguerre functions as û is, on fewer of them
+// (closed_loop.hpp, instrument_inputs). Linearised about stage 2's estimate (J_u the sensitivities
+// on u):
 //   Δθ = (Zᵀ J_u)⁻¹ Zᵀ ε_u,   Cov = (Zᵀ J_u)⁻¹ Ω (Zᵀ J_u)⁻ᵀ,
 // Ω the long-run covariance of z_k ε_u,k (long_run_covariance, default lags).
 
@@ -30,7 +32,7 @@ struct InstrumentStep {
   Eigen::VectorXd se_factor;  // the gain's SE after, over stage 2's own
 };
 
-/// Row `output` of a two-stage `model` (fitted on u_hat = û):
+/// Row `output` of a two-stage `model`, the instruments formed on `u_iv` (instrument_inputs):
 /// each gain moved by the step above and its SE made √(Cov_KK + profile_variance), what a χ²₁
 /// profile added where stage 2 could not tell the gain's dynamics (gain_profile.hpp). The
 /// step's prefilter A_o is the noise model (fit_ar_noise, orders up to `max_noise_order`) of
@@ -40,7 +42,7 @@ struct InstrumentStep {
 /// Z and J_u hold the gains and, by central differences, the row's other free parameters
 /// that are neither on a bound nor without an SE. Nothing moves where ZᵀJ_u is singular.
 InstrumentStep instrument_step_in_row(IdentifiedModel& model, int output, const Eigen::MatrixXd& U,
-                                      const Eigen::MatrixXd& u_hat, const Eigen::VectorXd& y,
+                                      const Eigen::MatrixXd& u_iv, const Eigen::VectorXd& y,
                                       const SampleLayout& layout, int max_noise_order);
 
 }  // namespace excite::host
