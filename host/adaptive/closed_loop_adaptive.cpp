@@ -186,7 +186,7 @@ class ClosedLoopTest {
     Reestimate e = new_estimate(result_, after_segment);
     const SampleLayout whole = SampleLayout::whole(result_.U.rows());
     const double T = result_.sample_time_min;
-    // The stop rule reads the gain SEs: the two-stage ones count stage 1's error.
+    // The stop rule reads the gain SEs: the two-stage ones are the IV step's.
     e.result = o_.two_stage
                    ? identify_two_stage(result_.U, R_, result_.Y, T, whole, identify_).fit.result
                    : identify_with_noise_model(result_.U, result_.Y, T, whole, identify_).result;

@@ -57,7 +57,7 @@ ClosedLoopRun run_closed_loop_experiment(const Design& design, const PresetInfo&
     identify_options.max_time_constant_min = options.max_time_constant_min;
   // Only the estimate asked for (identify_closed_loop's two fits cost twice as much): the
   // prediction-error fit with its noise model on u (direct) or on stage 1's û (two-stage,
-  // its SEs counting stage 1's error).
+  // its gains and SEs from the instrumental-variable step).
   e.identified =
       options.direct
           ? identify_with_noise_model(e.U, e.Y, e.sample_time_min, e.layout, identify_options)

@@ -279,8 +279,8 @@ TEST(TwoStage, TheInstrumentStepTakesOutTheBiasAClampedMvLeavesInStage2) {
   EXPECT_LT(clamped.rms_se / clamped.sd, 1.4);
 }
 
-TEST(TwoStage, ItsGainUncertaintyIsFormedFromTheSesWithStage1Counted) {
-  // GIVEN one run of the loop above, where stage 1's error widens the SE.
+TEST(TwoStage, ItsGainUncertaintyIsFormedFromTheInstrumentStepsSes) {
+  // GIVEN one run of the loop above, where the instrumental-variable step widens stage 2's SE.
   constexpr Eigen::Index kN = 1000;
   IdentifyOptions options;
   options.structure = Structure::first_order;
@@ -291,14 +291,14 @@ TEST(TwoStage, ItsGainUncertaintyIsFormedFromTheSesWithStage1Counted) {
   const TwoStageFit alone = identify_two_stage(run.U, run.R, run.Y, 1.0, whole, options, 30);
   const ClosedLoopIdentification both =
       identify_closed_loop(run.U, run.R, run.Y, 1.0, whole, options, 30);
-  // THEN the two are one estimate, its SE widened by the factor …
+  // THEN the two are one estimate, its SE the step's …
   const ElementEstimate& g = alone.fit.result.model.element(0, 0);
   EXPECT_EQ(g.value.gain, both.two_stage.model.element(0, 0).value.gain);
   EXPECT_EQ(g.std_error.gain, both.two_stage.model.element(0, 0).std_error.gain);
   ASSERT_EQ(alone.stage1_se_factor.size(), 1);
   EXPECT_GT(alone.stage1_se_factor(0, 0), 1.2);
   // … and G(0)'s uncertainty, what the adaptive test's stop rule reads, is formed from the
-  // widened SE (1 × 1: σ = |K|, SE(σ) = SE(K)), not from stage 2's own.
+  // step's SE (1 × 1: σ = |K|, SE(σ) = SE(K)), not from stage 2's own.
   ASSERT_TRUE(alone.fit.result.gain_uncertainty.has_value());
   EXPECT_NEAR(alone.fit.result.gain_uncertainty->singular_value_se(0), g.std_error.gain,
               1e-9 * g.std_error.gain);

@@ -85,8 +85,8 @@ TEST(ClosedLoopAdaptive, WoodBerryUnderPiStopsByTheRuleAfterReAimedSegments) {
 }
 
 TEST(ClosedLoopAdaptive, TheTwoStageEstimatesTheRuleReadsAreFinishedByTheInstrumentStep) {
-  // GIVEN the two-stage estimate under a coloured disturbance, where stage 1's error widens
-  // the SEs (host/identify/two_stage_uncertainty.hpp).
+  // GIVEN the two-stage estimate under a coloured disturbance, its gains and SEs from the
+  // instrumental-variable step (host/identify/two_stage_uncertainty.hpp).
   WoodBerryUnderPi w(1, 0.3);
   ClosedLoopAdaptiveOptions o = limits_of_2();
   o.two_stage = true;

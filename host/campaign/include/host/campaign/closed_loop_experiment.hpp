@@ -40,9 +40,9 @@ struct ClosedLoopExperimentOptions {
 
 /// Runs `design` (a closed-loop plan: setpoint or MV dither) on `plant` under `controller`
 /// (both reset first by each run) and identifies the measured run. `true_gain`: the plant's
-/// G(0) analysis, for the balance. The two-stage estimate's gain SEs count stage 1's error
-/// (identify_two_stage). Throws what simulate_closed_loop, identify_two_stage and identify()
-/// throw.
+/// G(0) analysis, for the balance. The two-stage estimate's gains and SEs come from the
+/// instrumental-variable step (identify_two_stage). Throws what simulate_closed_loop,
+/// identify_two_stage and identify() throw.
 ClosedLoopRun run_closed_loop_experiment(const Design& design, const PresetInfo& preset,
                                          sim::Plant& plant, sim::control::Controller& controller,
                                          const ClosedLoopExperimentOptions& options,
