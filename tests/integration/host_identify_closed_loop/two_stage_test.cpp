@@ -126,8 +126,8 @@ TEST(TwoStage, UnbiasedWhereTheDirectFitIsBiasedUnderAColouredDisturbance) {
   // which the output-error fit reads as the plant's response …
   EXPECT_LT(direct_error.maxCoeff(), -0.10);
   // … while the two-stage estimate is not: its mean is within 2.5 of its own standard
-  // errors of the truth (measured −1, +1, +8, +7 %, the mean's SE 4–10 %: with no noise model
-  // the instrumental-variable step reads the whole disturbance; −2, −1, +4, +4 % before it).
+  // errors of the truth (measured −1, +1, +8, +7 %; with no noise model the instrumental-
+  // variable step reads the whole disturbance; −2, −1, +4, +4 % before it).
   // Skipping stage 1 (û = u) makes it the direct fit, and this fails.
   const Eigen::Matrix2d off = (m.two_stage - truth).cwiseAbs();
   EXPECT_TRUE((off.array() < 2.5 * m.two_stage_mean_se.array()).all()) << off << "\n"
