@@ -211,17 +211,6 @@ nlohmann::json element_json(const ElementEstimate& e, const std::string& input) 
 
 }  // namespace
 
-// X as an array of its rows (per output, per input).
-nlohmann::json rows_json(const Eigen::MatrixXd& X) {
-  nlohmann::json out = nlohmann::json::array();
-  for (Eigen::Index o = 0; o < X.rows(); ++o) {
-    nlohmann::json row = nlohmann::json::array();
-    for (Eigen::Index i = 0; i < X.cols(); ++i) row.push_back(X(o, i));
-    out.push_back(row);
-  }
-  return out;
-}
-
 nlohmann::json closed_loop_json(const ClosedLoopIdentification& id, const runlog::RunLog& log,
                                 bool direct_written) {
   nlohmann::json bias = nlohmann::json::array();
@@ -242,8 +231,8 @@ nlohmann::json closed_loop_json(const ClosedLoopIdentification& id, const runlog
        {{"laguerre_functions", id.stage1.lags},
         {"laguerre_pole", id.stage1.pole},
         {"u_explained_by_r_percent", fit},
-        {"two_stage_se_factor", rows_json(id.stage1_se_factor)},
-        {"iv_gain_step", rows_json(id.iv_gain_step)}}},
+        {"two_stage_se_factor", rows_to_json(id.stage1_se_factor)},
+        {"iv_gain_step", rows_to_json(id.iv_gain_step)}}},
       {"noise_model_orders",
        {{"two_stage", noise_orders(id.noise_two_stage)},
         {"direct", noise_orders(id.noise_direct)}}},
