@@ -40,7 +40,10 @@ struct InstrumentStep {
 /// describes v + G(u − û)). The dynamics stay stage 2's (they do not move K), and so do its
 /// grades and residual tests; a projected interval (gain_profile.hpp) moves with its gain.
 /// Z and J_u hold the gains and, by central differences, the row's other free parameters
-/// that are neither on a bound nor without an SE. Nothing moves where ZᵀJ_u is singular.
+/// that are neither on a bound nor without an SE, each column scaled to J_u's unit norm. An
+/// other parameter the instruments do not tell from the rest (the scaled ZᵀJ_u conditioned
+/// beyond 10⁶) is held at stage 2's value; nothing moves where the gains themselves are not
+/// determined.
 InstrumentStep instrument_step_in_row(IdentifiedModel& model, int output, const Eigen::MatrixXd& U,
                                       const Eigen::MatrixXd& u_iv, const Eigen::VectorXd& y,
                                       const SampleLayout& layout, int max_noise_order);
