@@ -79,6 +79,11 @@ Eigen::Index default_long_run_lags(Eigen::Index rows) {
   return std::min<Eigen::Index>(200, std::max<Eigen::Index>(1, rows / 10));
 }
 
+Eigen::Index whitened_long_run_lags(Eigen::Index rows) {
+  const double lags = 4.0 * std::pow(static_cast<double>(rows) / 100.0, 2.0 / 9.0);
+  return std::max<Eigen::Index>(1, static_cast<Eigen::Index>(lags));
+}
+
 double widen_row_for_coloured_residual(IdentifiedModel& model, int output, const Eigen::MatrixXd& U,
                                        const Eigen::VectorXd& y, const SampleLayout& layout,
                                        int max_lag) {

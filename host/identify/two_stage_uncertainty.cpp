@@ -142,7 +142,10 @@ InstrumentStep instrument_step_in_row(IdentifiedModel& model, int output, const 
   const Eigen::VectorXd step =
       scale.head(gains).asDiagonal() * (A_inv * (Z.transpose() * row.e_u)).head(gains);
   const Eigen::MatrixXd score = Z.array().colwise() * row.e_u.array();  // z_k ε_u,k
-  const Eigen::Index L = default_long_run_lags(row.e_u.size());
+  // Few lags where the prefilter whitened ε_u; without a noise model (output error) ε_u is
+  // the disturbance itself, and its colour needs the long window.
+  const Eigen::Index L = max_noise_order > 0 ? whitened_long_run_lags(row.e_u.size())
+                                             : default_long_run_lags(row.e_u.size());
   const Eigen::VectorXd iv = (A_inv * long_run_covariance(score, L) * A_inv.transpose())
                                  .diagonal()
                                  .head(gains)

@@ -12,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "host/identify/gain_sensitivity.hpp"
 #include "host/identify/gain_uncertainty.hpp"
 #include "host/identify/grade.hpp"
 #include "host/identify/residuals.hpp"
@@ -119,6 +120,30 @@ TEST(GainUncertainty, RefusesACovarianceWithANaN) {
 // A white residual passes both tests at about their 1 % level, whatever the input's colour:
 // a PRBS-like input held 16 samples is strongly autocorrelated (the independence test uses
 // its Toeplitz autocorrelation, not ±2.58/√N lag by lag).
+TEST(LongRunCovariance, TheWhitenedLagsAreNeweyAndWestsRuleAndSeeAShortCorrelation) {
+  // ⌊4 (N/100)^(2/9)⌋, at least one lag.
+  EXPECT_EQ(whitened_long_run_lags(4410), 9);
+  EXPECT_EQ(whitened_long_run_lags(2000), 7);
+  EXPECT_EQ(whitened_long_run_lags(100), 4);
+  EXPECT_EQ(whitened_long_run_lags(1), 1);
+  // An MA(1) score g_k = e_k + 0.5·e_{k−1}: its long-run variance is 1.5² = 2.25 per row,
+  // where its variance alone is 1.25. Bartlett over 9 lags expects 1.25 + 2·0.9·0.5 = 2.15.
+  constexpr Eigen::Index kN = 4000;
+  std::mt19937_64 g(11);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::MatrixXd score(kN, 1);
+  double before = normal(g);
+  for (Eigen::Index k = 0; k < kN; ++k) {
+    const double e = normal(g);
+    score(k, 0) = e + 0.5 * before;
+    before = e;
+  }
+  const double omega = long_run_covariance(score, whitened_long_run_lags(kN))(0, 0) / kN;
+  const double variance = long_run_covariance(score, 0)(0, 0) / kN;
+  EXPECT_NEAR(omega, 2.15, 0.15 * 2.15);
+  EXPECT_NEAR(variance, 1.25, 0.1 * 1.25);
+}
+
 TEST(ResidualTests, AWhiteResidualPassesAtAboutTheStatedLevelWithAHeldBinaryInput) {
   std::mt19937_64 rng(5);
   std::normal_distribution<double> z(0.0, 1.0);

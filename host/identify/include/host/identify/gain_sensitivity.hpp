@@ -45,6 +45,11 @@ Eigen::MatrixXd long_run_covariance(const Eigen::MatrixXd& g, Eigen::Index max_l
 /// The lags the long-run covariances here take by default over N rows: min(200, N/10).
 Eigen::Index default_long_run_lags(Eigen::Index rows);
 
+/// The lags for a score whose error its noise model has whitened: Newey and West's rule for
+/// the Bartlett kernel, ⌊4 (N/100)^(2/9)⌋ (Review of Economic Studies 61 (1994) 631), at
+/// least 1. More lags than the correlation left add only the estimate's own noise to Ω.
+Eigen::Index whitened_long_run_lags(Eigen::Index rows);
+
 /// Row `output`'s gain SEs widened (never narrowed) for a coloured residual: the sandwich
 /// ("HAC", Newey and West, Econometrica 55 (1987) 703) with Bartlett weights over `max_lag`
 /// lags (0: min(200, N/10)),

@@ -17,7 +17,8 @@
 // (closed_loop.hpp, instrument_inputs). Linearised about stage 2's estimate (J_u the sensitivities
 // on u):
 //   Δθ = (Zᵀ J_u)⁻¹ Zᵀ ε_u,   Cov = (Zᵀ J_u)⁻¹ Ω (Zᵀ J_u)⁻ᵀ,
-// Ω the long-run covariance of z_k ε_u,k (long_run_covariance, default lags).
+// Ω the long-run covariance of z_k ε_u,k (long_run_covariance, over whitened_long_run_lags;
+// default_long_run_lags when there is no noise model to whiten ε_u).
 
 #include <Eigen/Dense>
 
