@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "host/identify/two_stage_uncertainty.hpp"
 
@@ -182,6 +183,21 @@ Eigen::MatrixXd instrument_inputs(const Eigen::MatrixXd& U, const Eigen::MatrixX
   return ReferenceProjection(R, lags, choose_stage1_pole(U, R, lags))(U);
 }
 
+std::vector<Structure> lags_for_rates_not_told_from_zero(const IdentifiedModel& model) {
+  std::vector<Structure> structures;
+  bool any = false;
+  for (const ElementEstimate& e : model.elements) {
+    Structure s = e.estimated() ? e.value.structure : Structure::two_poles;
+    if (s == Structure::integrator && !(std::abs(e.value.gain) > 1.96 * e.std_error.gain)) {
+      s = Structure::first_order;
+      any = true;
+    }
+    structures.push_back(s);
+  }
+  if (!any) structures.clear();
+  return structures;
+}
+
 TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
                                const Eigen::MatrixXd& Y, double T_min, const SampleLayout& layout,
                                const IdentifyOptions& options, int stage1_lags,
@@ -189,16 +205,24 @@ TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& 
   TwoStageFit out;
   const ReferenceProjection P = stage1_projection(U, R, stage1_lags, stage1_pole);
   out.stage1 = project_on_reference(U, P);
-  out.fit = identify_with_noise_model(out.stage1.u_hat, Y, T_min, layout, options, noise);
-  IdentifiedModel& model = out.fit.result.model;
-  out.stage1_se_factor.resize(model.outputs, model.inputs);
-  out.iv_gain_step.resize(model.outputs, model.inputs);
   const Eigen::MatrixXd u_iv = instrument_inputs(U, R, P.lags());
-  for (int o = 0; o < model.outputs; ++o) {
-    const InstrumentStep step =
-        instrument_step_in_row(model, o, U, u_iv, Y.col(o), layout, noise.max_order);
-    out.stage1_se_factor.row(o) = step.se_factor.transpose();
-    out.iv_gain_step.row(o) = step.gain_step.transpose();
+  const auto stage2 = [&](const IdentifyOptions& o) {
+    out.fit = identify_with_noise_model(out.stage1.u_hat, Y, T_min, layout, o, noise);
+    IdentifiedModel& model = out.fit.result.model;
+    out.stage1_se_factor.resize(model.outputs, model.inputs);
+    out.iv_gain_step.resize(model.outputs, model.inputs);
+    for (int j = 0; j < model.outputs; ++j) {
+      const InstrumentStep step =
+          instrument_step_in_row(model, j, U, u_iv, Y.col(j), layout, noise.max_order);
+      out.stage1_se_factor.row(j) = step.se_factor.transpose();
+      out.iv_gain_step.row(j) = step.gain_step.transpose();
+    }
+  };
+  stage2(options);
+  if (!options.structure && options.structures.empty()) {
+    IdentifyOptions lags = options;
+    lags.structures = lags_for_rates_not_told_from_zero(out.fit.result.model);
+    if (!lags.structures.empty()) stage2(lags);
   }
   analyse_identified_gain(out.fit.result);
   return out;

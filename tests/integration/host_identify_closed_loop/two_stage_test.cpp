@@ -330,6 +330,30 @@ TEST(TwoStage, TheInstrumentStepIsTakenWhereTheInstrumentsCannotTellTwoParameter
   }
 }
 
+TEST(TwoStage, AnIntegratorWhoseRateTheStepDoesNotTellFromZeroIsFittedAgainAsALag) {
+  // GIVEN a 1 × 3 model as the step left it: an integrator at 0.4 SE from zero rate (as
+  // alatiqi4x4's G23 under its DMC), one at 5 SE, and an element not estimated.
+  IdentifiedModel m{3, 1, 1.0, {}, {}};
+  for (const auto& [rate, se] : {std::pair{2e-6, 5e-6}, std::pair{1e-3, 2e-4}}) {
+    ElementEstimate e;
+    e.value.structure = Structure::integrator;
+    e.value.gain = rate;
+    e.std_error.gain = se;
+    m.elements.push_back(e);
+  }
+  ElementEstimate none;
+  none.status = ElementStatus::input_not_moved;
+  m.elements.push_back(none);
+  // THEN stage 2 is to be fitted again with the first a first-order lag, the second still an
+  // integrator, the third two poles (as the Monte Carlo prefixes force it) …
+  EXPECT_EQ(lags_for_rates_not_told_from_zero(m),
+            (std::vector<Structure>{Structure::first_order, Structure::integrator,
+                                    Structure::two_poles}));
+  // … and with no such integrator, not again.
+  m.elements[0].std_error.gain = 1e-7;
+  EXPECT_TRUE(lags_for_rates_not_told_from_zero(m).empty());
+}
+
 TEST(TwoStage, ItsGainUncertaintyIsFormedFromTheInstrumentStepsSes) {
   // GIVEN one run of the loop above, where the instrumental-variable step widens stage 2's SE.
   constexpr Eigen::Index kN = 1000;

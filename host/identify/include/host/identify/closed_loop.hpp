@@ -144,10 +144,21 @@ struct TwoStageFit {
   Eigen::MatrixXd iv_gain_step;
 };
 
+/// Each element's structure in `model` (two poles where not estimated), row by row as
+/// IdentifyOptions::structures takes them, with every integrator whose rate the
+/// instrumental-variable step does not tell from zero (|K| ≤ 1.96·SE) made a first-order lag;
+/// empty when there is none. Stage 2 on û can find a rate that the error on the applied u
+/// does not hold: alatiqi4x4's G23 = −0.05 under its DMC, in 14 of 100 seeds, whose G(0) was
+/// then infinite (host/identify/README.md, "The two-stage gains").
+std::vector<Structure> lags_for_rates_not_told_from_zero(const IdentifiedModel& model);
+
 /// Stage 1 (û = P_Φ U; `stage1_lags` and `stage1_pole` as in project_on_reference), then the
 /// prediction-error fit with a noise model per output on (û, Y) (noise_model.hpp), each
 /// row's gains finished by one instrumental-variable step with their SEs
 /// (instrument_step_in_row), and G(0)'s uncertainty (gain_uncertainty) formed again from them.
+/// Where the step leaves an integrator's rate within 1.96 SE of zero, stage 2 and the step are
+/// made again with the structures of lags_for_rates_not_told_from_zero (not when `options`
+/// forces structures).
 /// Throws what identify() and stage 1 throw, and std::invalid_argument when R's rows are not U's.
 TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
                                const Eigen::MatrixXd& Y, double T_min, const SampleLayout& layout,
