@@ -149,7 +149,7 @@ struct TwoStageFit {
 /// instrumental-variable step does not tell from zero (|K| ≤ 1.96·SE) made a first-order lag;
 /// empty when there is none. Stage 2 on û can find a rate that the error on the applied u
 /// does not hold: alatiqi4x4's G23 = −0.05 under its DMC, in 14 of 100 seeds, whose G(0) was
-/// then infinite (host/identify/README.md, "The two-stage gains").
+/// then infinite (host/identify/README.md, "The reported 95 % interval").
 std::vector<Structure> lags_for_rates_not_told_from_zero(const IdentifiedModel& model);
 
 /// Stage 1 (û = P_Φ U; `stage1_lags` and `stage1_pole` as in project_on_reference), then the
