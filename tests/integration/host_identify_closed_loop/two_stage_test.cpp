@@ -319,8 +319,8 @@ TEST(TwoStage, TheInstrumentStepIsTakenWhereTheInstrumentsCannotTellTwoParameter
     const InstrumentStep step = instrument_step_in_row(row.model, 0, row.U, row.U, row.y,
                                                        SampleLayout::whole(row.U.rows()), 0);
     // THEN the gain moves back to the truth, within 3 of its new SE, and the SE is finite:
-    // the split is held at stage 2's value, and each parameter is measured in its own units.
-    // Before, ZᵀJ_u looked singular and nothing moved.
+    // the split is held at stage 2's value, and each parameter is scaled by its sensitivity.
+    // Before, in the parameters' own units, ZᵀJ_u looked singular and nothing moved.
     const ElementEstimate& e = row.model.element(0, 0);
     std::printf("K %.6g (truth %.6g), SE %.3g, step %+.3g\n", e.value.gain, gain, e.std_error.gain,
                 step.gain_step(0));
