@@ -95,7 +95,8 @@ int default_stage1_lags(Eigen::Index rows, Eigen::Index channels);
 /// The Laguerre functions per r channel of the instrumental-variable step's own projection
 /// (two_stage_uncertainty.hpp): min(200, max(20, N / (32·m))). With stage 1's N/8 regressors
 /// the instruments carry more of the controller's answer to the noise, and the step's SEs
-/// came out 10–30 % short (many instruments).
+/// came out 10–30 % short (many instruments; on alatiqi4x4 part of that was rows that took no
+/// step, and 12 functions there changed nothing: host/identify/README.md).
 int default_instrument_lags(Eigen::Index rows, Eigen::Index channels);
 
 /// The inputs the instrumental-variable step's instruments are formed on: U projected on
