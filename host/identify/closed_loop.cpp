@@ -218,9 +218,11 @@ TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& 
       out.iv_gain_step.row(j) = step.gain_step.transpose();
     }
   };
-  stage2(options);
+  IdentifyOptions on_u_hat = options;
+  on_u_hat.tied_gains = TiedGains::beyond_linearised;  // the step takes the gains' bias off
+  stage2(on_u_hat);
   if (!options.structure && options.structures.empty()) {
-    IdentifyOptions lags = options;
+    IdentifyOptions lags = on_u_hat;
     lags.structures = lags_for_rates_not_told_from_zero(out.fit.result.model);
     if (!lags.structures.empty()) stage2(lags);
   }

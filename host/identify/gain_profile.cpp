@@ -211,6 +211,7 @@ GainInterval walked(Walk& walk, int e) {
   Point high = low;
   if (!walk.better()) high = walk.side(+1, out.upper_bounded);
   out.fits = walk.fits();
+  out.root = walk.root();
   if (walk.better()) {
     out.better = std::move(walk.better());
     return out;
@@ -348,13 +349,14 @@ std::optional<GainInterval> projected_gain_interval(const RowProblem& row, const
   return out;
 }
 
-void project_gains_near_zero(const RowProblem& row, MisoResult& fit) {
+void project_gains_near_zero(const RowProblem& row, MisoResult& fit, TiedGains tied) {
   MisoResult widened = fit;  // the covariance the followers' intervals read
   std::vector<std::optional<GainBounds>> own(fit.elements.size());
   for (std::size_t e = 0; e < fit.elements.size(); ++e) {
     if (auto p = projected_gain_interval(row, fit, static_cast<int>(e))) {
       own[e] = GainBounds{p->lower, p->upper};
-      widen_along_ridge(widened, static_cast<int>(e), *p);
+      widen_along_ridge(widened, static_cast<int>(e), *p,
+                        tied == TiedGains::whole_projection ? kRoot : p->root);
     }
   }
   for (std::size_t e = 0; e < fit.elements.size(); ++e) {
@@ -415,9 +417,9 @@ void add_gain_variance(MisoResult& fit, const Eigen::VectorXd& direction, double
   }
 }
 
-void widen_along_ridge(MisoResult& fit, int e, const GainInterval& interval) {
+void widen_along_ridge(MisoResult& fit, int e, const GainInterval& interval, double root) {
   const double half = (interval.upper - interval.lower) / 2.0;
-  add_gain_variance(fit, interval.ridge, half * half / (kRoot * kRoot) - fit.gain_covariance(e, e));
+  add_gain_variance(fit, interval.ridge, half * half / (root * root) - fit.gain_covariance(e, e));
 }
 
 }  // namespace excite::host

@@ -189,6 +189,50 @@ TEST(GainProfile, AGainItsJointRegionDoesNotTellFromZeroGetsTheRegionsProjection
   EXPECT_GE(projected, 3);
 }
 
+// A gain the data tie to a projected one (its ridge, the regression of the row's gains on the
+// projected gain: 1.6 here) follows the projection (gain_profile.hpp, TiedGains): by its
+// whole width read as a χ²₁ interval (the direct fit), or only by what it adds beyond its
+// linearised joint region √χ²_p·SE (the two-stage estimate's stage 2). Hand-computed: the
+// small gain's SE 0.1, its projection 1.5 times its linearised region for p = 3.
+TEST(GainProfile, ATiedGainFollowsAProjectionByItsWholeWidthOrByWhatItAddsBeyondItsRegion) {
+  MisoResult fit;
+  fit.elements.resize(2);
+  fit.gain_covariance.resize(2, 2);
+  fit.gain_covariance << 0.04, 0.016, 0.016, 0.01;  // SEs 0.2 and 0.1, correlation 0.8
+  for (int e = 0; e < 2; ++e) {
+    ElementEstimate& est = fit.elements[static_cast<std::size_t>(e)];
+    est.value.gain = e == 0 ? 5.0 : -0.1;
+    est.std_error.gain = std::sqrt(fit.gain_covariance(e, e));
+    est.covariance(kGain, kGain) = fit.gain_covariance(e, e);
+  }
+  GainInterval projection;
+  projection.root = std::sqrt(chi_square_95(3));
+  const double half = 1.5 * projection.root * 0.1;
+  projection.lower = -0.1 - half;
+  projection.upper = -0.1 + half;
+  projection.ridge = Eigen::Vector2d(1.6, 1.0);
+
+  MisoResult whole = fit;  // (half/1.96)² − 0.01 along the ridge: 0.04 + 1.6²·0.035771
+  widen_along_ridge(whole, 1, projection);
+  EXPECT_NEAR(whole.elements[0].std_error.gain, std::sqrt(0.04 + 2.56 * 0.035771), 1e-5);
+  EXPECT_NEAR(whole.elements[1].std_error.gain, half / 1.96, 1e-12);
+
+  MisoResult beyond = fit;  // (1.5·0.1)² − 0.01 along the ridge: 0.04 + 1.6²·0.0125
+  widen_along_ridge(beyond, 1, projection, projection.root);
+  EXPECT_NEAR(beyond.elements[0].std_error.gain, std::sqrt(0.04 + 2.56 * 0.0125), 1e-12);
+  EXPECT_NEAR(beyond.elements[1].std_error.gain, 0.15, 1e-12);
+  EXPECT_GT(beyond.elements[0].profile_variance, 0.0);
+
+  // A projection no wider than its linearised region adds nothing beyond it.
+  GainInterval linear = projection;
+  linear.lower = -0.1 - projection.root * 0.1;
+  linear.upper = -0.1 + projection.root * 0.1;
+  MisoResult unchanged = fit;
+  widen_along_ridge(unchanged, 1, linear, linear.root);
+  EXPECT_LT((unchanged.gain_covariance - fit.gain_covariance).norm(), 1e-15);
+  EXPECT_NEAR(unchanged.elements[0].std_error.gain, 0.2, 1e-12);
+}
+
 TEST(GainProfile, TheChiSquarePointsAreTheTablesAndOtherDegreesAreRefusedByName) {
   EXPECT_NEAR(chi_square_95(1), 1.96 * 1.96, 2e-3);
   EXPECT_DOUBLE_EQ(chi_square_95(3), 7.815);

@@ -60,6 +60,7 @@ struct GainInterval {
   bool lower_bounded = true;
   bool upper_bounded = true;
   Eigen::VectorXd ridge;  // d K_row / d K_e along the profile (ridge(e) = 1)
+  double root = 1.96;     // the signed root walked to: 1.96, or √χ²_p for a projection
   int fits = 0;           // fit_miso calls the walk made
   // A point of the walk fitted better than the estimate: the estimate was not the row's
   // optimum. The interval is then of no use; the caller refits from `better` and profiles again.
@@ -93,15 +94,27 @@ std::string projection_needed(const ElementEstimate& est, double T_min);
 std::optional<GainInterval> projected_gain_interval(const RowProblem& row, const MisoResult& fit,
                                                     int e);
 
+/// How far a projection carries the gains the data tie to it (project_gains_near_zero).
+enum class TiedGains {
+  // The projection's whole width, as if it were a χ²₁ interval: where the fit's gains keep
+  // their σ²-order bias along the ridge (the direct fit's G24 under alatiqi4x4's DMC follows
+  // its G23's bias: K ± 1.96·SE covers it in 71 % of the seeds).
+  whole_projection,
+  // Only what the projection adds beyond its linearised joint region, √χ²_p·SE: where a later
+  // step takes each gain's bias off (the two-stage estimate's instrumental-variable step:
+  // the same G24's K ± 1.96·SE covers 83 %, and the whole width took its G21 and G22 to 100 %).
+  beyond_linearised,
+};
+
 /// Sets ElementEstimate::projected_gain on the elements of `fit` that a projection reaches:
 /// each gain projection_needed() names gets its projected interval, and each other gain of
 /// the row the interval K ± 1.96·SE' of the row's covariance widened along each projection's
-/// ridge to its width, as profile_gains() widens it for a χ²₁ profile: the gains that the data
-/// tie to a projected one (the sum stays known) follow it. A gain whose SE' is within 1 % of
-/// its SE keeps none. Reported beside the χ²₁ covariance, never folded into it: the
-/// adaptive test's stop rule and G(0)'s uncertainty propagate the covariance (host/identify/
-/// README.md, "Closed-loop runs").
-void project_gains_near_zero(const RowProblem& row, MisoResult& fit);
+/// ridge (`tied`): the gains that the data tie to a projected one (the sum stays known) follow
+/// it. A gain whose SE' is within 1 % of its SE keeps none. Reported beside the χ²₁
+/// covariance, never folded into it: the adaptive test's stop rule and G(0)'s uncertainty
+/// propagate the covariance (host/identify/README.md, "Closed-loop runs").
+void project_gains_near_zero(const RowProblem& row, MisoResult& fit,
+                             TiedGains tied = TiedGains::whole_projection);
 
 /// Whether gain e of a row's fit is profiled.
 using ProfileChoice = std::function<bool(const MisoResult& fit, int e)>;
@@ -135,9 +148,11 @@ double row_cost(const RowProblem& row, const MisoResult& fit);
 double row_dof(const RowProblem& row, const MisoResult& fit);
 
 /// The row's gain covariance widened along `interval.ridge` until the variance of gain e is
-/// that of the profile interval, ((upper − lower)/(2·1.96))² (never narrowed); every
-/// element's std_error.gain, its covariance's gain entry and weak_gain status follow.
-void widen_along_ridge(MisoResult& fit, int e, const GainInterval& interval);
+/// ((upper − lower)/(2·root))² (never narrowed): root 1.96 reads the interval as a χ²₁ one
+/// (a profile's; a projection's whole width), `interval.root` only what it adds beyond its
+/// linearised region. Every element's std_error.gain, its covariance's gain entry and
+/// weak_gain status follow.
+void widen_along_ridge(MisoResult& fit, int e, const GainInterval& interval, double root = 1.96);
 
 /// The row's gain covariance plus alpha·d dᵀ (nothing for alpha ≤ 0); every element's
 /// std_error.gain, its covariance's gain entry, profile_variance (what was added) and

@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "host/identify/gain_profile.hpp"
 #include "host/identify/gain_uncertainty.hpp"
 #include "host/identify/input_screen.hpp"
 #include "host/identify/model.hpp"
@@ -78,6 +79,9 @@ struct IdentifyOptions {
   // test's segments (the stop rule reads the covariance). It costs an alatiqi4x4 closed-loop
   // identification about 11 %, an open-loop one up to 35 %.
   bool project_gains = true;
+  // How far each projection carries the gains tied to it: the two-stage estimate's stage 2
+  // sets beyond_linearised (its instrumental-variable step takes the gains' bias off).
+  TiedGains tied_gains = TiedGains::whole_projection;
 };
 
 /// Per-output diagnostics of the fit.
