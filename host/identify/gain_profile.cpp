@@ -327,13 +327,17 @@ bool undetermined_dynamics(const ElementEstimate& est, double T_min) {
 }  // namespace
 
 std::string projection_needed(const ElementEstimate& est, double T_min) {
+  const char* const undetermined =
+      "projected from its joint 95 % region: its dynamics are not determined";
   const double se = est.std_error.gain;
-  if (!est.estimated() || !(std::isfinite(se) && se > 0.0)) return "";
+  if (!est.estimated() || !(se > 0.0)) return "";
+  // An infinite SE: a direction the output does not depend on runs through K (miso_fit.hpp),
+  // and K ± 1.96·SE says nothing. The projection is then the only interval the gain gets.
+  if (std::isinf(se)) return undetermined;
   const auto p = static_cast<int>(free_parameters(est.value.structure).size());
   if (std::abs(est.value.gain) < std::sqrt(chi_square_95(p)) * se)
     return "projected from its joint 95 % region, which reaches K = 0";
-  if (undetermined_dynamics(est, T_min))
-    return "projected from its joint 95 % region: its dynamics are not determined";
+  if (undetermined_dynamics(est, T_min)) return undetermined;
   return "";
 }
 

@@ -45,9 +45,14 @@ void print_projected_gains(std::ostream& out, const IdentifiedModel& m, int o,
     const double half = 1.96 * e.std_error.gain;  // a projection the SE's widening overtook
     if (std::isfinite(half) && reported.upper - reported.lower <= 2.02 * half) continue;
     out << "  " << log.input_names[static_cast<std::size_t>(i)] << ": K's 95 % interval "
-        << num(reported.lower, 4) << " to " << num(reported.upper, 4)
-        << " (K +- 1.96 SE: " << num(e.value.gain - 1.96 * e.std_error.gain, 4) << " to "
-        << num(e.value.gain + 1.96 * e.std_error.gain, 4) << "): " << e.projected_gain->why << '\n';
+        << num(reported.lower, 4) << " to " << num(reported.upper, 4);
+    if (std::isfinite(half)) {
+      out << " (K +- 1.96 SE: " << num(e.value.gain - half, 4) << " to "
+          << num(e.value.gain + half, 4) << ")";
+    } else {
+      out << " (K has no standard error)";
+    }
+    out << ": " << e.projected_gain->why << '\n';
   }
 }
 
