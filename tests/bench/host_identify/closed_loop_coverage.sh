@@ -4,7 +4,8 @@
 # runs under the plant's example controller (sim/control/examples), each identified by
 # `excite identify` (two-stage, or direct), and the share of seeds whose K ± 1.96·SE holds
 # the true gain, per element, beside the share whose reported interval (K_interval95: wider
-# where a projection reaches the gain, host/identify/README.md) holds it. Not a ctest (minutes for alatiqi4x4); run by hand:
+# where a projection reaches the gain, host/identify/README.md) holds it; an estimated gain
+# without any interval counts as a miss there. Not a ctest (minutes for alatiqi4x4); run by hand:
 #   tests/bench/host_identify/closed_loop_coverage.sh woodberry2x2 100 0.3 two-stage
 #   tests/bench/host_identify/closed_loop_coverage.sh alatiqi4x4 100 0 two-stage
 # PLANT woodberry2x2 (PI, CV limits ±2, first-order elements) or alatiqi4x4 (DMC, CV limits
@@ -66,23 +67,27 @@ for s in range(1, n + 1):
     for o, out in enumerate(j["outputs"]):
         for i, e in enumerate(out["elements"]):
             k, se, t = e.get("K"), e.get("se", {}).get("K"), truth[o][i]
-            if k is None or se is None:  # not estimated, or no standard error: counted apart
+            if k is None:  # not estimated: counted apart
+                missing[(o, i)] = missing.get((o, i), 0) + 1
+                continue
+            # The reported interval of every estimated gain: one without any is a miss.
+            lo, hi = e.get("K_interval95", [k - 1.96 * se, k + 1.96 * se] if se else [1, 0])
+            reported.setdefault((o, i), []).append(lo <= t <= hi)
+            projected[(o, i)] = projected.get((o, i), 0) + ("K_projected" in e)
+            if se is None:  # no standard error: counted apart from K +- 1.96 SE
                 missing[(o, i)] = missing.get((o, i), 0) + 1
                 continue
             cover.setdefault((o, i), []).append(abs(k - t) <= 1.96 * se)
             z.setdefault((o, i), []).append((k - t) / se)
-            lo, hi = e.get("K_interval95", [k - 1.96 * se, k + 1.96 * se])
-            reported.setdefault((o, i), []).append(lo <= t <= hi)
-            projected[(o, i)] = projected.get((o, i), 0) + ("K_projected" in e)
 print(f"{plant}: {runs} runs identified of {n}, the PRBS at the {pace}'s pace")
 print("  coverage of K +- 1.96 SE, and of the reported 95 % interval (K_interval95: the same,"
       " or wider where it is projected)")
-for (o, i), c in sorted(cover.items()):
-    r, p = reported[(o, i)], projected[(o, i)]
+for (o, i), r in sorted(reported.items()):
+    c, p = cover.get((o, i), [False]), projected[(o, i)]
     print(f"  G{o+1}{i+1}: coverage {100*sum(c)/len(c):5.1f} %  reported {100*sum(r)/len(r):5.1f} %"
           f" ({p} projected)  SD of (K-K0)/SE {st.pstdev(z[(o,i)]):.2f}"
           f"  mean (K-K0)/SE {st.mean(z[(o,i)]):+.2f}"
-          + (f"  ({missing[(o,i)]} runs without an SE)" if (o, i) in missing else ""))
+          + (f"  ({missing[(o,i)]} runs not estimated or without an SE)" if (o, i) in missing else ""))
 allc = [x for c in cover.values() for x in c]
 allr = [x for c in reported.values() for x in c]
 print(f"  all elements: {100*sum(allc)/len(allc):.1f} %, reported {100*sum(allr)/len(allr):.1f} %")
