@@ -219,7 +219,7 @@ TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& 
     }
   };
   IdentifyOptions on_u_hat = options;
-  on_u_hat.tied_gains = TiedGains::beyond_linearised;  // the step takes the gains' bias off
+  on_u_hat.projection_scope = ProjectionScope::instrument_step_follows;  // its bias: the step
   stage2(on_u_hat);
   if (!options.structure && options.structures.empty()) {
     IdentifyOptions lags = on_u_hat;

@@ -341,26 +341,64 @@ std::string projection_needed(const ElementEstimate& est, double T_min) {
   return "";
 }
 
-std::optional<GainInterval> projected_gain_interval(const RowProblem& row, const MisoResult& fit,
-                                                    int e) {
-  const ElementEstimate& est = fit.elements.at(static_cast<std::size_t>(e));
-  if (projection_needed(est, row.T_min).empty()) return std::nullopt;
-  if (row_cost(row, fit) <= kRounding * row.y.cwiseProduct(row.layout.weight).squaredNorm())
-    return std::nullopt;
+namespace {
+
+// Element e's projection on the row's fit as it is: its region walked, and across zero where
+// the walk ended bounded on that side.
+GainInterval projection_in_fit(const RowProblem& row, const MisoResult& fit, int e) {
+  const ElementEstimate& est = fit.elements[static_cast<std::size_t>(e)];
   Walk walk(row, fit, e, WalkKind::projection);
   GainInterval out = walked(walk, e);
   if (est.value.gain > 0.0 ? out.lower_bounded : out.upper_bounded) across_zero(walk, est, out);
   return out;
 }
 
-void project_gains_near_zero(const RowProblem& row, MisoResult& fit, TiedGains tied) {
+// The row refitted with first-order element e in two lags (each half its lag, its delay
+// kept), with standard errors: the structure one lag richer, which nests its own.
+MisoResult fit_in_two_lags(const RowProblem& row, const MisoResult& fit, int e) {
+  std::vector<ElementModel> start = values_of(fit);
+  ElementModel& own = start[static_cast<std::size_t>(e)];
+  const double lag = std::max(own[kTp1] / 2.0, row.T_min);
+  own = with_structure(own, Structure::two_poles);
+  own[kTp1] = own[kTp2] = lag;
+  return fit_miso(row.U, row.y, row.inputs, start, row.T_min, row.bounds, row.max_iterations,
+                  row.layout, row.trend);
+}
+
+}  // namespace
+
+std::optional<GainInterval> projected_gain_interval(const RowProblem& row, const MisoResult& fit,
+                                                    int e, ProjectionScope scope) {
+  const ElementEstimate& est = fit.elements.at(static_cast<std::size_t>(e));
+  if (projection_needed(est, row.T_min).empty()) return std::nullopt;
+  if (row_cost(row, fit) <= kRounding * row.y.cwiseProduct(row.layout.weight).squaredNorm())
+    return std::nullopt;
+  GainInterval out = projection_in_fit(row, fit, e);
+  if (scope != ProjectionScope::fit_is_final || est.value.structure != Structure::first_order)
+    return out;
+  const MisoResult lags = fit_in_two_lags(row, fit, e);
+  if (!lags.elements[static_cast<std::size_t>(e)].estimated()) return out;
+  const GainInterval in_lags = projection_in_fit(row, lags, e);
+  out.fits += in_lags.fits + 1;
+  if (in_lags.lower < out.lower) {
+    out.lower = in_lags.lower;
+    out.lower_bounded = in_lags.lower_bounded;
+  }
+  if (in_lags.upper > out.upper) {
+    out.upper = in_lags.upper;
+    out.upper_bounded = in_lags.upper_bounded;
+  }
+  return out;
+}
+
+void project_gains_near_zero(const RowProblem& row, MisoResult& fit, ProjectionScope scope) {
   MisoResult widened = fit;  // the covariance the followers' intervals read
   std::vector<std::optional<GainBounds>> own(fit.elements.size());
   for (std::size_t e = 0; e < fit.elements.size(); ++e) {
-    if (auto p = projected_gain_interval(row, fit, static_cast<int>(e))) {
+    if (auto p = projected_gain_interval(row, fit, static_cast<int>(e), scope)) {
       own[e] = GainBounds{p->lower, p->upper};
       widen_along_ridge(widened, static_cast<int>(e), *p,
-                        tied == TiedGains::whole_projection ? kRoot : p->root);
+                        scope == ProjectionScope::fit_is_final ? kRoot : p->root);
     }
   }
   for (std::size_t e = 0; e < fit.elements.size(); ++e) {

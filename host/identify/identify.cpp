@@ -395,7 +395,8 @@ Eigen::VectorXd keep_row(const Rows& rows, int j, const Eigen::VectorXd& y, Miso
   fit.inputs_together = describe_together(usable, fit.separation);
   miso = profile_doubtful_gains(problem, std::move(miso), fit.separation);
   cover_other_optima(problem, miso, fit.separation, optima);
-  if (rows.options.project_gains) project_gains_near_zero(problem, miso, rows.options.tied_gains);
+  if (rows.options.project_gains)
+    project_gains_near_zero(problem, miso, rows.options.projection_scope);
   Eigen::MatrixXd& cov = model.gain_covariance[static_cast<std::size_t>(j)];
   for (std::size_t e = 0; e < usable.size(); ++e) {
     model.element(j, usable[e]) = miso.elements[e];

@@ -195,7 +195,7 @@ TEST(GainProfile, AGainItsJointRegionDoesNotTellFromZeroGetsTheRegionsProjection
 }
 
 // A gain the data tie to a projected one (its ridge, the regression of the row's gains on the
-// projected gain: 1.6 here) follows the projection (gain_profile.hpp, TiedGains): by its
+// projected gain: 1.6 here) follows the projection (gain_profile.hpp, ProjectionScope): by its
 // whole width read as a χ²₁ interval (the direct fit), or only by what it adds beyond its
 // linearised joint region √χ²_p·SE (the two-stage estimate's stage 2). Hand-computed: the
 // small gain's SE 0.1, its projection 1.5 times its linearised region for p = 3.
@@ -257,6 +257,33 @@ TEST(GainProfile, AGainWithAnInfiniteStandardErrorIsProjectedAsItsOnlyInterval) 
   EXPECT_FALSE(std::isfinite(gain_interval_95(est).lower));  // until the projection sets one
   est.std_error.gain = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(projection_needed(est, 1.0), "");
+}
+
+// The same row. Its small element is −0.1/(34.5s+1)², and where it is fitted first order, the
+// projection of a fit that is the estimate (ProjectionScope::fit_is_final) also holds its
+// region in two lags (gain_profile.hpp): an interval that holds the own structure's and is
+// wider than it. Before an instrumental-variable step (instrument_step_follows) it is the own
+// structure's alone.
+TEST(GainProfile, AFirstOrderFitsProjectionHoldsItsRegionInTwoLagsWhereTheFitIsTheEstimate) {
+  const Eigen::MatrixXd U = prbs_inputs(2, 8, 3, 85, 1200, 1.0);
+  const std::vector<ElementModel> G = {{12.8, 1.0, 16.7, 0.0}, {-0.1, 6.0, 34.5, 34.5}};
+  const TwoInputRow setup(U.rows());
+  const auto& [inputs, bounds, layout, trend] = setup;
+  int wider = 0;
+  for (const unsigned seed : {1U, 2U, 4U}) {
+    const RefittedRow r(U, G, seed, setup);
+    const RowProblem row{U, r.y, inputs, 1.0, bounds, 200, layout, trend};
+    ASSERT_EQ(r.fit.elements[1].value.structure, Structure::first_order) << "seed " << seed;
+    const auto own =
+        projected_gain_interval(row, r.fit, 1, ProjectionScope::instrument_step_follows);
+    const auto both = projected_gain_interval(row, r.fit, 1, ProjectionScope::fit_is_final);
+    ASSERT_TRUE(own && both) << "seed " << seed;
+    EXPECT_LE(both->lower, own->lower) << "seed " << seed;
+    EXPECT_GE(both->upper, own->upper) << "seed " << seed;
+    EXPECT_GT(both->fits, own->fits) << "seed " << seed;
+    if (both->upper - both->lower > 1.05 * (own->upper - own->lower)) ++wider;
+  }
+  EXPECT_EQ(wider, 3);
 }
 
 TEST(GainProfile, TheChiSquarePointsAreTheTablesAndOtherDegreesAreRefusedByName) {

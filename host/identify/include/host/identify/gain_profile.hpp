@@ -86,35 +86,45 @@ double chi_square_95(int p);
 /// level whatever the nuisance parameters do.
 std::string projection_needed(const ElementEstimate& est, double T_min);
 
+/// Whether the fit's gains are the estimate or a later step takes their bias off, which decides
+/// how far a projection reaches (projected_gain_interval, project_gains_near_zero).
+enum class ProjectionScope {
+  // The fit is the estimate, and its gains keep their bias. A first-order element whose truth
+  // is slower biases its gain and, along the ridge, its neighbours': alatiqi4x4's
+  // G23 = −0.05/(34.5s+1)² under its DMC, fitted first order in 78 of 100 direct fits, has
+  // K̂23 −0.009 and K̂24 1.48 on average there (two lags: −0.054 and 1.528). So a first-order
+  // element's projection is the hull of its own region's and of its region in two lags, and
+  // the gains tied to it follow its whole width, read as a χ²₁ interval (the direct fit's
+  // G24: K ± 1.96·SE covers it in 71 % of the seeds).
+  fit_is_final,
+  // A later step takes each gain's bias off (the two-stage estimate's instrumental-variable
+  // step: the same G24's K ± 1.96·SE covers 83 %). The element's own structure only, and the
+  // tied gains follow only what the projection adds beyond its linearised joint region,
+  // √χ²_p·SE: with the reach above, G21–G24 covered 98–100 %.
+  instrument_step_follows,
+};
+
 /// The projection on its gain of element `e`'s joint 95 % region where projection_needed():
 /// the profile of the gain walked to S(c) − S(K̂) = χ²_p σ̂² instead of χ²₁ σ̂². A point of
 /// the walk that fits better than the estimate (a small element's other basin) counts as
 /// inside, and the walk goes on: the interval is then wider than the better optimum's own
-/// (never `better`). Empty where none is needed and for a row fitted to rounding.
-std::optional<GainInterval> projected_gain_interval(const RowProblem& row, const MisoResult& fit,
-                                                    int e);
-
-/// How far a projection carries the gains the data tie to it (project_gains_near_zero).
-enum class TiedGains {
-  // The projection's whole width, as if it were a χ²₁ interval: where the fit's gains keep
-  // their σ²-order bias along the ridge (the direct fit's G24 under alatiqi4x4's DMC follows
-  // its G23's bias: K ± 1.96·SE covers it in 71 % of the seeds).
-  whole_projection,
-  // Only what the projection adds beyond its linearised joint region, √χ²_p·SE: where a later
-  // step takes each gain's bias off (the two-stage estimate's instrumental-variable step:
-  // the same G24's K ± 1.96·SE covers 83 %, and the whole width took its G21 and G22 to 100 %).
-  beyond_linearised,
-};
+/// (never `better`). With `fit_is_final`, a first-order element's interval also holds the
+/// projection of its region in two lags (the row refitted with the element in two_poles, p + 1
+/// parameters, its own cost the reference). Empty where none is needed and for a row fitted to
+/// rounding.
+std::optional<GainInterval> projected_gain_interval(
+    const RowProblem& row, const MisoResult& fit, int e,
+    ProjectionScope scope = ProjectionScope::fit_is_final);
 
 /// Sets ElementEstimate::projected_gain on the elements of `fit` that a projection reaches:
 /// each gain projection_needed() names gets its projected interval, and each other gain of
 /// the row the interval K ± 1.96·SE' of the row's covariance widened along each projection's
-/// ridge (`tied`): the gains that the data tie to a projected one (the sum stays known) follow
-/// it. A gain whose SE' is within 1 % of its SE keeps none. Reported beside the χ²₁
-/// covariance, never folded into it: the adaptive test's stop rule and G(0)'s uncertainty
+/// ridge (how far: `scope`): the gains that the data tie to a projected one (the sum stays
+/// known) follow it. A gain whose SE' is within 1 % of its SE keeps none. Reported beside the
+/// χ²₁ covariance, never folded into it: the adaptive test's stop rule and G(0)'s uncertainty
 /// propagate the covariance (host/identify/README.md, "Closed-loop runs").
 void project_gains_near_zero(const RowProblem& row, MisoResult& fit,
-                             TiedGains tied = TiedGains::whole_projection);
+                             ProjectionScope scope = ProjectionScope::fit_is_final);
 
 /// Whether gain e of a row's fit is profiled.
 using ProfileChoice = std::function<bool(const MisoResult& fit, int e)>;

@@ -79,9 +79,9 @@ struct IdentifyOptions {
   // test's segments (the stop rule reads the covariance). It costs an alatiqi4x4 closed-loop
   // identification about 11 %, an open-loop one up to 35 %.
   bool project_gains = true;
-  // How far each projection carries the gains tied to it: the two-stage estimate's stage 2
-  // sets beyond_linearised (its instrumental-variable step takes the gains' bias off).
-  TiedGains tied_gains = TiedGains::whole_projection;
+  // How far each projection reaches (gain_profile.hpp): the two-stage estimate's stage 2 sets
+  // instrument_step_follows (its instrumental-variable step takes the gains' bias off).
+  ProjectionScope projection_scope = ProjectionScope::fit_is_final;
 };
 
 /// Per-output diagnostics of the fit.
