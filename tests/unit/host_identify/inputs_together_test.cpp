@@ -114,6 +114,16 @@ TEST(GainProfile, MatchesTheLinearisedIntervalOnIndependentInputs) {
   }
 }
 
+// Row y1 of Wood–Berry with a small slow element of gain K on u2 (two lags of 34.5 min and a
+// 6-min delay, as alatiqi4x4's G23), and the 1 200 rows of PRBS it is identified on.
+struct SmallSlowElement {
+  Eigen::MatrixXd U;
+  std::vector<ElementModel> G;
+};
+SmallSlowElement small_slow_element(double K) {
+  return {prbs_inputs(2, 8, 3, 85, 1200, 1.0), {{12.8, 1.0, 16.7, 0.0}, {K, 6.0, 34.5, 34.5}}};
+}
+
 // A gain a few standard errors from zero (|K| < 8 SE: kPoorlyDetermined) sits near the
 // model's singular point, where K → 0 leaves the element's dynamics undetermined and the
 // output error is far from quadratic in K: identify() gives it the profile's interval, which
@@ -121,8 +131,7 @@ TEST(GainProfile, MatchesTheLinearisedIntervalOnIndependentInputs) {
 // (two lags of 34.5 min and 6 min delay, as alatiqi4x4's G23), K = −0.3 ± about 0.2 at 95 %:
 // before, seeds 1 and 2 kept linearised intervals 14 % and 8 % narrower than the profile's.
 TEST(GainProfile, AGainNearZeroGetsAtLeastItsProfileInterval) {
-  const Eigen::MatrixXd U = prbs_inputs(2, 8, 3, 85, 1200, 1.0);
-  const std::vector<ElementModel> G = {{12.8, 1.0, 16.7, 0.0}, {-0.3, 6.0, 34.5, 34.5}};
+  const auto [U, G] = small_slow_element(-0.3);
   const TwoInputRow setup(U.rows());
   const auto& [inputs, bounds, layout, trend] = setup;
   int profiled = 0;
@@ -149,8 +158,7 @@ TEST(GainProfile, AGainNearZeroGetsAtLeastItsProfileInterval) {
 // project_gains_near_zero). Wider than K ± 1.96·SE, it holds K̂ and the truth. The large
 // element, 40 SE from zero with its dynamics determined, needs none.
 TEST(GainProfile, AGainItsJointRegionDoesNotTellFromZeroGetsTheRegionsProjection) {
-  const Eigen::MatrixXd U = prbs_inputs(2, 8, 3, 85, 1200, 1.0);
-  const std::vector<ElementModel> G = {{12.8, 1.0, 16.7, 0.0}, {-0.1, 6.0, 34.5, 34.5}};
+  const auto [U, G] = small_slow_element(-0.1);
   const TwoInputRow setup(U.rows());
   const auto& [inputs, bounds, layout, trend] = setup;
   int projected = 0;
@@ -265,8 +273,7 @@ TEST(GainProfile, AGainWithAnInfiniteStandardErrorIsProjectedAsItsOnlyInterval) 
 // wider than it. Before an instrumental-variable step (instrument_step_follows) it is the own
 // structure's alone.
 TEST(GainProfile, AFirstOrderFitsProjectionHoldsItsRegionInTwoLagsWhereTheFitIsTheEstimate) {
-  const Eigen::MatrixXd U = prbs_inputs(2, 8, 3, 85, 1200, 1.0);
-  const std::vector<ElementModel> G = {{12.8, 1.0, 16.7, 0.0}, {-0.1, 6.0, 34.5, 34.5}};
+  const auto [U, G] = small_slow_element(-0.1);
   const TwoInputRow setup(U.rows());
   const auto& [inputs, bounds, layout, trend] = setup;
   int wider = 0;
