@@ -155,7 +155,10 @@ InstrumentStep instrument_step_in_row(IdentifiedModel& model, int output, const 
     const int i = row.used[c];
     ElementEstimate& el = model.element(output, i);
     const double own = el.std_error.gain;
-    if (!std::isfinite(step(k)) || !(iv(k) > 0.0) || !std::isfinite(iv(k)) || !(own > 0.0))
+    // A gain whose stage-2 SE is infinite keeps it: the step's SE is written as a factor on
+    // stage 2's, which cannot carry it (inf·0), and its projection is its interval.
+    if (!std::isfinite(step(k)) || !(iv(k) > 0.0) || !std::isfinite(iv(k)) ||
+        !(std::isfinite(own) && own > 0.0))
       continue;
     out.gain_step(i) = step(k);
     out.se_factor(i) = std::sqrt(iv(k) + el.profile_variance) / own;
