@@ -78,6 +78,7 @@ Design design_closed_loop(const ClosedLoopDesignOptions& o, const PriorKnowledge
   request.cv_high = o.cv_high;
   request.fraction = o.limit_fraction;
   request.along_output_directions = o.directions == "output";
+  request.prbs_phase = o.prbs_phase;
   if (o.mv_fraction > 0.0) {  // the MVs' room, from the controller file
     const auto n = static_cast<Eigen::Index>(file.dmc.mv.size());
     request.mv_fraction = o.mv_fraction;

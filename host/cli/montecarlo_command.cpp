@@ -2,6 +2,10 @@
 // excite montecarlo --plant P [--designs a,b,…] --seeds N [--first-seed S] [--threads T]
 //                   [--noise-var V] [--length-step PCT] [--warm-grid] [--perturb X]
 //                   [--shard i/N] -o DIR
+//   with the controller on: --controller FILE [--excitation setpoint|mv] [--method M]
+//                   [--limit-fraction F] [--mv-fraction F] [--directions none|output]
+//                   [--switching loop|plant] [--prbs-phase K] [--controller-perturb X]
+//                   [--disturbance-std S --disturbance-tau-min T]
 // excite montecarlo … --emit-slurm FILE [--slurm-tasks N] -o OUT   (a Slurm job array script)
 // excite montecarlo merge DIR… -o OUT
 // The campaign's experiment over noise seeds (host/montecarlo): every finished (design, seed)
@@ -258,6 +262,12 @@ void add_closed_loop_options(CLI::App& cmd, Options& opt) {
                  "(plant)")
       ->capture_default_str()
       ->check(CLI::IsMember({"loop", "plant"}))
+      ->needs(controller);
+  cmd.add_option("--prbs-phase", loop.prbs_phase,
+                 "with --controller, setpoint: every design's PRBS started K switching intervals "
+                 "in: another realisation of r (every seed gets the same r)")
+      ->capture_default_str()
+      ->check(CLI::Range(std::uint32_t{0}, mc::kMaxPrbsPhase))
       ->needs(controller);
   cmd.add_option("--controller-perturb", opt.controller_perturb,
                  "with --controller: the controller's model perturbed per seed, every gain, "

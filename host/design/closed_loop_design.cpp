@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "firmware/signal/mseq.hpp"
 #include "firmware/signal/recipe.hpp"
 #include "host/design/table.hpp"
 
@@ -20,6 +21,29 @@ std::string g_text(double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
+}
+
+// Starts every PRBS source of d `bits` of its bits further into its m-sequence (modulo its
+// period) and makes the table again: another realisation of the same signal, its spectrum and
+// amplitude unchanged. Throws std::invalid_argument when d has no PRBS source to move.
+void advance_prbs(Design& d, std::uint32_t bits, const PresetInfo& preset) {
+  signal::Recipe& r = d.plan->recipe;
+  int moved = 0;
+  for (std::uint32_t i = 0; i < r.source_count; ++i) {
+    signal::Source& s = r.sources[i];
+    if (s.kind != signal::SourceKind::prbs) continue;
+    const std::uint64_t period = signal::mseq_period(s.prbs.register_length);
+    s.prbs.shift = static_cast<std::uint32_t>((s.prbs.shift + std::uint64_t{bits}) % period);
+    ++moved;
+  }
+  if (moved == 0) {
+    throw std::invalid_argument("PRBS phase = " + std::to_string(bits) + " with preset " +
+                                std::string(preset.acronym) +
+                                ", expected 0 (it has no PRBS to start later)");
+  }
+  d.table = make_table(r);
+  d.notes.push_back("the PRBS started " + std::to_string(bits) +
+                    " switching intervals into its sequence");
 }
 
 void mark(Design& d, plan::Excitation e, const std::string& what) {
@@ -152,6 +176,7 @@ Design design_setpoint_excitation(const PriorKnowledge& prior, const PresetInfo&
     cvs.inputs.push_back({name, amplitude(c), lo, hi});
   }
   Design d = design_preset(cvs, preset, created_unix_s);
+  if (req.prbs_phase > 0) advance_prbs(d, req.prbs_phase, preset);
   if (req.along_output_directions) {
     if (prior.gain.rows() != p) {
       throw std::invalid_argument("prior gain rows = " + std::to_string(prior.gain.rows()) +

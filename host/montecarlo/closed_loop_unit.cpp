@@ -53,6 +53,7 @@ void prepare_closed_loop(Prepared& p, const PriorKnowledge& prior) {
   design.limit_fraction = c.limit_fraction;
   design.mv_fraction = c.mv_fraction;
   design.directions = c.directions;
+  design.prbs_phase = c.prbs_phase;
   const std::vector<std::string> cvs = sim::make_plant(p.config.plant)->output_names();
   resolve_cv_limits(design, file, static_cast<Eigen::Index>(cvs.size()));
   if (design.cv_low.size() > 0) {

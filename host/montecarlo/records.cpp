@@ -146,6 +146,7 @@ json config_json(const Config& c) {
                         {"mv_fraction", l.mv_fraction},
                         {"directions", l.directions},
                         {"switching", l.switching},
+                        {"prbs_phase", l.prbs_phase},
                         {"controller_perturb_percent", l.model_perturb_percent},
                         {"disturbance_std", l.disturbance_std},
                         {"disturbance_tau_min", l.disturbance_tau_min}};
@@ -201,6 +202,9 @@ Config read_config(const std::filesystem::path& file) {
     if (r.at("closed_loop").contains("directions")) cl.directions = l.string("directions");
     // Absent in the folders of runs before --switching: the designs at the plant's pace.
     cl.switching = r.at("closed_loop").contains("switching") ? l.string("switching") : "plant";
+    // Absent in the folders of runs before --prbs-phase: the PRBS from its first bit.
+    if (r.at("closed_loop").contains("prbs_phase"))
+      cl.prbs_phase = static_cast<std::uint32_t>(l.integer_in("prbs_phase", 0, kMaxPrbsPhase));
     cl.model_perturb_percent = l.real("controller_perturb_percent");
     cl.disturbance_std = l.real("disturbance_std");
     cl.disturbance_tau_min = l.real("disturbance_tau_min");

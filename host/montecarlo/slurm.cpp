@@ -48,10 +48,10 @@ std::string slurm_script(const Config& config, const SlurmJob& job) {
                   " --method " + l.method + " --limit-fraction " +
                   config::format_number(l.limit_fraction) + " --mv-fraction " +
                   config::format_number(l.mv_fraction) + " --directions " + l.directions +
-                  " --switching " + l.switching + " --controller-perturb " +
-                  sim::percent_text(l.model_perturb_percent) + " --disturbance-std " +
-                  config::format_number(l.disturbance_std) + " --disturbance-tau-min " +
-                  config::format_number(l.disturbance_tau_min);
+                  " --switching " + l.switching + " --prbs-phase " + std::to_string(l.prbs_phase) +
+                  " --controller-perturb " + sim::percent_text(l.model_perturb_percent) +
+                  " --disturbance-std " + config::format_number(l.disturbance_std) +
+                  " --disturbance-tau-min " + config::format_number(l.disturbance_tau_min);
   }
   std::string s;
   s += "#!/bin/sh\n";

@@ -275,6 +275,9 @@ json closed_loop_run_json(const Config& c) {
            ? " at the loop's pace ((4.2.3)'s tau_L the loop's along the weakest output "
              "direction)"
            : "") +
+      (l.prbs_phase > 0
+           ? ", the PRBS started " + std::to_string(l.prbs_phase) + " switching intervals in"
+           : "") +
       (l.method == "direct"
            ? "; identified direct (the prediction-error fit with an AR or ARMA(1,1) "
              "noise model on the applied u, the test-length prefixes too)"

@@ -41,6 +41,13 @@ void check_closed_loop(const Config& config) {
   check_excitation(c.excitation);
   check_directions(c.directions, c.excitation);
   check_switching(c.switching);
+  if (c.prbs_phase > kMaxPrbsPhase)
+    throw std::invalid_argument("--prbs-phase = " + std::to_string(c.prbs_phase) +
+                                ", expected 0 to " + std::to_string(kMaxPrbsPhase));
+  if (c.prbs_phase > 0 && c.excitation != "setpoint")
+    throw std::invalid_argument("--prbs-phase = " + std::to_string(c.prbs_phase) +
+                                " with --excitation " + c.excitation +
+                                ", expected 0 (an MV dither is the open-loop preset as it is)");
   if (c.method != "two-stage" && c.method != "direct")
     throw std::invalid_argument("--method = " + c.method + ", expected two-stage or direct");
   (void)closed_loop_presets(config.designs);  // plain presets only

@@ -308,7 +308,8 @@ TEST_F(MonteCarlo, RunsClosedLoopUnderAControllerFileAndSaysSo) {
   const std::string script = bytes_of(path("job.sh"));
   EXPECT_NE(script.find(" --controller '" + pi +
                         "' --excitation mv --method two-stage --limit-fraction 0.5 "
-                        "--mv-fraction 0 --directions none --switching loop --controller-perturb 0 "
+                        "--mv-fraction 0 --directions none --switching loop --prbs-phase 0 "
+                        "--controller-perturb 0 "
                         "--disturbance-std 0 --disturbance-tau-min 0 "),
             std::string::npos)
       << script;

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "firmware/plan/codec.hpp"
+#include "firmware/signal/mseq.hpp"
 #include "host/design/case_studies.hpp"
 #include "host/design/table.hpp"
 
@@ -166,6 +167,41 @@ TEST(SetpointDesign, RIsScaledDownUntilItsSteadyStateMvMovesFitTheMvRoom) {
   request.mv_high = Eigen::Vector4d::Constant(1e6);
   const Design roomy = design_setpoint_excitation(prior, find_preset("prbsUnc"), request, 7);
   EXPECT_EQ(Eigen::MatrixXd(roomy.table), Eigen::MatrixXd(by_cvs.table));
+}
+
+TEST(SetpointDesign, APrbsPhaseIsTheSameRStartedLaterAndAMultisineRefusesIt) {
+  const PriorKnowledge prior = case_study("alatiqi4x4");
+  SetpointDesignRequest request = four_cvs(false);
+  const Design first = design_setpoint_excitation(prior, find_preset("prbsUnc"), request, 7);
+  request.prbs_phase = 5;
+  const Design later = design_setpoint_excitation(prior, find_preset("prbsUnc"), request, 7);
+  const signal::PrbsSource& prbs = first.plan->recipe.sources[0].prbs;
+  const Eigen::Index hold = prbs.hold_samples, rows = first.table.rows();
+  ASSERT_EQ(later.table.rows(), rows);
+  // A whole period of the m-sequence (4 080 rows, 255 bits of 16): the same rows, 5 bits on.
+  ASSERT_EQ(rows, static_cast<Eigen::Index>(signal::mseq_period(prbs.register_length)) * hold);
+  for (Eigen::Index k = 0; k < rows; ++k) {
+    ASSERT_EQ(Eigen::VectorXd(later.table.row(k)),
+              Eigen::VectorXd(first.table.row((k + 5 * hold) % rows)))
+        << "row " << k;
+  }
+  EXPECT_NE(Eigen::MatrixXd(later.table), Eigen::MatrixXd(first.table));
+  EXPECT_NE(std::find(later.notes.begin(), later.notes.end(),
+                      "the PRBS started 5 switching intervals into its sequence"),
+            later.notes.end());
+  // A whole period on is the first realisation again.
+  request.prbs_phase = signal::mseq_period(prbs.register_length);
+  EXPECT_EQ(
+      Eigen::MatrixXd(design_setpoint_excitation(prior, find_preset("prbsUnc"), request, 7).table),
+      Eigen::MatrixXd(first.table));
+  request.prbs_phase = 3;
+  try {
+    (void)design_setpoint_excitation(prior, find_preset("msGlmSim"), request, 7);
+    ADD_FAILURE() << "a multisine took a PRBS phase";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "PRBS phase = 3 with preset msGlmSim, expected 0 (it has no PRBS to start later)");
+  }
 }
 
 TEST(SetpointDesign, RefusesMvLimitsThatDoNotFitThePriorOrAreNotAboutZero) {

@@ -282,6 +282,32 @@ TEST(ClosedLoopUnit, OptionsAreCheckedByName) {
   directions.closed_loop.directions = "output";
   directions.closed_loop.excitation = "mv";
   refused(directions, "--directions = output with --excitation = mv, expected setpoint excitation");
+  mc::Config phase = c;
+  phase.closed_loop.prbs_phase = 3;
+  phase.closed_loop.excitation = "mv";
+  refused(phase, "--prbs-phase = 3 with --excitation mv, expected 0");
+  phase.closed_loop.excitation = "setpoint";
+  phase.closed_loop.prbs_phase = mc::kMaxPrbsPhase + 1;
+  refused(phase, "--prbs-phase = 1000001, expected 0 to 1000000");
+}
+
+// --prbs-phase K: every seed's r is the same, so a run measures one realisation of it; K
+// starts the PRBS K switching intervals in, the same r rows K·hold on (a whole period at the
+// loop's pace).
+TEST(ClosedLoopUnit, APrbsPhaseStartsTheDesignsRLater) {
+  mc::Config config = prbs_unc("alatiqi4x4", kDmc, 1);
+  const auto first = mc::prepare(config, 1);
+  config.closed_loop.prbs_phase = 7;
+  const auto later = mc::prepare(config, 1);
+  const Eigen::MatrixXd& r0 = first->designs[0].table;
+  const Eigen::MatrixXd& r7 = later->designs[0].table;
+  const Eigen::Index hold = first->designs[0].plan->recipe.sources[0].prbs.hold_samples;
+  ASSERT_EQ(r0.rows(), r7.rows());
+  ASSERT_EQ(r0.rows() % hold, 0);
+  const Eigen::Index rows = r0.rows(), shift = 7 * hold;
+  EXPECT_EQ(Eigen::MatrixXd(r7.topRows(rows - shift)),
+            Eigen::MatrixXd(r0.bottomRows(rows - shift)));
+  EXPECT_EQ(Eigen::MatrixXd(r7.bottomRows(shift)), Eigen::MatrixXd(r0.topRows(shift)));
 }
 
 // --directions output: the same preset's signals, put along the prior's output directions W
@@ -341,6 +367,17 @@ TEST(ClosedLoopUnit, RunJsonKeepsTheClosedLoopAndAnOlderFolderReadsAsOpenLoop) {
   k["closed_loop"].erase("switching");  // a folder of a run before --switching: plant's pace
   { std::ofstream(dir / "run.json") << k.dump(2); }
   EXPECT_EQ(mc::read_config(dir / "run.json").closed_loop.switching, "plant");
+  EXPECT_EQ(mc::read_config(dir / "run.json").closed_loop.prbs_phase, 0U);
+  k["closed_loop"]["prbs_phase"] = 4;
+  { std::ofstream(dir / "run.json") << k.dump(2); }
+  EXPECT_EQ(mc::read_config(dir / "run.json").closed_loop.prbs_phase, 4U);
+  k["closed_loop"].erase("prbs_phase");  // a folder of a run before --prbs-phase: phase 0
+  { std::ofstream(dir / "run.json") << k.dump(2); }
+  EXPECT_EQ(mc::read_config(dir / "run.json").closed_loop.prbs_phase, 0U);
+  k["closed_loop"]["prbs_phase"] = -1;
+  { std::ofstream(dir / "run.json") << k.dump(2); }
+  EXPECT_THROW((void)mc::read_config(dir / "run.json"), std::runtime_error);  // refused by name
+  k["closed_loop"]["prbs_phase"] = 0;
   k["closed_loop"]["switching"] = "loop; rm -rf /";  // would reach the Slurm command line
   { std::ofstream(dir / "run.json") << k.dump(2); }
   EXPECT_THROW((void)mc::read_config(dir / "run.json"), std::runtime_error);  // refused by name

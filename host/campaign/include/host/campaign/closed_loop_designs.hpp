@@ -42,6 +42,9 @@ struct ClosedLoopDesignOptions {
   // Setpoint excitation: (4.2.3)'s τ_L from the loop's speed along the prior's weakest output
   // direction ("loop": at_the_loops_pace) or the plant's, as open loop ("plant").
   std::string switching = "loop";
+  // Setpoint excitation: the PRBS started this many switching intervals in
+  // (SetpointDesignRequest::prbs_phase); > 0 needs PRBS presets.
+  std::uint32_t prbs_phase = 0;
 };
 
 /// Throws std::invalid_argument "--excitation = X, expected setpoint or mv" otherwise.

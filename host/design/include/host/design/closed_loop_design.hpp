@@ -38,13 +38,19 @@ struct SetpointDesignRequest {
   // clamps: the controller no longer follows r and the test suspends.
   Eigen::VectorXd mv_low, mv_high;
   double mv_fraction = 0.5;  // 0 < mv_fraction ≤ 1: the rest is left for the transients
+  // Every PRBS source started this many switching intervals further into its sequence
+  // (PrbsSource::shift, modulo the period): another realisation of the same r, sized as any
+  // (a Monte Carlo study runs one r for every seed; this measures others). > 0 needs a PRBS
+  // preset.
+  std::uint32_t prbs_phase = 0;
 };
 
 /// A setpoint-excitation design of a plain `preset` (not a directional one: the directions
 /// here are the output directions, `along_output_directions`). Throws std::invalid_argument
 /// in the one message form: a directional preset, limits missing, not finite or not about
 /// 0, a fraction outside (0, 1], more than 8 CVs, output directions or MV limits without a
-/// prior G(0) of as many rows as CVs (and, with MV limits, as many columns as MVs).
+/// prior G(0) of as many rows as CVs (and, with MV limits, as many columns as MVs), a PRBS
+/// phase for a preset without a PRBS.
 Design design_setpoint_excitation(const PriorKnowledge& prior, const PresetInfo& preset,
                                   const SetpointDesignRequest& request,
                                   std::uint64_t created_unix_s);

@@ -29,6 +29,9 @@ Shard parse_shard(const std::string& text);
 /// montecarlo --warm-grid`: not yet the default, some verdicts differ; README).
 enum class GridStart { warm, cold };
 
+/// The largest --prbs-phase: a million switching intervals, more than any test's PRBS runs.
+inline constexpr std::uint32_t kMaxPrbsPhase = 1000000;
+
 /// A run with the controller on (issue 41 §4; host/montecarlo/README.md, "With the controller
 /// on"): every unit's design run closed loop in process (host/simulate/closed_loop.hpp) under
 /// the controller of `controller`, identified two-stage (host/identify/closed_loop.hpp; the
@@ -44,6 +47,9 @@ struct ClosedLoopConfig {
                                         // directions (closed_loop_designs.hpp)
   std::string switching = "loop";       // setpoint: (4.2.3)'s τ_L the loop's (at_the_loops_pace,
                                         // closed_loop_designs.hpp) or the plant's ("plant")
+  // setpoint: every design's PRBS started this many switching intervals in (another
+  // realisation of r: every seed of a run gets the same r; closed_loop_design.hpp)
+  std::uint32_t prbs_phase = 0;
   // The controller's model perturbed per seed within ±X % (sim/library/perturb.hpp, drawn for
   // controller_model_seed(s)): a DMC built on a wrong model, as in a real plant. 0: the
   // controller file's model as it is.
