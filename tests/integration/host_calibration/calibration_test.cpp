@@ -3,7 +3,9 @@
 // the nominal 95 % interval K ± 1.96·SE(K) of every gain must cover the true gain in about
 // 95 % of the seeds — for the elements the model structures (element.hpp) can represent. The
 // run prints the coverage of every element, of σ_i ± 1.96·SE(σ_i), and the spread of the weak
-// input direction against its stated angle uncertainty.
+// input direction against its stated angle uncertainty. The reported interval (model.hpp,
+// gain_interval_95: wider where a projection of the element's joint region reaches the gain)
+// may not over-cover: no element above 98 % but where K ± 1.96·SE alone is, nor all together.
 //
 // And the search must end in the best optimum it can reach (issue 18 §3): each row is refitted
 // from the true model (its elements in their true structures and parameters); the
@@ -146,6 +148,10 @@ TEST_P(Calibration, NominalNinetyFivePercentGainIntervalsCoverTheTruthInNinetyTo
   std::vector<int> worse_than_truth(static_cast<std::size_t>(p), 0);
 
   std::vector<Coverage> element(static_cast<std::size_t>(p * n));
+  // The reported interval (model.hpp, gain_interval_95: K ± 1.96·SE, or a projection's where
+  // one reaches the gain) and how many seeds projected it.
+  std::vector<Coverage> reported(static_cast<std::size_t>(p * n));
+  std::vector<int> projected(static_cast<std::size_t>(p * n), 0);
   std::vector<Coverage> sigma(static_cast<std::size_t>(std::min(p, n)));
   std::vector<double> weak_angle, weak_angle_se;  // degrees, weakest input direction
   const Eigen::JacobiSVD<Eigen::MatrixXd> true_svd(truth, Eigen::ComputeThinV);
@@ -182,6 +188,13 @@ TEST_P(Calibration, NominalNinetyFivePercentGainIntervalsCoverTheTruthInNinetyTo
         if (e.estimated() && std::abs(e.value.gain - truth(j, i)) <= 1.96 * e.std_error.gain) {
           ++cov.covered;
         }
+        Coverage& rep = reported[static_cast<std::size_t>(j * n + i)];
+        ++rep.runs;
+        if (e.estimated()) {
+          const GainBounds b = gain_interval_95(e);
+          if (b.lower <= truth(j, i) && truth(j, i) <= b.upper) ++rep.covered;
+          if (e.projected_gain) ++projected[static_cast<std::size_t>(j * n + i)];
+        }
       }
     }
     if (r.gain_uncertainty) {
@@ -204,7 +217,7 @@ TEST_P(Calibration, NominalNinetyFivePercentGainIntervalsCoverTheTruthInNinetyTo
 
   std::printf("%s %s, %d seeds, noise %g: coverage of K ± 1.96 SE(K), %%\n", c.plant.c_str(),
               c.preset.c_str(), S, case_study_noise_variance(definition.name));
-  Coverage in_structure_total;
+  Coverage in_structure_total, reported_total;
   for (int j = 0; j < p; ++j) {
     const bool row_in_structure = true_row[static_cast<std::size_t>(j)].has_value();
     std::printf("  y%d%s:", j + 1, row_in_structure ? "" : " (row out of structure)");
@@ -225,9 +238,24 @@ TEST_P(Calibration, NominalNinetyFivePercentGainIntervalsCoverTheTruthInNinetyTo
     }
     std::printf("   search ended worse than the refit from the truth: %d of %d seeds\n",
                 worse_than_truth[static_cast<std::size_t>(j)], S);
+    std::printf("     reported interval:");
+    for (int i = 0; i < n; ++i) {
+      const std::size_t k = static_cast<std::size_t>(j * n + i);
+      std::printf(" %5.1f (%d projected)", reported[k].percent(), projected[k]);
+      if (row_in_structure) {
+        reported_total.covered += reported[k].covered;
+        reported_total.runs += reported[k].runs;
+        // A projection widens; it may not take an element above 98 % where K ± 1.96·SE alone
+        // is not there (the two-lag reach of a first-order fit, gain_profile.hpp, is the
+        // widest: measured at most 96.7 %).
+        EXPECT_LE(reported[k].percent(), std::max(98.0, element[k].percent()))
+            << "element (y" << j + 1 << ", u" << i + 1 << ")";
+      }
+    }
+    std::printf("\n");
   }
-  std::printf("  in-structure elements together: %.1f %% of %d intervals\n",
-              in_structure_total.percent(), in_structure_total.runs);
+  std::printf("  in-structure elements together: %.1f %% of %d intervals (reported: %.1f %%)\n",
+              in_structure_total.percent(), in_structure_total.runs, reported_total.percent());
   std::printf("  sigma_i ± 1.96 SE covers the true sigma_i:");
   for (const Coverage& cov : sigma) std::printf(" %.1f", cov.percent());
   std::printf(
@@ -236,6 +264,7 @@ TEST_P(Calibration, NominalNinetyFivePercentGainIntervalsCoverTheTruthInNinetyTo
       median(weak_angle), median(weak_angle_se));
   EXPECT_GE(in_structure_total.percent(), 90.0);
   EXPECT_LE(in_structure_total.percent(), 98.0);
+  EXPECT_LE(reported_total.percent(), 98.0);
   int worse = 0;
   for (const int w : worse_than_truth) worse += w;
   EXPECT_LE(worse, p * S / 50) << "rows whose search ended worse than the refit from the truth";
