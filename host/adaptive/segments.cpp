@@ -5,6 +5,8 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "host/design/prbs_shift.hpp"
+
 namespace excite::host {
 namespace {
 
@@ -32,11 +34,9 @@ plan::Plan cut_segment(const plan::Plan& design, std::uint64_t first_row, std::u
                                   ", expected a multiple of " + source_field(i, "prbs.hold") +
                                   " = " + std::to_string(s.prbs.hold_samples));
     }
-    const std::uint64_t period = (std::uint64_t{1} << s.prbs.register_length) - 1;
     signal::Source& cut = segment.recipe.sources[i];
     cut.length = rows;
-    cut.prbs.shift =
-        static_cast<std::uint32_t>((s.prbs.shift + first_row / s.prbs.hold_samples) % period);
+    advance_prbs(cut.prbs, first_row / s.prbs.hold_samples);
   }
   return segment;
 }

@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "firmware/signal/mseq.hpp"
 #include "firmware/signal/recipe.hpp"
+#include "host/design/prbs_shift.hpp"
 #include "host/design/table.hpp"
 
 namespace excite::host {
@@ -26,14 +26,12 @@ std::string g_text(double v) {
 // Starts every PRBS source of d `bits` of its bits further into its m-sequence (modulo its
 // period) and makes the table again: another realisation of the same signal, its spectrum and
 // amplitude unchanged. Throws std::invalid_argument when d has no PRBS source to move.
-void advance_prbs(Design& d, std::uint32_t bits, const PresetInfo& preset) {
+void start_prbs_later(Design& d, std::uint32_t bits, const PresetInfo& preset) {
   signal::Recipe& r = d.plan->recipe;
   int moved = 0;
   for (std::uint32_t i = 0; i < r.source_count; ++i) {
-    signal::Source& s = r.sources[i];
-    if (s.kind != signal::SourceKind::prbs) continue;
-    const std::uint64_t period = signal::mseq_period(s.prbs.register_length);
-    s.prbs.shift = static_cast<std::uint32_t>((s.prbs.shift + std::uint64_t{bits}) % period);
+    if (r.sources[i].kind != signal::SourceKind::prbs) continue;
+    advance_prbs(r.sources[i].prbs, bits);
     ++moved;
   }
   if (moved == 0) {
@@ -176,7 +174,7 @@ Design design_setpoint_excitation(const PriorKnowledge& prior, const PresetInfo&
     cvs.inputs.push_back({name, amplitude(c), lo, hi});
   }
   Design d = design_preset(cvs, preset, created_unix_s);
-  if (req.prbs_phase > 0) advance_prbs(d, req.prbs_phase, preset);
+  if (req.prbs_phase > 0) start_prbs_later(d, req.prbs_phase, preset);
   if (req.along_output_directions) {
     if (prior.gain.rows() != p) {
       throw std::invalid_argument("prior gain rows = " + std::to_string(prior.gain.rows()) +
