@@ -25,6 +25,22 @@ double step_response_by_zoh(const ElementModel& p, double t_min) {
   return y[1];
 }
 
+// Where a projection widens the gain's reported interval beyond K ± 1.96·SE (model.hpp,
+// gain_interval_95), the gain's row and column of C scaled so that its ±1.96σ reaches the
+// interval's farther end: the band's final value then holds what the report states of K,
+// and the gain keeps its correlations with the element's dynamics.
+void widen_gain_to_reported_interval(const ElementEstimate& estimate,
+                                     ElementEstimate::Covariance& C) {
+  const double variance = C(kGain, kGain);
+  if (!estimate.projected_gain || !(variance > 0.0) || !std::isfinite(variance)) return;
+  const GainBounds b = gain_interval_95(estimate);
+  const double K = estimate.value.gain;
+  const double factor = std::max(b.upper - K, K - b.lower) / (1.96 * std::sqrt(variance));
+  if (!(factor > 1.0) || !std::isfinite(factor)) return;
+  C.row(kGain) *= factor;
+  C.col(kGain) *= factor;
+}
+
 }  // namespace
 
 double step_response(const ElementModel& p, double t_min) {
@@ -76,6 +92,7 @@ StepBand step_band(const ElementEstimate& estimate, const std::vector<double>& t
     C.setConstant(std::numeric_limits<double>::quiet_NaN());
     for (const int k : free) C(k, k) = estimate.std_error[k] * estimate.std_error[k];
   }
+  widen_gain_to_reported_interval(estimate, C);
   // Central-difference steps: relative to the parameter, at least 1e-6 of the time scale.
   const double time_scale =
       std::max({p.delay_min, p.tau1_min, p.tau2_min, std::abs(p.zero_min), p.natural_min, 1e-3});

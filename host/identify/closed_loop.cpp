@@ -150,6 +150,18 @@ Stage1Fit project_on_reference(const Eigen::MatrixXd& U, const ReferenceProjecti
   return fit;
 }
 
+namespace {
+
+// The SE that e's reported 95 % interval (gain_interval_95) gives on the side facing `other`:
+// its half-width there over 1.96. K ± 1.96·SE's own SE where no projection widens that side.
+double se_towards(const ElementEstimate& e, double other) {
+  const GainBounds b = gain_interval_95(e);
+  const double K = e.value.gain;
+  return (other >= K ? b.upper - K : K - b.lower) / 1.96;
+}
+
+}  // namespace
+
 std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& a, const IdentifiedModel& b,
                                                  double k) {
   if (a.inputs != b.inputs || a.outputs != b.outputs) {
@@ -163,13 +175,12 @@ std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& a, const
       const ElementEstimate& ea = a.element(o, i);
       const ElementEstimate& eb = b.element(o, i);
       if (!ea.estimated() || !eb.estimated()) continue;
-      const double sa = ea.std_error.gain, sb = eb.std_error.gain;
+      const double ka = ea.value.static_gain(), kb = eb.value.static_gain();
+      if (!std::isfinite(ka) || !std::isfinite(kb)) continue;  // an integrator's
+      const double sa = se_towards(ea, kb), sb = se_towards(eb, ka);
       if (!std::isfinite(sa) || !std::isfinite(sb)) continue;
       const double sigma = std::sqrt(sa * sa + sb * sb);
-      const double ka = ea.value.static_gain(), kb = eb.value.static_gain();
-      if (std::isfinite(ka) && std::isfinite(kb) && std::abs(ka - kb) > k * sigma) {
-        out.push_back({o, i, ka, kb, sigma});
-      }
+      if (std::abs(ka - kb) > k * sigma) out.push_back({o, i, ka, kb, sigma});
     }
   }
   return out;

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <tuple>
 
@@ -466,6 +467,36 @@ TEST(Stage1, AReferenceOfFewLinesStillProjects) {
               1e-9 * residual.norm() * fit.u_hat.col(j).norm())
         << "u" << j + 1;
   }
+}
+
+// A 1 × 1 model whose one gain is K ± 1.96·se, with a projected interval when given.
+IdentifiedModel one_gain(double K, double se, std::optional<GainBounds> projected = {}) {
+  IdentifiedModel m;
+  m.inputs = m.outputs = 1;
+  m.sample_time_min = 1.0;
+  ElementEstimate e;
+  e.value.structure = Structure::first_order;
+  e.value.gain = K;
+  e.value.tau1_min = 10.0;
+  e.std_error.gain = se;
+  if (projected) e.projected_gain = ProjectedGain{*projected, "its joint region reaches K = 0"};
+  m.elements.push_back(e);
+  return m;
+}
+
+TEST(GainDisagreement, ReadsEachReportedIntervalOnTheSideFacingTheOtherEstimate) {
+  // 1.0 ± 0.196 against 1.5 ± 0.196: 0.5 apart, beyond 2·√(0.1² + 0.1²) = 0.28.
+  const IdentifiedModel direct = one_gain(1.5, 0.1);
+  const std::vector<GainDisagreement> flagged = gain_disagreements(one_gain(1.0, 0.1), direct);
+  ASSERT_EQ(flagged.size(), 1u);
+  EXPECT_NEAR(flagged[0].sigma, std::sqrt(0.02), 1e-12);
+  // A projection up to 1.6 on the side facing 1.5: SE 0.6/1.96, 2σ = 0.64 > 0.5.
+  EXPECT_TRUE(gain_disagreements(one_gain(1.0, 0.1, GainBounds{0.5, 1.6}), direct).empty());
+  // One that widens only the side away from 1.5 changes nothing.
+  const std::vector<GainDisagreement> away =
+      gain_disagreements(one_gain(1.0, 0.1, GainBounds{0.2, 1.1}), direct);
+  ASSERT_EQ(away.size(), 1u);
+  EXPECT_NEAR(away[0].sigma, std::sqrt(0.02), 1e-12);
 }
 
 }  // namespace

@@ -67,6 +67,26 @@ TEST(StepBand, UsesTheCovarianceWhenGivenAndTheStandardErrorsOtherwise) {
   EXPECT_TRUE(std::isinf(step_band(undetermined, t).sigma[0]));
 }
 
+// Where a projection widens the reported gain interval (alatiqi4x4's G23 under its DMC), the
+// settled band holds it: ±1.96σ reaches the interval's farther end. One within K ± 1.96·SE
+// changes nothing.
+TEST(StepBand, SettlesOnTheReportedGainIntervalWhereAProjectionWidensIt) {
+  ElementEstimate projected = with_errors(1.0);  // K = 2 ± 0.098
+  projected.projected_gain = ProjectedGain{{1.5, 2.3}, "its joint region reaches K = 0"};
+  EXPECT_NEAR(step_band(projected, {400.0}).sigma[0], 0.5 / 1.96, 1e-6);
+  const std::vector<double> t = minutes(100, 1.0);
+  const StepBand plain = step_band(with_errors(1.0), t);
+  const StepBand wide = step_band(projected, t);
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    if (t[k] > 3.0) {
+      EXPECT_GT(wide.sigma[k], plain.sigma[k]) << t[k];
+    }
+  }
+  ElementEstimate inside = with_errors(1.0);
+  inside.projected_gain = ProjectedGain{{1.95, 2.05}, "within"};
+  EXPECT_NEAR(step_band(inside, {400.0}).sigma[0], 0.05, 1e-6);
+}
+
 // GIVEN a 2×2 plant of form (6.1.1) under uncorrelated PRBS, noise variance 0.05 (seeded)
 // WHEN identified THEN every element's true step response lies within its ±2σ band at
 // (nearly) every minute, and the band is not trivially wide (below 10 % of |K| settled).

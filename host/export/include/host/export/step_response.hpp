@@ -37,6 +37,8 @@ Settling slowest_settling(const IdentifiedModel& model);
 /// The step response of an estimate at `times_min` with its 1σ band by linearised
 /// propagation: σ_s(t)² = g(t)ᵀ C g(t), C the element's parameter covariance
 /// (ElementEstimate::covariance, else diag(std_error²)), g = ∂s/∂θ by central differences.
+/// Where a projection widens the gain's reported 95 % interval (model.hpp gain_interval_95),
+/// the gain's variance in C is widened to reach it (its farther end; the band is symmetric).
 /// A parameter on its bound (NaN covariance) counts as known exactly; one the data do not
 /// determine (inf) makes the band unknown: `sigma` is inf wherever the response depends on
 /// it. The band ignores the covariance between elements of a row (each element's response

@@ -106,12 +106,15 @@ int default_instrument_lags(Eigen::Index rows, Eigen::Index channels);
 Eigen::MatrixXd instrument_inputs(const Eigen::MatrixXd& U, const Eigen::MatrixXd& R,
                                   int stage1_lags = 0);
 
-/// An element whose two G(0) estimates disagree beyond k·σ, σ = √(SE₁² + SE₂²).
+/// An element whose two G(0) estimates disagree beyond k·σ, σ = √(SE₁² + SE₂²), each SE read
+/// from the estimate's reported 95 % interval on the side facing the other estimate (its
+/// half-width there over 1.96; model.hpp gain_interval_95): where a projection widens the
+/// interval, K ± 1.96·SE alone is short (alatiqi4x4's G23 and G24 under its DMC).
 struct GainDisagreement {
   int output = 0;
   int input = 0;
   double two_stage = 0.0, direct = 0.0;
-  double sigma = 0.0;  // √(SE_two_stage² + SE_direct²)
+  double sigma = 0.0;  // √(SE_two_stage² + SE_direct²), as above
 };
 
 struct ClosedLoopIdentification {
@@ -129,8 +132,9 @@ struct ClosedLoopIdentification {
   std::vector<GainDisagreement> feedback_bias;  // "feedback bias suspected" in these elements
 };
 
-/// Elements of two models (same sizes) whose gains differ by more than k·√(SE₁² + SE₂²);
-/// elements either model did not estimate, or without a standard error, are skipped.
+/// Elements of two models (same sizes) whose gains differ by more than k·√(SE₁² + SE₂²) (the
+/// SEs of the reported intervals, GainDisagreement); elements either model did not estimate,
+/// integrators, and gains without a finite interval are skipped.
 std::vector<GainDisagreement> gain_disagreements(const IdentifiedModel& two_stage,
                                                  const IdentifiedModel& direct, double k = 2.0);
 
