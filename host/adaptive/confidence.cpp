@@ -22,6 +22,13 @@ std::string minor_text(const PrincipalMinor& m, double z) {
   return text + numbers;
 }
 
+// The half-width of σ_i's interval that the criterion |σ̂ − σ| ≤ tol·σ allows at every σ
+// inside it, over σ̂_i. The low end binds: σ = σ̂ − h meets it when h ≤ tol·(σ̂ − h), so
+// h ≤ σ̂·tol/(1 + tol) (σ̂/6 for 20 %); the high end allows σ̂·tol/(1 − tol).
+double allowed_sigma_half_width(double tolerance) {
+  return tolerance / (1.0 + tolerance);
+}
+
 std::string ratio_text(const char* what, double need) {
   char text[120];
   std::snprintf(text, sizeof text, "%s at %.2f of its tolerance", what, need);
@@ -74,6 +81,8 @@ Confidence confidence_of(const GainEvidence& now, const GainEvidence* previous,
   }
   const GainUncertainty& u = *now.uncertainty;
   const Eigen::Index r = u.singular_values.size();
+  // The weights' yardstick (direction_weights): each part over its tolerance as stated, σ_i's
+  // over 0.2·σ̂_i; only their ratios matter. The stop reads σ_n exactly (below).
   c.direction_need.resize(r);
   for (Eigen::Index i = 0; i < r; ++i) {
     const double sigma =
@@ -87,8 +96,9 @@ Confidence confidence_of(const GainEvidence& now, const GainEvidence* previous,
     return c;
   }
   c.gain_identified = true;
-  c.sigma_n_need = rule.z * u.singular_value_se(r - 1) /
-                   (rule.sigma_tolerance * std::abs(u.singular_values(r - 1)));
+  c.sigma_n_need =
+      rule.z * u.singular_value_se(r - 1) /
+      (allowed_sigma_half_width(rule.sigma_tolerance) * std::abs(u.singular_values(r - 1)));
   c.angle_need = rule.z * u.input_angle_se_deg(r - 1) / rule.angle_tolerance_deg;
   c.minor_need = 0.0;
   std::string uncertain_minors;

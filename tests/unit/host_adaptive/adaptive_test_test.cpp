@@ -73,24 +73,27 @@ FakeEstimate fake(double sigma_2, double se_2, double angle_se_2) {
 
 TEST(AdaptiveConfidence, TheRuleHoldsWhenEveryIntervalFitsAndTheEstimateAgrees) {
   const FakeEstimate before = fake(0.1, 0.02, 2.0);
-  const FakeEstimate now = fake(0.1, 0.009, 1.0);  // 1.96·0.009/0.1 = 0.176 ≤ 0.20
+  const FakeEstimate now = fake(0.1, 0.008, 1.0);  // 1.96·0.008/0.1 = 0.157 ≤ 1/6
   const GainEvidence b = before.evidence();
   const Confidence c = confidence_of(now.evidence(), &b);
   EXPECT_TRUE(c.met) << c.missing;
-  EXPECT_NEAR(c.sigma_n_need, 1.96 * 0.009 / (0.2 * 0.1), 1e-12);
+  EXPECT_NEAR(c.sigma_n_need, 1.96 * 0.008 / (0.1 / 6.0), 1e-12);
   EXPECT_NEAR(c.angle_need, 1.96 * 1.0 / 10.0, 1e-12);
   EXPECT_NEAR(c.need, c.sigma_n_need, 1e-12);
+  // The weights' yardstick keeps the tolerance as stated: 0.2·σ̂_n.
+  EXPECT_NEAR(c.direction_need(1), 1.96 * 0.008 / (0.2 * 0.1), 1e-12);
   // The first usable estimate never stops the test: nothing to agree with.
   const Confidence first = confidence_of(now.evidence(), nullptr);
   EXPECT_FALSE(first.met);
   EXPECT_NE(first.missing.find("no earlier estimate"), std::string::npos);
-  // An interval just too wide.
-  const Confidence wide = confidence_of(fake(0.1, 0.0105, 1.0).evidence(), &b);
+  // An interval just too wide: 1.96·0.0087 = 0.0171 > 0.1/6, though within 0.2·σ̂_n. Its
+  // low end, σ_n = 0.0829, is 0.0171 = 20.6 % of σ_n off σ̂_n: the criterion misses there.
+  const Confidence wide = confidence_of(fake(0.1, 0.0087, 1.0).evidence(), &b);
   EXPECT_FALSE(wide.met);
-  EXPECT_NE(wide.missing.find("sigma_n's 95 % half-width at 1.03"), std::string::npos)
+  EXPECT_NE(wide.missing.find("sigma_n's 95 % half-width at 1.02"), std::string::npos)
       << wide.missing;
   // A minor whose interval holds 0 is named, with its value and half-width.
-  FakeEstimate flat = fake(0.1, 0.009, 1.0);
+  FakeEstimate flat = fake(0.1, 0.008, 1.0);
   flat.uncertainty.principal_minors[2].std_error = 0.06;  // 0.1 ± 0.12
   const Confidence open = confidence_of(flat.evidence(), &b);
   EXPECT_FALSE(open.met);
