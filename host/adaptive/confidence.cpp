@@ -8,6 +8,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include <boost/math/distributions/students_t.hpp>
+
 namespace excite::host {
 namespace {
 
@@ -68,12 +70,50 @@ std::string disagreement_with(const GainEvidence& now, const GainEvidence& befor
   return "";
 }
 
+// The residual tests that fail over the outputs (none without fits), each named in `failed`
+// as " y1 not white;" or " y1 correlated with u2;".
+int failed_residual_tests(const GainEvidence& now, std::string& failed) {
+  int count = 0;
+  const std::size_t outputs = now.fits != nullptr ? now.fits->size() : 0;
+  for (std::size_t o = 0; o < outputs; ++o) {
+    const ResidualTests& t = (*now.fits)[o].residual_tests;
+    if (t.lags == 0) continue;  // not computed (a constant output)
+    if (!t.white()) {
+      ++count;
+      failed += " y" + std::to_string(o + 1) + " not white;";
+    }
+    for (Eigen::Index i = 0; i < t.independence.size(); ++i) {
+      if (!t.independent_of(i)) {
+        ++count;
+        failed += " y" + std::to_string(o + 1) + " correlated with u" + std::to_string(i + 1) + ";";
+      }
+    }
+  }
+  return count;
+}
+
+// The fewest degrees of freedom of any output's noise level (OutputFit); +∞ without fits.
+double fewest_noise_level_dof(const GainEvidence& now) {
+  double dof = std::numeric_limits<double>::infinity();
+  if (now.fits == nullptr) return dof;
+  for (const OutputFit& f : *now.fits) dof = std::min(dof, f.noise_level_dof);
+  return dof;
+}
+
 }  // namespace
+
+double rule_quantile(double z, double dof) {
+  if (std::isinf(dof) && dof > 0.0) return z;
+  const double coverage = 0.5 * std::erfc(-z / std::numbers::sqrt2);  // Φ(z)
+  return boost::math::quantile(boost::math::students_t(std::max(dof, 1.0)), coverage);
+}
 
 Confidence confidence_of(const GainEvidence& now, const GainEvidence* previous,
                          const StopRule& rule) {
   Confidence c;
   c.sigma_n_need = c.angle_need = c.minor_need = c.need = kNaN;
+  c.noise_level_dof = fewest_noise_level_dof(now);
+  c.z = rule_quantile(rule.z, c.noise_level_dof);
   if (now.gain == nullptr || now.uncertainty == nullptr) {
     c.missing = now.unavailable.empty() ? "no G(0) uncertainty (a gain not estimated or on a bound)"
                                         : now.unavailable;
@@ -81,6 +121,7 @@ Confidence confidence_of(const GainEvidence& now, const GainEvidence* previous,
   }
   const GainUncertainty& u = *now.uncertainty;
   const Eigen::Index r = u.singular_values.size();
+  const double z = c.z;
   // The weights' yardstick (direction_weights): each part over its tolerance as stated, σ_i's
   // over 0.2·σ̂_i; only their ratios matter. The stop reads σ_n exactly (below).
   c.direction_need.resize(r);
@@ -97,36 +138,22 @@ Confidence confidence_of(const GainEvidence& now, const GainEvidence* previous,
   }
   c.gain_identified = true;
   c.sigma_n_need =
-      rule.z * u.singular_value_se(r - 1) /
+      z * u.singular_value_se(r - 1) /
       (allowed_sigma_half_width(rule.sigma_tolerance) * std::abs(u.singular_values(r - 1)));
-  c.angle_need = rule.z * u.input_angle_se_deg(r - 1) / rule.angle_tolerance_deg;
+  c.angle_need = z * u.input_angle_se_deg(r - 1) / rule.angle_tolerance_deg;
   c.minor_need = 0.0;
   std::string uncertain_minors;
   for (const PrincipalMinor& m : u.principal_minors) {
-    const double need = rule.z * m.std_error / std::abs(m.value);
+    const double need = z * m.std_error / std::abs(m.value);
     c.minor_need = std::max(c.minor_need, std::isnan(need) ? 1e300 : need);
-    if (!(std::abs(m.value) >= rule.z * m.std_error)) {
+    if (!(std::abs(m.value) >= z * m.std_error)) {
       ++c.sign_uncertain_minors;
-      uncertain_minors += (uncertain_minors.empty() ? ": " : ", ") + minor_text(m, rule.z);
+      uncertain_minors += (uncertain_minors.empty() ? ": " : ", ") + minor_text(m, z);
     }
   }
   c.need = std::max({c.sigma_n_need, c.angle_need, c.minor_need});
   std::string failed;
-  const std::size_t outputs = now.fits != nullptr ? now.fits->size() : 0;
-  for (std::size_t o = 0; o < outputs; ++o) {
-    const ResidualTests& t = (*now.fits)[o].residual_tests;
-    if (t.lags == 0) continue;  // not computed (a constant output)
-    if (!t.white()) {
-      ++c.failed_residual_tests;
-      failed += " y" + std::to_string(o + 1) + " not white;";
-    }
-    for (Eigen::Index i = 0; i < t.independence.size(); ++i) {
-      if (!t.independent_of(i)) {
-        ++c.failed_residual_tests;
-        failed += " y" + std::to_string(o + 1) + " correlated with u" + std::to_string(i + 1) + ";";
-      }
-    }
-  }
+  c.failed_residual_tests = failed_residual_tests(now, failed);
   std::string disagreement;
   if (previous != nullptr && previous->gain != nullptr && previous->uncertainty != nullptr) {
     c.has_previous = true;
@@ -143,6 +170,14 @@ Confidence confidence_of(const GainEvidence& now, const GainEvidence* previous,
   if (c.sign_uncertain_minors > 0) {
     add(std::to_string(c.sign_uncertain_minors) + " principal minor(s) of uncertain sign" +
         uncertain_minors);
+  }
+  if (c.need > 1.0 && z != rule.z) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "(95 %% read as +-%.2f SE: Student's t at %.1f degrees of freedom of the noise "
+                  "model's low-frequency level)",
+                  z, c.noise_level_dof);
+    missing += std::string(missing.empty() ? "" : " ") + text;
   }
   if (!c.has_previous) add("no earlier estimate to agree with");
   if (!disagreement.empty()) add(disagreement);

@@ -85,7 +85,9 @@ nlohmann::json estimate_event(const Reestimate& e, int index) {
                {"sigma_n", number(c.sigma_n_need)},
                {"angle", number(c.angle_need)},
                {"minor", number(c.minor_need)},
-               {"per_direction", numbers(c.direction_need)}};
+               {"per_direction", numbers(c.direction_need)},
+               {"z", number(c.z)},
+               {"noise_level_dof", number(c.noise_level_dof)}};
   j["met"] = c.met;
   j["missing"] = c.missing;
   j["predicted_stop_min"] = e.predicted_stop_min ? number(*e.predicted_stop_min) : nullptr;

@@ -227,6 +227,7 @@ TwoStageFit identify_two_stage(const Eigen::MatrixXd& U, const Eigen::MatrixXd& 
           instrument_step_in_row(model, j, U, u_iv, Y.col(j), layout, noise.max_order);
       out.stage1_se_factor.row(j) = step.se_factor.transpose();
       out.iv_gain_step.row(j) = step.gain_step.transpose();
+      out.fit.result.fits[static_cast<std::size_t>(j)].noise_level_dof = step.noise_level_dof;
     }
   };
   IdentifyOptions on_u_hat = options;

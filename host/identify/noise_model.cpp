@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -195,6 +196,7 @@ double refit_row(const RowData& d, int output, NoiseModelFit& fit) {
   f.fit_percent = fit_percent(y_scored, y_hat_scored);
   f.residual_rms =
       (y_hat_scored - y_scored).norm() / std::sqrt(static_cast<double>(y_scored.size()));
+  f.noise_level_dof = low_frequency_level_dof(d.y - y_hat, used, d.layout);
   const SampleLayout lf = prefiltered_layout(d.layout, used.order());
   const Eigen::VectorXd v = about_segment_means(d.y - y_hat, d.layout);
   const double by_parameters = widen_for_noise_parameters(model, output, Uf, v, used, lf);
@@ -204,6 +206,30 @@ double refit_row(const RowData& d, int output, NoiseModelFit& fit) {
 }
 
 }  // namespace
+
+double low_frequency_level_dof(const Eigen::VectorXd& v, const ArNoiseModel& noise,
+                               const SampleLayout& layout) {
+  constexpr double kUntold = std::numeric_limits<double>::infinity();
+  if (noise.order() == 0 || v.size() != layout.rows()) return kUntold;
+  const SampleLayout filtered = prefiltered_layout(layout, noise.order());
+  Eigen::MatrixXd Z =
+      noise_parameter_sensitivities(about_segment_means(v, layout), noise, filtered);
+  for (Eigen::Index k = 0; k < Z.rows(); ++k) {
+    if (filtered.weight(k) == 0.0 || !Z.row(k).allFinite()) Z.row(k).setZero();
+  }
+  // ∂ ln L²/∂θ in Z's parameters: an AR's a_j all −2/A(1); an ARMA(1,1)'s columns are
+  // −∂ε/∂pole and ∂ε/∂zero, and ln L² = 2 ln(1 − zero) − 2 ln(1 − pole).
+  Eigen::VectorXd gradient(Z.cols());
+  if (noise.arma) {
+    gradient << -2.0 / (1.0 - noise.arma->pole), -2.0 / (1.0 - noise.arma->zero);
+  } else {
+    gradient.setConstant(-2.0 / (1.0 + noise.a.sum()));
+  }
+  const Eigen::LDLT<Eigen::MatrixXd> zz(Z.transpose() * Z);
+  if (zz.info() != Eigen::Success) return kUntold;
+  const double variance = noise.innovation_variance * gradient.dot(zz.solve(gradient));
+  return variance > 0.0 && std::isfinite(variance) ? 2.0 / variance : kUntold;
+}
 
 ArNoiseModel fit_ar_noise(const Eigen::VectorXd& v, const SampleLayout& layout, int max_order) {
   if (v.size() != layout.rows() || max_order < 0) {

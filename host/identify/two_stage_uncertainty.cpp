@@ -121,11 +121,12 @@ std::vector<Eigen::Index> determined_columns(const Eigen::MatrixXd& A, Eigen::In
 InstrumentStep instrument_step_in_row(IdentifiedModel& model, int output, const Eigen::MatrixXd& U,
                                       const Eigen::MatrixXd& u_iv, const Eigen::VectorXd& y,
                                       const SampleLayout& layout, int max_noise_order) {
-  InstrumentStep out{Eigen::VectorXd::Zero(model.inputs), Eigen::VectorXd::Ones(model.inputs)};
   // The step's prefilter: the noise model of the error on the applied u, v's at the truth
   // (stage 2's describes v + G(u − û)).
-  const ArNoiseModel applied =
-      fit_ar_noise(y - simulate_row(model, output, U, layout.segments), layout, max_noise_order);
+  const Eigen::VectorXd error = y - simulate_row(model, output, U, layout.segments);
+  const ArNoiseModel applied = fit_ar_noise(error, layout, max_noise_order);
+  InstrumentStep out{Eigen::VectorXd::Zero(model.inputs), Eigen::VectorXd::Ones(model.inputs),
+                     low_frequency_level_dof(error, applied, layout)};
   const RowLinearisation row = linearise_row(model, output, U, u_iv, y, applied, layout);
   if (row.used.empty()) return out;
   // Each parameter in units of its own sensitivity on u: a gain's and a time constant's differ

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -101,6 +102,36 @@ TEST(AdaptiveConfidence, TheRuleHoldsWhenEveryIntervalFitsAndTheEstimateAgrees) 
   EXPECT_NE(open.missing.find("1 principal minor(s) of uncertain sign: [1 2] 0.1 +- 0.12"),
             std::string::npos)
       << open.missing;
+}
+
+TEST(AdaptiveConfidence, AnUncertainNoiseLevelIsReadWithStudentsT) {
+  // Student's t of 95 % two-sided coverage (tables): 2.776 at 4 degrees of freedom, 12.706 at
+  // 1, which is also what fewer give; z where the level is told.
+  EXPECT_DOUBLE_EQ(rule_quantile(1.96, std::numeric_limits<double>::infinity()), 1.96);
+  EXPECT_NEAR(rule_quantile(1.96, 4.0), 2.776, 2e-3);
+  EXPECT_NEAR(rule_quantile(1.96, 0.3), 12.706, 2e-2);
+  EXPECT_NEAR(rule_quantile(1.96, 1e6), 1.96, 1e-4);
+  // An estimate the z rule stops on (need 0.94) does not stop when one output's noise level
+  // rests on 4 degrees of freedom (need 0.94·2.776/1.96 = 1.33); the other output's white.
+  const FakeEstimate before = fake(0.1, 0.02, 2.0);
+  const FakeEstimate now = fake(0.1, 0.008, 1.0);
+  const GainEvidence b = before.evidence();
+  std::vector<OutputFit> fits(2);
+  GainEvidence told = now.evidence();
+  told.fits = &fits;
+  fits[1].noise_level_dof = 1e9;
+  const Confidence long_record = confidence_of(told, &b);
+  EXPECT_TRUE(long_record.met) << long_record.missing;
+  fits[1].noise_level_dof = 4.0;
+  const Confidence c = confidence_of(told, &b);
+  EXPECT_FALSE(c.met);
+  EXPECT_DOUBLE_EQ(c.noise_level_dof, 4.0);
+  EXPECT_NEAR(c.sigma_n_need, rule_quantile(1.96, 4.0) * 0.008 / (0.1 / 6.0), 1e-12);
+  EXPECT_NE(c.missing.find("sigma_n's 95 % half-width at 1.33"), std::string::npos) << c.missing;
+  EXPECT_NE(c.missing.find("Student's t at 4.0 degrees of freedom"), std::string::npos)
+      << c.missing;
+  // The weights' yardstick does not move: only their ratios count.
+  EXPECT_NEAR(c.direction_need(1), 1.96 * 0.008 / (0.2 * 0.1), 1e-12);
 }
 
 TEST(AdaptiveConfidence, AJumpBeyondTheEarlierIntervalStopsNothing) {

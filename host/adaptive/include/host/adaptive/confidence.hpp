@@ -12,7 +12,8 @@
 //     (|σ̂_n − σ_n| ≤ 0.2 σ_n at the interval's low end, where it binds; until 2026-12-01
 //     the rule asked z·SE ≤ 0.2 σ̂_n, 20 % lenient there),
 //   - v_n's 95 % angle lies within 10°                        z·SE∠(v_n) ≤ 10°,
-// z = 1.96, and the estimate agrees with an earlier one (the latest with a usable
+// z = 1.96 (Student's t instead where a noise model's low-frequency level is uncertain,
+// below), and the estimate agrees with an earlier one (the latest with a usable
 // uncertainty made on at least one settling time β·τ_H less data: two estimates from nearly
 // the same record agree whatever they are — woodberry2x2 with 30-min segments stopped 6 of 100
 // seeds with a model that missed the criterion when any previous estimate counted, none with
@@ -31,6 +32,15 @@
 // what the criterion allows (σ_n's: σ̂_n/6; a minor's: z·SE/|m|); the rule holds when the
 // largest need, `need`, is ≤ 1, the estimate agrees with the earlier one and (when asked) no
 // residual test fails.
+//
+// Where a row was fitted with a noise model (the direct fit and the two-stage estimate's IV
+// step, noise_model.hpp) its SEs scale with the model's low-frequency level, which a record of
+// few disturbance time constants tells poorly: the stop rule waits for a short SE and so picks
+// the records whose level came out low (woodberry2x2 under its PI, a disturbance of τ 20 min,
+// 2026-12-01: a third of the stops wrong, σ̂_n 26–61 % high at 261–348 min). Each interval is
+// then read with Student's t at the fewest degrees of freedom of any row's level
+// (OutputFit::noise_level_dof), the usual answer to a variance estimated on few degrees of
+// freedom; the 95 % coverage is kept, and with white noise or a long record t is z.
 //
 // The need of every direction i, z·SE(σ_i)/(0.2 σ̂_i) or z·SE∠(v_i)/10° (the tolerances as
 // stated: a yardstick whose ratios alone count, kept as the segments were measured with it),
@@ -51,13 +61,17 @@ namespace excite::host {
 struct StopRule {
   double sigma_tolerance = kSigmaTolerance;         // of σ_n, relative (accuracy.hpp)
   double angle_tolerance_deg = kAngleToleranceDeg;  // of v_n (accuracy.hpp)
-  double z = 1.96;                                  // the interval: ±z SE (95 %)
-  bool residual_tests = false;                      // every output's residual tests must pass too
-  bool colour = false;  // gain covariances inflated for coloured residuals
+  double z = 1.96;  // the interval: ±z SE (95 %); Student's t where a noise level is uncertain
+  bool residual_tests = false;  // every output's residual tests must pass too
+  bool colour = false;          // gain covariances inflated for coloured residuals
 };
 
 struct Confidence {
-  bool gain_identified = false;    // every gain estimated with a covariance; else all NaN
+  bool gain_identified = false;  // every gain estimated with a covariance; else all NaN
+  // The quantile z below: the rule's z where every output's noise level is told, else
+  // Student's t of the same coverage at noise_level_dof (rule_quantile).
+  double z = 0.0;
+  double noise_level_dof = 0.0;    // the fewest over the outputs (OutputFit); +∞: none fitted
   double sigma_n_need = 0.0;       // z·SE(σ_n) / (σ̂_n · tolerance/(1 + tolerance))
   double angle_need = 0.0;         // z·SE∠(v_n) / angle tolerance
   double minor_need = 0.0;         // max over minors of z·SE(m) / |m|
@@ -76,9 +90,15 @@ struct GainEvidence {
   const GainAnalysis* gain = nullptr;            // the identified G(0); null: none
   const GainUncertainty* uncertainty = nullptr;  // its uncertainty (inflated for colour,
                                                  // residual_colour.hpp); null: none usable
-  const std::vector<OutputFit>* fits = nullptr;  // residual tests; null: not judged
+  const std::vector<OutputFit>* fits = nullptr;  // residual tests, noise levels; null: not read
   std::string unavailable;                       // why gain or uncertainty is null
 };
+
+/// The quantile the rule reads an SE with (the noise model's level uncertain: an SE scaled by
+/// an estimated level is a Student-t, not a normal, ratio): `z` when `dof` is +∞, else
+/// Student's t at `dof` degrees of freedom (at least one: Cauchy's 12.7 for 95 %) with the
+/// two-sided coverage of ±z.
+double rule_quantile(double z, double dof);
 
 /// The stop rule applied to an estimate, `previous` the earlier one it must agree with
 /// (chosen by the caller as above; null: none, and the rule does not hold). Without G(0) or its

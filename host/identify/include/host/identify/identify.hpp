@@ -28,6 +28,7 @@
 // G(0) (singular values, ξ_i, κ, RGA) and how well it is known (gain_uncertainty.hpp).
 
 #include <Eigen/Dense>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -96,6 +97,10 @@ struct OutputFit {
   // per usable input in ascending order; inputs below kCannotSplit had their gains profiled.
   InputSeparation separation;
   std::string inputs_together;  // describe_together(): "" when every input moves on its own
+  // Degrees of freedom of the noise model's low-frequency level, which the row's gain SEs
+  // scale with (low_frequency_level_dof, noise_model.hpp); +∞ where no noise model was fitted
+  // or it is white: the SEs are then read with z.
+  double noise_level_dof = std::numeric_limits<double>::infinity();
 };
 
 struct IdentificationResult {

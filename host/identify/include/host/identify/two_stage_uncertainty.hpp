@@ -21,6 +21,7 @@
 // default_long_run_lags when there is no noise model to whiten ε_u).
 
 #include <Eigen/Dense>
+#include <limits>
 
 #include "host/identify/noise_model.hpp"
 #include "host/identify/segments.hpp"
@@ -31,6 +32,8 @@ namespace excite::host {
 struct InstrumentStep {
   Eigen::VectorXd gain_step;  // ΔK
   Eigen::VectorXd se_factor;  // the gain's SE after, over stage 2's own
+  // Of the step's noise model, which its SEs scale with (low_frequency_level_dof).
+  double noise_level_dof = std::numeric_limits<double>::infinity();
 };
 
 /// Row `output` of a two-stage `model`, the instruments formed on `u_iv` (instrument_inputs):
