@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "host/identify/gain_sensitivity.hpp"
 #include "host/identify/residuals.hpp"
 
 namespace excite::host {
@@ -156,18 +157,19 @@ bool keep_if_better(const Eigen::MatrixXd& U, const Eigen::VectorXd& y,
                     const std::vector<int>& inputs, const std::vector<ElementModel>& start,
                     double T_min, const MisoBounds& bounds, const SampleLayout& layout,
                     const Eigen::MatrixXd& trend, int max_iterations, MisoResult& current,
-                    int& iterations) {
+                    int& iterations, double margin = 0.0) {
   const Eigen::VectorXd y_scored = layout.scored_rows(y);
   const double energy = (y_scored.array() - y_scored.mean()).matrix().squaredNorm();
   const double now = row_criterion(weighted_sse(current.y_hat, y, layout), energy, layout.scored(),
                                    parameter_count(current.elements));
-  if (!(row_criterion(0.0, energy, layout.scored(), parameter_count(start)) < now)) return false;
+  if (!(row_criterion(0.0, energy, layout.scored(), parameter_count(start)) < now - margin))
+    return false;
   if (!discretisable(start, T_min)) return false;
   MisoResult other = fit_miso(U, y, inputs, start, T_min, bounds, max_iterations, layout, trend);
   iterations += other.iterations;
   const double reached = row_criterion(weighted_sse(other.y_hat, y, layout), energy,
                                        layout.scored(), parameter_count(other.elements));
-  if (!(reached < now)) return false;
+  if (!(reached < now - margin)) return false;
   current = std::move(other);
   return true;
 }
@@ -246,6 +248,17 @@ MisoResult leave_local_optima(const Eigen::MatrixXd& U, const Eigen::VectorXd& y
   return current;
 }
 
+// The residual's Bartlett long-run variance over `lags` (at most a quarter of its rows) over
+// its variance: about how many of its rows count as one independent row. 1 for a white
+// residual; a linear model of a nonlinear plant leaves a slowly wandering one.
+double colour_ratio(const Eigen::VectorXd& residual, Eigen::Index lags) {
+  const Eigen::VectorXd x = residual.array() - residual.mean();
+  const double variance = x.squaredNorm();
+  if (!std::isfinite(variance) || !(variance > 0.0)) return 1.0;
+  const Eigen::Index L = std::min<Eigen::Index>(lags, x.size() / 4);
+  return std::max(1.0, long_run_covariance(x, L)(0, 0) / variance);
+}
+
 // The search above screens each element on its part of the output with the others held, and
 // restarts only weak and small ones; under a directional design's correlated inputs a large
 // element's dynamics can end on another element, where no single change moves them back.
@@ -291,7 +304,18 @@ bool restart_misplaced_dynamics(const Eigen::MatrixXd& U, const Eigen::VectorXd&
   const auto independent = std::find_if(suspects.begin(), suspects.end(), [&](std::size_t e) {
     return tests.independent_of(static_cast<Eigen::Index>(e));
   });
-  if (independent != suspects.begin()) suspects.erase(independent, suspects.end());
+  const bool none_dependent = independent == suspects.begin();
+  if (!none_dependent) suspects.erase(independent, suspects.end());
+  // A residual that depends on no input is evidence of a misplaced element only as far as
+  // its colour allows: the criterion counts every row as independent, and a residual of
+  // long-run variance ratio r carries about one independent sample in r, so a restart from it
+  // is kept when it lowers the criterion by more than kEvidence · r. (Window: the slowest time
+  // constant the fit allows, the settling time β·τ_H in the adaptive test.)
+  double margin = 0.0;
+  if (none_dependent) {
+    const auto window = static_cast<Eigen::Index>(std::ceil(bounds.max_time_constant_min / T_min));
+    margin = kEvidence * colour_ratio(residual, std::max<Eigen::Index>(window, 1));
+  }
   if (suspects.size() > kMisplacedRestarts) suspects.resize(kMisplacedRestarts);
 
   bool kept = false;
@@ -324,7 +348,7 @@ bool restart_misplaced_dynamics(const Eigen::MatrixXd& U, const Eigen::VectorXd&
           std::vector<ElementModel> start = release ? released : now;
           start[e] = g;
           kept = keep_if_better(U, y, inputs, start, T_min, bounds, layout, trend, max_iterations,
-                                current, iterations) ||
+                                current, iterations, margin) ||
                  kept;
         }
       }
