@@ -61,16 +61,14 @@ namespace excite::host {
 struct StopRule {
   double sigma_tolerance = kSigmaTolerance;         // of σ_n, relative (accuracy.hpp)
   double angle_tolerance_deg = kAngleToleranceDeg;  // of v_n (accuracy.hpp)
-  double z = 1.96;  // the interval: ±z SE (95 %); Student's t where a noise level is uncertain
-  bool residual_tests = false;  // every output's residual tests must pass too
-  bool colour = false;          // gain covariances inflated for coloured residuals
+  double z = 1.96;                                  // ±z SE (95 %); t where a level is uncertain
+  bool residual_tests = false;                      // every output's residual tests must pass too
+  bool colour = false;  // gain covariances inflated for coloured residuals
 };
 
 struct Confidence {
-  bool gain_identified = false;  // every gain estimated with a covariance; else all NaN
-  // The quantile z below: the rule's z where every output's noise level is told, else
-  // Student's t of the same coverage at noise_level_dof (rule_quantile).
-  double z = 0.0;
+  bool gain_identified = false;    // every gain estimated with a covariance; else all NaN
+  double z = 0.0;                  // rule.z, or Student's t at noise_level_dof (rule_quantile)
   double noise_level_dof = 0.0;    // the fewest over the outputs (OutputFit); +∞: none fitted
   double sigma_n_need = 0.0;       // z·SE(σ_n) / (σ̂_n · tolerance/(1 + tolerance))
   double angle_need = 0.0;         // z·SE∠(v_n) / angle tolerance
